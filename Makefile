@@ -1,0 +1,33 @@
+# Two commands on a fresh machine: `make demo` and `make test` (README).
+PYTHON ?= python3.11
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.phav-installed
+DEMO := demo
+
+.PHONY: demo test install lint clean
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	# torch first, pinned: the machine's local CPU wheel (a bare `torch` pulls GBs of CUDA).
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet torch==2.13.0
+	$(PY) -m pip install --quiet -e '.[dev]'
+	touch $@
+
+install: $(STAMP)
+
+demo: $(STAMP)
+	$(VENV)/bin/phav theta check recipes/phav-v1.yaml
+	$(VENV)/bin/phav sample --theta recipes/phav-v1.yaml --n 2000 --seed 0 --out $(DEMO)/recipes.parquet
+	$(VENV)/bin/phav-validate $(DEMO)/recipes.parquet --theta recipes/phav-v1.yaml
+
+test: $(STAMP)
+	$(VENV)/bin/ruff check .
+	$(PY) -m pytest -q
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
+
+clean:
+	rm -rf $(VENV) $(DEMO) .pytest_cache .ruff_cache .hypothesis

@@ -1,0 +1,1 @@
+"""phav_generator: θ → recipes → videos → shards, deterministically."""

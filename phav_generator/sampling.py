@@ -1,0 +1,406 @@
+"""θ → recipes by ancestral sampling of the paper's graphical model.
+
+The factorisation is the paper's P1(D, W) P2(H) P3(A, L, B, V, C, E, …) (Section "Model").
+Video i's recipe depends only on (θ, dataset seed, i): the video key is 256 bits of
+``SeedSequence(dataset_seed, spawn_key=(i,))``, and each part of the model draws from its own
+PCG64 stream whose state is sha256(video key ‖ part name), so sampling 10 or 40,000 videos
+gives the same recipe i and adding a draw to one part never moves the draws of another. Every draw is one ``rng.random()`` double turned into a
+value by phav_spec.distributions; a part's draw order is part of the dataset's definition
+(changing it bumps the recipe schema version).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from phav_spec.distributions import (
+    categorical_index,
+    cumulative,
+    sample_integer,
+    sample_subset,
+    triangular_inverse_cdf,
+)
+from phav_spec.motions import MOTIONS
+from phav_spec.recipe import Recipe, frames_for, video_id
+from phav_spec.scene import (
+    ACTION_SCENES,
+    CAMERA_INFO,
+    ENVIRONMENT_SCENES,
+    HUMAN_MODELS,
+    SPRING_MIN_DISTANCES_M,
+    WEATHER_ELEMENTS,
+    HumanModel,
+)
+from phav_spec.theta import Theta
+from phav_spec.vocab import ACTIONS, CAMERAS, DAY_PHASES, ENVIRONMENTS, MUSCLES, VARIATIONS, WEATHERS
+
+#: The named parts of the model, each with its own random stream.
+PARTS: tuple[str, ...] = (
+    "world", "human", "action", "environment", "background", "variation", "camera", "supporting",
+)  # fmt: skip
+#: Seeds handed to run-time stages, each hashed from the video key and its name.
+RUNTIME_SEEDS: tuple[str, ...] = ("physics", "perturbation", "render", "background")
+
+
+def video_key(dataset_seed: int, index: int) -> bytes:
+    """256 bits identifying video ``index`` of a dataset: SeedSequence(seed, spawn_key=(index,))."""
+    if dataset_seed < 0 or index < 0:
+        raise ValueError("dataset seed and video index must be non-negative")
+    seq = np.random.SeedSequence(dataset_seed, spawn_key=(index,))
+    return seq.generate_state(8, dtype=np.uint32).astype("<u4").tobytes()
+
+
+def _stream_state(key: bytes, name: str) -> dict:
+    """PCG64 state of the stream ``name`` of a video: sha256(video key ‖ name) → state, inc."""
+    digest = hashlib.sha256(key + b"/" + name.encode()).digest()
+    return {
+        "bit_generator": "PCG64",
+        "state": {
+            "state": int.from_bytes(digest[:16], "little"),
+            "inc": int.from_bytes(digest[16:], "little") | 1,
+        },
+        "has_uint32": 0,
+        "uinteger": 0,
+    }
+
+
+def part_rng(dataset_seed: int, index: int, part: str) -> np.random.Generator:
+    """A fresh Generator on the random stream of one named part of video ``index``."""
+    bit_generator = np.random.PCG64(0)
+    bit_generator.state = _stream_state(video_key(dataset_seed, index), part)
+    return np.random.Generator(bit_generator)
+
+
+def runtime_seeds(key: bytes) -> dict[str, int]:
+    """32-bit seeds for the run-time stages, hashed from the video key by name (no draws)."""
+    return {
+        name: int.from_bytes(hashlib.sha256(key + b"/seed:" + name.encode()).digest()[:4], "little")
+        for name in RUNTIME_SEEDS
+    }
+
+
+class _Streams:
+    """One reusable Generator per part, re-pointed at each video's streams (cheap)."""
+
+    def __init__(self) -> None:
+        self._bits = {p: np.random.PCG64(0) for p in PARTS}
+        self._gens = {p: np.random.Generator(b) for p, b in self._bits.items()}
+        self.key = b""
+
+    def start(self, dataset_seed: int, index: int) -> None:
+        self.key = video_key(dataset_seed, index)
+
+    def __getitem__(self, part: str) -> np.random.Generator:
+        self._bits[part].state = _stream_state(self.key, part)
+        return self._gens[part]
+
+
+@dataclass(frozen=True)
+class _Row:
+    """A categorical row compiled for sampling: the values with support and running sums."""
+
+    values: tuple[int, ...]
+    cum: tuple[float, ...]
+
+    @classmethod
+    def of(cls, weights: np.ndarray) -> _Row:
+        idx = tuple(int(i) for i in np.flatnonzero(weights > 0))
+        return cls(idx, cumulative([float(weights[i]) for i in idx]))
+
+    def draw(self, rng: np.random.Generator) -> int:
+        return self.values[categorical_index(self.cum, rng.random())]
+
+
+def _rotate(dx: float, dy: float, heading_deg: float) -> tuple[float, float]:
+    h = math.radians(heading_deg)
+    return dx * math.cos(h) - dy * math.sin(h), dx * math.sin(h) + dy * math.cos(h)
+
+
+def _human(name: str) -> dict:
+    return {"model": name, **HUMAN_MODELS[name].__dict__}
+
+
+class RecipeSampler:
+    """Samples recipes from one θ; tables are compiled once, recipes drawn on demand."""
+
+    def __init__(self, theta: Theta):
+        self.theta = theta
+        arr = theta.arrays
+        self._a = _Row.of(arr.a)
+        self._w = _Row.of(arr.w)
+        self._d = _Row.of(arr.d)
+        self._h = _Row.of(arr.h)
+        self._h_without = [_Row.of(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None for i in range(len(arr.h))]
+        pe, pv, pb, pc = arr.p_e_given_a(), arr.p_v_given_a(), arr.p_b_given_a(), self._camera_weights()
+        reach = arr.a > 0
+        self._e = [_Row.of(pe[i]) if reach[i] else None for i in range(len(ACTIONS))]
+        self._v = [_Row.of(pv[i]) if reach[i] else None for i in range(len(ACTIONS))]
+        self._b = [_Row.of(pb[i]) if reach[i] else None for i in range(len(ACTIONS))]
+        self._c = [
+            [_Row.of(pc[i, j]) if reach[i] and pe[i, j] > 0 else None for j in range(len(ENVIRONMENTS))]
+            for i in range(len(ACTIONS))
+        ]
+        # (a, b, c) on the real line; a wrapped night interval runs past 24 h.
+        self._clock = [theta.clock_hours[d].distribution()._unwrapped() for d in DAY_PHASES.names]
+        self._dead_zone = {
+            name: _Row.of(np.array(cam.springs.dead_zone_weights()))
+            for name, cam in theta.cameras.items()
+            if cam.springs is not None
+        }
+        self._lengths = [MOTIONS[m].length_s for m in MOTIONS.names]
+        self._streams = _Streams()
+
+    def _camera_weights(self) -> np.ndarray:
+        """Unnormalised P(C | A, E) ∝ θ_C·θ_AC·θ_EC (the hook a planted-bug test replaces)."""
+        return self.theta.arrays.p_c_given_ae()
+
+    def sample(self, dataset_seed: int, index: int) -> Recipe:
+        """The recipe of video ``index`` of the dataset with seed ``dataset_seed``."""
+        self._streams.start(dataset_seed, index)
+        theta = self.theta
+        fps = theta.video.fps
+
+        # P1(D, W): day phase, clock time given the phase, weather and its elements.
+        rng = self._streams["world"]
+        d = self._d.draw(rng)
+        clock_hour = math.fmod(triangular_inverse_cdf(*self._clock[d], rng.random()), 24.0)
+        w = self._w.draw(rng)
+        wt = theta.weather_elements[WEATHERS.names[w]]
+        on: dict[str, bool] = {}
+        for element, info in WEATHER_ELEMENTS.items():
+            parent_on = on[info.parent] if info.parent is not None else None
+            on[element] = rng.random() < wt.p_on(element, parent_on)
+        world = {
+            "day_phase": DAY_PHASES.names[d],
+            "clock_hour": clock_hour,
+            "weather": WEATHERS.names[w],
+            "sun_brightness": wt.sun_brightness.sample(rng=rng),
+            "ambient_luminosity": wt.ambient_luminosity.sample(rng=rng),
+            **on,
+        }
+        # Intensities are always drawn (fixed draw count), and zero when the element is off.
+        for element, key in (("clouds", "cloud_intensity"), ("fog", "fog_intensity"), ("rain", "rain_intensity")):
+            value = getattr(wt, key).sample(rng=rng)
+            world[key] = value if on[element] else 0.0
+
+        # P2(H): the protagonist's human model.
+        rng = self._streams["human"]
+        h = self._h.draw(rng)
+        human_name = HUMAN_MODELS.names[h]
+
+        # P3: action, base motion and clip length, playback parameters.
+        rng = self._streams["action"]
+        a = self._a.draw(rng)
+        action = ACTIONS.names[a]
+        b = self._b[a].draw(rng)
+        length_b = self._lengths[b]
+        dur = theta.durations
+        duration = triangular_inverse_cdf(
+            dur.t_min, min(length_b, dur.t_max), min(dur.t_mod, length_b), rng.random()
+        )
+        speed = theta.motion.speed.sample(rng=rng)
+        mirror = rng.random() < theta.motion.p_mirror
+        start_s = rng.random() * max(0.0, length_b - duration * speed)
+        motion = {
+            "base_motion": MOTIONS.names[b],
+            "base_motion_length_s": length_b,
+            "start_s": start_s,
+            "speed": speed,
+            "mirror": mirror,
+        }
+
+        # Environment E | A, the protagonist's waypoint P_W and heading.
+        rng = self._streams["environment"]
+        e = self._e[a].draw(rng)
+        env_name = ENVIRONMENTS.names[e]
+        env = ENVIRONMENT_SCENES[env_name]
+        wp = sample_integer(0, len(env.protagonist_waypoints) - 1, rng=rng)
+        position = env.protagonist_waypoints[wp]
+        heading = theta.protagonist_heading_deg.sample(rng=rng)
+
+        background = self._background(dataset_seed, index, env, first_id=ACTIONS[action].n_people)
+        variation = self._variation(dataset_seed, index, a, b, duration)
+        camera = self._camera(dataset_seed, index, a, e, position, heading, HUMAN_MODELS[human_name])
+        supporting = self._supporting(dataset_seed, index, action, h, position, heading)
+
+        return Recipe.model_validate(
+            {
+                "video_id": video_id(index),
+                "index": index,
+                "dataset_seed": dataset_seed,
+                "theta_hash": theta.hash,
+                "action": action,
+                "n_people": ACTIONS[action].n_people,
+                "duration_s": duration,
+                "n_frames": frames_for(duration, fps),
+                "video": theta.video.model_dump(),
+                "motion": motion,
+                "variation": variation,
+                "protagonist": {"human": _human(human_name), "position": position, "heading_deg": heading},
+                "supporting_characters": supporting,
+                "environment": {"name": env_name, "indoor": env.indoor, "waypoint_index": wp, "waypoint": position},
+                "background_actors": background,
+                "camera": camera,
+                "world": world,
+                "render": theta.render,
+                "seeds": runtime_seeds(self._streams.key),
+            }
+        )
+
+    def _background(self, dataset_seed: int, index: int, env, first_id: int) -> list[dict]:
+        """Background pedestrians on the environment's B_WG graph (none indoors)."""
+        graph = env.background_waypoints
+        if not graph:
+            return []
+        rng = self._streams["background"]
+        spec = self.theta.background_actors
+        n = sample_integer(spec.count.min, spec.count.max, rng=rng)
+        actors = []
+        for k in range(n):
+            model = HUMAN_MODELS.names[self._h.draw(rng)]
+            start = sample_integer(0, len(graph) - 1, rng=rng)
+            dest = sample_integer(0, len(graph) - 2, rng=rng)
+            dest += dest >= start  # any waypoint but the start
+            actors.append({
+                "person_id": first_id + k,
+                "human": _human(model),
+                "start_waypoint": start,
+                "destination_waypoint": dest,
+                "start": graph[start],
+                "destination": graph[dest],
+                "speed_mps": spec.speed_mps.sample(rng=rng),
+            })  # fmt: skip
+        return actors
+
+    def _variation(self, dataset_seed: int, index: int, a: int, b: int, duration: float) -> dict:
+        """V | A and its parameters Θ_v (Section "Action variations")."""
+        rng = self._streams["variation"]
+        kind = VARIATIONS.names[self._v[a].draw(rng)]
+        scene = ACTION_SCENES[ACTIONS.names[a]]
+        params = self.theta.variations
+        if kind == "random_perturbation":
+            spec = params.random_perturbation
+            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(scene.complementary_muscles), rng)
+            return {
+                "kind": kind,
+                "muscles": sample_subset(scene.complementary_muscles, k, rng=rng),
+                "radius_m": spec.radius_m.sample(rng=rng),
+                "period_s": spec.period_s.sample(rng=rng),
+            }
+        if kind == "muscle_weakening":
+            spec = params.muscle_weakening
+            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(MUSCLES), rng)
+            muscles = sample_subset(MUSCLES.names, k, rng=rng)
+            return {
+                "kind": kind,
+                "muscles": muscles,
+                "strengths": tuple(spec.strength.sample(rng=rng) for _ in muscles),
+            }
+        if kind == "action_blending":
+            spec = params.action_blending
+            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(scene.complementary_muscles), rng)
+            muscles = sample_subset(scene.complementary_muscles, k, rng=rng)
+            other = sample_integer(0, len(MOTIONS) - 2, rng=rng)
+            other += other >= b  # a different motion sequence, from any action
+            other_len = self._lengths[other]
+            return {
+                "kind": kind,
+                "muscles": muscles,
+                "blend_motion": MOTIONS.names[other],
+                "blend_start_s": rng.random() * max(0.0, other_len - duration),
+                "weight": spec.weight.sample(rng=rng),
+            }
+        if kind == "objects":
+            options = scene.variation_objects
+            return {"kind": kind, "object": options[sample_integer(0, len(options) - 1, rng=rng)]}
+        return {"kind": "none"}
+
+    def _camera(self, dataset_seed: int, index: int, a: int, e: int, position, heading: float, human: HumanModel) -> dict:
+        """C | A, E, its placement C_xyz / T_xyz around P_xyz and its parameters Θ_c."""
+        rng = self._streams["camera"]
+        kind = CAMERAS.names[self._c[a][e].draw(rng)]
+        spec = self.theta.cameras[kind]
+        fov = spec.fov_deg.sample(rng=rng)
+        distance = spec.distance_m.sample(rng=rng)
+        height = spec.height_m.sample(rng=rng)
+        azimuth = spec.azimuth_deg.sample(rng=rng)
+        dx, dy = _rotate(distance, 0.0, heading + azimuth)
+        x, y, z = position
+        # The target starts on the protagonist: the head for the close-up, else the pelvis.
+        target_height = 0.93 * human.height_m if kind == "closeup" else 0.53 * human.height_m
+        springs = impulse = None
+        if CAMERA_INFO[kind].tracking == "springs":
+            s = spec.springs
+            springs = {
+                "ct_spring_strength": s.ct_spring_strength.sample(rng=rng),
+                "tp_spring_strength": s.tp_spring_strength.sample(rng=rng),
+                "camera_mass": s.camera_mass.sample(rng=rng),
+                "target_mass": s.target_mass.sample(rng=rng),
+                "camera_drag": s.camera_drag.sample(rng=rng),
+                "target_drag": s.target_drag.sample(rng=rng),
+                "ct_min_distance_m": SPRING_MIN_DISTANCES_M[self._dead_zone[kind].draw(rng)],
+                "tp_min_distance_m": SPRING_MIN_DISTANCES_M[self._dead_zone[kind].draw(rng)],
+            }
+            impulse = {
+                "strength": spec.impulse.strength.sample(rng=rng),
+                "azimuth_deg": spec.impulse.azimuth_deg.sample(rng=rng),
+                "elevation_deg": spec.impulse.elevation_deg.sample(rng=rng),
+            }
+        return {
+            "kind": kind,
+            "fov_deg": fov,
+            "distance_m": distance,
+            "height_m": height,
+            "azimuth_deg": azimuth,
+            "position": (x + dx, y + dy, z + height),
+            "target": (x, y, z + target_height),
+            "springs": springs,
+            "impulse": impulse,
+        }
+
+    def _supporting(self, dataset_seed: int, index: int, action: str, h: int, position, heading: float) -> list[dict]:
+        """Supporting characters: a human model from H without the protagonist's, placed by S_xyz."""
+        placement = ACTION_SCENES[action].supporting_placement
+        if placement is None:
+            return []
+        rng = self._streams["supporting"]
+        model = HUMAN_MODELS.names[self._h_without[h].draw(rng)]
+        spec = self.theta.supporting_characters
+        if placement == "side_by_side":
+            distance = spec.side_distance_m.sample(rng=rng)
+            dx, dy, turn = 0.0, -distance, 0.0  # to the protagonist's right
+        elif placement == "behind":
+            distance = spec.behind_distance_m.sample(rng=rng)
+            dx, dy, turn = -distance, 0.0, 0.0
+        else:
+            distance = spec.facing_distance_m.sample(rng=rng)
+            dx, dy, turn = distance, 0.0, 180.0
+        rx, ry = _rotate(dx, dy, heading)
+        x, y, z = position
+        return [{
+            "person_id": 1,
+            "human": _human(model),
+            "placement": placement,
+            "distance_m": distance,
+            "position": (x + rx, y + ry, z),
+            "heading_deg": math.fmod(heading + turn, 360.0),
+        }]  # fmt: skip
+
+
+def _subset_size(lo: int, hi: int, available: int, rng: np.random.Generator) -> int:
+    """Uniform size in [lo, hi] capped by how many muscles are available (at least one)."""
+    hi = min(hi, available)
+    lo = max(1, min(lo, hi))
+    return sample_integer(lo, hi, rng=rng)
+
+
+def sample_recipes(theta: Theta, *, n: int, seed: int, start: int = 0) -> Iterator[Recipe]:
+    """Recipes ``start`` … ``start + n - 1`` of the dataset (θ, seed)."""
+    sampler = RecipeSampler(theta)
+    for i in range(start, start + n):
+        yield sampler.sample(seed, i)

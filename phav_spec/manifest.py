@@ -1,0 +1,315 @@
+"""The dataset manifest: ``manifest.json`` beside the shards, listing shards, videos and renderer.
+
+A dataset directory holds shards ``{name}-{000000}.tar`` (WebDataset, one sample per frame
+keyed ``{video_id}/{frame:05d}``) and this manifest (DESIGN.md row "dataset layout"). The
+manifest ties every video to exactly one shard and records the renderer fingerprint that
+decides whether pixels must match bit for bit (row "renderer of record").
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import secrets
+from pathlib import Path
+from typing import Annotated, Any, Self
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StringConstraints,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import InitErrorDetails, PydanticCustomError
+
+from phav_spec.canonical import canonical_json, sha256_hex
+from phav_spec.encoding import MODALITIES, ModalityEncoding
+from phav_spec.errors import PhavUserError
+
+__all__ = [
+    "MANIFEST_VERSION",
+    "DatasetManifest",
+    "RendererFingerprint",
+    "ShardEntry",
+    "VideoEntry",
+    "dump_manifest",
+    "load_manifest",
+]
+
+#: Version of the manifest format this code reads and writes; readers refuse newer ones.
+MANIFEST_VERSION = 1
+
+VIDEO_ID_PATTERN = r"^v\d{6}$"
+SHARD_NAME_PATTERN = r"^[A-Za-z0-9_-]+-\d{6}\.tar$"
+SHA256_PATTERN = r"^[0-9a-f]{64}$"
+
+#: ``v`` and six digits; never a dot, because WebDataset splits sample keys at the first dot.
+VideoId = Annotated[str, StringConstraints(pattern=VIDEO_ID_PATTERN)]
+#: ``{name}-{index:06d}.tar``.
+ShardName = Annotated[str, StringConstraints(pattern=SHARD_NAME_PATTERN)]
+#: A sha256 digest as 64 lowercase hex digits.
+Sha256Hex = Annotated[str, StringConstraints(pattern=SHA256_PATTERN)]
+
+_CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+
+def _pretty_json(data: Any) -> str:
+    """Serialise JSON data deterministically for humans: sorted keys, indent 2, UTF-8 text."""
+    return json.dumps(data, sort_keys=True, indent=2, ensure_ascii=False, allow_nan=False)
+
+
+class RendererFingerprint(BaseModel):
+    """Everything the pixels depend on; equal fingerprints promise bit-identical frames."""
+
+    model_config = _CONFIG
+
+    gl_vendor: str
+    gl_renderer: str
+    gl_version: str
+    cpu_model: str
+    cpu_flags: str
+    #: Package versions, e.g. ``{"phav": ..., "numpy": ..., "mujoco": ..., "moderngl": ...}``.
+    versions: dict[str, str]
+
+    def digest(self) -> str:
+        """Return the sha256 hex digest of the fingerprint's canonical JSON (sorted keys)."""
+        return sha256_hex(canonical_json(self.model_dump(mode="json")))
+
+
+class ShardEntry(BaseModel):
+    """One WebDataset tar file: its name, sha256 and size, and the videos it holds."""
+
+    model_config = _CONFIG
+
+    name: ShardName
+    sha256: Sha256Hex
+    bytes: int = Field(ge=0)
+    video_ids: list[VideoId]
+
+
+class VideoEntry(BaseModel):
+    """One video: the shard holding all of its frames, its length and its content hash."""
+
+    model_config = _CONFIG
+
+    video_id: VideoId
+    shard: ShardName
+    n_frames: int = Field(ge=1)
+    #: ``phav_spec.encoding.content_hash`` over the video's decoded frames.
+    content_hash: Sha256Hex
+
+
+def _located(loc: tuple[str | int, ...], message: str, value: Any) -> InitErrorDetails:
+    """Build one pydantic line error at ``loc`` so that load errors name the exact field."""
+    return InitErrorDetails(
+        type=PydanticCustomError("manifest_consistency", "{reason}", {"reason": message}),
+        loc=loc,
+        input=value,
+    )
+
+
+class DatasetManifest(BaseModel):
+    """Contents of a dataset's ``manifest.json``: provenance, modalities, shards and videos."""
+
+    model_config = _CONFIG
+
+    manifest_version: int = Field(default=MANIFEST_VERSION, ge=1)
+    name: str = Field(pattern=r"^[A-Za-z0-9_-]+$")
+    phav_version: str
+    #: sha256 of the θ file the recipes were sampled from.
+    theta_hash: Sha256Hex
+    dataset_seed: int = Field(ge=0)
+    recipe_schema_version: int = Field(ge=1)
+    modalities: list[ModalityEncoding] = Field(default_factory=lambda: list(MODALITIES))
+    renderer: RendererFingerprint | None = None
+    shards: list[ShardEntry]
+    videos: list[VideoEntry]
+
+    @field_validator("manifest_version")
+    @classmethod
+    def _not_newer(cls, version: int) -> int:
+        if version > MANIFEST_VERSION:
+            raise ValueError(
+                f"manifest version {version} is newer than this phav reads "
+                f"({MANIFEST_VERSION}); upgrade phav"
+            )
+        return version
+
+    @model_validator(mode="after")
+    def _consistent(self) -> Self:
+        """Check uniqueness and that every video lives in exactly the one shard naming it."""
+        errors: list[InitErrorDetails] = []
+
+        def once(values: list[str], field: str, attr: str, what: str) -> None:
+            first: dict[str, int] = {}
+            for i, value in enumerate(values):
+                if value in first:
+                    reason = f"duplicate {what} {value!r} (first at {field}.{first[value]})"
+                    errors.append(_located((field, i, attr), reason, value))
+                else:
+                    first[value] = i
+
+        once([m.name for m in self.modalities], "modalities", "name", "modality")
+        once([s.name for s in self.shards], "shards", "name", "shard name")
+        once([v.video_id for v in self.videos], "videos", "video_id", "video id")
+
+        listed_in: dict[str, str] = {}
+        for si, shard in enumerate(self.shards):
+            for j, video_id in enumerate(shard.video_ids):
+                if video_id in listed_in:
+                    where = listed_in[video_id]
+                    reason = (
+                        f"video {video_id!r} is listed twice in shard {where!r}"
+                        if where == shard.name
+                        else f"video {video_id!r} is also listed in shard {where!r}; "
+                        "a video never spans shards"
+                    )
+                    errors.append(_located(("shards", si, "video_ids", j), reason, video_id))
+                else:
+                    listed_in[video_id] = shard.name
+
+        shard_names = {s.name for s in self.shards}
+        for vi, video in enumerate(self.videos):
+            if video.shard not in shard_names:
+                reason = f"video {video.video_id!r} names shard {video.shard!r}, which is not "
+                reason += "in the shard list"
+            elif listed_in.get(video.video_id) != video.shard:
+                reason = f"video {video.video_id!r} names shard {video.shard!r}, but that "
+                reason += "shard does not list it in video_ids"
+            else:
+                continue
+            errors.append(_located(("videos", vi, "shard"), reason, video.shard))
+
+        video_ids = {v.video_id for v in self.videos}
+        for si, shard in enumerate(self.shards):
+            for j, video_id in enumerate(shard.video_ids):
+                if video_id not in video_ids:
+                    reason = f"shard {shard.name!r} lists video {video_id!r}, which has no "
+                    reason += "entry in videos"
+                    errors.append(_located(("shards", si, "video_ids", j), reason, video_id))
+
+        if errors:
+            raise ValidationError.from_exception_data(type(self).__name__, errors)
+        return self
+
+
+_HINTS = {
+    "missing": "add the field",
+    "extra_forbidden": "remove the key (misspelt?)",
+    "string_pattern_mismatch": "fix the value",
+    "manifest_consistency": "regenerate the manifest or fix the shard/video lists",
+}
+
+
+_PATTERN_HINTS = {
+    "video_id": "video ids look like v000123 (v and six digits, never a dot)",
+    "video_ids": "video ids look like v000123 (v and six digits, never a dot)",
+    "shard": "shard names look like {name}-000000.tar",
+    "sha256": "write 64 lowercase hex digits",
+    "content_hash": "write 64 lowercase hex digits",
+    "theta_hash": "write 64 lowercase hex digits",
+}
+
+
+def _user_error(source: str, error: ValidationError) -> PhavUserError:
+    """Turn the first pydantic error into a one-line user error naming the field and a fix."""
+    first = error.errors(include_url=False)[0]
+    field = ".".join(str(part) for part in first["loc"]) or None
+    message = first["msg"]
+    hint = _HINTS.get(first["type"], "fix the value or regenerate the manifest")
+    if first["type"] == "string_pattern_mismatch":
+        names = [part for part in first["loc"] if isinstance(part, str)]
+        key = names[-1] if names else ""
+        if names == ["shards", "name"]:
+            key = "shard"
+        hint = _PATTERN_HINTS.get(key, hint)
+    more = error.error_count() - 1
+    text = f"{message}; {hint}" + (f" ({more} more error(s))" if more else "")
+    return PhavUserError(" ".join(text.split()), source=source, field=field)
+
+
+def load_manifest(path: str | os.PathLike[str]) -> DatasetManifest:
+    """Read and validate a ``manifest.json``.
+
+    Raises:
+        PhavUserError: a missing or unreadable file, invalid JSON, a manifest written by a
+            newer phav, or a validation failure; the message names the file and the dotted
+            field of the first problem (e.g. ``videos.3.video_id``).
+    """
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise PhavUserError(
+            "manifest not found; pass the dataset's manifest.json", source=source
+        ) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PhavUserError(
+            f"cannot read manifest ({exc}); check the path", source=source
+        ) from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise PhavUserError(
+            f"invalid JSON at line {exc.lineno} column {exc.colno}: {exc.msg}; "
+            "regenerate the manifest or fix the syntax",
+            source=source,
+        ) from None
+    if not isinstance(data, dict):
+        raise PhavUserError(
+            f"manifest must be a JSON object, got {type(data).__name__}", source=source
+        )
+    version = data.get("manifest_version")
+    if isinstance(version, int) and not isinstance(version, bool) and version > MANIFEST_VERSION:
+        raise PhavUserError(
+            f"manifest version {version} is newer than this phav reads ({MANIFEST_VERSION}); "
+            "upgrade phav",
+            source=source,
+            field="manifest_version",
+        )
+    try:
+        return DatasetManifest.model_validate(data)
+    except ValidationError as exc:
+        raise _user_error(source, exc) from None
+
+
+def dump_manifest(manifest: DatasetManifest, path: str | os.PathLike[str]) -> None:
+    """Write ``manifest`` as canonical JSON (sorted keys, indent 2) atomically.
+
+    The text goes to a temporary file in the same directory, is fsynced and then renamed over
+    ``path`` with ``os.replace``, so a reader never sees a half-written manifest.
+    """
+    target = Path(path)
+    text = _pretty_json(manifest.model_dump(mode="json")) + "\n"
+    tmp = target.with_name(f".{target.name}.{secrets.token_hex(8)}.tmp")
+    # os.open with 0o666 lets the umask pick the final permissions (mkstemp would force 0600).
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
+            handle.write(text)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    _fsync_directory(target.parent)
+
+
+def _fsync_directory(directory: Path) -> None:
+    """Persist the rename itself; best effort, as some platforms cannot open directories."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)

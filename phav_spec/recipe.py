@@ -1,0 +1,385 @@
+"""The recipe: everything one video depends on, frozen before any physics or pixels.
+
+Schema version 1. A recipe names every variable of the paper's model and every parameter a
+later stage needs, including integer seeds for anything decided at run time, so a renderer
+given the recipe alone reproduces the video. Older schema versions are upgraded by the
+migration registry; a newer one is refused with a clear message.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from phav_spec.errors import PhavUserError
+from phav_spec.motions import MOTIONS
+from phav_spec.scene import HUMAN_MODELS
+from phav_spec.theta import RenderSettings, format_validation_error
+from phav_spec.vocab import (
+    ACTIONS,
+    CAMERAS,
+    DAY_PHASES,
+    ENVIRONMENTS,
+    MUSCLES,
+    OBJECTS,
+    WEATHERS,
+    Registry,
+)
+
+RECIPE_SCHEMA_VERSION = 1
+_FROZEN = ConfigDict(extra="forbid", frozen=True)
+Vec3 = tuple[float, float, float]
+RGB = tuple[Annotated[int, Field(ge=0, le=255)], Annotated[int, Field(ge=0, le=255)], Annotated[int, Field(ge=0, le=255)]]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Seed = Annotated[int, Field(ge=0, lt=2**32)]
+
+
+def _one_of(registry: Registry) -> Any:
+    """A Literal over a registry's names: validated in pydantic-core, listed in JSON Schema."""
+    return Literal[registry.names]
+
+
+ActionName = _one_of(ACTIONS)
+CameraName = _one_of(CAMERAS)
+DayPhaseName = _one_of(DAY_PHASES)
+EnvironmentName = _one_of(ENVIRONMENTS)
+HumanModelName = _one_of(HUMAN_MODELS)
+MotionName = _one_of(MOTIONS)
+MuscleName = _one_of(MUSCLES)
+ObjectName = _one_of(OBJECTS)
+WeatherName = _one_of(WEATHERS)
+
+
+def _distinct(values: tuple[str, ...]) -> tuple[str, ...]:
+    if len(set(values)) != len(values):
+        raise ValueError(f"duplicate muscle in {list(values)}")
+    return values
+
+
+Muscles = Annotated[tuple[MuscleName, ...], Field(min_length=1), AfterValidator(_distinct)]
+
+
+class HumanSpec(BaseModel):
+    """A human model with its shape and appearance copied in, so the recipe is complete."""
+
+    model_config = _FROZEN
+    model: HumanModelName
+    height_m: Finite
+    mass_kg: Finite
+    shoulder_width_m: Finite
+    hip_width_m: Finite
+    limb_girth: Finite
+    skin_rgb: RGB
+    hair_rgb: RGB
+    hair_style: str
+    top_rgb: RGB
+    bottom_rgb: RGB
+    shoes_rgb: RGB
+
+    @classmethod
+    def of(cls, name: str) -> HumanSpec:
+        """The declared human model ``name`` as a recipe entry."""
+        return cls(model=name, **HUMAN_MODELS[name].__dict__)
+
+
+class Protagonist(BaseModel):
+    """The main human model performing the action, at waypoint P_W."""
+
+    model_config = _FROZEN
+    person_id: Literal[0] = 0
+    human: HumanSpec
+    position: Vec3
+    heading_deg: Finite
+
+
+class SupportingCharacter(BaseModel):
+    """An actor whose part completes the action (hold hands, hug, bump into)."""
+
+    model_config = _FROZEN
+    person_id: int = Field(ge=1)
+    human: HumanSpec
+    placement: Literal["side_by_side", "behind", "facing"]
+    distance_m: Finite
+    position: Vec3
+    heading_deg: Finite
+
+
+class BackgroundActor(BaseModel):
+    """A pedestrian walking from one background waypoint to another."""
+
+    model_config = _FROZEN
+    person_id: int = Field(ge=1)
+    human: HumanSpec
+    start_waypoint: int = Field(ge=0)
+    destination_waypoint: int = Field(ge=0)
+    start: Vec3
+    destination: Vec3
+    speed_mps: Finite
+
+
+class MotionSpec(BaseModel):
+    """The base motion B and how it is played back."""
+
+    model_config = _FROZEN
+    base_motion: MotionName
+    base_motion_length_s: Finite
+    start_s: Finite = Field(ge=0.0)
+    speed: Finite = Field(gt=0.0)
+    mirror: bool
+
+
+class NoVariation(BaseModel):
+    model_config = _FROZEN
+    kind: Literal["none"] = "none"
+
+
+class RandomPerturbation(BaseModel):
+    """Orbiting bodies pull a subset of complementary muscles (paper "Random perturbations")."""
+
+    model_config = _FROZEN
+    kind: Literal["random_perturbation"] = "random_perturbation"
+    muscles: Muscles
+    radius_m: Finite
+    period_s: Finite = Field(gt=0.0)
+
+
+class MuscleWeakening(BaseModel):
+    """A subset of muscles at reduced strength, one strength per muscle."""
+
+    model_config = _FROZEN
+    kind: Literal["muscle_weakening"] = "muscle_weakening"
+    muscles: Muscles
+    strengths: tuple[Finite, ...]
+
+    @model_validator(mode="after")
+    def _one_strength_each(self) -> MuscleWeakening:
+        if len(self.strengths) != len(self.muscles):
+            raise ValueError("strengths: one strength per weakened muscle")
+        return self
+
+
+class ActionBlending(BaseModel):
+    """Complementary muscles follow a second motion (at most two blended sequences)."""
+
+    model_config = _FROZEN
+    kind: Literal["action_blending"] = "action_blending"
+    muscles: Muscles
+    blend_motion: MotionName
+    blend_start_s: Finite = Field(ge=0.0)
+    weight: Finite
+
+class ObjectsVariation(BaseModel):
+    """An extra prop the protagonist carries or uses."""
+
+    model_config = _FROZEN
+    kind: Literal["objects"] = "objects"
+    object: ObjectName
+
+
+Variation = Annotated[
+    NoVariation | RandomPerturbation | MuscleWeakening | ActionBlending | ObjectsVariation,
+    Field(discriminator="kind"),
+]
+
+
+class SpringsSpec(BaseModel):
+    """Kite springs: camera–target and target–protagonist, with dead zones of 0, 1 or 2 m."""
+
+    model_config = _FROZEN
+    ct_spring_strength: Finite
+    tp_spring_strength: Finite
+    camera_mass: Finite
+    target_mass: Finite
+    camera_drag: Finite
+    target_drag: Finite
+    ct_min_distance_m: Literal[0, 1, 2]
+    tp_min_distance_m: Literal[0, 1, 2]
+
+
+class ImpulseSpec(BaseModel):
+    model_config = _FROZEN
+    strength: Finite
+    azimuth_deg: Finite
+    elevation_deg: Finite
+
+
+class CameraSpec(BaseModel):
+    """Camera behaviour C, its initial position C_xyz, target T_xyz and parameters Θ_c."""
+
+    model_config = _FROZEN
+    kind: CameraName
+    fov_deg: Finite
+    distance_m: Finite
+    height_m: Finite
+    azimuth_deg: Finite
+    position: Vec3
+    target: Vec3
+    springs: SpringsSpec | None
+    impulse: ImpulseSpec | None
+
+
+class EnvironmentSpec(BaseModel):
+    model_config = _FROZEN
+    name: EnvironmentName
+    indoor: bool
+    waypoint_index: int = Field(ge=0)
+    waypoint: Vec3
+
+
+class WorldSpec(BaseModel):
+    """Day phase D, clock time T, weather W and the weather elements Θ_w."""
+
+    model_config = _FROZEN
+    day_phase: DayPhaseName
+    clock_hour: Finite = Field(ge=0.0, lt=24.0)
+    weather: WeatherName
+    sun_brightness: Finite
+    ambient_luminosity: Finite
+    rain: bool
+    fog: bool
+    clouds: bool
+    wet_ground: bool
+    cloud_intensity: Finite
+    fog_intensity: Finite
+    rain_intensity: Finite
+
+
+class Seeds(BaseModel):
+    """Seeds for everything decided at run time, each from its own named stream."""
+
+    model_config = _FROZEN
+    physics: Seed
+    perturbation: Seed
+    render: Seed
+    background: Seed
+
+
+class VideoSpec(BaseModel):
+    model_config = _FROZEN
+    width: int = Field(ge=16)
+    height: int = Field(ge=16)
+    fps: int = Field(ge=1)
+
+
+class Recipe(BaseModel):
+    """A procedural recipe for one video (schema version 1)."""
+
+    model_config = _FROZEN
+    schema_version: Literal[1] = RECIPE_SCHEMA_VERSION
+    video_id: str = Field(pattern=r"^v\d{6,}$")
+    index: int = Field(ge=0)
+    dataset_seed: int = Field(ge=0)
+    theta_hash: str = Field(pattern=r"^[0-9a-f]{64}$")
+    action: ActionName
+    n_people: int = Field(ge=1)
+    duration_s: Finite = Field(gt=0.0)
+    n_frames: int = Field(ge=1)
+    video: VideoSpec
+    motion: MotionSpec
+    variation: Variation
+    protagonist: Protagonist
+    supporting_characters: tuple[SupportingCharacter, ...]
+    environment: EnvironmentSpec
+    background_actors: tuple[BackgroundActor, ...]
+    camera: CameraSpec
+    world: WorldSpec
+    render: RenderSettings
+    seeds: Seeds
+
+    @model_validator(mode="after")
+    def _consistent(self) -> Recipe:
+        if self.n_frames != frames_for(self.duration_s, self.video.fps):
+            raise ValueError(
+                f"n_frames ({self.n_frames}) does not match duration_s {self.duration_s} at {self.video.fps} fps"
+            )
+        if self.video_id != video_id(self.index):
+            raise ValueError(f"video_id {self.video_id!r} does not match index {self.index}")
+        if self.n_people != 1 + len(self.supporting_characters):
+            raise ValueError("n_people must count the protagonist and the supporting characters")
+        ids = [0] + [p.person_id for p in self.supporting_characters] + [p.person_id for p in self.background_actors]
+        if len(set(ids)) != len(ids):
+            raise ValueError("person_id values must be unique within a recipe")
+        return self
+
+
+def frames_for(duration_s: float, fps: int) -> int:
+    """Number of frames of a clip of ``duration_s`` seconds: round half up, at least one."""
+    return max(1, int(duration_s * fps + 0.5))
+
+
+def video_id(index: int) -> str:
+    """``v000123``: the dataset-wide video id (never contains a dot, WebDataset keys)."""
+    return f"v{index:06d}"
+
+
+#: Upgrades from schema version v to v + 1, keyed by v. Version 1 is the first release.
+RECIPE_MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {}
+
+
+def upgrade_recipe(
+    data: Mapping[str, Any],
+    *,
+    migrations: Mapping[int, Callable[[dict[str, Any]], dict[str, Any]]] = RECIPE_MIGRATIONS,
+    current: int = RECIPE_SCHEMA_VERSION,
+    source: str = "<recipe>",
+) -> dict[str, Any]:
+    """Bring a recipe mapping up to the ``current`` schema version through ``migrations``."""
+    version = data.get("schema_version")
+    if version is None:
+        raise PhavUserError("missing required field", source=source, field="schema_version")
+    if isinstance(version, bool) or not isinstance(version, int) or version < 0:
+        raise PhavUserError(f"must be a non-negative integer, got {version!r}", source=source, field="schema_version")
+    if version > current:
+        raise PhavUserError(
+            f"version {version} is newer than this phav supports ({current}); upgrade phav",
+            source=source,
+            field="schema_version",
+        )
+    out = dict(data)
+    while out["schema_version"] < current:
+        v = out["schema_version"]
+        if v not in migrations:
+            raise PhavUserError(f"no migration from version {v}", source=source, field="schema_version")
+        out = migrations[v](dict(out))
+        if out.get("schema_version") != v + 1:
+            raise RuntimeError(f"migration from schema version {v} did not produce version {v + 1}")
+    return out
+
+
+def parse_recipe(data: Mapping[str, Any] | str | bytes, *, source: str = "<recipe>") -> Recipe:
+    """Validate (and upgrade) a recipe from a mapping or JSON text; errors name source and field."""
+    if isinstance(data, str | bytes):
+        try:
+            data = json.loads(data)
+        except json.JSONDecodeError as e:
+            raise PhavUserError(f"invalid JSON: {e.msg} at line {e.lineno}", source=source) from None
+    if not isinstance(data, Mapping):
+        raise PhavUserError("a recipe must be a JSON object", source=source)
+    upgraded = upgrade_recipe(data, source=source)
+    try:
+        return Recipe.model_validate(upgraded)
+    except ValidationError as e:
+        field, msg = format_validation_error(e)
+        raise PhavUserError(msg, source=source, field=field or None) from None
+
+
+def load_recipe(path: str | Path) -> Recipe:
+    """Read one recipe JSON file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as e:
+        raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
+    return parse_recipe(text, source=str(path))
+
+
+def recipe_json_schema() -> dict[str, Any]:
+    """JSON Schema of the current recipe version (``phav spec schema``)."""
+    schema = Recipe.model_json_schema()
+    schema["$id"] = f"https://phav.invalid/schema/recipe/v{RECIPE_SCHEMA_VERSION}.json"
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    return schema

@@ -1,0 +1,181 @@
+"""All recipes of a dataset in one Parquet table: stable columns plus the full recipe JSON.
+
+The stable columns are a documented contract (README): one row per video, categorical
+variables as strings/booleans/integers, and ``recipe`` holding the recipe's JSON, which is
+the source of truth. The table's key-value metadata carries θ (canonical JSON), its hash,
+the dataset seed and the recipe schema version, so ``phav stats`` needs nothing else.
+pyarrow is imported inside the functions: reading θ or a recipe never needs it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from phav_spec.canonical import canonical_json
+from phav_spec.errors import PhavUserError
+from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe, parse_recipe
+from phav_spec.theta import Theta, parse_theta
+
+if TYPE_CHECKING:
+    import pyarrow as pa
+
+
+@dataclass(frozen=True)
+class Column:
+    """A stable column: its name, Arrow type name and how it is read off a recipe."""
+
+    name: str
+    arrow_type: str  # string, int64, float64, bool_ (pyarrow type factory names)
+    extract: Callable[[Recipe], Any]
+    doc: str
+
+
+def _springs(r: Recipe, attr: str) -> int | None:
+    return getattr(r.camera.springs, attr) if r.camera.springs is not None else None
+
+
+def _variation_attr(r: Recipe, kind: str, attr: str) -> Any:
+    return getattr(r.variation, attr) if r.variation.kind == kind else None
+
+
+#: The stable columns, in table order (the ``recipe`` JSON column follows them).
+COLUMNS: tuple[Column, ...] = (
+    Column("video_id", "string", lambda r: r.video_id, "v000123: dataset-wide id"),
+    Column("index", "int64", lambda r: r.index, "video index i in the dataset"),
+    Column("action", "string", lambda r: r.action, "A"),
+    Column("human_model", "string", lambda r: r.protagonist.human.model, "H (protagonist)"),
+    Column("environment", "string", lambda r: r.environment.name, "E"),
+    Column("weather", "string", lambda r: r.world.weather, "W"),
+    Column("day_phase", "string", lambda r: r.world.day_phase, "D"),
+    Column("variation", "string", lambda r: r.variation.kind, "V"),
+    Column("camera", "string", lambda r: r.camera.kind, "C"),
+    Column("base_motion", "string", lambda r: r.motion.base_motion, "B"),
+    Column("duration_s", "float64", lambda r: r.duration_s, "L in seconds"),
+    Column("n_frames", "int64", lambda r: r.n_frames, "frames at the video's fps"),
+    Column("clock_hour", "float64", lambda r: r.world.clock_hour, "T, hours in [0, 24)"),
+    Column("rain", "bool_", lambda r: r.world.rain, "weather element"),
+    Column("fog", "bool_", lambda r: r.world.fog, "weather element"),
+    Column("clouds", "bool_", lambda r: r.world.clouds, "weather element"),
+    Column("wet_ground", "bool_", lambda r: r.world.wet_ground, "weather element"),
+    Column("ct_min_distance_m", "int64", lambda r: _springs(r, "ct_min_distance_m"), "camera–target dead zone (spring cameras)"),
+    Column("tp_min_distance_m", "int64", lambda r: _springs(r, "tp_min_distance_m"), "target–protagonist dead zone"),
+    Column("supporting_human_model", "string",
+           lambda r: r.supporting_characters[0].human.model if r.supporting_characters else None,
+           "H of the supporting character (two-people actions)"),
+    Column("variation_object", "string", lambda r: _variation_attr(r, "objects", "object"), "prop of the objects variation"),
+    Column("blend_motion", "string", lambda r: _variation_attr(r, "action_blending", "blend_motion"), "second motion of action blending"),
+    Column("n_background_actors", "int64", lambda r: len(r.background_actors), "background pedestrians"),
+    Column("waypoint_index", "int64", lambda r: r.environment.waypoint_index, "P_W in the environment's graph"),
+)  # fmt: skip
+COLUMN_NAMES: tuple[str, ...] = tuple(c.name for c in COLUMNS)
+RECIPE_COLUMN = "recipe"
+
+
+class RecipeRows:
+    """Column lists accumulated recipe by recipe, so millions of Recipe objects need not live."""
+
+    def __init__(self) -> None:
+        self.columns: dict[str, list[Any]] = {c.name: [] for c in COLUMNS}
+        self.columns[RECIPE_COLUMN] = []
+
+    def __len__(self) -> int:
+        return len(self.columns[RECIPE_COLUMN])
+
+    def add(self, recipe: Recipe) -> None:
+        for c in COLUMNS:
+            self.columns[c.name].append(c.extract(recipe))
+        self.columns[RECIPE_COLUMN].append(recipe.model_dump_json())
+
+    def extend(self, recipes: Iterable[Recipe]) -> RecipeRows:
+        for r in recipes:
+            self.add(r)
+        return self
+
+    def to_arrow(self, *, theta: Theta | None = None, dataset_seed: int | None = None) -> pa.Table:
+        import pyarrow as pa
+
+        arrays = {c.name: pa.array(self.columns[c.name], type=getattr(pa, c.arrow_type)()) for c in COLUMNS}
+        arrays[RECIPE_COLUMN] = pa.array(self.columns[RECIPE_COLUMN], type=pa.string())
+        meta = {"phav.recipe_schema_version": str(RECIPE_SCHEMA_VERSION)}
+        if theta is not None:
+            meta["phav.theta"] = canonical_json(theta.model_dump(mode="json"))
+            meta["phav.theta_hash"] = theta.hash
+        if dataset_seed is not None:
+            meta["phav.dataset_seed"] = str(dataset_seed)
+        return pa.table(arrays).replace_schema_metadata(meta)
+
+
+def write_recipe_table(table: pa.Table, path: str | Path) -> int:
+    """Write atomically (temp file in the same folder, then rename); returns the file's bytes."""
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        pq.write_table(table, tmp, compression="zstd")
+        with open(tmp, "rb+") as f:
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path.stat().st_size
+
+
+@dataclass(frozen=True)
+class RecipeTable:
+    """A recipes.parquet as read back: the Arrow table and what its metadata says."""
+
+    path: Path
+    table: pa.Table
+    theta: Theta | None
+    dataset_seed: int | None
+    schema_version: int
+
+    def column(self, name: str) -> list[Any]:
+        return self.table.column(name).to_pylist()
+
+    def recipes(self) -> Iterable[Recipe]:
+        """Every row's recipe, validated; a bad row raises PhavUserError naming its video."""
+        ids = self.table.column("video_id").to_pylist()
+        for vid, text in zip(ids, self.table.column(RECIPE_COLUMN).to_pylist(), strict=True):
+            yield parse_recipe(text, source=f"{self.path}[{vid}]")
+
+
+def read_recipe_table(path: str | Path) -> RecipeTable:
+    """Read recipes.parquet; a missing, truncated or foreign file raises PhavUserError."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    if not path.exists():
+        raise PhavUserError("no such file", source=str(path))
+    try:
+        table = pq.read_table(path)
+    except (pa.ArrowException, OSError) as e:
+        first = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise PhavUserError(f"not a readable Parquet file ({first})", source=str(path)) from None
+    missing = [name for name in (*COLUMN_NAMES, RECIPE_COLUMN) if name not in table.column_names]
+    if missing:
+        raise PhavUserError("missing column (not a phav recipes table?)", source=str(path), field=missing[0])
+    meta = {k.decode(): v.decode() for k, v in (table.schema.metadata or {}).items()}
+    version = int(meta.get("phav.recipe_schema_version", RECIPE_SCHEMA_VERSION))
+    if version > RECIPE_SCHEMA_VERSION:
+        raise PhavUserError(
+            f"recipe schema version {version} is newer than this phav supports ({RECIPE_SCHEMA_VERSION}); upgrade phav",
+            source=str(path),
+            field="phav.recipe_schema_version",
+        )
+    theta = None
+    if "phav.theta" in meta:
+        theta = parse_theta(json.loads(meta["phav.theta"]), source=f"{path} (metadata phav.theta)")
+    seed = int(meta["phav.dataset_seed"]) if "phav.dataset_seed" in meta else None
+    return RecipeTable(path=path, table=table, theta=theta, dataset_seed=seed, schema_version=version)

@@ -1,0 +1,626 @@
+"""θ: every parameter of the paper's generative model (Section "Generative models for world
+control"), as a frozen pydantic model loaded from YAML and validated for support.
+
+Categorical weights are written either as ``uniform`` or as a mapping value → weight
+(unlisted values weigh 0); they are normalised on load to a full mapping in registry order,
+so the canonical hash identifies the distribution, not its spelling. Conditional tables
+(θ_AE, θ_AV, θ_AC, θ_EC) have a ``default`` row and per-parent ``rows`` overriding it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import yaml
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    PlainSerializer,
+    ValidationError,
+    model_validator,
+)
+
+from phav_spec.canonical import canonical_json, sha256_hex
+from phav_spec.distributions import Bernoulli, Continuous, Triangular, Uniform
+from phav_spec.errors import PhavUserError
+from phav_spec.motions import MOTIONS, theta_ab
+from phav_spec.scene import (
+    ACTION_SCENES,
+    CAMERA_INFO,
+    CAMERA_PLACEMENT_VARIABLES,
+    ENVIRONMENT_SCENES,
+    HUMAN_MODELS,
+    KITE_SPRING_VARIABLES,
+    SPRING_MIN_DISTANCES_M,
+    WEATHER_ELEMENTS,
+    WEATHER_LEVELS,
+)
+from phav_spec.vocab import (
+    ACTIONS,
+    CAMERAS,
+    DAY_PHASES,
+    ENVIRONMENTS,
+    VARIATIONS,
+    WEATHERS,
+    Registry,
+)
+
+THETA_FORMAT_VERSION = 1
+_FROZEN = ConfigDict(extra="forbid", frozen=True)
+PRESETS_DIR = Path(__file__).parent / "presets"
+
+
+def unknown_name_message(registry: Registry, name: object) -> str:
+    """'unknown action 'walkk' (did you mean 'walk'?)' — the one wording for bad names."""
+    close = difflib.get_close_matches(str(name), registry.names, n=1)
+    hint = f" (did you mean {close[0]!r}?)" if close else f"; known: {', '.join(registry.names)}"
+    return f"unknown {registry.kind} {name!r}{hint}"
+
+
+def _weights(registry: Registry, value: Any) -> dict[str, float]:
+    """Normalise a categorical weight spec to a full mapping in registry order."""
+    if value == "uniform":
+        return {name: 1.0 for name in registry.names}
+    if not isinstance(value, Mapping):
+        raise ValueError(f"expected 'uniform' or a mapping {registry.kind} → weight, got {value!r}")
+    out = {name: 0.0 for name in registry.names}
+    for key, w in value.items():
+        if key not in registry:
+            raise ValueError(unknown_name_message(registry, key))
+        if isinstance(w, bool) or not isinstance(w, int | float):
+            raise ValueError(f"weight of {key!r} must be a number, got {w!r}")
+        if not math.isfinite(w) or w < 0:
+            raise ValueError(f"weight of {key!r} must be finite and non-negative, got {w}")
+        out[key] = float(w)
+    return out
+
+
+def _weights_field(registry: Registry) -> Any:
+    return Annotated[dict[str, float], BeforeValidator(lambda v: _weights(registry, v))]
+
+
+def _table_field(rows: Registry, cols: Registry) -> Any:
+    """A conditional table: ``default`` weights and per-parent ``rows`` overriding them.
+
+    It normalises to one full row per parent value and serialises as ``{rows: ...}`` alone,
+    which loads back to the same table.
+    """
+
+    def normalise(value: Any) -> dict[str, Any]:
+        if not isinstance(value, Mapping):
+            raise ValueError("expected a mapping with 'default' and optional 'rows'")
+        extra = set(value) - {"default", "rows"}
+        if extra:
+            raise ValueError(f"unexpected key {sorted(extra)[0]!r}; a table has 'default' and 'rows'")
+        given = value.get("rows") or {}
+        if not isinstance(given, Mapping):
+            raise ValueError("'rows' must map each parent value to weights")
+        for name in given:
+            if name not in rows:
+                raise ValueError(f"rows: {unknown_name_message(rows, name)}")
+        uncovered = [name for name in rows.names if name not in given]
+        if uncovered and "default" not in value:
+            raise ValueError(f"missing 'default' row (no row given for {uncovered[0]!r})")
+        default = _weights(cols, value["default"]) if uncovered else {}
+        table = {}
+        for name in rows.names:
+            try:
+                table[name] = _weights(cols, given[name]) if name in given else dict(default)
+            except ValueError as e:
+                raise ValueError(f"rows.{name}: {e}") from None
+        return table
+
+    return Annotated[
+        dict[str, dict[str, float]],
+        BeforeValidator(normalise),
+        PlainSerializer(lambda table: {"rows": table}),
+    ]
+
+
+ActionWeights = _weights_field(ACTIONS)
+EnvironmentWeights = _weights_field(ENVIRONMENTS)
+WeatherWeights = _weights_field(WEATHERS)
+DayPhaseWeights = _weights_field(DAY_PHASES)
+HumanWeights = _weights_field(HUMAN_MODELS)
+VariationWeights = _weights_field(VARIATIONS)
+CameraWeights = _weights_field(CAMERAS)
+
+
+class VideoFormat(BaseModel):
+    """Resolution and frame rate (paper: 340×256 at 30 fps)."""
+
+    model_config = _FROZEN
+    width: int = Field(340, ge=16, le=4096)
+    height: int = Field(256, ge=16, le=4096)
+    fps: int = Field(30, ge=1, le=240)
+
+
+class Durations(BaseModel):
+    """T_min, T_max and T_mod in seconds (Section "Generated video duration")."""
+
+    model_config = _FROZEN
+    t_min: float = Field(gt=0.0, allow_inf_nan=False)
+    t_max: float = Field(gt=0.0, allow_inf_nan=False)
+    t_mod: float = Field(gt=0.0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Durations:
+        if self.t_min > self.t_max:
+            raise ValueError(f"t_min ({self.t_min}) must not exceed t_max ({self.t_max})")
+        if not self.t_min <= self.t_mod <= self.t_max:
+            raise ValueError(f"t_mod ({self.t_mod}) must lie in [t_min, t_max] = [{self.t_min}, {self.t_max}]")
+        return self
+
+
+class MotionRegex(BaseModel):
+    """θ_AB as in the paper: one regular expression per action, matched against motion texts."""
+
+    model_config = _FROZEN
+    regex: dict[str, str]
+
+    @model_validator(mode="after")
+    def _compile(self) -> MotionRegex:
+        for action, pattern in self.regex.items():
+            if action not in ACTIONS:
+                raise ValueError(f"regex: {unknown_name_message(ACTIONS, action)}")
+            try:
+                re.compile(pattern)
+            except re.error as e:
+                raise ValueError(f"regex.{action}: does not compile: {e}") from None
+        return self
+
+
+class ClockHour(BaseModel):
+    """Tr(t | min, max, mode) in hours on a 24 h clock; min > max wraps midnight."""
+
+    model_config = _FROZEN
+    min: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False)
+    max: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False)
+    mode: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _valid(self) -> ClockHour:
+        self.distribution()
+        return self
+
+    def distribution(self) -> Triangular:
+        return Triangular(min=self.min, max=self.max, mode=self.mode, period=24.0)
+
+
+class DependentBernoulli(BaseModel):
+    """P(element on | parent on) and P(element on | parent off)."""
+
+    model_config = _FROZEN
+    p_if_parent: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+    p_otherwise: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+
+
+class WeatherElementsTheta(BaseModel):
+    """Θ_w for one weather: light levels, element activations and their intensities."""
+
+    model_config = _FROZEN
+    sun_brightness: Continuous
+    ambient_luminosity: Continuous
+    rain: Bernoulli
+    fog: Bernoulli
+    clouds: DependentBernoulli
+    wet_ground: DependentBernoulli
+    cloud_intensity: Continuous
+    fog_intensity: Continuous
+    rain_intensity: Continuous
+
+    @model_validator(mode="after")
+    def _bounds(self) -> WeatherElementsTheta:
+        for name, (lo, hi) in WEATHER_LEVELS.items():
+            _check_support(getattr(self, name), lo, hi, name)
+        return self
+
+    def p_on(self, element: str, parent_on: bool | None = None) -> float:
+        """Activation probability of an element, given its parent's state when it has one."""
+        spec = getattr(self, element)
+        if isinstance(spec, Bernoulli):
+            return spec.p
+        return spec.p_if_parent if parent_on else spec.p_otherwise
+
+
+def _check_support(dist: Uniform | Triangular, lo: float, hi: float, name: str) -> None:
+    a, b = dist.support
+    if a < lo or b > hi:
+        raise ValueError(f"{name}: support [{a}, {b}] leaves the allowed range [{lo}, {hi}]")
+
+
+class IntegerRange(BaseModel):
+    """A uniform integer on [min, max]."""
+
+    model_config = _FROZEN
+    min: int = Field(ge=0)
+    max: int = Field(ge=0)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> IntegerRange:
+        if self.min > self.max:
+            raise ValueError(f"min ({self.min}) must not exceed max ({self.max})")
+        return self
+
+
+class BackgroundActors(BaseModel):
+    """Background pedestrians walking between waypoints of B_WG (outdoor scenes only)."""
+
+    model_config = _FROZEN
+    count: IntegerRange
+    speed_mps: Continuous
+
+
+class SupportingCharacters(BaseModel):
+    """Where the supporting character of a two-people action starts, relative to P_xyz."""
+
+    model_config = _FROZEN
+    side_distance_m: Continuous
+    behind_distance_m: Continuous
+    facing_distance_m: Continuous
+
+
+class MotionParameters(BaseModel):
+    """Playback of the base motion: speed factor and mirroring left/right."""
+
+    model_config = _FROZEN
+    speed: Continuous
+    p_mirror: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+
+
+class KiteSprings(BaseModel):
+    """The kite camera's springs: camera–target (CT) and target–protagonist (TP)."""
+
+    model_config = _FROZEN
+    ct_spring_strength: Continuous
+    tp_spring_strength: Continuous
+    camera_mass: Continuous
+    target_mass: Continuous
+    camera_drag: Continuous
+    target_drag: Continuous
+    min_distance_weights: dict[int, float]
+
+    @model_validator(mode="after")
+    def _bounds(self) -> KiteSprings:
+        for name, (_, lo, hi) in KITE_SPRING_VARIABLES.items():
+            _check_support(getattr(self, name), lo, hi, name)
+        for d, w in self.min_distance_weights.items():
+            if d not in SPRING_MIN_DISTANCES_M:
+                raise ValueError(f"min_distance_weights: {d} m is not one of {SPRING_MIN_DISTANCES_M}")
+            if not (math.isfinite(w) and w >= 0):
+                raise ValueError(f"min_distance_weights.{d}: weight must be finite and non-negative")
+        if sum(self.min_distance_weights.values()) <= 0:
+            raise ValueError("min_distance_weights: all zero, no dead zone has support")
+        return self
+
+    def dead_zone_weights(self) -> list[float]:
+        return [self.min_distance_weights.get(d, 0.0) for d in SPRING_MIN_DISTANCES_M]
+
+
+class Impulse(BaseModel):
+    """The random initial impulse that starts the camera moving (N·s, degrees)."""
+
+    model_config = _FROZEN
+    strength: Continuous
+    azimuth_deg: Continuous
+    elevation_deg: Continuous
+
+
+class CameraTheta(BaseModel):
+    """Θ_c for one camera behaviour: initial placement around the protagonist, springs, impulse."""
+
+    model_config = _FROZEN
+    fov_deg: Continuous
+    distance_m: Continuous
+    height_m: Continuous
+    azimuth_deg: Continuous
+    springs: KiteSprings | None = None
+    impulse: Impulse | None = None
+
+    @model_validator(mode="after")
+    def _bounds(self) -> CameraTheta:
+        for name, (_, lo, hi) in CAMERA_PLACEMENT_VARIABLES.items():
+            _check_support(getattr(self, name), lo, hi, name)
+        return self
+
+
+class Perturbation(BaseModel):
+    """Random perturbation: orbiting bodies on a subset of complementary muscles."""
+
+    model_config = _FROZEN
+    n_muscles: IntegerRange
+    radius_m: Continuous
+    period_s: Continuous
+
+
+class Weakening(BaseModel):
+    """Muscle weakening: a subset of any muscles, each at a random strength."""
+
+    model_config = _FROZEN
+    n_muscles: IntegerRange
+    strength: Continuous
+
+
+class Blending(BaseModel):
+    """Action blending: complementary muscles follow a second motion at a blend weight."""
+
+    model_config = _FROZEN
+    n_muscles: IntegerRange
+    weight: Continuous
+
+
+class VariationsTheta(BaseModel):
+    """Θ_v: the parameters of each motion variation."""
+
+    model_config = _FROZEN
+    random_perturbation: Perturbation
+    muscle_weakening: Weakening
+    action_blending: Blending
+
+
+class RenderSettings(BaseModel):
+    """Post-processing of the RGB stream (paper Section "Rendered RGB Frames")."""
+
+    model_config = _FROZEN
+    supersampling: int = Field(2, ge=1, le=4)
+    motion_blur: bool = True
+    bloom: bool = True
+    ambient_occlusion: bool = True
+    screen_space_reflection: bool = True
+    color_grading: bool = True
+    vignette: bool = True
+    png_compression: int = Field(1, ge=0, le=9)
+
+
+@dataclass(frozen=True)
+class ThetaArrays:
+    """θ's categorical parameters as numpy arrays in registry order (rows = parents)."""
+
+    a: np.ndarray
+    e: np.ndarray
+    w: np.ndarray
+    d: np.ndarray
+    h: np.ndarray
+    v: np.ndarray
+    c: np.ndarray
+    ae: np.ndarray
+    av: np.ndarray
+    ac: np.ndarray
+    ec: np.ndarray
+    ab: np.ndarray  # θ_AB from the regexes, before the T_min mask
+    motion_long_enough: np.ndarray  # length(b) >= T_min
+
+    def p_e_given_a(self) -> np.ndarray:
+        """Unnormalised P(E | A) ∝ θ_E · θ_AE, shape (A, E)."""
+        return self.e[None, :] * self.ae
+
+    def p_v_given_a(self) -> np.ndarray:
+        return self.v[None, :] * self.av
+
+    def p_c_given_ae(self) -> np.ndarray:
+        """Unnormalised P(C | A, E) ∝ θ_C · θ_AC · θ_EC, shape (A, E, C)."""
+        return self.c[None, None, :] * self.ac[:, None, :] * self.ec[None, :, :]
+
+    def p_b_given_a(self) -> np.ndarray:
+        return self.ab * self.motion_long_enough[None, :]
+
+
+class Theta(BaseModel):
+    """All parameters θ of the generative model; one file, one canonical hash."""
+
+    model_config = _FROZEN
+    format_version: int = THETA_FORMAT_VERSION
+    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$")
+    description: str = ""
+    video: VideoFormat = VideoFormat()
+    durations: Durations
+    theta_a: ActionWeights
+    theta_e: EnvironmentWeights
+    theta_w: WeatherWeights
+    theta_d: DayPhaseWeights
+    theta_h: HumanWeights
+    theta_v: VariationWeights
+    theta_c: CameraWeights
+    theta_ae: _table_field(ACTIONS, ENVIRONMENTS)
+    theta_av: _table_field(ACTIONS, VARIATIONS)
+    theta_ac: _table_field(ACTIONS, CAMERAS)
+    theta_ec: _table_field(ENVIRONMENTS, CAMERAS)
+    theta_ab: MotionRegex
+    clock_hours: dict[str, ClockHour]
+    weather_elements: dict[str, WeatherElementsTheta]
+    background_actors: BackgroundActors
+    supporting_characters: SupportingCharacters
+    motion: MotionParameters
+    protagonist_heading_deg: Continuous
+    cameras: dict[str, CameraTheta]
+    variations: VariationsTheta
+    render: RenderSettings = RenderSettings()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _version_first(cls, data: Any) -> Any:
+        if isinstance(data, Mapping):
+            v = data.get("format_version", THETA_FORMAT_VERSION)
+            if isinstance(v, int) and v > THETA_FORMAT_VERSION:
+                raise ValueError(
+                    f"format_version {v} is newer than this phav reads ({THETA_FORMAT_VERSION}); upgrade phav"
+                )
+        return data
+
+    @model_validator(mode="after")
+    def _support(self) -> Theta:
+        _require_keys("clock_hours", self.clock_hours, DAY_PHASES)
+        _require_keys("weather_elements", self.weather_elements, WEATHERS)
+        _require_keys("cameras", self.cameras, CAMERAS)
+        for name, cam in self.cameras.items():
+            tracking = CAMERA_INFO[name].tracking
+            if tracking == "springs" and (cam.springs is None or cam.impulse is None):
+                raise ValueError(f"cameras.{name}: a spring camera needs 'springs' and 'impulse'")
+            if tracking != "springs" and (cam.springs is not None or cam.impulse is not None):
+                raise ValueError(f"cameras.{name}: only spring cameras take 'springs'/'impulse'")
+        for fieldname in ("theta_a", "theta_w", "theta_d", "theta_h", "theta_v", "theta_c", "theta_e"):
+            if sum(getattr(self, fieldname).values()) <= 0:
+                raise ValueError(f"{fieldname}: all weights are zero, no value has support")
+        self._check_reachable_rows()
+        return self
+
+    def _check_reachable_rows(self) -> None:
+        arr = self.arrays
+        t_min = self.durations.t_min
+        for ai, action in enumerate(ACTIONS.names):
+            if arr.a[ai] <= 0:
+                continue
+            scene = ACTION_SCENES[action]
+            pe = arr.p_e_given_a()[ai]
+            if pe.sum() <= 0:
+                raise ValueError(f"theta_ae.rows.{action}: no environment with positive θ_E·θ_AE (all-zero row)")
+            pv = arr.p_v_given_a()[ai]
+            if pv.sum() <= 0:
+                raise ValueError(f"theta_av.rows.{action}: no variation with positive θ_V·θ_AV (all-zero row)")
+            if pv[VARIATIONS.index("objects")] > 0 and not scene.variation_objects:
+                raise ValueError(f"theta_av.rows.{action}.objects: {action} declares no objects to add")
+            for needs_muscles in ("random_perturbation", "action_blending"):
+                if pv[VARIATIONS.index(needs_muscles)] > 0 and not scene.complementary_muscles:
+                    raise ValueError(f"theta_av.rows.{action}.{needs_muscles}: {action} has no complementary muscles")
+            if arr.ab[ai].sum() <= 0:
+                raise ValueError(f"theta_ab.regex.{action}: matches no motion description")
+            if arr.p_b_given_a()[ai].sum() <= 0:
+                longest = max(MOTIONS[m].length_s for m, hit in zip(MOTIONS.names, arr.ab[ai], strict=True) if hit)
+                raise ValueError(
+                    f"durations.t_min: {t_min} s is longer than every motion of {action} (longest {longest} s)"
+                )
+            if ACTIONS[action].n_people > 1 and np.count_nonzero(arr.h) < 2:
+                raise ValueError(f"theta_h: {action} needs a supporting character but only one human model has weight")
+            for ei, env in enumerate(ENVIRONMENTS.names):
+                if pe[ei] <= 0:
+                    continue
+                env_scene = ENVIRONMENT_SCENES[env]
+                missing = [c for c in scene.requires_classes if c not in env_scene.pixel_classes]
+                if missing:
+                    raise ValueError(f"theta_ae.rows.{action}.{env}: {env} has no {missing[0]}, which {action} needs")
+                pc = arr.p_c_given_ae()[ai, ei]
+                if pc.sum() <= 0:
+                    raise ValueError(
+                        f"theta_ec.rows.{env}: no camera with positive θ_C·θ_AC·θ_EC for action {action} in {env}"
+                    )
+                for ci, cam in enumerate(CAMERAS.names):
+                    if pc[ci] > 0 and CAMERA_INFO[cam].indoor_only and not env_scene.indoor:
+                        raise ValueError(f"theta_ec.rows.{env}.{cam}: the {cam} camera needs an indoor environment")
+
+    @cached_property
+    def arrays(self) -> ThetaArrays:
+        def vec(d: dict[str, float]) -> np.ndarray:
+            return np.array(list(d.values()), dtype=np.float64)
+
+        def table(t: dict[str, dict[str, float]]) -> np.ndarray:
+            return np.array([list(row.values()) for row in t.values()], dtype=np.float64)
+
+        lengths = np.array([MOTIONS[m].length_s for m in MOTIONS.names])
+        return ThetaArrays(
+            a=vec(self.theta_a), e=vec(self.theta_e), w=vec(self.theta_w), d=vec(self.theta_d),
+            h=vec(self.theta_h), v=vec(self.theta_v), c=vec(self.theta_c),
+            ae=table(self.theta_ae), av=table(self.theta_av), ac=table(self.theta_ac),
+            ec=table(self.theta_ec), ab=theta_ab(self.theta_ab.regex),
+            motion_long_enough=lengths >= self.durations.t_min,
+        )  # fmt: skip
+
+    @cached_property
+    def hash(self) -> str:
+        """sha256 of θ's canonical JSON: the identity of a θ."""
+        return sha256_hex(canonical_json(self.model_dump(mode="json")))
+
+    def __eq__(self, other: object) -> bool:
+        # Same canonical form, same θ; the cached arrays must not take part in comparison.
+        return isinstance(other, Theta) and self.hash == other.hash
+
+    __hash__ = None  # type: ignore[assignment]  # mutable-looking dict fields: not hashable
+
+    def to_yaml(self) -> str:
+        """YAML that loads back to an equal θ (the normalised, explicit form)."""
+        return yaml.safe_dump(self.model_dump(mode="json"), sort_keys=False, allow_unicode=True)
+
+
+def _require_keys(fieldname: str, mapping: Mapping[str, Any], registry: Registry) -> None:
+    for key in mapping:
+        if key not in registry:
+            raise ValueError(f"{fieldname}: {unknown_name_message(registry, key)}")
+    for name in registry.names:
+        if name not in mapping:
+            raise ValueError(f"{fieldname}.{name}: missing")
+
+
+def format_validation_error(error: ValidationError) -> tuple[str, str]:
+    """(field, message) of a pydantic error's first entry, in the words a user can act on."""
+    first = error.errors()[0]
+    loc = ".".join(str(p) for p in first["loc"] if not _is_union_tag(p))
+    msg = first["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
+    if first["type"] == "extra_forbidden":
+        msg = "unknown key (misspelt?); remove it or check the spelling"
+    elif first["type"] == "missing":
+        msg = "missing required field"
+    more = len(error.errors()) - 1
+    if more:
+        msg += f" (+{more} more error{'s' if more > 1 else ''})"
+    return loc, msg
+
+
+def _is_union_tag(part: object) -> bool:
+    return isinstance(part, str) and (part in ("uniform", "triangular") or "[" in part or "function-" in part)
+
+
+def parse_theta(data: Any, *, source: str = "<theta>") -> Theta:
+    """Validate a θ mapping; a problem raises PhavUserError naming ``source`` and the field."""
+    if not isinstance(data, Mapping):
+        raise PhavUserError("a θ file must hold a mapping at the top level", source=source)
+    try:
+        return Theta.model_validate(data)
+    except ValidationError as e:
+        field, msg = format_validation_error(e)
+        raise PhavUserError(msg, source=source, field=field or None) from None
+
+
+def load_theta(path: str | Path) -> Theta:
+    """Load θ from a YAML file (``yaml.safe_load``), or a preset by name (``phav-v1``)."""
+    path = Path(path)
+    if not path.exists() and (PRESETS_DIR / f"{path.name}.yaml").exists():
+        path = PRESETS_DIR / f"{path.name}.yaml"
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        presets = ", ".join(p.stem for p in sorted(PRESETS_DIR.glob("*.yaml")))
+        raise PhavUserError(f"no such file (presets: {presets})", source=str(path)) from None
+    except OSError as e:
+        raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark is not None else "yaml"
+        problem = getattr(e, "problem", None) or str(e).splitlines()[0]
+        raise PhavUserError(f"invalid YAML: {problem}", source=str(path), field=where) from None
+    return parse_theta(data, source=str(path))
+
+
+def load_preset(name: str = "phav-v1") -> Theta:
+    """A θ shipped with the package (``phav-v1`` is the paper's θ)."""
+    return load_theta(PRESETS_DIR / f"{name}.yaml")
+
+
+__all__ = [
+    "THETA_FORMAT_VERSION",
+    "Theta",
+    "ThetaArrays",
+    "load_preset",
+    "load_theta",
+    "parse_theta",
+]
