@@ -453,7 +453,7 @@ class Theta(BaseModel):
             v = data.get("format_version", THETA_FORMAT_VERSION)
             if isinstance(v, int) and v > THETA_FORMAT_VERSION:
                 raise ValueError(
-                    f"format_version {v} is newer than this phav reads ({THETA_FORMAT_VERSION}); upgrade phav"
+                    f"format_version: {v} is newer than this phav reads ({THETA_FORMAT_VERSION}); upgrade phav"
                 )
         return data
 
@@ -559,19 +559,30 @@ def _require_keys(fieldname: str, mapping: Mapping[str, Any], registry: Registry
             raise ValueError(f"{fieldname}.{name}: missing")
 
 
+_PATH_PREFIX = re.compile(r"^([A-Za-z_][\w]*(?:\.[\w]+)*): (.*)$", re.DOTALL)
+
+
 def format_validation_error(error: ValidationError) -> tuple[str, str]:
-    """(field, message) of a pydantic error's first entry, in the words a user can act on."""
-    first = error.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"] if not _is_union_tag(p))
+    """(field, message) of a pydantic error, in the words a user can act on.
+
+    A misspelt key is reported before anything it causes to look missing, and a message
+    that starts with a sub-path ("rows.walk: …") has that path joined onto the field.
+    """
+    errors = error.errors()
+    first = min(errors, key=lambda e: e["type"] != "extra_forbidden")
+    parts = [str(p) for p in first["loc"] if not _is_union_tag(p)]
     msg = first["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
     if first["type"] == "extra_forbidden":
         msg = "unknown key (misspelt?); remove it or check the spelling"
     elif first["type"] == "missing":
         msg = "missing required field"
-    more = len(error.errors()) - 1
+    while (m := _PATH_PREFIX.match(msg)) is not None:
+        parts.append(m.group(1))
+        msg = m.group(2)
+    more = len(errors) - 1
     if more:
         msg += f" (+{more} more error{'s' if more > 1 else ''})"
-    return loc, msg
+    return ".".join(parts), msg
 
 
 def _is_union_tag(part: object) -> bool:

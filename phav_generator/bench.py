@@ -1,0 +1,61 @@
+"""``phav bench``: each capability adds a section reporting speed against error."""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from phav_generator.sampling import RecipeSampler
+from phav_spec.expectations import exact_expectations
+from phav_spec.recipe_table import RecipeRows, write_recipe_table
+from phav_spec.theta import Theta
+
+
+@dataclass(frozen=True)
+class SamplingRun:
+    n: int
+    recipes_per_s: float  # sampling and validating recipes, one process
+    parquet_bytes: int
+    camera_error: float  # max |observed − exact| over the camera marginal
+    action_error: float
+    duration_error: float  # |observed − exact| mean clip length, seconds
+    worst_p: float  # smallest p-value over all goodness-of-fit tests
+
+
+def _max_abs_error(column: list, table) -> float:
+    observed = np.array([column.count(v) for v in table.values], dtype=float) / max(len(column), 1)
+    return float(np.abs(observed - table.marginal()).max())
+
+
+def bench_sampling(theta: Theta, *, n: int, seed: int, out_dir: Path | None = None) -> list[SamplingRun]:
+    """Sample n/40, n/4 and n recipes; time the sampler and measure the distance from θ."""
+    from phav_validators.distribution import check_distributions
+
+    exact = exact_expectations(theta)
+    sizes = sorted({max(100, n // 40), max(100, n // 4), n})
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = out_dir or Path(tmp)
+        for size in sizes:
+            sampler = RecipeSampler(theta)
+            rows = RecipeRows()
+            start = time.perf_counter()
+            for i in range(size):
+                rows.add(sampler.sample(seed, i))
+            elapsed = time.perf_counter() - start
+            nbytes = write_recipe_table(rows.to_arrow(theta=theta, dataset_seed=seed), folder / f"bench-{size}.parquet")
+            result = check_distributions(rows.columns, theta)
+            runs.append(SamplingRun(
+                n=size,
+                recipes_per_s=size / elapsed,
+                parquet_bytes=nbytes,
+                camera_error=_max_abs_error(rows.columns["camera"], exact["camera"]),
+                action_error=_max_abs_error(rows.columns["action"], exact["action"]),
+                duration_error=abs(result.mean_duration - result.expected_mean_duration),
+                worst_p=min(t.p_value for t in result.tests),
+            ))  # fmt: skip
+    return runs

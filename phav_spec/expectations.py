@@ -1,0 +1,282 @@
+"""Exact expectations: the marginal and conditional probabilities of every categorical
+variable, and the distributions of the continuous ones, computed from θ alone by summing
+over parents — never by sampling. Validators test observed recipes against these.
+
+Under phav-v1 the camera marginal is far from θ_C's 1/3 each (the indoors camera lives only
+in the house, the close-up only for brush hair): P(C) = Σ_a Σ_e P(a) P(e | a) P(C | a, e).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from phav_spec.distributions import Triangular
+from phav_spec.motions import MOTIONS
+from phav_spec.scene import (
+    ACTION_SCENES,
+    CAMERA_INFO,
+    ENVIRONMENT_SCENES,
+    HUMAN_MODELS,
+    SPRING_MIN_DISTANCES_M,
+)
+from phav_spec.theta import Theta
+from phav_spec.vocab import (
+    ACTIONS,
+    CAMERAS,
+    DAY_PHASES,
+    ENVIRONMENTS,
+    OBJECTS,
+    VARIATIONS,
+    WEATHERS,
+)
+
+
+@dataclass(frozen=True)
+class ExactTable:
+    """P(variable | parents) from θ, over the videos where the variable applies.
+
+    ``rows`` maps each parent combination with positive probability to a probability vector
+    over ``values``; ``parent_probs`` is P(parents | the variable applies). A parent
+    combination absent from ``rows`` has probability zero.
+    """
+
+    variable: str
+    parents: tuple[str, ...]
+    values: tuple[Any, ...]
+    rows: dict[tuple[Any, ...], np.ndarray]
+    parent_probs: dict[tuple[Any, ...], float]
+    applies_to: str = "every video"
+
+    def marginal(self) -> np.ndarray:
+        """P(variable | applies) = Σ_parents P(parents) P(variable | parents)."""
+        out = np.zeros(len(self.values))
+        for key, p in self.parent_probs.items():
+            out += p * self.rows[key]
+        return out
+
+    def marginal_dict(self) -> dict[Any, float]:
+        return dict(zip(self.values, self.marginal().tolist(), strict=True))
+
+
+def _normalise(w: np.ndarray) -> np.ndarray:
+    total = w.sum(axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(total > 0, w / np.where(total > 0, total, 1.0), 0.0)
+
+
+def _positive(names: tuple[Any, ...], p: np.ndarray) -> dict[tuple[Any, ...], float]:
+    return {(n,): float(x) for n, x in zip(names, p, strict=True) if x > 0}
+
+
+@dataclass(frozen=True)
+class ModelProbabilities:
+    """The normalised categorical pieces of θ every expectation is built from."""
+
+    a: np.ndarray  # P(A)
+    d: np.ndarray
+    w: np.ndarray
+    h: np.ndarray
+    e_a: np.ndarray  # P(E | A), rows of unreachable actions are zero
+    v_a: np.ndarray
+    b_a: np.ndarray
+    c_ae: np.ndarray  # P(C | A, E)
+
+    @classmethod
+    def of(cls, theta: Theta) -> ModelProbabilities:
+        arr = theta.arrays
+        return cls(
+            a=_normalise(arr.a), d=_normalise(arr.d), w=_normalise(arr.w), h=_normalise(arr.h),
+            e_a=_normalise(arr.p_e_given_a()), v_a=_normalise(arr.p_v_given_a()),
+            b_a=_normalise(arr.p_b_given_a()), c_ae=_normalise(arr.p_c_given_ae()),
+        )  # fmt: skip
+
+    @property
+    def ae(self) -> np.ndarray:
+        """Joint P(A, E)."""
+        return self.a[:, None] * self.e_a
+
+    @property
+    def c(self) -> np.ndarray:
+        """Camera marginal P(C) = Σ_a Σ_e P(a) P(e | a) P(C | a, e)."""
+        return np.einsum("ae,aec->c", self.ae, self.c_ae)
+
+    @property
+    def b(self) -> np.ndarray:
+        return self.a @ self.b_a
+
+
+def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
+    """Every checked categorical variable's exact conditional table, keyed by column name."""
+    p = ModelProbabilities.of(theta)
+    A, E, C = ACTIONS.names, ENVIRONMENTS.names, CAMERAS.names
+    reach_a = [i for i in range(len(A)) if p.a[i] > 0]
+    tables: list[ExactTable] = []
+
+    def root(variable: str, values: tuple[Any, ...], probs: np.ndarray) -> None:
+        tables.append(ExactTable(variable, (), values, {(): probs}, {(): 1.0}))
+
+    root("day_phase", DAY_PHASES.names, p.d)
+    root("weather", WEATHERS.names, p.w)
+    root("human_model", HUMAN_MODELS.names, p.h)
+    root("action", A, p.a)
+    for variable, values, given_a in (
+        ("environment", E, p.e_a),
+        ("variation", VARIATIONS.names, p.v_a),
+        ("base_motion", MOTIONS.names, p.b_a),
+    ):
+        rows = {(A[i],): given_a[i] for i in reach_a}
+        tables.append(ExactTable(variable, ("action",), values, rows, _positive(A, p.a)))
+
+    ae = p.ae
+    cam_rows = {(A[i], E[j]): p.c_ae[i, j] for i in reach_a for j in range(len(E)) if ae[i, j] > 0}
+    cam_parents = {(A[i], E[j]): float(ae[i, j]) for i in reach_a for j in range(len(E)) if ae[i, j] > 0}
+    tables.append(ExactTable("camera", ("action", "environment"), C, cam_rows, cam_parents))
+
+    tables.extend(_weather_tables(theta, p))
+    tables.extend(_dead_zone_tables(theta, p))
+
+    # Supporting character: H without the protagonist's, in two-people actions (H ⟂ A).
+    if any(ACTIONS[A[i]].n_people > 1 for i in reach_a):
+        h_w = theta.arrays.h
+        rows = {}
+        for k, name in enumerate(HUMAN_MODELS.names):
+            if p.h[k] > 0:
+                rows[(name,)] = _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
+        tables.append(ExactTable(
+            "supporting_human_model", ("human_model",), HUMAN_MODELS.names, rows,
+            _positive(HUMAN_MODELS.names, p.h), "two-people actions",
+        ))  # fmt: skip
+
+    # The objects variation's prop, uniform over what the action declares.
+    v_obj = VARIATIONS.index("objects")
+    a_given_obj = _normalise(p.a * p.v_a[:, v_obj])
+    if a_given_obj.sum() > 0:
+        rows = {}
+        for i in np.flatnonzero(a_given_obj):
+            options = ACTION_SCENES[A[i]].variation_objects
+            rows[(A[i],)] = np.array([1.0 / len(options) if o in options else 0.0 for o in OBJECTS.names])
+        tables.append(ExactTable(
+            "variation_object", ("action",), OBJECTS.names, rows, _positive(A, a_given_obj),
+            "videos with the objects variation",
+        ))  # fmt: skip
+
+    # Action blending's second motion: uniform over every motion but the base one.
+    v_blend = VARIATIONS.index("action_blending")
+    b_given_blend = _normalise((p.a * p.v_a[:, v_blend]) @ p.b_a)
+    if b_given_blend.sum() > 0:
+        n = len(MOTIONS)
+        blend = (1.0 - b_given_blend) / (n - 1)
+        root_table = ExactTable("blend_motion", (), MOTIONS.names, {(): blend}, {(): 1.0}, "videos with action blending")
+        tables.append(root_table)
+
+    e_marg = p.a @ p.e_a
+    spec = theta.background_actors
+    max_n = max(spec.count.max, 0)
+    bg_rows, wp_rows = {}, {}
+    max_wp = max(len(ENVIRONMENT_SCENES[e].protagonist_waypoints) for e in E)
+    for j, env in enumerate(E):
+        if e_marg[j] <= 0:
+            continue
+        scene = ENVIRONMENT_SCENES[env]
+        counts = np.zeros(max_n + 1)
+        if scene.background_waypoints:
+            counts[spec.count.min : spec.count.max + 1] = 1.0 / (spec.count.max - spec.count.min + 1)
+        else:
+            counts[0] = 1.0
+        bg_rows[(env,)] = counts
+        k = len(scene.protagonist_waypoints)
+        wp_rows[(env,)] = np.array([1.0 / k if i < k else 0.0 for i in range(max_wp)])
+    env_parents = _positive(E, e_marg)
+    tables.append(ExactTable("n_background_actors", ("environment",), tuple(range(max_n + 1)), bg_rows, env_parents))
+    tables.append(ExactTable("waypoint_index", ("environment",), tuple(range(max_wp)), wp_rows, env_parents))
+    return {t.variable: t for t in tables}
+
+
+def _weather_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
+    """P(element on | W), marginalising a dependent element over its parent."""
+    values = (False, True)
+    out = []
+    for element in ("rain", "fog", "clouds", "wet_ground"):
+        rows = {}
+        for k, weather in enumerate(WEATHERS.names):
+            if p.w[k] <= 0:
+                continue
+            spec = theta.weather_elements[weather]
+            own = getattr(spec, element)
+            if hasattr(own, "p"):
+                on = own.p
+            else:
+                parent = "fog" if element == "clouds" else "rain"
+                p_parent = getattr(spec, parent).p
+                on = p_parent * own.p_if_parent + (1.0 - p_parent) * own.p_otherwise
+            rows[(weather,)] = np.array([1.0 - on, on])
+        out.append(ExactTable(element, ("weather",), values, rows, _positive(WEATHERS.names, p.w)))
+    return out
+
+
+def _dead_zone_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
+    """Spring dead zones given the camera, over the videos filmed by a spring camera."""
+    cams = CAMERAS.names
+    spring = np.array([CAMERA_INFO[c].tracking == "springs" for c in cams], dtype=float)
+    p_c = _normalise(p.c * spring)
+    if p_c.sum() <= 0:
+        return []
+    rows = {
+        (c,): _normalise(np.array(theta.cameras[c].springs.dead_zone_weights()))
+        for k, c in enumerate(cams)
+        if p_c[k] > 0
+    }
+    return [
+        ExactTable(name, ("camera",), SPRING_MIN_DISTANCES_M, rows, _positive(cams, p_c), "spring cameras")
+        for name in ("ct_min_distance_m", "tp_min_distance_m")
+    ]
+
+
+# --------------------------------------------------------------------------- continuous
+
+
+def _duration_components(theta: Theta, p: ModelProbabilities, weights_b: np.ndarray) -> list[tuple[float, Triangular]]:
+    dur = theta.durations
+    out = []
+    for k, name in np.ndenumerate(np.array(MOTIONS.names, dtype=object)):
+        w = float(weights_b[k])
+        if w <= 0:
+            continue
+        length = MOTIONS[name].length_s
+        tri = Triangular(min=dur.t_min, max=min(length, dur.t_max), mode=min(dur.t_mod, length))
+        out.append((w, tri))
+    return out
+
+
+def _mixture_cdf(components: list[tuple[float, Triangular]]) -> Callable[[np.ndarray], np.ndarray]:
+    def cdf(x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return sum(w * t.cdf(x) for w, t in components)
+
+    return cdf
+
+
+def duration_cdf(theta: Theta, action: str | None = None) -> Callable[[np.ndarray], np.ndarray]:
+    """CDF of the clip length L (optionally given the action): a mixture of Tr over motions."""
+    p = ModelProbabilities.of(theta)
+    weights = p.b if action is None else p.b_a[ACTIONS.index(action)]
+    return _mixture_cdf(_duration_components(theta, p, weights))
+
+
+def mean_duration(theta: Theta) -> float:
+    """E[L] in seconds: Σ_b P(b) (T_min + min(L_b, T_max) + min(T_mod, L_b)) / 3."""
+    p = ModelProbabilities.of(theta)
+    return float(sum(w * t.mean() for w, t in _duration_components(theta, p, p.b)))
+
+
+def clock_hour_cdf(theta: Theta, day_phase: str | None = None) -> Callable[[np.ndarray], np.ndarray]:
+    """CDF of the clock time T on [0, 24): Σ_d P(d) Tr_d, or Tr_d given the day phase."""
+    p = ModelProbabilities.of(theta)
+    if day_phase is not None:
+        return _mixture_cdf([(1.0, theta.clock_hours[day_phase].distribution())])
+    comps = [(float(p.d[k]), theta.clock_hours[d].distribution()) for k, d in enumerate(DAY_PHASES.names) if p.d[k] > 0]
+    return _mixture_cdf(comps)

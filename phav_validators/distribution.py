@@ -1,0 +1,227 @@
+"""Observed recipes against θ's exact expectations: chi-square per variable and per
+conditional row, Kolmogorov–Smirnov for durations and clock times, Holm-corrected.
+
+A value θ gives probability zero is never a matter of p-values: one occurrence is an
+IMPOSSIBLE_VALUE finding. Expected cells below five counts are pooled before the test.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from phav_spec.expectations import (
+    ExactTable,
+    clock_hour_cdf,
+    duration_cdf,
+    exact_expectations,
+    mean_duration,
+)
+from phav_spec.theta import Theta
+from phav_spec.vocab import ACTIONS, DAY_PHASES
+from phav_validators.findings import Finding, Reason, Report
+
+DEFAULT_ALPHA = 1e-3
+MIN_EXPECTED = 5.0
+
+
+@dataclass(frozen=True)
+class FitTest:
+    """One goodness-of-fit test: which distribution, on how many videos, with what result."""
+
+    variable: str
+    condition: str  # "marginal" or "action=walk, environment=urban"
+    kind: str  # chi2 or ks
+    n: int
+    statistic: float
+    dof: int
+    p_value: float
+    impossible: int = 0
+    rejected: bool = False  # set after the Holm correction
+
+
+@dataclass
+class VariableSummary:
+    """Observed against expected for one variable's marginal, for printing as a histogram."""
+
+    variable: str
+    values: tuple[Any, ...]
+    observed: np.ndarray
+    expected: np.ndarray  # probabilities
+    applies_to: str
+
+
+@dataclass
+class DistributionResult:
+    tests: list[FitTest]
+    summaries: list[VariableSummary]
+    report: Report
+    n_videos: int
+    mean_duration: float
+    expected_mean_duration: float
+
+    @property
+    def ok(self) -> bool:
+        return self.report.ok
+
+
+def chi_square(observed: np.ndarray, probs: np.ndarray) -> tuple[float, int, float, int]:
+    """(statistic, dof, p, impossible count) with small expected cells pooled into one."""
+    n = observed.sum()
+    impossible = int(observed[probs <= 0].sum())
+    support = probs > 0
+    obs, exp = observed[support].astype(float), probs[support] * n
+    if n == 0 or len(obs) < 2:
+        return 0.0, 0, 1.0, impossible
+    small = exp < MIN_EXPECTED
+    if small.any():
+        obs = np.append(obs[~small], obs[small].sum())
+        exp = np.append(exp[~small], exp[small].sum())
+        if exp[-1] == 0:  # pragma: no cover - probabilities are positive on the support
+            obs, exp = obs[:-1], exp[:-1]
+    if len(obs) < 2:
+        return 0.0, 0, 1.0, impossible
+    stat, p = stats.chisquare(obs, exp * (obs.sum() / exp.sum()))
+    return float(stat), len(obs) - 1, float(p), impossible
+
+
+def _codes(column: Sequence[Any], values: tuple[Any, ...]) -> tuple[np.ndarray, int]:
+    """Index of each entry in ``values`` (−1 when unknown) and how many are unknown."""
+    index = {v: i for i, v in enumerate(values)}
+    codes = np.fromiter((index.get(x, -1) for x in column), dtype=np.int64, count=len(column))
+    return codes, int((codes < 0).sum())
+
+
+def _fmt(parents: tuple[str, ...], key: tuple[Any, ...]) -> str:
+    return ", ".join(f"{p}={k}" for p, k in zip(parents, key, strict=True)) or "marginal"
+
+
+def check_table(
+    table: ExactTable, columns: Mapping[str, Sequence[Any]], source: str | None = None
+) -> tuple[list[FitTest], VariableSummary, list[Finding]]:
+    """Test one variable: its marginal and each conditional row that has observations."""
+    column = columns[table.variable]
+    applies = np.array([x is not None for x in column])
+    idx = np.flatnonzero(applies)
+    values = [column[i] for i in idx]
+    codes, unknown = _codes(values, table.values)
+    findings: list[Finding] = []
+    probs = table.marginal()
+    observed = np.bincount(codes[codes >= 0], minlength=len(table.values))
+    stat, dof, p, impossible = chi_square(observed, probs)
+    impossible += unknown
+    tests = [FitTest(table.variable, "marginal", "chi2", len(values), stat, dof, p, impossible)]
+    if impossible:
+        bad = sorted({str(v) for v, c in zip(values, codes, strict=True) if c < 0 or probs[c] <= 0})
+        findings.append(Finding(
+            Reason.IMPOSSIBLE_VALUE,
+            f"{table.variable}: {impossible} videos have values θ gives probability zero ({', '.join(bad[:5])})",
+            file=source, numbers={"count": impossible, "values": bad[:20]},
+        ))  # fmt: skip
+    if table.parents:
+        keys = list(zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True))
+        groups: dict[tuple[Any, ...], list[int]] = {}
+        for j, key in enumerate(keys):
+            groups.setdefault(key, []).append(j)
+        for key in sorted(groups, key=str):
+            members = np.array(groups[key])
+            if key not in table.rows:
+                findings.append(Finding(
+                    Reason.IMPOSSIBLE_VALUE,
+                    f"{table.variable}: {len(members)} videos have {_fmt(table.parents, key)}, which θ gives probability zero",
+                    file=source, numbers={"count": len(members)},
+                ))  # fmt: skip
+                continue
+            row = table.rows[key]
+            sub = codes[members]
+            obs = np.bincount(sub[sub >= 0], minlength=len(table.values))
+            stat, dof, p, imp = chi_square(obs, row)
+            imp += int((sub < 0).sum())
+            tests.append(FitTest(table.variable, _fmt(table.parents, key), "chi2", len(members), stat, dof, p, imp))
+            if imp:
+                bad = sorted({str(table.values[c]) if c >= 0 else "?" for c in sub if c < 0 or row[c] <= 0})
+                findings.append(Finding(
+                    Reason.IMPOSSIBLE_VALUE,
+                    f"{table.variable} given {_fmt(table.parents, key)}: {imp} videos with probability-zero values ({', '.join(bad[:5])})",
+                    file=source, numbers={"count": imp, "values": bad[:20]},
+                ))  # fmt: skip
+    summary = VariableSummary(table.variable, table.values, observed, probs, table.applies_to)
+    return tests, summary, findings
+
+
+def ks(variable: str, condition: str, x: np.ndarray, cdf) -> FitTest:
+    if len(x) == 0:
+        return FitTest(variable, condition, "ks", 0, 0.0, 0, 1.0)
+    res = stats.kstest(x, cdf)
+    return FitTest(variable, condition, "ks", len(x), float(res.statistic), 0, float(res.pvalue))
+
+
+def holm(tests: list[FitTest], alpha: float) -> list[FitTest]:
+    """Mark rejections with the Holm–Bonferroni step-down procedure at family-wise ``alpha``."""
+    order = sorted(range(len(tests)), key=lambda i: tests[i].p_value)
+    rejected = [False] * len(tests)
+    m = len(tests)
+    for rank, i in enumerate(order):
+        if tests[i].p_value <= alpha / (m - rank):
+            rejected[i] = True
+        else:
+            break
+    return [
+        FitTest(**{**t.__dict__, "rejected": r or t.impossible > 0}) for t, r in zip(tests, rejected, strict=True)
+    ]
+
+
+def check_distributions(
+    columns: Mapping[str, Sequence[Any]],
+    theta: Theta,
+    *,
+    alpha: float = DEFAULT_ALPHA,
+    source: str | None = None,
+) -> DistributionResult:
+    """Every categorical variable (marginal and conditional rows) and the continuous ones."""
+    report = Report()
+    tests: list[FitTest] = []
+    summaries: list[VariableSummary] = []
+    for table in exact_expectations(theta).values():
+        t, s, f = check_table(table, columns, source)
+        tests += t
+        summaries.append(s)
+        for finding in f:
+            report.add(finding)
+
+    durations = np.asarray(columns["duration_s"], dtype=float)
+    tests.append(ks("duration_s", "marginal", durations, duration_cdf(theta)))
+    actions = np.asarray(columns["action"], dtype=object)
+    for action in ACTIONS.names:
+        if theta.arrays.a[ACTIONS.index(action)] > 0:
+            x = durations[actions == action]
+            tests.append(ks("duration_s", f"action={action}", x, duration_cdf(theta, action)))
+    hours = np.asarray(columns["clock_hour"], dtype=float)
+    tests.append(ks("clock_hour", "marginal", hours, clock_hour_cdf(theta)))
+    phases = np.asarray(columns["day_phase"], dtype=object)
+    for phase in DAY_PHASES.names:
+        if theta.arrays.d[DAY_PHASES.index(phase)] > 0:
+            tests.append(ks("clock_hour", f"day_phase={phase}", hours[phases == phase], clock_hour_cdf(theta, phase)))
+
+    tests = holm(tests, alpha)
+    for t in tests:
+        if t.rejected and t.impossible == 0:
+            report.add(Finding(
+                Reason.DISTRIBUTION_MISMATCH,
+                f"{t.variable} ({t.condition}): {t.kind} = {t.statistic:.4g}, p = {t.p_value:.3g} on {t.n} videos "
+                f"(Holm-corrected family-wise α = {alpha:g})",
+                file=source, numbers={"statistic": t.statistic, "p_value": t.p_value, "n": t.n, "dof": t.dof},
+            ))  # fmt: skip
+    n = len(durations)
+    return DistributionResult(
+        tests=tests,
+        summaries=summaries,
+        report=report,
+        n_videos=n,
+        mean_duration=float(durations.mean()) if n else float("nan"),
+        expected_mean_duration=mean_duration(theta),
+    )
