@@ -29,9 +29,7 @@ spec_app = typer.Typer(help="The dataset specification.", no_args_is_help=True)
 app.add_typer(theta_app, name="theta")
 app.add_typer(spec_app, name="spec")
 
-ThetaOption = Annotated[
-    str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")
-]
+ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 
 
 def _progress() -> Progress:
@@ -74,7 +72,8 @@ def sample(
 def stats(
     recipes: Annotated[Path, typer.Argument(help="recipes.parquet written by `phav sample`.")],
     theta: Annotated[
-        str | None, typer.Option("--theta", help="θ to test against (default: the θ stored in the table).")
+        str | None,
+        typer.Option("--theta", help="θ to test against (default: the θ stored in the table)."),
     ] = None,
     alpha: Annotated[float, typer.Option(help="Family-wise significance level (Holm).")] = 1e-3,
 ) -> None:
@@ -84,9 +83,16 @@ def stats(
 
     rt = read_recipe_table(recipes)
     th = _theta_for(rt, theta)
-    result = check_distributions({name: rt.column(name) for name in rt.table.column_names}, th, alpha=alpha, source=str(recipes))
+    result = check_distributions(
+        {name: rt.column(name) for name in rt.table.column_names},
+        th,
+        alpha=alpha,
+        source=str(recipes),
+    )
     if rt.theta is not None and rt.theta.hash != th.hash:
-        result.report.notes.append(f"the table was sampled from θ {rt.theta.hash[:12]}…, tested against {th.hash[:12]}…")
+        result.report.notes.append(
+            f"the table was sampled from θ {rt.theta.hash[:12]}…, tested against {th.hash[:12]}…"
+        )
     print_distribution(result, console)
     print_report(result.report, console)
     if not result.ok:

@@ -4,9 +4,10 @@ The factorisation is the paper's P1(D, W) P2(H) P3(A, L, B, V, C, E, …) (Secti
 Video i's recipe depends only on (θ, dataset seed, i): the video key is 256 bits of
 ``SeedSequence(dataset_seed, spawn_key=(i,))``, and each part of the model draws from its own
 PCG64 stream whose state is sha256(video key ‖ part name), so sampling 10 or 40,000 videos
-gives the same recipe i and adding a draw to one part never moves the draws of another. Every draw is one ``rng.random()`` double turned into a
-value by phav_spec.distributions; a part's draw order is part of the dataset's definition
-(changing it bumps the recipe schema version).
+gives the same recipe i and adding a draw to one part never moves the draws of another.
+Every draw is one ``rng.random()`` double turned into a value by phav_spec.distributions;
+a part's draw order is part of the dataset's definition (changing it bumps the recipe
+schema version).
 """
 
 from __future__ import annotations
@@ -37,7 +38,15 @@ from phav_spec.scene import (
     HumanModel,
 )
 from phav_spec.theta import Theta
-from phav_spec.vocab import ACTIONS, CAMERAS, DAY_PHASES, ENVIRONMENTS, MUSCLES, VARIATIONS, WEATHERS
+from phav_spec.vocab import (
+    ACTIONS,
+    CAMERAS,
+    DAY_PHASES,
+    ENVIRONMENTS,
+    MUSCLES,
+    VARIATIONS,
+    WEATHERS,
+)
 
 #: The named parts of the model, each with its own random stream.
 PARTS: tuple[str, ...] = (
@@ -135,8 +144,16 @@ class RecipeSampler:
         self._w = _Row.of(arr.w)
         self._d = _Row.of(arr.d)
         self._h = _Row.of(arr.h)
-        self._h_without = [_Row.of(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None for i in range(len(arr.h))]
-        pe, pv, pb, pc = arr.p_e_given_a(), arr.p_v_given_a(), arr.p_b_given_a(), self._camera_weights()
+        self._h_without = [
+            _Row.of(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None
+            for i in range(len(arr.h))
+        ]
+        pe, pv, pb, pc = (
+            arr.p_e_given_a(),
+            arr.p_v_given_a(),
+            arr.p_b_given_a(),
+            self._camera_weights(),
+        )
         reach = arr.a > 0
         self._e = [_Row.of(pe[i]) if reach[i] else None for i in range(len(ACTIONS))]
         self._v = [_Row.of(pv[i]) if reach[i] else None for i in range(len(ACTIONS))]
@@ -184,7 +201,11 @@ class RecipeSampler:
             **on,
         }
         # Intensities are always drawn (fixed draw count), and zero when the element is off.
-        for element, key in (("clouds", "cloud_intensity"), ("fog", "fog_intensity"), ("rain", "rain_intensity")):
+        for element, key in (
+            ("clouds", "cloud_intensity"),
+            ("fog", "fog_intensity"),
+            ("rain", "rain_intensity"),
+        ):
             value = getattr(wt, key).sample(rng=rng)
             world[key] = value if on[element] else 0.0
 
@@ -200,9 +221,7 @@ class RecipeSampler:
         b = self._b[a].draw(rng)
         length_b = self._lengths[b]
         dur = theta.durations
-        duration = triangular_inverse_cdf(
-            dur.t_min, min(length_b, dur.t_max), min(dur.t_mod, length_b), rng.random()
-        )
+        duration = triangular_inverse_cdf(dur.t_min, min(length_b, dur.t_max), min(dur.t_mod, length_b), rng.random())
         speed = theta.motion.speed.sample(rng=rng)
         mirror = rng.random() < theta.motion.p_mirror
         start_s = rng.random() * max(0.0, length_b - duration * speed)
@@ -241,9 +260,18 @@ class RecipeSampler:
                 "video": theta.video.model_dump(),
                 "motion": motion,
                 "variation": variation,
-                "protagonist": {"human": _human(human_name), "position": position, "heading_deg": heading},
+                "protagonist": {
+                    "human": _human(human_name),
+                    "position": position,
+                    "heading_deg": heading,
+                },
                 "supporting_characters": supporting,
-                "environment": {"name": env_name, "indoor": env.indoor, "waypoint_index": wp, "waypoint": position},
+                "environment": {
+                    "name": env_name,
+                    "indoor": env.indoor,
+                    "waypoint_index": wp,
+                    "waypoint": position,
+                },
                 "background_actors": background,
                 "camera": camera,
                 "world": world,
@@ -320,7 +348,16 @@ class RecipeSampler:
             return {"kind": kind, "object": options[sample_integer(0, len(options) - 1, rng=rng)]}
         return {"kind": "none"}
 
-    def _camera(self, dataset_seed: int, index: int, a: int, e: int, position, heading: float, human: HumanModel) -> dict:
+    def _camera(
+        self,
+        dataset_seed: int,
+        index: int,
+        a: int,
+        e: int,
+        position,
+        heading: float,
+        human: HumanModel,
+    ) -> dict:
         """C | A, E, its placement C_xyz / T_xyz around P_xyz and its parameters Θ_c."""
         rng = self._streams["camera"]
         kind = CAMERAS.names[self._c[a][e].draw(rng)]

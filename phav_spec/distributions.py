@@ -61,9 +61,7 @@ def sample_integer(low: int, high: int, *, rng: np.random.Generator) -> int:
     return low + min(int(rng.random() * n), n - 1)
 
 
-def sample_subset(
-    items: Sequence[str], k: int, *, rng: np.random.Generator
-) -> tuple[str, ...]:
+def sample_subset(items: Sequence[str], k: int, *, rng: np.random.Generator) -> tuple[str, ...]:
     """``k`` distinct items, uniformly among all subsets of that size, in ``items`` order.
 
     Partial Fisher–Yates on indices with one uniform double per pick.

@@ -144,9 +144,7 @@ def encode_flow(u: np.ndarray, v: np.ndarray, valid: np.ndarray | None = None) -
     if valid is not None:
         valid = np.asarray(valid)
         if valid.dtype != np.bool_ or valid.shape != u.shape:
-            raise ValueError(
-                f"valid must be a bool array of shape {u.shape}, got {valid.dtype} {valid.shape}"
-            )
+            raise ValueError(f"valid must be a bool array of shape {u.shape}, got {valid.dtype} {valid.shape}")
         ok &= valid
     u64 = u.astype(np.float64, copy=False)
     v64 = v.astype(np.float64, copy=False)
@@ -277,6 +275,4 @@ def modality(name: str) -> ModalityEncoding:
     try:
         return _BY_NAME[name]
     except KeyError:
-        raise KeyError(
-            f"unknown modality {name!r}; expected one of: {', '.join(_BY_NAME)}"
-        ) from None
+        raise KeyError(f"unknown modality {name!r}; expected one of: {', '.join(_BY_NAME)}") from None

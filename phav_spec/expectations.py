@@ -170,7 +170,9 @@ def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
     if b_given_blend.sum() > 0:
         n = len(MOTIONS)
         blend = (1.0 - b_given_blend) / (n - 1)
-        root_table = ExactTable("blend_motion", (), MOTIONS.names, {(): blend}, {(): 1.0}, "videos with action blending")
+        root_table = ExactTable(
+            "blend_motion", (), MOTIONS.names, {(): blend}, {(): 1.0}, "videos with action blending"
+        )
         tables.append(root_table)
 
     e_marg = p.a @ p.e_a

@@ -134,8 +134,7 @@ class DatasetManifest(BaseModel):
     def _not_newer(cls, version: int) -> int:
         if version > MANIFEST_VERSION:
             raise ValueError(
-                f"manifest version {version} is newer than this phav reads "
-                f"({MANIFEST_VERSION}); upgrade phav"
+                f"manifest version {version} is newer than this phav reads ({MANIFEST_VERSION}); upgrade phav"
             )
         return version
 
@@ -165,8 +164,7 @@ class DatasetManifest(BaseModel):
                     reason = (
                         f"video {video_id!r} is listed twice in shard {where!r}"
                         if where == shard.name
-                        else f"video {video_id!r} is also listed in shard {where!r}; "
-                        "a video never spans shards"
+                        else f"video {video_id!r} is also listed in shard {where!r}; a video never spans shards"
                     )
                     errors.append(_located(("shards", si, "video_ids", j), reason, video_id))
                 else:
@@ -244,13 +242,9 @@ def load_manifest(path: str | os.PathLike[str]) -> DatasetManifest:
     try:
         text = Path(path).read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise PhavUserError(
-            "manifest not found; pass the dataset's manifest.json", source=source
-        ) from None
+        raise PhavUserError("manifest not found; pass the dataset's manifest.json", source=source) from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise PhavUserError(
-            f"cannot read manifest ({exc}); check the path", source=source
-        ) from None
+        raise PhavUserError(f"cannot read manifest ({exc}); check the path", source=source) from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -260,14 +254,11 @@ def load_manifest(path: str | os.PathLike[str]) -> DatasetManifest:
             source=source,
         ) from None
     if not isinstance(data, dict):
-        raise PhavUserError(
-            f"manifest must be a JSON object, got {type(data).__name__}", source=source
-        )
+        raise PhavUserError(f"manifest must be a JSON object, got {type(data).__name__}", source=source)
     version = data.get("manifest_version")
     if isinstance(version, int) and not isinstance(version, bool) and version > MANIFEST_VERSION:
         raise PhavUserError(
-            f"manifest version {version} is newer than this phav reads ({MANIFEST_VERSION}); "
-            "upgrade phav",
+            f"manifest version {version} is newer than this phav reads ({MANIFEST_VERSION}); upgrade phav",
             source=source,
             field="manifest_version",
         )

@@ -231,9 +231,7 @@ def theta_ab(regexes: Mapping[str, str], motions: Registry[Motion] = MOTIONS) ->
         try:
             compiled[row] = re.compile(pattern)
         except (re.error, TypeError) as exc:
-            raise ValueError(
-                f"invalid regular expression for action {action!r}: {pattern!r} ({exc})"
-            ) from exc
+            raise ValueError(f"invalid regular expression for action {action!r}: {pattern!r} ({exc})") from exc
     theta = np.zeros((len(ACTIONS), len(motions)), dtype=np.float64)
     descriptions = [motions[name].description for name in motions.names]
     for row, regex in compiled.items():

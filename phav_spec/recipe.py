@@ -33,7 +33,11 @@ from phav_spec.vocab import (
 RECIPE_SCHEMA_VERSION = 1
 _FROZEN = ConfigDict(extra="forbid", frozen=True)
 Vec3 = tuple[float, float, float]
-RGB = tuple[Annotated[int, Field(ge=0, le=255)], Annotated[int, Field(ge=0, le=255)], Annotated[int, Field(ge=0, le=255)]]
+RGB = tuple[
+    Annotated[int, Field(ge=0, le=255)],
+    Annotated[int, Field(ge=0, le=255)],
+    Annotated[int, Field(ge=0, le=255)],
+]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Seed = Annotated[int, Field(ge=0, lt=2**32)]
 
@@ -171,6 +175,7 @@ class ActionBlending(BaseModel):
     blend_motion: MotionName
     blend_start_s: Finite = Field(ge=0.0)
     weight: Finite
+
 
 class ObjectsVariation(BaseModel):
     """An extra prop the protagonist carries or uses."""
@@ -332,7 +337,11 @@ def upgrade_recipe(
     if version is None:
         raise PhavUserError("missing required field", source=source, field="schema_version")
     if isinstance(version, bool) or not isinstance(version, int) or version < 0:
-        raise PhavUserError(f"must be a non-negative integer, got {version!r}", source=source, field="schema_version")
+        raise PhavUserError(
+            f"must be a non-negative integer, got {version!r}",
+            source=source,
+            field="schema_version",
+        )
     if version > current:
         raise PhavUserError(
             f"version {version} is newer than this phav supports ({current}); upgrade phav",

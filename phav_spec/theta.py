@@ -42,7 +42,6 @@ from phav_spec.scene import (
     HUMAN_MODELS,
     KITE_SPRING_VARIABLES,
     SPRING_MIN_DISTANCES_M,
-    WEATHER_ELEMENTS,
     WEATHER_LEVELS,
 )
 from phav_spec.vocab import (
@@ -468,7 +467,15 @@ class Theta(BaseModel):
                 raise ValueError(f"cameras.{name}: a spring camera needs 'springs' and 'impulse'")
             if tracking != "springs" and (cam.springs is not None or cam.impulse is not None):
                 raise ValueError(f"cameras.{name}: only spring cameras take 'springs'/'impulse'")
-        for fieldname in ("theta_a", "theta_w", "theta_d", "theta_h", "theta_v", "theta_c", "theta_e"):
+        for fieldname in (
+            "theta_a",
+            "theta_w",
+            "theta_d",
+            "theta_h",
+            "theta_v",
+            "theta_c",
+            "theta_e",
+        ):
             if sum(getattr(self, fieldname).values()) <= 0:
                 raise ValueError(f"{fieldname}: all weights are zero, no value has support")
         self._check_reachable_rows()

@@ -104,10 +104,7 @@ DAY_PHASES: Registry[None] = Registry("day_phase", tuple((d, None) for d in ("da
 CAMERAS: Registry[None] = Registry("camera", tuple((c, None) for c in ("kite", "indoors", "closeup", "static")))
 VARIATIONS: Registry[None] = Registry(
     "variation",
-    tuple(
-        (v, None)
-        for v in ("none", "random_perturbation", "muscle_weakening", "action_blending", "objects")
-    ),
+    tuple((v, None) for v in ("none", "random_perturbation", "muscle_weakening", "action_blending", "objects")),
 )
 
 #: The 15 ragdoll bodies ("muscles") of the paper's Figure "Ragdoll configuration".

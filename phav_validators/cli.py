@@ -25,7 +25,10 @@ def validate(
     path: Annotated[Path, typer.Argument(help="A dataset directory or its recipes.parquet.")],
     theta: Annotated[
         str | None,
-        typer.Option("--theta", help="θ the data must follow (default: the dataset's theta.yaml or the table's θ)."),
+        typer.Option(
+            "--theta",
+            help="θ the data must follow (default: the dataset's theta.yaml or the table's θ).",
+        ),
     ] = None,
     alpha: Annotated[float, typer.Option(help="Family-wise significance level (Holm).")] = 1e-3,
     details: Annotated[bool, typer.Option("--details", help="Print per-variable histograms.")] = False,
@@ -47,7 +50,10 @@ def validate(
         raise PhavUserError("no θ recorded; pass --theta FILE", source=str(table_path), field="phav.theta")
 
     result = check_distributions(
-        {name: rt.column(name) for name in rt.table.column_names}, th, alpha=alpha, source=str(table_path)
+        {name: rt.column(name) for name in rt.table.column_names},
+        th,
+        alpha=alpha,
+        source=str(table_path),
     )
     report = result.report
     valid = check_recipe_table(rt, th, report)

@@ -132,7 +132,8 @@ def check_table(
             if key not in table.rows:
                 findings.append(Finding(
                     Reason.IMPOSSIBLE_VALUE,
-                    f"{table.variable}: {len(members)} videos have {_fmt(table.parents, key)}, which θ gives probability zero",
+                    f"{table.variable}: {len(members)} videos have {_fmt(table.parents, key)}, "
+                    "which θ gives probability zero",
                     file=source, numbers={"count": len(members)},
                 ))  # fmt: skip
                 continue
@@ -141,12 +142,24 @@ def check_table(
             obs = np.bincount(sub[sub >= 0], minlength=len(table.values))
             stat, dof, p, imp = chi_square(obs, row)
             imp += int((sub < 0).sum())
-            tests.append(FitTest(table.variable, _fmt(table.parents, key), "chi2", len(members), stat, dof, p, imp))
+            tests.append(
+                FitTest(
+                    table.variable,
+                    _fmt(table.parents, key),
+                    "chi2",
+                    len(members),
+                    stat,
+                    dof,
+                    p,
+                    imp,
+                )
+            )
             if imp:
                 bad = sorted({str(table.values[c]) if c >= 0 else "?" for c in sub if c < 0 or row[c] <= 0})
                 findings.append(Finding(
                     Reason.IMPOSSIBLE_VALUE,
-                    f"{table.variable} given {_fmt(table.parents, key)}: {imp} videos with probability-zero values ({', '.join(bad[:5])})",
+                    f"{table.variable} given {_fmt(table.parents, key)}: {imp} videos with "
+                    f"probability-zero values ({', '.join(bad[:5])})",
                     file=source, numbers={"count": imp, "values": bad[:20]},
                 ))  # fmt: skip
     summary = VariableSummary(table.variable, table.values, observed, probs, table.applies_to)
@@ -170,9 +183,7 @@ def holm(tests: list[FitTest], alpha: float) -> list[FitTest]:
             rejected[i] = True
         else:
             break
-    return [
-        FitTest(**{**t.__dict__, "rejected": r or t.impossible > 0}) for t, r in zip(tests, rejected, strict=True)
-    ]
+    return [FitTest(**{**t.__dict__, "rejected": r or t.impossible > 0}) for t, r in zip(tests, rejected, strict=True)]
 
 
 def check_distributions(
@@ -205,7 +216,14 @@ def check_distributions(
     phases = np.asarray(columns["day_phase"], dtype=object)
     for phase in DAY_PHASES.names:
         if theta.arrays.d[DAY_PHASES.index(phase)] > 0:
-            tests.append(ks("clock_hour", f"day_phase={phase}", hours[phases == phase], clock_hour_cdf(theta, phase)))
+            tests.append(
+                ks(
+                    "clock_hour",
+                    f"day_phase={phase}",
+                    hours[phases == phase],
+                    clock_hour_cdf(theta, phase),
+                )
+            )
 
     tests = holm(tests, alpha)
     for t in tests:

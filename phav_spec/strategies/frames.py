@@ -54,9 +54,7 @@ def _as_dtype(values: Sequence[float], dtype: str) -> tuple[float, ...]:
     return tuple(float(np.asarray(x, dtype=np.float64).astype(dtype)) for x in values)
 
 
-def _float_array(
-    draw: st.DrawFn, shape: tuple[int, int], dtype: str, elements: st.SearchStrategy[float]
-) -> np.ndarray:
+def _float_array(draw: st.DrawFn, shape: tuple[int, int], dtype: str, elements: st.SearchStrategy[float]) -> np.ndarray:
     """Draw a ``shape`` array of ``dtype`` element by element (keeps shrinking per pixel)."""
     n = shape[0] * shape[1]
     values = draw(st.lists(elements, min_size=n, max_size=n))
@@ -99,9 +97,7 @@ def _label_depth(depth: np.ndarray) -> None:
         event("depth: in range")
 
 
-def depth_maps_m(
-    *, max_side: int = 8, dtypes: Sequence[str] = _FLOAT_DTYPES
-) -> st.SearchStrategy[np.ndarray]:
+def depth_maps_m(*, max_side: int = 8, dtypes: Sequence[str] = _FLOAT_DTYPES) -> st.SearchStrategy[np.ndarray]:
     """Float depth maps in metres (float32 or float64, 1..8 × 1..8) that reach every hazard.
 
     Values are >= 0, NaN (sky) or +inf: never negative, which ``encode_depth`` rejects.

@@ -165,9 +165,7 @@ def test_flow_round_trip(field: tuple[np.ndarray, np.ndarray, np.ndarray | None]
 
     u64, v64 = u.astype(np.float64), v.astype(np.float64)
     with np.errstate(invalid="ignore"):
-        expect_valid = (
-            np.isfinite(u64) & np.isfinite(v64) & (np.abs(u64) < 512) & (np.abs(v64) < 512)
-        )
+        expect_valid = np.isfinite(u64) & np.isfinite(v64) & (np.abs(u64) < 512) & (np.abs(v64) < 512)
     if valid is not None:
         expect_valid &= valid
     assert (code[~expect_valid] == 0).all()

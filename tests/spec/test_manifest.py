@@ -176,9 +176,7 @@ def test_fingerprint_digest_is_canonical() -> None:
         (lambda d: d.update(manifest_version=2), "manifest_version", "upgrade phav"),
     ],
 )
-def test_invalid_manifest_names_file_and_field(
-    tmp_path: Path, mutate: Any, field: str, fragment: str
-) -> None:
+def test_invalid_manifest_names_file_and_field(tmp_path: Path, mutate: Any, field: str, fragment: str) -> None:
     data = _manifest_data()
     mutate(data)
     error = _load_error(tmp_path, data)
@@ -241,9 +239,7 @@ def _consistent_manifests(draw: st.DrawFn) -> DatasetManifest:
         shards.append(ShardEntry(name=name, sha256=HEX_B, bytes=start, video_ids=chunk))
         for vid in chunk:
             n_frames = draw(st.integers(min_value=1, max_value=300))
-            videos.append(
-                VideoEntry(video_id=vid, shard=name, n_frames=n_frames, content_hash=HEX_A)
-            )
+            videos.append(VideoEntry(video_id=vid, shard=name, n_frames=n_frames, content_hash=HEX_A))
     return DatasetManifest(
         name="demo", phav_version="0.1.0", theta_hash=HEX_A, dataset_seed=draw(st.integers(0)),
         recipe_schema_version=1, shards=shards, videos=videos,

@@ -1,0 +1,146 @@
+"""The sampler against θ: 40,000 phav-v1 recipes match the exact expectations, a planted
+bug is caught, and the first five recipes of seed 0 are pinned (golden)."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from phav_generator.sampling import RecipeSampler, part_rng, runtime_seeds, video_key
+from phav_spec.expectations import exact_expectations, mean_duration
+from phav_spec.recipe import parse_recipe
+from phav_spec.recipe_table import RecipeRows, read_recipe_table
+from phav_spec.theta import load_preset
+from phav_validators.distribution import check_distributions
+from phav_validators.findings import Reason
+from tests.helpers import PRESET_PATH, run_cli
+
+GOLDEN = Path(__file__).parents[1] / "golden" / "phav-v1-seed0-first5.json"
+
+
+@pytest.fixture(scope="module")
+def table_40k(tmp_path_factory):
+    """`phav sample --theta recipes/phav-v1.yaml --n 40000 --seed 0`, run as a user would."""
+    out = tmp_path_factory.mktemp("sample") / "recipes.parquet"
+    result = run_cli("sample", "--theta", str(PRESET_PATH), "--n", "40000", "--seed", "0", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    return read_recipe_table(out)
+
+
+def test_40k_recipes_match_every_histogram_and_conditional_table(table_40k):
+    theta = load_preset()
+    assert table_40k.table.num_rows == 40000
+    assert table_40k.theta == theta and table_40k.dataset_seed == 0
+    columns = {name: table_40k.column(name) for name in table_40k.table.column_names}
+    result = check_distributions(columns, theta)
+    assert result.ok, [f.message for f in result.report.findings]
+    tested = {t.variable for t in result.tests}
+    assert tested >= set(exact_expectations(theta)) | {"duration_s", "clock_hour"}
+    conditional = [t for t in result.tests if t.condition != "marginal"]
+    assert len(conditional) > 300  # every (action), (action, environment), (weather)… row
+    assert all(t.impossible == 0 for t in result.tests)
+
+
+def test_no_zero_probability_value_ever_appears(table_40k):
+    exact = exact_expectations(load_preset())
+    for variable, table in exact.items():
+        column = table_40k.column(variable)
+        probs = table.marginal_dict()
+        seen = {v for v in column if v is not None}
+        assert all(probs[v] > 0 for v in seen), variable
+    assert set(table_40k.column("day_phase")) == {"dawn", "day", "dusk"}  # θ_D(night) = 0
+    assert "static" not in set(table_40k.column("camera"))
+
+
+def test_mean_duration_is_about_five_seconds(table_40k):
+    durations = np.array(table_40k.column("duration_s"))
+    assert mean_duration(load_preset()) == pytest.approx(5.0, abs=0.01)  # paper: 4.99 s
+    assert durations.mean() == pytest.approx(5.0, abs=0.05)
+    assert durations.min() >= 1.0 and durations.max() <= 10.0
+    frames = np.array(table_40k.column("n_frames"))
+    assert frames.min() >= 30 and frames.max() <= 300
+
+
+def test_camera_marginal_is_far_from_theta_c():
+    camera = exact_expectations(load_preset())["camera"].marginal_dict()
+    assert camera["kite"] > 0.9 and camera["indoors"] < 0.07 and camera["closeup"] < 0.02
+    assert camera["static"] == 0.0
+
+
+class IgnoresThetaEC(RecipeSampler):
+    """A planted bug: P(C | A, E) ∝ θ_C·θ_AC, forgetting θ_EC (indoors camera outdoors)."""
+
+    def _camera_weights(self) -> np.ndarray:
+        arr = self.theta.arrays
+        return np.broadcast_to(arr.c[None, None, :] * arr.ac[:, None, :], (len(arr.a), len(arr.e), len(arr.c))).copy()
+
+
+def test_a_sampler_that_ignores_theta_ec_fails_the_checks():
+    theta = load_preset()
+    buggy = IgnoresThetaEC(theta)
+    rows = RecipeRows().extend(buggy.sample(0, i) for i in range(4000))
+    result = check_distributions(rows.columns, theta)
+    assert not result.ok
+    reasons = {f.reason for f in result.report.findings}
+    assert Reason.IMPOSSIBLE_VALUE in reasons
+    camera_failures = [t for t in result.tests if t.variable == "camera" and t.rejected]
+    assert any(t.condition == "marginal" for t in camera_failures)
+    assert any("environment=urban" in t.condition for t in camera_failures)
+    # The correct sampler on the same indices passes.
+    good = RecipeRows().extend(RecipeSampler(theta).sample(0, i) for i in range(4000))
+    assert check_distributions(good.columns, theta).ok
+
+
+def test_golden_recipes_of_phav_v1_seed_0():
+    """The first five phav-v1 recipes for seed 0. Changing them changes the dataset's
+    definition: a deliberate, changelogged schema bump (regenerate with
+    PHAV_UPDATE_GOLDEN=1 pytest tests/generator/test_sampling.py -k golden)."""
+    sampler = RecipeSampler(load_preset())
+    current = [json.loads(sampler.sample(0, i).model_dump_json()) for i in range(5)]
+    if os.environ.get("PHAV_UPDATE_GOLDEN") == "1":
+        GOLDEN.write_text(json.dumps(current, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+    stored = json.loads(GOLDEN.read_text(encoding="utf-8"))
+    assert current == stored
+    assert [parse_recipe(r) for r in stored] == [sampler.sample(0, i) for i in range(5)]
+
+
+def test_streams_are_keyed_by_name_and_index():
+    a = part_rng(0, 5, "camera").random(4)
+    assert np.array_equal(a, part_rng(0, 5, "camera").random(4))
+    assert not np.array_equal(a, part_rng(0, 5, "world").random(4))
+    assert not np.array_equal(a, part_rng(0, 6, "camera").random(4))
+    assert not np.array_equal(a, part_rng(1, 5, "camera").random(4))
+    seeds = runtime_seeds(video_key(0, 5))
+    assert len(set(seeds.values())) == len(seeds) and all(0 <= s < 2**32 for s in seeds.values())
+    with pytest.raises(ValueError, match="non-negative"):
+        video_key(-1, 0)
+
+
+def test_parts_do_not_share_draws():
+    """Changing one part's θ leaves every other part of every recipe unchanged."""
+    theta = load_preset()
+    data = theta.model_dump(mode="json")
+    data["cameras"]["kite"]["fov_deg"] = {"kind": "uniform", "low": 20.0, "high": 30.0}
+    data["variations"]["muscle_weakening"]["strength"] = {
+        "kind": "uniform",
+        "low": 0.0,
+        "high": 0.1,
+    }
+    from phav_spec.theta import parse_theta
+
+    other = parse_theta(data)
+    for i in range(50):
+        a, b = RecipeSampler(theta).sample(3, i), RecipeSampler(other).sample(3, i)
+        assert (a.action, a.motion, a.world, a.environment, a.protagonist) == (
+            b.action,
+            b.motion,
+            b.world,
+            b.environment,
+            b.protagonist,
+        )
+        assert a.camera.kind == b.camera.kind and a.variation.kind == b.variation.kind
+        assert a.background_actors == b.background_actors and a.seeds == b.seeds

@@ -1,0 +1,141 @@
+"""phav-validate and phav stats on good and damaged recipe tables."""
+
+from __future__ import annotations
+
+import json
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from phav_generator.sampling import RecipeSampler
+from phav_spec.errors import PhavUserError
+from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
+from phav_spec.theta import load_preset
+from tests.helpers import PRESET_PATH, run_cli, theta_variant
+
+
+@pytest.fixture(scope="module")
+def good(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("dataset")
+    result = run_cli(
+        "sample",
+        "--theta",
+        "phav-v1",
+        "--n",
+        "1500",
+        "--seed",
+        "4",
+        "--out",
+        str(folder / "recipes.parquet"),
+    )
+    assert result.returncode == 0, result.stderr
+    return folder / "recipes.parquet"
+
+
+def _rewrite(src, dst, edit):
+    table = pq.read_table(src)
+    table = edit(table)
+    pq.write_table(table, dst)
+    return dst
+
+
+def _replace_column(table: pa.Table, name: str, values) -> pa.Table:
+    i = table.column_names.index(name)
+    return table.set_column(i, name, pa.array(values, type=table.schema.field(name).type))
+
+
+def test_good_table_passes(good):
+    result = run_cli("validate!", str(good))
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "1500 recipes, 1500 valid" in result.stdout and "all checks passed" in result.stdout
+    stats = run_cli("stats", str(good))
+    assert stats.returncode == 0 and "goodness of fit" in stats.stdout and "camera" in stats.stdout
+
+
+def test_dataset_directory_with_theta_yaml(good):
+    (good.parent / "theta.yaml").write_text(PRESET_PATH.read_text(encoding="utf-8"), encoding="utf-8")
+    result = run_cli("validate!", str(good.parent), "--details")
+    assert result.returncode == 0 and "environment" in result.stdout
+
+
+def test_column_disagreeing_with_recipe_is_found(good, tmp_path):
+    def edit(t):
+        cams = t.column("camera").to_pylist()
+        cams[7] = "indoors" if cams[7] != "indoors" else "kite"
+        return _replace_column(t, "camera", cams)
+
+    bad = _rewrite(good, tmp_path / "r.parquet", edit)
+    result = run_cli("validate!", str(bad), "--theta", "phav-v1")
+    assert result.returncode == 1
+    assert "COLUMN_MISMATCH" in result.stdout and "v000007" in result.stdout
+
+
+def test_invalid_recipe_json_is_found_and_the_rest_still_checked(good, tmp_path):
+    def edit(t):
+        texts = t.column("recipe").to_pylist()
+        data = json.loads(texts[3])
+        data["world"]["weather"] = "snow"
+        texts[3] = json.dumps(data)
+        texts[5] = texts[5][:40]
+        return _replace_column(t, "recipe", texts)
+
+    bad = _rewrite(good, tmp_path / "r.parquet", edit)
+    result = run_cli("validate!", str(bad), "--theta", "phav-v1")
+    assert result.returncode == 1
+    assert result.stdout.count("RECIPE_INVALID") == 2
+    assert "world.weather" in result.stdout and "1498 valid" in result.stdout
+
+
+def test_wrong_theta_is_reported(good, tmp_path):
+    other = theta_variant(tmp_path, lambda d: d.update(theta_w={"clear": 3, "overcast": 1, "rain": 1, "fog": 1}))
+    result = run_cli("validate!", str(good), "--theta", str(other))
+    assert result.returncode == 1
+    assert "THETA_MISMATCH" in result.stdout and "DISTRIBUTION_MISMATCH" in result.stdout
+    assert "weather" in result.stdout
+
+
+def test_truncated_and_foreign_files_are_user_errors(good, tmp_path):
+    truncated = tmp_path / "truncated.parquet"
+    truncated.write_bytes(good.read_bytes()[: good.stat().st_size // 2])
+    for args in (("validate!", str(truncated)), ("stats", str(truncated))):
+        result = run_cli(*args)
+        assert result.returncode == 2 and "Traceback" not in result.stderr
+        assert "truncated.parquet: not a readable Parquet file" in result.stderr
+    foreign = tmp_path / "foreign.parquet"
+    pq.write_table(pa.table({"x": [1, 2]}), foreign)
+    with pytest.raises(PhavUserError, match=r"foreign\.parquet: video_id: missing column"):
+        read_recipe_table(foreign)
+    missing = run_cli("validate!", str(tmp_path / "nope.parquet"))
+    assert missing.returncode == 2 and "no such file" in missing.stderr
+
+
+def test_empty_dataset(tmp_path):
+    theta = load_preset()
+    path = tmp_path / "empty.parquet"
+    write_recipe_table(RecipeRows().to_arrow(theta=theta, dataset_seed=0), path)
+    rt = read_recipe_table(path)
+    assert rt.table.num_rows == 0 and rt.theta == theta
+    result = run_cli("validate!", str(path))
+    assert result.returncode == 0 and "0 recipes" in result.stdout
+
+
+def test_writes_are_atomic(tmp_path):
+    """A failed write leaves the previous file intact and no temp files behind."""
+    theta = load_preset()
+    path = tmp_path / "recipes.parquet"
+    rows = RecipeRows().extend(RecipeSampler(theta).sample(0, i) for i in range(3))
+    write_recipe_table(rows.to_arrow(theta=theta, dataset_seed=0), path)
+    before = path.read_bytes()
+
+    class Boom(RuntimeError):
+        pass
+
+    class BadTable:
+        def __getattr__(self, name):
+            raise Boom
+
+    with pytest.raises(Exception):  # noqa: B017 - whatever pyarrow raises on a non-table
+        write_recipe_table(BadTable(), path)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["recipes.parquet"]
