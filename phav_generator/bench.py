@@ -23,7 +23,9 @@ class SamplingRun:
     camera_error: float  # max |observed − exact| over the camera marginal
     action_error: float
     duration_error: float  # |observed − exact| mean clip length, seconds
-    worst_p: float  # smallest p-value over all goodness-of-fit tests
+    worst_p: float  # smallest raw p-value over all goodness-of-fit tests
+    rejected: int  # tests rejected after the Holm correction (0 = consistent with θ)
+    n_tests: int
 
 
 def _max_abs_error(column: list, table) -> float:
@@ -57,5 +59,7 @@ def bench_sampling(theta: Theta, *, n: int, seed: int, out_dir: Path | None = No
                 action_error=_max_abs_error(rows.columns["action"], exact["action"]),
                 duration_error=abs(result.mean_duration - result.expected_mean_duration),
                 worst_p=min(t.p_value for t in result.tests),
+                rejected=sum(t.rejected for t in result.tests),
+                n_tests=len(result.tests),
             ))  # fmt: skip
     return runs

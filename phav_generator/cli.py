@@ -147,13 +147,13 @@ def bench(
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
     table = Table(title=f"sampling (θ {theta.name}, one process)", title_justify="left")
     for col in ("recipes", "recipes/s", "µs/recipe", "Parquet bytes", "bytes/recipe",
-                "max |Δp| camera", "max |Δp| action", "|Δ mean L| s", "worst p (Holm)"):  # fmt: skip
+                "max |Δp| camera", "max |Δp| action", "|Δ mean L| s", "worst raw p", "rejected (Holm)"):  # fmt: skip
         table.add_column(col, justify="right")
     for r in rows:
         table.add_row(
             f"{r.n:,}", f"{r.recipes_per_s:,.0f}", f"{1e6 / r.recipes_per_s:.0f}", f"{r.parquet_bytes:,}",
             f"{r.parquet_bytes / r.n:.0f}", f"{r.camera_error:.4f}", f"{r.action_error:.4f}",
-            f"{r.duration_error:.3f}", f"{r.worst_p:.2g}",
+            f"{r.duration_error:.3f}", f"{r.worst_p:.2g}", f"{r.rejected}/{r.n_tests}",
         )  # fmt: skip
     console.print(table)
 

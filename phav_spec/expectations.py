@@ -29,6 +29,7 @@ from phav_spec.vocab import (
     CAMERAS,
     DAY_PHASES,
     ENVIRONMENTS,
+    MUSCLES,
     OBJECTS,
     VARIATIONS,
     WEATHERS,
@@ -175,6 +176,10 @@ def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
         )
         tables.append(root_table)
 
+    p_mirror = theta.motion.p_mirror
+    root("mirror", (False, True), np.array([1.0 - p_mirror, p_mirror]))
+    tables.extend(_muscle_count_table(theta, p))
+
     e_marg = p.a @ p.e_a
     spec = theta.background_actors
     max_n = max(spec.count.max, 0)
@@ -196,6 +201,35 @@ def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
     tables.append(ExactTable("n_background_actors", ("environment",), tuple(range(max_n + 1)), bg_rows, env_parents))
     tables.append(ExactTable("waypoint_index", ("environment",), tuple(range(max_wp)), wp_rows, env_parents))
     return {t.variable: t for t in tables}
+
+
+def _muscle_count_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
+    """How many muscles a variation acts on, given the action and the variation kind."""
+    values = tuple(range(1, len(MUSCLES) + 1))
+    kinds = {
+        "random_perturbation": theta.variations.random_perturbation.n_muscles,
+        "muscle_weakening": theta.variations.muscle_weakening.n_muscles,
+        "action_blending": theta.variations.action_blending.n_muscles,
+    }
+    rows, parents = {}, {}
+    for i, action in enumerate(ACTIONS.names):
+        scene = ACTION_SCENES[action]
+        for kind, spec in kinds.items():
+            joint = p.a[i] * p.v_a[i, VARIATIONS.index(kind)]
+            if joint <= 0:
+                continue
+            available = len(MUSCLES) if kind == "muscle_weakening" else len(scene.complementary_muscles)
+            hi = min(spec.max, available)
+            lo = max(1, min(spec.min, hi))
+            rows[(action, kind)] = np.array([1.0 / (hi - lo + 1) if lo <= k <= hi else 0.0 for k in values])
+            parents[(action, kind)] = joint
+    if not parents:
+        return []
+    total = sum(parents.values())
+    parents = {k: v / total for k, v in parents.items()}
+    return [
+        ExactTable("n_varied_muscles", ("action", "variation"), values, rows, parents, "videos with muscle variations")
+    ]
 
 
 def _weather_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
@@ -282,3 +316,116 @@ def clock_hour_cdf(theta: Theta, day_phase: str | None = None) -> Callable[[np.n
         return _mixture_cdf([(1.0, theta.clock_hours[day_phase].distribution())])
     comps = [(float(p.d[k]), theta.clock_hours[d].distribution()) for k, d in enumerate(DAY_PHASES.names) if p.d[k] > 0]
     return _mixture_cdf(comps)
+
+
+# ------------------------------------------------------------- continuous parameters of Θ
+
+
+@dataclass(frozen=True)
+class ContinuousParameter:
+    """A continuous θ distribution and where its draws land in a recipe.
+
+    ``theta_path`` names the θ leaf it covers (``*`` = every key of a mapping). ``value``
+    is the recipe path of the draws (``[]`` steps into a list; a null means "not drawn"),
+    ``group`` the recipe path that selects which of θ's distributions applies (the camera
+    kind, the weather; None = one distribution), ``when`` an optional boolean path that must
+    be true (an intensity is drawn only while its element is on), and ``distribution``
+    returns θ's distribution for a group.
+    """
+
+    name: str
+    theta_path: str
+    value: str
+    group: str | None
+    distribution: Callable[[Theta, str], Any]
+    when: str | None = None
+
+
+def _camera_dist(field: str, sub: str | None = None) -> Callable[[Theta, str], Any]:
+    def dist(theta: Theta, kind: str) -> Any:
+        node = theta.cameras[kind]
+        return getattr(node if sub is None else getattr(node, sub), field)
+
+    return dist
+
+
+_PLACEMENT_FIELD = {"side_by_side": "side_distance_m", "behind": "behind_distance_m", "facing": "facing_distance_m"}
+
+
+def _continuous_parameters() -> tuple[ContinuousParameter, ...]:
+    cp = ContinuousParameter
+    params = [
+        cp("motion.speed", "motion.speed", "motion.speed", None, lambda t, g: t.motion.speed),
+        cp(
+            "protagonist.heading_deg",
+            "protagonist_heading_deg",
+            "protagonist.heading_deg",
+            None,
+            lambda t, g: t.protagonist_heading_deg,
+        ),
+        cp(
+            "background_actors.speed_mps",
+            "background_actors.speed_mps",
+            "background_actors[].speed_mps",
+            None,
+            lambda t, g: t.background_actors.speed_mps,
+        ),
+        cp(
+            "supporting_characters.distance_m",
+            "supporting_characters.*",
+            "supporting_characters[].distance_m",
+            "supporting_characters[].placement",
+            lambda t, g: getattr(t.supporting_characters, _PLACEMENT_FIELD[g]),
+        ),
+    ]
+    for field in ("fov_deg", "distance_m", "height_m", "azimuth_deg"):
+        params.append(
+            cp(f"camera.{field}", f"cameras.*.{field}", f"camera.{field}", "camera.kind", _camera_dist(field))
+        )
+    for sub, fields in (
+        (
+            "springs",
+            ("ct_spring_strength", "tp_spring_strength", "camera_mass", "target_mass", "camera_drag", "target_drag"),
+        ),
+        ("impulse", ("strength", "azimuth_deg", "elevation_deg")),
+    ):
+        for field in fields:
+            name = f"camera.{sub}.{field}"
+            params.append(cp(name, f"cameras.*.{sub}.{field}", name, "camera.kind", _camera_dist(field, sub)))
+    for field, element in (
+        ("sun_brightness", None),
+        ("ambient_luminosity", None),
+        ("cloud_intensity", "clouds"),
+        ("fog_intensity", "fog"),
+        ("rain_intensity", "rain"),
+    ):
+        params.append(
+            cp(
+                f"world.{field}",
+                f"weather_elements.*.{field}",
+                f"world.{field}",
+                "world.weather",
+                lambda t, g, field=field: getattr(t.weather_elements[g], field),
+                when=f"world.{element}" if element else None,
+            )
+        )
+    for kind, path, theta_field in (
+        ("random_perturbation", "variation.radius_m", "radius_m"),
+        ("random_perturbation", "variation.period_s", "period_s"),
+        ("muscle_weakening", "variation.strengths[]", "strength"),
+        ("action_blending", "variation.weight", "weight"),
+    ):
+        params.append(
+            cp(
+                path.removesuffix("[]"),
+                f"variations.{kind}.{theta_field}",
+                path,
+                "variation.kind",
+                lambda t, g, theta_field=theta_field: getattr(getattr(t.variations, g), theta_field),
+            )
+        )
+    return tuple(params)
+
+
+#: Every continuous θ distribution the sampler draws from, with where its draws land.
+CONTINUOUS_PARAMETERS: tuple[ContinuousParameter, ...] = _continuous_parameters()

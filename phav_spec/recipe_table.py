@@ -72,6 +72,8 @@ COLUMNS: tuple[Column, ...] = (
     Column("blend_motion", "string", lambda r: _variation_attr(r, "action_blending", "blend_motion"), "blended motion"),
     Column("n_background_actors", "int64", lambda r: len(r.background_actors), "background pedestrians"),
     Column("waypoint_index", "int64", lambda r: r.environment.waypoint_index, "P_W in the environment's graph"),
+    Column("mirror", "bool_", lambda r: r.motion.mirror, "base motion played mirrored"),
+    Column("n_varied_muscles", "int64", lambda r: len(getattr(r.variation, "muscles", ())) or None, "muscles varied"),
 )  # fmt: skip
 COLUMN_NAMES: tuple[str, ...] = tuple(c.name for c in COLUMNS)
 RECIPE_COLUMN = "recipe"

@@ -1,0 +1,636 @@
+"""Hypothesis strategies for θ and recipes.
+
+Public API (DESIGN.md row "property tests"): our suite uses these, and users property-test
+their own loaders and samplers with them. ``thetas()`` draws modifications of the
+``phav-v1`` preset that are valid by construction (no filtering): every rule of
+``Theta._support`` is met by how the draws are arranged, not checked after the fact.
+``recipes()`` builds recipes structurally, without the sampler, so a loader can be tested
+on recipes the sampler would rarely or never write. Each strategy labels the hard cases it
+reached with ``hypothesis.event`` so ``pytest --hypothesis-show-statistics`` shows how often
+each one was exercised.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import re
+from collections.abc import Iterable, Sequence
+from typing import Any
+
+from hypothesis import event
+from hypothesis import strategies as st
+
+from phav_spec.motions import MOTIONS, theta_ab
+from phav_spec.recipe import Recipe, frames_for, video_id
+from phav_spec.scene import (
+    ACTION_SCENES,
+    CAMERA_INFO,
+    ENVIRONMENT_SCENES,
+    HUMAN_MODELS,
+    SPRING_MIN_DISTANCES_M,
+)
+from phav_spec.theta import RenderSettings, Theta, load_preset, parse_theta
+from phav_spec.vocab import (
+    ACTIONS,
+    CAMERAS,
+    DAY_PHASES,
+    ENVIRONMENTS,
+    MUSCLES,
+    OBJECTS,
+    VARIATIONS,
+    WEATHERS,
+)
+
+__all__ = ["recipe_lists", "recipes", "thetas"]
+
+# ----------------------------------------------------------------------------- θ
+
+#: A categorical weight that may be zero, and one that may not. Bounded away from 0 and
+#: from overflow so that a product θ_C·θ_AC·θ_EC of positive weights stays positive.
+_WEIGHT = st.one_of(st.sampled_from((0.0, 0.0, 0.5, 1.0, 2.0, 3.0)), st.floats(0.01, 100.0))
+_POSITIVE = st.one_of(st.sampled_from((0.5, 1.0, 2.0, 3.0)), st.floats(0.01, 100.0))
+_PROBABILITY = st.one_of(st.sampled_from((0.0, 0.5, 1.0)), st.floats(0.0, 1.0))
+_HOUR = st.one_of(st.integers(0, 23).map(float), st.floats(0.0, 24.0, exclude_max=True))
+
+_SPRING_CAMERAS = tuple(c for c in CAMERAS.names if CAMERA_INFO[c].tracking == "springs")
+_OUTDOOR_CAMERAS = tuple(c for c in CAMERAS.names if not CAMERA_INFO[c].indoor_only)
+_LENGTHS = tuple(MOTIONS[m].length_s for m in MOTIONS.names)
+
+
+@functools.cache
+def _preset_json() -> str:
+    return json.dumps(load_preset("phav-v1").model_dump(mode="json"))
+
+
+def _preset_dict() -> dict[str, Any]:
+    """A fresh copy of the phav-v1 preset as the mapping θ files hold (tables as ``{rows: …}``)."""
+    return json.loads(_preset_json())
+
+
+def _allowed_environments(action: str) -> tuple[str, ...]:
+    """Environments whose pixel classes include everything ``action`` requires."""
+    needs = ACTION_SCENES[action].requires_classes
+    return tuple(e for e in ENVIRONMENTS.names if all(c in ENVIRONMENT_SCENES[e].pixel_classes for c in needs))
+
+
+def _allowed_variations(action: str) -> tuple[str, ...]:
+    """Variations ``action`` can take: objects only with declared props, muscle ones with muscles."""
+    scene = ACTION_SCENES[action]
+    out = []
+    for v in VARIATIONS.names:
+        if v == "objects" and not scene.variation_objects:
+            continue
+        if v in ("random_perturbation", "action_blending") and not scene.complementary_muscles:
+            continue
+        out.append(v)
+    return tuple(out)
+
+
+def _subset(draw: st.DrawFn, names: Sequence[str], *, min_size: int = 1) -> tuple[str, ...]:
+    """A subset of ``names`` of at least ``min_size``, in registry order."""
+    chosen = draw(st.sets(st.sampled_from(tuple(names)), min_size=min_size, max_size=len(names)))
+    return tuple(n for n in names if n in chosen)
+
+
+def _vector(draw: st.DrawFn, support: Iterable[str]) -> dict[str, float]:
+    """Positive, non-uniform weights on ``support``; every other value is left out (weight 0)."""
+    return {name: draw(_POSITIVE) for name in support}
+
+
+def _row(
+    draw: st.DrawFn,
+    names: Sequence[str],
+    *,
+    forbidden: Iterable[str] = (),
+    force_one_of: Sequence[str] = (),
+) -> dict[str, float]:
+    """A table row: random weights with zeros, 0 on ``forbidden``, > 0 on one of ``force_one_of``."""
+    forbidden = set(forbidden)
+    row = {n: (0.0 if n in forbidden else draw(_WEIGHT)) for n in names}
+    if force_one_of and all(row[n] <= 0 for n in force_one_of):
+        row[draw(st.sampled_from(tuple(force_one_of)))] = draw(_POSITIVE)
+    return row
+
+
+def _label_vector(variable: str, support: Sequence[str], names: Sequence[str]) -> None:
+    if len(support) == 1:
+        event(f"theta: single {variable} with weight")
+    elif len(support) < len(names):
+        event(f"theta: some {variable} weights zero")
+
+
+@st.composite
+def _actions(draw: st.DrawFn) -> tuple[dict[str, float], tuple[str, ...]]:
+    """θ_A and the actions it reaches: one action, a subset, or all (uniform or not)."""
+    case = draw(st.sampled_from(("single", "subset", "all", "uniform")))
+    if case == "uniform":
+        return {a: 1.0 for a in ACTIONS.names}, ACTIONS.names
+    if case == "single":
+        reach = (draw(st.sampled_from(ACTIONS.names)),)
+    elif case == "subset":
+        reach = _subset(draw, ACTIONS.names)
+    else:
+        reach = ACTIONS.names
+    return _vector(draw, reach), reach
+
+
+@st.composite
+def _clock_hour(draw: st.DrawFn, phase: str, reachable: bool) -> dict[str, float]:
+    """Tr(t | min, max, mode) on 24 h: ordinary, degenerate, or wrapping midnight."""
+    cases = ["general", "min==mode", "mode==max", "point", "wrap:before", "wrap:after"]
+    if phase == "night":
+        cases += ["wrap:before", "wrap:after", "preset"]
+    case = draw(st.sampled_from(cases))
+    if case == "preset":
+        out = {"min": 20.0, "max": 7.0, "mode": 0.0}
+    elif case.startswith("wrap"):
+        lo = draw(st.floats(0.0, 23.5))
+        hi = draw(st.floats(lo, 24.0, exclude_min=True, exclude_max=True))
+        if case == "wrap:before":  # mode in [min, 24): before midnight
+            mode = draw(st.one_of(st.just(hi), st.floats(hi, 24.0, exclude_max=True)))
+        else:  # mode in [0, max]: after midnight
+            mode = draw(st.one_of(st.just(0.0), st.just(lo), st.floats(0.0, lo)))
+        out = {"min": hi, "max": lo, "mode": mode}
+    else:
+        lo, mode, hi = sorted(draw(st.lists(_HOUR, min_size=3, max_size=3)))
+        if case == "min==mode":
+            mode = lo
+        elif case == "mode==max":
+            mode = hi
+        elif case == "point":
+            lo = mode = hi
+        out = {"min": lo, "max": hi, "mode": mode}
+    if reachable:
+        lo_, hi_, mode_ = out["min"], out["max"], out["mode"]
+        if lo_ > hi_:
+            event(
+                "clock: wrapped interval, mode before midnight"
+                if mode_ >= lo_
+                else "clock: wrapped interval, mode after midnight"
+            )
+            if phase == "night":
+                event("clock: night wraps midnight with θ_D[night] > 0")
+        if lo_ == hi_:
+            event("clock: min == max (point)")
+        elif mode_ == lo_:
+            event("clock: min == mode")
+        elif mode_ == hi_:
+            event("clock: mode == max")
+    return out
+
+
+@st.composite
+def _durations(draw: st.DrawFn, longest: float) -> dict[str, float]:
+    """T_min ≤ ``longest`` (the shortest of the reachable actions' longest motions), T_mod, T_max."""
+    case = draw(st.sampled_from(("free", "free", "near_longest", "equal_longest")))
+    if case == "free":
+        t_min = draw(st.floats(0.05, min(longest, 5.0)))
+    elif case == "near_longest":
+        t_min = longest * draw(st.floats(0.95, 1.0))
+    else:
+        t_min = longest
+    shape = draw(st.sampled_from(("general", "t_min==t_mod", "t_mod==t_max", "t_min==t_max")))
+    t_max = t_min if shape == "t_min==t_max" else t_min + draw(st.floats(0.01, 15.0))
+    if shape == "t_min==t_mod":
+        t_mod = t_min
+    elif shape in ("t_mod==t_max", "t_min==t_max"):
+        t_mod = t_max
+    else:
+        t_mod = draw(st.floats(t_min, t_max))
+    if t_min >= 0.95 * longest:
+        event("durations: T_min close to the longest motion of a reachable action")
+    if t_min == t_max:
+        event("durations: t_min == t_max")
+    elif t_min == t_mod:
+        event("durations: t_min == t_mod")
+    elif t_mod == t_max:
+        event("durations: t_mod == t_max")
+    return {"t_min": t_min, "t_max": t_max, "t_mod": t_mod}
+
+
+@st.composite
+def _thetas(draw: st.DrawFn) -> Theta:
+    data = _preset_dict()
+    data["name"] = "hypothesis-theta"
+    data["description"] = "drawn by phav_spec.strategies.thetas()"
+
+    # A: which actions have weight. Unreachable actions may keep their preset rows or get
+    # all-zero rows everywhere, which validation allows because nothing reaches them.
+    theta_a, reach = draw(_actions())
+    data["theta_a"] = "uniform" if len(theta_a) == len(ACTIONS) and set(theta_a.values()) == {1.0} else theta_a
+    _label_vector("action", reach, ACTIONS.names)
+    unreachable = tuple(a for a in ACTIONS.names if a not in reach)
+    zero_rows = bool(unreachable) and draw(st.booleans())
+    if zero_rows:
+        event("theta: unreachable actions with all-zero θ_AE/θ_AV/θ_AC rows")
+
+    # H: two-people actions need a second human model with weight.
+    two_people = any(ACTIONS[a].n_people > 1 for a in reach)
+    humans = _subset(draw, HUMAN_MODELS.names, min_size=2 if two_people else 1)
+    data["theta_h"] = _vector(draw, humans)
+    _label_vector("human model", humans, HUMAN_MODELS.names)
+
+    # W, D.
+    weathers = _subset(draw, WEATHERS.names)
+    data["theta_w"] = _vector(draw, weathers)
+    _label_vector("weather", weathers, WEATHERS.names)
+    phase_case = draw(st.sampled_from(("single", "subset", "with_night")))
+    if phase_case == "single":
+        phases = (draw(st.sampled_from(DAY_PHASES.names)),)
+    else:
+        phases = _subset(draw, DAY_PHASES.names)
+        if phase_case == "with_night" and "night" not in phases:
+            phases = tuple(d for d in DAY_PHASES.names if d in phases or d == "night")
+    data["theta_d"] = _vector(draw, phases)
+    _label_vector("day phase", phases, DAY_PHASES.names)
+    data["clock_hours"] = {d: draw(_clock_hour(d, d in phases)) for d in DAY_PHASES.names}
+
+    # θ_AB: the preset regexes; some reachable actions narrowed to one motion; unreachable
+    # ones may lose their regex or match nothing at all.
+    regex = dict(data["theta_ab"]["regex"])
+    ab = theta_ab(regex)
+    for a in reach:
+        hits = [MOTIONS.names[j] for j in range(len(MOTIONS)) if ab[ACTIONS.index(a), j] > 0]
+        if draw(st.integers(0, 9)) == 0:
+            motion = draw(st.sampled_from(hits))
+            regex[a] = "^" + re.escape(MOTIONS[motion].description) + "$"
+            event("theta: reachable action with a single base motion")
+    for a in unreachable:
+        fate = draw(st.sampled_from(("keep", "drop", "match_nothing")))
+        if fate == "drop":
+            del regex[a]
+        elif fate == "match_nothing":
+            regex[a] = r"(?!)"
+    data["theta_ab"] = {"regex": regex}
+    ab = theta_ab(regex)
+    longest = min(max(length for length, hit in zip(_LENGTHS, ab[ACTIONS.index(a)], strict=True) if hit) for a in reach)
+    data["durations"] = draw(_durations(longest))
+
+    # E and θ_AE: every reachable action needs an environment with weight that has the pixel
+    # classes it requires (car_hit: a road, climb_stairs: stairs).
+    envs = set(_subset(draw, ENVIRONMENTS.names))
+    for a in reach:
+        allowed = _allowed_environments(a)
+        if not envs.intersection(allowed):
+            envs.add(draw(st.sampled_from(allowed)))
+    envs_t = tuple(e for e in ENVIRONMENTS.names if e in envs)
+    data["theta_e"] = _vector(draw, envs_t)
+    _label_vector("environment", envs_t, ENVIRONMENTS.names)
+    ae_rows = {}
+    for a in ACTIONS.names:
+        if a in reach:
+            allowed = _allowed_environments(a)
+            # A disallowed environment may keep weight where θ_E is zero: it stays unreachable.
+            ae_rows[a] = _row(
+                draw,
+                ENVIRONMENTS.names,
+                forbidden=[e for e in envs_t if e not in allowed],
+                force_one_of=[e for e in allowed if e in envs],
+            )
+        elif zero_rows:
+            ae_rows[a] = {}
+        else:
+            ae_rows[a] = data["theta_ae"]["rows"][a]
+    data["theta_ae"] = {"rows": ae_rows}
+
+    # V and θ_AV: objects only where the action declares props.
+    variations = set(_subset(draw, VARIATIONS.names))
+    for a in reach:
+        if not variations.intersection(_allowed_variations(a)):
+            variations.add("none")
+    variations_t = tuple(v for v in VARIATIONS.names if v in variations)
+    data["theta_v"] = _vector(draw, variations_t)
+    _label_vector("variation", variations_t, VARIATIONS.names)
+    av_rows = {}
+    for a in ACTIONS.names:
+        if a in reach:
+            allowed = _allowed_variations(a)
+            av_rows[a] = _row(
+                draw,
+                VARIATIONS.names,
+                forbidden=[v for v in variations_t if v not in allowed],
+                force_one_of=[v for v in allowed if v in variations],
+            )
+        elif zero_rows:
+            av_rows[a] = {}
+        else:
+            av_rows[a] = data["theta_av"]["rows"][a]
+    data["theta_av"] = {"rows": av_rows}
+
+    # C, θ_AC, θ_EC: one outdoor-capable camera f with weight everywhere guarantees a camera
+    # for every reachable (action, environment); the indoors camera only in indoor scenes.
+    if draw(st.integers(0, 4)) == 0:
+        cameras: tuple[str, ...] = ("kite",)
+        event("theta: only the kite camera")
+    else:
+        cameras = _subset(draw, CAMERAS.names)
+        if not set(cameras).intersection(_OUTDOOR_CAMERAS):
+            cameras = tuple(c for c in CAMERAS.names if c in cameras or c == "kite")
+        _label_vector("camera", cameras, CAMERAS.names)
+    data["theta_c"] = _vector(draw, cameras)
+    fallback = draw(st.sampled_from([c for c in cameras if c in _OUTDOOR_CAMERAS]))
+    ac_rows = {}
+    for a in ACTIONS.names:
+        if a in reach:
+            ac_rows[a] = _row(draw, CAMERAS.names, force_one_of=[fallback])
+        elif zero_rows:
+            ac_rows[a] = {}
+        else:
+            ac_rows[a] = data["theta_ac"]["rows"][a]
+    data["theta_ac"] = {"rows": ac_rows}
+    ec_rows = {}
+    for e in ENVIRONMENTS.names:
+        indoor = ENVIRONMENT_SCENES[e].indoor
+        forbidden = () if indoor else [c for c in CAMERAS.names if CAMERA_INFO[c].indoor_only]
+        if e not in envs and draw(st.booleans()):
+            ec_rows[e] = {}
+            event("theta: environment without weight has an all-zero θ_EC row")
+        else:
+            ec_rows[e] = _row(draw, CAMERAS.names, forbidden=forbidden, force_one_of=[fallback])
+    data["theta_ec"] = {"rows": ec_rows}
+
+    # Continuous and Bernoulli parameters the recipes expose as categorical columns.
+    for w in WEATHERS.names:
+        spec = data["weather_elements"][w]
+        for element in ("rain", "fog"):
+            spec[element] = {"p": draw(_PROBABILITY)}
+        for element in ("clouds", "wet_ground"):
+            spec[element] = {"p_if_parent": draw(_PROBABILITY), "p_otherwise": draw(_PROBABILITY)}
+    lo = draw(st.integers(0, 3))
+    data["background_actors"]["count"] = {"min": lo, "max": draw(st.integers(lo, 6))}
+    for cam in _SPRING_CAMERAS:
+        dead = _subset(draw, [str(d) for d in SPRING_MIN_DISTANCES_M])
+        data["cameras"][cam]["springs"]["min_distance_weights"] = {int(d): draw(_POSITIVE) for d in dead}
+    data["motion"]["p_mirror"] = draw(_PROBABILITY)
+    data["video"] = {
+        "width": draw(st.sampled_from((340, 16, 640))),
+        "height": draw(st.sampled_from((256, 16, 480))),
+        "fps": draw(st.sampled_from((30, 1, 24, 60, 240))),
+    }
+    return parse_theta(data, source="<phav_spec.strategies.thetas>")
+
+
+def thetas() -> st.SearchStrategy[Theta]:
+    """Valid θ: modifications of the ``phav-v1`` preset, valid by construction.
+
+    Reaches single-value supports (one action, weather, day phase, only the kite camera),
+    all-zero rows for unreachable actions, non-uniform weights with zeros, degenerate and
+    midnight-wrapping clock triangles (night with weight), degenerate duration triangles and
+    T_min close to the longest motion of a reachable action; each is labelled with
+    ``hypothesis.event``.
+    """
+    return _thetas()
+
+
+# ----------------------------------------------------------------------------- recipes
+
+_COORD = st.floats(-1.0e4, 1.0e4, allow_nan=False)
+_ANY_FINITE = st.floats(allow_nan=False, allow_infinity=False)
+_UNIT = st.floats(0.0, 1.0)
+_SEED = st.integers(0, 2**32 - 1)
+_HASH = st.text(alphabet="0123456789abcdef", min_size=64, max_size=64)
+_ALMOST_24 = math.nextafter(24.0, 0.0)
+
+
+def _vec3(coord: st.SearchStrategy[float] = _COORD) -> st.SearchStrategy[tuple[float, float, float]]:
+    return st.tuples(coord, coord, coord)
+
+
+def _human(name: str) -> dict[str, Any]:
+    return {"model": name, **HUMAN_MODELS[name].__dict__}
+
+
+@st.composite
+def _variation(draw: st.DrawFn, action: str) -> dict[str, Any]:
+    kind = draw(st.sampled_from(VARIATIONS.names))
+    event(f"recipe: variation {kind}")
+    scene = ACTION_SCENES[action]
+    pool = scene.complementary_muscles or MUSCLES.names
+    if kind == "random_perturbation":
+        return {
+            "kind": kind,
+            "muscles": _subset(draw, pool),
+            "radius_m": draw(st.floats(0.0, 1.0)),
+            "period_s": draw(st.floats(1e-3, 10.0)),
+        }
+    if kind == "muscle_weakening":
+        muscles = _subset(draw, MUSCLES.names)
+        strengths = draw(st.lists(_UNIT, min_size=len(muscles), max_size=len(muscles)))
+        return {"kind": kind, "muscles": muscles, "strengths": tuple(strengths)}
+    if kind == "action_blending":
+        return {
+            "kind": kind,
+            "muscles": _subset(draw, pool),
+            "blend_motion": draw(st.sampled_from(MOTIONS.names)),
+            "blend_start_s": draw(st.floats(0.0, 60.0)),
+            "weight": draw(_UNIT),
+        }
+    if kind == "objects":
+        return {"kind": kind, "object": draw(st.sampled_from(scene.variation_objects or OBJECTS.names))}
+    return {"kind": "none"}
+
+
+@st.composite
+def _duration(draw: st.DrawFn, fps: int) -> float:
+    """Clip length in seconds; a share of draws is short enough for a single frame."""
+    if draw(st.integers(0, 4)) == 0:
+        duration = draw(st.floats(1e-3, 1.49 / fps))
+    else:
+        duration = draw(st.floats(1e-3, 12.0))
+    if frames_for(duration, fps) == 1:
+        event("recipe: n_frames == 1")
+    return duration
+
+
+@st.composite
+def _clock_hour_value(draw: st.DrawFn) -> float:
+    hour = draw(
+        st.one_of(
+            st.floats(0.0, 24.0, exclude_max=True),
+            st.sampled_from((0.0, 5e-324, 1e-9, 23.999999, _ALMOST_24)),
+            st.floats(0.0, 1e-3),
+            st.floats(23.999, 24.0, exclude_max=True),
+        )
+    )
+    if hour < 1e-3:
+        event("recipe: clock_hour near 0")
+    if hour > 24.0 - 1e-3:
+        event("recipe: clock_hour near 24")
+    return hour
+
+
+@st.composite
+def _camera(draw: st.DrawFn, indoor: bool, position: tuple[float, float, float]) -> dict[str, Any]:
+    kind = draw(st.sampled_from(CAMERAS.names if indoor else _OUTDOOR_CAMERAS))
+    springs = impulse = None
+    if CAMERA_INFO[kind].tracking == "springs":
+        event("recipe: spring camera")
+        springs = {
+            "ct_spring_strength": draw(st.floats(0.1, 1.0e5)),
+            "tp_spring_strength": draw(st.floats(0.1, 1.0e5)),
+            "camera_mass": draw(st.floats(0.01, 100.0)),
+            "target_mass": draw(st.floats(0.01, 100.0)),
+            "camera_drag": draw(st.floats(0.0, 50.0)),
+            "target_drag": draw(st.floats(0.0, 50.0)),
+            "ct_min_distance_m": draw(st.sampled_from(SPRING_MIN_DISTANCES_M)),
+            "tp_min_distance_m": draw(st.sampled_from(SPRING_MIN_DISTANCES_M)),
+        }
+        impulse = {
+            "strength": draw(st.floats(0.0, 10.0)),
+            "azimuth_deg": draw(st.floats(-180.0, 180.0)),
+            "elevation_deg": draw(st.floats(-90.0, 90.0)),
+        }
+    else:
+        event("recipe: non-spring camera")
+    x, y, z = position
+    return {
+        "kind": kind,
+        "fov_deg": draw(st.floats(10.0, 120.0)),
+        "distance_m": draw(st.floats(0.3, 60.0)),
+        "height_m": draw(st.floats(-2.0, 30.0)),
+        "azimuth_deg": draw(st.floats(-360.0, 360.0)),
+        "position": draw(_vec3()),
+        "target": (x, y, z + draw(st.floats(0.0, 2.0))),
+        "springs": springs,
+        "impulse": impulse,
+    }
+
+
+@st.composite
+def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
+    if index is None:
+        index = draw(st.one_of(st.integers(0, 999), st.integers(0, 10**9)))
+    if theta is not None:
+        theta_hash, video, render = theta.hash, theta.video.model_dump(), theta.render
+    else:
+        theta_hash = draw(_HASH)
+        video = {
+            "width": draw(st.integers(16, 4096)),
+            "height": draw(st.integers(16, 4096)),
+            "fps": draw(st.one_of(st.sampled_from((30, 1, 24, 60)), st.integers(1, 240))),
+        }
+        render = RenderSettings(supersampling=draw(st.integers(1, 4)), png_compression=draw(st.integers(0, 9)))
+
+    action = draw(st.sampled_from(ACTIONS.names))
+    scene = ACTION_SCENES[action]
+    duration = draw(_duration(video["fps"]))
+    base = draw(st.sampled_from(MOTIONS.names))
+    env_name = draw(st.sampled_from(ENVIRONMENTS.names))
+    env = ENVIRONMENT_SCENES[env_name]
+    wp = draw(st.integers(0, len(env.protagonist_waypoints) - 1))
+    position = env.protagonist_waypoints[wp]
+    heading = draw(st.one_of(st.floats(0.0, 360.0), _ANY_FINITE))
+
+    supporting = []
+    if scene.supporting_placement is not None:
+        event("recipe: supporting character")
+        supporting.append({
+            "person_id": 1,
+            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
+            "placement": scene.supporting_placement,
+            "distance_m": draw(st.floats(0.0, 10.0)),
+            "position": draw(_vec3()),
+            "heading_deg": draw(st.floats(-360.0, 360.0)),
+        })  # fmt: skip
+    n_people = 1 + len(supporting)
+
+    background = []
+    graph = env.background_waypoints
+    n_background = draw(st.integers(0, 4)) if graph else 0
+    for k in range(n_background):
+        start = draw(st.integers(0, len(graph) - 1))
+        dest = draw(st.integers(0, len(graph) - 2))
+        dest += dest >= start
+        background.append({
+            "person_id": n_people + k,
+            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
+            "start_waypoint": start,
+            "destination_waypoint": dest,
+            "start": graph[start],
+            "destination": graph[dest],
+            "speed_mps": draw(st.floats(0.0, 3.0)),
+        })  # fmt: skip
+    event("recipe: no background actors" if not background else "recipe: background actors")
+    if len(background) >= 2:
+        event("recipe: several background actors")
+
+    rain, fog = draw(st.booleans()), draw(st.booleans())
+    world = {
+        "day_phase": draw(st.sampled_from(DAY_PHASES.names)),
+        "clock_hour": draw(_clock_hour_value()),
+        "weather": draw(st.sampled_from(WEATHERS.names)),
+        "sun_brightness": draw(st.floats(0.0, 2.0)),
+        "ambient_luminosity": draw(st.floats(0.0, 2.0)),
+        "rain": rain,
+        "fog": fog,
+        "clouds": draw(st.booleans()),
+        "wet_ground": draw(st.booleans()),
+        "cloud_intensity": draw(_UNIT),
+        "fog_intensity": draw(_UNIT) if fog else 0.0,
+        "rain_intensity": draw(_UNIT) if rain else 0.0,
+    }
+    data = {
+        "video_id": video_id(index),
+        "index": index,
+        "dataset_seed": draw(st.integers(0, 2**63 - 1)),
+        "theta_hash": theta_hash,
+        "action": action,
+        "n_people": n_people,
+        "duration_s": duration,
+        "n_frames": frames_for(duration, video["fps"]),
+        "video": video,
+        "motion": {
+            "base_motion": base,
+            "base_motion_length_s": MOTIONS[base].length_s,
+            "start_s": draw(st.floats(0.0, 60.0)),
+            "speed": draw(st.floats(0.01, 4.0)),
+            "mirror": draw(st.booleans()),
+        },
+        "variation": draw(_variation(action)),
+        "protagonist": {
+            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
+            "position": position,
+            "heading_deg": heading,
+        },
+        "supporting_characters": supporting,
+        "environment": {"name": env_name, "indoor": env.indoor, "waypoint_index": wp, "waypoint": position},
+        "background_actors": background,
+        "camera": draw(_camera(env.indoor, position)),
+        "world": world,
+        "render": render,
+        "seeds": {name: draw(_SEED) for name in ("physics", "perturbation", "render", "background")},
+    }
+    return Recipe.model_validate(data)
+
+
+def recipes(theta: Theta | None = None) -> st.SearchStrategy[Recipe]:
+    """Valid recipes built field by field (not by the sampler).
+
+    Names come from the vocabularies, ``n_frames`` = ``frames_for(duration_s, fps)``,
+    ``video_id`` = ``video_id(index)``, ``n_people`` counts the protagonist and the
+    supporting character of a two-people action, person ids are unique and spring
+    parameters appear exactly on spring cameras. With ``theta``, recipes carry its hash,
+    video format and render settings. Reaches one-frame clips, every variation kind, zero
+    and several background actors, supporting characters, spring and non-spring cameras
+    and clock hours next to 0 h and 24 h (each labelled with ``hypothesis.event``).
+    """
+    return _recipes(theta, None)
+
+
+@st.composite
+def _recipe_lists(draw: st.DrawFn, theta: Theta | None, min_size: int, max_size: int) -> list[Recipe]:
+    indices = draw(st.lists(st.integers(0, 10**7), min_size=min_size, max_size=max_size, unique=True))
+    if not indices:
+        event("recipe list: empty")
+    return [draw(_recipes(theta, i)) for i in indices]
+
+
+def recipe_lists(
+    *, min_size: int = 0, max_size: int = 6, theta: Theta | None = None
+) -> st.SearchStrategy[list[Recipe]]:
+    """Lists of :func:`recipes` with distinct indices (hence distinct video ids), empty included."""
+    if not 0 <= min_size <= max_size:
+        raise ValueError(f"need 0 <= min_size <= max_size, got {min_size} and {max_size}")
+    return _recipe_lists(theta, min_size, max_size)

@@ -1,0 +1,136 @@
+"""The public θ and recipe strategies produce what they promise (phav_spec.strategies)."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from phav_spec.recipe import frames_for, parse_recipe, video_id
+from phav_spec.recipe_table import COLUMN_NAMES, RECIPE_COLUMN, RecipeRows, read_recipe_table, write_recipe_table
+from phav_spec.scene import ACTION_SCENES, CAMERA_INFO, ENVIRONMENT_SCENES, HUMAN_MODELS
+from phav_spec.strategies import recipe_lists, recipes, thetas
+from phav_spec.theta import Theta, load_preset, parse_theta
+from phav_spec.vocab import ACTIONS
+
+PHAV_V1 = load_preset("phav-v1")
+
+
+@given(thetas())
+def test_thetas_are_valid_and_round_trip_through_yaml(theta: Theta) -> None:
+    assert isinstance(theta, Theta)
+    again = parse_theta(yaml.safe_load(theta.to_yaml()), source="<to_yaml>")
+    assert again == theta
+    assert again.hash == theta.hash
+    assert again.model_dump(mode="json") == theta.model_dump(mode="json")
+    # The JSON form (tables as {rows: ...}) is a θ file too.
+    assert parse_theta(theta.model_dump(mode="json")).hash == theta.hash
+
+
+@given(thetas())
+def test_thetas_keep_every_reachable_action_samplable(theta: Theta) -> None:
+    """What valid-by-construction means, checked on the arrays rather than by validation."""
+    arr = theta.arrays
+    reach = [i for i in range(len(ACTIONS)) if arr.a[i] > 0]
+    assert reach
+    for i in reach:
+        assert arr.p_b_given_a()[i].sum() > 0, "a reachable action lost every motion to T_min"
+        for j in range(arr.e.size):
+            if arr.p_e_given_a()[i, j] > 0:
+                assert arr.p_c_given_ae()[i, j].sum() > 0
+    for i in range(len(ACTIONS)):
+        if arr.a[i] == 0 and arr.ae[i].sum() == 0:
+            assert arr.av[i].sum() == 0  # zero rows come as a set for unreachable actions
+
+
+def _recipe_invariants(recipe) -> None:
+    assert recipe.n_frames == frames_for(recipe.duration_s, recipe.video.fps)
+    assert recipe.video_id == video_id(recipe.index)
+    assert recipe.n_people == 1 + len(recipe.supporting_characters) == ACTIONS[recipe.action].n_people
+    ids = [recipe.protagonist.person_id]
+    ids += [p.person_id for p in recipe.supporting_characters]
+    ids += [p.person_id for p in recipe.background_actors]
+    assert len(ids) == len(set(ids))
+    springs = CAMERA_INFO[recipe.camera.kind].tracking == "springs"
+    assert (recipe.camera.springs is not None) == springs
+    assert (recipe.camera.impulse is not None) == springs
+    env = ENVIRONMENT_SCENES[recipe.environment.name]
+    assert recipe.environment.indoor == env.indoor
+    assert recipe.environment.waypoint == env.protagonist_waypoints[recipe.environment.waypoint_index]
+    assert not (env.indoor and recipe.background_actors)
+    assert not (CAMERA_INFO[recipe.camera.kind].indoor_only and not env.indoor)
+    for person in (recipe.protagonist, *recipe.supporting_characters, *recipe.background_actors):
+        assert person.human.height_m == HUMAN_MODELS[person.human.model].height_m
+    for actor in recipe.background_actors:
+        assert actor.start_waypoint != actor.destination_waypoint
+    for character in recipe.supporting_characters:
+        assert character.placement == ACTION_SCENES[recipe.action].supporting_placement
+    v = recipe.variation
+    if v.kind == "muscle_weakening":
+        assert len(v.strengths) == len(v.muscles)
+    if v.kind in ("random_perturbation", "muscle_weakening", "action_blending"):
+        assert len(v.muscles) == len(set(v.muscles)) >= 1
+    assert 0.0 <= recipe.world.clock_hour < 24.0
+
+
+@given(recipes())
+def test_recipes_are_consistent_and_round_trip_through_json(recipe) -> None:
+    _recipe_invariants(recipe)
+    text = recipe.model_dump_json()
+    again = parse_recipe(text)
+    assert again == recipe
+    assert again.model_dump_json() == text
+
+
+@settings(max_examples=10)
+@given(st.data())
+def test_recipes_for_a_theta_carry_its_hash_and_video_format(data: st.DataObject) -> None:
+    theta = data.draw(st.just(PHAV_V1) | thetas(), label="theta")
+    recipe = data.draw(recipes(theta), label="recipe")
+    _recipe_invariants(recipe)
+    assert recipe.theta_hash == theta.hash
+    assert recipe.video.model_dump() == theta.video.model_dump()
+    assert recipe.render == theta.render
+    assert parse_recipe(recipe.model_dump_json()) == recipe
+
+
+@given(recipe_lists())
+def test_recipe_lists_round_trip_through_parquet(recipe_list) -> None:
+    indices = [r.index for r in recipe_list]
+    assert len(set(indices)) == len(indices)
+    assert len({r.video_id for r in recipe_list}) == len(recipe_list)
+    rows = RecipeRows().extend(recipe_list)
+    assert len(rows) == len(recipe_list)
+    table = rows.to_arrow(theta=PHAV_V1, dataset_seed=7)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "recipes.parquet"
+        assert write_recipe_table(table, path) > 0
+        back = read_recipe_table(path)
+        for name in (*COLUMN_NAMES, RECIPE_COLUMN):
+            assert back.column(name) == rows.columns[name], name
+        assert list(back.recipes()) == recipe_list
+    assert back.theta == PHAV_V1
+    assert back.dataset_seed == 7
+    assert back.table.num_rows == len(recipe_list)
+
+
+def test_recipe_lists_reach_the_empty_list() -> None:
+    """The empty dataset is an example the strategy produces, not just one it could."""
+    seen: list[int] = []
+
+    @settings(max_examples=60, database=None)
+    @given(recipe_lists(max_size=3))
+    def collect(recipe_list) -> None:
+        seen.append(len(recipe_list))
+
+    collect()
+    assert 0 in seen and max(seen) > 0
+
+
+def test_recipe_lists_rejects_bad_sizes() -> None:
+    with pytest.raises(ValueError, match="min_size"):
+        recipe_lists(min_size=3, max_size=2)

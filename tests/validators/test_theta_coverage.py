@@ -1,0 +1,136 @@
+"""Every θ parameter is both sampled and checked: recipes sampled from one θ are rejected
+when validated against a θ that differs in that single parameter (STYLE.md: one registry
+ties each θ variable to its sampler and its validator check)."""
+
+from __future__ import annotations
+
+import copy
+
+import pytest
+
+from phav_generator.sampling import RecipeSampler
+from phav_spec.expectations import CONTINUOUS_PARAMETERS
+from phav_spec.recipe_table import RecipeRows
+from phav_spec.theta import Theta, parse_theta
+from phav_validators.distribution import check_continuous, check_distributions, parameter_draws, parse_recipes_arrow
+from tests.helpers import preset_dict
+
+N = 800
+
+
+def _all_cameras_theta() -> Theta:
+    """phav-v1 with every camera reachable, so every camera parameter is drawn."""
+    data = preset_dict()
+    data["theta_c"] = {"kite": 1, "indoors": 1, "closeup": 1, "static": 1}
+    data["theta_ac"] = {"default": {"kite": 1, "indoors": 1, "closeup": 1, "static": 1}}
+    data["theta_ec"]["default"] = {"kite": 1, "closeup": 1, "static": 1}
+    data["theta_ec"]["rows"]["house_interior"] = "uniform"
+    return parse_theta(data)
+
+
+@pytest.fixture(scope="module")
+def sampled():
+    theta = _all_cameras_theta()
+    rows = RecipeRows().extend(RecipeSampler(theta).sample(11, i) for i in range(N))
+    return theta, rows.columns
+
+
+def _leaves(node, path=()):
+    """Paths of every continuous distribution in a θ mapping."""
+    if isinstance(node, dict):
+        if node.get("kind") in ("uniform", "triangular"):
+            yield path
+            return
+        for key, value in node.items():
+            yield from _leaves(value, (*path, str(key)))
+
+
+def _matches(pattern: str, path: tuple[str, ...]) -> bool:
+    parts = pattern.split(".")
+    return len(parts) <= len(path) and all(p in ("*", q) for p, q in zip(parts, path, strict=False))
+
+
+def test_every_continuous_leaf_is_sampled_and_checked(sampled):
+    theta, columns = sampled
+    data = theta.model_dump(mode="json")
+    parsed = parse_recipes_arrow(columns["recipe"])
+    leaves = list(_leaves(data))
+    assert len(leaves) > 60
+    verified = 0
+    for leaf in leaves:
+        params = [p for p in CONTINUOUS_PARAMETERS if _matches(p.theta_path, leaf)]
+        assert params, f"θ parameter {'.'.join(leaf)} has no validator check"
+        changed = copy.deepcopy(data)
+        node = changed
+        for key in leaf[:-1]:
+            node = node[key]
+        old = node[leaf[-1]]
+        high = old["high"] if old["kind"] == "uniform" else old["max"]
+        point = high + 0.01 if not leaf[-1].endswith("deg") else high + 0.5
+        node[leaf[-1]] = {"kind": "uniform", "low": point, "high": point}
+        try:
+            other = parse_theta(changed)
+        except Exception:  # the shifted point leaves the physical bounds: shift down instead
+            low = old["low"] if old["kind"] == "uniform" else old["min"]
+            node[leaf[-1]] = {"kind": "uniform", "low": low - 0.01, "high": low - 0.01}
+            other = parse_theta(changed)
+        for param in params:
+            groups, _ = parameter_draws(parsed, param)
+            drawn = [g for g in set(groups.tolist()) if param.distribution(theta, g) != param.distribution(other, g)]
+            if not drawn:
+                continue
+            _, outside = check_continuous(columns["recipe"], other)
+            if any(name == param.name for name, _, _ in outside):
+                verified += 1
+                break
+        else:
+            # Only parameters θ never draws may go unverified (an element that is never on).
+            assert leaf[0] == "weather_elements" and leaf[-1].endswith("_intensity"), leaf
+    assert verified >= 55
+
+
+def _set(path: str, value):
+    def edit(d):
+        *parents, last = path.split(".")
+        for p in parents:
+            d = d[p]
+        d[last] = value
+
+    return edit
+
+
+CATEGORICAL = {
+    "theta_a": (_set("theta_a", {"walk": 1, "run": 1}), "action"),
+    "theta_e": (_set("theta_e", {"urban": 1, "middle": 1, "stadium": 1, "house_interior": 1}), "environment"),
+    "theta_ae": (_set("theta_ae", {"default": {"urban": 1}}), "environment"),
+    "theta_w": (_set("theta_w", {"clear": 1}), "weather"),
+    "theta_d": (_set("theta_d", {"night": 1}), "day_phase"),
+    "theta_h": (_set("theta_h", {f"model_{i:02d}": 1 for i in range(1, 11)}), "human_model"),
+    "theta_v": (_set("theta_v", {"none": 1, "muscle_weakening": 1}), "variation"),
+    "theta_av": (_set("theta_av", {"default": {"none": 1}}), "variation"),
+    "theta_c": (_set("theta_c", {"kite": 1, "indoors": 1}), "camera"),
+    "theta_ac": (_set("theta_ac", {"default": {"kite": 1, "indoors": 1}}), "camera"),
+    "theta_ec": (_set("theta_ec", {"default": {"kite": 1}}), "camera"),
+    "theta_ab": (_set("theta_ab.regex.walk", "^walk forward"), "base_motion"),
+    "durations": (_set("durations", {"t_min": 1.0, "t_max": 10.0, "t_mod": 1.0}), "duration_s"),
+    "clock_hours": (_set("clock_hours.day", {"min": 10, "max": 16, "mode": 10}), "clock_hour"),
+    "weather rain": (_set("weather_elements.rain.fog.p", 0.0), "fog"),
+    "weather clouds": (_set("weather_elements.clear.clouds.p_otherwise", 0.0), "clouds"),
+    "weather wet ground": (_set("weather_elements.overcast.wet_ground.p_otherwise", 0.0), "wet_ground"),
+    "background count": (_set("background_actors.count", {"min": 0, "max": 2}), "n_background_actors"),
+    "mirror": (_set("motion.p_mirror", 0.0), "mirror"),
+    "muscle count": (_set("variations.muscle_weakening.n_muscles", {"min": 1, "max": 2}), "n_varied_muscles"),
+    "dead zone": (_set("cameras.kite.springs.min_distance_weights", {0: 1}), "ct_min_distance_m"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CATEGORICAL))
+def test_every_categorical_parameter_is_checked(sampled, case):
+    theta, columns = sampled
+    edit, variable = CATEGORICAL[case]
+    data = theta.model_dump(mode="json")
+    edit(data)
+    other = parse_theta(data)
+    result = check_distributions({k: v for k, v in columns.items() if k != "recipe"}, other)
+    assert not result.ok
+    assert any(variable in f.message for f in result.report.findings), [f.message for f in result.report.findings][:5]
