@@ -26,8 +26,10 @@ app = typer.Typer(
 )
 theta_app = typer.Typer(help="Work with θ files.", no_args_is_help=True)
 spec_app = typer.Typer(help="The dataset specification.", no_args_is_help=True)
+recipe_app = typer.Typer(help="Read and check recipes.", no_args_is_help=True)
 app.add_typer(theta_app, name="theta")
 app.add_typer(spec_app, name="spec")
+app.add_typer(recipe_app, name="recipe")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 
@@ -132,6 +134,56 @@ def spec_schema(
     else:
         out.write_text(text + "\n", encoding="utf-8")
         console.print(f"wrote {out}")
+
+
+@spec_app.command("vocab")
+def spec_vocab(
+    name: Annotated[
+        str | None, typer.Argument(help="One vocabulary (e.g. action, pixel_class); all when omitted.")
+    ] = None,
+) -> None:
+    """The registries every stage reads: actions, environments, cameras, pixel classes, …"""
+    from phav_spec.vocab import VOCABULARIES
+
+    if name is not None and name not in VOCABULARIES:
+        raise PhavUserError(f"unknown vocabulary; known: {', '.join(VOCABULARIES)}", field=name)
+    for key, registry in VOCABULARIES.items():
+        if name not in (None, key):
+            continue
+        table = Table(title=f"{key} ({len(registry)})", title_justify="left")
+        table.add_column("name")
+        table.add_column("details")
+        for value, entry in registry.items():
+            table.add_row(value, "" if entry is None else str(entry))
+        console.print(table)
+
+
+@recipe_app.command("check")
+def recipe_check(file: Annotated[Path, typer.Argument(help="A recipe JSON file.")]) -> None:
+    """Validate one recipe JSON file (upgrading an older schema version)."""
+    from phav_spec.recipe import load_recipe
+
+    r = load_recipe(file)
+    console.print(
+        f"{file}: valid recipe {r.video_id} (schema {r.schema_version}): {r.action}, {r.environment.name}, "
+        f"{r.world.weather}, {r.world.day_phase}, {r.camera.kind}, {r.variation.kind}, {r.n_frames} frames"
+    )
+
+
+@recipe_app.command("show")
+def recipe_show(
+    recipes: Annotated[Path, typer.Argument(help="recipes.parquet")],
+    video: Annotated[str, typer.Option("--video", help="Video id, e.g. v000003.")],
+) -> None:
+    """Print one video's recipe as JSON (save it to a file to check or regenerate it)."""
+    rt = read_recipe_table(recipes)
+    ids = rt.column("video_id")
+    if video not in ids:
+        raise PhavUserError(
+            f"no video {video!r} in this table ({len(ids)} videos)", source=str(recipes), field="video_id"
+        )
+    recipe = rt.column("recipe")[ids.index(video)]
+    print(json.dumps(json.loads(recipe), indent=2))
 
 
 @app.command()

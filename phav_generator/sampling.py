@@ -163,7 +163,7 @@ class RecipeSampler:
             for i in range(len(ACTIONS))
         ]
         # (a, b, c) on the real line; a wrapped night interval runs past 24 h.
-        self._clock = [theta.clock_hours[d].distribution()._unwrapped() for d in DAY_PHASES.names]
+        self._clock = [theta.clock_hours[d].distribution().unwrapped() for d in DAY_PHASES.names]
         self._dead_zone = {
             name: _Row.of(np.array(cam.springs.dead_zone_weights()))
             for name, cam in theta.cameras.items()

@@ -150,7 +150,7 @@ class Triangular(BaseModel):
 
     @model_validator(mode="after")
     def _ordered(self) -> Triangular:
-        a, b, c = self._unwrapped()
+        a, b, c = self.unwrapped()
         if self.period is not None:
             for name in ("min", "max", "mode"):
                 v = getattr(self, name)
@@ -166,7 +166,7 @@ class Triangular(BaseModel):
     def wraps(self) -> bool:
         return self.period is not None and self.min > self.max
 
-    def _unwrapped(self) -> tuple[float, float, float]:
+    def unwrapped(self) -> tuple[float, float, float]:
         """(a, b, c) on the real line: a wrapped interval is shifted past the period."""
         a, b, c = self.min, self.max, self.mode
         if self.period is not None and a > b:
@@ -176,13 +176,13 @@ class Triangular(BaseModel):
         return a, b, c
 
     def sample(self, *, rng: np.random.Generator) -> float:
-        x = triangular_inverse_cdf(*self._unwrapped(), rng.random())
+        x = triangular_inverse_cdf(*self.unwrapped(), rng.random())
         if self.wraps:
             x = math.fmod(x, self.period)
         return x
 
     def _cdf_unwrapped(self, x: np.ndarray) -> np.ndarray:
-        a, b, c = self._unwrapped()
+        a, b, c = self.unwrapped()
         if a == b:
             return np.where(x >= a, 1.0, 0.0)
         left = np.where(c > a, (x - a) ** 2 / ((b - a) * max(c - a, 1e-300)), 0.0)
@@ -190,7 +190,7 @@ class Triangular(BaseModel):
         return np.where(x <= a, 0.0, np.where(x >= b, 1.0, np.where(x <= c, left, right)))
 
     def _pdf_unwrapped(self, x: np.ndarray) -> np.ndarray:
-        a, b, c = self._unwrapped()
+        a, b, c = self.unwrapped()
         if a == b:
             return np.where(x == a, np.inf, 0.0)
         up = np.where(c > a, 2.0 * (x - a) / ((b - a) * max(c - a, 1e-300)), 0.0)
@@ -218,7 +218,7 @@ class Triangular(BaseModel):
 
     def mean(self) -> float:
         """Mean on the real line (for a wrapped interval: of the unwrapped variable)."""
-        return sum(self._unwrapped()) / 3.0
+        return sum(self.unwrapped()) / 3.0
 
     @property
     def support(self) -> tuple[float, float]:

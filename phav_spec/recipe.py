@@ -84,11 +84,6 @@ class HumanSpec(BaseModel):
     bottom_rgb: RGB
     shoes_rgb: RGB
 
-    @classmethod
-    def of(cls, name: str) -> HumanSpec:
-        """The declared human model ``name`` as a recipe entry."""
-        return cls(model=name, **HUMAN_MODELS[name].__dict__)
-
 
 class Protagonist(BaseModel):
     """The main human model performing the action, at waypoint P_W."""

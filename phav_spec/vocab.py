@@ -242,12 +242,15 @@ OBJECTS: Registry[str] = Registry(
     ),
 )
 
-#: The registries of the categorical variables of the model, by variable name.
-CATEGORICAL_VOCABULARIES: dict[str, Registry] = {
+#: Every vocabulary, by name (``phav spec vocab``).
+VOCABULARIES: dict[str, Registry] = {
     "action": ACTIONS,
     "environment": ENVIRONMENTS,
     "weather": WEATHERS,
     "day_phase": DAY_PHASES,
     "camera": CAMERAS,
     "variation": VARIATIONS,
+    "muscle": MUSCLES,
+    "pixel_class": PIXEL_CLASSES,
+    "object": OBJECTS,
 }

@@ -51,3 +51,43 @@ def test_bench_reports_speed_against_error():
     out = result.stdout
     assert "recipes/s" in out and "Parquet bytes" in out and "max |Δp| camera" in out
     assert "400" in out and "100" in out
+
+
+def test_recipe_show_and_check_round_trip(tmp_path):
+    table = tmp_path / "r.parquet"
+    assert run_cli("sample", "--n", "5", "--seed", "2", "--out", str(table)).returncode == 0
+    shown = run_cli("recipe", "show", str(table), "--video", "v000003")
+    assert shown.returncode == 0
+    path = tmp_path / "v000003.json"
+    path.write_text(shown.stdout, encoding="utf-8")
+    checked = run_cli("recipe", "check", str(path))
+    assert checked.returncode == 0 and "valid recipe v000003" in checked.stdout
+    missing = run_cli("recipe", "show", str(table), "--video", "v000099")
+    assert missing.returncode == 2 and "no video 'v000099'" in missing.stderr
+
+
+def test_bad_recipes_on_the_command_line(tmp_path):
+    import json
+
+    table = tmp_path / "r.parquet"
+    assert run_cli("sample", "--n", "1", "--out", str(table)).returncode == 0
+    data = json.loads(run_cli("recipe", "show", str(table), "--video", "v000000").stdout)
+    cases = {
+        "missing.json": (lambda d: d["camera"].pop("fov_deg"), "camera.fov_deg: missing required field"),
+        "future.json": (lambda d: d.update(schema_version=7), "schema_version: version 7 is newer"),
+    }
+    for name, (edit, words) in cases.items():
+        broken = json.loads(json.dumps(data))
+        edit(broken)
+        path = tmp_path / name
+        path.write_text(json.dumps(broken), encoding="utf-8")
+        result = run_cli("recipe", "check", str(path))
+        assert result.returncode == 2 and "Traceback" not in result.stderr
+        lines = [line for line in result.stderr.splitlines() if line.strip()]
+        assert len(lines) == 1 and f"{path}: {words}" in lines[0], result.stderr
+
+
+def test_spec_vocab_lists_the_registries():
+    result = run_cli("spec", "vocab", "pixel_class")
+    assert result.returncode == 0 and "guard_rail" in result.stdout and "(64)" in result.stdout
+    assert run_cli("spec", "vocab", "colours").returncode == 2
