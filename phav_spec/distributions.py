@@ -76,12 +76,17 @@ def sample_subset(items: Sequence[str], k: int, *, rng: np.random.Generator) -> 
 
 
 def triangular_inverse_cdf(a: float, b: float, c: float, u: float) -> float:
-    """The x with Tr-CDF(x | a, b, c) = u, for a ≤ c ≤ b; a = b gives the point a."""
+    """The x with Tr-CDF(x | a, b, c) = u, for a ≤ c ≤ b; a = b gives the point a.
+
+    Clamped to [a, b]: at u within an ulp of 0 or 1, rounding could step just outside.
+    """
     if a == b:
         return a
     if u * (b - a) < c - a:
-        return a + math.sqrt(u * (b - a) * (c - a))
-    return b - math.sqrt((1.0 - u) * (b - a) * (b - c))
+        x = a + math.sqrt(u * (b - a) * (c - a))
+    else:
+        x = b - math.sqrt((1.0 - u) * (b - a) * (b - c))
+    return min(max(x, a), b)
 
 
 class Uniform(BaseModel):

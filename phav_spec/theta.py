@@ -252,6 +252,13 @@ class IntegerRange(BaseModel):
         return self
 
 
+class MuscleCount(IntegerRange):
+    """How many muscles a variation acts on: at least one (capped by what the action has)."""
+
+    min: int = Field(ge=1)
+    max: int = Field(ge=1)
+
+
 class BackgroundActors(BaseModel):
     """Background pedestrians walking between waypoints of B_WG (outdoor scenes only)."""
 
@@ -337,7 +344,7 @@ class Perturbation(BaseModel):
     """Random perturbation: orbiting bodies on a subset of complementary muscles."""
 
     model_config = _FROZEN
-    n_muscles: IntegerRange
+    n_muscles: MuscleCount
     radius_m: Continuous
     period_s: Continuous
 
@@ -346,7 +353,7 @@ class Weakening(BaseModel):
     """Muscle weakening: a subset of any muscles, each at a random strength."""
 
     model_config = _FROZEN
-    n_muscles: IntegerRange
+    n_muscles: MuscleCount
     strength: Continuous
 
 
@@ -354,7 +361,7 @@ class Blending(BaseModel):
     """Action blending: complementary muscles follow a second motion at a blend weight."""
 
     model_config = _FROZEN
-    n_muscles: IntegerRange
+    n_muscles: MuscleCount
     weight: Continuous
 
 

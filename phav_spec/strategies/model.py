@@ -57,6 +57,7 @@ _HOUR = st.one_of(st.integers(0, 23).map(float), st.floats(0.0, 24.0, exclude_ma
 _SPRING_CAMERAS = tuple(c for c in CAMERAS.names if CAMERA_INFO[c].tracking == "springs")
 _OUTDOOR_CAMERAS = tuple(c for c in CAMERAS.names if not CAMERA_INFO[c].indoor_only)
 _LENGTHS = tuple(MOTIONS[m].length_s for m in MOTIONS.names)
+_TWO_PEOPLE = tuple(a for a in ACTIONS.names if ACTIONS[a].n_people > 1)
 
 
 @functools.cache
@@ -92,6 +93,13 @@ def _subset(draw: st.DrawFn, names: Sequence[str], *, min_size: int = 1) -> tupl
     """A subset of ``names`` of at least ``min_size``, in registry order."""
     chosen = draw(st.sets(st.sampled_from(tuple(names)), min_size=min_size, max_size=len(names)))
     return tuple(n for n in names if n in chosen)
+
+
+def _support(draw: st.DrawFn, names: Sequence[str], *, min_size: int = 1) -> tuple[str, ...]:
+    """Values with weight: often a single one (when ``min_size`` allows), else a subset."""
+    if min_size <= 1 and draw(st.integers(0, 3)) == 0:
+        return (draw(st.sampled_from(tuple(names))),)
+    return _subset(draw, names, min_size=min_size)
 
 
 def _vector(draw: st.DrawFn, support: Iterable[str]) -> dict[str, float]:
@@ -182,13 +190,22 @@ def _clock_hour(draw: st.DrawFn, phase: str, reachable: bool) -> dict[str, float
 
 
 @st.composite
-def _durations(draw: st.DrawFn, longest: float) -> dict[str, float]:
-    """T_min ≤ ``longest`` (the shortest of the reachable actions' longest motions), T_mod, T_max."""
-    case = draw(st.sampled_from(("free", "free", "near_longest", "equal_longest")))
+def _durations(draw: st.DrawFn, candidates: Sequence[float]) -> dict[str, float]:
+    """T_min, T_mod, T_max with T_min no longer than ``min(candidates)``.
+
+    ``candidates`` holds, per reachable action, the length of its longest matching motion:
+    T_min above the smallest would leave that action without a motion. T_min is drawn
+    freely, next to that limit, on it, or on the length of one of the catalogue's motions
+    (the ``length >= T_min`` boundary, which masks every shorter motion).
+    """
+    longest = min(candidates)
+    case = draw(st.sampled_from(("free", "near_longest", "equal_longest", "motion_length")))
     if case == "free":
         t_min = draw(st.floats(0.05, min(longest, 5.0)))
     elif case == "near_longest":
         t_min = longest * draw(st.floats(0.95, 1.0))
+    elif case == "motion_length":
+        t_min = draw(st.sampled_from(sorted({x for x in _LENGTHS if x <= longest})))
     else:
         t_min = longest
     shape = draw(st.sampled_from(("general", "t_min==t_mod", "t_mod==t_max", "t_min==t_max")))
@@ -201,6 +218,8 @@ def _durations(draw: st.DrawFn, longest: float) -> dict[str, float]:
         t_mod = draw(st.floats(t_min, t_max))
     if t_min >= 0.95 * longest:
         event("durations: T_min close to the longest motion of a reachable action")
+    if t_min in _LENGTHS:
+        event("durations: T_min equals a motion's length")
     if t_min == t_max:
         event("durations: t_min == t_max")
     elif t_min == t_mod:
@@ -222,18 +241,18 @@ def _thetas(draw: st.DrawFn) -> Theta:
     data["theta_a"] = "uniform" if len(theta_a) == len(ACTIONS) and set(theta_a.values()) == {1.0} else theta_a
     _label_vector("action", reach, ACTIONS.names)
     unreachable = tuple(a for a in ACTIONS.names if a not in reach)
-    zero_rows = bool(unreachable) and draw(st.booleans())
+    zero_rows = bool(unreachable) and draw(st.integers(0, 2)) > 0
     if zero_rows:
         event("theta: unreachable actions with all-zero θ_AE/θ_AV/θ_AC rows")
 
     # H: two-people actions need a second human model with weight.
     two_people = any(ACTIONS[a].n_people > 1 for a in reach)
-    humans = _subset(draw, HUMAN_MODELS.names, min_size=2 if two_people else 1)
+    humans = _support(draw, HUMAN_MODELS.names, min_size=2 if two_people else 1)
     data["theta_h"] = _vector(draw, humans)
     _label_vector("human model", humans, HUMAN_MODELS.names)
 
     # W, D.
-    weathers = _subset(draw, WEATHERS.names)
+    weathers = _support(draw, WEATHERS.names)
     data["theta_w"] = _vector(draw, weathers)
     _label_vector("weather", weathers, WEATHERS.names)
     phase_case = draw(st.sampled_from(("single", "subset", "with_night")))
@@ -265,12 +284,14 @@ def _thetas(draw: st.DrawFn) -> Theta:
             regex[a] = r"(?!)"
     data["theta_ab"] = {"regex": regex}
     ab = theta_ab(regex)
-    longest = min(max(length for length, hit in zip(_LENGTHS, ab[ACTIONS.index(a)], strict=True) if hit) for a in reach)
-    data["durations"] = draw(_durations(longest))
+    hits = {a: [x for x, hit in zip(_LENGTHS, ab[ACTIONS.index(a)], strict=True) if hit] for a in reach}
+    data["durations"] = draw(_durations([max(lengths) for lengths in hits.values()]))
+    if any(x < data["durations"]["t_min"] for lengths in hits.values() for x in lengths):
+        event("durations: T_min masks some motions of a reachable action")
 
     # E and θ_AE: every reachable action needs an environment with weight that has the pixel
     # classes it requires (car_hit: a road, climb_stairs: stairs).
-    envs = set(_subset(draw, ENVIRONMENTS.names))
+    envs = set(_support(draw, ENVIRONMENTS.names))
     for a in reach:
         allowed = _allowed_environments(a)
         if not envs.intersection(allowed):
@@ -296,7 +317,7 @@ def _thetas(draw: st.DrawFn) -> Theta:
     data["theta_ae"] = {"rows": ae_rows}
 
     # V and θ_AV: objects only where the action declares props.
-    variations = set(_subset(draw, VARIATIONS.names))
+    variations = set(_support(draw, VARIATIONS.names))
     for a in reach:
         if not variations.intersection(_allowed_variations(a)):
             variations.add("none")
@@ -340,6 +361,10 @@ def _thetas(draw: st.DrawFn) -> Theta:
         else:
             ac_rows[a] = data["theta_ac"]["rows"][a]
     data["theta_ac"] = {"rows": ac_rows}
+    for rows in (ae_rows, av_rows, ac_rows):
+        if any(0.0 in rows[a].values() and len({w for w in rows[a].values() if w > 0}) > 1 for a in reach):
+            event("theta: reachable table row with zeros and unequal weights")
+            break
     ec_rows = {}
     for e in ENVIRONMENTS.names:
         indoor = ENVIRONMENT_SCENES[e].indoor
@@ -361,7 +386,7 @@ def _thetas(draw: st.DrawFn) -> Theta:
     lo = draw(st.integers(0, 3))
     data["background_actors"]["count"] = {"min": lo, "max": draw(st.integers(lo, 6))}
     for cam in _SPRING_CAMERAS:
-        dead = _subset(draw, [str(d) for d in SPRING_MIN_DISTANCES_M])
+        dead = _support(draw, [str(d) for d in SPRING_MIN_DISTANCES_M])
         data["cameras"][cam]["springs"]["min_distance_weights"] = {int(d): draw(_POSITIVE) for d in dead}
     data["motion"]["p_mirror"] = draw(_PROBABILITY)
     data["video"] = {
@@ -513,7 +538,8 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
         }
         render = RenderSettings(supersampling=draw(st.integers(1, 4)), png_compression=draw(st.integers(0, 9)))
 
-    action = draw(st.sampled_from(ACTIONS.names))
+    # Two-people actions are 4 of 35: draw them on purpose too, for supporting characters.
+    action = draw(st.one_of(st.sampled_from(ACTIONS.names), st.sampled_from(_TWO_PEOPLE)))
     scene = ACTION_SCENES[action]
     duration = draw(_duration(video["fps"]))
     base = draw(st.sampled_from(MOTIONS.names))
@@ -628,7 +654,7 @@ def _recipe_lists(draw: st.DrawFn, theta: Theta | None, min_size: int, max_size:
 
 
 def recipe_lists(
-    *, min_size: int = 0, max_size: int = 6, theta: Theta | None = None
+    min_size: int = 0, max_size: int = 6, *, theta: Theta | None = None
 ) -> st.SearchStrategy[list[Recipe]]:
     """Lists of :func:`recipes` with distinct indices (hence distinct video ids), empty included."""
     if not 0 <= min_size <= max_size:

@@ -5,17 +5,19 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from phav_spec.motions import MOTIONS
 from phav_spec.recipe import frames_for, parse_recipe, video_id
 from phav_spec.recipe_table import COLUMN_NAMES, RECIPE_COLUMN, RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.scene import ACTION_SCENES, CAMERA_INFO, ENVIRONMENT_SCENES, HUMAN_MODELS
 from phav_spec.strategies import recipe_lists, recipes, thetas
 from phav_spec.theta import Theta, load_preset, parse_theta
-from phav_spec.vocab import ACTIONS
+from phav_spec.vocab import ACTIONS, CAMERAS, VARIATIONS
 
 PHAV_V1 = load_preset("phav-v1")
 
@@ -129,6 +131,106 @@ def test_recipe_lists_reach_the_empty_list() -> None:
 
     collect()
     assert 0 in seen and max(seen) > 0
+
+
+def _theta_features(theta: Theta) -> set[str]:
+    """The hard cases a θ exhibits, read off θ itself (not off the strategy's events)."""
+    arr = theta.arrays
+    out = set()
+    reach = np.flatnonzero(arr.a > 0)
+    for variable, weights in (("action", arr.a), ("weather", arr.w), ("day phase", arr.d)):
+        if np.count_nonzero(weights) == 1:
+            out.add(f"single {variable}")
+    if np.flatnonzero(arr.c).tolist() == [CAMERAS.index("kite")]:
+        out.add("only kite camera")
+    if any(arr.a[i] == 0 and arr.ae[i].sum() == 0 and arr.av[i].sum() == 0 for i in range(len(ACTIONS))):
+        out.add("unreachable all-zero rows")
+    for table in (arr.ae, arr.av, arr.ac):
+        for i in reach:
+            positive = table[i][table[i] > 0]
+            if positive.size < table.shape[1] and len(set(positive.tolist())) > 1:
+                out.add("non-uniform row with zeros")
+    for phase, spec in theta.clock_hours.items():
+        if theta.theta_d[phase] <= 0:
+            continue
+        if spec.min == spec.max:
+            out.add("clock point")
+        elif spec.mode == spec.min:
+            out.add("clock min == mode")
+        elif spec.mode == spec.max:
+            out.add("clock mode == max")
+        if spec.min > spec.max:
+            out.add("clock wrapped, mode before midnight" if spec.mode >= spec.min else "clock wrapped, mode after")
+            if phase == "night":
+                out.add("night wraps with weight")
+    d = theta.durations
+    if d.t_min == d.t_max:
+        out.add("t_min == t_max")
+    elif d.t_min == d.t_mod:
+        out.add("t_min == t_mod")
+    elif d.t_mod == d.t_max:
+        out.add("t_mod == t_max")
+    lengths = np.array([MOTIONS[m].length_s for m in MOTIONS.names])
+    longest = min(lengths[arr.ab[i] > 0].max() for i in reach)
+    if d.t_min >= 0.95 * longest:
+        out.add("T_min close to the longest motion")
+    if any(((arr.ab[i] > 0) & ~arr.motion_long_enough).any() for i in reach):
+        out.add("T_min masks motions")
+    return out
+
+
+THETA_FEATURES = {
+    "single action", "single weather", "single day phase", "only kite camera",
+    "unreachable all-zero rows", "non-uniform row with zeros", "clock point", "clock min == mode",
+    "clock mode == max", "clock wrapped, mode before midnight", "clock wrapped, mode after",
+    "night wraps with weight", "t_min == t_max", "t_min == t_mod", "t_mod == t_max",
+    "T_min close to the longest motion", "T_min masks motions",
+}  # fmt: skip
+
+
+def test_thetas_reach_every_hard_case() -> None:
+    seen: set[str] = set()
+
+    @settings(max_examples=60, database=None)
+    @given(thetas())
+    def collect(theta: Theta) -> None:
+        seen.update(_theta_features(theta))
+
+    collect()
+    assert THETA_FEATURES - seen == set()
+
+
+def _recipe_features(recipe) -> set[str]:
+    out = {f"variation {recipe.variation.kind}"}
+    if recipe.n_frames == 1:
+        out.add("one frame")
+    out.add("no background actors" if not recipe.background_actors else "background actors")
+    if len(recipe.background_actors) >= 2:
+        out.add("several background actors")
+    if recipe.supporting_characters:
+        out.add("supporting character")
+    out.add("spring camera" if recipe.camera.springs is not None else "non-spring camera")
+    if recipe.world.clock_hour < 1e-3:
+        out.add("clock near 0")
+    if recipe.world.clock_hour > 24.0 - 1e-3:
+        out.add("clock near 24")
+    return out
+
+
+def test_recipes_reach_every_hard_case() -> None:
+    seen: set[str] = set()
+
+    @settings(max_examples=60, database=None)
+    @given(recipes())
+    def collect(recipe) -> None:
+        seen.update(_recipe_features(recipe))
+
+    collect()
+    expected = {f"variation {v}" for v in VARIATIONS.names} | {
+        "one frame", "no background actors", "several background actors", "supporting character",
+        "spring camera", "non-spring camera", "clock near 0", "clock near 24",
+    }  # fmt: skip
+    assert expected - seen == set()
 
 
 def test_recipe_lists_rejects_bad_sizes() -> None:

@@ -87,6 +87,7 @@ BAD = {
     "one human model for two-people actions": (_set("theta_h", {"model_01": 1}), "theta_h", "supporting character"),
     "objects for an action without props": (_set("theta_av.rows.clap", "uniform"), "theta_av.rows.clap.objects", "declares no objects"),
     "probability above one": (_set("weather_elements.fog.clouds.p_if_parent", 1.5), "weather_elements.fog.clouds.p_if_parent", "less than or equal to 1"),
+    "variation on zero muscles": (_set("variations.random_perturbation.n_muscles", {"min": 0, "max": 0}), "variations.random_perturbation.n_muscles.min", "greater than or equal to 1"),
     "future format": (_set("format_version", 99), "format_version", "newer than this phav"),
 }  # fmt: skip
 
