@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import re
+from typing import Any, TypeVar
+
+from pydantic import BaseModel, ValidationError
+
 
 class PhavUserError(Exception):
     """A problem with the user's input, reported as one line naming the file and field.
@@ -16,3 +21,46 @@ class PhavUserError(Exception):
         parts = [p for p in (source, field) if p]
         prefix = ": ".join(parts)
         super().__init__(f"{prefix}: {message}" if prefix else message)
+
+
+_PATH_PREFIX = re.compile(r"^([A-Za-z_]\w*(?:\.\w+)*): (.*)$", re.DOTALL)
+
+
+def format_validation_error(error: ValidationError) -> tuple[str, str]:
+    """(field, message) of a pydantic error, in the words a user can act on.
+
+    A misspelt key is reported before anything it causes to look missing, and a message
+    that starts with a sub-path ("rows.walk: …") has that path joined onto the field.
+    """
+    errors = error.errors()
+    first = min(errors, key=lambda e: e["type"] != "extra_forbidden")
+    parts = [str(p) for p in first["loc"] if not _is_union_tag(p)]
+    msg = first["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
+    if first["type"] == "extra_forbidden":
+        msg = "unknown key (misspelt?); remove it or check the spelling"
+    elif first["type"] == "missing":
+        msg = "missing required field"
+    while (m := _PATH_PREFIX.match(msg)) is not None:
+        parts.append(m.group(1))
+        msg = m.group(2)
+    more = len(errors) - 1
+    if more:
+        msg += f" (+{more} more error{'s' if more > 1 else ''})"
+    return ".".join(parts), msg
+
+
+def _is_union_tag(part: object) -> bool:
+    """Pydantic inserts union member tags into error locations; users never wrote them."""
+    return isinstance(part, str) and (part in ("uniform", "triangular") or "[" in part or "function-" in part)
+
+
+M = TypeVar("M", bound=BaseModel)
+
+
+def validate_user_data(model: type[M], data: Any, *, source: str) -> M:
+    """``model.model_validate(data)``, with a failure as a PhavUserError naming source and field."""
+    try:
+        return model.model_validate(data)
+    except ValidationError as e:
+        field, msg = format_validation_error(e)
+        raise PhavUserError(msg, source=source, field=field or None) from None

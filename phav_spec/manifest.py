@@ -8,11 +8,8 @@ decides whether pixels must match bit for bit (row "renderer of record").
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
-import secrets
-from pathlib import Path
 from typing import Annotated, Any, Self
 
 from pydantic import (
@@ -29,6 +26,7 @@ from pydantic_core import InitErrorDetails, PydanticCustomError
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.encoding import MODALITIES, ModalityEncoding
 from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write, parse_json_object, read_text
 
 __all__ = [
     "MANIFEST_VERSION",
@@ -239,22 +237,8 @@ def load_manifest(path: str | os.PathLike[str]) -> DatasetManifest:
             field of the first problem (e.g. ``videos.3.video_id``).
     """
     source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise PhavUserError("manifest not found; pass the dataset's manifest.json", source=source) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PhavUserError(f"cannot read manifest ({exc}); check the path", source=source) from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise PhavUserError(
-            f"invalid JSON at line {exc.lineno} column {exc.colno}: {exc.msg}; "
-            "regenerate the manifest or fix the syntax",
-            source=source,
-        ) from None
-    if not isinstance(data, dict):
-        raise PhavUserError(f"manifest must be a JSON object, got {type(data).__name__}", source=source)
+    text = read_text(path, hint="pass the dataset's manifest.json")
+    data = parse_json_object(text, source=source)
     version = data.get("manifest_version")
     if isinstance(version, int) and not isinstance(version, bool) and version > MANIFEST_VERSION:
         raise PhavUserError(
@@ -269,38 +253,7 @@ def load_manifest(path: str | os.PathLike[str]) -> DatasetManifest:
 
 
 def dump_manifest(manifest: DatasetManifest, path: str | os.PathLike[str]) -> None:
-    """Write ``manifest`` as canonical JSON (sorted keys, indent 2) atomically.
-
-    The text goes to a temporary file in the same directory, is fsynced and then renamed over
-    ``path`` with ``os.replace``, so a reader never sees a half-written manifest.
-    """
-    target = Path(path)
+    """Write ``manifest`` as canonical JSON (sorted keys, indent 2) atomically."""
     text = _pretty_json(manifest.model_dump(mode="json")) + "\n"
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(8)}.tmp")
-    # os.open with 0o666 lets the umask pick the final permissions (mkstemp would force 0600).
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-    _fsync_directory(target.parent)
-
-
-def _fsync_directory(directory: Path) -> None:
-    """Persist the rename itself; best effort, as some platforms cannot open directories."""
-    try:
-        fd = os.open(directory, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
+    with atomic_write(path) as tmp:
+        tmp.write_text(text, encoding="utf-8", newline="\n")

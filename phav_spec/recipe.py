@@ -8,17 +8,17 @@ migration registry; a newer one is refused with a clear message.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
 
-from phav_spec.errors import PhavUserError
+from phav_spec.errors import PhavUserError, validate_user_data
+from phav_spec.files import parse_json_object, read_text
 from phav_spec.motions import MOTIONS
 from phav_spec.scene import HUMAN_MODELS
-from phav_spec.theta import RenderSettings, format_validation_error
+from phav_spec.theta import RenderSettings
 from phav_spec.vocab import (
     ACTIONS,
     CAMERAS,
@@ -357,28 +357,15 @@ def upgrade_recipe(
 def parse_recipe(data: Mapping[str, Any] | str | bytes, *, source: str = "<recipe>") -> Recipe:
     """Validate (and upgrade) a recipe from a mapping or JSON text; errors name source and field."""
     if isinstance(data, str | bytes):
-        try:
-            data = json.loads(data)
-        except json.JSONDecodeError as e:
-            raise PhavUserError(f"invalid JSON: {e.msg} at line {e.lineno}", source=source) from None
+        data = parse_json_object(data, source=source)
     if not isinstance(data, Mapping):
         raise PhavUserError("a recipe must be a JSON object", source=source)
-    upgraded = upgrade_recipe(data, source=source)
-    try:
-        return Recipe.model_validate(upgraded)
-    except ValidationError as e:
-        field, msg = format_validation_error(e)
-        raise PhavUserError(msg, source=source, field=field or None) from None
+    return validate_user_data(Recipe, upgrade_recipe(data, source=source), source=source)
 
 
 def load_recipe(path: str | Path) -> Recipe:
     """Read one recipe JSON file."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as e:
-        raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
-    return parse_recipe(text, source=str(path))
+    return parse_recipe(read_text(path), source=str(path))
 
 
 def recipe_json_schema() -> dict[str, Any]:

@@ -10,8 +10,6 @@ pyarrow is imported inside the functions: reading θ or a recipe never needs it.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 from phav_spec.canonical import canonical_json
 from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe, parse_recipe
 from phav_spec.theta import Theta, parse_theta
 
@@ -117,19 +116,9 @@ def write_recipe_table(table: pa.Table, path: str | Path) -> int:
     """Write atomically (temp file in the same folder, then rename); returns the file's bytes."""
     import pyarrow.parquet as pq
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_write(path) as tmp:
         pq.write_table(table, tmp, compression="zstd")
-        with open(tmp, "rb+") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path.stat().st_size
+    return Path(path).stat().st_size
 
 
 @dataclass(frozen=True)

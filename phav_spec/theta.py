@@ -26,13 +26,13 @@ from pydantic import (
     ConfigDict,
     Field,
     PlainSerializer,
-    ValidationError,
     model_validator,
 )
 
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.distributions import Bernoulli, Continuous, Triangular, Uniform
-from phav_spec.errors import PhavUserError
+from phav_spec.errors import PhavUserError, validate_user_data
+from phav_spec.files import read_text
 from phav_spec.motions import MOTIONS, theta_ab
 from phav_spec.scene import (
     ACTION_SCENES,
@@ -573,45 +573,11 @@ def _require_keys(fieldname: str, mapping: Mapping[str, Any], registry: Registry
             raise ValueError(f"{fieldname}.{name}: missing")
 
 
-_PATH_PREFIX = re.compile(r"^([A-Za-z_][\w]*(?:\.[\w]+)*): (.*)$", re.DOTALL)
-
-
-def format_validation_error(error: ValidationError) -> tuple[str, str]:
-    """(field, message) of a pydantic error, in the words a user can act on.
-
-    A misspelt key is reported before anything it causes to look missing, and a message
-    that starts with a sub-path ("rows.walk: …") has that path joined onto the field.
-    """
-    errors = error.errors()
-    first = min(errors, key=lambda e: e["type"] != "extra_forbidden")
-    parts = [str(p) for p in first["loc"] if not _is_union_tag(p)]
-    msg = first["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
-    if first["type"] == "extra_forbidden":
-        msg = "unknown key (misspelt?); remove it or check the spelling"
-    elif first["type"] == "missing":
-        msg = "missing required field"
-    while (m := _PATH_PREFIX.match(msg)) is not None:
-        parts.append(m.group(1))
-        msg = m.group(2)
-    more = len(errors) - 1
-    if more:
-        msg += f" (+{more} more error{'s' if more > 1 else ''})"
-    return ".".join(parts), msg
-
-
-def _is_union_tag(part: object) -> bool:
-    return isinstance(part, str) and (part in ("uniform", "triangular") or "[" in part or "function-" in part)
-
-
 def parse_theta(data: Any, *, source: str = "<theta>") -> Theta:
     """Validate a θ mapping; a problem raises PhavUserError naming ``source`` and the field."""
     if not isinstance(data, Mapping):
         raise PhavUserError("a θ file must hold a mapping at the top level", source=source)
-    try:
-        return Theta.model_validate(data)
-    except ValidationError as e:
-        field, msg = format_validation_error(e)
-        raise PhavUserError(msg, source=source, field=field or None) from None
+    return validate_user_data(Theta, data, source=source)
 
 
 def load_theta(path: str | Path) -> Theta:
@@ -619,13 +585,8 @@ def load_theta(path: str | Path) -> Theta:
     path = Path(path)
     if not path.exists() and (PRESETS_DIR / f"{path.name}.yaml").exists():
         path = PRESETS_DIR / f"{path.name}.yaml"
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        presets = ", ".join(p.stem for p in sorted(PRESETS_DIR.glob("*.yaml")))
-        raise PhavUserError(f"no such file (presets: {presets})", source=str(path)) from None
-    except OSError as e:
-        raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
+    presets = ", ".join(p.stem for p in sorted(PRESETS_DIR.glob("*.yaml")))
+    text = read_text(path, hint=f"give a θ file or a preset name ({presets})")
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as e:

@@ -110,10 +110,24 @@ def test_dump_is_atomic_and_leaves_no_temp_files(tmp_path: Path) -> None:
     assert load_manifest(path).name == "phav_demo"
 
 
-def test_dump_into_missing_directory_fails_cleanly(tmp_path: Path) -> None:
-    with pytest.raises(FileNotFoundError):
-        dump_manifest(DatasetManifest.model_validate(_manifest_data()), tmp_path / "no" / "m.json")
-    assert os.listdir(tmp_path) == []
+def test_dump_creates_a_missing_directory(tmp_path: Path) -> None:
+    dump_manifest(DatasetManifest.model_validate(_manifest_data()), tmp_path / "new" / "m.json")
+    assert os.listdir(tmp_path / "new") == ["m.json"]
+    assert load_manifest(tmp_path / "new" / "m.json").name == "phav_demo"
+
+
+def test_an_interrupted_dump_keeps_the_old_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "manifest.json"
+    path.write_text("old", encoding="utf-8")
+
+    def fail(*args: object, **kwargs: object) -> None:
+        raise OSError("disk full")
+
+    monkeypatch.setattr(os, "replace", fail)
+    with pytest.raises(OSError, match="disk full"):
+        dump_manifest(DatasetManifest.model_validate(_manifest_data()), path)
+    assert path.read_text(encoding="utf-8") == "old"
+    assert os.listdir(tmp_path) == ["manifest.json"]
 
 
 def test_empty_dataset_is_valid(tmp_path: Path) -> None:
@@ -201,7 +215,7 @@ def test_bad_json(tmp_path: Path) -> None:
 
 def test_missing_file_and_non_object(tmp_path: Path) -> None:
     missing = tmp_path / "nope" / "manifest.json"
-    with pytest.raises(PhavUserError, match="not found") as info:
+    with pytest.raises(PhavUserError, match="no such file") as info:
         load_manifest(missing)
     assert str(missing) in str(info.value)
     error = _load_error(tmp_path, [1, 2])

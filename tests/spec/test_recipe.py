@@ -103,7 +103,7 @@ def test_malformed_recipes_name_the_field(recipe, edit, field, words):
 def test_non_json_is_a_user_error():
     with pytest.raises(PhavUserError, match=r"r\.json: invalid JSON"):
         parse_recipe("{not json", source="r.json")
-    with pytest.raises(PhavUserError, match="must be a JSON object"):
+    with pytest.raises(PhavUserError, match="expected a JSON object, got list"):
         parse_recipe("[1, 2]", source="r.json")
 
 

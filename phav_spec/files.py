@@ -1,0 +1,76 @@
+"""The filesystem edge of phav_spec: reading user files with one-line errors, and atomic writes."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import secrets
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from phav_spec.errors import PhavUserError
+
+
+def read_text(path: str | os.PathLike[str], *, hint: str = "check the path") -> str:
+    """A UTF-8 text file's contents; a missing or unreadable file is a PhavUserError."""
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise PhavUserError(f"no such file; {hint}", source=str(path)) from None
+    except UnicodeDecodeError:
+        raise PhavUserError("not UTF-8 text", source=str(path)) from None
+    except OSError as e:
+        raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
+
+
+def parse_json_object(text: str | bytes, *, source: str) -> dict[str, Any]:
+    """A JSON object from text; anything else is a PhavUserError naming the line."""
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise PhavUserError(f"invalid JSON at line {e.lineno} column {e.colno}: {e.msg}", source=source) from None
+    if not isinstance(data, dict):
+        raise PhavUserError(f"expected a JSON object, got {type(data).__name__}", source=source)
+    return data
+
+
+@contextlib.contextmanager
+def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; on success it is fsynced and renamed over it.
+
+    A reader never sees a half-written file, and an interrupted write leaves the previous
+    file (or none) and no temporary behind.
+    """
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_name(f".{target.name}.{secrets.token_hex(8)}.tmp")
+    try:
+        yield tmp
+        # os.open with 0o666 lets the umask pick the final permissions (mkstemp forces 0600).
+        fd = os.open(tmp, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    _fsync_directory(target.parent)
+
+
+def _fsync_directory(directory: Path) -> None:
+    """Persist the rename itself; best effort, as some platforms cannot open directories."""
+    try:
+        fd = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
