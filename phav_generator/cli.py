@@ -8,13 +8,15 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
 from phav_generator.cli_support import EXIT_FINDINGS, console, run_app
 from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write, parse_json_object
 from phav_spec.recipe import recipe_json_schema
-from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
+from phav_spec.recipe_table import RecipeRows, RecipeTable, read_recipe_table, write_recipe_table
 from phav_spec.theta import Theta, load_theta
 
 app = typer.Typer(
@@ -101,7 +103,8 @@ def stats(
         raise typer.Exit(EXIT_FINDINGS)
 
 
-def _theta_for(rt, theta: str | None) -> Theta:
+def _theta_for(rt: RecipeTable, theta: str | None) -> Theta:
+    """The θ given on the command line, else the one the table records."""
     if theta is not None:
         return load_theta(theta)
     if rt.theta is None:
@@ -120,7 +123,7 @@ def theta_check(file: Annotated[str, typer.Argument(help="θ YAML file or preset
 @theta_app.command("show")
 def theta_show(file: Annotated[str, typer.Argument(help="θ YAML file or preset name.")]) -> None:
     """Print a θ in its normalised, explicit YAML form (what the hash covers)."""
-    console.print(load_theta(file).to_yaml(), markup=False)
+    print(load_theta(file).to_yaml(), end="")
 
 
 @spec_app.command("schema")
@@ -128,12 +131,13 @@ def spec_schema(
     out: Annotated[Path | None, typer.Option("--out", help="Write to a file instead of stdout.")] = None,
 ) -> None:
     """JSON Schema of the recipe (current schema version)."""
-    text = json.dumps(recipe_json_schema(), indent=2, sort_keys=True)
+    text = json.dumps(recipe_json_schema(), indent=2, sort_keys=True) + "\n"
     if out is None:
-        print(text)
+        print(text, end="")
     else:
-        out.write_text(text + "\n", encoding="utf-8")
-        console.print(f"wrote {out}")
+        with atomic_write(out) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+        console.print(f"wrote {escape(str(out))}")
 
 
 @spec_app.command("vocab")
@@ -182,8 +186,8 @@ def recipe_show(
         raise PhavUserError(
             f"no video {video!r} in this table ({len(ids)} videos)", source=str(recipes), field="video_id"
         )
-    recipe = rt.column("recipe")[ids.index(video)]
-    print(json.dumps(json.loads(recipe), indent=2))
+    recipe = parse_json_object(rt.column("recipe")[ids.index(video)], source=f"{recipes}[{video}]")
+    print(json.dumps(recipe, indent=2))
 
 
 @app.command()

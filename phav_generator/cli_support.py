@@ -6,11 +6,14 @@ import sys
 from collections.abc import Callable
 
 from rich.console import Console
+from rich.text import Text
 
 from phav_spec.errors import PhavUserError
 
-console = Console(highlight=False)
-err_console = Console(stderr=True, highlight=False)
+# Piped output (CI logs, files) gets wide lines instead of rich's 80-column default, so
+# tables of numbers are never cut off.
+console = Console(highlight=False, width=None if sys.stdout.isatty() else 200)
+err_console = Console(stderr=True, highlight=False, width=None if sys.stderr.isatty() else 200)
 
 #: Exit codes: 0 fine, 1 checks found problems, 2 bad input or usage.
 EXIT_FINDINGS = 1
@@ -22,7 +25,7 @@ def run_app(app: Callable[[], object]) -> None:
     try:
         app()
     except PhavUserError as e:
-        err_console.print(f"[bold red]error:[/] {e}", soft_wrap=True)
+        err_console.print(Text.assemble(("error:", "bold red"), " ", str(e)), soft_wrap=True)
         sys.exit(EXIT_USER_ERROR)
     except KeyboardInterrupt:
         err_console.print("interrupted; finished files are intact (writes are atomic)")

@@ -15,13 +15,11 @@ from __future__ import annotations
 import hashlib
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 import numpy as np
 
 from phav_spec.distributions import (
-    categorical_index,
-    cumulative,
+    Categorical,
     sample_integer,
     sample_subset,
     triangular_inverse_cdf,
@@ -109,22 +107,6 @@ class _Streams:
         return self._gens[part]
 
 
-@dataclass(frozen=True)
-class _Row:
-    """A categorical row compiled for sampling: the values with support and running sums."""
-
-    values: tuple[int, ...]
-    cum: tuple[float, ...]
-
-    @classmethod
-    def of(cls, weights: np.ndarray) -> _Row:
-        idx = tuple(int(i) for i in np.flatnonzero(weights > 0))
-        return cls(idx, cumulative([float(weights[i]) for i in idx]))
-
-    def draw(self, rng: np.random.Generator) -> int:
-        return self.values[categorical_index(self.cum, rng.random())]
-
-
 def _rotate(dx: float, dy: float, heading_deg: float) -> tuple[float, float]:
     h = math.radians(heading_deg)
     return dx * math.cos(h) - dy * math.sin(h), dx * math.sin(h) + dy * math.cos(h)
@@ -140,12 +122,12 @@ class RecipeSampler:
     def __init__(self, theta: Theta):
         self.theta = theta
         arr = theta.arrays
-        self._a = _Row.of(arr.a)
-        self._w = _Row.of(arr.w)
-        self._d = _Row.of(arr.d)
-        self._h = _Row.of(arr.h)
+        self._a = Categorical(arr.a)
+        self._w = Categorical(arr.w)
+        self._d = Categorical(arr.d)
+        self._h = Categorical(arr.h)
         self._h_without = [
-            _Row.of(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None
+            Categorical(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None
             for i in range(len(arr.h))
         ]
         pe, pv, pb, pc = (
@@ -155,17 +137,17 @@ class RecipeSampler:
             self._camera_weights(),
         )
         reach = arr.a > 0
-        self._e = [_Row.of(pe[i]) if reach[i] else None for i in range(len(ACTIONS))]
-        self._v = [_Row.of(pv[i]) if reach[i] else None for i in range(len(ACTIONS))]
-        self._b = [_Row.of(pb[i]) if reach[i] else None for i in range(len(ACTIONS))]
+        self._e = [Categorical(pe[i]) if reach[i] else None for i in range(len(ACTIONS))]
+        self._v = [Categorical(pv[i]) if reach[i] else None for i in range(len(ACTIONS))]
+        self._b = [Categorical(pb[i]) if reach[i] else None for i in range(len(ACTIONS))]
         self._c = [
-            [_Row.of(pc[i, j]) if reach[i] and pe[i, j] > 0 else None for j in range(len(ENVIRONMENTS))]
+            [Categorical(pc[i, j]) if reach[i] and pe[i, j] > 0 else None for j in range(len(ENVIRONMENTS))]
             for i in range(len(ACTIONS))
         ]
         # (a, b, c) on the real line; a wrapped night interval runs past 24 h.
         self._clock = [theta.clock_hours[d].distribution().unwrapped() for d in DAY_PHASES.names]
         self._dead_zone = {
-            name: _Row.of(np.array(cam.springs.dead_zone_weights()))
+            name: Categorical(np.array(cam.springs.dead_zone_weights()))
             for name, cam in theta.cameras.items()
             if cam.springs is not None
         }
@@ -184,9 +166,9 @@ class RecipeSampler:
 
         # P1(D, W): day phase, clock time given the phase, weather and its elements.
         rng = self._streams["world"]
-        d = self._d.draw(rng)
+        d = self._d.sample(rng=rng)
         clock_hour = math.fmod(triangular_inverse_cdf(*self._clock[d], rng.random()), 24.0)
-        w = self._w.draw(rng)
+        w = self._w.sample(rng=rng)
         wt = theta.weather_elements[WEATHERS.names[w]]
         on: dict[str, bool] = {}
         for element, info in WEATHER_ELEMENTS.items():
@@ -211,14 +193,14 @@ class RecipeSampler:
 
         # P2(H): the protagonist's human model.
         rng = self._streams["human"]
-        h = self._h.draw(rng)
+        h = self._h.sample(rng=rng)
         human_name = HUMAN_MODELS.names[h]
 
         # P3: action, base motion and clip length, playback parameters.
         rng = self._streams["action"]
-        a = self._a.draw(rng)
+        a = self._a.sample(rng=rng)
         action = ACTIONS.names[a]
-        b = self._b[a].draw(rng)
+        b = self._b[a].sample(rng=rng)
         length_b = self._lengths[b]
         dur = theta.durations
         duration = triangular_inverse_cdf(dur.t_min, min(length_b, dur.t_max), min(dur.t_mod, length_b), rng.random())
@@ -235,17 +217,17 @@ class RecipeSampler:
 
         # Environment E | A, the protagonist's waypoint P_W and heading.
         rng = self._streams["environment"]
-        e = self._e[a].draw(rng)
+        e = self._e[a].sample(rng=rng)
         env_name = ENVIRONMENTS.names[e]
         env = ENVIRONMENT_SCENES[env_name]
         wp = sample_integer(0, len(env.protagonist_waypoints) - 1, rng=rng)
         position = env.protagonist_waypoints[wp]
         heading = theta.protagonist_heading_deg.sample(rng=rng)
 
-        background = self._background(dataset_seed, index, env, first_id=ACTIONS[action].n_people)
-        variation = self._variation(dataset_seed, index, a, b, duration)
-        camera = self._camera(dataset_seed, index, a, e, position, heading, HUMAN_MODELS[human_name])
-        supporting = self._supporting(dataset_seed, index, action, h, position, heading)
+        background = self._background(env, first_id=ACTIONS[action].n_people)
+        variation = self._variation(a, b, duration)
+        camera = self._camera(a, e, position, heading, HUMAN_MODELS[human_name])
+        supporting = self._supporting(action, h, position, heading)
 
         return Recipe.model_validate(
             {
@@ -280,7 +262,7 @@ class RecipeSampler:
             }
         )
 
-    def _background(self, dataset_seed: int, index: int, env, first_id: int) -> list[dict]:
+    def _background(self, env, first_id: int) -> list[dict]:
         """Background pedestrians on the environment's B_WG graph (none indoors)."""
         graph = env.background_waypoints
         if not graph:
@@ -290,7 +272,7 @@ class RecipeSampler:
         n = sample_integer(spec.count.min, spec.count.max, rng=rng)
         actors = []
         for k in range(n):
-            model = HUMAN_MODELS.names[self._h.draw(rng)]
+            model = HUMAN_MODELS.names[self._h.sample(rng=rng)]
             start = sample_integer(0, len(graph) - 1, rng=rng)
             dest = sample_integer(0, len(graph) - 2, rng=rng)
             dest += dest >= start  # any waypoint but the start
@@ -305,10 +287,10 @@ class RecipeSampler:
             })  # fmt: skip
         return actors
 
-    def _variation(self, dataset_seed: int, index: int, a: int, b: int, duration: float) -> dict:
+    def _variation(self, a: int, b: int, duration: float) -> dict:
         """V | A and its parameters Θ_v (Section "Action variations")."""
         rng = self._streams["variation"]
-        kind = VARIATIONS.names[self._v[a].draw(rng)]
+        kind = VARIATIONS.names[self._v[a].sample(rng=rng)]
         scene = ACTION_SCENES[ACTIONS.names[a]]
         params = self.theta.variations
         if kind == "random_perturbation":
@@ -350,8 +332,6 @@ class RecipeSampler:
 
     def _camera(
         self,
-        dataset_seed: int,
-        index: int,
         a: int,
         e: int,
         position,
@@ -360,7 +340,7 @@ class RecipeSampler:
     ) -> dict:
         """C | A, E, its placement C_xyz / T_xyz around P_xyz and its parameters Θ_c."""
         rng = self._streams["camera"]
-        kind = CAMERAS.names[self._c[a][e].draw(rng)]
+        kind = CAMERAS.names[self._c[a][e].sample(rng=rng)]
         spec = self.theta.cameras[kind]
         fov = spec.fov_deg.sample(rng=rng)
         distance = spec.distance_m.sample(rng=rng)
@@ -380,8 +360,8 @@ class RecipeSampler:
                 "target_mass": s.target_mass.sample(rng=rng),
                 "camera_drag": s.camera_drag.sample(rng=rng),
                 "target_drag": s.target_drag.sample(rng=rng),
-                "ct_min_distance_m": SPRING_MIN_DISTANCES_M[self._dead_zone[kind].draw(rng)],
-                "tp_min_distance_m": SPRING_MIN_DISTANCES_M[self._dead_zone[kind].draw(rng)],
+                "ct_min_distance_m": SPRING_MIN_DISTANCES_M[self._dead_zone[kind].sample(rng=rng)],
+                "tp_min_distance_m": SPRING_MIN_DISTANCES_M[self._dead_zone[kind].sample(rng=rng)],
             }
             impulse = {
                 "strength": spec.impulse.strength.sample(rng=rng),
@@ -400,13 +380,13 @@ class RecipeSampler:
             "impulse": impulse,
         }
 
-    def _supporting(self, dataset_seed: int, index: int, action: str, h: int, position, heading: float) -> list[dict]:
+    def _supporting(self, action: str, h: int, position, heading: float) -> list[dict]:
         """Supporting characters: a human model from H without the protagonist's, placed by S_xyz."""
         placement = ACTION_SCENES[action].supporting_placement
         if placement is None:
             return []
         rng = self._streams["supporting"]
-        model = HUMAN_MODELS.names[self._h_without[h].draw(rng)]
+        model = HUMAN_MODELS.names[self._h_without[h].sample(rng=rng)]
         spec = self.theta.supporting_characters
         if placement == "side_by_side":
             distance = spec.side_distance_m.sample(rng=rng)

@@ -89,6 +89,34 @@ def triangular_inverse_cdf(a: float, b: float, c: float, u: float) -> float:
     return min(max(x, a), b)
 
 
+class Categorical:
+    """A categorical distribution over indices 0 … n−1, proportional to ``weights``.
+
+    Compiled once (running sums), sampled with one uniform double; zero-weight indices are
+    never drawn.
+    """
+
+    __slots__ = ("cum", "probabilities")
+
+    def __init__(self, weights: Sequence[float]):
+        self.cum = cumulative([float(w) for w in weights])
+        total = self.cum[-1]
+        self.probabilities = tuple(float(w) / total for w in weights)
+
+    def sample(self, *, rng: np.random.Generator) -> int:
+        return categorical_index(self.cum, rng.random())
+
+    def pmf(self, k: int) -> float:
+        """P(X = k)."""
+        return self.probabilities[k] if 0 <= k < len(self.probabilities) else 0.0
+
+    def cdf(self, k: int) -> float:
+        """P(X ≤ k)."""
+        if k < 0:
+            return 0.0
+        return self.cum[min(k, len(self.cum) - 1)] / self.cum[-1]
+
+
 class Uniform(BaseModel):
     """U(low, high); low == high is a point mass."""
 
@@ -104,25 +132,30 @@ class Uniform(BaseModel):
         return self
 
     def sample(self, *, rng: np.random.Generator) -> float:
+        """One draw (one uniform double)."""
         return self.low + (self.high - self.low) * rng.random()
 
     def pdf(self, x: np.ndarray | float) -> np.ndarray:
+        """Density; a point mass has infinite density at its point."""
         x = np.asarray(x, dtype=float)
         if self.low == self.high:
             return np.where(x == self.low, np.inf, 0.0)
         return np.where((x >= self.low) & (x <= self.high), 1.0 / (self.high - self.low), 0.0)
 
     def cdf(self, x: np.ndarray | float) -> np.ndarray:
+        """P(X ≤ x)."""
         x = np.asarray(x, dtype=float)
         if self.low == self.high:
             return np.where(x >= self.low, 1.0, 0.0)
         return np.clip((x - self.low) / (self.high - self.low), 0.0, 1.0)
 
     def mean(self) -> float:
+        """E[X]."""
         return 0.5 * (self.low + self.high)
 
     @property
     def support(self) -> tuple[float, float]:
+        """(lowest, highest) value."""
         return (self.low, self.high)
 
 
@@ -134,7 +167,16 @@ class Bernoulli(BaseModel):
     p: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
 
     def sample(self, *, rng: np.random.Generator) -> bool:
+        """True with probability p (one uniform double)."""
         return rng.random() < self.p
+
+    def pmf(self, x: bool) -> float:
+        """P(X = x)."""
+        return self.p if x else 1.0 - self.p
+
+    def cdf(self, x: float) -> float:
+        """P(X ≤ x) with False = 0, True = 1."""
+        return 0.0 if x < 0 else (1.0 - self.p if x < 1 else 1.0)
 
 
 class Triangular(BaseModel):
@@ -169,6 +211,7 @@ class Triangular(BaseModel):
 
     @property
     def wraps(self) -> bool:
+        """Whether the interval runs past the end of the period (night: 20h → 7h)."""
         return self.period is not None and self.min > self.max
 
     def unwrapped(self) -> tuple[float, float, float]:
@@ -181,6 +224,7 @@ class Triangular(BaseModel):
         return a, b, c
 
     def sample(self, *, rng: np.random.Generator) -> float:
+        """One draw by inverse CDF (one uniform double), wrapped into [0, period) if needed."""
         x = triangular_inverse_cdf(*self.unwrapped(), rng.random())
         if self.wraps:
             x = math.fmod(x, self.period)
@@ -216,6 +260,7 @@ class Triangular(BaseModel):
         return np.clip(head + tail, 0.0, 1.0)
 
     def pdf(self, x: np.ndarray | float) -> np.ndarray:
+        """The paper's Tr(x | a, b, c); for a wrapped interval, x is a time of the period."""
         x = np.asarray(x, dtype=float)
         if not self.wraps:
             return self._pdf_unwrapped(x)
@@ -227,6 +272,7 @@ class Triangular(BaseModel):
 
     @property
     def support(self) -> tuple[float, float]:
+        """(min, max); for a wrapped interval min > max."""
         return (self.min, self.max)
 
 

@@ -22,6 +22,7 @@ from phav_spec.scene import (
     ENVIRONMENT_SCENES,
     HUMAN_MODELS,
     SPRING_MIN_DISTANCES_M,
+    WEATHER_ELEMENTS,
 )
 from phav_spec.theta import Theta
 from phav_spec.vocab import (
@@ -51,6 +52,7 @@ class ExactTable:
     rows: dict[tuple[Any, ...], np.ndarray]
     parent_probs: dict[tuple[Any, ...], float]
     applies_to: str = "every video"
+    multi: bool = False  # the column holds a list per video, each element one observation
 
     def marginal(self) -> np.ndarray:
         """P(variable | applies) = Σ_parents P(parents) P(variable | parents)."""
@@ -199,6 +201,7 @@ def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
         wp_rows[(env,)] = np.array([1.0 / k if i < k else 0.0 for i in range(max_wp)])
     env_parents = _positive(E, e_marg)
     tables.append(ExactTable("n_background_actors", ("environment",), tuple(range(max_n + 1)), bg_rows, env_parents))
+    tables.extend(_background_tables(theta, p, e_marg))
     tables.append(ExactTable("waypoint_index", ("environment",), tuple(range(max_wp)), wp_rows, env_parents))
     return {t.variable: t for t in tables}
 
@@ -226,31 +229,84 @@ def _muscle_count_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]
     if not parents:
         return []
     total = sum(parents.values())
-    parents = {k: v / total for k, v in parents.items()}
+    counts = ExactTable(
+        "n_varied_muscles", ("action", "variation"), values, rows,
+        {k: v / total for k, v in parents.items()}, "videos with muscle variations",
+    )  # fmt: skip
+    # Which muscles: a uniform subset, so each eligible muscle is equally likely; observations
+    # are weighted by the expected subset size of their (action, variation).
+    which, weight = {}, {}
+    for (action, kind), row in rows.items():
+        eligible = MUSCLES.names if kind == "muscle_weakening" else ACTION_SCENES[action].complementary_muscles
+        which[(action, kind)] = np.array([1.0 / len(eligible) if m in eligible else 0.0 for m in MUSCLES.names])
+        weight[(action, kind)] = parents[(action, kind)] * float(np.dot(row, values))
+    total = sum(weight.values())
+    muscles = ExactTable(
+        "varied_muscles", ("action", "variation"), MUSCLES.names, which,
+        {k: v / total for k, v in weight.items()}, "muscles of muscle variations", multi=True,
+    )  # fmt: skip
+    return [counts, muscles]
+
+
+def _background_tables(theta: Theta, p: ModelProbabilities, e_marg: np.ndarray) -> list[ExactTable]:
+    """Background actors: human models from θ_H, start and destination uniform on B_WG.
+
+    The destination is uniform over the waypoints other than the start, hence uniform over
+    the graph once the start is summed out.
+    """
+    spec = theta.background_actors
+    mean_count = (spec.count.min + spec.count.max) / 2.0
+    weights = {}
+    for j, env in enumerate(ENVIRONMENTS.names):
+        graph = ENVIRONMENT_SCENES[env].background_waypoints
+        if e_marg[j] > 0 and graph and mean_count > 0:
+            weights[(env,)] = float(e_marg[j]) * mean_count
+    if not weights:
+        return []
+    total = sum(weights.values())
+    parents = {k: v / total for k, v in weights.items()}
+    size = max(len(ENVIRONMENT_SCENES[e].background_waypoints) for (e,) in parents)
+    rows = {}
+    for (env,) in parents:
+        n = len(ENVIRONMENT_SCENES[env].background_waypoints)
+        rows[(env,)] = np.array([1.0 / n if i < n else 0.0 for i in range(size)])
+    applies = "background actors"
+    values = tuple(range(size))
     return [
-        ExactTable("n_varied_muscles", ("action", "variation"), values, rows, parents, "videos with muscle variations")
+        ExactTable("background_human_models", (), HUMAN_MODELS.names, {(): p.h}, {(): 1.0}, applies, multi=True),
+        ExactTable("background_start_waypoints", ("environment",), values, rows, parents, applies, multi=True),
+        ExactTable("background_destination_waypoints", ("environment",), values, rows, parents, applies, multi=True),
     ]
 
 
 def _weather_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
-    """P(element on | W), marginalising a dependent element over its parent."""
+    """Weather elements: a root element given W, a dependent one given W and its parent.
+
+    Conditioning on the parent tests the Bernoulli dependency itself (fog → clouds), not
+    only its marginal, which could hide a sampler that ignores the parent.
+    """
     values = (False, True)
     out = []
-    for element in ("rain", "fog", "clouds", "wet_ground"):
-        rows = {}
+    for element, info in WEATHER_ELEMENTS.items():
+        rows: dict[tuple[Any, ...], np.ndarray] = {}
+        parents: dict[tuple[Any, ...], float] = {}
         for k, weather in enumerate(WEATHERS.names):
             if p.w[k] <= 0:
                 continue
             spec = theta.weather_elements[weather]
-            own = getattr(spec, element)
-            if hasattr(own, "p"):
-                on = own.p
-            else:
-                parent = "fog" if element == "clouds" else "rain"
-                p_parent = getattr(spec, parent).p
-                on = p_parent * own.p_if_parent + (1.0 - p_parent) * own.p_otherwise
-            rows[(weather,)] = np.array([1.0 - on, on])
-        out.append(ExactTable(element, ("weather",), values, rows, _positive(WEATHERS.names, p.w)))
+            if info.parent is None:
+                on = spec.p_on(element)
+                rows[(weather,)] = np.array([1.0 - on, on])
+                parents[(weather,)] = float(p.w[k])
+                continue
+            p_parent = spec.p_on(info.parent)
+            for state, p_state in ((False, 1.0 - p_parent), (True, p_parent)):
+                if p_state > 0:
+                    on = spec.p_on(element, state)
+                    rows[(weather, state)] = np.array([1.0 - on, on])
+                    parents[(weather, state)] = float(p.w[k] * p_state)
+        names = ("weather",) if info.parent is None else ("weather", info.parent)
+        out.append(ExactTable(element, names, values, rows, parents))
     return out
 
 

@@ -44,17 +44,22 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
     file (or none) and no temporary behind.
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
     tmp = target.with_name(f".{target.name}.{secrets.token_hex(8)}.tmp")
     try:
+        if target.is_dir():
+            raise IsADirectoryError(21, "Is a directory")
+        target.parent.mkdir(parents=True, exist_ok=True)
         yield tmp
-        # os.open with 0o666 lets the umask pick the final permissions (mkstemp forces 0600).
-        fd = os.open(tmp, os.O_RDWR | os.O_CREAT, 0o666)
+        fd = os.open(tmp, os.O_RDONLY)  # the writer must have created it: no empty files
         try:
             os.fsync(fd)
         finally:
             os.close(fd)
         os.replace(tmp, target)
+    except OSError as e:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise PhavUserError(f"cannot write: {e.strerror or e}", source=str(target)) from None
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)

@@ -121,7 +121,13 @@ class BackgroundActor(BaseModel):
 
 
 class MotionSpec(BaseModel):
-    """The base motion B and how it is played back."""
+    """The base motion B and how it is played back.
+
+    The clip plays ``duration_s · speed`` seconds of the motion from ``start_s``. The clip
+    length L never exceeds the motion's length, but a speed above 1 can ask for more motion
+    than remains; playback then wraps to the motion's start (catalogue motions are cycles
+    or end at rest), which the animation stage implements.
+    """
 
     model_config = _FROZEN
     base_motion: MotionName

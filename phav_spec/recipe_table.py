@@ -9,7 +9,6 @@ pyarrow is imported inside the functions: reading θ or a recipe never needs it.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from phav_spec.canonical import canonical_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write
+from phav_spec.files import atomic_write, parse_json_object
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe, parse_recipe
 from phav_spec.theta import Theta, parse_theta
 
@@ -30,7 +29,7 @@ class Column:
     """A stable column: its name, Arrow type name and how it is read off a recipe."""
 
     name: str
-    arrow_type: str  # string, int64, float64, bool_ (pyarrow type factory names)
+    arrow_type: str  # string, int64, float64, bool_, list<string>, list<int64>
     extract: Callable[[Recipe], Any]
     doc: str
 
@@ -40,7 +39,11 @@ def _springs(r: Recipe, attr: str) -> int | None:
 
 
 def _variation_attr(r: Recipe, kind: str, attr: str) -> Any:
-    return getattr(r.variation, attr) if r.variation.kind == kind else None
+    """A variation's field when the video has that variation (None otherwise, or if absent)."""
+    if r.variation.kind != kind:
+        return None
+    value = getattr(r.variation, attr, None)
+    return list(value) if isinstance(value, tuple) else value
 
 
 #: The stable columns, in table order (the ``recipe`` JSON column follows them).
@@ -72,7 +75,14 @@ COLUMNS: tuple[Column, ...] = (
     Column("n_background_actors", "int64", lambda r: len(r.background_actors), "background pedestrians"),
     Column("waypoint_index", "int64", lambda r: r.environment.waypoint_index, "P_W in the environment's graph"),
     Column("mirror", "bool_", lambda r: r.motion.mirror, "base motion played mirrored"),
-    Column("n_varied_muscles", "int64", lambda r: len(getattr(r.variation, "muscles", ())) or None, "muscles varied"),
+    Column("varied_muscles", "list<string>", lambda r: _variation_attr(r, r.variation.kind, "muscles"), "the muscles"),
+    Column("background_human_models", "list<string>", lambda r: [a.human.model for a in r.background_actors],
+           "H of each background actor"),
+    Column("background_start_waypoints", "list<int64>",
+           lambda r: [a.start_waypoint for a in r.background_actors], "starts on B_WG"),
+    Column("background_destination_waypoints", "list<int64>",
+           lambda r: [a.destination_waypoint for a in r.background_actors], "destinations on B_WG"),
+    Column("n_varied_muscles", "int64", lambda r: len(getattr(r.variation, "muscles", ())) or None, "how many"),
 )  # fmt: skip
 COLUMN_NAMES: tuple[str, ...] = tuple(c.name for c in COLUMNS)
 RECIPE_COLUMN = "recipe"
@@ -101,7 +111,12 @@ class RecipeRows:
     def to_arrow(self, *, theta: Theta | None = None, dataset_seed: int | None = None) -> pa.Table:
         import pyarrow as pa
 
-        arrays = {c.name: pa.array(self.columns[c.name], type=getattr(pa, c.arrow_type)()) for c in COLUMNS}
+        def arrow(name: str) -> pa.DataType:
+            if name.startswith("list<"):
+                return pa.list_(arrow(name[5:-1]))
+            return getattr(pa, name)()
+
+        arrays = {c.name: pa.array(self.columns[c.name], type=arrow(c.arrow_type)) for c in COLUMNS}
         arrays[RECIPE_COLUMN] = pa.array(self.columns[RECIPE_COLUMN], type=pa.string())
         meta = {"phav.recipe_schema_version": str(RECIPE_SCHEMA_VERSION)}
         if theta is not None:
@@ -141,6 +156,18 @@ class RecipeTable:
             yield parse_recipe(text, source=f"{self.path}[{vid}]")
 
 
+def _metadata_int(meta: dict[str, str], key: str, path: Path, *, default: int | None) -> int | None:
+    if key not in meta:
+        return default
+    try:
+        value = int(meta[key])
+    except ValueError:
+        raise PhavUserError(f"not an integer: {meta[key][:40]!r}", source=str(path), field=key) from None
+    if value < 0:
+        raise PhavUserError(f"must be non-negative, got {value}", source=str(path), field=key)
+    return value
+
+
 def read_recipe_table(path: str | Path) -> RecipeTable:
     """Read recipes.parquet; a missing, truncated or foreign file raises PhavUserError."""
     import pyarrow as pa
@@ -157,8 +184,8 @@ def read_recipe_table(path: str | Path) -> RecipeTable:
     missing = [name for name in (*COLUMN_NAMES, RECIPE_COLUMN) if name not in table.column_names]
     if missing:
         raise PhavUserError("missing column (not a phav recipes table?)", source=str(path), field=missing[0])
-    meta = {k.decode(): v.decode() for k, v in (table.schema.metadata or {}).items()}
-    version = int(meta.get("phav.recipe_schema_version", RECIPE_SCHEMA_VERSION))
+    meta = {k.decode(errors="replace"): v.decode(errors="replace") for k, v in (table.schema.metadata or {}).items()}
+    version = _metadata_int(meta, "phav.recipe_schema_version", path, default=RECIPE_SCHEMA_VERSION)
     if version > RECIPE_SCHEMA_VERSION:
         raise PhavUserError(
             f"recipe schema version {version} is newer than this phav supports ({RECIPE_SCHEMA_VERSION}); upgrade phav",
@@ -167,6 +194,7 @@ def read_recipe_table(path: str | Path) -> RecipeTable:
         )
     theta = None
     if "phav.theta" in meta:
-        theta = parse_theta(json.loads(meta["phav.theta"]), source=f"{path} (metadata phav.theta)")
-    seed = int(meta["phav.dataset_seed"]) if "phav.dataset_seed" in meta else None
+        source = f"{path} (metadata phav.theta)"
+        theta = parse_theta(parse_json_object(meta["phav.theta"], source=source), source=source)
+    seed = _metadata_int(meta, "phav.dataset_seed", path, default=None)
     return RecipeTable(path=path, table=table, theta=theta, dataset_seed=seed, schema_version=version)

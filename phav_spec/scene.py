@@ -449,3 +449,22 @@ CAMERA_PLACEMENT_VARIABLES: dict[str, tuple[str, float, float]] = {
     "height_m": ("m", -2.0, 30.0),
     "azimuth_deg": ("deg", -360.0, 360.0),
 }
+
+#: Bounds of the other continuous parameters θ may set: name → (unit, lower, upper). A
+#: recipe outside them would be physically meaningless (negative speeds, periods of zero).
+PARAMETER_BOUNDS: dict[str, tuple[str, float, float]] = {
+    "motion_speed": ("×", 0.1, 5.0),
+    "heading_deg": ("deg", -360.0, 720.0),
+    "background_speed_mps": ("m/s", 0.1, 5.0),
+    "supporting_distance_m": ("m", 0.2, 50.0),
+    "perturbation_radius_m": ("m", 0.0, 2.0),
+    "perturbation_period_s": ("s", 0.05, 60.0),
+    "weakening_strength": ("fraction", 0.0, 1.0),
+    "blending_weight": ("fraction", 0.0, 1.0),
+    "impulse_strength": ("N·s", 0.0, 1000.0),
+    "impulse_azimuth_deg": ("deg", -360.0, 360.0),
+    "impulse_elevation_deg": ("deg", -90.0, 90.0),
+}
+
+#: Most background pedestrians one scene may hold.
+MAX_BACKGROUND_ACTORS = 50

@@ -21,6 +21,7 @@ from typing import Annotated, Any
 import numpy as np
 import yaml
 from pydantic import (
+    AfterValidator,
     BaseModel,
     BeforeValidator,
     ConfigDict,
@@ -41,6 +42,8 @@ from phav_spec.scene import (
     ENVIRONMENT_SCENES,
     HUMAN_MODELS,
     KITE_SPRING_VARIABLES,
+    MAX_BACKGROUND_ACTORS,
+    PARAMETER_BOUNDS,
     SPRING_MIN_DISTANCES_M,
     WEATHER_LEVELS,
 )
@@ -232,6 +235,19 @@ class WeatherElementsTheta(BaseModel):
         return spec.p_if_parent if parent_on else spec.p_otherwise
 
 
+def bounded(key: str) -> Any:
+    """A θ distribution whose support must stay inside scene.PARAMETER_BOUNDS[key]."""
+    unit, lo, hi = PARAMETER_BOUNDS[key]
+
+    def check(dist: Uniform | Triangular) -> Uniform | Triangular:
+        a, b = dist.support
+        if a < lo or b > hi:
+            raise ValueError(f"support [{a}, {b}] leaves the allowed range [{lo}, {hi}] {unit}")
+        return dist
+
+    return Annotated[Continuous, AfterValidator(check)]
+
+
 def _check_support(dist: Uniform | Triangular, lo: float, hi: float, name: str) -> None:
     a, b = dist.support
     if a < lo or b > hi:
@@ -264,23 +280,29 @@ class BackgroundActors(BaseModel):
 
     model_config = _FROZEN
     count: IntegerRange
-    speed_mps: Continuous
+    speed_mps: bounded("background_speed_mps")
+
+    @model_validator(mode="after")
+    def _not_a_crowd(self) -> BackgroundActors:
+        if self.count.max > MAX_BACKGROUND_ACTORS:
+            raise ValueError(f"count.max: at most {MAX_BACKGROUND_ACTORS} background actors per scene")
+        return self
 
 
 class SupportingCharacters(BaseModel):
     """Where the supporting character of a two-people action starts, relative to P_xyz."""
 
     model_config = _FROZEN
-    side_distance_m: Continuous
-    behind_distance_m: Continuous
-    facing_distance_m: Continuous
+    side_distance_m: bounded("supporting_distance_m")
+    behind_distance_m: bounded("supporting_distance_m")
+    facing_distance_m: bounded("supporting_distance_m")
 
 
 class MotionParameters(BaseModel):
     """Playback of the base motion: speed factor and mirroring left/right."""
 
     model_config = _FROZEN
-    speed: Continuous
+    speed: bounded("motion_speed")
     p_mirror: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
 
 
@@ -317,9 +339,9 @@ class Impulse(BaseModel):
     """The random initial impulse that starts the camera moving (N·s, degrees)."""
 
     model_config = _FROZEN
-    strength: Continuous
-    azimuth_deg: Continuous
-    elevation_deg: Continuous
+    strength: bounded("impulse_strength")
+    azimuth_deg: bounded("impulse_azimuth_deg")
+    elevation_deg: bounded("impulse_elevation_deg")
 
 
 class CameraTheta(BaseModel):
@@ -345,8 +367,8 @@ class Perturbation(BaseModel):
 
     model_config = _FROZEN
     n_muscles: MuscleCount
-    radius_m: Continuous
-    period_s: Continuous
+    radius_m: bounded("perturbation_radius_m")
+    period_s: bounded("perturbation_period_s")
 
 
 class Weakening(BaseModel):
@@ -354,7 +376,7 @@ class Weakening(BaseModel):
 
     model_config = _FROZEN
     n_muscles: MuscleCount
-    strength: Continuous
+    strength: bounded("weakening_strength")
 
 
 class Blending(BaseModel):
@@ -362,7 +384,7 @@ class Blending(BaseModel):
 
     model_config = _FROZEN
     n_muscles: MuscleCount
-    weight: Continuous
+    weight: bounded("blending_weight")
 
 
 class VariationsTheta(BaseModel):
@@ -447,7 +469,7 @@ class Theta(BaseModel):
     background_actors: BackgroundActors
     supporting_characters: SupportingCharacters
     motion: MotionParameters
-    protagonist_heading_deg: Continuous
+    protagonist_heading_deg: bounded("heading_deg")
     cameras: dict[str, CameraTheta]
     variations: VariationsTheta
     render: RenderSettings = RenderSettings()
@@ -550,8 +572,12 @@ class Theta(BaseModel):
 
     @cached_property
     def hash(self) -> str:
-        """sha256 of θ's canonical JSON: the identity of a θ."""
-        return sha256_hex(canonical_json(self.model_dump(mode="json")))
+        """sha256 of θ's canonical JSON: the identity of a θ.
+
+        ``name`` and ``description`` are labels, not parameters: renaming a θ or editing its
+        description leaves its hash, and every recipe sampled from it, unchanged.
+        """
+        return sha256_hex(canonical_json(self.model_dump(mode="json", exclude={"name", "description"})))
 
     def __eq__(self, other: object) -> bool:
         # Same canonical form, same θ; the cached arrays must not take part in comparison.
@@ -582,19 +608,41 @@ def parse_theta(data: Any, *, source: str = "<theta>") -> Theta:
 
 def load_theta(path: str | Path) -> Theta:
     """Load θ from a YAML file (``yaml.safe_load``), or a preset by name (``phav-v1``)."""
+    given = str(path)
     path = Path(path)
-    if not path.exists() and (PRESETS_DIR / f"{path.name}.yaml").exists():
-        path = PRESETS_DIR / f"{path.name}.yaml"
+    is_bare_name = "/" not in given and "\\" not in given and path.suffix not in (".yaml", ".yml")
+    if is_bare_name and not path.exists() and (PRESETS_DIR / f"{given}.yaml").exists():
+        path = PRESETS_DIR / f"{given}.yaml"
     presets = ", ".join(p.stem for p in sorted(PRESETS_DIR.glob("*.yaml")))
     text = read_text(path, hint=f"give a θ file or a preset name ({presets})")
     try:
         data = yaml.safe_load(text)
+        _refuse_duplicate_keys(yaml.compose(text, Loader=yaml.SafeLoader), source=str(path))
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark is not None else "yaml"
         problem = getattr(e, "problem", None) or str(e).splitlines()[0]
         raise PhavUserError(f"invalid YAML: {problem}", source=str(path), field=where) from None
     return parse_theta(data, source=str(path))
+
+
+def _refuse_duplicate_keys(node: yaml.Node | None, *, source: str) -> None:
+    """A key written twice in one mapping is an error (YAML would keep the last silently)."""
+    if isinstance(node, yaml.MappingNode):
+        seen: set[str] = set()
+        for key, value in node.value:
+            name = str(key.value)
+            if name in seen:
+                raise PhavUserError(
+                    "key written twice in one mapping; keep one",
+                    source=source,
+                    field=f"line {key.start_mark.line + 1}: {name}",
+                )
+            seen.add(name)
+            _refuse_duplicate_keys(value, source=source)
+    elif isinstance(node, yaml.SequenceNode):
+        for item in node.value:
+            _refuse_duplicate_keys(item, source=source)
 
 
 def load_preset(name: str = "phav-v1") -> Theta:

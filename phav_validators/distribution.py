@@ -7,15 +7,17 @@ IMPOSSIBLE_VALUE finding. Expected cells below five counts are pooled before the
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy import stats
 
 from phav_spec.expectations import (
     CONTINUOUS_PARAMETERS,
+    ContinuousParameter,
     ExactTable,
     clock_hour_cdf,
     duration_cdf,
@@ -25,6 +27,9 @@ from phav_spec.expectations import (
 from phav_spec.theta import Theta
 from phav_spec.vocab import ACTIONS, DAY_PHASES
 from phav_validators.findings import Finding, Reason, Report
+
+if TYPE_CHECKING:
+    import pyarrow as pa
 
 DEFAULT_ALPHA = 1e-3
 MIN_EXPECTED = 5.0
@@ -106,9 +111,12 @@ def check_table(
 ) -> tuple[list[FitTest], VariableSummary, list[Finding]]:
     """Test one variable: its marginal and each conditional row that has observations."""
     column = columns[table.variable]
-    applies = np.array([x is not None for x in column])
-    idx = np.flatnonzero(applies)
-    values = [column[i] for i in idx]
+    if table.multi:  # one observation per list element, with its video's parent values
+        idx = np.array([i for i, xs in enumerate(column) if xs is not None for _ in xs], dtype=np.int64)
+        values = [x for xs in column if xs is not None for x in xs]
+    else:
+        idx = np.flatnonzero(np.array([x is not None for x in column], dtype=bool))
+        values = [column[i] for i in idx]
     codes, unknown = _codes(values, table.values)
     findings: list[Finding] = []
     probs = table.marginal()
@@ -167,20 +175,34 @@ def check_table(
     return tests, summary, findings
 
 
-def ks(variable: str, condition: str, x: np.ndarray, cdf) -> FitTest:
+def ks(variable: str, condition: str, x: np.ndarray, cdf: Callable[[np.ndarray], np.ndarray]) -> FitTest:
+    """Kolmogorov–Smirnov test of the finite values of ``x`` against ``cdf``."""
+    x = x[np.isfinite(x)]
     if len(x) == 0:
         return FitTest(variable, condition, "ks", 0, 0.0, 0, 1.0)
     res = stats.kstest(x, cdf)
     return FitTest(variable, condition, "ks", len(x), float(res.statistic), 0, float(res.pvalue))
 
 
+def _finite_column(columns: Mapping[str, Sequence[Any]], name: str, report: Report, source: str | None) -> np.ndarray:
+    """A float column as an array, with NaN in place of nulls; non-finite entries are findings."""
+    x = np.array([np.nan if v is None else v for v in columns[name]], dtype=float)
+    bad = int((~np.isfinite(x)).sum())
+    if bad:
+        report.add(
+            Finding(Reason.IMPOSSIBLE_VALUE, f"{name}: {bad} videos with a null or non-finite value", file=source)
+        )
+    return x
+
+
 def holm(tests: list[FitTest], alpha: float) -> list[FitTest]:
     """Mark rejections with the Holm–Bonferroni step-down procedure at family-wise ``alpha``."""
-    order = sorted(range(len(tests)), key=lambda i: tests[i].p_value)
+    # A NaN p-value (a test that could not be computed) sorts first and is rejected.
+    order = sorted(range(len(tests)), key=lambda i: -1.0 if math.isnan(tests[i].p_value) else tests[i].p_value)
     rejected = [False] * len(tests)
     m = len(tests)
     for rank, i in enumerate(order):
-        if tests[i].p_value <= alpha / (m - rank):
+        if math.isnan(tests[i].p_value) or tests[i].p_value <= alpha / (m - rank):
             rejected[i] = True
         else:
             break
@@ -205,14 +227,14 @@ def check_distributions(
         for finding in f:
             report.add(finding)
 
-    durations = np.asarray(columns["duration_s"], dtype=float)
+    durations = _finite_column(columns, "duration_s", report, source)
     tests.append(ks("duration_s", "marginal", durations, duration_cdf(theta)))
     actions = np.asarray(columns["action"], dtype=object)
     for action in ACTIONS.names:
         if theta.arrays.a[ACTIONS.index(action)] > 0:
             x = durations[actions == action]
             tests.append(ks("duration_s", f"action={action}", x, duration_cdf(theta, action)))
-    hours = np.asarray(columns["clock_hour"], dtype=float)
+    hours = _finite_column(columns, "clock_hour", report, source)
     tests.append(ks("clock_hour", "marginal", hours, clock_hour_cdf(theta)))
     phases = np.asarray(columns["day_phase"], dtype=object)
     for phase in DAY_PHASES.names:
@@ -251,12 +273,12 @@ def check_distributions(
         summaries=summaries,
         report=report,
         n_videos=n,
-        mean_duration=float(durations.mean()) if n else float("nan"),
+        mean_duration=float(np.nanmean(durations)) if n and np.isfinite(durations).any() else float("nan"),
         expected_mean_duration=mean_duration(theta),
     )
 
 
-def parse_recipes_arrow(recipes_json: Sequence[str]):
+def parse_recipes_arrow(recipes_json: Sequence[str]) -> pa.Table:
     """Parse recipe JSON texts into one Arrow table (C++ parser: ~15× Python's json).
 
     Texts that are not JSON objects are left out (the integrity check reports them), so a
@@ -287,7 +309,7 @@ def parse_recipes_arrow(recipes_json: Sequence[str]):
             return pa.table({})
 
 
-def _path(table, path: str) -> tuple[np.ndarray, np.ndarray]:
+def _path(table: pa.Table, path: str) -> tuple[np.ndarray, np.ndarray]:
     """(row index, values) at a recipe path such as ``background_actors[].speed_mps``."""
     import pyarrow as pa
     import pyarrow.compute as pc
@@ -311,7 +333,7 @@ def _path(table, path: str) -> tuple[np.ndarray, np.ndarray]:
     return rows, np.asarray(node.to_pylist(), dtype=object)
 
 
-def parameter_draws(table, param) -> tuple[np.ndarray, np.ndarray]:
+def parameter_draws(table: pa.Table, param: ContinuousParameter) -> tuple[np.ndarray, np.ndarray]:
     """(group, value) of every draw of a continuous parameter in parsed recipes."""
     rows, values = _path(table, param.value)
     keep = np.array([v is not None for v in values], dtype=bool)

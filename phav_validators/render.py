@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from phav_validators.distribution import DistributionResult
@@ -52,13 +53,15 @@ def print_distribution(result: DistributionResult, console: Console, *, max_valu
 
 def print_report(report: Report, console: Console, *, limit: int = 40) -> None:
     for note in report.notes:
-        console.print(f"[yellow]note:[/] {note}", soft_wrap=True)
+        console.print(f"[yellow]note:[/] {escape(note)}", soft_wrap=True)
     if report.ok:
         console.print("[bold green]all checks passed[/]")
         return
     console.print(f"[bold red]{len(report.findings)} finding(s)[/]")
     for f in report.findings[:limit]:
         where = " ".join(x for x in (f.file, f.video_id) if x)
-        console.print(f"  [red]{f.reason.value}[/] {where + ': ' if where else ''}{f.message}", soft_wrap=True)
+        console.print(
+            f"  [red]{f.reason.value}[/] {escape(where + ': ' if where else '')}{escape(f.message)}", soft_wrap=True
+        )
     if len(report.findings) > limit:
         console.print(f"  … {len(report.findings) - limit} more")

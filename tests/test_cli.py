@@ -48,9 +48,21 @@ def test_usage_errors_exit_2_without_traceback(tmp_path):
 def test_bench_reports_speed_against_error():
     result = run_cli("bench", "--n", "400")
     assert result.returncode == 0, result.stderr
-    out = result.stdout
-    assert "recipes/s" in out and "Parquet bytes" in out and "max |Δp| camera" in out
-    assert "400" in out and "100" in out
+    header = next(line for line in result.stdout.splitlines() if "recipes/s" in line)
+    columns = [c.strip() for c in header.strip("┃ ").split("┃")]
+    assert columns[:4] == ["recipes", "recipes/s", "µs/recipe", "Parquet bytes"]
+    assert "max |Δp| camera" in columns and "rejected (Holm)" in columns
+    rows = [
+        [c.strip() for c in line.strip("│ ").split("│")] for line in result.stdout.splitlines() if line.startswith("│")
+    ]
+    assert [r[0] for r in rows] == ["100", "400"]
+    for row in rows:
+        cells = dict(zip(columns, row, strict=True))
+        assert float(cells["recipes/s"].replace(",", "")) > 0
+        assert int(cells["Parquet bytes"].replace(",", "")) > 1000
+        assert 0 <= float(cells["max |Δp| camera"]) < 0.2
+        rejected, total = cells["rejected (Holm)"].split("/")
+        assert int(rejected) == 0 and int(total) > 100
 
 
 def test_recipe_show_and_check_round_trip(tmp_path):

@@ -27,8 +27,10 @@ from phav_spec.recipe import Recipe, frames_for, video_id
 from phav_spec.scene import (
     ACTION_SCENES,
     CAMERA_INFO,
+    CAMERA_PLACEMENT_VARIABLES,
     ENVIRONMENT_SCENES,
     HUMAN_MODELS,
+    PARAMETER_BOUNDS,
     SPRING_MIN_DISTANCES_M,
 )
 from phav_spec.theta import RenderSettings, Theta, load_preset, parse_theta
@@ -389,12 +391,51 @@ def _thetas(draw: st.DrawFn) -> Theta:
         dead = _support(draw, [str(d) for d in SPRING_MIN_DISTANCES_M])
         data["cameras"][cam]["springs"]["min_distance_weights"] = {int(d): draw(_POSITIVE) for d in dead}
     data["motion"]["p_mirror"] = draw(_PROBABILITY)
+    # Continuous parameters: uniform or triangular (degenerate ones included) inside bounds.
+    for path, key in _BOUNDED_PARAMETERS:
+        node = data
+        for part in path[:-1]:
+            node = node[part]
+        node[path[-1]] = _continuous(draw, *PARAMETER_BOUNDS[key][1:], label=key)
+    for cam in CAMERAS.names:
+        for field in ("fov_deg", "distance_m"):
+            data["cameras"][cam][field] = _continuous(draw, *CAMERA_PLACEMENT_VARIABLES[field][1:], label=field)
     data["video"] = {
         "width": draw(st.sampled_from((340, 16, 640))),
         "height": draw(st.sampled_from((256, 16, 480))),
         "fps": draw(st.sampled_from((30, 1, 24, 60, 240))),
     }
     return parse_theta(data, source="<phav_spec.strategies.thetas>")
+
+
+#: θ leaves drawn by ``_continuous`` in ``thetas()``, with their PARAMETER_BOUNDS key.
+_BOUNDED_PARAMETERS: tuple[tuple[tuple[str, ...], str], ...] = (
+    (("motion", "speed"), "motion_speed"),
+    (("protagonist_heading_deg",), "heading_deg"),
+    (("background_actors", "speed_mps"), "background_speed_mps"),
+    (("supporting_characters", "side_distance_m"), "supporting_distance_m"),
+    (("supporting_characters", "facing_distance_m"), "supporting_distance_m"),
+    (("variations", "random_perturbation", "period_s"), "perturbation_period_s"),
+    (("variations", "muscle_weakening", "strength"), "weakening_strength"),
+    (("variations", "action_blending", "weight"), "blending_weight"),
+)
+
+
+def _continuous(draw: st.DrawFn, lo: float, hi: float, *, label: str) -> dict[str, Any]:
+    """A uniform or triangular θ distribution inside [lo, hi], degenerate cases included."""
+    points = sorted(draw(st.lists(st.floats(lo, hi, allow_nan=False), min_size=3, max_size=3)))
+    shape = draw(st.sampled_from(("uniform", "triangular", "point", "mode_at_min", "mode_at_max")))
+    event(f"theta: {label} {shape}")
+    a, c, b = points
+    if shape == "uniform":
+        return {"kind": "uniform", "low": a, "high": b}
+    if shape == "point":
+        return {"kind": "uniform", "low": c, "high": c}
+    if shape == "mode_at_min":
+        c = a
+    elif shape == "mode_at_max":
+        c = b
+    return {"kind": "triangular", "min": a, "max": b, "mode": c}
 
 
 def thetas() -> st.SearchStrategy[Theta]:

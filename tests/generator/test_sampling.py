@@ -50,7 +50,8 @@ def test_no_zero_probability_value_ever_appears(table_40k):
     for variable, table in exact.items():
         column = table_40k.column(variable)
         probs = table.marginal_dict()
-        seen = {v for v in column if v is not None}
+        cells = [v for v in column if v is not None]
+        seen = {x for xs in cells for x in xs} if table.multi else set(cells)
         assert all(probs[v] > 0 for v in seen), variable
     assert set(table_40k.column("day_phase")) == {"dawn", "day", "dusk"}  # θ_D(night) = 0
     assert "static" not in set(table_40k.column("camera"))
@@ -121,26 +122,26 @@ def test_streams_are_keyed_by_name_and_index():
 
 
 def test_parts_do_not_share_draws():
-    """Changing one part's θ leaves every other part of every recipe unchanged."""
-    theta = load_preset()
-    data = theta.model_dump(mode="json")
-    data["cameras"]["kite"]["fov_deg"] = {"kind": "uniform", "low": 20.0, "high": 30.0}
-    data["variations"]["muscle_weakening"]["strength"] = {
-        "kind": "uniform",
-        "low": 0.0,
-        "high": 0.1,
-    }
+    """Changing how many draws one part makes leaves every other part unchanged.
+
+    Variations (kind and muscle counts) and background actors (how many) draw a different
+    number of doubles under ``other``; with one shared stream every later draw would move.
+    """
     from phav_spec.theta import parse_theta
 
+    theta = load_preset()
+    data = theta.model_dump(mode="json")
+    data["theta_v"] = {"muscle_weakening": 1.0}
+    data["theta_av"] = {"rows": {a: {"muscle_weakening": 1.0} for a in data["theta_av"]["rows"]}}
+    data["variations"]["muscle_weakening"]["n_muscles"] = {"min": 15, "max": 15}
+    data["background_actors"]["count"] = {"min": 6, "max": 6}
     other = parse_theta(data)
-    for i in range(50):
+    changed_variation = changed_background = 0
+    for i in range(60):
         a, b = RecipeSampler(theta).sample(3, i), RecipeSampler(other).sample(3, i)
-        assert (a.action, a.motion, a.world, a.environment, a.protagonist) == (
-            b.action,
-            b.motion,
-            b.world,
-            b.environment,
-            b.protagonist,
-        )
-        assert a.camera.kind == b.camera.kind and a.variation.kind == b.variation.kind
-        assert a.background_actors == b.background_actors and a.seeds == b.seeds
+        same = ("action", "motion", "world", "environment", "protagonist", "duration_s", "camera", "seeds")
+        for part in (*same, "supporting_characters"):
+            assert getattr(a, part) == getattr(b, part), (i, part)
+        changed_variation += a.variation != b.variation
+        changed_background += a.background_actors != b.background_actors
+    assert changed_variation > 30 and changed_background > 30

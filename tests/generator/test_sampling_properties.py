@@ -72,11 +72,15 @@ def test_sampled_values_have_positive_probability_under_theta(theta: Theta, seed
             if value is None:  # the variable does not apply to this video
                 assert table.applies_to != "every video", name
                 continue
+            observations = value if table.multi else [value]  # list columns: one per element
+            if not observations:
+                continue
             key = tuple(EXTRACT[parent](recipe) for parent in table.parents)
             assert key in table.rows, f"{name}: parents {key} have probability 0 under θ"
-            assert value in table.values, f"{name}: {value!r} is not a value of the variable"
-            p = table.rows[key][table.values.index(value)]
-            assert p > 0, f"{name} = {value!r} given {key} has probability 0 under θ"
+            for x in observations:
+                assert x in table.values, f"{name}: {x!r} is not a value of the variable"
+                p = table.rows[key][table.values.index(x)]
+                assert p > 0, f"{name} = {x!r} given {key} has probability 0 under θ"
         length_b = MOTIONS[recipe.motion.base_motion].length_s
         assert recipe.motion.base_motion_length_s == length_b
         assert dur.t_min <= recipe.duration_s <= min(length_b, dur.t_max)

@@ -54,15 +54,21 @@ def test_every_table_is_a_distribution_and_marginals_agree():
     assert np.allclose(manual, env.marginal())
 
 
-def test_weather_elements_marginalise_over_their_parent():
+def test_weather_elements_are_conditioned_on_their_parent():
     exact = exact_expectations(load_preset())
-    # fog weather: P(fog) = 1, clouds given fog on: 0.5 (the paper's Bernoulli example).
-    assert exact["clouds"].rows[("fog",)][1] == pytest.approx(0.5)
-    # rain weather: fog on with 0.5, clouds always on.
-    assert exact["clouds"].rows[("rain",)][1] == pytest.approx(1.0)
-    # clear: fog never, clouds otherwise 0.3.
-    assert exact["clouds"].rows[("clear",)][1] == pytest.approx(0.3)
-    assert exact["wet_ground"].rows[("rain",)][1] == pytest.approx(1.0)
+    clouds = exact["clouds"]
+    assert clouds.parents == ("weather", "fog")
+    # fog weather: fog always on, clouds given fog: 0.5 (the paper's Bernoulli example).
+    assert clouds.rows[("fog", True)][1] == pytest.approx(0.5)
+    assert ("fog", False) not in clouds.rows  # fog is never off in fog weather
+    # rain weather: fog on half the time; clouds on either way.
+    assert clouds.rows[("rain", True)][1] == pytest.approx(1.0)
+    assert clouds.parent_probs[("rain", True)] == pytest.approx(0.25 * 0.5)
+    # clear: fog never, clouds otherwise 0.3; the marginal sums over the parent.
+    assert clouds.rows[("clear", False)][1] == pytest.approx(0.3)
+    assert clouds.marginal_dict()[True] == pytest.approx((0.3 + 1.0 + 1.0 + 0.5) / 4)
+    assert exact["wet_ground"].rows[("rain", True)][1] == pytest.approx(1.0)
+    assert exact["rain"].parents == ("weather",)
 
 
 def test_base_motions_respect_t_min():

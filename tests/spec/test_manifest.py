@@ -124,7 +124,7 @@ def test_an_interrupted_dump_keeps_the_old_file(tmp_path: Path, monkeypatch: pyt
         raise OSError("disk full")
 
     monkeypatch.setattr(os, "replace", fail)
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(PhavUserError, match="cannot write: disk full"):
         dump_manifest(DatasetManifest.model_validate(_manifest_data()), path)
     assert path.read_text(encoding="utf-8") == "old"
     assert os.listdir(tmp_path) == ["manifest.json"]

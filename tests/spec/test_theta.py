@@ -88,6 +88,9 @@ BAD = {
     "objects for an action without props": (_set("theta_av.rows.clap", "uniform"), "theta_av.rows.clap.objects", "declares no objects"),
     "probability above one": (_set("weather_elements.fog.clouds.p_if_parent", 1.5), "weather_elements.fog.clouds.p_if_parent", "less than or equal to 1"),
     "variation on zero muscles": (_set("variations.random_perturbation.n_muscles", {"min": 0, "max": 0}), "variations.random_perturbation.n_muscles.min", "greater than or equal to 1"),
+    "negative motion speed": (_set("motion.speed", {"kind": "uniform", "low": -1, "high": 1.1}), "motion.speed", "allowed range"),
+    "zero perturbation period": (_set("variations.random_perturbation.period_s", {"kind": "uniform", "low": 0.0, "high": 0.0}), "variations.random_perturbation.period_s", "allowed range"),
+    "a crowd of background actors": (_set("background_actors.count", {"min": 0, "max": 3_000_000_000}), "background_actors.count.max", "at most 50"),
     "future format": (_set("format_version", 99), "format_version", "newer than this phav"),
 }  # fmt: skip
 
@@ -136,6 +139,26 @@ def test_unreadable_inputs(tmp_path):
     scalar.write_text("42\n", encoding="utf-8")
     with pytest.raises(PhavUserError, match="mapping at the top level"):
         load_theta(scalar)
+
+
+def test_duplicate_keys_are_refused(tmp_path):
+    text = PRESET_PATH.read_text(encoding="utf-8") + "\ntheta_w: {clear: 1}\n"
+    path = tmp_path / "dup.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"dup\.yaml: line \d+: theta_w: key written twice"):
+        load_theta(path)
+
+
+def test_only_bare_names_fall_back_to_presets(tmp_path):
+    assert load_theta("phav-v1").name == "phav-v1"
+    with pytest.raises(PhavUserError, match="no such file"):
+        load_theta(tmp_path / "phav-v1")
+
+
+def test_name_and_description_do_not_change_the_hash():
+    data = preset_dict()
+    data["name"], data["description"] = "renamed", "edited"
+    assert parse_theta(data).hash == load_preset().hash
 
 
 def test_yaml_is_loaded_safely(tmp_path):

@@ -110,6 +110,30 @@ def test_truncated_and_foreign_files_are_user_errors(good, tmp_path):
     assert missing.returncode == 2 and "no such file" in missing.stderr
 
 
+def test_corrupt_table_metadata_is_a_user_error(good, tmp_path):
+    table = pq.read_table(good)
+    meta = dict(table.schema.metadata)
+    cases = {
+        "phav.recipe_schema_version": (b"abc", "not an integer"),
+        "phav.dataset_seed": (b"-4", "must be non-negative"),
+        "phav.theta": (b"{oops", "invalid JSON"),
+    }
+    for key, (value, words) in cases.items():
+        path = tmp_path / f"{key}.parquet"
+        pq.write_table(table.replace_schema_metadata({**meta, key.encode(): value}), path)
+        result = run_cli("stats", str(path))
+        assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+        assert words in result.stderr
+
+
+def test_output_paths_that_cannot_be_written(tmp_path):
+    result = run_cli("sample", "--n", "2", "--out", str(tmp_path))
+    assert result.returncode == 2 and "Is a directory" in result.stderr and "Traceback" not in result.stderr
+    odd = tmp_path / "a[bold]b.yaml"
+    result = run_cli("theta", "check", str(odd))
+    assert result.returncode == 2 and "a[bold]b.yaml" in result.stderr
+
+
 def test_empty_dataset(tmp_path):
     theta = load_preset()
     path = tmp_path / "empty.parquet"
