@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from phav_generator.sampling import RecipeSampler
-from phav_spec.expectations import exact_expectations
+from phav_spec.expectations import ExactTable, exact_expectations
 from phav_spec.recipe_table import RecipeRows, write_recipe_table
 from phav_spec.theta import Theta
 
@@ -28,7 +28,8 @@ class SamplingRun:
     n_tests: int
 
 
-def _max_abs_error(column: list, table) -> float:
+def _max_abs_error(column: list, table: ExactTable) -> float:
+    """Largest |observed − exact| frequency over a variable's values."""
     observed = np.array([column.count(v) for v in table.values], dtype=float) / max(len(column), 1)
     return float(np.abs(observed - table.marginal()).max())
 

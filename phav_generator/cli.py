@@ -69,7 +69,10 @@ def sample(
     with _progress() as progress:
         rows = sample_table(th, n=n, seed=seed, progress=progress)
     size = write_recipe_table(rows.to_arrow(theta=th, dataset_seed=seed), out)
-    console.print(f"wrote {len(rows)} recipes to {out} ({size:,} bytes), θ {th.name} {th.hash[:12]}…, seed {seed}")
+    console.print(
+        f"wrote {len(rows)} recipes to {escape(str(out))} ({size:,} bytes), θ {escape(th.name)} {th.hash[:12]}…, "
+        f"seed {seed}"
+    )
 
 
 @app.command()
@@ -116,7 +119,7 @@ def _theta_for(rt: RecipeTable, theta: str | None) -> Theta:
 def theta_check(file: Annotated[str, typer.Argument(help="θ YAML file or preset name.")]) -> None:
     """Validate a θ and print its canonical hash."""
     th = load_theta(file)
-    console.print(f"{file}: valid θ '{th.name}'")
+    console.print(f"{escape(file)}: valid θ '{escape(th.name)}'")
     console.print(th.hash)
 
 
@@ -215,6 +218,7 @@ def bench(
 
 
 def main() -> None:
+    """Entry point of the `phav` console script."""
     run_app(app)
 
 

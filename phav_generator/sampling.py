@@ -33,7 +33,9 @@ from phav_spec.scene import (
     HUMAN_MODELS,
     SPRING_MIN_DISTANCES_M,
     WEATHER_ELEMENTS,
+    EnvironmentScene,
     HumanModel,
+    Vec3,
 )
 from phav_spec.theta import Theta
 from phav_spec.vocab import (
@@ -262,7 +264,7 @@ class RecipeSampler:
             }
         )
 
-    def _background(self, env, first_id: int) -> list[dict]:
+    def _background(self, env: EnvironmentScene, first_id: int) -> list[dict]:
         """Background pedestrians on the environment's B_WG graph (none indoors)."""
         graph = env.background_waypoints
         if not graph:
@@ -334,7 +336,7 @@ class RecipeSampler:
         self,
         a: int,
         e: int,
-        position,
+        position: Vec3,
         heading: float,
         human: HumanModel,
     ) -> dict:
@@ -380,7 +382,7 @@ class RecipeSampler:
             "impulse": impulse,
         }
 
-    def _supporting(self, action: str, h: int, position, heading: float) -> list[dict]:
+    def _supporting(self, action: str, h: int, position: Vec3, heading: float) -> list[dict]:
         """Supporting characters: a human model from H without the protagonist's, placed by S_xyz."""
         placement = ACTION_SCENES[action].supporting_placement
         if placement is None:

@@ -13,4 +13,5 @@ def canonical_json(data: Any) -> str:
 
 
 def sha256_hex(text: str) -> str:
+    """Hex sha256 of the UTF-8 bytes of ``text``."""
     return hashlib.sha256(text.encode("utf-8")).hexdigest()

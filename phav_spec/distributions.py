@@ -104,6 +104,7 @@ class Categorical:
         self.probabilities = tuple(float(w) / total for w in weights)
 
     def sample(self, *, rng: np.random.Generator) -> int:
+        """One index (one uniform double)."""
         return categorical_index(self.cum, rng.random())
 
     def pmf(self, k: int) -> float:

@@ -62,6 +62,7 @@ class ExactTable:
         return out
 
     def marginal_dict(self) -> dict[Any, float]:
+        """The marginal as value → probability."""
         return dict(zip(self.values, self.marginal().tolist(), strict=True))
 
 
@@ -90,6 +91,7 @@ class ModelProbabilities:
 
     @classmethod
     def of(cls, theta: Theta) -> ModelProbabilities:
+        """Normalise θ's weights and tables (unreachable rows stay zero)."""
         arr = theta.arrays
         return cls(
             a=_normalise(arr.a), d=_normalise(arr.d), w=_normalise(arr.w), h=_normalise(arr.h),
@@ -109,6 +111,7 @@ class ModelProbabilities:
 
     @property
     def b(self) -> np.ndarray:
+        """Base-motion marginal P(B) = Σ_a P(a) P(B | a)."""
         return self.a @ self.b_a
 
 

@@ -99,16 +99,19 @@ class RecipeRows:
         return len(self.columns[RECIPE_COLUMN])
 
     def add(self, recipe: Recipe) -> None:
+        """Append one recipe's stable columns and JSON."""
         for c in COLUMNS:
             self.columns[c.name].append(c.extract(recipe))
         self.columns[RECIPE_COLUMN].append(recipe.model_dump_json())
 
     def extend(self, recipes: Iterable[Recipe]) -> RecipeRows:
+        """Append every recipe; returns self for chaining."""
         for r in recipes:
             self.add(r)
         return self
 
     def to_arrow(self, *, theta: Theta | None = None, dataset_seed: int | None = None) -> pa.Table:
+        """The Arrow table, with θ, its hash, the seed and the schema version as metadata."""
         import pyarrow as pa
 
         def arrow(name: str) -> pa.DataType:
@@ -147,6 +150,7 @@ class RecipeTable:
     schema_version: int
 
     def column(self, name: str) -> list[Any]:
+        """One column as a Python list."""
         return self.table.column(name).to_pylist()
 
     def recipes(self) -> Iterable[Recipe]:

@@ -433,6 +433,7 @@ class ThetaArrays:
         return self.e[None, :] * self.ae
 
     def p_v_given_a(self) -> np.ndarray:
+        """Unnormalised P(V | A) ∝ θ_V · θ_AV, shape (A, V)."""
         return self.v[None, :] * self.av
 
     def p_c_given_ae(self) -> np.ndarray:
@@ -440,6 +441,7 @@ class ThetaArrays:
         return self.c[None, None, :] * self.ac[:, None, :] * self.ec[None, :, :]
 
     def p_b_given_a(self) -> np.ndarray:
+        """Unnormalised P(B | A) ∝ θ_AB · 1[length(b) ≥ T_min], shape (A, B)."""
         return self.ab * self.motion_long_enough[None, :]
 
 
@@ -555,6 +557,8 @@ class Theta(BaseModel):
 
     @cached_property
     def arrays(self) -> ThetaArrays:
+        """θ's categorical parameters as arrays in registry order (computed once)."""
+
         def vec(d: dict[str, float]) -> np.ndarray:
             return np.array(list(d.values()), dtype=np.float64)
 

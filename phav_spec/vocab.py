@@ -50,6 +50,7 @@ class Registry(Generic[T]):
         return self._index[name]
 
     def items(self) -> tuple[tuple[str, T], ...]:
+        """(name, entry) pairs in registry order."""
         return tuple((name, self._entries[name]) for name in self.names)
 
     def check(self, name: str) -> str:

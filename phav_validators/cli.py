@@ -71,6 +71,7 @@ def validate(
 
 
 def main() -> None:
+    """Entry point of the `phav-validate` console script."""
     run_app(app)
 
 

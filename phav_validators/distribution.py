@@ -72,6 +72,7 @@ class DistributionResult:
 
     @property
     def ok(self) -> bool:
+        """No finding: every test passed and no impossible value was seen."""
         return self.report.ok
 
 

@@ -37,8 +37,10 @@ class Report:
     notes: list[str] = field(default_factory=list)
 
     def add(self, finding: Finding) -> None:
+        """Record a finding; checks go on."""
         self.findings.append(finding)
 
     @property
     def ok(self) -> bool:
+        """True when nothing was found."""
         return not self.findings
