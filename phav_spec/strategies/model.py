@@ -398,8 +398,11 @@ def _thetas(draw: st.DrawFn) -> Theta:
             node = node[part]
         node[path[-1]] = _continuous(draw, *PARAMETER_BOUNDS[key][1:], label=key)
     for cam in CAMERAS.names:
-        for field in ("fov_deg", "distance_m"):
+        for field in ("fov_deg", "distance_m", "height_m", "azimuth_deg"):
             data["cameras"][cam][field] = _continuous(draw, *CAMERA_PLACEMENT_VARIABLES[field][1:], label=field)
+    for kind in ("random_perturbation", "muscle_weakening", "action_blending"):
+        lo = draw(st.integers(1, len(MUSCLES)))
+        data["variations"][kind]["n_muscles"] = {"min": lo, "max": draw(st.integers(lo, len(MUSCLES)))}
     data["video"] = {
         "width": draw(st.sampled_from((340, 16, 640))),
         "height": draw(st.sampled_from((256, 16, 480))),
