@@ -204,8 +204,7 @@ class RecipeSampler:
         action = ACTIONS.names[a]
         b = self._b[a].sample(rng=rng)
         length_b = self._lengths[b]
-        dur = theta.durations
-        duration = triangular_inverse_cdf(dur.t_min, min(length_b, dur.t_max), min(dur.t_mod, length_b), rng.random())
+        duration = triangular_inverse_cdf(*theta.durations.clip_length(length_b), rng.random())
         speed = theta.motion.speed.sample(rng=rng)
         mirror = rng.random() < theta.motion.p_mirror
         start_s = rng.random() * max(0.0, length_b - duration * speed)

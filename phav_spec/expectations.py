@@ -334,16 +334,13 @@ def _dead_zone_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
 # --------------------------------------------------------------------------- continuous
 
 
-def _duration_components(theta: Theta, p: ModelProbabilities, weights_b: np.ndarray) -> list[tuple[float, Triangular]]:
-    dur = theta.durations
+def _duration_components(theta: Theta, weights_b: np.ndarray) -> list[tuple[float, Triangular]]:
+    """P(L) as a mixture: (P(b), Tr of L given b) for every motion b with weight."""
     out = []
-    for k, name in np.ndenumerate(np.array(MOTIONS.names, dtype=object)):
-        w = float(weights_b[k])
-        if w <= 0:
-            continue
-        length = MOTIONS[name].length_s
-        tri = Triangular(min=dur.t_min, max=min(length, dur.t_max), mode=min(dur.t_mod, length))
-        out.append((w, tri))
+    for k, name in enumerate(MOTIONS.names):
+        if weights_b[k] > 0:
+            a, b, c = theta.durations.clip_length(MOTIONS[name].length_s)
+            out.append((float(weights_b[k]), Triangular(min=a, max=b, mode=c)))
     return out
 
 
@@ -359,13 +356,13 @@ def duration_cdf(theta: Theta, action: str | None = None) -> Callable[[np.ndarra
     """CDF of the clip length L (optionally given the action): a mixture of Tr over motions."""
     p = ModelProbabilities.of(theta)
     weights = p.b if action is None else p.b_a[ACTIONS.index(action)]
-    return _mixture_cdf(_duration_components(theta, p, weights))
+    return _mixture_cdf(_duration_components(theta, weights))
 
 
 def mean_duration(theta: Theta) -> float:
     """E[L] in seconds: Σ_b P(b) (T_min + min(L_b, T_max) + min(T_mod, L_b)) / 3."""
     p = ModelProbabilities.of(theta)
-    return float(sum(w * t.mean() for w, t in _duration_components(theta, p, p.b)))
+    return float(sum(w * t.mean() for w, t in _duration_components(theta, p.b)))
 
 
 def clock_hour_cdf(theta: Theta, day_phase: str | None = None) -> Callable[[np.ndarray], np.ndarray]:

@@ -163,6 +163,10 @@ class Durations(BaseModel):
             raise ValueError(f"t_mod ({self.t_mod}) must lie in [t_min, t_max] = [{self.t_min}, {self.t_max}]")
         return self
 
+    def clip_length(self, motion_length_s: float) -> tuple[float, float, float]:
+        """(a, b, c) of P(L | B = b) = Tr(T_min, min(L_b, T_max), min(T_mod, L_b)) (paper)."""
+        return self.t_min, min(motion_length_s, self.t_max), min(self.t_mod, motion_length_s)
+
 
 class MotionRegex(BaseModel):
     """θ_AB as in the paper: one regular expression per action, matched against motion texts."""
@@ -240,18 +244,18 @@ def bounded(key: str) -> Any:
     unit, lo, hi = PARAMETER_BOUNDS[key]
 
     def check(dist: Uniform | Triangular) -> Uniform | Triangular:
-        a, b = dist.support
-        if a < lo or b > hi:
-            raise ValueError(f"support [{a}, {b}] leaves the allowed range [{lo}, {hi}] {unit}")
+        _check_support(dist, lo, hi, unit=unit)
         return dist
 
     return Annotated[Continuous, AfterValidator(check)]
 
 
-def _check_support(dist: Uniform | Triangular, lo: float, hi: float, name: str) -> None:
+def _check_support(dist: Uniform | Triangular, lo: float, hi: float, name: str | None = None, unit: str = "") -> None:
+    """Refuse a distribution whose support leaves [lo, hi] (the message names ``name`` if given)."""
     a, b = dist.support
     if a < lo or b > hi:
-        raise ValueError(f"{name}: support [{a}, {b}] leaves the allowed range [{lo}, {hi}]")
+        message = f"support [{a}, {b}] leaves the allowed range [{lo}, {hi}]" + (f" {unit}" if unit else "")
+        raise ValueError(f"{name}: {message}" if name else message)
 
 
 class IntegerRange(BaseModel):

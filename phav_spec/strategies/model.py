@@ -16,7 +16,7 @@ import functools
 import json
 import math
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from hypothesis import event
@@ -231,6 +231,37 @@ def _durations(draw: st.DrawFn, candidates: Sequence[float]) -> dict[str, float]
     return {"t_min": t_min, "t_max": t_max, "t_mod": t_mod}
 
 
+def _action_rows(
+    draw: st.DrawFn,
+    preset_table: dict[str, Any],
+    names: Sequence[str],
+    support: Sequence[str],
+    allowed_of: Callable[[str], Sequence[str]],
+    reach: Sequence[str],
+    zero_rows: bool,
+) -> dict[str, Any]:
+    """A per-action table (θ_AE, θ_AV): reachable rows give weight only to values the action
+    allows among ``support`` (with at least one), unreachable rows are zero or the preset's.
+
+    A disallowed value may keep weight where its marginal θ is zero: it stays unreachable.
+    """
+    rows = {}
+    for a in ACTIONS.names:
+        if a in reach:
+            allowed = allowed_of(a)
+            rows[a] = _row(
+                draw,
+                names,
+                forbidden=[x for x in support if x not in allowed],
+                force_one_of=[x for x in allowed if x in support],
+            )
+        elif zero_rows:
+            rows[a] = {}
+        else:
+            rows[a] = preset_table["rows"][a]
+    return {"rows": rows}
+
+
 @st.composite
 def _thetas(draw: st.DrawFn) -> Theta:
     data = _preset_dict()
@@ -301,22 +332,9 @@ def _thetas(draw: st.DrawFn) -> Theta:
     envs_t = tuple(e for e in ENVIRONMENTS.names if e in envs)
     data["theta_e"] = _vector(draw, envs_t)
     _label_vector("environment", envs_t, ENVIRONMENTS.names)
-    ae_rows = {}
-    for a in ACTIONS.names:
-        if a in reach:
-            allowed = _allowed_environments(a)
-            # A disallowed environment may keep weight where θ_E is zero: it stays unreachable.
-            ae_rows[a] = _row(
-                draw,
-                ENVIRONMENTS.names,
-                forbidden=[e for e in envs_t if e not in allowed],
-                force_one_of=[e for e in allowed if e in envs],
-            )
-        elif zero_rows:
-            ae_rows[a] = {}
-        else:
-            ae_rows[a] = data["theta_ae"]["rows"][a]
-    data["theta_ae"] = {"rows": ae_rows}
+    data["theta_ae"] = _action_rows(
+        draw, data["theta_ae"], ENVIRONMENTS.names, envs_t, _allowed_environments, reach, zero_rows
+    )
 
     # V and θ_AV: objects only where the action declares props.
     variations = set(_support(draw, VARIATIONS.names))
@@ -326,21 +344,9 @@ def _thetas(draw: st.DrawFn) -> Theta:
     variations_t = tuple(v for v in VARIATIONS.names if v in variations)
     data["theta_v"] = _vector(draw, variations_t)
     _label_vector("variation", variations_t, VARIATIONS.names)
-    av_rows = {}
-    for a in ACTIONS.names:
-        if a in reach:
-            allowed = _allowed_variations(a)
-            av_rows[a] = _row(
-                draw,
-                VARIATIONS.names,
-                forbidden=[v for v in variations_t if v not in allowed],
-                force_one_of=[v for v in allowed if v in variations],
-            )
-        elif zero_rows:
-            av_rows[a] = {}
-        else:
-            av_rows[a] = data["theta_av"]["rows"][a]
-    data["theta_av"] = {"rows": av_rows}
+    data["theta_av"] = _action_rows(
+        draw, data["theta_av"], VARIATIONS.names, variations_t, _allowed_variations, reach, zero_rows
+    )
 
     # C, θ_AC, θ_EC: one outdoor-capable camera f with weight everywhere guarantees a camera
     # for every reachable (action, environment); the indoors camera only in indoor scenes.
@@ -363,7 +369,7 @@ def _thetas(draw: st.DrawFn) -> Theta:
         else:
             ac_rows[a] = data["theta_ac"]["rows"][a]
     data["theta_ac"] = {"rows": ac_rows}
-    for rows in (ae_rows, av_rows, ac_rows):
+    for rows in (data["theta_ae"]["rows"], data["theta_av"]["rows"], ac_rows):
         if any(0.0 in rows[a].values() and len({w for w in rows[a].values() if w > 0}) > 1 for a in reach):
             event("theta: reachable table row with zeros and unequal weights")
             break
