@@ -3,7 +3,9 @@
 Per action: necessary and complementary muscles, the props it needs, the props the
 ``objects`` variation may add, the pixel classes its environment must contain. Per
 environment: indoor or not, its static pixel classes, the protagonist's waypoints and the
-background actors' waypoints (indoor scenes have none, as in the paper). The 20 human models.
+background actors' waypoints (indoor scenes have none, as in the paper), its ground plane
+height and its static collision geometry (oriented boxes, each with its pixel class). The
+20 human models.
 The weather elements and their Bernoulli dependencies. The kite camera's spring variables
 with their physical bounds. θ chooses distributions inside these declarations; it cannot
 change them.
@@ -11,6 +13,7 @@ change them.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from phav_spec.vocab import (
@@ -20,6 +23,7 @@ from phav_spec.vocab import (
     MUSCLES,
     OBJECTS,
     PIXEL_CLASSES,
+    PixelGroup,
     Registry,
 )
 
@@ -120,14 +124,147 @@ def _action_scenes() -> tuple[tuple[str, ActionScene], ...]:
 ACTION_SCENES: Registry[ActionScene] = Registry("action", _action_scenes())
 
 
+#: Pixel-class groups a static collider may carry: the street / nature classes and the indoor
+#: ones. Props, people and joints move; they are never part of the static world.
+_STATIC_GROUPS = (PixelGroup.VIRTUAL_KITTI, PixelGroup.INDOORS)
+
+#: Classes a person may stand and walk on (``support_height``); every other class is an obstacle.
+WALKABLE_PIXEL_CLASSES: tuple[str, ...] = ("terrain", "road", "floor", "stairs")
+
+#: The highest step (metres) ``support_height`` climbs above its reference height.
+MAX_STEP_M = 0.7
+
+
+@dataclass(frozen=True)
+class Collider:
+    """A static oriented box of an environment: what physics collides with and the renderer draws.
+
+    ``center`` and ``half_size`` in metres, world frame (+Z up); the box is turned by
+    ``yaw_deg`` about +Z around its centre (counter-clockwise seen from above), so its local
+    x axis points along (cos yaw, sin yaw). ``pixel_class`` labels its pixels.
+    """
+
+    pixel_class: str
+    center: Vec3
+    half_size: Vec3
+    yaw_deg: float = 0.0
+
+    def __post_init__(self) -> None:
+        PIXEL_CLASSES.check(self.pixel_class)
+        if PIXEL_CLASSES[self.pixel_class].group not in _STATIC_GROUPS or self.pixel_class == "sky":
+            raise ValueError(f"pixel class {self.pixel_class!r} is not static scene geometry")
+        if len(self.center) != 3 or len(self.half_size) != 3:
+            raise ValueError("a collider's center and half_size are 3-vectors")
+        center = tuple(float(v) for v in self.center)
+        half = tuple(float(v) for v in self.half_size)
+        yaw = float(self.yaw_deg)
+        if not all(math.isfinite(v) for v in (*center, yaw)):
+            raise ValueError(f"collider center and yaw must be finite, got {center}, {yaw}")
+        if not all(math.isfinite(h) and h > 0.0 for h in half):
+            raise ValueError(f"collider half sizes must be positive and finite, got {half}")
+        object.__setattr__(self, "center", center)
+        object.__setattr__(self, "half_size", half)
+        object.__setattr__(self, "yaw_deg", yaw)
+
+    @property
+    def bottom(self) -> float:
+        return self.center[2] - self.half_size[2]
+
+    @property
+    def top(self) -> float:
+        return self.center[2] + self.half_size[2]
+
+    def to_local(self, x: float, y: float) -> tuple[float, float]:
+        """World (x, y) in the box's own horizontal frame (origin at its centre)."""
+        yaw = math.radians(self.yaw_deg)
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = x - self.center[0], y - self.center[1]
+        return dx * c + dy * s, -dx * s + dy * c
+
+    def contains_xy(self, x: float, y: float, margin: float = 0.0) -> bool:
+        """Whether (x, y) lies in the footprint, at least ``margin`` metres from its edges."""
+        lx, ly = self.to_local(x, y)
+        return abs(lx) <= self.half_size[0] - margin and abs(ly) <= self.half_size[1] - margin
+
+    def xy_distance(self, x: float, y: float) -> float:
+        """Horizontal distance from (x, y) to the footprint (0 inside it)."""
+        lx, ly = self.to_local(x, y)
+        return math.hypot(max(abs(lx) - self.half_size[0], 0.0), max(abs(ly) - self.half_size[1], 0.0))
+
+    def footprint(self) -> tuple[tuple[float, float], ...]:
+        """The footprint's four corners, counter-clockwise."""
+        yaw = math.radians(self.yaw_deg)
+        c, s = math.cos(yaw), math.sin(yaw)
+        hx, hy = self.half_size[0], self.half_size[1]
+        cx, cy = self.center[0], self.center[1]
+        return tuple(
+            (cx + lx * c - ly * s, cy + lx * s + ly * c) for lx, ly in ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy))
+        )
+
+
+def _box(cls: str, x: float, y: float, z_bottom: float, w: float, d: float, h: float, yaw: float = 0.0) -> Collider:
+    """A box standing on height ``z_bottom``: footprint ``w`` × ``d`` (its own x, y) centred on (x, y), ``h`` tall."""
+    return Collider(cls, (x, y, z_bottom + h / 2), (w / 2, d / 2, h / 2), yaw)
+
+
+def _flat(cls: str, x: float, y: float, top: float, w: float, d: float, yaw: float = 0.0) -> Collider:
+    """A 0.1 m slab whose top face lies at ``top``: a road or path flush with the ground it marks."""
+    return _box(cls, x, y, top - 0.1, w, d, 0.1, yaw)
+
+
+def _tree(x: float, y: float, z: float, height: float = 6.0, crown: float = 3.0) -> tuple[Collider, ...]:
+    """A tree standing on height z: a 0.4 m trunk and a crown box whose bottom is 3 m up."""
+    return (
+        _box("tree", x, y, z, 0.4, 0.4, height - crown),
+        _box("tree", x, y, z + height - crown, crown, crown, crown),
+    )
+
+
+def _pole(x: float, y: float, z: float, height: float) -> Collider:
+    return _box("pole", x, y, z, 0.2, 0.2, height)
+
+
+def _sign(x: float, y: float, z: float, yaw: float = 0.0) -> tuple[Collider, ...]:
+    """A traffic sign: a 2.6 m post and a 0.7 m plate at its top, facing along its local y."""
+    return (_pole(x, y, z, 2.6), _box("traffic_sign", x, y, z + 2.0, 0.7, 0.06, 0.7, yaw))
+
+
+def _traffic_light(x: float, y: float, z: float, yaw: float = 0.0) -> tuple[Collider, ...]:
+    """A traffic light: a 3.6 m post and a 1 m signal head at its top."""
+    return (_pole(x, y, z, 3.6), _box("traffic_light", x, y, z + 2.7, 0.35, 0.35, 1.0, yaw))
+
+
+def _bench(x: float, y: float, z: float, yaw: float = 0.0) -> Collider:
+    return _box("bench", x, y, z, 1.8, 0.5, 0.45, yaw)
+
+
+def _steps(
+    cls: str, x: float, y: float, z: float, width: float, run: float, rise: float, n: int, yaw: float
+) -> tuple[Collider, ...]:
+    """``n`` steps climbing from their foot at (x, y) towards heading ``yaw``: step i is (i + 1) rises tall."""
+    c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+    return tuple(
+        _box(cls, x + (i + 0.5) * run * c, y + (i + 0.5) * run * s, z, run, width, (i + 1) * rise, yaw)
+        for i in range(n)
+    )
+
+
 @dataclass(frozen=True)
 class EnvironmentScene:
-    """An environment: indoor or not, its static pixel classes and its two waypoint graphs."""
+    """An environment: indoor or not, its static pixel classes, its two waypoint graphs, its
+    ground plane and its static collision geometry.
+
+    The ground is an infinite plane at ``ground_z`` (pixel class ``terrain`` outdoors, ``floor``
+    indoors); ``colliders`` are the static boxes standing on or above it (roads, terraces,
+    buildings, furniture, ...). Moving things (cars driving, people, props) are not colliders.
+    """
 
     indoor: bool
     pixel_classes: tuple[str, ...]
     protagonist_waypoints: tuple[Vec3, ...]
     background_waypoints: tuple[Vec3, ...]
+    colliders: tuple[Collider, ...] = ()
+    ground_z: float = 0.0
 
     def __post_init__(self) -> None:
         for c in self.pixel_classes:
@@ -138,6 +275,20 @@ class EnvironmentScene:
             raise ValueError("indoor scenes have no background-actor waypoint graph")
         if not self.indoor and len(self.background_waypoints) < 2:
             raise ValueError("an outdoor background graph needs a start and a destination")
+        if not math.isfinite(self.ground_z):
+            raise ValueError(f"ground_z must be finite, got {self.ground_z}")
+        for collider in self.colliders:
+            if not isinstance(collider, Collider):
+                raise TypeError(f"colliders must be Collider boxes, got {type(collider).__name__}")
+            if collider.pixel_class not in self.pixel_classes:
+                raise ValueError(
+                    f"collider class {collider.pixel_class!r} is not one of the environment's pixel classes"
+                )
+
+    @property
+    def ground_pixel_class(self) -> str:
+        """The pixel class of the ground plane."""
+        return "floor" if self.indoor else "terrain"
 
 
 _OUTDOOR_BASE = ("sky", "terrain", "misc")
@@ -145,6 +296,267 @@ _OUTDOOR_BASE = ("sky", "terrain", "misc")
 
 def _grid(xs: tuple[float, ...], ys: tuple[float, ...], z: float = 0.0) -> tuple[Vec3, ...]:
     return tuple((x, y, z) for x in xs for y in ys)
+
+
+# Static collision geometry, one builder per environment. Every box stands on the surface it
+# rests on (``_box``'s z is its bottom); roads and paths are slabs flush with the ground. The
+# data keep a 3 m radius free around each protagonist waypoint from 0.05 m above its standing
+# height up to 2.5 m (its own support excepted), stand every waypoint on the plane or on the
+# top face of a box, and keep non-walkable boxes off the straight background-actor paths;
+# tests/spec/test_colliders.py checks all of it.
+
+
+def _simple_colliders() -> tuple[Collider, ...]:
+    return (_flat("road", 0.0, 0.0, 0.0, 200.0, 8.0),)  # a straight road, y ∈ [-4, 4]
+
+
+def _urban_colliders() -> tuple[Collider, ...]:
+    g = 0.0
+    street = (
+        _flat("road", 0.0, 0.0, g, 140.0, 9.0),  # carriageway, y ∈ [-4.5, 4.5]
+        _flat("road", 0.0, 8.5, g, 140.0, 8.0),  # north sidewalk, y ∈ [4.5, 12.5]
+        _flat("road", 0.0, -8.5, g, 140.0, 8.0),  # south sidewalk
+        # The raised plaza (top 0.6): A carries waypoint (30, 10, 0.6) with 3 m to spare,
+        # B the background waypoint (40, 12, 0.6); (35, 7, 0) stays on the sidewalk below.
+        _box("road", 30.0, 11.45, g, 8.0, 9.1, 0.6),  # A: x ∈ [26, 34], y ∈ [6.9, 16]
+        _box("road", 40.0, 12.5, g, 12.0, 7.0, 0.6),  # B: x ∈ [34, 46], y ∈ [9, 16]
+        *_steps("stairs", 25.1, 12.25, g, 3.5, 0.45, 0.2, 2, 0.0),  # up to A from the west
+    )
+    buildings = (
+        _box("building", -41.0, 21.5, g, 38.0, 18.0, 18.0),  # north side, y ∈ [12.5, 30.5]
+        _box("building", -11.0, 21.5, g, 18.0, 18.0, 26.0),
+        _box("building", 12.0, 21.5, g, 24.0, 18.0, 14.0),
+        _box("building", 43.0, 26.0, g, 34.0, 18.0, 30.0),  # behind the plaza, y ∈ [17, 35]
+        _box("building", -42.5, -21.5, g, 35.0, 18.0, 22.0),  # south side, y ∈ [-30.5, -12.5]
+        _box("building", -11.0, -21.5, g, 22.0, 18.0, 12.0),
+        _box("building", 16.5, -21.5, g, 27.0, 18.0, 28.0),
+        _box("building", 46.5, -21.5, g, 27.0, 18.0, 16.0),
+    )
+    furniture = (
+        _pole(-40.0, 5.0, g, 7.0),  # street lights along the kerbs
+        _pole(-4.5, 4.8, g, 7.0),
+        _pole(17.0, 5.0, g, 7.0),
+        _pole(-45.0, -5.0, g, 7.0),
+        _pole(10.0, -5.0, g, 7.0),
+        _pole(45.0, -5.0, g, 7.0),
+        *_traffic_light(-18.0, 5.2, g),  # a pedestrian crossing at x = -18
+        *_traffic_light(-18.0, -5.2, g, 180.0),
+        *_sign(-25.0, 5.2, g),
+        *_sign(40.0, -5.2, g, 180.0),
+        _box("guard_rail", -46.0, 4.7, g, 28.0, 0.1, 0.9),  # kerb rails where no background path crosses the street
+        _box("guard_rail", -46.0, -4.7, g, 28.0, 0.1, 0.9),
+        _box("guard_rail", 53.5, -4.7, g, 13.0, 0.1, 0.9),
+        _box("guard_rail", 36.0, 15.95, 0.6, 20.0, 0.1, 1.0),  # plaza railings
+        _box("guard_rail", 45.95, 12.5, 0.6, 0.1, 7.0, 1.0),
+        _box("guard_rail", 43.75, 9.05, 0.6, 4.5, 0.1, 1.0),
+        _bench(-5.0, 11.7, g),
+        _bench(7.0, 11.7, g),
+        _bench(-35.0, -11.7, g, 180.0),
+        _bench(10.0, -11.7, g, 180.0),
+        _bench(43.0, 14.8, 0.6),
+        *_tree(-40.0, -10.0, g),
+        *_tree(-15.0, -10.0, g),
+        *_tree(25.0, -10.0, g),
+        *_tree(-30.0, 11.0, g),
+        _box("vegetation", -15.0, 11.6, g, 2.0, 1.2, 0.8),  # planters
+        _box("vegetation", 20.0, 11.6, g, 2.0, 1.2, 0.8),
+        _box("vegetation", 0.0, -11.6, g, 2.0, 1.2, 0.8),
+        _box("car", -50.0, 3.4, g, 4.4, 1.8, 1.5),  # parked in the kerb lane
+        _box("car", 52.0, -3.4, g, 4.4, 1.8, 1.5),
+    )
+    return street + buildings + furniture
+
+
+def _green_colliders() -> tuple[Collider, ...]:
+    # The base plane (-0.2) is the lowest ground; grass terraces raise the rest of the park.
+    g = -0.2
+    terraces = (
+        _box("terrain", -3.0, 13.25, g, 13.0, 33.5, 0.2),  # top 0.0: x ∈ [-9.5, 3.5], y ∈ [-3.5, 30]
+        _box("terrain", -17.75, -7.0, g, 24.5, 30.0, 0.2),  # top 0.0: x ∈ [-30, -5.5], y ∈ [-22, 8]
+        _box("terrain", 12.75, 10.25, g, 16.5, 21.5, 0.3),  # top 0.1: x ∈ [4.5, 21], y ∈ [-0.5, 21]
+        # top 0.2 under (12, -2): turned so its face toward (8, 3, 0.1) stays 3.2 m away.
+        _box("terrain", 12.0, -2.0, g, 6.4, 8.0, 0.4, -51.34),
+        _box("terrain", 25.0, 0.0, g, 6.0, 6.0, 0.4),  # top 0.2 under (25, 0)
+        _box("terrain", 3.5, -8.25, g, 9.0, 9.5, 0.1),  # top -0.1: x ∈ [-1, 8], y ∈ [-13, -3.5]
+    )
+    # The background paths criss-cross the middle of the park; obstacles keep off them.
+    park = (
+        *_tree(-10.0, 10.0, g),
+        *_tree(10.0, -10.0, g, 7.0),
+        *_tree(-20.0, 14.0, g, 8.0, 4.0),
+        *_tree(14.0, -18.0, g),
+        *_tree(-24.0, -16.0, 0.0, 8.0, 4.0),
+        *_tree(24.0, 16.0, g),
+        _box("vegetation", -4.0, -8.0, g, 2.0, 1.5, 1.0),  # bushes
+        _box("vegetation", 4.0, 8.0, g, 1.5, 1.5, 0.9),
+        _box("vegetation", -6.5, -10.0, 0.0, 1.6, 2.0, 1.2),
+        _box("vegetation", 16.0, -14.0, g, 1.8, 1.2, 0.8),
+        _box("vegetation", -12.0, 22.0, g, 2.5, 1.5, 1.0),
+        _bench(6.0, -4.5, -0.1),
+        _bench(-16.0, -4.0, 0.0, 90.0),
+        _bench(26.0, -8.0, g, 90.0),
+        _pole(16.0, 4.0, 0.1, 4.0),  # lamp posts
+        _pole(-14.0, 16.0, g, 4.0),
+        _pole(20.0, -14.0, g, 4.0),
+    )
+    return terraces + park
+
+
+def _middle_colliders() -> tuple[Collider, ...]:
+    g = 0.0
+    ground = (
+        _flat("road", 0.0, 0.0, g, 160.0, 7.0),  # y ∈ [-3.5, 3.5]
+        _box("terrain", 0.0, 31.0, g, 10.0, 6.0, 0.5),  # a raised garden under (0, 30, 0.5)
+    )
+    houses = (
+        _box("building", -30.0, -16.0, g, 10.0, 12.0, 7.0),
+        _box("building", 0.0, -16.0, g, 12.0, 12.0, 9.0),
+        _box("building", 30.0, -16.0, g, 10.0, 12.0, 6.0),
+        _box("building", 30.0, 27.0, g, 12.0, 10.0, 8.0),
+        _box("building", -30.0, 27.0, g, 12.0, 10.0, 10.0),
+    )
+    street = (
+        _box("guard_rail", 0.0, -3.9, g, 32.0, 0.1, 0.9),  # x ∈ [-16, 16]
+        *_sign(-10.0, -4.5, g, 180.0),
+        *_sign(45.0, 4.5, g),
+        _pole(-5.0, 4.2, g, 6.0),
+        _pole(15.0, 4.2, g, 6.0),
+        _pole(10.0, -4.5, g, 6.0),
+        _box("car", 36.0, -9.0, g, 4.4, 1.8, 1.5, 90.0),  # parked in a driveway
+        *_tree(5.0, 14.0, g),
+        *_tree(-8.0, 16.0, g, 7.0),
+        *_tree(-15.0, -10.0, g),
+        *_tree(15.0, -10.0, g, 5.0, 2.5),
+        _box("vegetation", -22.0, -9.0, g, 4.0, 1.0, 1.0),  # hedges
+        _box("vegetation", 22.0, -9.0, g, 4.0, 1.0, 1.0),
+        _box("vegetation", 30.0, 20.5, g, 6.0, 1.0, 1.0),
+    )
+    return ground + houses + street
+
+
+def _lake_colliders() -> tuple[Collider, ...]:
+    # The base plane (0.0) is the lake bed; the banks are terraces around it and leave the
+    # lake, x ∈ [-13, 13], y ∈ [-7, 14], a hollow the renderer fills with water (no collider).
+    g = 0.0
+    banks = (
+        _box("terrain", 0.0, -13.5, g, 68.0, 13.0, 0.2),  # south promenade, top 0.2, y ∈ [-20, -7]
+        _box("terrain", 21.5, 7.0, g, 17.0, 26.0, 0.3),  # east bank, top 0.3, x ∈ [13, 30], y ∈ [-6, 20]
+        _box("terrain", -21.5, 7.5, g, 17.0, 25.0, 0.3),  # west bank, top 0.3, x ∈ [-30, -13], y ∈ [-5, 20]
+        _box("terrain", 0.0, 21.0, g, 26.0, 14.0, 0.4),  # north bank, top 0.4, y ∈ [14, 28]
+    )
+    park = (
+        _bench(-20.0, -18.0, 0.2, 180.0),
+        _bench(-5.0, -18.0, 0.2, 180.0),
+        _bench(5.0, -18.0, 0.2, 180.0),
+        _bench(20.0, -18.0, 0.2, 180.0),
+        _bench(27.0, 3.0, 0.3, 90.0),
+        _bench(-8.0, 25.0, 0.4),
+        *_tree(-12.0, -19.0, 0.2),
+        *_tree(12.0, -19.0, 0.2, 7.0),
+        *_tree(28.0, -2.0, 0.3),
+        *_tree(-27.0, 5.0, 0.3, 8.0, 4.0),
+        *_tree(8.0, 26.0, 0.4),
+        _box("vegetation", 0.0, -19.2, 0.2, 3.0, 1.0, 0.9),  # shrubs
+        _box("vegetation", -28.0, 10.0, 0.3, 1.5, 3.0, 1.0),
+        _box("vegetation", 15.0, 18.0, 0.3, 2.0, 2.0, 1.2),
+    )
+    return banks + park
+
+
+def _stadium_colliders() -> tuple[Collider, ...]:
+    # The pitch is the base plane. The main (north) stand's first terrace, top 1.5, carries
+    # waypoint (0, 32, 1.5) with 3 m to spare; the background waypoint (0, 30, 0) therefore
+    # lies inside its footprint (see test_colliders.py), the only such overlap.
+    g = 0.0
+    north = (
+        _box("stairs", 0.0, 32.5, g, 60.0, 7.0, 1.5),  # terrace, y ∈ [29, 36]
+        *(_box("stairs", 0.0, 36.75 + 1.5 * i, g, 60.0, 1.5, 2.0 + 0.5 * i) for i in range(4)),  # tiers, 0.5 m rises
+        _box("building", 0.0, 43.0, g, 64.0, 2.0, 12.0),  # back wall
+        _box("building", 0.0, 39.0, 11.0, 64.0, 10.0, 0.5),  # roof
+        _box("guard_rail", -17.5, 29.1, 1.5, 25.0, 0.1, 1.0),  # the terrace's front rail, open at |x| < 5
+        _box("guard_rail", 17.5, 29.1, 1.5, 25.0, 0.1, 1.0),
+    )
+    south = (
+        *(_box("stairs", 0.0, -35.0 - 2.0 * i, g, 80.0, 2.0, 0.6 * (i + 1)) for i in range(4)),  # tiers, y ∈ [-42, -34]
+        _box("building", 0.0, -43.0, g, 84.0, 2.0, 8.0),
+        _box("guard_rail", 0.0, -33.8, g, 80.0, 0.1, 1.0),
+    )
+    sides = tuple(
+        c
+        for s in (1.0, -1.0)
+        for c in (
+            *(
+                _box("stairs", s * (56.0 + 2.0 * i), 0.0, g, 2.0, 56.0, 0.6 * (i + 1)) for i in range(3)
+            ),  # |x| ∈ [55, 61]
+            _box("building", s * 62.0, 0.0, g, 2.0, 60.0, 7.0),
+            _box("guard_rail", s * 54.8, 0.0, g, 0.1, 56.0, 1.0),
+        )
+    )
+    lights = tuple(
+        c
+        for x, y in ((-45.0, 40.0), (45.0, 40.0), (-45.0, -40.0), (45.0, -40.0))
+        for c in (
+            _box("pole", x, y, g, 0.6, 0.6, 25.0),
+            _box("pole", x, y, 25.0, 6.0, 1.0, 3.0, math.degrees(math.atan2(-y, -x))),
+        )
+    )
+    benches = (_bench(-12.0, -31.5, g), _bench(12.0, -31.5, g))  # the teams' benches
+    return north + south + sides + lights + benches
+
+
+def _house_colliders() -> tuple[Collider, ...]:
+    # One open-plan ground floor, interior x ∈ [-8, 9.5], y ∈ [-7.5, 8], 2.8 m high: large
+    # enough to keep the 3 m radius free around every waypoint, furniture along the walls.
+    x0, x1, y0, y1, h = -8.0, 9.5, -7.5, 8.0, 2.8
+    cx, cy, w, d = (x0 + x1) / 2, (y0 + y1) / 2, x1 - x0 + 0.4, y1 - y0
+    shell = (
+        _box("misc", cx, y0 - 0.1, 0.0, w, 0.2, h),  # walls, 0.2 m thick
+        _box("misc", cx, y1 + 0.1, 0.0, w, 0.2, h),
+        _box("misc", x0 - 0.1, cy, 0.0, 0.2, d, h),
+        _box("misc", x1 + 0.1, cy, 0.0, 0.2, d, h),
+        # Ceiling slab at 2.8 m with a stairwell over the staircase (x ∈ [8.2, 9.5], y ∈ [4.1, 8]).
+        _box("ceiling", (x0 - 0.2 + 8.2) / 2, cy, h, 8.2 - x0 + 0.2, d + 0.4, 0.2),
+        _box("ceiling", (8.2 + x1 + 0.2) / 2, (y0 - 0.2 + 4.1) / 2, h, x1 + 0.2 - 8.2, 4.1 - y0 + 0.2, 0.2),
+        _box("window", -3.5, y0 - 0.1, 0.9, 2.0, 0.3, 1.4),  # windows and doors: thin boxes through the walls
+        _box("window", 3.0, y0 - 0.1, 0.9, 2.0, 0.3, 1.4),
+        _box("window", 5.5, y1 + 0.1, 0.9, 2.0, 0.3, 1.4),
+        _box("window", x1 + 0.1, -1.0, 0.9, 0.3, 2.0, 1.4),
+        _box("door", x0 - 0.1, 0.0, 0.0, 0.3, 1.0, 2.1),
+        _box("door", 2.0, y1 + 0.1, 0.0, 1.0, 0.3, 2.1),
+        _box("curtain", -4.8, y0 + 0.06, 0.3, 0.5, 0.1, 2.4),
+        _box("curtain", -2.2, y0 + 0.06, 0.3, 0.5, 0.1, 2.4),
+        _box("curtain", 1.7, y0 + 0.06, 0.3, 0.5, 0.1, 2.4),
+        _box("curtain", 4.3, y0 + 0.06, 0.3, 0.5, 0.1, 2.4),
+    )
+    living = (
+        _box("sofa", -4.5, 7.45, 0.0, 2.2, 0.9, 0.85),
+        _box("table", -4.5, 5.6, 0.0, 1.2, 0.6, 0.45),  # coffee table
+        _box("shelf", x0 + 0.25, 5.5, 0.0, 0.5, 1.8, 0.6),  # TV cabinet and the TV
+        _box("screen", x0 + 0.05, 5.5, 0.9, 0.1, 1.4, 0.8),
+        _box("fireplace", x0 + 0.3, -3.0, 0.0, 0.6, 1.6, 1.1),
+        _box("fireplace", x0 + 0.2, -3.0, 1.1, 0.4, 1.2, h - 1.1),  # chimney breast
+        _box("shelf", -1.0, y1 - 0.2, 0.0, 2.4, 0.4, 2.0),  # bookcase
+        _box("lamp", -7.4, 7.4, 0.0, 0.1, 0.1, 1.5),  # floor lamp: stem and shade
+        _box("lamp", -7.4, 7.4, 1.5, 0.4, 0.4, 0.3),
+        _box("lamp", 0.5, 0.5, 2.55, 0.5, 0.5, 0.25),  # ceiling lamp, above the 2.5 m free height
+        _box("bench", x0 + 0.3, 2.2, 0.0, 1.8, 0.5, 0.45, 90.0),  # by the entrance
+    )
+    sleeping = (
+        _box("bed", -5.8, -6.5, 0.0, 1.6, 2.0, 0.55),
+        _box("lamp", -7.4, -7.0, 0.0, 0.5, 0.5, 0.6),  # bedside lamp
+    )
+    kitchen = (
+        _box("fridge", 9.0, -7.1, 0.0, 0.8, 0.7, 1.9),
+        _box("shelf", 7.0, -7.2, 0.0, 3.0, 0.6, 0.9),  # kitchen counter
+        _box("shelf", 7.0, -7.35, 1.5, 3.0, 0.3, 0.7),  # wall cupboard
+        _box("table", 6.5, -4.8, 0.0, 1.6, 0.9, 0.75),
+        _box("chair", 5.9, -3.95, 0.0, 0.45, 0.45, 0.9),
+        _box("chair", 7.1, -3.95, 0.0, 0.45, 0.45, 0.9),
+        _box("chair", 5.9, -5.65, 0.0, 0.45, 0.45, 0.9),
+        _box("chair", 7.1, -5.65, 0.0, 0.45, 0.45, 0.9),
+    )
+    staircase = _steps("stairs", 8.85, 4.1, 0.0, 1.3, 0.3, 0.2, 13, 90.0)  # up the east wall to y = 8
+    return shell + living + sleeping + kitchen + staircase
 
 
 #: Environments in ENVIRONMENTS order; coordinates in metres, MuJoCo world frame (+Z up).
@@ -158,6 +570,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                 pixel_classes=(*_OUTDOOR_BASE, "road"),
                 protagonist_waypoints=_grid((-4.0, 0.0, 4.0), (-3.0, 3.0)),
                 background_waypoints=_grid((-20.0, 20.0), (-15.0, 0.0, 15.0)),
+                colliders=_simple_colliders(),
             ),
         ),
         (
@@ -199,6 +612,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (35.0, -7.0, 0.0),
                     (40.0, 12.0, 0.6),
                 ),
+                colliders=_urban_colliders(),
             ),
         ),
         (
@@ -222,6 +636,8 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (18.0, 18.0, 0.1),
                     (-18.0, -18.0, 0.0),
                 ),
+                colliders=_green_colliders(),
+                ground_z=-0.2,
             ),
         ),
         (
@@ -253,6 +669,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (40.0, -6.0, 0.0),
                     (0.0, 30.0, 0.5),
                 ),
+                colliders=_middle_colliders(),
             ),
         ),
         (
@@ -274,6 +691,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (-22.0, 14.0, 0.3),
                     (0.0, 20.0, 0.4),
                 ),
+                colliders=_lake_colliders(),
             ),
         ),
         (
@@ -290,6 +708,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (-30.0, 20.0, 0.0),
                     (30.0, -20.0, 0.0),
                 ),
+                colliders=_stadium_colliders(),
             ),
         ),
         (
@@ -324,10 +743,30 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (4.0, 3.0, 0.0),
                 ),
                 background_waypoints=(),
+                colliders=_house_colliders(),
             ),
         ),
     ),
 )
+
+
+def support_height(env_name: str, x: float, y: float, *, reference_z: float | None = None) -> float:
+    """Height of the walkable surface under (x, y) in environment ``env_name``.
+
+    The top of the highest walkable collider (class in ``WALKABLE_PIXEL_CLASSES``: roads,
+    terraces, steps) whose footprint contains (x, y) and whose top is at most ``MAX_STEP_M``
+    above ``reference_z`` (default: the ground plane), else the ground plane's height. With
+    the default a surface is one a person steps onto from the ground; pass the current
+    standing height to follow someone on a raised terrace (the stadium's stand at 1.5 m).
+    Benches, beds and other furniture are obstacles, never support.
+    """
+    env = ENVIRONMENT_SCENES[env_name]
+    limit = (env.ground_z if reference_z is None else reference_z) + MAX_STEP_M
+    height = env.ground_z
+    for c in env.colliders:
+        if c.pixel_class in WALKABLE_PIXEL_CLASSES and height < c.top <= limit and c.contains_xy(x, y):
+            height = c.top
+    return height
 
 
 @dataclass(frozen=True)
