@@ -64,3 +64,52 @@ def bench_sampling(theta: Theta, *, n: int, seed: int, out_dir: Path | None = No
                 n_tests=len(result.tests),
             ))  # fmt: skip
     return runs
+
+
+@dataclass(frozen=True)
+class PhysicsRun:
+    """One physics timestep against the 1/1920 s reference, over a set of recipes."""
+
+    hz: int
+    ms_per_frame: float  # MuJoCo + control per output frame, one-person scenes
+    pinned_error_m: float  # max joint deviation from the reference while pins hold the body
+    released_error_m: float  # max deviation of released (falling) ragdolls: chaotic, reported apart
+
+
+PHYSICS_RATES = (120, 240, 480, 960)
+REFERENCE_HZ = 1920
+
+
+def bench_physics(recipes: list, released: list, *, rates: tuple[int, ...] = PHYSICS_RATES) -> list[PhysicsRun]:
+    """Timestep against error: joint positions of each rate vs a 1/1920 s reference.
+
+    ``recipes`` are one-person scenes whose pins hold (the speed is measured on them);
+    ``released`` are scenes whose ragdoll is let go (car hit), reported separately.
+    """
+    from phav_generator.physics.simulate import simulate
+    from phav_generator.skeleton import JOINT_BODIES
+
+    def joints(recipe, hz):
+        t0 = time.perf_counter()
+        tr = simulate(recipe, physics_hz=hz, keep_state=False)
+        elapsed = time.perf_counter() - t0
+        return tr.people[0].body_pos[:, list(JOINT_BODIES)], elapsed, tr.n_frames + 1
+
+    refs = [joints(r, REFERENCE_HZ)[0] for r in recipes]
+    refs_released = [joints(r, REFERENCE_HZ)[0] for r in released]
+    out = []
+    for hz in rates:
+        err = 0.0
+        seconds = 0.0
+        frames = 0
+        for r, ref in zip(recipes, refs, strict=True):
+            j, elapsed, n = joints(r, hz)
+            err = max(err, float(np.linalg.norm(j - ref, axis=-1).max()))
+            seconds += elapsed
+            frames += n
+        rel = 0.0
+        for r, ref in zip(released, refs_released, strict=True):
+            j, _, _ = joints(r, hz)
+            rel = max(rel, float(np.linalg.norm(j - ref, axis=-1).max()))
+        out.append(PhysicsRun(hz, 1000.0 * seconds / max(frames, 1), err, rel))
+    return out

@@ -194,15 +194,57 @@ def recipe_show(
 
 
 @app.command()
+def preview(
+    recipe_file: Annotated[Path, typer.Argument(help="A recipe JSON file (phav recipe show … > r.json).")],
+    skeleton: Annotated[
+        bool, typer.Option("--skeleton", help="Stick figures through the recipe's camera (no renderer).")
+    ] = False,
+    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: <video_id>-skeleton.png).")] = None,
+    frames: Annotated[int, typer.Option("--frames", min=1, max=30, help="Frames on the sheet.")] = 6,
+) -> None:
+    """Simulate one recipe and write a contact sheet of its frames."""
+    from phav_spec.recipe import load_recipe
+
+    if not skeleton:
+        raise PhavUserError("only skeleton previews exist in this version: add --skeleton", field="--skeleton")
+    from phav_generator.physics.simulate import simulate
+    from phav_generator.preview import contact_sheet
+    from phav_spec.scene import ENVIRONMENT_SCENES
+
+    r = load_recipe(recipe_file)
+    tr = simulate(r, keep_state=False)
+    sheet = contact_sheet(tr, frames=frames, width=r.video.width, height=r.video.height,
+                          ground_z=ENVIRONMENT_SCENES[r.environment.name].ground_z)  # fmt: skip
+    target = out if out is not None else Path(f"{r.video_id}-skeleton.png")
+    with atomic_write(target) as tmp:
+        sheet.save(tmp, format="PNG")
+    status = "exploded at frame " + str(tr.exploded_at) if tr.exploded_at is not None else "stable"
+    console.print(f"{escape(str(target))}: {r.action} in {r.environment.name}, {r.n_frames} frames, physics {status}")
+
+
+@app.command()
 def bench(
     n: Annotated[int, typer.Option("--n", min=100, help="Recipes in the largest sampling run.")] = 40000,
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     out_dir: Annotated[Path | None, typer.Option("--out-dir", help="Keep the Parquet files here.")] = None,
+    sections: Annotated[
+        str, typer.Option("--sections", help="Comma-separated: sampling, physics.")
+    ] = "sampling,physics",
+    physics_clips: Annotated[int, typer.Option("--physics-clips", min=1, help="5 s clips per physics rate.")] = 4,
 ) -> None:
-    """Speed against error: sampling throughput, Parquet size and distance from θ."""
+    """Speed against error: sampling (throughput, Parquet size, distance from θ) and physics
+    (timestep against joint error and ms per frame)."""
     from phav_generator.bench import bench_sampling
 
+    chosen = [s.strip() for s in sections.split(",") if s.strip()]
+    unknown = sorted(set(chosen) - {"sampling", "physics"})
+    if unknown:
+        raise PhavUserError(f"unknown section(s) {unknown}; choose from sampling, physics", field="--sections")
     theta = load_theta("phav-v1")
+    if "physics" in chosen:
+        _bench_physics_table(theta, seed=seed, clips=physics_clips)
+    if "sampling" not in chosen:
+        return
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
     table = Table(title=f"sampling (θ {theta.name}, one process)", title_justify="left")
     for col in ("recipes", "recipes/s", "µs/recipe", "Parquet bytes", "bytes/recipe",
@@ -214,6 +256,30 @@ def bench(
             f"{r.parquet_bytes / r.n:.0f}", f"{r.camera_error:.4f}", f"{r.action_error:.4f}",
             f"{r.duration_error:.3f}", f"{r.worst_p:.2g}", f"{r.rejected}/{r.n_tests}",
         )  # fmt: skip
+    console.print(table)
+
+
+def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:
+    from phav_generator.bench import REFERENCE_HZ, bench_physics
+    from phav_generator.sampling import sample_recipes
+
+    pinned, released = [], []
+    for r in sample_recipes(theta, n=4000, seed=seed):
+        if r.n_people == 1 and r.variation.kind == "none" and r.action not in ("car_hit", "dive_floor", "stagger"):
+            if len(pinned) < clips:
+                pinned.append(r)
+        elif r.action == "car_hit" and len(released) < max(1, clips // 2):
+            released.append(r)
+        if len(pinned) >= clips and len(released) >= max(1, clips // 2):
+            break
+    rows = bench_physics(pinned, released)
+    title = f"physics (θ {theta.name}, {len(pinned)} pinned + {len(released)} released clips, vs {REFERENCE_HZ} Hz)"
+    table = Table(title=title, title_justify="left")
+    for col in ("timestep", "ms physics / frame", "pinned joint error cm", "released divergence cm"):
+        table.add_column(col, justify="right")
+    for row in rows:
+        table.add_row(f"1/{row.hz} s", f"{row.ms_per_frame:.2f}", f"{100 * row.pinned_error_m:.2f}",
+                      f"{100 * row.released_error_m:.1f}")  # fmt: skip
     console.print(table)
 
 

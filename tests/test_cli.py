@@ -46,7 +46,7 @@ def test_usage_errors_exit_2_without_traceback(tmp_path):
 
 
 def test_bench_reports_speed_against_error():
-    result = run_cli("bench", "--n", "400")
+    result = run_cli("bench", "--n", "400", "--sections", "sampling")
     assert result.returncode == 0, result.stderr
     header = next(line for line in result.stdout.splitlines() if "recipes/s" in line)
     columns = [c.strip() for c in header.strip("┃ ").split("┃")]

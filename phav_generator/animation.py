@@ -1,0 +1,217 @@
+"""Kinematic animation: poses over time, motion playback, mirroring, blending and placement.
+
+A motion is a function of motion time τ (seconds) returning a ``Pose`` in the *motion
+frame*: the person starts at the origin facing +X, the root position is the pelvis offset
+from its standing height, and lengths are those of a 1.75 m person (``REFERENCE_HEIGHT_M``).
+``animate`` plays a motion back for a recipe: from ``start_s`` at ``speed``, wrapping to the
+start when it runs out (MotionSpec's contract) while carrying the root's displacement and
+heading over, so a walk keeps walking; then mirrored for handedness and scaled to the human.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from phav_generator.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
+from phav_generator.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
+
+#: Height of the person the motion library is written for; motions scale with height.
+REFERENCE_HEIGHT_M = 1.75
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Poses over T samples: pelvis position (T, 3), pelvis orientation (T, 4), angles (T, 30)."""
+
+    root_pos: np.ndarray
+    root_quat: np.ndarray
+    q: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = self.root_pos.shape[0]
+        if self.root_pos.shape != (n, 3) or self.root_quat.shape != (n, 4) or self.q.shape != (n, N_DOFS):
+            raise ValueError(
+                f"pose arrays disagree: root_pos {self.root_pos.shape}, "
+                f"root_quat {self.root_quat.shape}, q {self.q.shape}"
+            )
+
+    def __len__(self) -> int:
+        return self.root_pos.shape[0]
+
+    def take(self, index: np.ndarray | slice) -> Pose:
+        return Pose(self.root_pos[index], self.root_quat[index], self.q[index])
+
+
+@dataclass(frozen=True)
+class MotionParams:
+    """How one recipe plays a motion, so two recipes of the same motion differ.
+
+    ``amplitude`` scales every joint excursion around the motion's own neutral pose,
+    ``phase`` shifts cyclic parts by a fraction of their cycle, ``style`` ∈ [−1, 1] is a
+    motion-specific knob (arm swing, crouch, torso lean …) documented by each motion.
+    Speed, start and mirroring come from the recipe's MotionSpec; the rest from the
+    recipe's physics seed (``motion_params``).
+    """
+
+    speed: float = 1.0
+    amplitude: float = 1.0
+    phase: float = 0.0
+    style: float = 0.0
+    mirror: bool = False
+
+
+#: A motion: (τ seconds (T,), params) → Pose in the motion frame, reference height.
+MotionFn = Callable[[np.ndarray, MotionParams], Pose]
+
+
+@dataclass(frozen=True)
+class MotionDef:
+    """A playable motion: its function and natural length (equal to the catalogue's)."""
+
+    name: str
+    length_s: float
+    fn: MotionFn
+    description: str = ""
+
+
+#: Every playable motion, by name; filled by ``phav_generator.motion_library`` and by
+#: users' imported clips (``register_motion``).
+MOTION_LIBRARY: dict[str, MotionDef] = {}
+
+
+def register_motion(motion: MotionDef, *, replace: bool = False) -> MotionDef:
+    """Add a motion to the library; refuses to overwrite a name unless ``replace``."""
+    if motion.name in MOTION_LIBRARY and not replace:
+        raise ValueError(f"motion {motion.name!r} is already registered")
+    if not (np.isfinite(motion.length_s) and motion.length_s > 0):
+        raise ValueError(f"motion {motion.name!r}: length must be finite and > 0")
+    MOTION_LIBRARY[motion.name] = motion
+    return motion
+
+
+def get_motion(name: str) -> MotionDef:
+    """The library entry for ``name`` (loads the built-in library on first use)."""
+    if not MOTION_LIBRARY or name not in MOTION_LIBRARY:
+        import phav_generator.motion_library  # noqa: F401  (registers the built-in motions)
+    try:
+        return MOTION_LIBRARY[name]
+    except KeyError:
+        raise KeyError(f"unknown motion {name!r}") from None
+
+
+def _yaw_of(quat: np.ndarray) -> np.ndarray:
+    m = quat_to_matrix(quat)
+    return np.arctan2(m[..., 1, 0], m[..., 0, 0])
+
+
+def play(motion: MotionDef, clip_times: np.ndarray, start_s: float, params: MotionParams) -> Pose:
+    """Sample ``motion`` at clip times (s): τ = start + speed·t, wrapped with root carry-over.
+
+    When τ passes the motion's length, playback restarts at τ − k·length and the root's
+    planar displacement and heading at the end of each completed pass are carried over,
+    so cyclic motions continue seamlessly and one-shot motions repeat from where they are.
+    """
+    length = motion.length_s
+    tau = start_s + params.speed * np.asarray(clip_times, dtype=np.float64)
+    laps = np.floor(tau / length)
+    local = tau - laps * length
+    pose = motion.fn(local, params)
+    if not np.any(laps > 0):
+        return pose
+    ends = motion.fn(np.array([0.0, length]), params)
+    d_pos = ends.root_pos[1] - ends.root_pos[0]
+    d_pos[2] = 0.0
+    d_yaw = float(_yaw_of(ends.root_quat[1]) - _yaw_of(ends.root_quat[0]))
+    root_pos = pose.root_pos.copy()
+    root_rot = quat_to_matrix(pose.root_quat)
+    for k in np.unique(laps[laps > 0]).astype(int):
+        sel = laps == k
+        # Compose k laps: each lap rotates by d_yaw and translates by the lap displacement.
+        offset = np.zeros(3)
+        yaw = 0.0
+        for _ in range(k):
+            offset = offset + yaw_matrix(yaw) @ d_pos
+            yaw += d_yaw
+        r = yaw_matrix(yaw)
+        root_pos[sel] = offset + root_pos[sel] @ r.T
+        root_rot[sel] = r @ root_rot[sel]
+    return Pose(root_pos, matrix_to_quat(root_rot), pose.q)
+
+
+def mirror(pose: Pose) -> Pose:
+    """The mirror image of a pose across the person's sagittal plane (y → −y)."""
+    m = np.diag([1.0, -1.0, 1.0])
+    root_pos = pose.root_pos * np.array([1.0, -1.0, 1.0])
+    rot = m @ quat_to_matrix(pose.root_quat) @ m
+    return Pose(root_pos, matrix_to_quat(rot), mirror_dofs(pose.q))
+
+
+def muscle_dof_mask(muscles: tuple[str, ...] | list[str]) -> np.ndarray:
+    """Boolean mask over the 30 DOFs: those that move any of ``muscles``."""
+    bodies = [BONE_INDEX[m] for m in muscles]
+    return np.isin(DOF_BODY, bodies)
+
+
+def blend(base: Pose, other: Pose, muscles: tuple[str, ...] | list[str], weight: float) -> Pose:
+    """Action blending: the DOFs of ``muscles`` follow ``other`` with ``weight``; root from base."""
+    mask = muscle_dof_mask(muscles)
+    q = base.q.copy()
+    q[:, mask] = (1.0 - weight) * base.q[:, mask] + weight * other.q[:, mask]
+    return Pose(base.root_pos, base.root_quat, q)
+
+
+def place(pose: Pose, dims: BodyDims, position: tuple[float, float, float], heading_deg: float) -> Pose:
+    """Motion frame → world: scale to the human, stand on ``position``, face ``heading_deg``."""
+    scale = dims.height_m / REFERENCE_HEIGHT_M
+    r = yaw_matrix(np.deg2rad(heading_deg))
+    local = pose.root_pos * scale + np.array([0.0, 0.0, dims.standing_pelvis_height])
+    root_pos = local @ r.T + np.asarray(position, dtype=np.float64)
+    root_rot = r @ quat_to_matrix(pose.root_quat)
+    return Pose(root_pos, matrix_to_quat(root_rot), clamp_to_limits(pose.q))
+
+
+def motion_rng(seed: int, stream: str) -> np.random.Generator:
+    """A generator for run-time decisions of one video, one independent stream per name."""
+    key = tuple(stream.encode())
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed, spawn_key=key)))
+
+
+def motion_params(speed: float, mirror_motion: bool, seed: int, role: str = "protagonist") -> MotionParams:
+    """Amplitude, phase and style drawn from a recipe seed, for one person (``role``)."""
+    rng = motion_rng(seed, f"motion/{role}")
+    amplitude = 0.85 + 0.3 * rng.random()
+    phase = rng.random()
+    style = 2.0 * rng.random() - 1.0
+    return MotionParams(speed=speed, amplitude=amplitude, phase=phase, style=style, mirror=mirror_motion)
+
+
+def animate(
+    name: str,
+    clip_times: np.ndarray,
+    start_s: float,
+    params: MotionParams,
+    dims: BodyDims,
+    position: tuple[float, float, float],
+    heading_deg: float,
+) -> Pose:
+    """A motion played for a clip and placed in the world: the pins' and servos' targets."""
+    motion = get_motion(name)
+    pose = play(motion, clip_times, start_s, params)
+    if params.mirror:
+        pose = mirror(pose)
+    return place(pose, dims, position, heading_deg)
+
+
+def identity_quats(n: int) -> np.ndarray:
+    """(n, 4) identity quaternions."""
+    out = np.zeros((n, 4))
+    out[:, 0] = 1.0
+    return out
+
+
+def rest_pose(n: int) -> Pose:
+    """Standing still at the origin for n samples."""
+    return Pose(np.zeros((n, 3)), identity_quats(n), np.zeros((n, N_DOFS)))

@@ -1,0 +1,444 @@
+"""Scene plan → MuJoCo model, built with ``MjSpec`` (structure); ``simulate`` owns the state.
+
+The only module that compiles MuJoCo models. People become active ragdolls (free pelvis,
+one hinge per skeleton DOF with its limits, a position servo per hinge, a mocap pin welded
+to the pelvis); props become free bodies (weld constraints grip them), mocap bodies (cars)
+or static geoms; the environment's colliders, the action's boxes (stairs, chair) and the
+ground plane are static; the kite camera is a pair of sliding bodies tied by tendon springs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from phav_generator.physics.plan import PersonPlan, PropPlan, ScenePlan
+from phav_generator.rotations import matrix_to_quat, yaw_matrix
+from phav_generator.skeleton import BONES, DOFS, PARENTS, BodyDims
+from phav_spec.scene import ENVIRONMENT_SCENES
+
+# Collision bits: world geometry, the camera, props, and one bit per physical person so a
+# person never collides with itself but does with everyone else.
+WORLD_BIT = 1
+CAMERA_BIT = 2
+PROP_BIT = 4
+_PERSON_BITS = (8, 16, 32, 64)
+
+#: Servo natural frequency (rad/s) and damping ratio at full strength.
+SERVO_OMEGA = 40.0
+SERVO_ZETA = 1.0
+CAMERA_RADIUS_M = 0.12
+CAMERA_MARGIN_M = 0.1
+#: Stiff camera contacts (MuJoCo clamps the time constant to at least two steps).
+CAMERA_CONTACT_TIMECONST = 0.004
+#: The root pin: a weld from a mocap body (the animated pelvis) to the pelvis. Time constant
+#: (s) at full pin weight, and a flat impedance so the lag compensation below is exact.
+PIN_TIMECONST = 0.02
+PIN_SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)
+
+
+@dataclass
+class PersonHandles:
+    person_id: int
+    bodies: np.ndarray  # (15,) body ids
+    qpos_root: int  # address of the free joint's 7 qpos
+    qvel_root: int
+    qpos_dofs: np.ndarray  # (30,) qpos addresses of the hinges
+    qvel_dofs: np.ndarray
+    actuators: np.ndarray  # (30,) actuator ids
+    kp: np.ndarray  # (30,) full-strength servo gains
+    kv: np.ndarray
+    pin_mocap: int
+    pin_eq: int
+    geoms: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+
+@dataclass
+class PropHandles:
+    name: str
+    body: int
+    geom: int
+    qpos: int | None  # free joint address (dynamic props)
+    qvel: int | None
+    mocap: int | None  # kinematic props (cars)
+    grip_eqs: list[int] = field(default_factory=list)
+
+
+@dataclass
+class CameraHandles:
+    camera_body: int
+    target_body: int
+    anchor_mocap: int
+    camera_geom: int
+    camera_qpos: np.ndarray  # (3,) slide joints
+    target_qpos: np.ndarray
+    camera_qvel: np.ndarray
+    target_qvel: np.ndarray
+
+
+@dataclass
+class SceneModel:
+    """A compiled scene and where each part of it lives in MuJoCo's arrays."""
+
+    model: mujoco.MjModel
+    people: list[PersonHandles]
+    props: list[PropHandles]
+    camera: CameraHandles | None
+    tie_eqs: list[int]
+    world_geoms: np.ndarray  # static geoms (ground, colliders, boxes)
+
+
+def _servo_gains(dims: BodyDims) -> tuple[np.ndarray, np.ndarray]:
+    """Per-DOF kp, kv from the inertia of the subtree the hinge moves (ω, ζ fixed)."""
+    n = len(BONES)
+    # Body centres of mass at rest (capsule midpoints) in the person frame.
+    origin = np.zeros((n, 3))
+    for b in range(n):
+        origin[b] = dims.offsets[b] if PARENTS[b] < 0 else origin[PARENTS[b]] + dims.offsets[b]
+    com = np.array([origin[b] + (np.array(c.a) + np.array(c.b)) / 2 for b, c in enumerate(dims.capsules)])
+    children: list[list[int]] = [[] for _ in range(n)]
+    for b in range(n):
+        if PARENTS[b] >= 0:
+            children[PARENTS[b]].append(b)
+
+    def subtree(b: int) -> list[int]:
+        out = [b]
+        for c in children[b]:
+            out += subtree(c)
+        return out
+
+    kp = np.empty(len(DOFS))
+    kv = np.empty(len(DOFS))
+    for i, d in enumerate(DOFS):
+        b = next(k for k, bone in enumerate(BONES) if bone.name == d.body)
+        members = subtree(b)
+        m = dims.masses[members]
+        r2 = np.sum((com[members] - origin[b]) ** 2, axis=1)
+        inertia = float(np.sum(m * (r2 + 0.01 * dims.height_m**2)))
+        kp[i] = inertia * SERVO_OMEGA**2
+        kv[i] = 2.0 * SERVO_ZETA * inertia * SERVO_OMEGA
+    return kp, kv
+
+
+def _add_geom_shape(geom, shape: str, size: tuple[float, ...]) -> None:
+    if shape == "sphere":
+        geom.type = mujoco.mjtGeom.mjGEOM_SPHERE
+        geom.size = [size[0], 0, 0]
+    elif shape == "capsule":
+        geom.type = mujoco.mjtGeom.mjGEOM_CAPSULE
+        geom.size = [size[0], size[1], 0]
+    elif shape == "box":
+        geom.type = mujoco.mjtGeom.mjGEOM_BOX
+        geom.size = list(size)
+    else:
+        raise ValueError(f"unknown prop shape {shape!r}")
+
+
+def _box(parent, name: str, center, half, yaw_deg: float) -> None:
+    g = parent.add_geom()
+    g.name = name
+    g.type = mujoco.mjtGeom.mjGEOM_BOX
+    g.size = list(half)
+    g.pos = list(center)
+    g.quat = list(matrix_to_quat(yaw_matrix(math.radians(yaw_deg))[None])[0])
+    g.contype = WORLD_BIT
+    g.conaffinity = 0
+
+
+def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
+    pre = f"p{p.person_id}_"
+    dims = p.dims
+    others = sum(_PERSON_BITS) & ~bit
+    bodies = {}
+    for k, bone in enumerate(BONES):
+        parent = spec.worldbody if bone.parent is None else bodies[bone.parent]
+        body = parent.add_body()
+        body.name = pre + bone.name
+        body.pos = [0.0, 0.0, 0.0] if bone.parent is None else list(dims.offsets[k])
+        body.gravcomp = 1.0
+        if bone.parent is None:
+            j = body.add_freejoint()
+            j.name = pre + "root"
+        for d in DOFS:
+            if d.body != bone.name:
+                continue
+            j = body.add_joint()
+            j.name = pre + d.name
+            j.type = mujoco.mjtJoint.mjJNT_HINGE
+            j.axis = list(d.axis)
+            j.range = [d.lower, d.upper]
+            j.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+            j.armature = 0.01
+            j.damping = [0.5, 0.0, 0.0]
+        cap = dims.capsules[k]
+        g = body.add_geom()
+        g.name = pre + bone.name
+        if cap.a == cap.b:
+            g.type = mujoco.mjtGeom.mjGEOM_SPHERE
+            g.size = [cap.radius, 0, 0]
+            g.pos = list(cap.a)
+        else:
+            g.type = mujoco.mjtGeom.mjGEOM_CAPSULE
+            g.fromto = [*cap.a, *cap.b]
+            g.size = [cap.radius, 0, 0]
+        g.mass = float(dims.masses[k])
+        g.contype = bit
+        g.conaffinity = WORLD_BIT | PROP_BIT | others
+        g.friction = [1.0, 0.005, 0.0001]
+        bodies[bone.name] = body
+    pin = spec.worldbody.add_body()
+    pin.name = pre + "pin"
+    pin.mocap = True
+    eq = spec.add_equality()
+    eq.name = pre + "pin"
+    eq.type = mujoco.mjtEq.mjEQ_WELD
+    eq.objtype = mujoco.mjtObj.mjOBJ_BODY
+    eq.name1 = pre + "pin"
+    eq.name2 = pre + "pelvis"
+    eq.solref = [PIN_TIMECONST, 1.0]
+    eq.solimp = list(PIN_SOLIMP)
+    eq.data = np.array([0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0], dtype=np.float64)
+    kp, kv = _servo_gains(dims)
+    for i, d in enumerate(DOFS):
+        a = spec.add_actuator()
+        a.name = pre + d.name
+        a.trntype = mujoco.mjtTrn.mjTRN_JOINT
+        a.target = pre + d.name
+        a.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+        a.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        gain = np.zeros(10)
+        gain[0] = kp[i]
+        bias = np.zeros(10)
+        bias[1] = -kp[i]
+        bias[2] = -kv[i]
+        a.gainprm = gain
+        a.biasprm = bias
+
+
+def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
+    if prop.path is not None or prop.dynamic:
+        body = spec.worldbody.add_body()
+        body.name = "prop_" + prop.name
+        body.pos = list(prop.pos)
+        body.quat = list(prop.quat)
+        if prop.path is not None:
+            body.mocap = True
+        else:
+            j = body.add_freejoint()
+            j.name = "prop_" + prop.name
+        parent = body
+    else:
+        parent = spec.worldbody
+    g = parent.add_geom()
+    g.name = "prop_" + prop.name
+    _add_geom_shape(g, prop.shape, prop.size)
+    if parent is spec.worldbody:
+        g.pos = list(prop.pos)
+        g.quat = list(prop.quat)
+    g.mass = prop.mass
+    g.contype = PROP_BIT
+    g.conaffinity = WORLD_BIT | PROP_BIT | sum(_PERSON_BITS)
+    for k, (person, body_name, _t0, _t1, rel_pos, rel_quat) in enumerate(prop.grips):
+        eq = spec.add_equality()
+        eq.name = f"grip_{prop.name}_{k}"
+        eq.type = mujoco.mjtEq.mjEQ_WELD
+        eq.objtype = mujoco.mjtObj.mjOBJ_BODY
+        eq.name1 = f"p{person}_{body_name}"
+        eq.name2 = "prop_" + prop.name
+        eq.active = False
+        eq.solref = [0.02, 1.0]
+        eq.data = np.array([0, 0, 0, *rel_pos, *rel_quat, 1.0, 0.0], dtype=np.float64)
+
+
+def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
+    cam = plan.recipe.camera
+    springs = cam.springs
+    assert springs is not None
+    anchor_point = _camera_anchor_point(plan)
+    start = plan.camera_start or cam.position
+    for name, pos, mass, drag, collide in (
+        ("camera", start, springs.camera_mass, springs.camera_drag, True),
+        ("camera_target", cam.target, springs.target_mass, springs.target_drag, False),
+    ):
+        body = spec.worldbody.add_body()
+        body.name = name
+        body.pos = list(pos)
+        body.gravcomp = 1.0
+        for axis_name, axis in (("x", (1, 0, 0)), ("y", (0, 1, 0)), ("z", (0, 0, 1))):
+            j = body.add_joint()
+            j.name = f"{name}_{axis_name}"
+            j.type = mujoco.mjtJoint.mjJNT_SLIDE
+            j.axis = list(axis)
+            j.damping = [drag * mass, 0.0, 0.0]
+        g = body.add_geom()
+        g.name = name
+        g.type = mujoco.mjtGeom.mjGEOM_SPHERE
+        g.size = [CAMERA_RADIUS_M if collide else 0.05, 0, 0]
+        g.mass = mass
+        g.contype = CAMERA_BIT if collide else 0
+        g.conaffinity = WORLD_BIT if collide else 0
+        # Contacts switch on CAMERA_MARGIN_M before the surface, so the soft contact has
+        # room to stop the camera before the sphere itself reaches the wall.
+        g.margin = CAMERA_MARGIN_M if collide else 0.0
+        g.solref = [CAMERA_CONTACT_TIMECONST, 1.0]
+        s = body.add_site()
+        s.name = name
+    anchor = spec.worldbody.add_body()
+    anchor.name = "camera_anchor"
+    anchor.mocap = True
+    anchor.pos = list(anchor_point)
+    s = anchor.add_site()
+    s.name = "camera_anchor"
+    d_ct = float(np.linalg.norm(np.array(start) - np.array(cam.target)))
+    d_tp = float(np.linalg.norm(np.array(cam.target) - anchor_point))
+    for name, a, b, k, rest, slack in (
+        ("ct_spring", "camera", "camera_target", springs.ct_spring_strength, d_ct, springs.ct_min_distance_m),
+        ("tp_spring", "camera_target", "camera_anchor", springs.tp_spring_strength, d_tp, springs.tp_min_distance_m),
+    ):
+        t = spec.add_tendon()
+        t.name = name
+        t.wrap_site(a)
+        t.wrap_site(b)
+        stiffness = np.zeros_like(np.asarray(t.stiffness))
+        stiffness[0] = k
+        t.stiffness = stiffness
+        # The paper's minimum-distance tolerance zone: no force within ±slack of the rest length.
+        t.springlength = [max(0.0, rest - slack), rest + slack]
+
+
+def _camera_anchor_point(plan: ScenePlan) -> np.ndarray:
+    """Where the target spring holds on to the protagonist: pelvis, or head for close-ups."""
+    from phav_generator.skeleton import BONE_INDEX, forward_kinematics
+
+    p = plan.people[0]
+    pos, _ = forward_kinematics(p.dims, p.targets.root_pos[:1], p.targets.root_quat[:1], p.targets.q[:1])
+    body = "head" if plan.recipe.camera.kind == "closeup" else "pelvis"
+    return pos[0, BONE_INDEX[body]]
+
+
+def build_model(plan: ScenePlan) -> SceneModel:
+    """Compile the plan's scene. Raises ``RuntimeError`` if MuJoCo refuses the model."""
+    spec = mujoco.MjSpec()
+    spec.modelname = plan.recipe.video_id
+    spec.compiler.degree = False  # joint ranges are in radians, as in the skeleton
+    spec.option.timestep = plan.timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
+    env = ENVIRONMENT_SCENES[plan.recipe.environment.name]
+    ground = spec.worldbody.add_geom()
+    ground.name = "ground"
+    ground.type = mujoco.mjtGeom.mjGEOM_PLANE
+    ground.size = [0.0, 0.0, 1.0]
+    ground.pos = [0.0, 0.0, float(getattr(env, "ground_z", 0.0))]
+    ground.contype = WORLD_BIT
+    ground.conaffinity = 0
+    for k, c in enumerate(getattr(env, "colliders", ())):
+        _box(spec.worldbody, f"collider_{k}_{c.pixel_class}", c.center, c.half_size, c.yaw_deg)
+    for k, bx in enumerate(plan.boxes):
+        _box(spec.worldbody, f"box_{k}_{bx.pixel_class}", bx.center, bx.half_size, bx.yaw_deg)
+    physical = [p for p in plan.people if p.physical]
+    if len(physical) > len(_PERSON_BITS):
+        raise ValueError(f"at most {len(_PERSON_BITS)} simulated people per scene")
+    for p, bit in zip(physical, _PERSON_BITS, strict=False):
+        _add_person(spec, p, bit)
+    for prop in plan.props:
+        _add_prop(spec, prop)
+    for k, tie in enumerate(plan.ties):
+        eq = spec.add_equality()
+        eq.name = f"tie_{k}"
+        eq.type = mujoco.mjtEq.mjEQ_CONNECT
+        eq.objtype = mujoco.mjtObj.mjOBJ_BODY
+        eq.name1 = f"p{tie.person_a}_{tie.body_a}"
+        eq.name2 = f"p{tie.person_b}_{tie.body_b}"
+        eq.solref = [0.01, 1.0]
+        eq.data = np.array([*tie.anchor_a, *([0.0] * 9)], dtype=np.float64)
+    if plan.recipe.camera.kind in ("kite", "closeup") and plan.recipe.camera.springs is not None:
+        _add_camera(spec, plan)
+    model = spec.compile()
+    for k, tie in enumerate(plan.ties):
+        # MuJoCo derives the second anchor from the reference pose; the plan states it.
+        model.eq_data[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, f"tie_{k}"), 3:6] = tie.anchor_b
+    return _handles(model, plan, physical)
+
+
+def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan]) -> SceneModel:
+    def bid(name: str) -> int:
+        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+
+    def jid(name: str) -> int:
+        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+
+    def eqid(name: str) -> int:
+        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, name)
+
+    def gid(name: str) -> int:
+        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+
+    people = []
+    for p in physical:
+        pre = f"p{p.person_id}_"
+        root = jid(pre + "root")
+        joints = [jid(pre + d.name) for d in DOFS]
+        kp, kv = _servo_gains(p.dims)
+        bodies = np.array([bid(pre + b.name) for b in BONES])
+        people.append(
+            PersonHandles(
+                person_id=p.person_id,
+                bodies=bodies,
+                qpos_root=int(model.jnt_qposadr[root]),
+                qvel_root=int(model.jnt_dofadr[root]),
+                qpos_dofs=model.jnt_qposadr[joints].copy(),
+                qvel_dofs=model.jnt_dofadr[joints].copy(),
+                actuators=np.array(
+                    [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, pre + d.name) for d in DOFS]
+                ),
+                kp=kp,
+                kv=kv,
+                pin_mocap=int(model.body_mocapid[bid(pre + "pin")]),
+                pin_eq=eqid(pre + "pin"),
+                geoms=np.array([gid(pre + b.name) for b in BONES]),
+                lower=model.jnt_range[joints, 0].copy(),
+                upper=model.jnt_range[joints, 1].copy(),
+            )
+        )
+    props = []
+    for prop in plan.props:
+        g = gid("prop_" + prop.name)
+        body = int(model.geom_bodyid[g])
+        handle = PropHandles(prop.name, body, g, None, None, None)
+        if prop.path is not None:
+            handle.mocap = int(model.body_mocapid[body])
+        elif prop.dynamic:
+            j = jid("prop_" + prop.name)
+            handle.qpos = int(model.jnt_qposadr[j])
+            handle.qvel = int(model.jnt_dofadr[j])
+        handle.grip_eqs = [eqid(f"grip_{prop.name}_{k}") for k in range(len(prop.grips))]
+        props.append(handle)
+    camera = None
+    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "camera") >= 0:
+        cj = [jid(f"camera_{a}") for a in "xyz"]
+        tj = [jid(f"camera_target_{a}") for a in "xyz"]
+        camera = CameraHandles(
+            camera_body=bid("camera"),
+            target_body=bid("camera_target"),
+            anchor_mocap=int(model.body_mocapid[bid("camera_anchor")]),
+            camera_geom=gid("camera"),
+            camera_qpos=model.jnt_qposadr[cj].copy(),
+            target_qpos=model.jnt_qposadr[tj].copy(),
+            camera_qvel=model.jnt_dofadr[cj].copy(),
+            target_qvel=model.jnt_dofadr[tj].copy(),
+        )
+    world = np.flatnonzero(model.geom_bodyid == 0)
+    return SceneModel(
+        model=model,
+        people=people,
+        props=props,
+        camera=camera,
+        tie_eqs=[eqid(f"tie_{k}") for k in range(len(plan.ties))],
+        world_geoms=world,
+    )

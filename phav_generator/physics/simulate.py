@@ -1,0 +1,446 @@
+"""``simulate(recipe) -> Trajectory``: run the planned scene in MuJoCo, frame by frame.
+
+Each physics step sets the pins (mocap poses) and servo targets from the plan, the servo
+gains and gravity compensation from the muscle strengths, the perturbation pulls and the
+camera anchor; grips switch on and off at their times; a car's touch releases the
+protagonist. After each frame the poses and the physics signals are recorded. A step that
+produces NaN or a runaway velocity stops the simulation: the frame is marked, the last good
+state is held for the rest of the clip, and nothing in the output is NaN.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from phav_generator.animation import motion_rng
+from phav_generator.physics.model import PIN_SOLIMP, PIN_TIMECONST, SceneModel, build_model
+from phav_generator.physics.plan import ScenePlan, plan_scene
+from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
+from phav_generator.rotations import axis_angle_matrix, look_at, matrix_to_quat, quat_to_matrix
+from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
+from phav_spec.recipe import Recipe
+
+#: Above this joint speed (rad/s or m/s) a state counts as exploded.
+MAX_SPEED = 500.0
+#: Perturbation pull stiffness, as an angular frequency of the pulled body (rad/s).
+PERTURBATION_OMEGA = 40.0
+#: Indoors camera: time constant (s) of the pan that follows the protagonist.
+PAN_TIMECONST = 0.6
+_FULL = mujoco.mjtState.mjSTATE_FULLPHYSICS
+
+
+def intrinsics(recipe: Recipe) -> tuple[float, float, float, float]:
+    """Pinhole intrinsics (fx, fy, cx, cy) in pixels; ``fov_deg`` is the vertical field of view."""
+    w, h = recipe.video.width, recipe.video.height
+    fy = (h / 2.0) / math.tan(math.radians(recipe.camera.fov_deg) / 2.0)
+    return fy, fy, w / 2.0, h / 2.0
+
+
+def _rotation_vector(r: np.ndarray) -> np.ndarray:
+    """Axis × angle of a rotation matrix (3, 3)."""
+    cos = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
+    angle = math.acos(cos)
+    axis = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    s = np.linalg.norm(axis)
+    if s < 1e-9:
+        if cos > 0:
+            return np.zeros(3)
+        # 180°: the axis is the column of r + I with the largest norm.
+        m = r + np.eye(3)
+        col = m[:, int(np.argmax(np.linalg.norm(m, axis=0)))]
+        return math.pi * col / np.linalg.norm(col)
+    return axis / s * angle
+
+
+def _rotation_matrix(v: np.ndarray) -> np.ndarray:
+    """Rotation matrix of an axis × angle vector."""
+    angle = float(np.linalg.norm(v))
+    if angle < 1e-12:
+        return np.eye(3)
+    return axis_angle_matrix(v / angle, np.asarray(angle))
+
+
+def _angular_velocity(rot: np.ndarray, dt: float) -> np.ndarray:
+    """World angular velocities (S, 3) of a rotation sequence (S, 3, 3), central differences."""
+    out = np.zeros((rot.shape[0], 3))
+    for k in range(rot.shape[0]):
+        a, b = max(k - 1, 0), min(k + 1, rot.shape[0] - 1)
+        if b > a:
+            out[k] = _rotation_vector(rot[b] @ rot[a].T) / ((b - a) * dt)
+    return out
+
+
+def _perturbation_offsets(plan: ScenePlan) -> dict[tuple[int, int], np.ndarray]:
+    """(person, body) → orbit offsets (S, 3): circles of the recipe's radius and period."""
+    out = {}
+    rng = motion_rng(plan.recipe.seeds.perturbation, "orbits")
+    t = plan.step_times
+    for p in plan.people:
+        for m in p.perturbed:
+            axis = rng.normal(size=3)
+            axis /= np.linalg.norm(axis)
+            u = np.cross(axis, [0.0, 0.0, 1.0] if abs(axis[2]) < 0.9 else [1.0, 0.0, 0.0])
+            u /= np.linalg.norm(u)
+            v = np.cross(axis, u)
+            phase = 2 * math.pi * rng.random()
+            angle = 2 * math.pi * t / p.perturbation_period_s + phase
+            out[(p.person_id, BONE_INDEX[m])] = p.perturbation_radius_m * (
+                np.cos(angle)[:, None] * u + np.sin(angle)[:, None] * v
+            )
+    return out
+
+
+class _Run:
+    """The state of one simulation: MuJoCo data plus the precomputed per-step targets."""
+
+    def __init__(self, plan: ScenePlan, scene: SceneModel):
+        self.plan = plan
+        self.scene = scene
+        self.m = scene.model
+        self.d = mujoco.MjData(self.m)
+        physical = [p for p in plan.people if p.physical]
+        self.physical = physical
+        self.target_body_pos = []
+        for p in physical:
+            pos, _ = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
+            self.target_body_pos.append(pos)
+        self.orbits = _perturbation_offsets(plan)
+        dt = plan.timestep
+        self.qdot = [np.gradient(p.targets.q, dt, axis=0) for p in physical]
+        self.root_vel = [np.gradient(p.targets.root_pos, dt, axis=0) for p in physical]
+        self.root_rot = [quat_to_matrix(p.targets.root_quat) for p in physical]
+        self.root_omega = [_angular_velocity(r, dt) for r in self.root_rot]
+        self.released = [False] * len(physical)
+        self.release_time = [math.inf] * len(physical)
+        self.strength_now = [p.strengths[0].copy() for p in physical]
+        self.pin_now = [float(p.pin[0]) for p in physical]
+        self.car_geoms = {h.geom for h, prop in zip(scene.props, plan.props, strict=True) if prop.path is not None}
+        self.pan = None
+
+    def initialise(self) -> None:
+        d, m = self.d, self.m
+        dt = self.plan.timestep
+        for p, h in zip(self.physical, self.scene.people, strict=True):
+            tg = p.targets
+            d.qpos[h.qpos_root : h.qpos_root + 3] = tg.root_pos[0]
+            d.qpos[h.qpos_root + 3 : h.qpos_root + 7] = tg.root_quat[0]
+            d.qpos[h.qpos_dofs] = tg.q[0]
+            d.mocap_pos[h.pin_mocap] = tg.root_pos[0]
+            d.mocap_quat[h.pin_mocap] = tg.root_quat[0]
+            if len(tg) > 1:
+                d.qvel[h.qvel_root : h.qvel_root + 3] = (tg.root_pos[1] - tg.root_pos[0]) / dt
+                d.qvel[h.qvel_dofs] = (tg.q[1] - tg.q[0]) / dt
+            d.ctrl[h.actuators] = tg.q[0]
+        for prop, h in zip(self.plan.props, self.scene.props, strict=True):
+            if h.qpos is not None:
+                d.qpos[h.qpos : h.qpos + 3] = prop.pos
+                d.qpos[h.qpos + 3 : h.qpos + 7] = prop.quat
+                d.qvel[h.qvel : h.qvel + 3] = prop.vel
+            if h.mocap is not None:
+                d.mocap_pos[h.mocap] = prop.path[0]
+                d.mocap_quat[h.mocap] = prop.quat
+        cam = self.scene.camera
+        imp = self.plan.recipe.camera.impulse
+        springs = self.plan.recipe.camera.springs
+        if cam is not None and imp is not None and springs is not None:
+            az, el = math.radians(imp.azimuth_deg), math.radians(imp.elevation_deg)
+            direction = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
+            d.qvel[cam.camera_qvel] = direction * imp.strength / springs.camera_mass
+        self._apply_controls(0)
+        mujoco.mj_forward(m, d)
+
+    def _apply_controls(self, k: int) -> None:
+        """Targets and gains for the step that ends at plan step k."""
+        d, m = self.d, self.m
+        t = self.plan.step_times[k]
+        for i, (p, h) in enumerate(zip(self.physical, self.scene.people, strict=True)):
+            strengths = p.strengths[k].copy()
+            pin = float(p.pin[k])
+            if self.released[i]:
+                r = min(1.0, (t - self.release_time[i]) / 0.1)
+                pin *= 1.0 - r
+                strengths = np.minimum(strengths, strengths * (1 - r) + 0.15 * r)
+            self.strength_now[i] = strengths
+            self.pin_now[i] = pin
+            s_dof = strengths[DOF_BODY]
+            m.actuator_gainprm[h.actuators, 0] = h.kp * s_dof
+            m.actuator_biasprm[h.actuators, 1] = -h.kp * s_dof
+            m.actuator_biasprm[h.actuators, 2] = -h.kv * np.sqrt(s_dof)
+            # An active muscle carries its body's weight; a released ragdoll feels gravity.
+            m.body_gravcomp[h.bodies] = strengths * pin
+            # Servo target with velocity feed-forward: kp·(q* + q̇*·kv/kp − q) − kv·q̇.
+            d.ctrl[h.actuators] = p.targets.q[k] + self.qdot[i][k] * (h.kv / (h.kp * np.sqrt(np.maximum(s_dof, 1e-6))))
+            d.eq_active[h.pin_eq] = pin > 1e-3
+            if pin > 1e-3:
+                self._pin_pose(i, h, k, pin)
+        d.xfrc_applied[:] = 0.0
+        for (pid, b), offsets in self.orbits.items():
+            i = next(j for j, p in enumerate(self.physical) if p.person_id == pid)
+            h = self.scene.people[i]
+            body = h.bodies[b]
+            orbit = self.target_body_pos[i][k, b] + offsets[k]
+            mass = m.body_mass[body]
+            d.xfrc_applied[body, :3] += mass * PERTURBATION_OMEGA**2 * (orbit - d.xpos[body])
+        for prop, h in zip(self.plan.props, self.scene.props, strict=True):
+            for (_pid, _body, t0, t1, _rp, _rq), eq in zip(prop.grips, h.grip_eqs, strict=True):
+                d.eq_active[eq] = t0 <= t < t1
+            if h.mocap is not None:
+                d.mocap_pos[h.mocap] = self._car_position(prop, h, k)
+        cam = self.scene.camera
+        if cam is not None:
+            body = "head" if self.plan.recipe.camera.kind == "closeup" else "pelvis"
+            d.mocap_pos[cam.anchor_mocap] = d.xpos[self.scene.people[0].bodies[BONE_INDEX[body]]]
+
+    def _pin_pose(self, i: int, h, k: int, weight: float) -> None:
+        """Place the pin's mocap body: the animated pelvis, led by the weld's steady lag.
+
+        A weld to a mocap body damps the pelvis's absolute velocity, so a pelvis moving at
+        v settles ``2·d·tc·v`` behind the mocap (d: impedance, tc: time constant). Leading
+        the mocap by that much, in position and orientation, cancels the lag.
+        """
+        d, m = self.d, self.m
+        tc = max(PIN_TIMECONST / math.sqrt(weight), 2.0 * self.plan.timestep)
+        m.eq_solref[h.pin_eq, 0] = tc
+        lead = 2.0 * PIN_SOLIMP[0] * tc
+        d.mocap_pos[h.pin_mocap] = self.physical[i].targets.root_pos[k] + lead * self.root_vel[i][k]
+        turn = _rotation_matrix(lead * self.root_omega[i][k])
+        d.mocap_quat[h.pin_mocap] = matrix_to_quat((turn @ self.root_rot[i][k])[None])[0]
+
+    def _car_position(self, prop, h, k: int) -> np.ndarray:
+        """The car follows its path until it touches someone, then brakes at 8 m/s²."""
+        if not self.released[0] or prop.path is None:
+            return prop.path[k]
+        if not hasattr(self, "_car_brake"):
+            k0 = max(1, k)
+            v = (prop.path[k0] - prop.path[k0 - 1]) / self.plan.timestep
+            self._car_brake = (k, self.d.mocap_pos[h.mocap].copy(), v)
+        k0, p0, v0 = self._car_brake
+        t = (k - k0) * self.plan.timestep
+        speed = np.linalg.norm(v0)
+        direction = v0 / max(speed, 1e-9)
+        t_stop = speed / 8.0
+        tt = min(t, t_stop)
+        return p0 + direction * (speed * tt - 4.0 * tt**2)
+
+    def check_contacts(self, t: float) -> set[str]:
+        """Named contacts of this step; a car touching the protagonist releases their pins."""
+        d = self.d
+        names = set()
+        if d.ncon == 0:
+            return names
+        g1 = d.contact.geom1[: d.ncon]
+        g2 = d.contact.geom2[: d.ncon]
+        if self.car_geoms:
+            protagonist = set(self.scene.people[0].geoms.tolist()) if self.scene.people else set()
+            for a, b in zip(g1.tolist(), g2.tolist(), strict=True):
+                if (a in self.car_geoms and b in protagonist) or (b in self.car_geoms and a in protagonist):
+                    names.add("car_protagonist")
+                    if not self.released[0] and self.physical[0].release_on_contact_with == "car":
+                        self.released[0] = True
+                        self.release_time[0] = t
+                    break
+        return names
+
+
+def _penetrations(run: _Run) -> tuple[float, float, set[str]]:
+    """Deepest person–world and camera–world penetration now, and which world parts touch."""
+    d = run.d
+    n = d.ncon
+    if n == 0:
+        return 0.0, 0.0, set()
+    g1 = d.contact.geom1[:n]
+    g2 = d.contact.geom2[:n]
+    dist = d.contact.dist[:n]
+    world = np.isin(g1, run.scene.world_geoms) | np.isin(g2, run.scene.world_geoms)
+    person_geoms = np.concatenate([h.geoms for h in run.scene.people]) if run.scene.people else np.array([], int)
+    person = np.isin(g1, person_geoms) | np.isin(g2, person_geoms)
+    deepest = float(np.max(-dist[world & person], initial=0.0))
+    cam = 0.0
+    touches = set()
+    if run.scene.camera is not None:
+        cg = run.scene.camera.camera_geom
+        sel = world & ((g1 == cg) | (g2 == cg))
+        cam = float(np.max(-dist[sel], initial=0.0))
+    if run.scene.people:
+        ground = np.flatnonzero(run.m.geom_type == mujoco.mjtGeom.mjGEOM_PLANE)
+        on_ground = np.isin(g1, ground) | np.isin(g2, ground)
+        prot = np.isin(g1, run.scene.people[0].geoms) | np.isin(g2, run.scene.people[0].geoms)
+        if np.any(on_ground & prot):
+            touches.add("protagonist_ground")
+    return max(deepest, 0.0), max(cam, 0.0), touches
+
+
+def _kinetic_energy(m: mujoco.MjModel, d: mujoco.MjData) -> float:
+    out = np.zeros(m.nv)
+    mujoco.mj_mulM(m, d, out, d.qvel)
+    return 0.5 * float(d.qvel @ out)
+
+
+def _healthy(d: mujoco.MjData) -> bool:
+    return bool(
+        np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel)) and np.max(np.abs(d.qvel), initial=0) < MAX_SPEED
+    )
+
+
+def simulate(recipe: Recipe, *, physics_hz: int | None = None, keep_state: bool = True) -> Trajectory:
+    """Simulate a recipe: the world pose of every body, prop and the camera per frame.
+
+    Args:
+        recipe: the video's recipe.
+        physics_hz: physics steps per second (default: the plan's, 240 Hz or more for
+            stiff kite springs).
+        keep_state: keep MuJoCo's full physics state per frame (for saving / comparing).
+    """
+    plan = plan_scene(recipe) if physics_hz is None else plan_scene(recipe, physics_hz=physics_hz)
+    return simulate_plan(plan, keep_state=keep_state)
+
+
+def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
+    """Simulate an already planned scene (``plan_scene``)."""
+    scene = build_model(plan)
+    run = _Run(plan, scene)
+    run.initialise()
+    m, d = run.m, run.d
+    n_out = plan.n_frames + 1
+    physical = run.physical
+    n_phys = len(physical)
+    body_pos = np.zeros((n_phys, n_out, len(BONES), 3))
+    body_quat = np.zeros((n_phys, n_out, len(BONES), 4))
+    q_out = np.zeros((n_phys, n_out, 30))
+    strengths = np.zeros((n_phys, n_out, len(BONES)))
+    pins = np.zeros((n_phys, n_out))
+    prop_pos = np.zeros((len(plan.props), n_out, 3))
+    prop_quat = np.zeros((len(plan.props), n_out, 4))
+    cam_pos = np.zeros((n_out, 3))
+    cam_look = np.zeros((n_out, 3))
+    penetration = np.zeros(n_out)
+    cam_pen = np.zeros(n_out)
+    limit_excess = np.zeros(n_out)
+    energy = np.zeros(n_out)
+    contacts = {"car_protagonist": np.zeros(n_out, bool), "protagonist_ground": np.zeros(n_out, bool)}
+    nstate = mujoco.mj_stateSize(m, _FULL)
+    states = np.zeros((n_out, nstate)) if keep_state else None
+    exploded_at = None
+    good_state = np.zeros(nstate)
+    frame_touch: set[str] = set()
+
+    def record(f: int) -> None:
+        for i, h in enumerate(scene.people):
+            body_pos[i, f] = d.xpos[h.bodies]
+            body_quat[i, f] = d.xquat[h.bodies]
+            q_out[i, f] = d.qpos[h.qpos_dofs]
+            strengths[i, f] = run.strength_now[i]
+            pins[i, f] = run.pin_now[i]
+            q = d.qpos[h.qpos_dofs]
+            limit_excess[f] = max(limit_excess[f], float(np.max(np.maximum(q - h.upper, h.lower - q), initial=0.0)))
+        for j, h in enumerate(scene.props):
+            prop_pos[j, f] = d.xpos[h.body]
+            prop_quat[j, f] = d.xquat[h.body]
+        pen, cpen, touches = _penetrations(run)
+        penetration[f] = pen
+        cam_pen[f] = cpen
+        for name in touches | frame_touch:
+            contacts[name][f] = True
+        energy[f] = _kinetic_energy(m, d)
+        cam_pos[f], cam_look[f] = _camera_now(plan, run, f)
+        if states is not None:
+            mujoco.mj_getState(m, d, states[f], _FULL)
+
+    record(0)
+    mujoco.mj_getState(m, d, good_state, _FULL)
+    for f in range(1, n_out):
+        frame_touch = set()
+        if exploded_at is None:
+            for s in range(plan.substeps):
+                k = (f - 1) * plan.substeps + s + 1
+                run._apply_controls(k)
+                mujoco.mj_step(m, d)
+                frame_touch |= run.check_contacts(plan.step_times[k])
+                if not _healthy(d):
+                    exploded_at = f
+                    break
+            if exploded_at is None:
+                mujoco.mj_getState(m, d, good_state, _FULL)
+            else:
+                mujoco.mj_setState(m, d, good_state, _FULL)
+                d.qvel[:] = 0.0
+                mujoco.mj_forward(m, d)
+        record(f)
+    warnings = {mujoco.mjtWarning(i).name: int(d.warning[i].number) for i in range(mujoco.mjtWarning.mjNWARNING.value)}
+    tracks = []
+    for i, (p, h) in enumerate(zip(physical, scene.people, strict=True)):
+        tracks.append(
+            PersonTrack(
+                person_id=p.person_id,
+                role=p.role,
+                body_pos=body_pos[i],
+                body_quat=body_quat[i],
+                target_pos=run.target_body_pos[i][:: plan.substeps],
+                q=q_out[i],
+                strengths=strengths[i],
+                pin=pins[i],
+                lower=h.lower,
+                upper=h.upper,
+                height_m=p.dims.height_m,
+            )
+        )
+    for p in plan.people:
+        if p.physical:
+            continue
+        pos, rot = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
+        quat = matrix_to_quat(rot)
+        tracks.append(
+            PersonTrack(
+                p.person_id, p.role, pos, quat, pos, p.targets.q, p.strengths, p.pin, LOWER, UPPER, p.dims.height_m
+            )
+        )
+    cam_to_world = np.zeros((n_out, 4, 4))
+    cam_to_world[:, :3, :3] = look_at(cam_pos, cam_look)
+    cam_to_world[:, :3, 3] = cam_pos
+    cam_to_world[:, 3, 3] = 1.0
+    props = tuple(
+        PropTrack(prop.name, prop.object, prop.pixel_class, prop.shape, tuple(prop.size), prop_pos[j], prop_quat[j])
+        for j, prop in enumerate(plan.props)
+    )
+    return Trajectory(
+        video_id=plan.recipe.video_id,
+        fps=plan.fps,
+        timestep=plan.timestep,
+        times=np.arange(n_out) / plan.fps,
+        people=tuple(tracks),
+        props=props,
+        cam_to_world=cam_to_world,
+        intrinsics=intrinsics(plan.recipe),
+        boxes=tuple((b.pixel_class, b.center, b.half_size, b.yaw_deg) for b in plan.boxes),
+        manipulations=tuple((x.object, x.person_id, x.body, x.kind, x.start_s, x.end_s) for x in plan.manipulations),
+        penetration_m=penetration,
+        camera_penetration_m=cam_pen,
+        limit_excess_rad=limit_excess,
+        kinetic_energy_j=energy,
+        warnings=warnings,
+        exploded_at=exploded_at,
+        contacts=contacts,
+        mj_state=states,
+    )
+
+
+def _camera_now(plan: ScenePlan, run: _Run, f: int) -> tuple[np.ndarray, np.ndarray]:
+    """Camera position and the point it looks at, per behaviour."""
+    cam = plan.recipe.camera
+    d = run.d
+    if run.scene.camera is not None:
+        return d.xpos[run.scene.camera.camera_body].copy(), d.xpos[run.scene.camera.target_body].copy()
+    position = np.array(plan.camera_start or cam.position, dtype=np.float64)
+    if cam.kind == "indoors":
+        # A fixed mount that pans: the look point follows the pelvis, smoothed.
+        pelvis = d.xpos[run.scene.people[0].bodies[0]].copy() if run.scene.people else np.array(cam.target)
+        if run.pan is None:
+            run.pan = np.array(cam.target, dtype=np.float64)
+        else:
+            a = 1.0 - math.exp(-1.0 / (plan.fps * PAN_TIMECONST))
+            run.pan = run.pan + a * (pelvis - run.pan)
+        return position, run.pan.copy()
+    return position, np.array(cam.target, dtype=np.float64)
