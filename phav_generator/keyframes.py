@@ -1,0 +1,153 @@
+"""Keyframe curves and small rotation helpers for the procedural motion library.
+
+Motions are written as keyframes (time, value) and periodic cycles; these helpers turn them
+into smooth curves. Interpolation is a monotone cubic (Fritsch–Carlson, the PCHIP scheme):
+C1-continuous, it passes through every key, never overshoots between two keys (a joint
+never swings past where the animator put it) and has zero velocity at the first and last
+key and at every local extremum, so a posture held between two equal keys stays still.
+The periodic variant wraps around, for cycles that must loop seamlessly.
+
+Everything is vectorised over the sample axis and pure: the same keys and times always
+give the same values.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+
+def ease(u: np.ndarray | float) -> np.ndarray:
+    """Quintic smootherstep on [0, 1] (clipped): zero velocity and acceleration at both ends."""
+    u = np.clip(np.asarray(u, dtype=np.float64), 0.0, 1.0)
+    return u * u * u * (u * (u * 6.0 - 15.0) + 10.0)
+
+
+def bump(u: np.ndarray | float) -> np.ndarray:
+    """A smooth 0 → 1 → 0 hump on [0, 1] (sin², zero outside), for lifts and pulses."""
+    u = np.clip(np.asarray(u, dtype=np.float64), 0.0, 1.0)
+    return np.sin(np.pi * u) ** 2
+
+
+def window(t: np.ndarray, t0: float, t1: float, ramp: float) -> np.ndarray:
+    """1 inside [t0, t1], 0 outside, with smooth ramps of ``ramp`` seconds on either side."""
+    r = max(ramp, 1e-6)
+    return ease((t - (t0 - r)) / r) * (1.0 - ease((t - t1) / r))
+
+
+def _fc_slopes(h: np.ndarray, delta: np.ndarray) -> np.ndarray:
+    """Fritsch–Carlson interior slopes (K−2, C) from knot gaps (K−1,) and secants (K−1, C)."""
+    d0, d1 = delta[:-1], delta[1:]
+    h0, h1 = h[:-1, None], h[1:, None]
+    w1 = 2.0 * h1 + h0
+    w2 = h1 + 2.0 * h0
+    same = d0 * d1 > 0.0
+    safe0 = np.where(same, d0, 1.0)
+    safe1 = np.where(same, d1, 1.0)
+    return np.where(same, (w1 + w2) / (w1 / safe0 + w2 / safe1), 0.0)
+
+
+def _hermite(xk: np.ndarray, yk: np.ndarray, mk: np.ndarray, x: np.ndarray) -> np.ndarray:
+    i = np.clip(np.searchsorted(xk, x, side="right") - 1, 0, len(xk) - 2)
+    h = xk[i + 1] - xk[i]
+    t = np.clip((x - xk[i]) / h, 0.0, 1.0)[:, None]
+    h = h[:, None]
+    t2 = t * t
+    t3 = t2 * t
+    return (
+        (2 * t3 - 3 * t2 + 1) * yk[i]
+        + (t3 - 2 * t2 + t) * h * mk[i]
+        + (-2 * t3 + 3 * t2) * yk[i + 1]
+        + (t3 - t2) * h * mk[i + 1]
+    )
+
+
+def monotone_cubic(xk: Sequence[float], yk: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Monotone cubic through knots (xk (K,) increasing, yk (K, C)) at x (T,) → (T, C).
+
+    Zero slope at the end knots; held constant outside [xk[0], xk[-1]].
+    """
+    xk = np.asarray(xk, dtype=np.float64)
+    yk = np.asarray(yk, dtype=np.float64).reshape(len(xk), -1)
+    x = np.asarray(x, dtype=np.float64)
+    if len(xk) == 1:
+        return np.broadcast_to(yk[0], (x.shape[0], yk.shape[1])).copy()
+    h = np.diff(xk)
+    if np.any(h <= 0):
+        raise ValueError("keyframe times must increase")
+    delta = np.diff(yk, axis=0) / h[:, None]
+    mk = np.zeros_like(yk)
+    mk[1:-1] = _fc_slopes(h, delta)
+    return _hermite(xk, yk, mk, x)
+
+
+def periodic_cubic(xk: Sequence[float], yk: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Periodic monotone cubic with period 1: knots xk (K,) in [0, 1), values yk (K, C).
+
+    The curve wraps from the last knot back to the first, C1 across the wrap, so a cycle
+    sampled at x and x + 1 gives the same value.
+    """
+    xk = np.asarray(xk, dtype=np.float64)
+    yk = np.asarray(yk, dtype=np.float64).reshape(len(xk), -1)
+    x = np.asarray(x, dtype=np.float64)
+    if len(xk) == 1:
+        return np.broadcast_to(yk[0], (x.shape[0], yk.shape[1])).copy()
+    ext_x = np.concatenate([[xk[-1] - 1.0], xk, [xk[0] + 1.0, xk[1] + 1.0]])
+    ext_y = np.concatenate([yk[-1:], yk, yk[:2]])
+    h = np.diff(ext_x)
+    if np.any(h <= 0):
+        raise ValueError("cycle keys must increase within one period")
+    delta = np.diff(ext_y, axis=0) / h[:, None]
+    m = _fc_slopes(h, delta)  # slopes at ext_x[1:-1] = xk and xk[0] + 1
+    knots = ext_x[1:-1]
+    u = xk[0] + np.mod(x - xk[0], 1.0)
+    return _hermite(knots, ext_y[1:-1], m, u)
+
+
+def _axis_rot(angle: np.ndarray, i: int, j: int) -> np.ndarray:
+    a = np.asarray(angle, dtype=np.float64)
+    out = np.zeros((*a.shape, 3, 3))
+    c, s = np.cos(a), np.sin(a)
+    k = 3 - i - j
+    out[..., k, k] = 1.0
+    out[..., i, i] = c
+    out[..., j, j] = c
+    out[..., i, j] = -s
+    out[..., j, i] = s
+    return out
+
+
+def rot_x(a: np.ndarray) -> np.ndarray:
+    """Rotations about +X by angles a (…) → (…, 3, 3)."""
+    return _axis_rot(a, 1, 2)
+
+
+def rot_y(a: np.ndarray) -> np.ndarray:
+    """Rotations about +Y by angles a (…) → (…, 3, 3)."""
+    return _axis_rot(a, 2, 0)
+
+
+def rot_z(a: np.ndarray) -> np.ndarray:
+    """Rotations about +Z by angles a (…) → (…, 3, 3)."""
+    return _axis_rot(a, 0, 1)
+
+
+def euler_quat(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:
+    """Quaternions (w, x, y, z) of Rz(yaw)·Ry(pitch)·Rx(roll), continuous in the angles."""
+    hy, hp, hr = 0.5 * np.asarray(yaw), 0.5 * np.asarray(pitch), 0.5 * np.asarray(roll)
+    cy, sy, cp, sp, cr, sr = np.cos(hy), np.sin(hy), np.cos(hp), np.sin(hp), np.cos(hr), np.sin(hr)
+    return np.stack(
+        [
+            cy * cp * cr + sy * sp * sr,
+            cy * cp * sr - sy * sp * cr,
+            cy * sp * cr + sy * cp * sr,
+            sy * cp * cr - cy * sp * sr,
+        ],
+        axis=-1,
+    )
+
+
+def euler_matrix(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:
+    """Rz(yaw)·Ry(pitch)·Rx(roll) (…, 3, 3)."""
+    return rot_z(yaw) @ rot_y(pitch) @ rot_x(roll)
