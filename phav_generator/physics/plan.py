@@ -38,6 +38,8 @@ MAX_SPRING_OMEGA_DT = 0.5
 MAX_CAMERA_STEP_M = 0.05
 #: Strength of muscles once a ragdoll is released: a little tone, gravity does the rest.
 RELEASED_STRENGTH = 0.15
+#: Seconds over which a release lets the pins and muscles go.
+RELEASE_RAMP_S = 0.1
 
 HANDS = ("right_hand", "left_hand")
 #: Servo strength of an arm whose hand is tied to someone else's body.
@@ -294,7 +296,7 @@ def _ramp(times: np.ndarray, t0: float, duration: float) -> np.ndarray:
 
 def _release(person: PersonPlan, times: np.ndarray, t0: float, strength: float = RELEASED_STRENGTH) -> PersonPlan:
     """Pins off and muscles slack from t0 on (over 0.1 s): physics takes over."""
-    r = _ramp(times, t0, 0.1)
+    r = _ramp(times, t0, RELEASE_RAMP_S)
     pin = person.pin * (1.0 - r)
     strengths = person.strengths * (1.0 - r[:, None]) + strength * r[:, None]
     return _with(person, pin=pin, strengths=np.minimum(person.strengths, strengths))

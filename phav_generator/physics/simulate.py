@@ -17,7 +17,7 @@ import numpy as np
 
 from phav_generator.animation import motion_rng
 from phav_generator.physics.model import PIN_SOLIMP, PIN_TIMECONST, SceneModel, build_model
-from phav_generator.physics.plan import ScenePlan, plan_scene
+from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_generator.rotations import axis_angle_matrix, look_at, matrix_to_quat, quat_to_matrix
 from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
@@ -160,9 +160,9 @@ class _Run:
             strengths = p.strengths[k].copy()
             pin = float(p.pin[k])
             if self.released[i]:
-                r = min(1.0, (t - self.release_time[i]) / 0.1)
+                r = min(1.0, (t - self.release_time[i]) / RELEASE_RAMP_S)
                 pin *= 1.0 - r
-                strengths = np.minimum(strengths, strengths * (1 - r) + 0.15 * r)
+                strengths = np.minimum(strengths, strengths * (1 - r) + RELEASED_STRENGTH * r)
             self.strength_now[i] = strengths
             self.pin_now[i] = pin
             s_dof = strengths[DOF_BODY]
