@@ -33,6 +33,9 @@ app.add_typer(theta_app, name="theta")
 app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
+#: What `phav bench --sections` can run.
+BENCH_SECTIONS = ("sampling", "physics", "probe")
+
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 
 
@@ -228,21 +231,27 @@ def bench(
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     out_dir: Annotated[Path | None, typer.Option("--out-dir", help="Keep the Parquet files here.")] = None,
     sections: Annotated[
-        str, typer.Option("--sections", help="Comma-separated: sampling, physics.")
+        str, typer.Option("--sections", help=f"Comma-separated: {', '.join(BENCH_SECTIONS)}.")
     ] = "sampling,physics",
     physics_clips: Annotated[int, typer.Option("--physics-clips", min=1, help="5 s clips per physics rate.")] = 4,
+    probe_clips: Annotated[
+        int, typer.Option("--probe-clips", min=2, help="Training clips per action for the probe (a third as many tested).")
+    ] = 12,
 ) -> None:
-    """Speed against error: sampling (throughput, Parquet size, distance from θ) and physics
-    (timestep against joint error and ms per frame)."""
+    """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
+    (timestep against joint error and ms per frame) and the action probe (how recognisable
+    the 35 actions are from simulated motion, against simulation time)."""
     from phav_generator.bench import bench_sampling
 
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
-    unknown = sorted(set(chosen) - {"sampling", "physics"})
+    unknown = sorted(set(chosen) - set(BENCH_SECTIONS))
     if unknown:
-        raise PhavUserError(f"unknown section(s) {unknown}; choose from sampling, physics", field="--sections")
+        raise PhavUserError(f"unknown section(s) {unknown}; choose from {', '.join(BENCH_SECTIONS)}", field="--sections")
     theta = load_theta("phav-v1")
     if "physics" in chosen:
         _bench_physics_table(theta, seed=seed, clips=physics_clips)
+    if "probe" in chosen:
+        _bench_probe_table(theta, seed=seed, clips=probe_clips)
     if "sampling" not in chosen:
         return
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
@@ -257,6 +266,28 @@ def bench(
             f"{r.duration_error:.3f}", f"{r.worst_p:.2g}", f"{r.rejected}/{r.n_tests}",
         )  # fmt: skip
     console.print(table)
+
+
+def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:
+    from phav_generator.physics.probe import evaluate_probe, format_confusion
+    from phav_spec.vocab import ACTIONS
+
+    n_test = max(1, clips // 3)
+    actions = ACTIONS.names
+    with _progress() as bar:
+        task = bar.add_task("simulating probe clips", total=len(actions) * (clips + n_test))
+        result = evaluate_probe(theta, actions, n_train=clips, n_test=n_test, seed=seed,
+                                progress=lambda k: bar.advance(task, k))  # fmt: skip
+    frames = len(actions) * (clips + n_test) * (2 * theta.video.fps + 1)
+    table = Table(title=f"action probe (θ {theta.name}, 2 s clips, train seed {seed}, test seed {seed + 1})",
+                  title_justify="left")  # fmt: skip
+    for col in ("actions", "train clips", "test clips", "ms plan+simulate / frame", "fit s", "held-out accuracy", "chance"):
+        table.add_column(col, justify="right")
+    table.add_row(str(len(actions)), f"{clips * len(actions)}", f"{n_test * len(actions)}",
+                  f"{1000 * result.simulate_s / frames:.2f}", f"{result.fit_s:.1f}", f"{result.accuracy:.1%}",
+                  f"{1 / len(actions):.1%}")  # fmt: skip
+    console.print(table)
+    console.print(escape(format_confusion(result.confusion, result.classes)), highlight=False)
 
 
 def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:

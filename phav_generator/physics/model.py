@@ -2,7 +2,7 @@
 
 The only module that compiles MuJoCo models. People become active ragdolls (free pelvis,
 one hinge per skeleton DOF with its limits, a position servo per hinge, a mocap pin welded
-to the pelvis); props become free bodies (weld constraints grip them), mocap bodies (cars)
+to the pelvis); props become free bodies (weld constraints grip them), bodies driven along a path (cars)
 or static geoms; the environment's colliders, the action's boxes (stairs, chair) and the
 ground plane are static; the kite camera is a pair of sliding bodies tied by tendon springs.
 """
@@ -36,7 +36,9 @@ CAMERA_MARGIN_M = 0.1
 CAMERA_CONTACT_TIMECONST = 0.004
 #: The root pin: a weld from a mocap body (the animated pelvis) to the pelvis. Time constant
 #: (s) at full pin weight, and a flat impedance so the lag compensation below is exact.
-PIN_TIMECONST = 0.02
+#: 0.01 s keeps a sprinting pelvis within ~3° of its animation (0.02 s let it swing 15°);
+#: MuJoCo raises it to two physics steps where that is larger.
+PIN_TIMECONST = 0.01
 PIN_SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)
 
 
@@ -63,9 +65,9 @@ class PropHandles:
     name: str
     body: int
     geom: int
-    qpos: int | None  # free joint address (dynamic props)
+    qpos: int | None  # free joint address (dynamic props), first slide (driven props)
     qvel: int | None
-    mocap: int | None  # kinematic props (cars)
+    driven: bool = False  # moves along the plan's path (cars): x, y, z slides from its start
     grip_eqs: list[int] = field(default_factory=list)
 
 
@@ -225,9 +227,16 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
         body = spec.worldbody.add_body()
         body.name = "prop_" + prop.name
         body.pos = list(prop.pos)
-        body.quat = list(prop.quat)
+        body.quat = list(prop.quat) if prop.path is None else [1.0, 0.0, 0.0, 0.0]
         if prop.path is not None:
-            body.mocap = True
+            # Driven along its path through three slides: unlike a mocap body it has a
+            # velocity, so a contact sees the car coming instead of a teleporting wall.
+            body.gravcomp = 1.0
+            for axis, name in zip(np.eye(3), "xyz", strict=True):
+                j = body.add_joint()
+                j.name = f"prop_{prop.name}_{name}"
+                j.type = mujoco.mjtJoint.mjJNT_SLIDE
+                j.axis = list(axis)
         else:
             j = body.add_freejoint()
             j.name = "prop_" + prop.name
@@ -239,7 +248,8 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
     _add_geom_shape(g, prop.shape, prop.size)
     if parent is spec.worldbody:
         g.pos = list(prop.pos)
-        g.quat = list(prop.quat)
+    if parent is spec.worldbody or prop.path is not None:
+        g.quat = list(prop.quat)  # a driven body slides along world axes; its shape turns
     g.mass = prop.mass
     g.contype = PROP_BIT
     g.conaffinity = WORLD_BIT | PROP_BIT | sum(_PERSON_BITS)
@@ -410,9 +420,10 @@ def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan])
     for prop in plan.props:
         g = gid("prop_" + prop.name)
         body = int(model.geom_bodyid[g])
-        handle = PropHandles(prop.name, body, g, None, None, None)
+        handle = PropHandles(prop.name, body, g, None, None)
         if prop.path is not None:
-            handle.mocap = int(model.body_mocapid[body])
+            j = jid(f"prop_{prop.name}_x")
+            handle.qpos, handle.qvel, handle.driven = int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]), True
         elif prop.dynamic:
             j = jid("prop_" + prop.name)
             handle.qpos = int(model.jnt_qposadr[j])

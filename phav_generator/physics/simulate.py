@@ -10,6 +10,7 @@ state is held for the rest of the clip, and nothing in the output is NaN.
 
 from __future__ import annotations
 
+import copy
 import math
 
 import mujoco
@@ -73,6 +74,47 @@ def _angular_velocity(rot: np.ndarray, dt: float) -> np.ndarray:
     return out
 
 
+def _inverse_dynamics(scene: SceneModel, people: list, dt: float) -> list[np.ndarray]:
+    """Generalised forces (S, 6 + 30) per physical person, root wrench then joint torques,
+    that make the animation happen in free space.
+
+    Computed-torque feed-forward: MuJoCo's inverse dynamics of the target motion (pose,
+    velocity, acceleration, root included) with gravity, contacts and equality constraints
+    switched off, since gravity compensation and the pin carry the weight. The servos then
+    only correct the residual, so fast motions (a sprint's knee swings at 2000 rad/s²) are
+    tracked without stiffer, less stable gains.
+    """
+    m = copy.copy(scene.model)
+    m.opt.disableflags |= int(
+        mujoco.mjtDisableBit.mjDSBL_GRAVITY | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT | mujoco.mjtDisableBit.mjDSBL_ACTUATION
+    )
+    d = mujoco.MjData(m)
+    steps = len(people[0].targets) if people else 0
+    qvel = np.zeros((steps, m.nv))
+    qpos = np.tile(m.qpos0, (steps, 1))
+    for p, h in zip(people, scene.people, strict=True):
+        tg = p.targets
+        rot = quat_to_matrix(tg.root_quat)
+        qpos[:, h.qpos_root : h.qpos_root + 3] = tg.root_pos
+        qpos[:, h.qpos_root + 3 : h.qpos_root + 7] = tg.root_quat
+        qpos[:, h.qpos_dofs] = tg.q
+        qvel[:, h.qvel_root : h.qvel_root + 3] = np.gradient(tg.root_pos, dt, axis=0)
+        # A free joint's angular velocity is in the body's own frame.
+        qvel[:, h.qvel_root + 3 : h.qvel_root + 6] = np.einsum("sji,sj->si", rot, _angular_velocity(rot, dt))
+        qvel[:, h.qvel_dofs] = np.gradient(tg.q, dt, axis=0)
+    qacc = np.gradient(qvel, dt, axis=0)
+    out = [np.zeros((steps, 6 + len(h.qvel_dofs))) for h in scene.people]
+    for k in range(steps):
+        d.qpos[:] = qpos[k]
+        d.qvel[:] = qvel[k]
+        d.qacc[:] = qacc[k]
+        mujoco.mj_inverse(m, d)
+        for i, h in enumerate(scene.people):
+            out[i][k, :6] = d.qfrc_inverse[h.qvel_root : h.qvel_root + 6]
+            out[i][k, 6:] = d.qfrc_inverse[h.qvel_dofs]
+    return out
+
+
 def _perturbation_offsets(plan: ScenePlan) -> dict[tuple[int, int], np.ndarray]:
     """(person, body) → orbit offsets (S, 3): circles of the recipe's radius and period."""
     out = {}
@@ -110,6 +152,7 @@ class _Run:
         self.orbits = _perturbation_offsets(plan)
         dt = plan.timestep
         self.qdot = [np.gradient(p.targets.q, dt, axis=0) for p in physical]
+        self.torque_ff = _inverse_dynamics(scene, physical, dt)
         self.root_vel = [np.gradient(p.targets.root_pos, dt, axis=0) for p in physical]
         self.root_rot = [quat_to_matrix(p.targets.root_quat) for p in physical]
         self.root_omega = [_angular_velocity(r, dt) for r in self.root_rot]
@@ -135,13 +178,10 @@ class _Run:
                 d.qvel[h.qvel_dofs] = (tg.q[1] - tg.q[0]) / dt
             d.ctrl[h.actuators] = tg.q[0]
         for prop, h in zip(self.plan.props, self.scene.props, strict=True):
-            if h.qpos is not None:
+            if h.qpos is not None and not h.driven:
                 d.qpos[h.qpos : h.qpos + 3] = prop.pos
                 d.qpos[h.qpos + 3 : h.qpos + 7] = prop.quat
                 d.qvel[h.qvel : h.qvel + 3] = prop.vel
-            if h.mocap is not None:
-                d.mocap_pos[h.mocap] = prop.path[0]
-                d.mocap_quat[h.mocap] = prop.quat
         cam = self.scene.camera
         imp = self.plan.recipe.camera.impulse
         springs = self.plan.recipe.camera.springs
@@ -171,8 +211,13 @@ class _Run:
             m.actuator_biasprm[h.actuators, 2] = -h.kv * np.sqrt(s_dof)
             # An active muscle carries its body's weight; a released ragdoll feels gravity.
             m.body_gravcomp[h.bodies] = strengths * pin
-            # Servo target with velocity feed-forward: kp·(q* + q̇*·kv/kp − q) − kv·q̇.
-            d.ctrl[h.actuators] = p.targets.q[k] + self.qdot[i][k] * (h.kv / (h.kp * np.sqrt(np.maximum(s_dof, 1e-6))))
+            # Servo target with velocity feed-forward: kp·(q* + q̇*·kv/kp − q) − kv·q̇. The
+            # position term acts on the state at the step's start, the (implicit) damping on
+            # the velocity at its end, so each is compared with the target at that time.
+            kv_kp = h.kv / (h.kp * np.sqrt(np.maximum(s_dof, 1e-6)))
+            d.ctrl[h.actuators] = p.targets.q[max(k - 1, 0)] + self.qdot[i][k] * kv_kp
+            d.qfrc_applied[h.qvel_root : h.qvel_root + 6] = self.torque_ff[i][k, :6] * pin
+            d.qfrc_applied[h.qvel_dofs] = self.torque_ff[i][k, 6:] * (s_dof * pin)
             d.eq_active[h.pin_eq] = pin > 1e-3
             if pin > 1e-3:
                 self._pin_pose(i, h, k, pin)
@@ -187,8 +232,12 @@ class _Run:
         for prop, h in zip(self.plan.props, self.scene.props, strict=True):
             for (_pid, _body, t0, t1, _rp, _rq), eq in zip(prop.grips, h.grip_eqs, strict=True):
                 d.eq_active[eq] = t0 <= t < t1
-            if h.mocap is not None:
-                d.mocap_pos[h.mocap] = self._car_position(prop, h, k)
+            if h.driven:
+                # Placed and moved along the path each step whatever it hits: infinitely heavy,
+                # but with a velocity, so contacts push people at the car's speed.
+                start = self._car_position(prop, k - 1)
+                d.qpos[h.qpos : h.qpos + 3] = start - prop.path[0]
+                d.qvel[h.qvel : h.qvel + 3] = (self._car_position(prop, k) - start) / self.plan.timestep
         cam = self.scene.camera
         if cam is not None:
             body = "head" if self.plan.recipe.camera.kind == "closeup" else "pelvis"
@@ -209,21 +258,20 @@ class _Run:
         turn = _rotation_matrix(lead * self.root_omega[i][k])
         d.mocap_quat[h.pin_mocap] = matrix_to_quat((turn @ self.root_rot[i][k])[None])[0]
 
-    def _car_position(self, prop, h, k: int) -> np.ndarray:
-        """The car follows its path until it touches someone, then brakes at 8 m/s²."""
-        if not self.released[0] or prop.path is None:
-            return prop.path[k]
-        if not hasattr(self, "_car_brake"):
-            k0 = max(1, k)
-            v = (prop.path[k0] - prop.path[k0 - 1]) / self.plan.timestep
-            self._car_brake = (k, self.d.mocap_pos[h.mocap].copy(), v)
-        k0, p0, v0 = self._car_brake
-        t = (k - k0) * self.plan.timestep
-        speed = np.linalg.norm(v0)
-        direction = v0 / max(speed, 1e-9)
-        t_stop = speed / 8.0
-        tt = min(t, t_stop)
-        return p0 + direction * (speed * tt - 4.0 * tt**2)
+    def _car_position(self, prop, k: int) -> np.ndarray:
+        """Where the car is at plan step k: on its path until it has touched the
+        protagonist, then braking at 8 m/s² along the direction it was going."""
+        path, dt = prop.path, self.plan.timestep
+        k = max(k, 0)
+        if not self.released[0]:
+            return path[k]
+        hit = min(max(int(round(self.release_time[0] / dt)), 1), len(path) - 1)
+        if k <= hit:
+            return path[k]
+        v0 = (path[hit] - path[hit - 1]) / dt
+        speed = float(np.linalg.norm(v0))
+        t = min((k - hit) * dt, speed / 8.0)
+        return path[hit] + v0 / max(speed, 1e-9) * (speed * t - 4.0 * t**2)
 
     def check_contacts(self, t: float) -> set[str]:
         """Named contacts of this step; a car touching the protagonist releases their pins."""

@@ -1,0 +1,59 @@
+"""Recipes for physics tests: one action in one environment, short clips, from a θ variant."""
+
+from __future__ import annotations
+
+import copy
+import functools
+from typing import Any
+
+import numpy as np
+
+from phav_generator.sampling import sample_recipes
+from phav_spec.recipe import Recipe
+from phav_spec.theta import parse_theta
+from phav_spec.vocab import ACTIONS, ENVIRONMENTS
+from tests.helpers import preset_dict
+
+
+def theta_for(
+    action: str, environment: str | None = None, *, seconds: float = 1.0, variation: str | None = None, **edits: Any
+) -> Any:
+    """phav-v1 restricted to one action (and environment, and variation), clips of ``seconds``."""
+    data = copy.deepcopy(preset_dict())
+    data["theta_a"] = {action: 1}
+    if environment is not None:
+        data["theta_ae"]["rows"][action] = {environment: 1}
+    if variation is not None:
+        data["theta_av"] = {"default": {variation: 1}}
+    data["durations"] = {"t_min": seconds, "t_max": seconds, "t_mod": seconds}
+    for key, value in edits.items():
+        data[key] = value
+    return parse_theta(data, source="<test θ>")
+
+
+@functools.cache
+def recipe_for(
+    action: str,
+    environment: str | None = None,
+    *,
+    seconds: float = 1.0,
+    seed: int = 0,
+    index: int = 0,
+    variation: str | None = None,
+) -> Recipe:
+    """The ``index``-th recipe of a θ that only makes ``action`` (in ``environment``, ``variation``)."""
+    theta = theta_for(action, environment, seconds=seconds, variation=variation)
+    return next(iter(sample_recipes(theta, n=1, seed=seed, start=index)))
+
+
+def possible_pairs() -> list[tuple[str, str]]:
+    """Every (action, environment) with non-zero probability under phav-v1."""
+    from phav_spec.theta import load_preset
+
+    ae = load_preset("phav-v1").arrays.ae
+    return [(a, e) for i, a in enumerate(ACTIONS.names) for j, e in enumerate(ENVIRONMENTS.names) if ae[i, j] > 0]
+
+
+def lowest_z(track, body_index: int) -> np.ndarray:
+    """Height of a body's origin per frame."""
+    return track.body_pos[:, body_index, 2]

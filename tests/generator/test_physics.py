@@ -1,0 +1,289 @@
+"""Recipe → trajectory: determinism, every action in every environment, the actions'
+physical signatures, variations, cameras and hard cases (issue: motions, ragdoll, cameras)."""
+
+from __future__ import annotations
+
+import dataclasses
+import subprocess
+import sys
+
+import mujoco
+import numpy as np
+import pytest
+
+from phav_generator.physics import Trajectory, compare
+from phav_generator.physics.model import build_model
+from phav_generator.physics.plan import StaticBox, plan_scene
+from phav_generator.physics.simulate import intrinsics, simulate, simulate_plan
+from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, LOWER, UPPER, forward_kinematics
+from phav_spec.errors import PhavUserError
+from phav_spec.scene import ACTION_SCENES
+from tests.generator.physics_support import possible_pairs, recipe_for
+
+PELVIS = BONE_INDEX["pelvis"]
+#: How far (joint angle) a variation may move the action's necessary muscles.
+NECESSARY_TOLERANCE_RAD = 0.1
+
+
+def _healthy(tr: Trajectory) -> None:
+    assert tr.exploded_at is None, f"{tr.video_id}: exploded at frame {tr.exploded_at}"
+    bad = {k: v for k, v in tr.warnings.items() if v}
+    assert not bad, f"{tr.video_id}: MuJoCo warnings {bad}"
+    for name, array in tr.arrays().items():
+        assert np.all(np.isfinite(array)), f"{tr.video_id}: non-finite values in {name}"
+
+
+def test_numpy_kinematics_match_mujoco() -> None:
+    recipe = recipe_for("wave")
+    plan = plan_scene(recipe)
+    scene = build_model(plan)
+    m, h = scene.model, scene.people[0]
+    d = mujoco.MjData(m)
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        q = rng.uniform(LOWER, UPPER)
+        quat = rng.normal(size=4)
+        quat /= np.linalg.norm(quat)
+        d.qpos[h.qpos_root : h.qpos_root + 3] = rng.normal(size=3)
+        d.qpos[h.qpos_root + 3 : h.qpos_root + 7] = quat
+        d.qpos[h.qpos_dofs] = q
+        mujoco.mj_kinematics(m, d)
+        pos, rot = forward_kinematics(
+            plan.people[0].dims, d.qpos[None, h.qpos_root : h.qpos_root + 3], quat[None], q[None]
+        )
+        np.testing.assert_allclose(pos[0], d.xpos[h.bodies], atol=1e-12)
+        np.testing.assert_allclose(rot[0].reshape(-1, 9), d.xmat[h.bodies], atol=1e-12)
+
+
+_HASH_SCRIPT = """
+import sys
+from tests.generator.physics_support import recipe_for
+from phav_generator.physics.simulate import simulate
+print(simulate(recipe_for(sys.argv[1], seconds=0.6)).content_hash())
+"""
+
+
+def test_same_recipe_same_trajectory_in_two_processes() -> None:
+    hashes = [
+        subprocess.run(
+            [sys.executable, "-c", _HASH_SCRIPT, "car_hit"], capture_output=True, text=True, check=True
+        ).stdout.strip()
+        for _ in range(2)
+    ]
+    assert hashes[0] == hashes[1] and len(hashes[0]) == 64
+    assert simulate(recipe_for("car_hit", seconds=0.6)).content_hash() == hashes[0]
+
+
+def test_a_video_does_not_depend_on_the_videos_before_it() -> None:
+    alone = simulate(recipe_for("walk", seconds=0.5, index=3)).content_hash()
+    for i in range(3):
+        simulate(recipe_for("walk", seconds=0.5, index=i))
+    assert simulate(recipe_for("walk", seconds=0.5, index=3)).content_hash() == alone
+
+
+@pytest.mark.parametrize(("action", "environment"), possible_pairs())
+def test_every_action_simulates_in_every_environment(action: str, environment: str) -> None:
+    recipe = recipe_for(action, environment, seconds=0.4)
+    tr = simulate(recipe, keep_state=False)
+    _healthy(tr)
+    assert len(tr.times) == recipe.n_frames + 1
+    assert tr.cam_to_world.shape == (recipe.n_frames + 1, 4, 4)
+    assert len([p for p in tr.people if p.role != "background"]) == recipe.n_people
+
+
+def test_trajectory_round_trip(tmp_path) -> None:
+    tr = simulate(recipe_for("pour", seconds=0.4))
+    path = tmp_path / "t.npz"
+    tr.save(path)
+    back = Trajectory.load(path)
+    assert back.content_hash() == tr.content_hash()
+    assert max(compare(tr, back).values()) == 0.0
+    path.write_bytes(b"not a trajectory")
+    with pytest.raises(PhavUserError, match=r"t\.npz"):
+        Trajectory.load(path)
+
+
+# --- what the actions are, measured on the trajectories --------------------------------
+
+
+@pytest.fixture(scope="module")
+def car_hit() -> Trajectory:
+    # No variation: a weakened muscle is meant to lag its animation.
+    return simulate(recipe_for("car_hit", seconds=3.0, variation="none"))
+
+
+def test_car_hit_contact_then_fall(car_hit: Trajectory) -> None:
+    _healthy(car_hit)
+    touched = np.flatnonzero(car_hit.contacts["car_protagonist"])
+    assert touched.size, "the car never touched the protagonist"
+    after = car_hit.people[0].body_pos[touched[0] :, PELVIS, 2]
+    ground = recipe_for("car_hit", seconds=3.0, variation="none").protagonist.position[2]
+    assert np.min(after - ground) < 0.5
+
+
+def test_released_ragdoll_is_simulated(car_hit: Trajectory) -> None:
+    p = car_hit.people[0]
+    touched = np.flatnonzero(car_hit.contacts["car_protagonist"])[0]
+    assert p.pin[-1] == 0.0 and p.pin[0] == 1.0
+    divergence = np.linalg.norm(p.body_pos - p.target_pos, axis=-1).max(axis=1)
+    assert divergence[: max(touched - 2, 1)].max() < 0.15
+    assert divergence[touched:].max() > 0.5
+    # After the release, something other than a foot rests on the ground.
+    rest = [BONE_INDEX[b] for b in ("pelvis", "chest", "head", "left_hand", "right_hand")]
+    ground = recipe_for("car_hit", seconds=3.0, variation="none").protagonist.position[2]
+    assert (p.body_pos[-1, rest, 2] - ground).min() < 0.3
+
+
+def test_walk_holding_hands_keeps_hands_tied() -> None:
+    tr = simulate(recipe_for("walk_holding_hands", seconds=2.0))
+    _healthy(tr)
+    a, b = tr.people[0], tr.person(1)
+    palm = np.array([0.0, 0.0, -0.08 * a.height_m / 1.75])
+    from phav_generator.rotations import quat_to_matrix
+
+    pa = a.body_pos[:, BONE_INDEX["right_hand"]] + quat_to_matrix(a.body_quat[:, BONE_INDEX["right_hand"]]) @ palm
+    pb = b.body_pos[:, BONE_INDEX["left_hand"]] + quat_to_matrix(b.body_quat[:, BONE_INDEX["left_hand"]]) @ palm
+    gap = np.linalg.norm(pa - pb, axis=-1)
+    assert gap[10:].max() < 0.05, f"palms {np.round(gap, 3)} m apart"
+
+
+def test_crawl_keeps_the_torso_near_the_ground() -> None:
+    recipe = recipe_for("crawl", seconds=2.0)
+    tr = simulate(recipe)
+    chest = tr.people[0].body_pos[:, BONE_INDEX["chest"], 2] - recipe.protagonist.position[2]
+    assert np.median(chest) < 0.6
+
+
+def test_hop_leaves_the_ground_with_both_feet() -> None:
+    recipe = recipe_for("hop", seconds=3.0)
+    tr = simulate(recipe)
+    p = tr.people[0]
+    dims_sole = 0.039 * p.height_m
+    feet = p.body_pos[:, [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]], 2] - recipe.protagonist.position[2]
+    airborne = (feet > dims_sole + 0.03).all(axis=1)
+    assert airborne.any(), f"lowest foot heights {np.round(feet.min(axis=1), 3)}"
+
+
+def test_limp_is_asymmetric() -> None:
+    recipe = recipe_for("limp", seconds=4.0)
+    tr = simulate(recipe)
+    p = tr.people[0]
+    knees = p.q[:, [DOF_INDEX["left_knee_flex"], DOF_INDEX["right_knee_flex"]]]
+    swing = knees.max(axis=0) - knees.min(axis=0)
+    assert abs(swing[0] - swing[1]) / swing.max() > 0.15, f"knee ranges {swing}"
+
+
+@pytest.mark.parametrize("kind", ["random_perturbation", "action_blending"])
+def test_variations_change_complementary_muscles_only(kind: str) -> None:
+    base = recipe_for("wave", seconds=2.0)
+    scene = ACTION_SCENES["wave"]
+    muscles = scene.complementary_muscles[:6]
+    if kind == "random_perturbation":
+        variation = {"kind": kind, "muscles": muscles, "radius_m": 0.3, "period_s": 0.8}
+    else:
+        variation = {
+            "kind": kind,
+            "muscles": muscles,
+            "blend_motion": "jumping_jacks_01",
+            "blend_start_s": 1.0,
+            "weight": 0.8,
+        }
+    varied = base.model_copy(
+        update={"variation": base.model_validate({**base.model_dump(), "variation": variation}).variation}
+    )
+    plain = base.model_copy(
+        update={"variation": base.model_validate({**base.model_dump(), "variation": {"kind": "none"}}).variation}
+    )
+    a, b = simulate(plain).people[0], simulate(varied).people[0]
+    from phav_generator.animation import muscle_dof_mask
+
+    necessary = muscle_dof_mask(scene.necessary_muscles)
+    varied_dofs = muscle_dof_mask(muscles)
+    change = np.abs(a.q - b.q).max(axis=0)
+    assert change[varied_dofs].max() > 0.2, f"varied muscles moved {np.round(change[varied_dofs], 3)}"
+    assert change[necessary].max() < NECESSARY_TOLERANCE_RAD, (
+        f"necessary muscles moved {np.round(change[necessary], 3)}"
+    )
+
+
+# --- cameras and hard cases -------------------------------------------------------------
+
+
+def test_intrinsics_from_the_vertical_field_of_view() -> None:
+    recipe = recipe_for("wave")
+    _, fy, cx, cy = intrinsics(recipe)
+    assert (cx, cy) == (recipe.video.width / 2, recipe.video.height / 2)
+    assert np.isclose(2 * np.degrees(np.arctan(cy / fy)), recipe.camera.fov_deg)
+
+
+def _kite(recipe, **springs):
+    cam = recipe.camera
+    return recipe.model_copy(
+        update={"camera": cam.model_copy(update={"springs": cam.springs.model_copy(update=springs)})}
+    )
+
+
+def test_stiffest_kite_springs_stay_finite() -> None:
+    recipe = recipe_for("walk", "simple", seconds=1.0)
+    assert recipe.camera.kind == "kite"
+    stiff = _kite(recipe, ct_spring_strength=1e5, tp_spring_strength=1e5, camera_mass=0.01, target_mass=0.01)
+    tr = simulate(stiff, keep_state=False)
+    _healthy(tr)
+    # The springs hold the camera near the protagonist whatever the kick.
+    pelvis = tr.people[0].body_pos[:, PELVIS]
+    assert np.linalg.norm(tr.cam_to_world[-1, :3, 3] - pelvis[-1]) < 20.0
+
+
+def test_camera_thrown_at_a_wall_stays_out_of_it() -> None:
+    recipe = recipe_for("wave", "simple", seconds=1.0)
+    x, y, _ = recipe.protagonist.position
+    cam = recipe.camera
+    thrown = recipe.model_copy(
+        update={
+            "camera": cam.model_copy(
+                update={
+                    "position": (x - 3.0, y, 1.5),
+                    "impulse": cam.impulse.model_copy(
+                        update={"strength": 20.0 * cam.springs.camera_mass, "azimuth_deg": 180.0, "elevation_deg": 0.0}
+                    ),
+                }
+            )
+        }
+    )
+    plan = plan_scene(thrown)
+    wall_x = x - 4.0
+    plan = dataclasses.replace(
+        plan, boxes=(*plan.boxes, StaticBox("building", (wall_x - 0.25, y, 2.0), (0.25, 5.0, 2.0)))
+    )
+    tr = simulate_plan(plan, keep_state=False)
+    _healthy(tr)
+    assert tr.camera_penetration_m.max() <= 0.01
+    assert tr.cam_to_world[:, 0, 3].min() > wall_x  # never behind the wall
+
+
+def test_fastest_car_keeps_the_protagonist_finite() -> None:
+    recipe = recipe_for("car_hit", seconds=2.0)
+    plan = plan_scene(recipe)
+    car = next(p for p in plan.props if p.object == "car")
+    fast_path = car.path[:1] + (car.path - car.path[:1]) * (
+        20.0 / np.linalg.norm(car.path[1] - car.path[0]) * plan.timestep
+    )
+    plan = dataclasses.replace(
+        plan, props=tuple(dataclasses.replace(p, path=fast_path) if p is car else p for p in plan.props)
+    )
+    _healthy(simulate_plan(plan, keep_state=False))
+
+
+def test_zero_strength_muscles_do_not_explode() -> None:
+    base = recipe_for("run", seconds=1.5)
+    from phav_spec.vocab import MUSCLES
+
+    weak = base.model_validate(
+        {
+            **base.model_dump(),
+            "variation": {"kind": "muscle_weakening", "muscles": MUSCLES.names, "strengths": [0.0] * 15},
+        }
+    )
+    tr = simulate(weak, keep_state=False)
+    _healthy(tr)
+    assert tr.people[0].strengths.max() == 0.0
