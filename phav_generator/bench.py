@@ -74,6 +74,11 @@ class PhysicsRun:
     ms_per_frame: float  # MuJoCo + control per output frame, one-person scenes
     pinned_error_m: float  # max joint deviation from the reference while pins hold the body
     released_error_m: float  # max deviation of released (falling) ragdolls: chaotic, reported apart
+    pinned_clip_errors_m: tuple[float, ...] = ()  # the max deviation of each pinned clip
+
+    def clips_within(self, tolerance_m: float) -> int:
+        """Pinned clips whose joints stay within ``tolerance_m`` of the reference."""
+        return sum(e < tolerance_m for e in self.pinned_clip_errors_m)
 
 
 PHYSICS_RATES = (120, 240, 480, 960)
@@ -99,17 +104,17 @@ def bench_physics(recipes: list, released: list, *, rates: tuple[int, ...] = PHY
     refs_released = [joints(r, REFERENCE_HZ)[0] for r in released]
     out = []
     for hz in rates:
-        err = 0.0
+        errors = []
         seconds = 0.0
         frames = 0
         for r, ref in zip(recipes, refs, strict=True):
             j, elapsed, n = joints(r, hz)
-            err = max(err, float(np.linalg.norm(j - ref, axis=-1).max()))
+            errors.append(float(np.linalg.norm(j - ref, axis=-1).max()))
             seconds += elapsed
             frames += n
         rel = 0.0
         for r, ref in zip(released, refs_released, strict=True):
             j, _, _ = joints(r, hz)
             rel = max(rel, float(np.linalg.norm(j - ref, axis=-1).max()))
-        out.append(PhysicsRun(hz, 1000.0 * seconds / max(frames, 1), err, rel))
+        out.append(PhysicsRun(hz, 1000.0 * seconds / max(frames, 1), max(errors, default=0.0), rel, tuple(errors)))
     return out

@@ -235,7 +235,7 @@ def bench(
     ] = "sampling,physics",
     physics_clips: Annotated[int, typer.Option("--physics-clips", min=1, help="5 s clips per physics rate.")] = 4,
     probe_clips: Annotated[
-        int, typer.Option("--probe-clips", min=2, help="Training clips per action for the probe (a third as many tested).")
+        int, typer.Option("--probe-clips", min=2, help="Probe training clips per action (a third as many tested)")
     ] = 12,
 ) -> None:
     """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
@@ -246,7 +246,8 @@ def bench(
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
     unknown = sorted(set(chosen) - set(BENCH_SECTIONS))
     if unknown:
-        raise PhavUserError(f"unknown section(s) {unknown}; choose from {', '.join(BENCH_SECTIONS)}", field="--sections")
+        choices = ", ".join(BENCH_SECTIONS)
+        raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
     theta = load_theta("phav-v1")
     if "physics" in chosen:
         _bench_physics_table(theta, seed=seed, clips=physics_clips)
@@ -281,7 +282,8 @@ def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:
     frames = len(actions) * (clips + n_test) * (2 * theta.video.fps + 1)
     table = Table(title=f"action probe (θ {theta.name}, 2 s clips, train seed {seed}, test seed {seed + 1})",
                   title_justify="left")  # fmt: skip
-    for col in ("actions", "train clips", "test clips", "ms plan+simulate / frame", "fit s", "held-out accuracy", "chance"):
+    for col in ("actions", "train clips", "test clips", "ms plan+simulate / frame", "fit s", "held-out accuracy",
+                "chance"):  # fmt: skip
         table.add_column(col, justify="right")
     table.add_row(str(len(actions)), f"{clips * len(actions)}", f"{n_test * len(actions)}",
                   f"{1000 * result.simulate_s / frames:.2f}", f"{result.fit_s:.1f}", f"{result.accuracy:.1%}",
@@ -292,6 +294,7 @@ def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:
 
 def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:
     from phav_generator.bench import REFERENCE_HZ, bench_physics
+    from phav_generator.physics.plan import DEFAULT_PHYSICS_HZ
     from phav_generator.sampling import sample_recipes
 
     pinned, released = [], []
@@ -306,12 +309,18 @@ def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:
     rows = bench_physics(pinned, released)
     title = f"physics (θ {theta.name}, {len(pinned)} pinned + {len(released)} released clips, vs {REFERENCE_HZ} Hz)"
     table = Table(title=title, title_justify="left")
-    for col in ("timestep", "ms physics / frame", "pinned joint error cm", "released divergence cm"):
+    for col in ("timestep", "ms physics / frame", "pinned joint error cm", "pinned clips < 1 cm",
+                "released divergence cm"):  # fmt: skip
         table.add_column(col, justify="right")
     for row in rows:
         table.add_row(f"1/{row.hz} s", f"{row.ms_per_frame:.2f}", f"{100 * row.pinned_error_m:.2f}",
+                      f"{row.clips_within(0.01)}/{len(row.pinned_clip_errors_m)}",
                       f"{100 * row.released_error_m:.1f}")  # fmt: skip
     console.print(table)
+    within = [row.hz for row in rows if row.clips_within(0.01) == len(row.pinned_clip_errors_m)]
+    verdict = f"1/{min(within)} s" if within else "none of these rates"
+    console.print(f"fastest timestep keeping every pinned clip within 1 cm: {verdict}; "
+                  f"the default is 1/{DEFAULT_PHYSICS_HZ} s")  # fmt: skip
 
 
 def main() -> None:

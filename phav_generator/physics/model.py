@@ -1,9 +1,9 @@
 """Scene plan → MuJoCo model, built with ``MjSpec`` (structure); ``simulate`` owns the state.
 
 The only module that compiles MuJoCo models. People become active ragdolls (free pelvis,
-one hinge per skeleton DOF with its limits, a position servo per hinge, a mocap pin welded
-to the pelvis); props become free bodies (weld constraints grip them), bodies driven along a path (cars)
-or static geoms; the environment's colliders, the action's boxes (stairs, chair) and the
+one hinge per skeleton DOF with its limits, a position servo per hinge, a driven pin body
+welded to the pelvis); props become free bodies (weld constraints grip them), bodies driven
+along a path (cars) or static geoms; the environment's colliders, the action's boxes (stairs, chair) and the
 ground plane are static; the kite camera is a pair of sliding bodies tied by tendon springs.
 """
 
@@ -34,12 +34,14 @@ CAMERA_RADIUS_M = 0.12
 CAMERA_MARGIN_M = 0.1
 #: Stiff camera contacts (MuJoCo clamps the time constant to at least two steps).
 CAMERA_CONTACT_TIMECONST = 0.004
-#: The root pin: a weld from a mocap body (the animated pelvis) to the pelvis. Time constant
-#: (s) at full pin weight, and a flat impedance so the lag compensation below is exact.
+#: The root pin: a weld from a driven body (the animated pelvis) to the pelvis. Time constant
+#: (s) at full pin weight, and a flat impedance.
 #: 0.01 s keeps a sprinting pelvis within ~3° of its animation (0.02 s let it swing 15°);
 #: MuJoCo raises it to two physics steps where that is larger.
 PIN_TIMECONST = 0.01
 PIN_SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)
+#: Mass (kg) and inertia (kg m²) of the pin body: heavy enough that the weld moves the pelvis.
+PIN_MASS = 1.0e5
 
 
 @dataclass
@@ -53,7 +55,8 @@ class PersonHandles:
     actuators: np.ndarray  # (30,) actuator ids
     kp: np.ndarray  # (30,) full-strength servo gains
     kv: np.ndarray
-    pin_mocap: int
+    pin_qpos: int  # the pin body's free joint
+    pin_qvel: int
     pin_eq: int
     geoms: np.ndarray
     lower: np.ndarray
@@ -195,7 +198,13 @@ def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
         bodies[bone.name] = body
     pin = spec.worldbody.add_body()
     pin.name = pre + "pin"
-    pin.mocap = True
+    # A heavy free body whose pose and velocity the simulation sets every step: unlike a
+    # mocap body it moves with a velocity, so the weld damps the pelvis's velocity *error*.
+    pin.add_freejoint().name = pre + "pin"
+    pin.mass = PIN_MASS
+    pin.inertia = [PIN_MASS, PIN_MASS, PIN_MASS]
+    pin.explicitinertial = True
+    pin.gravcomp = 1.0
     eq = spec.add_equality()
     eq.name = pre + "pin"
     eq.type = mujoco.mjtEq.mjEQ_WELD
@@ -409,7 +418,8 @@ def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan])
                 ),
                 kp=kp,
                 kv=kv,
-                pin_mocap=int(model.body_mocapid[bid(pre + "pin")]),
+                pin_qpos=int(model.jnt_qposadr[jid(pre + "pin")]),
+                pin_qvel=int(model.jnt_dofadr[jid(pre + "pin")]),
                 pin_eq=eqid(pre + "pin"),
                 geoms=np.array([gid(pre + b.name) for b in BONES]),
                 lower=model.jnt_range[joints, 0].copy(),

@@ -1,6 +1,6 @@
 """``simulate(recipe) -> Trajectory``: run the planned scene in MuJoCo, frame by frame.
 
-Each physics step sets the pins (mocap poses) and servo targets from the plan, the servo
+Each physics step sets the pins (driven pelvis poses) and servo targets from the plan, the servo
 gains and gravity compensation from the muscle strengths, the perturbation pulls and the
 camera anchor; grips switch on and off at their times; a car's touch releases the
 protagonist. After each frame the poses and the physics signals are recorded. A step that
@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from phav_generator.animation import motion_rng
-from phav_generator.physics.model import PIN_SOLIMP, PIN_TIMECONST, SceneModel, build_model
+from phav_generator.physics.model import PIN_TIMECONST, SceneModel, build_model
 from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_generator.rotations import axis_angle_matrix, look_at, matrix_to_quat, quat_to_matrix
@@ -85,9 +85,8 @@ def _inverse_dynamics(scene: SceneModel, people: list, dt: float) -> list[np.nda
     tracked without stiffer, less stable gains.
     """
     m = copy.copy(scene.model)
-    m.opt.disableflags |= int(
-        mujoco.mjtDisableBit.mjDSBL_GRAVITY | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT | mujoco.mjtDisableBit.mjDSBL_ACTUATION
-    )
+    off = mujoco.mjtDisableBit
+    m.opt.disableflags |= int(off.mjDSBL_GRAVITY | off.mjDSBL_CONSTRAINT | off.mjDSBL_ACTUATION)
     d = mujoco.MjData(m)
     steps = len(people[0].targets) if people else 0
     qvel = np.zeros((steps, m.nv))
@@ -171,8 +170,6 @@ class _Run:
             d.qpos[h.qpos_root : h.qpos_root + 3] = tg.root_pos[0]
             d.qpos[h.qpos_root + 3 : h.qpos_root + 7] = tg.root_quat[0]
             d.qpos[h.qpos_dofs] = tg.q[0]
-            d.mocap_pos[h.pin_mocap] = tg.root_pos[0]
-            d.mocap_quat[h.pin_mocap] = tg.root_quat[0]
             if len(tg) > 1:
                 d.qvel[h.qvel_root : h.qvel_root + 3] = (tg.root_pos[1] - tg.root_pos[0]) / dt
                 d.qvel[h.qvel_dofs] = (tg.q[1] - tg.q[0]) / dt
@@ -244,19 +241,20 @@ class _Run:
             d.mocap_pos[cam.anchor_mocap] = d.xpos[self.scene.people[0].bodies[BONE_INDEX[body]]]
 
     def _pin_pose(self, i: int, h, k: int, weight: float) -> None:
-        """Place the pin's mocap body: the animated pelvis, led by the weld's steady lag.
+        """Put the pin body on the animated pelvis at the step's start, moving as it moves.
 
-        A weld to a mocap body damps the pelvis's absolute velocity, so a pelvis moving at
-        v settles ``2·d·tc·v`` behind the mocap (d: impedance, tc: time constant). Leading
-        the mocap by that much, in position and orientation, cancels the lag.
+        Its velocity is the animation's over the step, so the weld pulls the pelvis's pose
+        and velocity errors to zero without a lag to compensate.
         """
         d, m = self.d, self.m
-        tc = max(PIN_TIMECONST / math.sqrt(weight), 2.0 * self.plan.timestep)
-        m.eq_solref[h.pin_eq, 0] = tc
-        lead = 2.0 * PIN_SOLIMP[0] * tc
-        d.mocap_pos[h.pin_mocap] = self.physical[i].targets.root_pos[k] + lead * self.root_vel[i][k]
-        turn = _rotation_matrix(lead * self.root_omega[i][k])
-        d.mocap_quat[h.pin_mocap] = matrix_to_quat((turn @ self.root_rot[i][k])[None])[0]
+        m.eq_solref[h.pin_eq, 0] = max(PIN_TIMECONST / math.sqrt(weight), 2.0 * self.plan.timestep)
+        tg, dt = self.physical[i].targets, self.plan.timestep
+        j = max(k - 1, 0)
+        d.qpos[h.pin_qpos : h.pin_qpos + 3] = tg.root_pos[j]
+        d.qpos[h.pin_qpos + 3 : h.pin_qpos + 7] = tg.root_quat[j]
+        d.qvel[h.pin_qvel : h.pin_qvel + 3] = (tg.root_pos[k] - tg.root_pos[j]) / dt if k > 0 else 0.0
+        turn = self.root_rot[i][j].T @ self.root_rot[i][k]
+        d.qvel[h.pin_qvel + 3 : h.pin_qvel + 6] = _rotation_vector(turn) / dt if k > 0 else 0.0
 
     def _car_position(self, prop, k: int) -> np.ndarray:
         """Where the car is at plan step k: on its path until it has touched the
@@ -265,7 +263,7 @@ class _Run:
         k = max(k, 0)
         if not self.released[0]:
             return path[k]
-        hit = min(max(int(round(self.release_time[0] / dt)), 1), len(path) - 1)
+        hit = min(max(round(self.release_time[0] / dt), 1), len(path) - 1)
         if k <= hit:
             return path[k]
         v0 = (path[hit] - path[hit - 1]) / dt

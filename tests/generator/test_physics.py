@@ -287,3 +287,14 @@ def test_zero_strength_muscles_do_not_explode() -> None:
     tr = simulate(weak, keep_state=False)
     _healthy(tr)
     assert tr.people[0].strengths.max() == 0.0
+
+
+def test_physics_bench_measures_error_against_the_reference_rate() -> None:
+    from phav_generator.bench import REFERENCE_HZ, bench_physics
+
+    pinned = [recipe_for("clap", seconds=0.5, variation="none")]
+    released = [recipe_for("car_hit", seconds=0.5, variation="none")]
+    same, coarse = bench_physics(pinned, released, rates=(REFERENCE_HZ, 120))
+    assert same.pinned_error_m == 0.0 and same.released_error_m == 0.0  # deterministic
+    assert same.clips_within(0.01) == 1 and len(coarse.pinned_clip_errors_m) == 1
+    assert 0.0 < coarse.pinned_error_m < 1.0 and coarse.ms_per_frame > 0.0
