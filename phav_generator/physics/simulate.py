@@ -148,7 +148,9 @@ class _Run:
         for p in physical:
             pos, _ = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
             self.target_body_pos.append(pos)
-        self.orbits = _perturbation_offsets(plan)
+        index = {p.person_id: i for i, p in enumerate(physical)}
+        # (physical person index, body) → orbit offsets, looked up once rather than per step.
+        self.orbits = {(index[pid], b): off for (pid, b), off in _perturbation_offsets(plan).items() if pid in index}
         dt = plan.timestep
         self.qdot = [np.gradient(p.targets.q, dt, axis=0) for p in physical]
         self.torque_ff = _inverse_dynamics(scene, physical, dt)
@@ -219,8 +221,7 @@ class _Run:
             if pin > 1e-3:
                 self._pin_pose(i, h, k, pin)
         d.xfrc_applied[:] = 0.0
-        for (pid, b), offsets in self.orbits.items():
-            i = next(j for j, p in enumerate(self.physical) if p.person_id == pid)
+        for (i, b), offsets in self.orbits.items():
             h = self.scene.people[i]
             body = h.bodies[b]
             orbit = self.target_body_pos[i][k, b] + offsets[k]
