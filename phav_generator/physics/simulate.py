@@ -20,7 +20,7 @@ from phav_generator.animation import motion_rng
 from phav_generator.physics.model import PIN_TIMECONST, SceneModel, build_model
 from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
-from phav_generator.rotations import axis_angle_matrix, look_at, matrix_to_quat, quat_to_matrix
+from phav_generator.rotations import look_at, matrix_to_quat, quat_to_matrix
 from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
 from phav_spec.recipe import Recipe
 
@@ -54,14 +54,6 @@ def _rotation_vector(r: np.ndarray) -> np.ndarray:
         col = m[:, int(np.argmax(np.linalg.norm(m, axis=0)))]
         return math.pi * col / np.linalg.norm(col)
     return axis / s * angle
-
-
-def _rotation_matrix(v: np.ndarray) -> np.ndarray:
-    """Rotation matrix of an axis × angle vector."""
-    angle = float(np.linalg.norm(v))
-    if angle < 1e-12:
-        return np.eye(3)
-    return axis_angle_matrix(v / angle, np.asarray(angle))
 
 
 def _angular_velocity(rot: np.ndarray, dt: float) -> np.ndarray:
@@ -154,9 +146,7 @@ class _Run:
         dt = plan.timestep
         self.qdot = [np.gradient(p.targets.q, dt, axis=0) for p in physical]
         self.torque_ff = _inverse_dynamics(scene, physical, dt)
-        self.root_vel = [np.gradient(p.targets.root_pos, dt, axis=0) for p in physical]
         self.root_rot = [quat_to_matrix(p.targets.root_quat) for p in physical]
-        self.root_omega = [_angular_velocity(r, dt) for r in self.root_rot]
         self.released = [False] * len(physical)
         self.release_time = [math.inf] * len(physical)
         self.strength_now = [p.strengths[0].copy() for p in physical]
