@@ -75,6 +75,9 @@ class MotionDef:
     length_s: float
     fn: MotionFn
     description: str = ""
+    #: Friction of the feet on the floor: 1 for shoes; a gait whose stance foot slides
+    #: (the moonwalk) needs smooth soles, or friction holds the foot back.
+    sole_friction: float = 1.0
 
 
 #: Every playable motion, by name; filled by ``phav_generator.motion_library`` and by

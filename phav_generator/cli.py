@@ -321,6 +321,12 @@ def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:
     verdict = f"1/{min(within)} s" if within else "none of these rates"
     console.print(f"fastest timestep keeping every pinned clip within 1 cm: {verdict}; "
                   f"the default is 1/{DEFAULT_PHYSICS_HZ} s")  # fmt: skip
+    for row in rows:
+        if row.hz == DEFAULT_PHYSICS_HZ:
+            over = [f"{r.video_id} {r.action} in {r.environment.name} ({100 * e:.2f} cm)"
+                    for r, e in zip(pinned, row.pinned_clip_errors_m, strict=True) if e >= 0.01]  # fmt: skip
+            if over:
+                console.print(f"pinned clips over 1 cm at 1/{row.hz} s: {escape('; '.join(over))}")
 
 
 def main() -> None:

@@ -271,6 +271,7 @@ class Spec:
     custom: str | None = None  # a generator for motions no layer describes (moonwalk)
     advance: float = 0.0  # constant forward root speed, m/s (crawls), scaled by amplitude
     rigid: tuple[str, ...] = ()  # keyframed channels amplitude leaves alone (arms holding one club)
+    sole_friction: float = 1.0  # smooth soles for a sliding stance foot (moonwalk)
 
 
 #: The style knob of each family, as channel offsets per unit of style (see module doc).
@@ -1849,7 +1850,7 @@ SPECS: dict[str, Spec] = {
     "tightrope_walk_01": walk(speed=0.32, cadence=1.1, width=-0.01, toe_out=15.0, lift=0.06, sway=0.01, heel_off=10.0,
         swing=0.0, keys=seq((0.0, {**ARMS_OUT, "neck_flex": 25.0})), osc=(Osc("left_shoulder_abd", 12.0, 3.1),
             Osc("right_shoulder_abd", -12.0, 3.1), Osc("waist_lateral", 5.0, 3.1), Osc("roll", 2.0, 3.1),)),
-    "moonwalk_artist_01": Spec(family="gait", custom="moonwalk", cyclic=True),
+    "moonwalk_artist_01": Spec(family="gait", custom="moonwalk", cyclic=True, sole_friction=0.1),
     # ---- Hands up.
     "raise_both_hands_hold_01": gesture(seq((0.0, STAND),
             (1.5, {"shoulder_abd": 165.0, "shoulder_flex": 15.0, "elbow_flex": 10.0}),
@@ -1907,7 +1908,8 @@ def _register_all() -> None:
         if name in MOTION_LIBRARY:
             continue
         m = MOTIONS[name]
-        register_motion(MotionDef(name, m.length_s, _build(SPECS[name], m.length_s), m.description))
+        spec = SPECS[name]
+        register_motion(MotionDef(name, m.length_s, _build(spec, m.length_s), m.description, spec.sole_friction))
 
 
 _register_all()

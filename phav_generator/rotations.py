@@ -70,6 +70,24 @@ def matrix_to_quat(m: np.ndarray) -> np.ndarray:
     return out.reshape(*m.shape[:-2], 4)
 
 
+def relative_rotation_vectors(qa: np.ndarray, qb: np.ndarray) -> np.ndarray:
+    """Rotation vectors (..., 3) of qa⁻¹·qb: the turn from frame a to frame b, in a's axes.
+
+    Shortest way round (the relative quaternion's sign is chosen with w ≥ 0).
+    """
+    wa, va = qa[..., :1], qa[..., 1:]
+    wb, vb = qb[..., :1], qb[..., 1:]
+    w = wa * wb + np.sum(va * vb, axis=-1, keepdims=True)
+    v = wa * vb - wb * va - np.cross(va, vb)
+    sign = np.where(w < 0.0, -1.0, 1.0)
+    w, v = w * sign, v * sign
+    s = np.linalg.norm(v, axis=-1, keepdims=True)
+    angle = 2.0 * np.arctan2(s, w)
+    # angle / s tends to 2 / w as the turn vanishes.
+    scale = np.where(s > 1e-12, angle / np.maximum(s, 1e-300), 2.0 / np.maximum(w, 1e-300))
+    return v * scale
+
+
 def euler_zyx_matrix(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:
     """R = Rz(yaw) · Ry(pitch) · Rx(roll): heading, then forward pitch (+ = nose down), roll."""
     z = np.array([0.0, 0.0, 1.0])

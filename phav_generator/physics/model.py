@@ -1,8 +1,8 @@
 """Scene plan → MuJoCo model, built with ``MjSpec`` (structure); ``simulate`` owns the state.
 
 The only module that compiles MuJoCo models. People become active ragdolls (free pelvis,
-one hinge per skeleton DOF with its limits, a position servo per hinge, a driven pin body
-welded to the pelvis); props become free bodies (weld constraints grip them), bodies driven
+one hinge per skeleton DOF with its limits, a servo per hinge, a driven pin body welded to
+the pelvis); props become free bodies (weld constraints grip them), bodies driven
 along a path (cars) or static geoms; the environment's colliders, the action's boxes (stairs, chair) and the
 ground plane are static; the kite camera is a pair of sliding bodies tied by tendon springs.
 """
@@ -17,7 +17,7 @@ import numpy as np
 
 from phav_generator.physics.plan import PersonPlan, PropPlan, ScenePlan
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.skeleton import BONES, DOFS, PARENTS, BodyDims
+from phav_generator.skeleton import BONES, DOFS
 from phav_spec.scene import ENVIRONMENT_SCENES
 
 # Collision bits: world geometry, the camera, props, and one bit per physical person so a
@@ -27,9 +27,18 @@ CAMERA_BIT = 2
 PROP_BIT = 4
 _PERSON_BITS = (8, 16, 32, 64)
 
-#: Servo natural frequency (rad/s) and damping ratio at full strength.
+#: Servo natural frequency (rad/s) and damping ratio at full strength. A servo is a soft
+#: joint equality constraint (MuJoCo's direct stiffness and damping, in acceleration units),
+#: solved with the pin, contacts and ties in one problem: an actuator's explicit torque
+#: reached the pelvis only after the weld was solved, so the pinned pelvis rocked with the
+#: stride by an amount first order in the timestep.
 SERVO_OMEGA = 40.0
 SERVO_ZETA = 1.0
+SERVO_SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)
+#: A constraint servo lets 1 − d of an outside push through at once and stiffens against
+#: the rest by d / (1 − d); the random perturbation's muscles yield more (d = 0.8) so its
+#: orbiting pull moves them as far as it moved the earlier torque servos (up to ~0.7 rad).
+PERTURBED_SOLIMP = (0.8, 0.8, 0.001, 0.5, 2.0)
 CAMERA_RADIUS_M = 0.12
 CAMERA_MARGIN_M = 0.1
 #: Stiff camera contacts (MuJoCo clamps the time constant to at least two steps).
@@ -52,9 +61,7 @@ class PersonHandles:
     qvel_root: int
     qpos_dofs: np.ndarray  # (30,) qpos addresses of the hinges
     qvel_dofs: np.ndarray
-    actuators: np.ndarray  # (30,) actuator ids
-    kp: np.ndarray  # (30,) full-strength servo gains
-    kv: np.ndarray
+    servo_eqs: np.ndarray  # (30,) joint equality (servo) ids
     pin_qpos: int  # the pin body's free joint
     pin_qvel: int
     pin_eq: int
@@ -96,38 +103,6 @@ class SceneModel:
     camera: CameraHandles | None
     tie_eqs: list[int]
     world_geoms: np.ndarray  # static geoms (ground, colliders, boxes)
-
-
-def _servo_gains(dims: BodyDims) -> tuple[np.ndarray, np.ndarray]:
-    """Per-DOF kp, kv from the inertia of the subtree the hinge moves (ω, ζ fixed)."""
-    n = len(BONES)
-    # Body centres of mass at rest (capsule midpoints) in the person frame.
-    origin = np.zeros((n, 3))
-    for b in range(n):
-        origin[b] = dims.offsets[b] if PARENTS[b] < 0 else origin[PARENTS[b]] + dims.offsets[b]
-    com = np.array([origin[b] + (np.array(c.a) + np.array(c.b)) / 2 for b, c in enumerate(dims.capsules)])
-    children: list[list[int]] = [[] for _ in range(n)]
-    for b in range(n):
-        if PARENTS[b] >= 0:
-            children[PARENTS[b]].append(b)
-
-    def subtree(b: int) -> list[int]:
-        out = [b]
-        for c in children[b]:
-            out += subtree(c)
-        return out
-
-    kp = np.empty(len(DOFS))
-    kv = np.empty(len(DOFS))
-    for i, d in enumerate(DOFS):
-        b = next(k for k, bone in enumerate(BONES) if bone.name == d.body)
-        members = subtree(b)
-        m = dims.masses[members]
-        r2 = np.sum((com[members] - origin[b]) ** 2, axis=1)
-        inertia = float(np.sum(m * (r2 + 0.01 * dims.height_m**2)))
-        kp[i] = inertia * SERVO_OMEGA**2
-        kv[i] = 2.0 * SERVO_ZETA * inertia * SERVO_OMEGA
-    return kp, kv
 
 
 def _add_geom_shape(geom, shape: str, size: tuple[float, ...]) -> None:
@@ -195,6 +170,10 @@ def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
         g.contype = bit
         g.conaffinity = WORLD_BIT | PROP_BIT | others
         g.friction = [1.0, 0.005, 0.0001]
+        if bone.name.endswith("_foot") and p.sole_friction != 1.0:
+            # MuJoCo takes the larger friction of a pair unless one geom has priority.
+            g.friction = [p.sole_friction, 0.005, 0.0001]
+            g.priority = 1
         bodies[bone.name] = body
     pin = spec.worldbody.add_body()
     pin.name = pre + "pin"
@@ -214,21 +193,15 @@ def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
     eq.solref = [PIN_TIMECONST, 1.0]
     eq.solimp = list(PIN_SOLIMP)
     eq.data = np.array([0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0], dtype=np.float64)
-    kp, kv = _servo_gains(dims)
-    for i, d in enumerate(DOFS):
-        a = spec.add_actuator()
-        a.name = pre + d.name
-        a.trntype = mujoco.mjtTrn.mjTRN_JOINT
-        a.target = pre + d.name
-        a.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-        a.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-        gain = np.zeros(10)
-        gain[0] = kp[i]
-        bias = np.zeros(10)
-        bias[1] = -kp[i]
-        bias[2] = -kv[i]
-        a.gainprm = gain
-        a.biasprm = bias
+    for d in DOFS:
+        # Stiffness and damping are set per step from the muscle's strength.
+        eq = spec.add_equality()
+        eq.name = pre + "servo_" + d.name
+        eq.type = mujoco.mjtEq.mjEQ_JOINT
+        eq.objtype = mujoco.mjtObj.mjOBJ_JOINT
+        eq.name1 = pre + d.name
+        eq.solref = [-(SERVO_OMEGA**2), -2.0 * SERVO_ZETA * SERVO_OMEGA]
+        eq.solimp = list(PERTURBED_SOLIMP if d.body in p.perturbed else SERVO_SOLIMP)
 
 
 def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
@@ -403,7 +376,6 @@ def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan])
         pre = f"p{p.person_id}_"
         root = jid(pre + "root")
         joints = [jid(pre + d.name) for d in DOFS]
-        kp, kv = _servo_gains(p.dims)
         bodies = np.array([bid(pre + b.name) for b in BONES])
         people.append(
             PersonHandles(
@@ -413,11 +385,7 @@ def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan])
                 qvel_root=int(model.jnt_dofadr[root]),
                 qpos_dofs=model.jnt_qposadr[joints].copy(),
                 qvel_dofs=model.jnt_dofadr[joints].copy(),
-                actuators=np.array(
-                    [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, pre + d.name) for d in DOFS]
-                ),
-                kp=kp,
-                kv=kv,
+                servo_eqs=np.array([eqid(pre + "servo_" + d.name) for d in DOFS]),
                 pin_qpos=int(model.jnt_qposadr[jid(pre + "pin")]),
                 pin_qvel=int(model.jnt_dofadr[jid(pre + "pin")]),
                 pin_eq=eqid(pre + "pin"),

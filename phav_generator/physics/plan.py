@@ -63,6 +63,7 @@ class PersonPlan:
     perturbation_radius_m: float = 0.0
     perturbation_period_s: float = 1.0
     release_on_contact_with: str | None = None  # prop name whose touch releases the pins
+    sole_friction: float = 1.0  # the feet's friction on the floor (the motion's)
 
 
 @dataclass(frozen=True)
@@ -282,6 +283,7 @@ def _person(
         strengths=np.ones((n, len(MUSCLES))),
         pin=np.ones(n),
         physical=True,
+        sole_friction=get_motion(motion).sole_friction,
     )
 
 
@@ -416,29 +418,52 @@ def _kick(b: _Builder, p: PersonPlan) -> None:
     b.manipulations.append(Manipulation("ball", p.person_id, foot, "kick", max(0.0, t - 0.1), t + 0.1))
 
 
+def _box_meets_bones(box: StaticBox, dims: BodyDims, rot: np.ndarray, pos: np.ndarray, bones: tuple[str, ...]) -> bool:
+    """Whether any of ``bones``' capsules (ends and middle) comes inside ``box`` at any step."""
+    turn = yaw_matrix(np.deg2rad(box.yaw_deg))
+    half = np.array(box.half_size)
+    for name in bones:
+        k = BONE_INDEX[name]
+        cap = dims.capsules[k]
+        for local in (np.array(cap.a), np.array(cap.b), (np.array(cap.a) + np.array(cap.b)) / 2):
+            point = pos[:, k] + rot[:, k] @ local
+            inside = (point - np.array(box.center)) @ turn
+            gap = np.linalg.norm(np.maximum(np.abs(inside) - half, 0.0), axis=-1)
+            if np.any(gap < cap.radius):
+                return True
+    return False
+
+
 def _chair_under_pelvis(b: _Builder, p: PersonPlan) -> None:
-    """A chair whose seat is where the animated pelvis comes lowest (sit / stand up)."""
-    pos, _ = _body_poses(p.dims, p.targets)
+    """A chair whose seat is where the animated pelvis comes lowest (sit / stand up).
+
+    Where the seat would cut through the shins or feet (a crouch rather than a seat, or
+    sitting on the floor) the chair stands aside, unused and not annotated.
+    """
+    pos, rot = _body_poses(p.dims, p.targets)
     pelvis = pos[:, 0]
     i = int(np.argmin(pelvis[:, 2]))
     ground = b.recipe.protagonist.position[2]
-    seat_top = pelvis[i, 2] - p.dims.capsules[0].radius * 0.9
     heading = b.recipe.protagonist.heading_deg
     back = yaw_matrix(np.deg2rad(heading)) @ np.array([-1.0, 0.0, 0.0])
-    if seat_top - ground < 0.25:  # sitting on the floor: the chair stands aside
-        centre = pelvis[0] + 1.2 * (yaw_matrix(np.deg2rad(heading)) @ np.array([0.0, 1.0, 0.0]))
-        seat_top = ground + 0.45
-    else:
-        centre = pelvis[i] + 0.05 * back
     half = 0.22
-    b.boxes.append(
-        StaticBox(
+
+    def chair(centre: np.ndarray, seat_top: float) -> StaticBox:
+        return StaticBox(
             "chair",
             (float(centre[0]), float(centre[1]), (ground + seat_top) / 2),
             (half, half, (seat_top - ground) / 2),
             heading,
         )
-    )
+
+    seat_top = pelvis[i, 2] - p.dims.capsules[0].radius * 0.9
+    box = chair(pelvis[i] + 0.05 * back, seat_top)
+    legs = ("left_lower_leg", "right_lower_leg", "left_foot", "right_foot")
+    if seat_top - ground < 0.25 or _box_meets_bones(box, p.dims, rot, pos, legs):
+        aside = pelvis[0] + 1.2 * (yaw_matrix(np.deg2rad(heading)) @ np.array([0.0, 1.0, 0.0]))
+        b.boxes.append(chair(aside, ground + 0.45))
+        return
+    b.boxes.append(box)
     b.manipulations.append(
         Manipulation("chair", p.person_id, "pelvis", "hold", float(b.times[i]) - 0.5, float(b.times[i]) + 0.5)
     )

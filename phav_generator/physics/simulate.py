@@ -12,15 +12,16 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
 from phav_generator.animation import motion_rng
-from phav_generator.physics.model import PIN_TIMECONST, SceneModel, build_model
+from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel, build_model
 from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
-from phav_generator.rotations import look_at, matrix_to_quat, quat_to_matrix
+from phav_generator.rotations import look_at, matrix_to_quat, relative_rotation_vectors
 from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
 from phav_spec.recipe import Recipe
 
@@ -40,37 +41,70 @@ def intrinsics(recipe: Recipe) -> tuple[float, float, float, float]:
     return fy, fy, w / 2.0, h / 2.0
 
 
-def _rotation_vector(r: np.ndarray) -> np.ndarray:
-    """Axis × angle of a rotation matrix (3, 3)."""
-    cos = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
-    angle = math.acos(cos)
-    axis = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
-    s = np.linalg.norm(axis)
-    if s < 1e-9:
-        if cos > 0:
-            return np.zeros(3)
-        # 180°: the axis is the column of r + I with the largest norm.
-        m = r + np.eye(3)
-        col = m[:, int(np.argmax(np.linalg.norm(m, axis=0)))]
-        return math.pi * col / np.linalg.norm(col)
-    return axis / s * angle
+def _backward_difference(x: np.ndarray, dt: float) -> np.ndarray:
+    """(x[k] − x[k−1]) / dt along axis 0; the forward difference at k = 0."""
+    v = np.empty_like(x)
+    v[1:] = (x[1:] - x[:-1]) / dt
+    v[0] = v[1] if len(x) > 1 else 0.0
+    return v
 
 
-def _angular_velocity(rot: np.ndarray, dt: float) -> np.ndarray:
-    """World angular velocities (S, 3) of a rotation sequence (S, 3, 3), central differences."""
-    out = np.zeros((rot.shape[0], 3))
-    for k in range(rot.shape[0]):
-        a, b = max(k - 1, 0), min(k + 1, rot.shape[0] - 1)
-        if b > a:
-            out[k] = _rotation_vector(rot[b] @ rot[a].T) / ((b - a) * dt)
-    return out
+def _second_difference(x: np.ndarray, dt: float) -> np.ndarray:
+    """(x[k+1] − 2x[k] + x[k−1]) / dt² along axis 0; zero at both ends."""
+    a = np.zeros_like(x)
+    a[1:-1] = (x[2:] - 2.0 * x[1:-1] + x[:-2]) / dt**2
+    return a
 
 
-def _inverse_dynamics(scene: SceneModel, people: list, dt: float) -> list[np.ndarray]:
+@dataclass(frozen=True)
+class _Reference:
+    """A person's animation as the physics step sees it, per plan step k.
+
+    Semi-implicit Euler moves a state (x[k], v[k]) with an acceleration a[k] to
+    v[k+1] = v[k] + a·dt, x[k+1] = x[k] + v[k+1]·dt, so velocities are backward
+    differences and accelerations second differences: a body that follows them exactly
+    lands on the animation at every step, whatever the timestep.
+    """
+
+    root_pos: np.ndarray  # (S, 3)
+    root_quat: np.ndarray  # (S, 4)
+    root_vel: np.ndarray  # (S, 3) world
+    root_acc: np.ndarray  # (S, 3)
+    root_omega: np.ndarray  # (S, 3) in the pelvis's own axes, as a free joint stores it
+    root_alpha: np.ndarray  # (S, 3)
+    q: np.ndarray  # (S, 30)
+    qvel: np.ndarray
+    qacc: np.ndarray
+
+    @classmethod
+    def of(cls, targets, dt: float) -> _Reference:
+        quat = targets.root_quat
+        turns = relative_rotation_vectors(quat[:-1], quat[1:]) / dt  # over [k, k+1]
+        omega = np.zeros((len(quat), 3))
+        alpha = np.zeros((len(quat), 3))
+        if len(quat) > 1:
+            # A turn's rotation vector lies on its axis, so it reads the same in either frame.
+            omega[1:] = turns
+            omega[0] = turns[0]
+            alpha[1:-1] = (turns[1:] - turns[:-1]) / dt
+        return cls(
+            root_pos=targets.root_pos,
+            root_quat=quat,
+            root_vel=_backward_difference(targets.root_pos, dt),
+            root_acc=_second_difference(targets.root_pos, dt),
+            root_omega=omega,
+            root_alpha=alpha,
+            q=targets.q,
+            qvel=_backward_difference(targets.q, dt),
+            qacc=_second_difference(targets.q, dt),
+        )
+
+
+def _inverse_dynamics(scene: SceneModel, refs: list[_Reference]) -> list[np.ndarray]:
     """Generalised forces (S, 6 + 30) per physical person, root wrench then joint torques,
     that make the animation happen in free space.
 
-    Computed-torque feed-forward: MuJoCo's inverse dynamics of the target motion (pose,
+    Computed-torque feed-forward: MuJoCo's inverse dynamics of the reference motion (pose,
     velocity, acceleration, root included) with gravity, contacts and equality constraints
     switched off, since gravity compensation and the pin carry the weight. The servos then
     only correct the residual, so fast motions (a sprint's knee swings at 2000 rad/s²) are
@@ -78,22 +112,22 @@ def _inverse_dynamics(scene: SceneModel, people: list, dt: float) -> list[np.nda
     """
     m = copy.copy(scene.model)
     off = mujoco.mjtDisableBit
-    m.opt.disableflags |= int(off.mjDSBL_GRAVITY | off.mjDSBL_CONSTRAINT | off.mjDSBL_ACTUATION)
+    m.opt.disableflags |= int(off.mjDSBL_GRAVITY | off.mjDSBL_CONSTRAINT)
     d = mujoco.MjData(m)
-    steps = len(people[0].targets) if people else 0
-    qvel = np.zeros((steps, m.nv))
+    steps = len(refs[0].q) if refs else 0
     qpos = np.tile(m.qpos0, (steps, 1))
-    for p, h in zip(people, scene.people, strict=True):
-        tg = p.targets
-        rot = quat_to_matrix(tg.root_quat)
-        qpos[:, h.qpos_root : h.qpos_root + 3] = tg.root_pos
-        qpos[:, h.qpos_root + 3 : h.qpos_root + 7] = tg.root_quat
-        qpos[:, h.qpos_dofs] = tg.q
-        qvel[:, h.qvel_root : h.qvel_root + 3] = np.gradient(tg.root_pos, dt, axis=0)
-        # A free joint's angular velocity is in the body's own frame.
-        qvel[:, h.qvel_root + 3 : h.qvel_root + 6] = np.einsum("sji,sj->si", rot, _angular_velocity(rot, dt))
-        qvel[:, h.qvel_dofs] = np.gradient(tg.q, dt, axis=0)
-    qacc = np.gradient(qvel, dt, axis=0)
+    qvel = np.zeros((steps, m.nv))
+    qacc = np.zeros((steps, m.nv))
+    for ref, h in zip(refs, scene.people, strict=True):
+        qpos[:, h.qpos_root : h.qpos_root + 3] = ref.root_pos
+        qpos[:, h.qpos_root + 3 : h.qpos_root + 7] = ref.root_quat
+        qpos[:, h.qpos_dofs] = ref.q
+        qvel[:, h.qvel_root : h.qvel_root + 3] = ref.root_vel
+        qvel[:, h.qvel_root + 3 : h.qvel_root + 6] = ref.root_omega
+        qvel[:, h.qvel_dofs] = ref.qvel
+        qacc[:, h.qvel_root : h.qvel_root + 3] = ref.root_acc
+        qacc[:, h.qvel_root + 3 : h.qvel_root + 6] = ref.root_alpha
+        qacc[:, h.qvel_dofs] = ref.qacc
     out = [np.zeros((steps, 6 + len(h.qvel_dofs))) for h in scene.people]
     for k in range(steps):
         d.qpos[:] = qpos[k]
@@ -143,10 +177,9 @@ class _Run:
         index = {p.person_id: i for i, p in enumerate(physical)}
         # (physical person index, body) → orbit offsets, looked up once rather than per step.
         self.orbits = {(index[pid], b): off for (pid, b), off in _perturbation_offsets(plan).items() if pid in index}
-        dt = plan.timestep
-        self.qdot = [np.gradient(p.targets.q, dt, axis=0) for p in physical]
-        self.torque_ff = _inverse_dynamics(scene, physical, dt)
-        self.root_rot = [quat_to_matrix(p.targets.root_quat) for p in physical]
+        self.refs = [_Reference.of(p.targets, plan.timestep) for p in physical]
+        self.torque_ff = _inverse_dynamics(scene, self.refs)
+        self.step_times = plan.step_times
         self.released = [False] * len(physical)
         self.release_time = [math.inf] * len(physical)
         self.strength_now = [p.strengths[0].copy() for p in physical]
@@ -156,16 +189,13 @@ class _Run:
 
     def initialise(self) -> None:
         d, m = self.d, self.m
-        dt = self.plan.timestep
-        for p, h in zip(self.physical, self.scene.people, strict=True):
-            tg = p.targets
-            d.qpos[h.qpos_root : h.qpos_root + 3] = tg.root_pos[0]
-            d.qpos[h.qpos_root + 3 : h.qpos_root + 7] = tg.root_quat[0]
-            d.qpos[h.qpos_dofs] = tg.q[0]
-            if len(tg) > 1:
-                d.qvel[h.qvel_root : h.qvel_root + 3] = (tg.root_pos[1] - tg.root_pos[0]) / dt
-                d.qvel[h.qvel_dofs] = (tg.q[1] - tg.q[0]) / dt
-            d.ctrl[h.actuators] = tg.q[0]
+        for ref, h in zip(self.refs, self.scene.people, strict=True):
+            d.qpos[h.qpos_root : h.qpos_root + 3] = ref.root_pos[0]
+            d.qpos[h.qpos_root + 3 : h.qpos_root + 7] = ref.root_quat[0]
+            d.qpos[h.qpos_dofs] = ref.q[0]
+            d.qvel[h.qvel_root : h.qvel_root + 3] = ref.root_vel[0]
+            d.qvel[h.qvel_root + 3 : h.qvel_root + 6] = ref.root_omega[0]
+            d.qvel[h.qvel_dofs] = ref.qvel[0]
         for prop, h in zip(self.plan.props, self.scene.props, strict=True):
             if h.qpos is not None and not h.driven:
                 d.qpos[h.qpos : h.qpos + 3] = prop.pos
@@ -182,9 +212,10 @@ class _Run:
         mujoco.mj_forward(m, d)
 
     def _apply_controls(self, k: int) -> None:
-        """Targets and gains for the step that ends at plan step k."""
+        """Targets and gains for the step that ends at plan step k (it starts at k − 1)."""
         d, m = self.d, self.m
-        t = self.plan.step_times[k]
+        t = self.step_times[k]
+        j = max(k - 1, 0)
         for i, (p, h) in enumerate(zip(self.physical, self.scene.people, strict=True)):
             strengths = p.strengths[k].copy()
             pin = float(p.pin[k])
@@ -195,21 +226,24 @@ class _Run:
             self.strength_now[i] = strengths
             self.pin_now[i] = pin
             s_dof = strengths[DOF_BODY]
-            m.actuator_gainprm[h.actuators, 0] = h.kp * s_dof
-            m.actuator_biasprm[h.actuators, 1] = -h.kp * s_dof
-            m.actuator_biasprm[h.actuators, 2] = -h.kv * np.sqrt(s_dof)
+            stiffness = SERVO_OMEGA**2 * s_dof
+            damping = 2.0 * SERVO_ZETA * SERVO_OMEGA * np.sqrt(s_dof)
+            ref = self.refs[i]
+            # The servo pulls q towards q*, q̇ towards q̇* and adds the animation's acceleration
+            # (scaled like the feed-forward): −k(q − q*) − b(q̇ − q̇*) + a* is −k(q − target) − b·q̇.
+            m.eq_solref[h.servo_eqs, 0] = -stiffness
+            m.eq_solref[h.servo_eqs, 1] = -damping
+            active = s_dof > 1e-3
+            lead = (damping * ref.qvel[j] + s_dof * pin * ref.qacc[j]) / np.where(active, stiffness, 1.0)
+            m.eq_data[h.servo_eqs, 0] = ref.q[j] + lead
+            d.eq_active[h.servo_eqs] = active
             # An active muscle carries its body's weight; a released ragdoll feels gravity.
             m.body_gravcomp[h.bodies] = strengths * pin
-            # Servo target with velocity feed-forward: kp·(q* + q̇*·kv/kp − q) − kv·q̇. The
-            # position term acts on the state at the step's start, the (implicit) damping on
-            # the velocity at its end, so each is compared with the target at that time.
-            kv_kp = h.kv / (h.kp * np.sqrt(np.maximum(s_dof, 1e-6)))
-            d.ctrl[h.actuators] = p.targets.q[max(k - 1, 0)] + self.qdot[i][k] * kv_kp
-            d.qfrc_applied[h.qvel_root : h.qvel_root + 6] = self.torque_ff[i][k, :6] * pin
-            d.qfrc_applied[h.qvel_dofs] = self.torque_ff[i][k, 6:] * (s_dof * pin)
+            d.qfrc_applied[h.qvel_root : h.qvel_root + 6] = self.torque_ff[i][j, :6] * pin
+            d.qfrc_applied[h.qvel_dofs] = self.torque_ff[i][j, 6:] * (s_dof * pin)
             d.eq_active[h.pin_eq] = pin > 1e-3
             if pin > 1e-3:
-                self._pin_pose(i, h, k, pin)
+                self._pin_pose(h, ref, j, pin)
         d.xfrc_applied[:] = 0.0
         for (i, b), offsets in self.orbits.items():
             h = self.scene.people[i]
@@ -231,21 +265,18 @@ class _Run:
             body = "head" if self.plan.recipe.camera.kind == "closeup" else "pelvis"
             d.mocap_pos[cam.anchor_mocap] = d.xpos[self.scene.people[0].bodies[BONE_INDEX[body]]]
 
-    def _pin_pose(self, i: int, h, k: int, weight: float) -> None:
-        """Put the pin body on the animated pelvis at the step's start, moving as it moves.
-
-        Its velocity is the animation's over the step, so the weld pulls the pelvis's pose
-        and velocity errors to zero without a lag to compensate.
-        """
+    def _pin_pose(self, h, ref: _Reference, j: int, weight: float) -> None:
+        """Put the pin body on the animated pelvis at plan step j, moving and accelerating
+        as it does, so the weld pulls only the pelvis's pose and velocity errors to zero."""
         d, m = self.d, self.m
         m.eq_solref[h.pin_eq, 0] = max(PIN_TIMECONST / math.sqrt(weight), 2.0 * self.plan.timestep)
-        tg, dt = self.physical[i].targets, self.plan.timestep
-        j = max(k - 1, 0)
-        d.qpos[h.pin_qpos : h.pin_qpos + 3] = tg.root_pos[j]
-        d.qpos[h.pin_qpos + 3 : h.pin_qpos + 7] = tg.root_quat[j]
-        d.qvel[h.pin_qvel : h.pin_qvel + 3] = (tg.root_pos[k] - tg.root_pos[j]) / dt if k > 0 else 0.0
-        turn = self.root_rot[i][j].T @ self.root_rot[i][k]
-        d.qvel[h.pin_qvel + 3 : h.pin_qvel + 6] = _rotation_vector(turn) / dt if k > 0 else 0.0
+        d.qpos[h.pin_qpos : h.pin_qpos + 3] = ref.root_pos[j]
+        d.qpos[h.pin_qpos + 3 : h.pin_qpos + 7] = ref.root_quat[j]
+        d.qvel[h.pin_qvel : h.pin_qvel + 3] = ref.root_vel[j]
+        d.qvel[h.pin_qvel + 3 : h.pin_qvel + 6] = ref.root_omega[j]
+        # The pin's inertia is isotropic, so its angular acceleration needs no gyroscopic term.
+        d.qfrc_applied[h.pin_qvel : h.pin_qvel + 3] = PIN_MASS * ref.root_acc[j]
+        d.qfrc_applied[h.pin_qvel + 3 : h.pin_qvel + 6] = PIN_MASS * ref.root_alpha[j]
 
     def _car_position(self, prop, k: int) -> np.ndarray:
         """Where the car is at plan step k: on its path until it has touched the
@@ -395,11 +426,14 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
                 k = (f - 1) * plan.substeps + s + 1
                 run._apply_controls(k)
                 mujoco.mj_step(m, d)
-                frame_touch |= run.check_contacts(plan.step_times[k])
+                frame_touch |= run.check_contacts(run.step_times[k])
                 if not _healthy(d):
                     exploded_at = f
                     break
             if exploded_at is None:
+                # mj_step leaves positions, contacts and energies computed for the state
+                # *before* its last integration: bring them up to the state being recorded.
+                mujoco.mj_forward(m, d)
                 mujoco.mj_getState(m, d, good_state, _FULL)
             else:
                 mujoco.mj_setState(m, d, good_state, _FULL)
