@@ -249,6 +249,48 @@ def _steps(
     )
 
 
+#: Half extents (length, width, height), metres, of the vehicles that drive in traffic.
+VEHICLE_HALF_SIZES: dict[str, Vec3] = {
+    "car": (2.2, 0.9, 0.75),
+    "truck": (3.6, 1.2, 1.6),
+    "bus": (6.0, 1.2, 1.5),
+}
+
+
+@dataclass(frozen=True)
+class Lane:
+    """A traffic lane: vehicles of ``vehicles`` drive along its centre line from ``start`` to
+    ``end`` (world metres, on the road's top face); ``half_width`` is the lane's."""
+
+    start: Vec3
+    end: Vec3
+    half_width: float
+    vehicles: tuple[str, ...] = ("car",)
+
+    def __post_init__(self) -> None:
+        start = tuple(float(v) for v in self.start)
+        end = tuple(float(v) for v in self.end)
+        if len(start) != 3 or len(end) != 3 or not all(math.isfinite(v) for v in (*start, *end)):
+            raise ValueError(f"a lane's start and end are finite 3-vectors, got {self.start}, {self.end}")
+        if math.dist(start[:2], end[:2]) < 10.0:
+            raise ValueError("a lane must be at least 10 m long")
+        if not (math.isfinite(self.half_width) and self.half_width > 0.0):
+            raise ValueError(f"a lane's half width must be positive, got {self.half_width}")
+        for v in self.vehicles:
+            OBJECTS.check(v)
+            if v not in VEHICLE_HALF_SIZES:
+                raise ValueError(f"{v!r} is not a vehicle ({', '.join(VEHICLE_HALF_SIZES)})")
+            if VEHICLE_HALF_SIZES[v][1] > self.half_width:
+                raise ValueError(f"a {v} is wider than the lane")
+        object.__setattr__(self, "start", start)
+        object.__setattr__(self, "end", end)
+        object.__setattr__(self, "half_width", float(self.half_width))
+
+    @property
+    def length(self) -> float:
+        return math.dist(self.start[:2], self.end[:2])
+
+
 @dataclass(frozen=True)
 class EnvironmentScene:
     """An environment: indoor or not, its static pixel classes, its two waypoint graphs, its
@@ -256,7 +298,8 @@ class EnvironmentScene:
 
     The ground is an infinite plane at ``ground_z`` (pixel class ``terrain`` outdoors, ``floor``
     indoors); ``colliders`` are the static boxes standing on or above it (roads, terraces,
-    buildings, furniture, ...). Moving things (cars driving, people, props) are not colliders.
+    buildings, furniture, ...). Moving things (cars driving, people, props) are not colliders;
+    ``lanes`` say where traffic drives (outdoor scenes with roads).
     """
 
     indoor: bool
@@ -265,6 +308,7 @@ class EnvironmentScene:
     background_waypoints: tuple[Vec3, ...]
     colliders: tuple[Collider, ...] = ()
     ground_z: float = 0.0
+    lanes: tuple[Lane, ...] = ()
 
     def __post_init__(self) -> None:
         for c in self.pixel_classes:
@@ -277,6 +321,11 @@ class EnvironmentScene:
             raise ValueError("an outdoor background graph needs a start and a destination")
         if not math.isfinite(self.ground_z):
             raise ValueError(f"ground_z must be finite, got {self.ground_z}")
+        if self.indoor and self.lanes:
+            raise ValueError("indoor scenes have no traffic lanes")
+        for lane in self.lanes:
+            if not isinstance(lane, Lane):
+                raise TypeError(f"lanes must be Lane objects, got {type(lane).__name__}")
         for collider in self.colliders:
             if not isinstance(collider, Collider):
                 raise TypeError(f"colliders must be Collider boxes, got {type(collider).__name__}")
@@ -304,6 +353,15 @@ def _grid(xs: tuple[float, ...], ys: tuple[float, ...], z: float = 0.0) -> tuple
 # height up to 2.5 m (its own support excepted), stand every waypoint on the plane or on the
 # top face of a box, and keep non-walkable boxes off the straight background-actor paths;
 # tests/spec/test_colliders.py checks all of it.
+
+
+def _two_way(half_length: float, offset: float, half_width: float, vehicles: tuple[str, ...]) -> tuple[Lane, ...]:
+    """Two lanes along a straight road on the x axis (y = 0 its middle): eastbound at
+    y = −offset, westbound at y = +offset (right-hand traffic)."""
+    return (
+        Lane((-half_length, -offset, 0.0), (half_length, -offset, 0.0), half_width, vehicles),
+        Lane((half_length, offset, 0.0), (-half_length, offset, 0.0), half_width, vehicles),
+    )
 
 
 def _simple_colliders() -> tuple[Collider, ...]:
@@ -571,6 +629,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                 protagonist_waypoints=_grid((-4.0, 0.0, 4.0), (-3.0, 3.0)),
                 background_waypoints=_grid((-20.0, 20.0), (-15.0, 0.0, 15.0)),
                 colliders=_simple_colliders(),
+                lanes=_two_way(100.0, 2.0, 2.0, ("car",)),
             ),
         ),
         (
@@ -613,6 +672,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (40.0, 12.0, 0.6),
                 ),
                 colliders=_urban_colliders(),
+                lanes=_two_way(70.0, 1.25, 1.25, ("car", "truck", "bus")),
             ),
         ),
         (
@@ -670,6 +730,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (0.0, 30.0, 0.5),
                 ),
                 colliders=_middle_colliders(),
+                lanes=_two_way(80.0, 1.75, 1.75, ("car", "truck")),
             ),
         ),
         (

@@ -240,6 +240,8 @@ OBJECTS: Registry[str] = Registry(
         ("chair", "chair"),
         ("bench", "bench"),
         ("car", "car"),
+        ("truck", "truck"),
+        ("bus", "bus"),
     ),
 )
 

@@ -24,6 +24,7 @@ from phav_generator.animation import (
     motion_params,
     motion_rng,
 )
+from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traffic
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
 from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, BodyDims, dims_for, forward_kinematics
 from phav_spec.recipe import Recipe
@@ -135,6 +136,7 @@ class ScenePlan:
     manipulations: tuple[Manipulation, ...]
     stand_offset_z: float = 0.0  # protagonist raised onto a landing (going down stairs)
     camera_start: tuple[float, float, float] | None = None  # recipe's C_xyz moved out of walls
+    traffic: tuple[Vehicle, ...] = ()  # background vehicles on the environment's lanes
 
     @property
     def timestep(self) -> float:
@@ -748,7 +750,24 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         manipulations=tuple(b.manipulations),
         stand_offset_z=b.stand_offset_z,
         camera_start=clear_camera_start(r),
+        traffic=plan_traffic(r, _planned_obstacles(people, b.props, substeps)),
     )
+
+
+def _planned_obstacles(people: tuple[PersonPlan, ...], props: list[PropPlan], substeps: int) -> np.ndarray:
+    """Every person's bodies and every driven prop's footprint (F + 1, N, 3) per frame, as planned."""
+    parts = []
+    for p in people:
+        step = substeps if p.physical else 1
+        pos, _ = forward_kinematics(
+            p.dims, *(a[::step] for a in (p.targets.root_pos, p.targets.root_quat, p.targets.q))
+        )
+        parts.append(pos)
+    for prop in props:
+        if prop.path is not None:
+            yaw = 2.0 * math.atan2(prop.quat[3], prop.quat[0])
+            parts.append(footprint_points(prop.path[::substeps], yaw, prop.size))
+    return np.concatenate(parts, axis=1)
 
 
 def _pick(b: _Builder, p: PersonPlan, hand: str) -> None:

@@ -20,10 +20,12 @@ import numpy as np
 from phav_generator.animation import motion_rng
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel, build_model
 from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
+from phav_generator.physics.traffic import Traffic, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_generator.rotations import look_at, matrix_to_quat, relative_rotation_vectors
 from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
 from phav_spec.recipe import Recipe
+from phav_spec.vocab import OBJECTS
 
 #: Above this joint speed (rad/s or m/s) a state counts as exploded.
 MAX_SPEED = 500.0
@@ -394,8 +396,31 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
     exploded_at = None
     good_state = np.zeros(nstate)
     frame_touch: set[str] = set()
+    # Background people are animated, not simulated: their bodies at every frame, up front.
+    background = [p for p in plan.people if not p.physical]
+    background_fk = [
+        forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q) for p in background
+    ]
+    traffic = Traffic(plan.traffic)
+    vehicle_pos = np.zeros((len(plan.traffic), n_out, 3))
+    vehicle_quat = np.zeros((len(plan.traffic), n_out, 4))
+    clearance = np.zeros(n_out)
+    bodies_now = np.zeros((0, 3))
 
     def record(f: int) -> None:
+        nonlocal bodies_now
+        bodies_now = np.concatenate(
+            [d.xpos[h.bodies] for h in scene.people]
+            + [pos[f] for pos, _ in background_fk]
+            + [
+                footprint_points(d.xpos[h.body], math.atan2(d.xmat[h.body, 3], d.xmat[h.body, 0]), prop.size)
+                for prop, h in zip(plan.props, scene.props, strict=True)
+                if h.driven
+            ]
+            + [np.zeros((0, 3))]
+        )
+        vehicle_pos[:, f], vehicle_quat[:, f] = traffic.poses()
+        clearance[f] = traffic.clearance(bodies_now)
         for i, h in enumerate(scene.people):
             body_pos[i, f] = d.xpos[h.bodies]
             body_quat[i, f] = d.xquat[h.bodies]
@@ -421,6 +446,7 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
     mujoco.mj_getState(m, d, good_state, _FULL)
     for f in range(1, n_out):
         frame_touch = set()
+        traffic.advance(bodies_now, 1.0 / plan.fps)
         if exploded_at is None:
             for s in range(plan.substeps):
                 k = (f - 1) * plan.substeps + s + 1
@@ -458,10 +484,7 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
                 height_m=p.dims.height_m,
             )
         )
-    for p in plan.people:
-        if p.physical:
-            continue
-        pos, rot = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
+    for p, (pos, rot) in zip(background, background_fk, strict=True):
         quat = matrix_to_quat(rot)
         tracks.append(
             PersonTrack(
@@ -475,6 +498,9 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
     props = tuple(
         PropTrack(prop.name, prop.object, prop.pixel_class, prop.shape, tuple(prop.size), prop_pos[j], prop_quat[j])
         for j, prop in enumerate(plan.props)
+    ) + tuple(
+        PropTrack(v.name, v.kind, OBJECTS[v.kind], "box", v.half_size, vehicle_pos[j], vehicle_quat[j])
+        for j, v in enumerate(plan.traffic)
     )
     return Trajectory(
         video_id=plan.recipe.video_id,
@@ -495,6 +521,7 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
         exploded_at=exploded_at,
         contacts=contacts,
         mj_state=states,
+        traffic_clearance_m=clearance,
     )
 
 

@@ -71,6 +71,9 @@ class Trajectory:
     exploded_at: int | None  # first frame not simulated (held at the last good state), or None
     contacts: dict[str, np.ndarray] = field(default_factory=dict)  # (F,) bool per named contact
     mj_state: np.ndarray | None = None  # (F, nstate) MuJoCo full physics state per frame
+    #: (F,) smallest ground-plane distance from any person's body (or the car-hit car) to any
+    #: traffic vehicle (1000 m when there is no traffic); vehicles yield, so it stays positive.
+    traffic_clearance_m: np.ndarray | None = None
 
     @property
     def n_frames(self) -> int:
@@ -99,6 +102,8 @@ class Trajectory:
             out[f"contact.{name}"] = v
         if self.mj_state is not None:
             out["mj_state"] = self.mj_state
+        if self.traffic_clearance_m is not None:
+            out["traffic_clearance_m"] = self.traffic_clearance_m
         return out
 
     def content_hash(self) -> str:
@@ -208,6 +213,7 @@ class Trajectory:
             exploded_at=header["exploded_at"],
             contacts={name: data[f"contact.{name}"] for name in header["contacts"]},
             mj_state=data.get("mj_state"),
+            traffic_clearance_m=data.get("traffic_clearance_m"),
         )
 
 

@@ -298,3 +298,45 @@ def test_support_height_at_waypoints(name, wp):
     if wp[2] - env.ground_z <= MAX_STEP_M:
         assert support_height(name, wp[0], wp[1]) == pytest.approx(wp[2], abs=SUPPORT_TOLERANCE_M)
     assert support_height(name, wp[0], wp[1], reference_z=wp[2]) == pytest.approx(wp[2], abs=SUPPORT_TOLERANCE_M)
+
+
+# --- traffic lanes --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ENVIRONMENTS.names)
+def test_lanes_run_on_the_road_clear_of_everything_else(name):
+    """Every lane lies on a road slab end to end, and its widest vehicle keeps off every other
+    collider (parked cars, poles, rails) over its whole length."""
+    from phav_spec.scene import VEHICLE_HALF_SIZES
+
+    env = ENVIRONMENT_SCENES[name]
+    roads = [c for c in env.colliders if c.pixel_class == "road"]
+    for lane in env.lanes:
+        for t in (0.0, 0.25, 0.5, 0.75, 1.0):
+            x = lane.start[0] + t * (lane.end[0] - lane.start[0])
+            y = lane.start[1] + t * (lane.end[1] - lane.start[1])
+            assert any(abs(r.top - lane.start[2]) < 1e-6 and r.contains_xy(x, y, 0.0) for r in roads), (name, x, y)
+        body = max(VEHICLE_HALF_SIZES[v][1] for v in lane.vehicles)
+        for c in env.colliders:
+            if c.pixel_class != "road":
+                gap = _segment_footprint_distance(c, lane.start, lane.end)
+                assert gap > body, f"{name}: a lane passes {gap:.2f} m from a {c.pixel_class}"
+    if env.indoor:
+        assert not env.lanes
+    assert bool(env.lanes) == (name in ("simple", "urban", "middle"))
+
+
+def test_lane_rejects_bad_values():
+    from phav_spec.scene import Lane
+
+    with pytest.raises(ValueError, match="10 m"):
+        Lane((0, 0, 0), (5, 0, 0), 2.0)
+    with pytest.raises(ValueError, match="wider than the lane"):
+        Lane((0, 0, 0), (50, 0, 0), 1.0, ("bus",))
+    with pytest.raises(ValueError, match="not a vehicle"):
+        Lane((0, 0, 0), (50, 0, 0), 2.0, ("ball",))
+    with pytest.raises(ValueError, match="finite"):
+        Lane((0, math.nan, 0), (50, 0, 0), 2.0)
+    lane = ENVIRONMENT_SCENES["simple"].lanes[0]
+    with pytest.raises(ValueError, match="indoor"):
+        dataclasses.replace(ENVIRONMENT_SCENES["house_interior"], lanes=(lane,))

@@ -1,0 +1,86 @@
+"""Background traffic: vehicles drive their lanes, stop short of people and of the vehicle
+ahead, never touch anyone, and only where the environment has roads."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_generator.physics.simulate import simulate
+from phav_generator.physics.traffic import STOP_GAP_M, Traffic, Vehicle, footprint_points
+from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
+from tests.generator.physics_support import recipe_for
+
+LANE = Lane((0.0, -2.0, 0.0), (200.0, -2.0, 0.0), 2.0)
+DT = 1.0 / 30.0
+
+
+def _car(name: str, s0: float, cruise: float = 10.0) -> Vehicle:
+    return Vehicle(name, "car", LANE, 0, VEHICLE_HALF_SIZES["car"], s0, cruise)
+
+
+def _drive(traffic: Traffic, obstacles: np.ndarray, seconds: float) -> None:
+    for _ in range(round(seconds / DT)):
+        traffic.advance(obstacles, DT)
+
+
+def test_a_vehicle_stops_short_of_a_person_and_goes_on_when_the_way_is_clear():
+    traffic = Traffic((_car("a", 10.0),))
+    person = np.array([[60.0, -1.5, 1.0]])
+    _drive(traffic, person, 10.0)
+    front = traffic.s[0] + VEHICLE_HALF_SIZES["car"][0]
+    assert traffic.speed[0] == 0.0
+    assert STOP_GAP_M - 0.5 < 60.0 - front <= STOP_GAP_M + 0.5
+    _drive(traffic, np.zeros((0, 3)), 5.0)
+    assert traffic.speed[0] == pytest.approx(10.0)  # accelerated back to its cruise
+
+
+def test_people_beside_the_lane_do_not_stop_traffic():
+    traffic = Traffic((_car("a", 10.0),))
+    _drive(traffic, np.array([[60.0, 4.0, 1.0], [30.0, -6.0, 1.0]]), 6.0)
+    assert traffic.s[0] == pytest.approx(10.0 + 6.0 * 10.0)
+
+
+def test_a_follower_stops_behind_its_leader():
+    traffic = Traffic((_car("follower", 10.0, 12.0), _car("leader", 30.0)))
+    wall = footprint_points(np.array([80.0, -2.0, 0.0]), 0.0, (1.0, 2.0, 1.0))
+    _drive(traffic, wall, 15.0)
+    half = VEHICLE_HALF_SIZES["car"][0]
+    gap = (traffic.s[1] - half) - (traffic.s[0] + half)
+    assert traffic.speed.max() == 0.0
+    assert STOP_GAP_M - 0.5 < gap <= STOP_GAP_M + 0.5
+
+
+def test_poses_lie_on_the_lane_facing_its_direction():
+    lane = ENVIRONMENT_SCENES["urban"].lanes[1]  # westbound
+    bus = Vehicle("b", "bus", lane, 1, VEHICLE_HALF_SIZES["bus"], 20.0, 8.0)
+    pos, quat = Traffic((bus,)).poses()
+    np.testing.assert_allclose(pos[0], [lane.start[0] - 20.0, lane.start[1], VEHICLE_HALF_SIZES["bus"][2]])
+    np.testing.assert_allclose(np.abs(quat[0]), [0.0, 0.0, 0.0, 1.0], atol=1e-12)  # yaw 180°
+
+
+@pytest.mark.parametrize("environment", ["simple", "urban", "middle"])
+def test_traffic_in_simulated_scenes_keeps_clear_of_everyone(environment: str):
+    """Vehicles drive forwards along their lane and stay at least 0.5 m from every body
+    (people standing on the road, walkers crossing it) in every clip."""
+    vehicles = 0
+    for seed in range(4):
+        tr = simulate(recipe_for("clap", environment, seconds=4.0, seed=seed, variation="none"), keep_state=False)
+        traffic = [p for p in tr.props if p.name.startswith("traffic_")]
+        vehicles += len(traffic)
+        assert tr.traffic_clearance_m is not None and tr.traffic_clearance_m.min() > 0.5
+        for v in traffic:
+            lane = ENVIRONMENT_SCENES[environment].lanes[int(v.name.split("_")[1])]
+            direction = np.subtract(lane.end, lane.start)[:2]
+            step = np.diff(v.pos[:, :2], axis=0) @ direction
+            assert np.all(step >= -1e-9), f"{v.name} reversed"
+            np.testing.assert_allclose(v.pos[:, 1], lane.start[1])
+            assert v.object in lane.vehicles and v.pixel_class == v.object
+    assert vehicles > 0
+
+
+def test_no_traffic_without_roads():
+    for environment in ("green", "lake", "stadium", "house_interior"):
+        tr = simulate(recipe_for("clap", environment, seconds=0.5, variation="none"), keep_state=False)
+        assert not any(p.name.startswith("traffic_") for p in tr.props)
+        assert tr.traffic_clearance_m is not None and np.all(tr.traffic_clearance_m == 1000.0)
