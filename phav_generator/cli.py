@@ -233,7 +233,7 @@ def bench(
     sections: Annotated[
         str, typer.Option("--sections", help=f"Comma-separated: {', '.join(BENCH_SECTIONS)}.")
     ] = "sampling,physics",
-    physics_clips: Annotated[int, typer.Option("--physics-clips", min=1, help="5 s clips per physics rate.")] = 4,
+    physics_clips: Annotated[int, typer.Option("--physics-clips", min=1, help="Pinned clips per physics rate.")] = 16,
     probe_clips: Annotated[
         int, typer.Option("--probe-clips", min=2, help="Probe training clips per action (a third as many tested)")
     ] = 12,
