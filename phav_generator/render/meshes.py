@@ -1,0 +1,108 @@
+"""Triangle meshes of the shapes scenes are made of: boxes, capsules, spheres, the ground.
+
+Each builder returns ``Mesh`` arrays in the shape's own frame (float32 positions and unit
+normals, uint32 triangles, counter-clockwise seen from outside). Tessellation is fixed so
+the same shape always gives the same triangles.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Segments around a capsule or sphere, and rings per hemisphere.
+AROUND = 16
+RINGS = 4
+
+
+@dataclass(frozen=True)
+class Mesh:
+    positions: np.ndarray  # (N, 3) float32
+    normals: np.ndarray  # (N, 3) float32
+    triangles: np.ndarray  # (M, 3) uint32
+
+    @property
+    def n_triangles(self) -> int:
+        return len(self.triangles)
+
+
+def _mesh(positions, normals, triangles) -> Mesh:
+    return Mesh(
+        np.ascontiguousarray(positions, dtype=np.float32),
+        np.ascontiguousarray(normals, dtype=np.float32),
+        np.ascontiguousarray(triangles, dtype=np.uint32),
+    )
+
+
+def box(half: tuple[float, float, float]) -> Mesh:
+    """An axis-aligned box centred on the origin: 6 faces of 2 triangles, flat normals."""
+    hx, hy, hz = half
+    positions, normals, triangles = [], [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            n = np.zeros(3)
+            n[axis] = sign
+            u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
+            corners = []
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = np.zeros(3)
+                p[axis] = sign
+                p[u_axis] = a
+                p[v_axis] = b
+                corners.append(p * (hx, hy, hz))
+            base = len(positions)
+            positions += corners
+            normals += [n] * 4
+            # (u, v, n) is right-handed, so u→v turns counter-clockwise seen from +n.
+            tri = [(0, 1, 2), (0, 2, 3)] if sign > 0 else [(0, 2, 1), (0, 3, 2)]
+            triangles += [(base + i, base + j, base + k) for i, j, k in tri]
+    return _mesh(positions, normals, triangles)
+
+
+def _orthonormal(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(axis, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)
+
+
+def capsule(a: tuple[float, float, float], b: tuple[float, float, float], radius: float) -> Mesh:
+    """A capsule from ``a`` to ``b`` (a sphere where they coincide): a cylinder and two
+    hemispheres, smooth normals."""
+    a_, b_ = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    axis = b_ - a_
+    length = float(np.linalg.norm(axis))
+    axis = axis / length if length > 1e-9 else np.array([0.0, 0.0, 1.0])
+    u, v = _orthonormal(axis)
+    # Latitude rings from the pole at a (−90°) to the pole at b (+90°); the equator is
+    # repeated, once at each end of the cylinder.
+    lats = [(-math.pi / 2 + math.pi / 2 * i / RINGS, a_) for i in range(RINGS + 1)]
+    lats += [(math.pi / 2 * i / RINGS, b_) for i in range(RINGS + 1)]
+    positions, normals = [], []
+    for lat, centre in lats:
+        for k in range(AROUND):
+            lon = 2 * math.pi * k / AROUND
+            n = math.cos(lat) * (math.cos(lon) * u + math.sin(lon) * v) + math.sin(lat) * axis
+            positions.append(centre + radius * n)
+            normals.append(n)
+    triangles = []
+    for ring in range(len(lats) - 1):
+        for k in range(AROUND):
+            i0 = ring * AROUND + k
+            i1 = ring * AROUND + (k + 1) % AROUND
+            j0, j1 = i0 + AROUND, i1 + AROUND
+            triangles += [(i0, i1, j1), (i0, j1, j0)]
+    return _mesh(positions, normals, triangles)
+
+
+def sphere(radius: float) -> Mesh:
+    return capsule((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), radius)
+
+
+def ground(half_extent: float, z: float = 0.0) -> Mesh:
+    """A square of ``half_extent`` metres around the origin at height ``z``, facing +Z."""
+    h = half_extent
+    positions = [(-h, -h, z), (h, -h, z), (h, h, z), (-h, h, z)]
+    return _mesh(positions, [(0.0, 0.0, 1.0)] * 4, [(0, 1, 2), (0, 2, 3)])
