@@ -276,3 +276,25 @@ def modality(name: str) -> ModalityEncoding:
         return _BY_NAME[name]
     except KeyError:
         raise KeyError(f"unknown modality {name!r}; expected one of: {', '.join(_BY_NAME)}") from None
+
+
+#: Person ids that have an instance colour (protagonist, supporting, background actors).
+MAX_PERSON_ID = 255
+
+
+def instance_rgb(person_id: int) -> tuple[int, int, int]:
+    """The stable instance colour of a person id: hues a golden-ratio step apart, full
+    saturation bands, never black (black is "no person") and distinct for every id up to
+    ``MAX_PERSON_ID``. Integer arithmetic only, so every platform gives the same colour."""
+    if isinstance(person_id, bool) or not isinstance(person_id, int) or not 0 <= person_id <= MAX_PERSON_ID:
+        raise ValueError(f"person id must be an int in [0, {MAX_PERSON_ID}], got {person_id!r}")
+    hue = (person_id * 40503) % 65536  # 40503 / 65536 ≈ the golden ratio's fraction
+    band = person_id % 3  # three brightness bands keep near hues apart
+    top, low = (255, 200, 150)[band], (40, 80, 20)[band]
+    sector, rest = divmod(hue * 6, 65536)
+    rise = low + (top - low) * rest // 65536
+    fall = top - (top - low) * rest // 65536
+    r, g, b = (
+        (top, rise, low), (fall, top, low), (low, top, rise), (low, fall, top), (rise, low, top), (top, low, fall),
+    )[sector]  # fmt: skip
+    return int(r), int(g), int(b)
