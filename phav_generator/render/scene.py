@@ -14,7 +14,7 @@ from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.gl import Drawable
 from phav_generator.render.meshes import box, capsule, ground, sphere
 from phav_generator.rotations import quat_to_matrix, yaw_matrix
-from phav_generator.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, dims_for
+from phav_generator.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.vocab import PIXEL_CLASSES
@@ -100,7 +100,7 @@ def _person(track: PersonTrack, human) -> list[Drawable]:
         mesh = capsule(cap.a, cap.b, cap.radius)
         out.append(Drawable(mesh, transforms[:, k], class_id(bone.name), instance, colours[part]))
     for name, body in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
-        parent = next(i for i, b in enumerate(BONES) if b.name == BONES[body].parent)
+        parent = PARENTS[body]
         radius = JOINT_SCALE * max(dims.capsules[body].radius, dims.capsules[parent].radius)
         colour = colours["skin"] if name == "neck" else colours["top"] if "hip" not in name else colours["bottom"]
         out.append(Drawable(sphere(radius), transforms[:, body], class_id(name), instance, colour))
