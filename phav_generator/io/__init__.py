@@ -1,0 +1,1 @@
+"""Files: PNG encoding of the modalities, and (later) shards, Parquet metadata, manifests."""
