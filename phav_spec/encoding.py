@@ -196,6 +196,42 @@ def _frame(data: bytes) -> bytes:
     return struct.pack("<Q", len(data)) + data
 
 
+class ContentHasher:
+    """``content_hash`` computed one array at a time, for videos too large to hold at once.
+
+    Give the number of arrays up front and add them in sorted-name order (zero-padded frame
+    numbers are); ``hexdigest`` then equals ``content_hash`` of the same mapping.
+    """
+
+    def __init__(self, count: int):
+        self._digest = hashlib.sha256(_HASH_DOMAIN)
+        self._digest.update(struct.pack("<Q", count))
+        self._count = count
+        self._added = 0
+        self._last: str | None = None
+
+    def add(self, name: str, array: np.ndarray) -> None:
+        if not isinstance(name, str):
+            raise ValueError(f"array names must be str, got {name!r}")
+        if self._last is not None and name <= self._last:
+            raise ValueError(f"arrays must come in sorted-name order: {name!r} after {self._last!r}")
+        array = np.asarray(array)
+        if array.dtype.kind not in "biufc":
+            raise ValueError(f"array {name!r} has unsupported dtype {array.dtype}")
+        array = np.ascontiguousarray(array, dtype=array.dtype.newbyteorder("<"))
+        self._digest.update(_frame(name.encode("utf-8")))
+        self._digest.update(_frame(array.dtype.str.encode("ascii")))
+        self._digest.update(_frame(struct.pack(f"<{array.ndim}Q", *array.shape)))
+        self._digest.update(_frame(array.tobytes(order="C")))
+        self._last = name
+        self._added += 1
+
+    def hexdigest(self) -> str:
+        if self._added != self._count:
+            raise ValueError(f"{self._added} array(s) added, {self._count} announced")
+        return self._digest.hexdigest()
+
+
 def content_hash(arrays: Mapping[str, np.ndarray]) -> str:
     """Return the sha256 hex digest of decoded pixel arrays, independent of PNG/zlib bytes.
 
@@ -206,20 +242,13 @@ def content_hash(arrays: Mapping[str, np.ndarray]) -> str:
     Raises:
         ValueError: a non-str name or an array that is not bool, integer, float or complex.
     """
-    digest = hashlib.sha256(_HASH_DOMAIN)
-    digest.update(struct.pack("<Q", len(arrays)))
-    for name in sorted(arrays):
+    for name in arrays:
         if not isinstance(name, str):
             raise ValueError(f"array names must be str, got {name!r}")
-        array = np.asarray(arrays[name])
-        if array.dtype.kind not in "biufc":
-            raise ValueError(f"array {name!r} has unsupported dtype {array.dtype}")
-        array = np.ascontiguousarray(array, dtype=array.dtype.newbyteorder("<"))
-        digest.update(_frame(name.encode("utf-8")))
-        digest.update(_frame(array.dtype.str.encode("ascii")))
-        digest.update(_frame(struct.pack(f"<{array.ndim}Q", *array.shape)))
-        digest.update(_frame(array.tobytes(order="C")))
-    return digest.hexdigest()
+    hasher = ContentHasher(len(arrays))
+    for name in sorted(arrays):
+        hasher.add(name, arrays[name])
+    return hasher.hexdigest()
 
 
 class ModalityEncoding(BaseModel):

@@ -86,3 +86,43 @@ def test_instance_colours_are_distinct_and_never_black():
     assert len(set(colours)) == len(colours) and (0, 0, 0) not in colours
     with pytest.raises(ValueError, match="person id"):
         instance_rgb(MAX_PERSON_ID + 1)
+
+
+_HASH_SCRIPT = """
+import json, sys
+from tests.generator.physics_support import recipe_for
+from phav_generator.render.video import VideoHashes, render_video
+r = recipe_for("walk", "urban", seconds=0.3, variation="none")
+h = VideoHashes(r.n_frames)
+for f, m in render_video(r):
+    h.add(f, m)
+print(json.dumps(h.hexdigests()))
+"""
+
+
+def test_a_video_hashes_the_same_in_two_processes():
+    """Same recipe, two fresh processes (fresh GL contexts): identical content hashes."""
+    import json
+    import subprocess
+    import sys
+
+    runs = [
+        json.loads(
+            subprocess.run([sys.executable, "-c", _HASH_SCRIPT], capture_output=True, text=True, check=True).stdout
+        )
+        for _ in range(2)
+    ]
+    assert runs[0] == runs[1] and len(runs[0]) == 6
+
+
+def test_streamed_hashes_equal_the_content_hash_of_all_frames(ctx):
+    from phav_generator.render.video import VideoHashes, render_video
+    from phav_spec.encoding import content_hash
+
+    recipe = recipe_for("wave", "green", seconds=0.2, variation="none")
+    frames = list(render_video(recipe, ctx=ctx))
+    h = VideoHashes(len(frames))
+    for f, m in frames:
+        h.add(f, m)
+    expected = content_hash({f"{f:05d}": m["depth"] for f, m in frames})
+    assert h.hexdigests()["depth"] == expected

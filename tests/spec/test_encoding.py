@@ -342,3 +342,22 @@ def test_modality_encoding_is_strict_and_frozen() -> None:
 @given(st.sampled_from(MODALITIES))
 def test_modality_lookup_round_trips(entry: ModalityEncoding) -> None:
     assert modality(entry.name) is entry
+
+
+def test_content_hasher_streams_the_content_hash():
+    from phav_spec.encoding import ContentHasher
+
+    rng = np.random.default_rng(5)
+    arrays = {f"{k:05d}": rng.integers(0, 65535, size=(3, 4), dtype=np.uint16) for k in range(4)}
+    hasher = ContentHasher(len(arrays))
+    for name in sorted(arrays):
+        hasher.add(name, arrays[name])
+    assert hasher.hexdigest() == content_hash(arrays)
+    out_of_order = ContentHasher(2)
+    out_of_order.add("00001", arrays["00001"])
+    with pytest.raises(ValueError, match="sorted-name order"):
+        out_of_order.add("00000", arrays["00000"])
+    short = ContentHasher(3)
+    short.add("00000", arrays["00000"])
+    with pytest.raises(ValueError, match="1 array"):
+        short.hexdigest()
