@@ -117,17 +117,17 @@ class Traffic:
         self._frames = [_frame(v.lane) for v in vehicles]
         # Front to back within each lane, so a follower sees where its leader went.
         self._order = sorted(range(len(vehicles)), key=lambda i: (vehicles[i].lane_index, -self.s[i]))
+        # A vehicle faces along its (straight) lane all clip long.
+        yaws = [math.atan2(u[1], u[0]) for _, u, _ in self._frames]
+        self._quat = np.array([(math.cos(y / 2), 0.0, 0.0, math.sin(y / 2)) for y in yaws]).reshape(-1, 4)
 
     def poses(self) -> tuple[np.ndarray, np.ndarray]:
         """Centres (V, 3) and orientations (V, 4, w x y z) now."""
         pos = np.zeros((len(self.vehicles), 3))
-        quat = np.zeros((len(self.vehicles), 4))
         for i, (v, (start, u, _)) in enumerate(zip(self.vehicles, self._frames, strict=True)):
             pos[i] = start + u * self.s[i]
             pos[i, 2] = start[2] + v.half_size[2]
-            yaw = math.atan2(u[1], u[0])
-            quat[i] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
-        return pos, quat
+        return pos, self._quat.copy()
 
     def advance(self, obstacles: np.ndarray, dt: float) -> None:
         """Drive one frame: cruise, or brake to stop ``STOP_GAP_M`` short of the nearest
@@ -158,11 +158,10 @@ class Traffic:
         out = np.full(len(self.vehicles), FAR_M)
         if not len(points):
             return out
-        pos, _ = self.poses()
         for i, v in enumerate(self.vehicles):
-            _, u, left = self._frames[i]
-            rel = points - pos[i]
-            local = np.stack([rel @ u, rel @ left], axis=-1)
+            start, u, left = self._frames[i]
+            rel = points - start  # lane axes are horizontal: heights drop out
+            local = np.stack([rel @ u - self.s[i], rel @ left], axis=-1)
             outside = np.maximum(np.abs(local) - np.array(v.half_size[:2]), 0.0)
             out[i] = min(FAR_M, float(np.min(np.linalg.norm(outside, axis=-1))))
         return out

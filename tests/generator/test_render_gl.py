@@ -11,7 +11,7 @@ import pytest
 from phav_generator.render.camera import project
 from phav_generator.render.gl import Drawable, FrameRenderer, gl_context
 from phav_generator.render.meshes import box, capsule
-from phav_generator.rotations import axis_angle_matrix
+from phav_generator.rotations import axis_angle_matrix, look_at
 from phav_spec.encoding import encode_depth
 
 W, H = 340, 256
@@ -38,13 +38,7 @@ def _pose(rotation: np.ndarray | None = None, translation=(0.0, 0.0, 0.0)) -> np
 
 def _look(eye, target) -> np.ndarray:
     """Camera-to-world for a camera at ``eye`` looking at ``target`` (+Z up)."""
-    eye, target = np.asarray(eye, float), np.asarray(target, float)
-    back = eye - target
-    back /= np.linalg.norm(back)
-    right = np.cross([0.0, 0.0, 1.0], back)
-    right /= np.linalg.norm(right)
-    up = np.cross(back, right)
-    return _pose(np.stack([right, up, back], axis=1), eye)
+    return _pose(look_at(np.asarray(eye, float), np.asarray(target, float)), eye)
 
 
 def _render(ctx, drawables, cam0, cam1, frame=0):
