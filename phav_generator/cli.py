@@ -4,6 +4,7 @@ and benchmark. One Typer app; user errors are one line and exit code 2."""
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 from typing import Annotated
 
@@ -223,6 +224,103 @@ def preview(
         sheet.save(tmp, format="PNG")
     status = "exploded at frame " + str(tr.exploded_at) if tr.exploded_at is not None else "stable"
     console.print(f"{escape(str(target))}: {r.action} in {r.environment.name}, {r.n_frames} frames, physics {status}")
+
+
+class _RenderProgress:
+    """A progress bar over videos that also shows frames rendered per second."""
+
+    def __init__(self, total_videos: int, description: str):
+        from rich.progress import TimeElapsedColumn
+
+        self._bar = Progress(
+            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn("videos"),
+            TextColumn("{task.fields[frames]:,} frames"), TextColumn("{task.fields[rate]}"),
+            TimeElapsedColumn(), TimeRemainingColumn(), console=console, transient=True,
+        )  # fmt: skip
+        self._task = self._bar.add_task(description, total=total_videos, frames=0, rate="")
+        self._frames = 0
+        self._start = time.perf_counter()
+
+    def __enter__(self) -> _RenderProgress:
+        self._bar.__enter__()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._bar.__exit__(*exc)
+
+    def __call__(self, videos: int, frames: int) -> None:
+        self._frames += frames
+        elapsed = time.perf_counter() - self._start
+        rate = f"{self._frames / elapsed:.1f} frames/s" if elapsed > 0 and self._frames else ""
+        self._bar.update(self._task, advance=videos, frames=self._frames, rate=rate)
+
+
+@app.command()
+def generate(
+    theta: ThetaOption = "phav-v1",
+    videos: Annotated[int, typer.Option("--videos", min=1, help="Number of videos.")] = 8,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Dataset seed.")] = 0,
+    out: Annotated[Path, typer.Option("--out", help="Dataset directory (resumed if it holds this run).")] = Path(
+        "dataset"
+    ),
+    workers: Annotated[int, typer.Option("--workers", min=1, help="Worker processes (one GL context each).")] = 1,
+    shard_size: Annotated[int, typer.Option("--shard-size", min=1, help="Videos per tar shard.")] = 16,
+    name: Annotated[str, typer.Option("--name", help="Dataset name: shards are NAME-000000.tar, …")] = "phav",
+) -> None:
+    """Sample N recipes from θ and render them into WebDataset shards with metadata and a manifest."""
+    from phav_generator.dataset import chunk, write_dataset
+    from phav_generator.sampling import sample_recipes
+
+    _check_name(name)
+    th = load_theta(theta)
+    recipes = list(sample_recipes(th, n=videos, seed=seed))
+    with _RenderProgress(len(recipes), "rendering") as progress:
+        result = write_dataset(chunk(recipes, shard_size), out, name=name, theta=th, dataset_seed=seed,
+                               workers=workers, progress=progress)  # fmt: skip
+    m = result.manifest
+    frames = sum(v.n_frames for v in m.videos)
+    resumed = f", {result.resumed_shards} shard(s) already finished" if result.resumed_shards else ""
+    console.print(
+        f"wrote {len(m.videos)} videos ({frames:,} frames) in {len(m.shards)} shard(s) to {escape(str(out))}"
+        f"{resumed}; θ {escape(th.name)} {th.hash[:12]}…, seed {seed}"
+    )
+
+
+def _check_name(name: str) -> None:
+    import re
+
+    if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
+        raise PhavUserError("use letters, digits, '_' and '-' only", field="--name")
+
+
+@app.command()
+def regenerate(
+    source: Annotated[
+        Path, typer.Argument(help="A dataset directory, its manifest.json, a recipes.parquet or a recipe JSON.")
+    ],
+    out: Annotated[Path, typer.Option("--out", help="Directory for the rebuilt videos.")],
+    video: Annotated[list[str] | None, typer.Option("--video", help="Only this video id (repeatable).")] = None,
+    workers: Annotated[int, typer.Option("--workers", min=1, help="Worker processes.")] = 1,
+) -> None:
+    """Rebuild videos from their recipes and say whether every content hash matches."""
+    from phav_generator.regenerate import compare_hashes, plan_regeneration
+
+    plan = plan_regeneration(source, videos=video)
+    with _RenderProgress(plan.n_videos, "regenerating") as progress:
+        from phav_generator.dataset import write_dataset
+
+        result = write_dataset(plan.shards, out, name=plan.name, theta=plan.theta, dataset_seed=plan.dataset_seed,
+                               workers=workers, progress=progress, shard_names=plan.shard_names)  # fmt: skip
+    report = compare_hashes(plan.expected, result.manifest)
+    console.print(f"rebuilt {plan.n_videos} video(s) into {escape(str(out))}")
+    if plan.expected is None:
+        console.print("no manifest beside the source: nothing to compare (hashes are in the new manifest.json)")
+        return
+    console.print(escape(report.summary()))
+    for line in report.mismatches:
+        console.print(f"  [red]mismatch[/red] {escape(line)}")
+    if report.mismatches:
+        raise typer.Exit(EXIT_FINDINGS)
 
 
 @app.command()

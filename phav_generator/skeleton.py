@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.rotations import axis_angle_matrix, quat_to_matrix
+from phav_spec.metadata import JOINT_ORDER
 from phav_spec.vocab import MUSCLES
 
 _D = math.pi / 180.0
@@ -70,10 +71,7 @@ BONE_INDEX: dict[str, int] = {b.name: i for i, b in enumerate(BONES)}
 PARENTS: tuple[int, ...] = tuple(-1 if b.parent is None else BONE_INDEX[b.parent] for b in BONES)
 
 #: The 13 joints of the pixel-class table, in the metadata order (neck to right ankle).
-JOINT_NAMES: tuple[str, ...] = (
-    "neck", "left_shoulder", "right_shoulder", "left_elbow", "right_elbow", "left_wrist", "right_wrist",
-    "left_hip", "right_hip", "left_knee", "right_knee", "left_ankle", "right_ankle",
-)  # fmt: skip
+JOINT_NAMES: tuple[str, ...] = JOINT_ORDER
 #: Index of the body whose origin is each joint of ``JOINT_NAMES``.
 JOINT_BODIES: tuple[int, ...] = tuple(next(i for i, b in enumerate(BONES) if b.joint == j) for j in JOINT_NAMES)
 

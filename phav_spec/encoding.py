@@ -22,14 +22,18 @@ __all__ = [
     "FLOW_LIMIT_PX",
     "FLOW_OFFSET",
     "FLOW_SCALE",
+    "MAX_PERSON_ID",
     "MODALITIES",
+    "ContentHasher",
     "ModalityEncoding",
     "content_hash",
     "decode_depth",
     "decode_flow",
     "encode_depth",
     "encode_flow",
+    "instance_rgb",
     "modality",
+    "video_content_hash",
 ]
 
 #: Depth codes per metre: one code is one centimetre along the camera axis.
@@ -249,6 +253,18 @@ def content_hash(arrays: Mapping[str, np.ndarray]) -> str:
     for name in sorted(arrays):
         hasher.add(name, arrays[name])
     return hasher.hexdigest()
+
+
+def video_content_hash(modality_hashes: Mapping[str, str]) -> str:
+    """A video's content hash: sha256 over its per-modality content hashes (sorted names).
+
+    Every modality's hash covers all of its frames, so this one digest changes when any
+    pixel of any modality does."""
+    h = hashlib.sha256(_HASH_DOMAIN + b"/video")
+    for name in sorted(modality_hashes):
+        h.update(_frame(name.encode("utf-8")))
+        h.update(_frame(modality_hashes[name].encode("ascii")))
+    return h.hexdigest()
 
 
 class ModalityEncoding(BaseModel):

@@ -24,7 +24,7 @@ from pydantic import (
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from phav_spec.canonical import canonical_json, sha256_hex
-from phav_spec.encoding import MODALITIES, ModalityEncoding
+from phav_spec.encoding import MODALITIES, ModalityEncoding, video_content_hash
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, parse_json_object, read_text
 
@@ -97,8 +97,17 @@ class VideoEntry(BaseModel):
     video_id: VideoId
     shard: ShardName
     n_frames: int = Field(ge=1)
-    #: ``phav_spec.encoding.content_hash`` over the video's decoded frames.
+    #: ``phav_spec.encoding.video_content_hash`` of ``modality_hashes``: one digest of every pixel.
     content_hash: Sha256Hex
+    #: Per modality name, ``phav_spec.encoding.content_hash`` over that modality's decoded
+    #: frames named ``00000``, ``00001``, … (empty: not recorded).
+    modality_hashes: dict[str, Sha256Hex] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _hashes_agree(self) -> Self:
+        if self.modality_hashes and video_content_hash(self.modality_hashes) != self.content_hash:
+            raise ValueError(f"video {self.video_id!r}: content_hash is not the digest of its modality_hashes")
+        return self
 
 
 def _located(loc: tuple[str | int, ...], message: str, value: Any) -> InitErrorDetails:
@@ -118,8 +127,8 @@ class DatasetManifest(BaseModel):
     manifest_version: int = Field(default=MANIFEST_VERSION, ge=1)
     name: str = Field(pattern=r"^[A-Za-z0-9_-]+$")
     phav_version: str
-    #: sha256 of the θ file the recipes were sampled from.
-    theta_hash: Sha256Hex
+    #: ``Theta.hash`` of the θ the recipes were sampled from (None: videos made from recipes alone).
+    theta_hash: Sha256Hex | None
     dataset_seed: int = Field(ge=0)
     recipe_schema_version: int = Field(ge=1)
     modalities: list[ModalityEncoding] = Field(default_factory=lambda: list(MODALITIES))
@@ -167,6 +176,13 @@ class DatasetManifest(BaseModel):
                     errors.append(_located(("shards", si, "video_ids", j), reason, video_id))
                 else:
                     listed_in[video_id] = shard.name
+
+        modality_names = sorted(m.name for m in self.modalities)
+        for vi, video in enumerate(self.videos):
+            if video.modality_hashes and sorted(video.modality_hashes) != modality_names:
+                reason = f"video {video.video_id!r} has hashes for {sorted(video.modality_hashes)}, "
+                reason += f"the manifest's modalities are {modality_names}"
+                errors.append(_located(("videos", vi, "modality_hashes"), reason, video.modality_hashes))
 
         shard_names = {s.name for s in self.shards}
         for vi, video in enumerate(self.videos):

@@ -13,6 +13,9 @@ import cv2
 import numpy as np
 
 from phav_spec.encoding import ModalityEncoding
+from phav_spec.webdataset import decode_png
+
+__all__ = ["PNG_LEVEL", "decode_png", "encode_png"]
 
 #: zlib level of every PNG the generator writes.
 PNG_LEVEL = 1
@@ -31,22 +34,3 @@ def encode_png(array: np.ndarray, encoding: ModalityEncoding) -> bytes:
     if not ok:
         raise RuntimeError(f"{encoding.name}: OpenCV could not encode the PNG")
     return data.tobytes()
-
-
-def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes>") -> np.ndarray:
-    """PNG bytes → the modality's array, checked against its dtype and channel count.
-
-    Raises:
-        ValueError: bytes that are not a PNG OpenCV can read, or an image of another bit depth
-            or channel count than the modality's (naming ``source``).
-    """
-    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
-    if image is None:
-        raise ValueError(f"{source}: not a readable PNG ({len(data)} bytes)")
-    channels = 1 if image.ndim == 2 else image.shape[2]
-    if image.dtype != np.dtype(encoding.dtype) or channels != encoding.channels:
-        raise ValueError(
-            f"{source}: {encoding.name} must be {encoding.dtype} with {encoding.channels} channel(s), "
-            f"found {image.dtype} with {channels}"
-        )
-    return np.ascontiguousarray(image[..., ::-1]) if channels == 3 else image

@@ -315,19 +315,21 @@ class _Run:
         return names
 
 
-def _penetrations(run: _Run) -> tuple[float, float, set[str]]:
-    """Deepest person–world and camera–world penetration now, and which world parts touch."""
+def _penetrations(run: _Run) -> tuple[np.ndarray, float, set[str]]:
+    """Deepest world penetration of each simulated person and of the camera now, and which
+    world parts touch."""
     d = run.d
     n = d.ncon
     if n == 0:
-        return 0.0, 0.0, set()
+        return np.zeros(len(run.scene.people)), 0.0, set()
     g1 = d.contact.geom1[:n]
     g2 = d.contact.geom2[:n]
     dist = d.contact.dist[:n]
     world = np.isin(g1, run.scene.world_geoms) | np.isin(g2, run.scene.world_geoms)
-    person_geoms = np.concatenate([h.geoms for h in run.scene.people]) if run.scene.people else np.array([], int)
-    person = np.isin(g1, person_geoms) | np.isin(g2, person_geoms)
-    deepest = float(np.max(-dist[world & person], initial=0.0))
+    deepest = np.array(
+        [float(np.max(-dist[world & (np.isin(g1, h.geoms) | np.isin(g2, h.geoms))], initial=0.0))
+         for h in run.scene.people]
+    )  # fmt: skip
     cam = 0.0
     touches = set()
     if run.scene.camera is not None:
@@ -340,7 +342,7 @@ def _penetrations(run: _Run) -> tuple[float, float, set[str]]:
         prot = np.isin(g1, run.scene.people[0].geoms) | np.isin(g2, run.scene.people[0].geoms)
         if np.any(on_ground & prot):
             touches.add("protagonist_ground")
-    return max(deepest, 0.0), max(cam, 0.0), touches
+    return np.maximum(deepest, 0.0), max(cam, 0.0), touches
 
 
 def _kinetic_energy(m: mujoco.MjModel, d: mujoco.MjData) -> float:
@@ -386,9 +388,9 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
     prop_quat = np.zeros((len(plan.props), n_out, 4))
     cam_pos = np.zeros((n_out, 3))
     cam_look = np.zeros((n_out, 3))
-    penetration = np.zeros(n_out)
+    penetration = np.zeros((n_phys, n_out))
+    person_excess = np.zeros((n_phys, n_out))
     cam_pen = np.zeros(n_out)
-    limit_excess = np.zeros(n_out)
     energy = np.zeros(n_out)
     contacts = {"car_protagonist": np.zeros(n_out, bool), "protagonist_ground": np.zeros(n_out, bool)}
     nstate = mujoco.mj_stateSize(m, _FULL)
@@ -428,12 +430,12 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
             strengths[i, f] = run.strength_now[i]
             pins[i, f] = run.pin_now[i]
             q = d.qpos[h.qpos_dofs]
-            limit_excess[f] = max(limit_excess[f], float(np.max(np.maximum(q - h.upper, h.lower - q), initial=0.0)))
+            person_excess[i, f] = float(np.max(np.maximum(q - h.upper, h.lower - q), initial=0.0))
         for j, h in enumerate(scene.props):
             prop_pos[j, f] = d.xpos[h.body]
             prop_quat[j, f] = d.xquat[h.body]
         pen, cpen, touches = _penetrations(run)
-        penetration[f] = pen
+        penetration[:, f] = pen
         cam_pen[f] = cpen
         for name in touches | frame_touch:
             contacts[name][f] = True
@@ -482,15 +484,18 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
                 lower=h.lower,
                 upper=h.upper,
                 height_m=p.dims.height_m,
+                penetration_m=penetration[i],
+                limit_excess_rad=person_excess[i],
             )
         )
     for p, (pos, rot) in zip(background, background_fk, strict=True):
         quat = matrix_to_quat(rot)
-        tracks.append(
-            PersonTrack(
-                p.person_id, p.role, pos, quat, pos, p.targets.q, p.strengths, p.pin, LOWER, UPPER, p.dims.height_m
-            )
-        )
+        excess = np.max(np.maximum(p.targets.q - UPPER, LOWER - p.targets.q), axis=1, initial=0.0)
+        # Background actors are kinematic (no MuJoCo bodies): their penetration is not measured.
+        unmeasured = np.full(n_out, np.nan)
+        track = PersonTrack(p.person_id, p.role, pos, quat, pos, p.targets.q, p.strengths, p.pin, LOWER, UPPER,
+                            p.dims.height_m, unmeasured, excess)  # fmt: skip
+        tracks.append(track)
     cam_to_world = np.zeros((n_out, 4, 4))
     cam_to_world[:, :3, :3] = look_at(cam_pos, cam_look)
     cam_to_world[:, :3, 3] = cam_pos
@@ -513,9 +518,9 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
         intrinsics=intrinsics(plan.recipe),
         boxes=tuple((b.pixel_class, b.center, b.half_size, b.yaw_deg) for b in plan.boxes),
         manipulations=tuple((x.object, x.person_id, x.body, x.kind, x.start_s, x.end_s) for x in plan.manipulations),
-        penetration_m=penetration,
+        penetration_m=np.max(penetration, axis=0, initial=0.0),
         camera_penetration_m=cam_pen,
-        limit_excess_rad=limit_excess,
+        limit_excess_rad=np.max(person_excess, axis=0, initial=0.0),
         kinetic_energy_j=energy,
         warnings=warnings,
         exploded_at=exploded_at,

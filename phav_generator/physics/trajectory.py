@@ -36,6 +36,8 @@ class PersonTrack:
     lower: np.ndarray  # (30,) joint limits, radians
     upper: np.ndarray
     height_m: float
+    penetration_m: np.ndarray  # (F,) deepest world penetration of this person (NaN: kinematic, not measured)
+    limit_excess_rad: np.ndarray  # (F,) largest joint-limit violation of this person
 
 
 @dataclass(frozen=True)

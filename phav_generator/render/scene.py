@@ -15,7 +15,7 @@ from phav_generator.render.gl import Drawable
 from phav_generator.render.meshes import box, capsule, ground, sphere
 from phav_generator.rotations import quat_to_matrix, yaw_matrix
 from phav_generator.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
-from phav_spec.recipe import Recipe
+from phav_spec.recipe import HumanSpec, Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.vocab import PIXEL_CLASSES
 
@@ -66,7 +66,8 @@ def _rgb(c) -> tuple[float, float, float]:
     return tuple(float(x) / 255.0 for x in c)  # type: ignore[return-value]
 
 
-def _humans(recipe: Recipe) -> dict[int, object]:
+def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
+    """Every person's human model in the recipe, by person id."""
     out = {recipe.protagonist.person_id: recipe.protagonist.human}
     out.update({s.person_id: s.human for s in recipe.supporting_characters})
     out.update({a.person_id: a.human for a in recipe.background_actors})
@@ -128,7 +129,7 @@ def build_drawables(recipe: Recipe, trajectory: Trajectory) -> list[Drawable]:
         out.append(
             Drawable(mesh, transforms, class_id(prop.pixel_class), 0, _CLASS_COLOURS.get(prop.pixel_class, (0.5,) * 3))
         )
-    humans = _humans(recipe)
+    humans = humans_by_id(recipe)
     for track in trajectory.people:
         out += _person(track, humans[track.person_id])
     return out

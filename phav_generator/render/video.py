@@ -1,24 +1,39 @@
-"""Recipe → trajectory → the six modalities of every frame, with per-modality content hashes.
+"""Recipe → trajectory → every frame's six modalities and metadata, with content hashes.
 
 ``render_video`` is the pure core of ``phav generate`` and ``phav regenerate``: it simulates
 (unless given a trajectory), builds the scene once, renders each frame with its flow
-towards the next and yields the encoded arrays; ``VideoHashes`` accumulates one content
-hash per modality over the frames (arrays named by zero-padded frame number).
+towards the next and yields the encoded arrays with the frame's camera and people rows;
+``VideoHashes`` accumulates one content hash per modality over the frames (arrays named by
+zero-padded frame number). Nothing here touches files.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
 
 import moderngl
+import numpy as np
 
+from phav_generator.io.metadata import MetadataBuilder
 from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.gl import FrameRenderer, gl_context
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.scene import build_drawables, class_id
-from phav_spec.encoding import MODALITIES, ContentHasher
+from phav_spec.encoding import MODALITIES, ContentHasher, video_content_hash
 from phav_spec.recipe import Recipe
+
+
+@dataclass(frozen=True)
+class RenderedFrame:
+    """One frame of a video: the modality arrays (``MODALITIES`` names) and metadata rows."""
+
+    index: int
+    modalities: dict[str, np.ndarray]
+    camera: dict[str, Any]
+    people: list[dict[str, Any]]
 
 
 class VideoHashes:
@@ -27,28 +42,33 @@ class VideoHashes:
     def __init__(self, n_frames: int):
         self._hashers = {m.name: ContentHasher(n_frames) for m in MODALITIES}
 
-    def add(self, frame: int, modalities: dict) -> None:
+    def add(self, frame: int, modalities: dict[str, np.ndarray]) -> None:
         for name, hasher in self._hashers.items():
             hasher.add(f"{frame:05d}", modalities[name])
 
     def hexdigests(self) -> dict[str, str]:
         return {name: h.hexdigest() for name, h in self._hashers.items()}
 
+    def video_hash(self) -> str:
+        """The video's content hash: one digest over the per-modality hashes."""
+        return video_content_hash(self.hexdigests())
+
 
 def render_video(
     recipe: Recipe, trajectory: Trajectory | None = None, *, ctx: moderngl.Context | None = None
-) -> Iterator[tuple[int, dict]]:
-    """(frame, modality arrays) for frames 0 … n_frames − 1 of a recipe."""
+) -> Iterator[RenderedFrame]:
+    """Frames 0 … n_frames − 1 of a recipe, rendered and measured."""
     tr = simulate(recipe, keep_state=False) if trajectory is None else trajectory
     own = ctx is None
     ctx = gl_context() if ctx is None else ctx
     renderer = FrameRenderer(
         ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, tr), sky_class=class_id("sky")
     )
+    meta = MetadataBuilder(recipe, tr)
     try:
         for f in range(tr.n_frames):
             frame = renderer.render(f, tr.cam_to_world[f], tr.cam_to_world[f + 1], tr.intrinsics)
-            yield f, encode_frame(frame)
+            yield RenderedFrame(f, encode_frame(frame), meta.camera_row(f), meta.people_rows(f, frame))
     finally:
         renderer.release()
         if own:

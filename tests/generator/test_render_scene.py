@@ -94,8 +94,8 @@ from tests.generator.physics_support import recipe_for
 from phav_generator.render.video import VideoHashes, render_video
 r = recipe_for("walk", "urban", seconds=0.3, variation="none")
 h = VideoHashes(r.n_frames)
-for f, m in render_video(r):
-    h.add(f, m)
+for rf in render_video(r):
+    h.add(rf.index, rf.modalities)
 print(json.dumps(h.hexdigests()))
 """
 
@@ -122,7 +122,7 @@ def test_streamed_hashes_equal_the_content_hash_of_all_frames(ctx):
     recipe = recipe_for("wave", "green", seconds=0.2, variation="none")
     frames = list(render_video(recipe, ctx=ctx))
     h = VideoHashes(len(frames))
-    for f, m in frames:
-        h.add(f, m)
-    expected = content_hash({f"{f:05d}": m["depth"] for f, m in frames})
+    for rf in frames:
+        h.add(rf.index, rf.modalities)
+    expected = content_hash({f"{rf.index:05d}": rf.modalities["depth"] for rf in frames})
     assert h.hexdigests()["depth"] == expected

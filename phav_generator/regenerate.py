@@ -1,0 +1,134 @@
+"""``phav regenerate``: rebuild videos from their recipes and compare content hashes.
+
+The source is a dataset directory, its ``manifest.json``, a ``recipes.parquet`` or one recipe
+JSON. When a manifest is found, shards keep its names and membership and every rebuilt
+video's hashes are compared with it: exactly when the renderer fingerprints are equal
+(DESIGN.md: same fingerprint → identical pixels), and the report says when they are not.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from phav_generator.dataset import DEFAULT_SHARD_SIZE, chunk
+from phav_spec.errors import PhavUserError
+from phav_spec.files import parse_json_object, read_text
+from phav_spec.manifest import DatasetManifest, load_manifest
+from phav_spec.recipe import Recipe, load_recipe
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.theta import Theta
+
+
+@dataclass(frozen=True)
+class RegenerationPlan:
+    """What to rebuild: recipes grouped in shards, and the manifest to compare with (if any)."""
+
+    shards: list[list[Recipe]]
+    shard_names: list[str] | None
+    name: str
+    theta: Theta | None
+    dataset_seed: int
+    expected: DatasetManifest | None
+
+    @property
+    def n_videos(self) -> int:
+        return sum(len(s) for s in self.shards)
+
+
+def _locate(source: Path) -> tuple[Path | None, Path | None, Path | None]:
+    """(manifest, recipes table, recipe JSON) paths for a source."""
+    if source.is_dir():
+        manifest = source / "manifest.json"
+        table = source / "recipes.parquet"
+        if not table.exists():
+            raise PhavUserError("no recipes.parquet in this directory", source=str(source))
+        return (manifest if manifest.exists() else None), table, None
+    if not source.exists():
+        raise PhavUserError("no such file or directory", source=str(source))
+    if source.suffix == ".parquet":
+        beside = source.parent / "manifest.json"
+        return (beside if beside.exists() else None), source, None
+    if source.suffix == ".json":
+        data = parse_json_object(read_text(source), source=str(source))
+        if "manifest_version" in data:
+            table = source.parent / "recipes.parquet"
+            if not table.exists():
+                raise PhavUserError("no recipes.parquet beside this manifest", source=str(source))
+            return source, table, None
+        return None, None, source
+    raise PhavUserError("expected a dataset directory, manifest.json, recipes.parquet or a recipe .json",
+                        source=str(source))  # fmt: skip
+
+
+def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) -> RegenerationPlan:
+    """Resolve a source into shards of recipes to rebuild, optionally only some videos."""
+    manifest_path, table_path, recipe_path = _locate(Path(source))
+    if recipe_path is not None:
+        recipe = load_recipe(recipe_path)
+        if videos and recipe.video_id not in videos:
+            raise PhavUserError(f"the recipe is {recipe.video_id}, not {', '.join(videos)}", field="--video")
+        return RegenerationPlan([[recipe]], None, "phav", None, 0, None)
+    assert table_path is not None
+    table = read_recipe_table(table_path)
+    by_id = {r.video_id: r for r in table.recipes()}
+    wanted = list(by_id) if not videos else videos
+    unknown = [v for v in wanted if v not in by_id]
+    if unknown:
+        raise PhavUserError(f"no video {unknown[0]!r} in {len(by_id)} recipes", source=str(table_path), field="--video")
+    keep = set(wanted)
+    theta, seed = table.theta, table.dataset_seed or 0
+    if manifest_path is None:
+        recipes = [by_id[v] for v in by_id if v in keep]
+        return RegenerationPlan(chunk(recipes, DEFAULT_SHARD_SIZE), None, "phav", theta, seed, None)
+    manifest = load_manifest(manifest_path)
+    missing = [v.video_id for v in manifest.videos if v.video_id not in by_id]
+    if missing:
+        raise PhavUserError(f"video {missing[0]} is in the manifest but has no recipe", source=str(table_path))
+    shards, names = [], []
+    for shard in manifest.shards:
+        chosen = [by_id[v] for v in shard.video_ids if v in keep]
+        if chosen:
+            shards.append(chosen)
+            names.append(shard.name)
+    return RegenerationPlan(shards, names, manifest.name, theta, seed, manifest)
+
+
+@dataclass
+class HashReport:
+    """How rebuilt videos compare with the manifest they came from."""
+
+    compared: int = 0
+    matched: int = 0
+    exact: bool = True  # renderer fingerprints equal: bit-exact equality is expected
+    mismatches: list[str] = field(default_factory=list)
+
+    def summary(self) -> str:
+        basis = (
+            "same renderer fingerprint: bit-exact equality expected"
+            if self.exact
+            else "different renderer fingerprint: pixels may legitimately differ"
+        )
+        return f"content hashes: {self.matched}/{self.compared} videos match ({basis})"
+
+
+def compare_hashes(expected: DatasetManifest | None, rebuilt: DatasetManifest) -> HashReport:
+    """Per video and modality, which rebuilt content hashes differ from the expected ones."""
+    report = HashReport()
+    if expected is None:
+        return report
+    report.exact = (
+        expected.renderer is not None
+        and rebuilt.renderer is not None
+        and expected.renderer.digest() == rebuilt.renderer.digest()
+    )
+    before = {v.video_id: v for v in expected.videos}
+    for video in rebuilt.videos:
+        old = before[video.video_id]
+        report.compared += 1
+        if old.content_hash == video.content_hash:
+            report.matched += 1
+            continue
+        differ = [m for m in sorted(video.modality_hashes) if old.modality_hashes.get(m) != video.modality_hashes[m]]
+        report.mismatches.append(f"{video.video_id}: {', '.join(differ) or 'content hash'}")
+    return report

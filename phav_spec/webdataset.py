@@ -1,0 +1,60 @@
+"""Reading PHAV shards with the ``webdataset`` package (or any tar reader), pixels intact.
+
+webdataset's default image decoder goes through PIL, which reads 16-bit PNGs as 8-bit and
+destroys depth and flow. ``phav_decoder`` decodes every member by its extension with OpenCV
+instead (``IMREAD_UNCHANGED``, RGB order), checked against the modality's encoding::
+
+    import webdataset as wds
+    from phav_spec.webdataset import phav_decoder
+    for sample in wds.WebDataset("phav-000000.tar").decode(phav_decoder):
+        depth_cm = sample["depth.png"]          # (256, 340) uint16
+        flow = sample["flow.png"]               # (256, 340, 3) uint16, KITTI RGB order
+        people = sample["json"]["people"]       # this frame's metadata rows
+
+OpenCV (``opencv-python-headless``) is imported on first use only.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+
+from phav_spec.encoding import MODALITIES, ModalityEncoding
+
+__all__ = ["decode_png", "phav_decoder"]
+
+_BY_KEY = {m.key: m for m in MODALITIES}
+
+
+def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes>") -> np.ndarray:
+    """PNG bytes → the modality's array (RGB order), checked against its dtype and channels.
+
+    Raises:
+        ValueError: bytes that are not a PNG OpenCV can read, or an image of another bit depth
+            or channel count than the modality's (naming ``source``).
+    """
+    import cv2
+
+    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+    if image is None:
+        raise ValueError(f"{source}: not a readable PNG ({len(data)} bytes)")
+    channels = 1 if image.ndim == 2 else image.shape[2]
+    if image.dtype != np.dtype(encoding.dtype) or channels != encoding.channels:
+        raise ValueError(
+            f"{source}: {encoding.name} must be {encoding.dtype} with {encoding.channels} channel(s), "
+            f"found {image.dtype} with {channels}"
+        )
+    return np.ascontiguousarray(image[..., ::-1]) if channels == 3 else image
+
+
+def phav_decoder(key: str, data: bytes) -> Any:
+    """A webdataset decode handler: modality PNGs → arrays, ``json`` → dict, else None
+    (so webdataset tries its other handlers). ``key`` is the member's extension."""
+    ext = key.lstrip(".").lower()
+    if ext in _BY_KEY:
+        return decode_png(data, _BY_KEY[ext], source=ext)
+    if ext == "json":
+        return json.loads(data)
+    return None
