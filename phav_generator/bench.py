@@ -118,3 +118,114 @@ def bench_physics(recipes: list, released: list, *, rates: tuple[int, ...] = PHY
             rel = max(rel, float(np.linalg.norm(j - ref, axis=-1).max()))
         out.append(PhysicsRun(hz, 1000.0 * seconds / max(frames, 1), max(errors, default=0.0), rel, tuple(errors)))
     return out
+
+
+@dataclass(frozen=True)
+class RenderRun:
+    """One pass of the render bench over the scene set at one supersampling factor."""
+
+    supersample: int
+    frames: int
+    seconds: dict[str, float]  # physics, render, post, encode, write
+    edge_error: float | None  # mean |RGB − 4× reference| on edge pixels, 8-bit levels
+    triangles_built: dict[str, int]  # per environment (scene totals)
+    triangles_drawn: dict[str, float]  # per environment, mean per frame after culling
+    hashes: dict[str, str]  # video id → content hash
+
+    @property
+    def fps(self) -> float:
+        return self.frames / max(sum(self.seconds.values()), 1e-9)
+
+    def stage_fps(self, stage: str) -> float:
+        return self.frames / max(self.seconds[stage], 1e-9)
+
+
+def _edges(semantic: np.ndarray, depth: np.ndarray) -> np.ndarray:
+    """Pixels on a class boundary or a depth step of more than 5 %."""
+    cls = semantic.astype(np.int64) @ np.array([65536, 256, 1])
+    d = depth.astype(np.float64)
+    edge = np.zeros(cls.shape, dtype=bool)
+    for axis in (0, 1):
+        step = (np.diff(cls, axis=axis) != 0) | (np.abs(np.diff(d, axis=axis)) > 0.05 * np.minimum(
+            np.delete(d, -1, axis=axis), np.delete(d, 0, axis=axis)))  # fmt: skip
+        lo = [slice(None), slice(None)]
+        hi = [slice(None), slice(None)]
+        lo[axis], hi[axis] = slice(None, -1), slice(1, None)
+        edge[tuple(lo)] |= step
+        edge[tuple(hi)] |= step
+    return edge
+
+
+def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference: int = 4,
+                 max_frames: int | None = None) -> tuple[list[RenderRun], float]:  # fmt: skip
+    """Each supersampling factor over the recipes, stage by stage, with the edge error of its
+    RGB against ``reference``× supersampling; also the encode-only rate (six PNGs, frames/s)."""
+    from phav_generator.io.metadata import MetadataBuilder
+    from phav_generator.io.png import encode_png
+    from phav_generator.io.shards import open_shard
+    from phav_generator.physics.simulate import simulate
+    from phav_generator.render.gl import gl_context
+    from phav_generator.render.modalities import encode_frame
+    from phav_generator.render.video import VideoHashes, scene_renderer
+    from phav_spec.encoding import MODALITIES
+    from phav_spec.metadata import frame_json
+
+    ctx = gl_context()
+    trajectories, physics_s = [], 0.0
+    for r in recipes:
+        t0 = time.perf_counter()
+        trajectories.append(simulate(r, keep_state=False))
+        physics_s += time.perf_counter() - t0
+    n_frames = [min(r.n_frames, max_frames or r.n_frames) for r in recipes]
+    references: dict[tuple[int, int], np.ndarray] = {}
+    runs, encode_only = [], 0.0
+    tmp = Path(tempfile.mkdtemp(prefix="phav-bench-"))
+    try:
+        for factor in (reference, *factors):
+            seconds = {"physics": physics_s * sum(n_frames) / sum(r.n_frames for r in recipes),
+                       "render": 0.0, "post": 0.0, "encode": 0.0, "write": 0.0}  # fmt: skip
+            errors, built, drawn, hashes = [], {}, {}, {}
+            png_s = 0.0
+            for vi, (r, tr, n) in enumerate(zip(recipes, trajectories, n_frames, strict=True)):
+                renderer = scene_renderer(r, tr, ctx, supersample=factor)
+                meta = MetadataBuilder(r, tr)
+                h = VideoHashes(n)
+                env = r.environment.name
+                with open_shard(tmp / f"bench-{vi:06d}.tar") as (shard, _):
+                    for f in range(n):
+                        frame = renderer.render(f, tr.cam_to_world[f], tr.cam_to_world[f + 1], tr.intrinsics)
+                        modalities = encode_frame(frame)
+                        h.add(f, modalities)
+                        t0 = time.perf_counter()
+                        pngs = [encode_png(modalities[m.name], m) for m in MODALITIES]
+                        png_s += time.perf_counter() - t0
+                        js = frame_json(meta.camera_row(f), meta.people_rows(f, frame))
+                        t1 = time.perf_counter()
+                        for m, data in zip(MODALITIES, pngs, strict=True):
+                            shard.add(f"{r.video_id}/{f:05d}.{m.key}", data)
+                        shard.add(f"{r.video_id}/{f:05d}.json", js)
+                        seconds["encode"] += t1 - t0
+                        seconds["write"] += time.perf_counter() - t1
+                        if factor == reference:
+                            references[(vi, f)] = modalities["rgb"].astype(np.int16)
+                        else:
+                            edge = _edges(modalities["semantic"], modalities["depth"])
+                            diff = np.abs(modalities["rgb"].astype(np.int16) - references[(vi, f)]).mean(axis=-1)
+                            errors.append(float(diff[edge].mean()) if edge.any() else 0.0)
+                seconds["render"] += renderer.seconds["render"]
+                seconds["post"] += renderer.seconds["post"]
+                built[env] = renderer.triangles_built
+                drawn.setdefault(env, []).append(renderer.triangles_drawn / max(n, 1))
+                renderer.release()
+                hashes[r.video_id] = h.video_hash()
+            if factor == reference:
+                encode_only = sum(n_frames) / max(png_s, 1e-9)
+                continue
+            runs.append(RenderRun(factor, sum(n_frames), seconds, float(np.mean(errors)) if errors else None,
+                                  built, {e: float(np.mean(v)) for e, v in drawn.items()}, hashes))  # fmt: skip
+    finally:
+        ctx.release()
+        for p in tmp.glob("*"):
+            p.unlink()
+        tmp.rmdir()
+    return runs, encode_only

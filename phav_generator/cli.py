@@ -35,7 +35,7 @@ app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
 #: What `phav bench --sections` can run.
-BENCH_SECTIONS = ("sampling", "physics", "probe")
+BENCH_SECTIONS = ("sampling", "physics", "probe", "render")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 
@@ -199,20 +199,54 @@ def recipe_show(
 
 @app.command()
 def preview(
-    recipe_file: Annotated[Path, typer.Argument(help="A recipe JSON file (phav recipe show … > r.json).")],
+    source: Annotated[
+        Path, typer.Argument(help="A recipe JSON (rendered now), or a dataset directory / its manifest.json.")
+    ],
+    video: Annotated[str | None, typer.Option("--video", help="Video id in a dataset (default: the first).")] = None,
     skeleton: Annotated[
         bool, typer.Option("--skeleton", help="Stick figures through the recipe's camera (no renderer).")
     ] = False,
-    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: <video_id>-skeleton.png).")] = None,
-    frames: Annotated[int, typer.Option("--frames", min=1, max=30, help="Frames on the sheet.")] = 6,
+    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: <video_id>-preview.png).")] = None,
+    frames: Annotated[int, typer.Option("--frames", min=1, max=30, help="Frames on the sheet.")] = 4,
+    gif: Annotated[bool, typer.Option("--gif/--no-gif", help="Also write an animated GIF of the RGB frames.")] = True,
 ) -> None:
-    """Simulate one recipe and write a contact sheet of its frames."""
-    from phav_spec.recipe import load_recipe
+    """A contact sheet of a video: all six modalities side by side (depth and flow colour-mapped)
+    for a few frames, and an animated GIF of its RGB; or, with --skeleton, stick figures."""
+    from phav_generator.preview import frames_from_dataset, modality_sheet, write_gif
 
-    if not skeleton:
-        raise PhavUserError("only skeleton previews exist in this version: add --skeleton", field="--skeleton")
+    if skeleton:
+        _skeleton_preview(source, out, frames)
+        return
+    if source.is_dir() or _is_manifest(source):
+        vid, fps, all_frames = frames_from_dataset(source, video)
+    else:
+        from phav_generator.render.video import render_video
+        from phav_spec.recipe import load_recipe
+
+        r = load_recipe(source)
+        vid, fps = r.video_id, r.video.fps
+        all_frames = [rf.modalities for rf in render_video(r)]
+    picks = sorted({round(i * (len(all_frames) - 1) / max(frames - 1, 1)) for i in range(frames)})
+    sheet = modality_sheet([(f, all_frames[f]) for f in picks], f"{vid}  rgb")
+    target = out if out is not None else Path(f"{vid}-preview.png")
+    with atomic_write(target) as tmp:
+        sheet.save(tmp, format="PNG")
+    written = [str(target)]
+    if gif:
+        gif_path = target.with_suffix(".gif")
+        write_gif([m["rgb"] for m in all_frames], gif_path, fps)
+        written.append(str(gif_path))
+    console.print(f"wrote {escape(', '.join(written))} ({len(all_frames)} frames of {vid})")
+
+
+def _is_manifest(path: Path) -> bool:
+    return path.suffix == ".json" and path.name == "manifest.json"
+
+
+def _skeleton_preview(recipe_file: Path, out: Path | None, frames: int) -> None:
     from phav_generator.physics.simulate import simulate
     from phav_generator.preview import contact_sheet
+    from phav_spec.recipe import load_recipe
     from phav_spec.scene import ENVIRONMENT_SCENES
 
     r = load_recipe(recipe_file)
@@ -324,6 +358,45 @@ def regenerate(
 
 
 @app.command()
+def vary(
+    recipe_file: Annotated[Path, typer.Argument(help="A recipe JSON file.")],
+    settings: Annotated[
+        list[str], typer.Option("--set", help="NAME=VALUE, e.g. weather=fog, clock_hour=22, camera=static.")
+    ],
+    theta: Annotated[
+        str | None, typer.Option("--theta", help="The recipe's θ (default: the preset with its hash).")
+    ] = None,
+    out: Annotated[Path | None, typer.Option("--out", help="Where to write (default: <video_id>-varied.json).")] = None,
+) -> None:
+    """Write a counterfactual recipe that changes only the named variables (seeds stay)."""
+    from phav_generator.vary import parse_settings
+    from phav_generator.vary import vary as vary_recipe
+    from phav_spec.recipe import load_recipe
+
+    forced = parse_settings(settings)
+    r = load_recipe(recipe_file)
+    varied = vary_recipe(r, load_theta(theta) if theta else _preset_for(r.theta_hash), forced)
+    target = out if out is not None else Path(f"{r.video_id}-varied.json")
+    with atomic_write(target) as tmp:
+        tmp.write_text(json.dumps(varied.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")
+    before, after = r.model_dump(mode="json"), varied.model_dump(mode="json")
+    changed = [f"{part}.{key}" for part in ("world", "camera") for key in before[part]
+               if before[part][key] != after[part][key]]  # fmt: skip
+    console.print(f"wrote {escape(str(target))}: changed {escape(', '.join(changed) or 'nothing')}")
+
+
+def _preset_for(theta_hash: str) -> Theta:
+    """The shipped preset whose hash a recipe records."""
+    from phav_spec.theta import PRESETS_DIR
+
+    for path in sorted(PRESETS_DIR.glob("*.yaml")):
+        th = load_theta(path)
+        if th.hash == theta_hash:
+            return th
+    raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…; pass the recipe's θ with --theta", field="--theta")
+
+
+@app.command()
 def bench(
     n: Annotated[int, typer.Option("--n", min=100, help="Recipes in the largest sampling run.")] = 40000,
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
@@ -335,6 +408,10 @@ def bench(
     probe_clips: Annotated[
         int, typer.Option("--probe-clips", min=2, help="Probe training clips per action (a third as many tested)")
     ] = 12,
+    render_videos: Annotated[int, typer.Option("--render-videos", min=1, help="First N phav-v1 recipes.")] = 20,
+    render_frames: Annotated[
+        int | None, typer.Option("--render-frames", min=2, help="At most this many frames per video.")
+    ] = None,
 ) -> None:
     """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
     (timestep against joint error and ms per frame) and the action probe (how recognisable
@@ -351,6 +428,8 @@ def bench(
         _bench_physics_table(theta, seed=seed, clips=physics_clips)
     if "probe" in chosen:
         _bench_probe_table(theta, seed=seed, clips=probe_clips)
+    if "render" in chosen:
+        _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames)
     if "sampling" not in chosen:
         return
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
@@ -365,6 +444,52 @@ def bench(
             f"{r.duration_error:.3f}", f"{r.worst_p:.2g}", f"{r.rejected}/{r.n_tests}",
         )  # fmt: skip
     console.print(table)
+
+
+def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None) -> None:
+    import tempfile
+
+    from phav_generator.bench import bench_render
+    from phav_generator.dataset import chunk, write_dataset
+    from phav_generator.sampling import sample_recipes
+
+    recipes = list(sample_recipes(theta, n=videos, seed=seed))
+    if max_frames is not None:  # shorter clips, same scenes: cut the duration, keep everything else
+        from phav_spec.recipe import frames_for
+
+        recipes = [r.model_copy(update={"duration_s": min(r.duration_s, max_frames / r.video.fps),
+                                        "n_frames": min(r.n_frames, frames_for(max_frames / r.video.fps, r.video.fps))})
+                   for r in recipes]  # fmt: skip
+    with console.status("render bench: 4× reference, 1× and 2× (one process)"):
+        runs, encode_only = bench_render(recipes)
+    frames = runs[0].frames
+    with tempfile.TemporaryDirectory() as tmp, console.status("phav generate with 2 workers"):
+        start = time.perf_counter()
+        result = write_dataset(chunk(recipes, 1), tmp, name="bench", theta=theta, dataset_seed=seed, workers=2)
+        two_workers = frames / (time.perf_counter() - start)
+    same = {v.video_id: v.content_hash for v in result.manifest.videos} == next(
+        r.hashes for r in runs if r.supersample == 2
+    )
+    title = f"render (θ {theta.name}, first {len(recipes)} recipes of seed {seed}, {frames} frames, one process)"
+    table = Table(title=title, title_justify="left")
+    for col in ("supersample", "frames/s", "physics", "render", "post", "encode", "write",
+                "edge error vs 4× (levels)", "× encode-only floor"):  # fmt: skip
+        table.add_column(col, justify="right")
+    for run in runs:
+        table.add_row(f"{run.supersample}×", f"{run.fps:.1f}",
+                      *(f"{run.stage_fps(s):.0f}" for s in ("physics", "render", "post", "encode", "write")),
+                      f"{run.edge_error:.2f}", f"{run.fps / encode_only:.2f}")  # fmt: skip
+    console.print(table)
+    console.print(f"encode-only floor (six PNGs, level 1): {encode_only:.1f} frames/s; "
+                  f"phav generate, 2 workers, 2×: {two_workers:.1f} frames/s "
+                  f"({two_workers / encode_only:.2f}× the one-process floor); "
+                  f"its content hashes {'equal' if same else 'DIFFER from'} the bench's 2× run")  # fmt: skip
+    tri = Table(title="triangles per environment", title_justify="left")
+    for col in ("environment", "built (scene)", "drawn / frame (after culling)"):
+        tri.add_column(col, justify="right")
+    for env in sorted(runs[0].triangles_built):
+        tri.add_row(env, f"{runs[0].triangles_built[env]:,}", f"{runs[0].triangles_drawn[env]:,.0f}")
+    console.print(tri)
 
 
 def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:

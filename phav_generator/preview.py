@@ -84,3 +84,117 @@ def contact_sheet(
     for k, f in enumerate(picks):
         sheet.paste(frame_image(tr, int(f), width, height, ground_z), ((k % cols) * width, (k // cols) * height))
     return sheet
+
+
+# --- modality previews ------------------------------------------------------------------
+
+#: Columns of a modality sheet, left to right.
+SHEET_COLUMNS = ("rgb", "raw_rgb", "semantic", "instance", "depth", "flow")
+
+
+def depth_image(code: np.ndarray) -> np.ndarray:
+    """A 16-bit depth code (cm) as a colour image: inverse depth on the turbo map, sky black."""
+    import cv2
+
+    metres = code.astype(np.float64) / 100.0
+    sky = code == np.iinfo(np.uint16).max
+    inverse = np.where(sky, 0.0, 1.0 / np.maximum(metres, 0.01))
+    top = np.percentile(inverse[~sky], 99) if np.any(~sky) else 1.0
+    scaled = np.clip(inverse / max(top, 1e-9) * 255.0, 0, 255).astype(np.uint8)
+    out = cv2.applyColorMap(scaled, cv2.COLORMAP_TURBO)[..., ::-1]
+    out[sky] = 0
+    return np.ascontiguousarray(out)
+
+
+def flow_image(code: np.ndarray, max_px: float | None = None) -> np.ndarray:
+    """A KITTI flow code as a colour image: hue = direction, brightness = speed, invalid black."""
+    import cv2
+
+    from phav_spec.encoding import decode_flow
+
+    flow, valid = decode_flow(code)
+    u, v = np.nan_to_num(flow[..., 0]), np.nan_to_num(flow[..., 1])
+    speed = np.hypot(u, v)
+    top = max_px if max_px is not None else (np.percentile(speed[valid], 99) if valid.any() else 1.0)
+    hsv = np.zeros((*speed.shape, 3), dtype=np.uint8)
+    hsv[..., 0] = ((np.arctan2(v, u) + np.pi) / (2 * np.pi) * 179).astype(np.uint8)
+    hsv[..., 1] = 255
+    hsv[..., 2] = np.clip(speed / max(top, 1e-6) * 255, 0, 255).astype(np.uint8)
+    out = cv2.cvtColor(hsv, cv2.COLOR_HSV2RGB)
+    out[~valid] = 0
+    return out
+
+
+def modality_row(modalities: dict[str, np.ndarray]) -> np.ndarray:
+    """One frame's six modalities side by side (labels kept pixel for pixel)."""
+    tiles = []
+    for name in SHEET_COLUMNS:
+        m = modalities[name]
+        tiles.append(depth_image(m) if name == "depth" else flow_image(m) if name == "flow" else m)
+    return np.concatenate(tiles, axis=1)
+
+
+def modality_sheet(frames: list[tuple[int, dict[str, np.ndarray]]], title: str) -> Image.Image:
+    """Rows of frames, columns of modalities, with a header naming them and each row's frame."""
+    rows = [modality_row(m) for _, m in frames]
+    width = rows[0].shape[1]
+    tile_w = width // len(SHEET_COLUMNS)
+    header = 18
+    sheet = Image.new("RGB", (width, header + sum(r.shape[0] for r in rows)), (255, 255, 255))
+    draw = ImageDraw.Draw(sheet)
+    draw.text((4, 3), title, fill=(0, 0, 0))
+    for k, name in enumerate(SHEET_COLUMNS[1:], start=1):
+        draw.text((k * tile_w + 4, 3), name, fill=(0, 0, 0))
+    y = header
+    for (index, _), row in zip(frames, rows, strict=True):
+        sheet.paste(Image.fromarray(row), (0, y))
+        draw.text((4, y + 3), f"frame {index}", fill=(255, 255, 255))
+        y += row.shape[0]
+    return sheet
+
+
+def write_gif(images: list[np.ndarray], path, fps: int) -> None:
+    """An animated GIF of RGB frames (written atomically)."""
+    from phav_spec.files import atomic_write
+
+    pictures = [Image.fromarray(im).convert("P", palette=Image.Palette.ADAPTIVE, colors=255) for im in images]
+    with atomic_write(path) as tmp:
+        pictures[0].save(tmp, format="GIF", save_all=True, append_images=pictures[1:],
+                         duration=round(1000 / fps), loop=0)  # fmt: skip
+
+
+def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list[dict[str, np.ndarray]]]:
+    """(video id, fps, every frame's modalities) of one video of a dataset, read from its shard."""
+    import tarfile
+    from pathlib import Path
+
+    from phav_spec.encoding import MODALITIES
+    from phav_spec.errors import PhavUserError
+    from phav_spec.manifest import load_manifest
+    from phav_spec.webdataset import decode_png
+
+    directory = Path(directory)
+    manifest_path = directory if directory.suffix == ".json" else directory / "manifest.json"
+    manifest = load_manifest(manifest_path)
+    videos = {v.video_id: v for v in manifest.videos}
+    vid = video_id or manifest.videos[0].video_id
+    if vid not in videos:
+        raise PhavUserError(f"no video {vid!r} in the manifest ({len(videos)} videos)", source=str(manifest_path),
+                            field="--video")  # fmt: skip
+    entry = videos[vid]
+    shard = manifest_path.parent / entry.shard
+    frames = []
+    try:
+        with tarfile.open(shard) as tar:
+            for f in range(entry.n_frames):
+                modalities = {}
+                for m in MODALITIES:
+                    name = f"{vid}/{f:05d}.{m.key}"
+                    member = tar.extractfile(name)
+                    if member is None:
+                        raise KeyError(name)
+                    modalities[m.name] = decode_png(member.read(), m, source=f"{shard}:{name}")
+                frames.append(modalities)
+    except (OSError, tarfile.TarError, KeyError, ValueError) as e:
+        raise PhavUserError(f"cannot read the video's frames ({str(e).splitlines()[0]})", source=str(shard)) from None
+    return vid, 30, frames

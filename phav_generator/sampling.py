@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -93,6 +94,13 @@ def runtime_seeds(key: bytes) -> dict[str, int]:
     }
 
 
+#: Variables ``RecipeSampler.sample(force=…)`` and ``phav vary --set`` can fix.
+VARIABLES: tuple[str, ...] = (
+    "weather", "day_phase", "clock_hour", "rain", "fog", "clouds", "wet_ground", "sun_brightness",
+    "ambient_luminosity", "cloud_intensity", "fog_intensity", "rain_intensity", "camera",
+)  # fmt: skip
+
+
 class _Streams:
     """One reusable Generator per part, re-pointed at each video's streams (cheap)."""
 
@@ -160,8 +168,18 @@ class RecipeSampler:
         """Unnormalised P(C | A, E) ∝ θ_C·θ_AC·θ_EC (the hook a planted-bug test replaces)."""
         return self.theta.arrays.p_c_given_ae()
 
-    def sample(self, dataset_seed: int, index: int) -> Recipe:
-        """The recipe of video ``index`` of the dataset with seed ``dataset_seed``."""
+    def sample(self, dataset_seed: int, index: int, *, force: Mapping[str, Any] | None = None) -> Recipe:
+        """The recipe of video ``index`` of the dataset with seed ``dataset_seed``.
+
+        ``force`` fixes variables (``VARIABLES``) of a counterfactual recipe: every draw still
+        happens, in the same order, and a forced variable replaces the drawn value, so what
+        depends on it (clock time on the day phase, weather elements on the weather, a
+        camera's parameters on its kind) follows the same uniforms and nothing else moves.
+        """
+        force = dict(force or {})
+        unknown = sorted(set(force) - set(VARIABLES))
+        if unknown:
+            raise ValueError(f"cannot force {unknown}; variables: {', '.join(VARIABLES)}")
         self._streams.start(dataset_seed, index)
         theta = self.theta
         fps = theta.video.fps
@@ -169,13 +187,16 @@ class RecipeSampler:
         # P1(D, W): day phase, clock time given the phase, weather and its elements.
         rng = self._streams["world"]
         d = self._d.sample(rng=rng)
+        d = DAY_PHASES.index(force["day_phase"]) if "day_phase" in force else d
         clock_hour = math.fmod(triangular_inverse_cdf(*self._clock[d], rng.random()), 24.0)
         w = self._w.sample(rng=rng)
+        w = WEATHERS.index(force["weather"]) if "weather" in force else w
         wt = theta.weather_elements[WEATHERS.names[w]]
         on: dict[str, bool] = {}
         for element, info in WEATHER_ELEMENTS.items():
             parent_on = on[info.parent] if info.parent is not None else None
             on[element] = rng.random() < wt.p_on(element, parent_on)
+            on[element] = bool(force.get(element, on[element]))
         world = {
             "day_phase": DAY_PHASES.names[d],
             "clock_hour": clock_hour,
@@ -192,6 +213,10 @@ class RecipeSampler:
         ):
             value = getattr(wt, key).sample(rng=rng)
             world[key] = value if on[element] else 0.0
+        for key in ("clock_hour", "sun_brightness", "ambient_luminosity", "cloud_intensity", "fog_intensity",
+                    "rain_intensity"):  # fmt: skip
+            if key in force:
+                world[key] = float(force[key])
 
         # P2(H): the protagonist's human model.
         rng = self._streams["human"]
@@ -227,7 +252,7 @@ class RecipeSampler:
 
         background = self._background(env, first_id=ACTIONS[action].n_people)
         variation = self._variation(a, b, duration)
-        camera = self._camera(a, e, position, heading, HUMAN_MODELS[human_name])
+        camera = self._camera(a, e, position, heading, HUMAN_MODELS[human_name], force.get("camera"))
         supporting = self._supporting(action, h, position, heading)
 
         return Recipe.model_validate(
@@ -338,10 +363,12 @@ class RecipeSampler:
         position: Vec3,
         heading: float,
         human: HumanModel,
+        forced_kind: str | None = None,
     ) -> dict:
         """C | A, E, its placement C_xyz / T_xyz around P_xyz and its parameters Θ_c."""
         rng = self._streams["camera"]
         kind = CAMERAS.names[self._c[a][e].sample(rng=rng)]
+        kind = forced_kind if forced_kind is not None else kind
         spec = self.theta.cameras[kind]
         fov = spec.fov_deg.sample(rng=rng)
         distance = spec.distance_m.sample(rng=rng)

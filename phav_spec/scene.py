@@ -309,6 +309,9 @@ class EnvironmentScene:
     colliders: tuple[Collider, ...] = ()
     ground_z: float = 0.0
     lanes: tuple[Lane, ...] = ()
+    #: Open water (lake): (x0, y0, x1, y1, level_z), a flat surface the renderer draws with
+    #: class ``misc`` (the pixel-class table has no water class); no collider.
+    water: tuple[float, float, float, float, float] | None = None
 
     def __post_init__(self) -> None:
         for c in self.pixel_classes:
@@ -753,6 +756,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (0.0, 20.0, 0.4),
                 ),
                 colliders=_lake_colliders(),
+                water=(-13.0, -7.0, 13.0, 14.0, 0.08),
             ),
         ),
         (

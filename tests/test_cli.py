@@ -103,3 +103,16 @@ def test_spec_vocab_lists_the_registries():
     result = run_cli("spec", "vocab", "pixel_class")
     assert result.returncode == 0 and "guard_rail" in result.stdout and "(64)" in result.stdout
     assert run_cli("spec", "vocab", "colours").returncode == 2
+
+
+def test_bench_render_reports_stages_error_and_the_floor():
+    result = run_cli("bench", "--sections", "render", "--render-videos", "2", "--render-frames", "4")
+    assert result.returncode == 0, result.stderr
+    out = result.stdout
+    header = next(line for line in out.splitlines() if "supersample" in line)
+    columns = [c.strip() for c in header.strip("┃ ").split("┃")]
+    assert columns[:2] == ["supersample", "frames/s"] and "edge error vs 4× (levels)" in columns
+    rows = [[c.strip() for c in line.strip("│ ").split("│")] for line in out.splitlines() if line.startswith("│")]
+    assert [r[0] for r in rows[:2]] == ["1×", "2×"]
+    assert all(float(r[1]) > 0 for r in rows[:2])
+    assert "encode-only floor" in out and "content hashes equal the bench's 2× run" in out

@@ -1,5 +1,6 @@
 """One geometry pass, five render targets: colour, semantic class, instance id, linear
-depth and forward flow, all from one shader (the paper's multiple-render-target idea).
+depth and forward flow, all from one shader (the paper's multiple-render-target idea);
+then the RGB modality's post-processing.
 
 Every drawable is a rigid mesh with a world transform at frame t and at t + 1. The vertex
 shader places each vertex at both times; the fragment shader writes the depth along the
@@ -7,17 +8,36 @@ camera axis at t and the flow as where the same surface point lands in frame t +
 (camera and object motion together), exact for rigid parts because clip coordinates are
 affine in the vertex position and interpolate perspective-correctly. Labels, depth and
 flow come from one sample per pixel and are never blended.
+
+Per frame: a sun shadow map (depth only), the labelled pass at 1× (its colour is raw RGB),
+rain streaks into colour only, the colour again at ``supersample``× (colour only), and a
+full-screen post pass (downsampling, motion blur along the flow, screen-space reflections
+on water and wet ground, ambient occlusion from depth, bloom, colour grading, vignette).
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
-from phav_generator.render.camera import projection, view
+from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
+from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
+
+#: Surface kinds the shader treats differently (``Drawable.material``).
+MATTE, GROUND, WATER, EMISSIVE = 0, 1, 2, 3
+#: Shadow map: texels per side and the half extent (m) of the square it covers.
+SHADOW_SIZE = 1024
+SHADOW_HALF_M = 30.0
+#: Rain streaks at rain intensity 1, and how far around the camera they fall (m).
+RAIN_STREAKS = 1800
+RAIN_BOX_M = 12.0
+RAIN_SPEED_MPS = 9.0
+#: Exposure of the tone curve (1 − exp(−exposure·c)): fixed, so night stays darker than day.
+EXPOSURE = 1.6
 
 #: The five targets, in attachment order, shared by the scene and sky shaders.
 _OUTPUTS = """
@@ -28,6 +48,29 @@ layout(location = 3) out float out_depth;
 layout(location = 4) out vec4 out_flow;
 """
 
+_TONE = """
+uniform float exposure;
+vec3 tone(vec3 c) { return pow(vec3(1.0) - exp(-exposure * c), vec3(1.0 / 2.2)); }
+"""
+
+_SKY_FUNCTION = """
+uniform vec3 sky_zenith;
+uniform vec3 sky_horizon;
+uniform vec3 sun_dir;
+uniform vec3 sun_colour;
+uniform vec3 fog_colour;
+uniform float fog_per_m;
+vec3 sky(vec3 dir) {
+    float up = clamp(dir.z, -0.2, 1.0);
+    vec3 c = mix(sky_horizon, sky_zenith, smoothstep(0.0, 0.6, up));
+    if (up < 0.0) c = sky_horizon * 0.8;
+    float sd = dot(dir, sun_dir);
+    c += sun_colour * (smoothstep(0.9994, 0.9997, sd) * 8.0 + pow(max(sd, 0.0), 64.0) * 0.25);
+    float fogged = 1.0 - exp(-fog_per_m * 180.0);  // the sky is seen through the fog
+    return mix(c, fog_colour, fogged);
+}
+"""
+
 _VERTEX = """
 #version 330
 uniform mat4 model_t;
@@ -35,16 +78,23 @@ uniform mat4 model_t1;
 uniform mat4 view_t;
 uniform mat4 view_t1;
 uniform mat4 proj;
+uniform mat4 light_vp;
 in vec3 in_pos;
 in vec3 in_normal;
 out vec3 v_normal;
+out vec3 v_world;
+out vec3 v_local;
 out float v_depth;
 out vec4 v_clip1;
+out vec4 v_light;
 void main() {
     vec4 world = model_t * vec4(in_pos, 1.0);
     vec4 cam = view_t * world;
     v_depth = -cam.z;
+    v_world = world.xyz;
+    v_local = in_pos;
     v_normal = mat3(model_t) * in_normal;
+    v_light = light_vp * world;
     v_clip1 = proj * (view_t1 * (model_t1 * vec4(in_pos, 1.0)));
     gl_Position = proj * cam;
 }
@@ -54,22 +104,89 @@ _FRAGMENT = (
     """
 #version 330
 uniform vec3 base_colour;
+uniform vec3 pattern_colour;
+uniform int pattern;
+uniform int material;
+uniform vec3 emission;
 uniform uint class_id;
 uniform uint instance_id;
-uniform vec3 sun_dir;
-uniform float ambient;
+uniform vec3 sky_ambient;
+uniform vec3 ground_ambient;
+uniform float wetness;
+uniform vec3 eye;
 uniform vec2 size;
+uniform int use_shadow;
+uniform sampler2DShadow shadow_map;
+uniform int lamp_count;
+uniform vec3 lamp_pos[16];
+uniform vec3 lamp_colour;
 in vec3 v_normal;
+in vec3 v_world;
+in vec3 v_local;
 in float v_depth;
 in vec4 v_clip1;
+in vec4 v_light;
 """
+    + _SKY_FUNCTION
+    + _TONE
     + _OUTPUTS
     + """
+float sunlit(vec3 n) {
+    if (use_shadow == 0) return 1.0;
+    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
+    if (p.x <= 0.0 || p.x >= 1.0 || p.y <= 0.0 || p.y >= 1.0 || p.z >= 1.0) return 1.0;
+    float bias = 0.0015 + 0.004 * (1.0 - abs(dot(n, sun_dir)));
+    float s = 0.0;
+    vec2 texel = vec2(1.0 / textureSize(shadow_map, 0).x);
+    for (int i = -1; i <= 1; i += 2)
+        for (int j = -1; j <= 1; j += 2)
+            s += texture(shadow_map, vec3(p.xy + vec2(i, j) * 0.75 * texel, p.z - bias));
+    return s * 0.25;
+}
+
+vec3 albedo() {
+    vec3 c = pow(base_colour, vec3(2.2));  // colours are given as display (sRGB-like) values
+    if (pattern == 1) {  // horizontal stripes around the body part
+        c = mix(c, pow(pattern_colour, vec3(2.2)), step(0.5, fract(v_local.z * 14.0)));
+    } else if (pattern == 2) {  // checks
+        vec3 q = floor(v_local * 12.0);
+        c = mix(c, pow(pattern_colour, vec3(2.2)), mod(q.x + q.y + q.z, 2.0));
+    } else if (pattern == 3) {  // speckle noise (ground grain), from the world position
+        vec2 cell = floor(v_world.xy * 2.0);
+        float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
+        c *= 0.88 + 0.24 * h;
+    }
+    return c;
+}
+
 void main() {
     vec3 n = normalize(v_normal);
     if (!gl_FrontFacing) n = -n;
-    float light = ambient + (1.0 - ambient) * max(dot(n, sun_dir), 0.0);
-    out_colour = vec4(base_colour * light, 1.0);
+    vec3 a = albedo();
+    float reflectivity = 0.0;
+    vec3 to_eye = normalize(eye - v_world);
+    float wet = (material == 1 && n.z > 0.7) ? wetness : 0.0;
+    if (material == 2) wet = 1.0;
+    a *= 1.0 - 0.45 * wet;
+    float hemi = 0.5 + 0.5 * n.z;
+    vec3 light = mix(ground_ambient, sky_ambient, hemi);
+    light += sun_colour * max(dot(n, sun_dir), 0.0) * sunlit(n);
+    for (int i = 0; i < lamp_count; ++i) {
+        vec3 d = lamp_pos[i] - v_world;
+        float r2 = dot(d, d);
+        light += lamp_colour * max(dot(n, d * inversesqrt(r2)), 0.0) * 5.0 / (1.0 + r2);
+    }
+    vec3 c = a * light + emission;
+    if (wet > 0.0) {
+        float cosv = max(dot(n, to_eye), 0.0);
+        float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
+        reflectivity = wet * mix(0.25, 1.0, fresnel);
+        vec3 mirrored = reflect(-to_eye, n);
+        c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
+        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * sunlit(n);
+    }
+    c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));
+    out_colour = vec4(tone(c), reflectivity);
     out_class = class_id;
     out_instance = instance_id;
     out_depth = v_depth;
@@ -94,13 +211,19 @@ void main() { gl_Position = vec4(in_xy, 1.0, 1.0); }
 _SKY_FRAGMENT = (
     """
 #version 330
-uniform vec3 sky_colour;
 uniform uint sky_class;
+uniform vec4 intrinsics;  // fx, fy, cx, cy (image convention)
+uniform vec2 size;
+uniform mat3 cam_rot;  // camera → world
 """
+    + _SKY_FUNCTION
+    + _TONE
     + _OUTPUTS
     + """
 void main() {
-    out_colour = vec4(sky_colour, 1.0);
+    vec2 xy = gl_FragCoord.xy;  // GL window coordinates, y up: image row v = size.y − y
+    vec3 dir_cam = vec3((xy.x - intrinsics.z) / intrinsics.x, (xy.y - size.y + intrinsics.w) / intrinsics.y, -1.0);
+    out_colour = vec4(tone(sky(normalize(cam_rot * dir_cam))), 0.0);
     out_class = sky_class;
     out_instance = 0u;
     out_depth = 1.0 / 0.0;
@@ -109,28 +232,180 @@ void main() {
 """
 )
 
+_SHADOW_VERTEX = """
+#version 330
+uniform mat4 model_t;
+uniform mat4 light_vp;
+in vec3 in_pos;
+in vec3 in_normal;
+void main() { gl_Position = light_vp * (model_t * vec4(in_pos, 1.0)); }
+"""
+
+_SHADOW_FRAGMENT = """
+#version 330
+void main() {}
+"""
+
+_RAIN_VERTEX = """
+#version 330
+uniform mat4 view_t;
+uniform mat4 proj;
+in vec3 in_pos;
+out float v_depth;
+void main() {
+    vec4 cam = view_t * vec4(in_pos, 1.0);
+    v_depth = -cam.z;
+    gl_Position = proj * cam;
+}
+"""
+
+_RAIN_FRAGMENT = """
+#version 330
+uniform vec3 rain_colour;
+uniform float rain_alpha;
+in float v_depth;
+layout(location = 0) out vec4 out_colour;
+void main() { out_colour = vec4(rain_colour, rain_alpha * clamp(2.0 / max(v_depth, 0.5), 0.15, 1.0)); }
+"""
+
+_POST_FRAGMENT = """
+#version 330
+uniform sampler2D colour_ss;   // supersampled colour, linear filtering
+uniform sampler2D colour_1x;   // raw colour; alpha = reflectivity
+uniform sampler2D depth_1x;    // metres along the axis, inf = sky
+uniform sampler2D flow_1x;     // image-convention pixels, z = valid
+uniform vec4 intrinsics;
+uniform vec2 size;
+uniform mat3 cam_rot;
+uniform vec3 up_cam;          // world +Z in camera coordinates
+uniform float motion_blur;    // shutter fraction of a frame
+uniform float ao_strength;
+uniform float bloom;
+uniform float vignette;
+uniform vec3 grade_gain;
+uniform float grade_lift;
+uniform float saturation;
+out vec4 out_colour;
+
+float depth_at(vec2 px) { return texture(depth_1x, px / size).r; }
+
+vec3 cam_point(vec2 px, float d) {  // px: GL window coordinates (y up), pixel centres at +0.5
+    float v_img = size.y - px.y;
+    return vec3((px.x - intrinsics.z) * d / intrinsics.x, -(v_img - intrinsics.w) * d / intrinsics.y, -d);
+}
+
+vec2 to_window(vec3 p) {
+    float z = -p.z;
+    return vec2(intrinsics.z + intrinsics.x * p.x / z, size.y - (intrinsics.w - intrinsics.y * p.y / z));
+}
+
+void main() {
+    vec2 px = gl_FragCoord.xy;
+    vec2 uv = px / size;
+    vec3 c = texture(colour_ss, uv).rgb;
+    vec4 fl = texture(flow_1x, uv);
+    if (motion_blur > 0.0 && fl.z > 0.5) {
+        vec2 step = vec2(fl.x, -fl.y) * motion_blur;
+        vec3 acc = vec3(0.0);
+        for (int i = 0; i < 6; ++i) acc += texture(colour_ss, (px + step * (float(i) / 5.0 - 0.5)) / size).rgb;
+        c = acc / 6.0;
+    }
+    float d = depth_at(px);
+    float reflectivity = texture(colour_1x, uv).a;
+    if (reflectivity > 0.01 && d < 1e30) {
+        vec3 p = cam_point(px, d);
+        vec3 r = reflect(normalize(p), normalize(up_cam));
+        float t = 0.15;
+        for (int i = 0; i < 24; ++i) {
+            vec3 q = p + r * t;
+            if (-q.z < 0.05) break;
+            vec2 w = to_window(q);
+            if (w.x < 0.0 || w.y < 0.0 || w.x >= size.x || w.y >= size.y) break;
+            float seen = depth_at(w);
+            if (seen < -q.z - 0.03 && seen > -q.z - 1.5) {
+                vec3 hit = texture(colour_ss, w / size).rgb;
+                float fade = 1.0 - smoothstep(0.8, 1.0, max(abs(w.x / size.x - 0.5), abs(w.y / size.y - 0.5)) * 2.0);
+                c = mix(c, hit, reflectivity * 0.7 * fade);
+                break;
+            }
+            t *= 1.22;
+        }
+    }
+    if (ao_strength > 0.0 && d < 1e30) {
+        float radius = clamp(0.45 * intrinsics.x / d, 2.0, 10.0);
+        float occluded = 0.0;
+        for (int i = 0; i < 8; ++i) {
+            float ang = 6.2831853 * (float(i) + 0.5) / 8.0;
+            float dn = depth_at(px + radius * vec2(cos(ang), sin(ang)));
+            float gap = d - dn;
+            occluded += (gap > 0.03 && gap < 0.8) ? 1.0 - gap / 0.8 : 0.0;
+        }
+        c *= 1.0 - ao_strength * occluded / 8.0;
+    }
+    if (bloom > 0.0) {
+        vec3 glow = vec3(0.0);
+        for (int i = 0; i < 12; ++i) {
+            float ang = 6.2831853 * float(i) / 12.0;
+            float rad = (i % 2 == 0) ? 3.0 : 7.0;
+            glow += max(texture(colour_ss, (px + rad * vec2(cos(ang), sin(ang))) / size).rgb - 0.75, 0.0);
+        }
+        c += bloom * glow / 12.0;
+    }
+    c = c * grade_gain + grade_lift;
+    float luma = dot(c, vec3(0.2126, 0.7152, 0.0722));
+    c = mix(vec3(luma), c, saturation);
+    c = c + 0.06 * (c - 0.5) * (1.0 - abs(2.0 * c - 1.0));  // gentle S-curve
+    vec2 q = uv - 0.5;
+    c *= 1.0 - vignette * dot(q, q) * 2.0;
+    out_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
+}
+"""
+
 
 @dataclass(frozen=True)
 class Drawable:
-    """A rigid mesh with its labels, colour and world transforms per frame (F, 4, 4)."""
+    """A rigid mesh with its labels, look and world transforms per frame (F, 4, 4)."""
 
     mesh: Mesh
     transforms: np.ndarray
     class_id: int
     instance_id: int = 0  # 0: not a person
     colour: tuple[float, float, float] = (0.6, 0.6, 0.6)
+    material: int = MATTE
+    emission: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    pattern: int = 0  # 0 plain, 1 stripes, 2 checks, 3 speckle
+    pattern_colour: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    casts_shadow: bool = True
 
 
 @dataclass(frozen=True)
 class Frame:
     """One rendered frame: image rows top to bottom, columns left to right."""
 
-    colour: np.ndarray  # (H, W, 3) uint8
+    colour: np.ndarray  # (H, W, 3) uint8: raw RGB, before post-processing
     class_id: np.ndarray  # (H, W) uint16 pixel-class ids
     instance: np.ndarray  # (H, W) uint16 person ids + 1, 0 for no person
     depth_m: np.ndarray  # (H, W) float32, +inf for sky
     flow: np.ndarray  # (H, W, 2) float32 pixels, t → t + 1
     flow_valid: np.ndarray  # (H, W) bool
+    rgb: np.ndarray | None = None  # (H, W, 3) uint8 after post-processing
+
+
+@dataclass(frozen=True)
+class PostSettings:
+    """The RGB modality's post-processing; ``neutral`` switches every effect off."""
+
+    motion_blur: float = 0.5
+    ambient_occlusion: float = 0.45
+    bloom: float = 0.6
+    vignette: float = 0.16
+    grade_gain: tuple[float, float, float] = (1.02, 1.0, 0.98)
+    grade_lift: float = 0.01
+    saturation: float = 1.08
+
+    @classmethod
+    def neutral(cls) -> PostSettings:
+        return cls(0.0, 0.0, 0.0, 0.0, (1.0, 1.0, 1.0), 0.0, 1.0)
 
 
 def gl_context() -> moderngl.Context:
@@ -143,8 +418,27 @@ def gl_strings(ctx: moderngl.Context) -> dict[str, str]:
     return {k: str(ctx.info[k]) for k in ("GL_VENDOR", "GL_RENDERER", "GL_VERSION")}
 
 
+def _default_lighting() -> Lighting:
+    grey = np.array([0.55, 0.75, 0.95])
+    return Lighting(
+        sun_dir=np.array([0.3, -0.4, 0.87]) / np.linalg.norm([0.3, -0.4, 0.87]),
+        sun_colour=np.full(3, 0.65), sky_ambient=np.full(3, 0.35), ground_ambient=np.full(3, 0.35),
+        sky_zenith=grey, sky_horizon=grey, fog_colour=grey, fog_per_m=0.0, wetness=0.0, rain=0.0,
+        lamp_intensity=0.0, daylight=1.0,
+    )  # fmt: skip
+
+
+def _set(prog: moderngl.Program, name: str, value) -> None:
+    """Set a uniform if the program uses it (GLSL drops unused ones)."""
+    if name in prog:
+        member = prog[name]
+        if isinstance(value, np.ndarray):
+            value = tuple(float(x) for x in value)
+        member.value = value
+
+
 class FrameRenderer:
-    """Draws a set of drawables frame by frame into five targets and reads them back."""
+    """Draws a set of drawables frame by frame: labelled targets, raw and post-processed RGB."""
 
     def __init__(
         self,
@@ -154,35 +448,150 @@ class FrameRenderer:
         drawables: list[Drawable],
         *,
         sky_class: int,
-        sky_colour: tuple[float, float, float] = (0.55, 0.75, 0.95),
+        lighting: Lighting | None = None,
+        lamps: np.ndarray | None = None,
+        focus: np.ndarray | None = None,
+        supersample: int = 2,
+        post: PostSettings | None = None,
+        rain_seed: int = 0,
     ):
+        if supersample < 1:
+            raise ValueError(f"supersample must be ≥ 1, got {supersample}")
         self.ctx = ctx
         self.size = (width, height)
         self.drawables = drawables
+        self.lighting = lighting if lighting is not None else _default_lighting()
+        self.post_settings = post if post is not None else PostSettings()
+        self.supersample = supersample
+        lamps = np.zeros((0, 3)) if lamps is None else np.asarray(lamps, dtype=np.float64).reshape(-1, 3)
+        self.lamps = lamps[:MAX_LAMPS] if self.lighting.lamp_intensity > 0.01 else np.zeros((0, 3))
+        self.focus = np.zeros(3) if focus is None else np.asarray(focus, dtype=np.float64)
+
         self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
         self.sky = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_SKY_FRAGMENT)
-        self.sky["sky_colour"].value = sky_colour
-        self.sky["sky_class"].value = sky_class
+        self.sky_class = sky_class
+        self.shadow_prog = ctx.program(vertex_shader=_SHADOW_VERTEX, fragment_shader=_SHADOW_FRAGMENT)
+        self.rain_prog = ctx.program(vertex_shader=_RAIN_VERTEX, fragment_shader=_RAIN_FRAGMENT)
+        self.post_prog = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_POST_FRAGMENT)
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
-        self._sky_buffer = ctx.buffer(tri.tobytes())
-        self.sky_vao = ctx.vertex_array(self.sky, [(self._sky_buffer, "2f", "in_xy")])
-        self.targets = [
-            ctx.renderbuffer((width, height), 4, dtype="f1"),
-            ctx.renderbuffer((width, height), 1, dtype="u2"),
-            ctx.renderbuffer((width, height), 1, dtype="u2"),
-            ctx.renderbuffer((width, height), 1, dtype="f4"),
-            ctx.renderbuffer((width, height), 4, dtype="f4"),
-        ]
-        self.depth = ctx.depth_renderbuffer((width, height))
-        self.fbo = ctx.framebuffer(color_attachments=self.targets, depth_attachment=self.depth)
-        self._buffers = []
-        self.vaos = []
+        self._tri = ctx.buffer(tri.tobytes())
+        self.sky_vao = ctx.vertex_array(self.sky, [(self._tri, "2f", "in_xy")])
+        self.post_vao = ctx.vertex_array(self.post_prog, [(self._tri, "2f", "in_xy")])
+        self._objects: list = [self._tri, self.sky_vao, self.post_vao]
+
+        # Labelled 1× pass: textures so the post pass can read them.
+        self.colour_1x = ctx.texture((width, height), 4, dtype="f1")
+        self.class_rb = ctx.renderbuffer((width, height), 1, dtype="u2")
+        self.instance_rb = ctx.renderbuffer((width, height), 1, dtype="u2")
+        self.depth_tex = ctx.texture((width, height), 1, dtype="f4")
+        self.flow_tex = ctx.texture((width, height), 4, dtype="f4")
+        for t in (self.colour_1x, self.depth_tex, self.flow_tex):
+            t.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            t.repeat_x = t.repeat_y = False
+        self.zbuffer = ctx.depth_renderbuffer((width, height))
+        self.fbo = ctx.framebuffer(
+            color_attachments=[self.colour_1x, self.class_rb, self.instance_rb, self.depth_tex, self.flow_tex],
+            depth_attachment=self.zbuffer,
+        )
+        self.colour_fbo = ctx.framebuffer(color_attachments=[self.colour_1x], depth_attachment=self.zbuffer)
+        self._objects += [self.colour_1x, self.class_rb, self.instance_rb, self.depth_tex, self.flow_tex,
+                          self.zbuffer, self.fbo, self.colour_fbo]  # fmt: skip
+        # Supersampled colour pass (its own depth buffer) and the post-processed output.
+        s = supersample
+        if s > 1:
+            self.colour_ss = ctx.texture((width * s, height * s), 4, dtype="f1")
+            self.zbuffer_ss = ctx.depth_renderbuffer((width * s, height * s))
+            self.fbo_ss = ctx.framebuffer(color_attachments=[self.colour_ss], depth_attachment=self.zbuffer_ss)
+            self._objects += [self.colour_ss, self.zbuffer_ss, self.fbo_ss]
+        else:
+            self.colour_ss, self.fbo_ss = self.colour_1x, None
+        self.colour_ss.repeat_x = self.colour_ss.repeat_y = False
+        self.out_rb = ctx.renderbuffer((width, height), 4, dtype="f1")
+        self.out_fbo = ctx.framebuffer(color_attachments=[self.out_rb])
+        self._objects += [self.out_rb, self.out_fbo]
+        # Sun shadow map.
+        self.use_shadow = self.lighting.shadows
+        if self.use_shadow:
+            self.shadow_tex = ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE))
+            self.shadow_tex.compare_func = "<="
+            self.shadow_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
+            self._objects += [self.shadow_tex, self.shadow_fbo]
+            self.light_vp = _sun_matrix(self.lighting.sun_dir, self.focus)
+        else:
+            self.light_vp = np.eye(4)
+        # Geometry.
+        self.vaos, self.shadow_vaos = [], []
         for d in drawables:
             vbo = ctx.buffer(np.hstack([d.mesh.positions, d.mesh.normals]).astype(np.float32).tobytes())
             ibo = ctx.buffer(d.mesh.triangles.tobytes())
-            self._buffers += [vbo, ibo]
+            self._objects += [vbo, ibo]
             self.vaos.append(ctx.vertex_array(self.program, [(vbo, "3f 3f", "in_pos", "in_normal")], ibo))
-        self.program["size"].value = (float(width), float(height))
+            self.shadow_vaos.append(
+                ctx.vertex_array(self.shadow_prog, [(vbo, "3f 12x", "in_pos")], ibo)
+                if self.use_shadow and d.casts_shadow
+                else None
+            )
+        self._objects += self.vaos + [v for v in self.shadow_vaos if v is not None]
+        # Bounding spheres (local centre, radius) for frustum culling of the camera passes.
+        self._bounds = []
+        for d in drawables:
+            lo, hi = d.mesh.positions.min(axis=0), d.mesh.positions.max(axis=0)
+            centre = (lo + hi) / 2.0
+            radius = float(np.linalg.norm(d.mesh.positions - centre, axis=1).max())
+            self._bounds.append((centre.astype(np.float64), radius))
+        self.triangles_built = sum(d.mesh.n_triangles for d in drawables)
+        self.triangles_drawn = 0  # summed over the labelled passes of every frame
+        # Rain: streak origins in a box around the camera, from the recipe's render seed.
+        n_rain = round(RAIN_STREAKS * self.lighting.rain)
+        rng = np.random.Generator(np.random.PCG64(rain_seed))
+        self.rain_origin = rng.random((n_rain, 3)) * 2.0 * RAIN_BOX_M - RAIN_BOX_M
+        self.rain_buffer = ctx.buffer(reserve=max(n_rain, 1) * 2 * 3 * 4, dynamic=True) if n_rain else None
+        self.rain_vao = (
+            ctx.vertex_array(self.rain_prog, [(self.rain_buffer, "3f", "in_pos")]) if self.rain_buffer else None
+        )
+        if self.rain_vao is not None:
+            self._objects += [self.rain_buffer, self.rain_vao]
+        self._set_static_uniforms()
+        #: Seconds spent per stage over every frame rendered (for ``phav bench``).
+        self.seconds = {"render": 0.0, "post": 0.0}
+
+    def _set_static_uniforms(self) -> None:
+        lt, w, h = self.lighting, *self.size
+        for prog in (self.program, self.sky):
+            for name in ("sky_zenith", "sky_horizon", "sun_dir", "sun_colour", "fog_colour"):
+                _set(prog, name, getattr(lt, name))
+            _set(prog, "fog_per_m", float(lt.fog_per_m))
+            _set(prog, "exposure", EXPOSURE)
+        p = self.program
+        _set(p, "sky_ambient", lt.sky_ambient)
+        _set(p, "ground_ambient", lt.ground_ambient)
+        _set(p, "wetness", float(lt.wetness))
+        _set(p, "use_shadow", int(self.use_shadow))
+        _set(p, "lamp_count", len(self.lamps))
+        _set(p, "lamp_colour", tuple(float(x) * lt.lamp_intensity for x in (1.0, 0.78, 0.5)))
+        if len(self.lamps):
+            padded = np.zeros((MAX_LAMPS, 3), dtype=np.float32)
+            padded[: len(self.lamps)] = self.lamps
+            p["lamp_pos"].write(padded.tobytes())
+        if self.use_shadow:
+            self.shadow_tex.use(location=0)
+            _set(p, "shadow_map", 0)
+            p["light_vp"].write(_gl(self.light_vp))
+            self.shadow_prog["light_vp"].write(_gl(self.light_vp))
+        _set(self.rain_prog, "rain_colour", (0.78, 0.8, 0.84))
+        _set(self.rain_prog, "rain_alpha", 0.35)
+        ps = self.post_settings
+        q = self.post_prog
+        _set(q, "motion_blur", float(ps.motion_blur))
+        _set(q, "ao_strength", float(ps.ambient_occlusion))
+        _set(q, "bloom", float(ps.bloom))
+        _set(q, "vignette", float(ps.vignette))
+        _set(q, "grade_gain", tuple(float(x) for x in ps.grade_gain))
+        _set(q, "grade_lift", float(ps.grade_lift))
+        _set(q, "saturation", float(ps.saturation))
+        _set(q, "size", (float(w), float(h)))
+        _set(self.sky, "sky_class", self.sky_class)
 
     def render(
         self,
@@ -190,61 +599,203 @@ class FrameRenderer:
         cam_to_world: np.ndarray,
         cam_to_world_next: np.ndarray,
         intrinsics: tuple[float, float, float, float],
-        *,
-        sun_dir: tuple[float, float, float] = (0.3, -0.4, 0.87),
-        ambient: float = 0.35,
     ) -> Frame:
         """Frame ``frame`` seen from ``cam_to_world``, with flow towards frame + 1."""
         ctx, p = self.ctx, self.program
-        w, h = self.size
-        self.fbo.use()
+        start = time.perf_counter()
+        ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
+        if self.use_shadow:
+            self.shadow_fbo.use()
+            ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
+            self.shadow_fbo.clear(depth=1.0)
+            ctx.enable(moderngl.DEPTH_TEST)
+            for d, vao in zip(self.drawables, self.shadow_vaos, strict=True):
+                if vao is not None:
+                    self.shadow_prog["model_t"].write(_gl(d.transforms[frame]))
+                    vao.render(moderngl.TRIANGLES)
+            self.shadow_tex.use(location=0)
+        self._view = view(cam_to_world)
+        p["view_t"].write(_gl(self._view))
+        p["view_t1"].write(_gl(view(cam_to_world_next)))
+        _set(p, "eye", tuple(float(x) for x in cam_to_world[:3, 3]))
+        self.rain_prog["view_t"].write(_gl(view(cam_to_world)))
+        rain = self._rain_lines(frame, cam_to_world[:3, 3]) if self.rain_vao is not None else None
+        rot = tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9))  # column-major mat3
+        _set(self.sky, "cam_rot", rot)
+        _set(self.sky, "intrinsics", tuple(float(x) for x in intrinsics))
+        # Labelled pass at 1×, then rain into its colour only.
+        self._scene_pass(self.fbo, frame, intrinsics, 1, labelled=True)
+        if rain is not None:
+            self._rain_pass(self.colour_fbo, rain, intrinsics, 1)
+        raw = self._read(self.fbo, 0, 4, "f1", np.uint8)
+        class_id = self._read(self.fbo, 1, 1, "u2", np.uint16)[..., 0]
+        instance = self._read(self.fbo, 2, 1, "u2", np.uint16)[..., 0]
+        depth = self._read(self.fbo, 3, 1, "f4", np.float32)[..., 0]
+        flow = self._read(self.fbo, 4, 4, "f4", np.float32)
+        middle = time.perf_counter()
+        if self.fbo_ss is not None:
+            self._scene_pass(self.fbo_ss, frame, intrinsics, self.supersample, labelled=False)
+            if rain is not None:
+                self._rain_pass(self.fbo_ss, rain, intrinsics, self.supersample)
+        rgb = self._post(intrinsics, cam_to_world)
+        self.seconds["render"] += middle - start
+        self.seconds["post"] += time.perf_counter() - middle
+        return Frame(
+            colour=np.ascontiguousarray(raw[..., :3]),
+            class_id=class_id,
+            instance=instance,
+            depth_m=depth,
+            flow=np.ascontiguousarray(flow[..., :2]),
+            flow_valid=flow[..., 2] > 0.5,
+            rgb=rgb,
+        )
+
+    def _scene_pass(self, fbo, frame: int, intrinsics, scale: int, *, labelled: bool) -> None:
+        ctx, p = self.ctx, self.program
+        w, h = self.size[0] * scale, self.size[1] * scale
+        fbo.use()
         ctx.viewport = (0, 0, w, h)
-        self.fbo.clear(depth=1.0)
-        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE | moderngl.BLEND)
+        fbo.clear(depth=1.0)
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        fx, fy, cx, cy = intrinsics
+        scaled = (fx * scale, fy * scale, cx * scale, cy * scale)
+        _set(self.sky, "intrinsics", tuple(float(x) for x in scaled))
+        _set(self.sky, "size", (float(w), float(h)))
         self.sky_vao.render(moderngl.TRIANGLES)
         ctx.enable(moderngl.DEPTH_TEST)
-        p["proj"].write(_gl(projection(*intrinsics, w, h)))
-        p["view_t"].write(_gl(view(cam_to_world)))
-        p["view_t1"].write(_gl(view(cam_to_world_next)))
-        sun = np.asarray(sun_dir, dtype=np.float64)
-        p["sun_dir"].value = tuple(float(x) for x in sun / np.linalg.norm(sun))
-        p["ambient"].value = float(ambient)
+        p["proj"].write(_gl(projection(*scaled, w, h)))
+        _set(p, "size", (float(w), float(h)))
+        visible = self._in_frustum(frame, scaled, w, h)
         last = None
-        for d, vao in zip(self.drawables, self.vaos, strict=True):
+        for d, vao, keep in zip(self.drawables, self.vaos, visible, strict=True):
+            if not keep:
+                continue
+            if labelled:
+                self.triangles_drawn += d.mesh.n_triangles
             nxt = min(frame + 1, len(d.transforms) - 1)
             p["model_t"].write(_gl(d.transforms[frame]))
             p["model_t1"].write(_gl(d.transforms[nxt]))
-            if last is None or (d.class_id, d.instance_id, d.colour) != last:
+            look = (d.class_id, d.instance_id, d.colour, d.material, d.emission, d.pattern, d.pattern_colour)
+            if look != last:
                 p["class_id"].value = d.class_id
                 p["instance_id"].value = d.instance_id
                 p["base_colour"].value = d.colour
-                last = (d.class_id, d.instance_id, d.colour)
+                _set(p, "material", d.material)
+                _set(p, "emission", d.emission)
+                _set(p, "pattern", d.pattern)
+                _set(p, "pattern_colour", d.pattern_colour)
+                last = look
             vao.render(moderngl.TRIANGLES)
-        colour = self._read(0, 4, "f1", np.uint8)[..., :3]
-        flow = self._read(4, 4, "f4", np.float32)
-        return Frame(
-            colour=colour,
-            class_id=self._read(1, 1, "u2", np.uint16)[..., 0],
-            instance=self._read(2, 1, "u2", np.uint16)[..., 0],
-            depth_m=self._read(3, 1, "f4", np.float32)[..., 0],
-            flow=np.ascontiguousarray(flow[..., :2]),
-            flow_valid=flow[..., 2] > 0.5,
-        )
 
-    def _read(self, attachment: int, components: int, dtype: str, np_dtype) -> np.ndarray:
+    def _in_frustum(self, frame: int, intrinsics, w: int, h: int) -> list[bool]:
+        """Conservatively, which drawables' bounding spheres reach into the view at ``frame``."""
+        world_to_cam = self._view
+        fx, fy, cx, cy = intrinsics
+        # Side planes through the camera centre, as unit normals pointing into the frustum.
+        planes = np.array([[fx, 0.0, -cx], [-fx, 0.0, -(w - cx)], [0.0, -fy, -cy], [0.0, fy, -(h - cy)]])
+        planes /= np.linalg.norm(planes, axis=1, keepdims=True)
+        out = []
+        for d, (centre, radius) in zip(self.drawables, self._bounds, strict=True):
+            t = d.transforms[frame]
+            scale = float(np.abs(np.linalg.svd(t[:3, :3], compute_uv=False)).max())
+            c = world_to_cam[:3, :3] @ (t[:3, :3] @ centre + t[:3, 3]) + world_to_cam[:3, 3]
+            r = radius * scale
+            out.append(bool(-c[2] + r >= NEAR_M and np.all(planes @ c >= -r)))
+        return out
+
+    def _rain_lines(self, frame: int, eye: np.ndarray) -> np.ndarray:
+        """Streak end points (2N, 3) at this frame: falling, wrapped into a box around the eye."""
+        t = frame / 30.0
+        fall = np.array([0.6, 0.25, -RAIN_SPEED_MPS])
+        top = self.rain_origin + fall * t
+        top = np.mod(top - eye + RAIN_BOX_M, 2.0 * RAIN_BOX_M) - RAIN_BOX_M + eye
+        bottom = top + fall * (0.5 / 30.0)  # half a frame of motion: a streak
+        return np.stack([top, bottom], axis=1).reshape(-1, 3).astype(np.float32)
+
+    def _rain_pass(self, fbo, lines: np.ndarray, intrinsics, scale: int) -> None:
+        ctx = self.ctx
+        fbo.use()
+        w, h = self.size[0] * scale, self.size[1] * scale
+        ctx.viewport = (0, 0, w, h)
+        fx, fy, cx, cy = intrinsics
+        self.rain_prog["proj"].write(_gl(projection(fx * scale, fy * scale, cx * scale, cy * scale, w, h)))
+        self.rain_buffer.write(lines.tobytes())
+        ctx.enable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        # Streaks blend into the colour; its alpha (the reflectivity) stays.
+        ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE
+        fbo.depth_mask = False
+        self.rain_vao.render(moderngl.LINES)
+        fbo.depth_mask = True
+        ctx.disable(moderngl.BLEND)
+
+    def _post(self, intrinsics, cam_to_world: np.ndarray) -> np.ndarray:
+        ctx, q = self.ctx, self.post_prog
         w, h = self.size
-        raw = self.fbo.read(components=components, attachment=attachment, dtype=dtype)
+        self.out_fbo.use()
+        ctx.viewport = (0, 0, w, h)
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        self.colour_ss.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.colour_ss.use(location=1)
+        self.colour_1x.use(location=2)
+        self.depth_tex.use(location=3)
+        self.flow_tex.use(location=4)
+        _set(q, "colour_ss", 1)
+        _set(q, "colour_1x", 2)
+        _set(q, "depth_1x", 3)
+        _set(q, "flow_1x", 4)
+        _set(q, "intrinsics", tuple(float(x) for x in intrinsics))
+        _set(q, "cam_rot", tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9)))
+        _set(q, "up_cam", tuple(float(x) for x in cam_to_world[:3, :3].T @ np.array([0.0, 0.0, 1.0])))
+        self.post_vao.render(moderngl.TRIANGLES)
+        out = self._read(self.out_fbo, 0, 4, "f1", np.uint8)[..., :3]
+        if self.colour_ss is self.colour_1x:
+            self.colour_1x.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        return np.ascontiguousarray(out)
+
+    def _read(self, fbo, attachment: int, components: int, dtype: str, np_dtype) -> np.ndarray:
+        w, h = self.size
+        raw = fbo.read(components=components, attachment=attachment, dtype=dtype)
         # GL's row 0 is the bottom of the image.
         return np.ascontiguousarray(np.frombuffer(raw, dtype=np_dtype).reshape(h, w, components)[::-1])
 
     def release(self) -> None:
         """Free the GL objects (the context stays)."""
-        for obj in [*self.vaos, *self._buffers, self.sky_vao, self._sky_buffer, self.fbo, self.depth, *self.targets]:
+        for obj in self._objects:
             obj.release()
-        self.program.release()
-        self.sky.release()
+        for prog in (self.program, self.sky, self.shadow_prog, self.rain_prog, self.post_prog):
+            prog.release()
+
+
+def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
+    """Orthographic view-projection of the sun around ``focus`` (shadow map coordinates)."""
+    from phav_generator.rotations import look_at
+
+    eye = focus + sun_dir * 150.0
+    c2w = np.eye(4)
+    c2w[:3, :3] = look_at(eye, focus)
+    c2w[:3, 3] = eye
+    s, near, far = SHADOW_HALF_M, 1.0, 300.0
+    ortho = np.diag([1.0 / s, 1.0 / s, -2.0 / (far - near), 1.0])
+    ortho[2, 3] = -(far + near) / (far - near)
+    return ortho @ view(c2w)
 
 
 def _gl(m: np.ndarray) -> bytes:
     """A row-major numpy matrix as the column-major float32 bytes GLSL expects."""
     return np.ascontiguousarray(m.T, dtype=np.float32).tobytes()
+
+
+__all__ = [
+    "EMISSIVE",
+    "FAR_M",
+    "GROUND",
+    "MATTE",
+    "NEAR_M",
+    "WATER",
+    "Drawable",
+    "Frame",
+    "FrameRenderer",
+    "PostSettings",
+    "gl_context",
+    "gl_strings",
+]

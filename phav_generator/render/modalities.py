@@ -34,15 +34,15 @@ PALETTE = _palette()
 INSTANCE_COLOURS = _instances()
 
 
-def encode_frame(frame: Frame, rgb: np.ndarray | None = None) -> dict[str, np.ndarray]:
+def encode_frame(frame: Frame) -> dict[str, np.ndarray]:
     """The six modalities of one frame, keyed by ``phav_spec.encoding.MODALITIES`` names.
 
-    ``rgb`` is the post-processed colour; without it the raw colour stands in.
+    ``rgb`` is the post-processed colour (the raw colour when the frame has none).
     """
     if frame.instance.max(initial=0) >= len(INSTANCE_COLOURS):
         raise ValueError(f"instance value {int(frame.instance.max())} has no colour (person ids ≤ {MAX_PERSON_ID})")
     return {
-        "rgb": frame.colour if rgb is None else rgb,
+        "rgb": frame.colour if frame.rgb is None else frame.rgb,
         "raw_rgb": frame.colour,
         "semantic": PALETTE[frame.class_id],
         "instance": INSTANCE_COLOURS[frame.instance],

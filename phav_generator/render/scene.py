@@ -11,12 +11,13 @@ from __future__ import annotations
 import numpy as np
 
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
-from phav_generator.render.gl import Drawable
+from phav_generator.render.gl import EMISSIVE, GROUND, WATER, Drawable
+from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
 from phav_generator.rotations import quat_to_matrix, yaw_matrix
 from phav_generator.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
 from phav_spec.recipe import HumanSpec, Recipe
-from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.scene import ENVIRONMENT_SCENES, EnvironmentScene
 from phav_spec.vocab import PIXEL_CLASSES
 
 #: Half extent (m) of the ground square: past the far fog, under every environment.
@@ -40,6 +41,16 @@ _CLASS_COLOURS: dict[str, tuple[float, float, float]] = {
     "bus": (0.90, 0.70, 0.10),
     "stairs": (0.60, 0.60, 0.58),
 }
+#: Classes whose upward faces are ground: they get wet in the rain.
+_GROUND_CLASSES = {"terrain", "road", "floor", "stairs"}
+#: Open water's colour (deep green-blue; the sky's reflection does the rest).
+_WATER_COLOUR = (0.04, 0.10, 0.12)
+#: Warm emission of a lamp's head when the lamps are on.
+_LAMP_EMISSION = (2.2, 1.7, 1.1)
+#: Height of the storey above an interior's highest part (its ceiling closes stairwells).
+_UPPER_STOREY_M = 2.6
+#: Street lamps sit this far above their pole's top.
+_LAMP_ABOVE_M = 0.25
 _SKIN_PARTS = {"head", "left_hand", "right_hand", "left_lower_arm", "right_lower_arm"}
 _TOP_PARTS = {"chest", "left_upper_arm", "right_upper_arm"}
 _SHOE_PARTS = {"left_foot", "right_foot"}
@@ -49,8 +60,20 @@ def class_id(name: str) -> int:
     return PIXEL_CLASSES[name].class_id
 
 
-def _static(mesh, transform: np.ndarray, cls: str, n: int) -> Drawable:
-    return Drawable(mesh, np.broadcast_to(transform, (n, 4, 4)), class_id(cls), 0, _CLASS_COLOURS.get(cls, (0.5,) * 3))
+def _static(mesh, transform: np.ndarray, cls: str, n: int, **look) -> Drawable:
+    material = GROUND if cls in _GROUND_CLASSES else look.pop("material", 0)
+    return Drawable(mesh, np.broadcast_to(transform, (n, 4, 4)), class_id(cls), 0,
+                    look.pop("colour", _CLASS_COLOURS.get(cls, (0.5,) * 3)), material=material, **look)  # fmt: skip
+
+
+def lamp_positions(env: EnvironmentScene) -> np.ndarray:
+    """Where the environment's lights hang (n, 3): above street poles, at indoor lamps."""
+    out = [
+        (c.center[0], c.center[1], c.top + (_LAMP_ABOVE_M if c.pixel_class == "pole" else 0.0))
+        for c in env.colliders
+        if c.pixel_class in ("pole", "lamp")
+    ]
+    return np.array(out, dtype=np.float64).reshape(-1, 3)
 
 
 def _pose(rotation: np.ndarray, translation) -> np.ndarray:
@@ -84,6 +107,8 @@ def _person(track: PersonTrack, human) -> list[Drawable]:
         "bottom": _rgb(human.bottom_rgb),
         "shoes": _rgb(human.shoes_rgb),
     }
+    style = int(human.model.rsplit("_", 1)[-1]) % 3  # plain, striped or checked tops
+    darker = tuple(0.55 * c for c in colours["top"])
     out = []
     for k, bone in enumerate(BONES):
         cap = dims.capsules[k]
@@ -99,7 +124,11 @@ def _person(track: PersonTrack, human) -> list[Drawable]:
         if bone.name in _SHOE_PARTS:
             part = "shoes"
         mesh = capsule(cap.a, cap.b, cap.radius)
-        out.append(Drawable(mesh, transforms[:, k], class_id(bone.name), instance, colours[part]))
+        pattern = style if part == "top" else 0
+        out.append(Drawable(mesh, transforms[:, k], class_id(bone.name), instance, colours[part],
+                            pattern=pattern, pattern_colour=darker))  # fmt: skip
+        if bone.name == "head" and human.hair_style != "bald":
+            out += _hair(cap, human, transforms[:, k], instance)
     for name, body in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
         parent = PARENTS[body]
         radius = JOINT_SCALE * max(dims.capsules[body].radius, dims.capsules[parent].radius)
@@ -108,14 +137,68 @@ def _person(track: PersonTrack, human) -> list[Drawable]:
     return out
 
 
-def build_drawables(recipe: Recipe, trajectory: Trajectory) -> list[Drawable]:
-    """Everything the camera may see in this video, static world first."""
+def _hair(head, human, transforms: np.ndarray, instance: int) -> list[Drawable]:
+    """A hair cap over the back and top of the head (class head), and a tail or long hair."""
+    r = head.radius
+    centre = np.array(head.b) + np.array([-0.25 * r, 0.0, 0.1 * r])
+    colour = _rgb(human.hair_rgb)
+    cls = class_id("head")
+    out = [Drawable(capsule(tuple(centre), tuple(centre), 1.04 * r), transforms, cls, instance, colour)]
+    if human.hair_style in ("long", "ponytail"):
+        top = centre + np.array([-0.75 * r, 0.0, 0.0])
+        length, width = (1.6 * r, 0.55 * r) if human.hair_style == "long" else (1.3 * r, 0.25 * r)
+        tail = capsule(tuple(top), tuple(top + np.array([-0.15 * r, 0.0, -length])), width)
+        out.append(Drawable(tail, transforms, cls, instance, colour))
+    return out
+
+
+def _upper_storey(env: EnvironmentScene, n: int) -> list[Drawable]:
+    """The storey above an interior: walls and a ceiling around the whole house, so a
+    stairwell shows the floor above, never the sky."""
+    lo = np.min([np.array(c.center) - np.array(c.half_size) for c in env.colliders], axis=0)
+    hi = np.max([np.array(c.center) + np.array(c.half_size) for c in env.colliders], axis=0)
+    mid, half = (hi + lo) / 2, (hi - lo) / 2
+    top = hi[2] + _UPPER_STOREY_M
+    z, hz = (hi[2] + top) / 2 - 0.2, (top - hi[2]) / 2 + 0.2
+    t = 0.1
+    parts = [
+        ("ceiling", (mid[0], mid[1], top), (half[0], half[1], t)),
+        ("misc", (lo[0], mid[1], z), (t, half[1], hz)),
+        ("misc", (hi[0], mid[1], z), (t, half[1], hz)),
+        ("misc", (mid[0], lo[1], z), (half[0], t, hz)),
+        ("misc", (mid[0], hi[1], z), (half[0], t, hz)),
+    ]
+    return [_static(box(h), _pose(np.eye(3), c), cls, n) for cls, c, h in parts]
+
+
+def build_drawables(recipe: Recipe, trajectory: Trajectory, lighting: Lighting | None = None) -> list[Drawable]:
+    """Everything the camera may see in this video, static world first (lamps glow when
+    ``lighting`` switches them on; windows show its sky)."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     n = len(trajectory.times)
     eye = np.eye(4)
-    out = [_static(ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M), eye, env.ground_pixel_class, n)]
+    lamps_on = lighting is not None and lighting.lamp_intensity > 0.01
+    glow = tuple(lighting.lamp_intensity * e for e in _LAMP_EMISSION) if lamps_on else (0.0, 0.0, 0.0)
+    out = [_static(ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M), eye, env.ground_pixel_class, n, pattern=3)]
     for c in env.colliders:
-        out.append(_static(box(c.half_size), _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center), c.pixel_class, n))
+        look: dict = {}
+        if c.pixel_class == "window" and lighting is not None:
+            look = {"material": EMISSIVE, "emission": tuple(0.9 * x for x in lighting.sky_horizon)}
+        elif c.pixel_class == "lamp":
+            look = {"material": EMISSIVE, "emission": glow}
+        pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
+        out.append(_static(box(c.half_size), pose, c.pixel_class, n, **look))
+    if env.indoor:
+        out += _upper_storey(env, n)
+    for x, y, z in lamp_positions(env) if not env.indoor else ():
+        head = box((0.25, 0.25, 0.08))
+        out.append(_static(head, _pose(np.eye(3), (x, y, z)), "pole", n, colour=(0.3, 0.3, 0.3),
+                           material=EMISSIVE, emission=glow, casts_shadow=False))  # fmt: skip
+    if env.water is not None:
+        x0, y0, x1, y1, level = env.water
+        pose = _pose(np.eye(3), ((x0 + x1) / 2, (y0 + y1) / 2, 0.0))
+        out.append(_static(ground(1.0, level), pose @ np.diag([(x1 - x0) / 2, (y1 - y0) / 2, 1.0, 1.0]), "misc", n,
+                           colour=_WATER_COLOUR, material=WATER, casts_shadow=False))  # fmt: skip
     for cls, center, half, yaw in trajectory.boxes:
         out.append(_static(box(half), _pose(yaw_matrix(np.deg2rad(yaw)), center), cls, n))
     for prop in trajectory.props:

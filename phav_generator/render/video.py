@@ -19,11 +19,16 @@ import numpy as np
 from phav_generator.io.metadata import MetadataBuilder
 from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import Trajectory
-from phav_generator.render.gl import FrameRenderer, gl_context
+from phav_generator.render.gl import FrameRenderer, PostSettings, gl_context
+from phav_generator.render.lighting import lighting_for
 from phav_generator.render.modalities import encode_frame
-from phav_generator.render.scene import build_drawables, class_id
+from phav_generator.render.scene import build_drawables, class_id, lamp_positions
 from phav_spec.encoding import MODALITIES, ContentHasher, video_content_hash
 from phav_spec.recipe import Recipe
+from phav_spec.scene import ENVIRONMENT_SCENES
+
+#: Supersampling of the RGB modality (colour only; labels, depth and flow are 1×).
+DEFAULT_SUPERSAMPLE = 2
 
 
 @dataclass(frozen=True)
@@ -54,16 +59,42 @@ class VideoHashes:
         return video_content_hash(self.hexdigests())
 
 
+def scene_renderer(
+    recipe: Recipe,
+    trajectory: Trajectory,
+    ctx: moderngl.Context,
+    *,
+    supersample: int = DEFAULT_SUPERSAMPLE,
+    post: PostSettings | None = None,
+) -> FrameRenderer:
+    """A renderer for one video: its world, light and weather, focused on the protagonist."""
+    env = ENVIRONMENT_SCENES[recipe.environment.name]
+    lighting = lighting_for(recipe.world, indoor=env.indoor)
+    protagonist = trajectory.person(recipe.protagonist.person_id)
+    lamps = lamp_positions(env)
+    focus = protagonist.body_pos[:, 0].mean(axis=0)
+    if len(lamps):  # the lamps nearest the action light it
+        lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]
+    return FrameRenderer(
+        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting),
+        sky_class=class_id("sky"), lighting=lighting, lamps=lamps, focus=focus, supersample=supersample,
+        post=post, rain_seed=recipe.seeds.render,
+    )  # fmt: skip
+
+
 def render_video(
-    recipe: Recipe, trajectory: Trajectory | None = None, *, ctx: moderngl.Context | None = None
+    recipe: Recipe,
+    trajectory: Trajectory | None = None,
+    *,
+    ctx: moderngl.Context | None = None,
+    supersample: int = DEFAULT_SUPERSAMPLE,
+    post: PostSettings | None = None,
 ) -> Iterator[RenderedFrame]:
     """Frames 0 … n_frames − 1 of a recipe, rendered and measured."""
     tr = simulate(recipe, keep_state=False) if trajectory is None else trajectory
     own = ctx is None
     ctx = gl_context() if ctx is None else ctx
-    renderer = FrameRenderer(
-        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, tr), sky_class=class_id("sky")
-    )
+    renderer = scene_renderer(recipe, tr, ctx, supersample=supersample, post=post)
     meta = MetadataBuilder(recipe, tr)
     try:
         for f in range(tr.n_frames):

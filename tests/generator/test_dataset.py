@@ -215,3 +215,17 @@ def test_a_fresh_process_renders_the_same_manifest(dataset, tmp_path):
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert "3/3 videos match (same renderer fingerprint" in result.stdout
+
+
+def test_preview_sheets_all_modalities_and_a_gif(dataset, recipes, tmp_path):
+    from PIL import Image
+
+    out = tmp_path / "sheet.png"
+    result = run_cli("preview", str(dataset), "--video", "v000001", "--frames", "3", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    sheet = Image.open(out)
+    assert sheet.size == (6 * 340, 18 + 3 * 256)
+    gif = Image.open(out.with_suffix(".gif"))
+    assert gif.n_frames == recipes[1].n_frames
+    result = run_cli("preview", str(dataset), "--video", "v009999", "--out", str(out))
+    assert result.returncode == 2 and "v009999" in result.stderr

@@ -1,0 +1,117 @@
+"""Light and weather of a recipe's world: sun from the clock, sky, ambient, fog, rain, lamps.
+
+Everything is a pure function of the recipe's ``WorldSpec`` (and indoor or not): the sun
+stands where the clock puts it at a fixed latitude and date, overcast and rain dim and
+flatten it, fog thickens with ``fog_intensity``, dusk and night switch the street lamps on.
+Colours are linear RGB in [0, 1] before the renderer's tone curve.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from phav_spec.recipe import WorldSpec
+
+#: Where and when the sun is computed: latitude 45° N, solar declination −10° (an autumn
+#: day: sunrise ≈ 6:40, sunset ≈ 17:20, so dawn 7–10 h and dusk 17–20 h are low sun and
+#: twilight, night 20–7 h dark).
+LATITUDE_DEG = 45.0
+DECLINATION_DEG = -10.0
+#: Fog extinction per metre: a light haze always, plus this much at fog intensity 1
+#: (contrast halves within ~8 m in the densest fog).
+HAZE_PER_M = 0.0015
+FOG_PER_M = 0.09
+#: Most lamps the shader takes (the nearest to the action are kept).
+MAX_LAMPS = 16
+
+
+def _smoothstep(e0: float, e1: float, x: float) -> float:
+    t = min(max((x - e0) / (e1 - e0), 0.0), 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def _mix(a, b, t: float) -> np.ndarray:
+    return np.asarray(a, dtype=np.float64) * (1.0 - t) + np.asarray(b, dtype=np.float64) * t
+
+
+def sun_direction(clock_hour: float) -> np.ndarray:
+    """Unit vector towards the sun in the world frame (+X east, +Y north, +Z up)."""
+    phi, delta = math.radians(LATITUDE_DEG), math.radians(DECLINATION_DEG)
+    h = math.radians(15.0 * (clock_hour - 12.0))
+    v = np.array([
+        -math.cos(delta) * math.sin(h),
+        math.sin(delta) * math.cos(phi) - math.cos(delta) * math.sin(phi) * math.cos(h),
+        math.sin(delta) * math.sin(phi) + math.cos(delta) * math.cos(phi) * math.cos(h),
+    ])  # fmt: skip
+    return v / np.linalg.norm(v)
+
+
+@dataclass(frozen=True)
+class Lighting:
+    """Uniforms of the scene shader and the post-processing pass for one video."""
+
+    sun_dir: np.ndarray  # (3,) towards the sun
+    sun_colour: np.ndarray  # (3,) irradiance colour × intensity (0 below the horizon)
+    sky_ambient: np.ndarray  # (3,) light from the upper hemisphere
+    ground_ambient: np.ndarray  # (3,) light bounced from below
+    sky_zenith: np.ndarray  # (3,)
+    sky_horizon: np.ndarray  # (3,)
+    fog_colour: np.ndarray  # (3,)
+    fog_per_m: float  # extinction coefficient
+    wetness: float  # 0 dry … 1 soaked ground (darker, mirror-like)
+    rain: float  # 0 … 1: streak density
+    lamp_intensity: float  # street/indoor lamps, 0 off
+    daylight: float  # 0 night … 1 full day (exposure hint)
+
+    @property
+    def shadows(self) -> bool:
+        return float(self.sun_colour.max()) > 0.02
+
+
+def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
+    """The light and weather the renderer uses for a recipe's world."""
+    sun = sun_direction(world.clock_hour)
+    elevation = math.degrees(math.asin(float(sun[2])))
+    daylight = 0.02 + 0.98 * _smoothstep(-12.0, 12.0, elevation)  # civil twilight to day
+    clouds = world.cloud_intensity if world.clouds else 0.0
+    fog = world.fog_intensity if world.fog else 0.0
+    rain = world.rain_intensity if world.rain else 0.0
+    # Direct sun: up above the horizon, warm when low, dimmed by clouds, fog and rain.
+    above = _smoothstep(-1.0, 6.0, elevation)
+    warm = _mix((1.0, 0.55, 0.3), (1.0, 0.96, 0.9), _smoothstep(0.0, 25.0, elevation))
+    veil = (1.0 - 0.85 * clouds) * (1.0 - 0.6 * fog) * (1.0 - 0.5 * rain)
+    sun_colour = warm * (1.1 * world.sun_brightness * above * veil)
+    # Sky: blue by day, orange at the horizon near sunset, dark blue at night; clouds grey it.
+    twilight = _smoothstep(-10.0, 3.0, elevation) * (1.0 - _smoothstep(3.0, 20.0, elevation))
+    zenith = _mix((0.02, 0.03, 0.07), (0.22, 0.42, 0.85), daylight)
+    horizon = _mix(_mix((0.03, 0.04, 0.08), (0.68, 0.78, 0.92), daylight), (0.95, 0.55, 0.3), 0.7 * twilight)
+    grey = np.array([0.62, 0.64, 0.67]) * daylight
+    zenith, horizon = _mix(zenith, grey, clouds), _mix(horizon, grey * 1.05, clouds)
+    # Ambient: the sky's light, flatter and relatively stronger under cloud.
+    level = world.ambient_luminosity * (0.04 + 0.5 * daylight) * (1.0 + 0.4 * clouds)
+    sky_ambient = _mix(zenith / max(float(zenith.max()), 1e-6), np.ones(3), 0.5 + 0.5 * clouds) * level
+    ground_ambient = np.array([0.45, 0.42, 0.38]) * level * 0.5
+    fog_colour = _mix(horizon, grey + 0.05 * daylight, 0.6) if fog else horizon
+    lamps = 1.0 - _smoothstep(-4.0, 8.0, elevation)  # on from dusk, full at night
+    if indoor:
+        lamps = 1.0
+        sky_ambient = sky_ambient * 0.4 + np.array([0.22, 0.2, 0.17])
+        ground_ambient = ground_ambient * 0.4 + np.array([0.08, 0.075, 0.07])
+    wetness = 0.0 if indoor else (1.0 if world.wet_ground else 0.0) * (0.6 + 0.4 * max(rain, 0.5))
+    return Lighting(
+        sun_dir=sun,
+        sun_colour=sun_colour if not indoor else sun_colour * 0.35,
+        sky_ambient=sky_ambient,
+        ground_ambient=ground_ambient,
+        sky_zenith=zenith,
+        sky_horizon=horizon,
+        fog_colour=fog_colour,
+        fog_per_m=HAZE_PER_M + FOG_PER_M * fog,
+        wetness=wetness,
+        rain=rain,
+        lamp_intensity=lamps,
+        daylight=daylight,
+    )

@@ -1,0 +1,72 @@
+"""``phav vary``: a counterfactual recipe that changes only the named variables.
+
+The recipe is re-sampled from its own (θ, dataset seed, index) with the named variables
+forced (``RecipeSampler.sample(force=…)``): every random draw is the same, so seeds, the
+action, people, motion and everything not downstream of a forced variable stay as they
+were, while what θ makes depend on it (the clock on the day phase, weather elements on the
+weather, a camera's parameters on its kind) follows from the same uniforms.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from phav_generator.sampling import VARIABLES, RecipeSampler
+from phav_spec.errors import PhavUserError
+from phav_spec.recipe import Recipe
+from phav_spec.theta import Theta
+from phav_spec.vocab import CAMERAS, DAY_PHASES, WEATHERS
+
+_CHOICES = {"weather": WEATHERS, "day_phase": DAY_PHASES, "camera": CAMERAS}
+_BOOLEANS = ("rain", "fog", "clouds", "wet_ground")
+
+
+def parse_settings(items: list[str]) -> dict[str, Any]:
+    """``["weather=fog", "clock_hour=21.5"]`` → typed values, with one-line errors."""
+    out: dict[str, Any] = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        key, text = key.strip(), text.strip()
+        if not sep or not key:
+            raise PhavUserError(f"expected NAME=VALUE, got {item!r}", field="--set")
+        if key not in VARIABLES:
+            raise PhavUserError(f"unknown variable {key!r}; choose from {', '.join(VARIABLES)}", field="--set")
+        if key in _CHOICES:
+            if text not in _CHOICES[key]:
+                raise PhavUserError(f"{key} must be one of {', '.join(_CHOICES[key].names)}", field=f"--set {key}")
+            out[key] = text
+        elif key in _BOOLEANS:
+            if text.lower() not in ("true", "false", "1", "0", "on", "off"):
+                raise PhavUserError(f"{key} must be true or false, got {text!r}", field=f"--set {key}")
+            out[key] = text.lower() in ("true", "1", "on")
+        else:
+            try:
+                value = float(text)
+            except ValueError:
+                raise PhavUserError(f"{key} must be a number, got {text!r}", field=f"--set {key}") from None
+            if key == "clock_hour" and not 0.0 <= value < 24.0:
+                raise PhavUserError("clock_hour must be in [0, 24)", field="--set clock_hour")
+            out[key] = value
+    return out
+
+
+def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
+    """The counterfactual of ``recipe`` with ``settings`` forced (see the module doc)."""
+    if theta.hash != recipe.theta_hash:
+        raise PhavUserError(
+            f"the recipe was sampled from θ {recipe.theta_hash[:12]}…, not {theta.hash[:12]}…; "
+            "pass that θ with --theta",
+            field="theta_hash",
+        )
+    sampler = RecipeSampler(theta)
+    if sampler.sample(recipe.dataset_seed, recipe.index) != recipe:
+        raise PhavUserError(
+            "this recipe is not what θ and its seed give (edited by hand, or from another phav version); "
+            "it cannot be varied consistently",
+            field=recipe.video_id,
+        )
+    try:
+        return sampler.sample(recipe.dataset_seed, recipe.index, force=settings)
+    except ValueError as e:
+        raise PhavUserError(f"the varied recipe is invalid: {str(e).splitlines()[0]}", field="--set") from None

@@ -1,0 +1,150 @@
+"""Scenes are what they claim, measured: counterfactual pairs from `phav vary` differ as they
+should (fog, night, rain, each weather element) and each environment shows its classes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_generator.render.gl import EXPOSURE, FrameRenderer, gl_context
+from phav_generator.render.lighting import lighting_for, sun_direction
+from phav_generator.render.scene import build_drawables, class_id
+from phav_generator.render.video import render_video
+from phav_generator.rotations import look_at
+from phav_generator.vary import parse_settings, vary
+from phav_spec.errors import PhavUserError
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.vocab import OBJECTS, PIXEL_CLASSES
+from tests.generator.physics_support import recipe_for, theta_for
+
+SECONDS = 0.2
+LABELS = ("semantic", "instance", "depth", "flow")
+
+
+@pytest.fixture(scope="module")
+def ctx():
+    c = gl_context()
+    yield c
+    c.release()
+
+
+def _pair(action: str, env: str, base: dict, changed: dict):
+    theta = theta_for(action, env, seconds=SECONDS, variation="none")
+    recipe = recipe_for(action, env, seconds=SECONDS, variation="none")
+    return vary(recipe, theta, base), vary(recipe, theta, {**base, **changed})
+
+
+def _frames(recipe, ctx) -> list[dict[str, np.ndarray]]:
+    return [rf.modalities for rf in render_video(recipe, ctx=ctx)]
+
+
+def _luma(rgb: np.ndarray) -> np.ndarray:
+    return rgb.astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def test_vary_changes_only_the_named_variables_and_what_follows_from_them():
+    a, b = _pair("walk", "urban", {"weather": "clear", "rain": False}, {"weather": "rain", "rain": True})
+    da, db = a.model_dump(), b.model_dump()
+    assert {k for k in da if da[k] != db[k]} == {"world"}
+    assert a.seeds == b.seeds and b.world.rain and b.world.weather == "rain"
+    with pytest.raises(PhavUserError, match="unknown variable"):
+        parse_settings(["colour=red"])
+    with pytest.raises(PhavUserError, match="weather must be one of"):
+        parse_settings(["weather=snow"])
+    with pytest.raises(PhavUserError, match="sampled from"):
+        vary(a, theta_for("run", "urban", seconds=SECONDS, variation="none"), {"weather": "fog"})
+
+
+def _linear(rgb: np.ndarray) -> np.ndarray:
+    """Undo the renderer's tone curve: display values → linear light."""
+    v = (rgb.astype(np.float64) / 255.0) ** 2.2
+    return -np.log(np.clip(1.0 - v, 1e-4, 1.0)) / EXPOSURE
+
+
+@pytest.mark.parametrize("env", ["simple", "urban"])
+def test_fog_lowers_contrast_more_at_greater_depth(ctx, env):
+    """Contrast of each pixel against the fog's colour (linear light), fog over clear, per
+    depth band: it falls with depth in raw RGB (monotonically) and in the final RGB."""
+    clear, fog = _pair("walk", env, {"weather": "fog", "fog": False}, {"weather": "fog", "fog": True,
+                                                                     "fog_intensity": 0.8})  # fmt: skip
+    fog_colour = lighting_for(fog.world, indoor=False).fog_colour
+    a, b = _frames(clear, ctx)[0], _frames(fog, ctx)[0]
+    depth = a["depth"].astype(np.float64) / 100.0
+    for key in ("raw_rgb", "rgb"):
+        ca = np.abs(_linear(a[key]) - fog_colour).sum(axis=-1)
+        cb = np.abs(_linear(b[key]) - fog_colour).sum(axis=-1)
+        ratios = []
+        for lo, hi in ((0.5, 6.0), (6.0, 12.0), (12.0, 30.0)):
+            band = (depth >= lo) & (depth < hi) & (ca > 0.02)
+            assert band.sum() > 200
+            ratios.append(float(np.median(cb[band] / ca[band])))
+        assert ratios[0] < 1.0 and ratios[2] < 0.8 * ratios[0], (key, ratios)
+        if key == "raw_rgb":
+            assert ratios[0] > ratios[1] > ratios[2], ratios
+
+
+def test_night_is_darker_than_day(ctx):
+    day, night = _pair("walk", "simple", {"day_phase": "day", "clock_hour": 13.0},
+                       {"day_phase": "night", "clock_hour": 23.0})  # fmt: skip
+    d, n = _frames(day, ctx)[0], _frames(night, ctx)[0]
+    assert _luma(n["rgb"]).mean() < 0.4 * _luma(d["rgb"]).mean()
+    assert _luma(n["raw_rgb"]).mean() < 0.4 * _luma(d["raw_rgb"]).mean()
+
+
+def test_rain_changes_rgb_but_not_labels_depth_or_flow(ctx):
+    dry, wet = _pair("walk", "urban", {"weather": "overcast", "rain": False, "wet_ground": False},
+                     {"weather": "overcast", "rain": True, "rain_intensity": 1.0, "wet_ground": True})  # fmt: skip
+    for a, b in zip(_frames(dry, ctx), _frames(wet, ctx), strict=True):
+        for name in LABELS:
+            assert np.array_equal(a[name], b[name]), name
+        assert np.abs(a["rgb"].astype(int) - b["rgb"].astype(int)).mean() > 2.0
+
+
+@pytest.mark.parametrize("element", ["rain", "fog", "clouds", "wet_ground"])
+def test_every_weather_element_is_visible(ctx, element):
+    off, on = _pair("walk", "urban", {"weather": "rain", element: False}, {"weather": "rain", element: True})
+    a, b = _frames(off, ctx)[0], _frames(on, ctx)[0]
+    for name in LABELS:
+        assert np.array_equal(a[name], b[name]), name
+    assert np.abs(a["rgb"].astype(int) - b["rgb"].astype(int)).mean() > 1.0
+
+
+def test_the_sun_follows_the_clock():
+    assert sun_direction(12.0)[2] > 0.5 and sun_direction(0.0)[2] < -0.5
+    assert sun_direction(8.0)[0] > 0 > sun_direction(16.0)[0]  # east in the morning, west in the afternoon
+    assert sun_direction(12.0)[1] < 0  # south at noon, 45° N
+
+
+@pytest.mark.parametrize("env", sorted(ENVIRONMENT_SCENES))
+def test_each_environment_shows_its_declared_classes(ctx, env):
+    """Looking around from the protagonist's waypoint (and down on it) shows every class
+    the environment declares, and nothing outside its classes, people and props."""
+    recipe = recipe_for("walk", env, seconds=SECONDS, variation="none")
+    from phav_generator.physics.simulate import simulate
+
+    tr = simulate(recipe, keep_state=False)
+    scene = ENVIRONMENT_SCENES[env]
+    lighting = lighting_for(recipe.world, indoor=scene.indoor)
+    renderer = FrameRenderer(ctx, 340, 256, build_drawables(recipe, tr, lighting), sky_class=class_id("sky"),
+                             supersample=1)  # fmt: skip
+    x, y, z = recipe.environment.waypoint
+    seen: set[int] = set()
+    around = np.linspace(0, 2 * np.pi, 12)
+    views = [((x, y, z + 1.6), (x + np.cos(a) * 10, y + np.sin(a) * 10, z + 1.0)) for a in around]
+    views.append(((x + 0.1, y, z + (2.4 if scene.indoor else 40.0)), (x, y, z)))
+    try:
+        for eye, target in views:
+            pose = np.eye(4)
+            pose[:3, :3] = look_at(np.array(eye), np.array(target))
+            pose[:3, 3] = eye
+            frame = renderer.render(0, pose, pose, (120.0, 120.0, 170.0, 128.0))
+            seen |= set(np.unique(frame.class_id).tolist())
+    finally:
+        renderer.release()
+    names = {n for n in PIXEL_CLASSES.names if PIXEL_CLASSES[n].class_id in seen}
+    # Props and vehicles come with actions and traffic, not with the static world.
+    dynamic = {OBJECTS[name] for name in OBJECTS.names}
+    missing = set(scene.pixel_classes) - names - dynamic
+    assert not missing, missing
+    people = {n for n in PIXEL_CLASSES.names if PIXEL_CLASSES[n].group.value.startswith("human")}
+    assert names <= set(scene.pixel_classes) | dynamic | people
