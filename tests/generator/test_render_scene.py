@@ -3,6 +3,8 @@ instance ids, the environment's surfaces carry their classes."""
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -126,3 +128,71 @@ def test_streamed_hashes_equal_the_content_hash_of_all_frames(ctx):
         h.add(rf.index, rf.modalities)
     expected = content_hash({f"{rf.index:05d}": rf.modalities["depth"] for rf in frames})
     assert h.hexdigests()["depth"] == expected
+
+
+def _adjacent(joint: str) -> set[str]:
+    """The joint's own class and the parts that meet at it."""
+    side, _, kind = joint.partition("_")
+    parts = {
+        "shoulder": ("chest", f"{side}_upper_arm"),
+        "elbow": (f"{side}_upper_arm", f"{side}_lower_arm"),
+        "wrist": (f"{side}_lower_arm", f"{side}_hand"),
+        "hip": (f"{side}_upper_leg", f"{side}_hip", "chest"),
+        "knee": (f"{side}_upper_leg", f"{side}_lower_leg"),
+        "ankle": (f"{side}_lower_leg", f"{side}_foot"),
+    }
+    return {joint, *(("head", "chest") if joint == "neck" else parts[kind])}
+
+
+def test_visible_2d_joints_land_on_their_joint_or_an_adjacent_part(ctx):
+    from phav_generator.render.video import render_video
+    from phav_spec.metadata import JOINT_ORDER
+    from phav_spec.vocab import PIXEL_CLASSES
+
+    by_colour = {PIXEL_CLASSES[n].rgb: n for n in PIXEL_CLASSES.names}
+    visible = 0
+    for action, env in (("walk", "urban"), ("wave", "green"), ("sit", "house_interior")):
+        for rf in render_video(recipe_for(action, env, seconds=0.3, variation="none"), ctx=ctx):
+            semantic = rf.modalities["semantic"]
+            for person in rf.people:
+                uv = np.array(person["joints2d"]).reshape(13, 2)
+                for j, name in enumerate(JOINT_ORDER):
+                    if not person["visible"][j]:
+                        continue
+                    visible += 1
+                    seen = by_colour[tuple(int(c) for c in semantic[int(uv[j, 1]), int(uv[j, 0])])]
+                    assert seen in _adjacent(name), (action, rf.index, person["person_id"], name, seen)
+    assert visible > 100
+
+
+def test_rgb_warped_by_the_flow_matches_the_next_frame_on_static_pixels(ctx):
+    """Raw RGB of frame t+1 sampled where the flow sends each static, unoccluded pixel of
+    frame t (same class there, bilinear) equals frame t's colour within a few levels."""
+    import cv2
+
+    from phav_generator.render.video import render_video
+    from phav_generator.vary import vary
+    from phav_spec.encoding import decode_flow
+    from tests.generator.physics_support import theta_for
+
+    base = recipe_for("walk", "simple", seconds=0.3, variation="none")
+    recipe = vary(base, theta_for("walk", "simple", seconds=0.3, variation="none"),
+                  {"weather": "clear", "wet_ground": False, "rain": False, "fog": False})  # fmt: skip
+    frames = [rf.modalities for rf in render_video(recipe, ctx=ctx)]
+    errors = []
+    for a, b in itertools.pairwise(frames):
+        flow, valid = decode_flow(a["flow"])
+        h, w = valid.shape
+        v, u = np.mgrid[0:h, 0:w].astype(np.float32)
+        map_x = u + np.nan_to_num(flow[..., 0])
+        map_y = v + np.nan_to_num(flow[..., 1])
+        warped = cv2.remap(b["raw_rgb"].astype(np.float32), map_x, map_y, cv2.INTER_LINEAR)
+        cls_next = cv2.remap(b["semantic"], map_x, map_y, cv2.INTER_NEAREST)
+        static = valid & (a["instance"].sum(axis=-1) == 0)
+        same = np.all(cls_next == a["semantic"], axis=-1)
+        inside = (map_x >= 1) & (map_x < w - 2) & (map_y >= 1) & (map_y < h - 2)
+        keep = static & same & inside
+        errors.append(np.abs(warped - a["raw_rgb"].astype(np.float32)).mean(axis=-1)[keep])
+    err = np.concatenate(errors)
+    assert err.size > 10000
+    assert np.median(err) < 1.5 and np.percentile(err, 95) < 8.0, (np.median(err), np.percentile(err, 95))
