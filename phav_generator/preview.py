@@ -197,4 +197,20 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
                 frames.append(modalities)
     except (OSError, tarfile.TarError, KeyError, ValueError) as e:
         raise PhavUserError(f"cannot read the video's frames ({str(e).splitlines()[0]})", source=str(shard)) from None
-    return vid, 30, frames
+    fps = 30  # DESIGN.md's rate; the recipe's own when the recipes table is there
+    table_path = manifest_path.parent / "recipes.parquet"
+    if table_path.exists():
+        from phav_spec.recipe_table import read_recipe_table
+
+        table = read_recipe_table(table_path)
+        ids = table.column("video_id")
+        if vid in ids:
+            fps = parse_recipe_fps(table.column("recipe")[ids.index(vid)])
+    return vid, fps, frames
+
+
+def parse_recipe_fps(text: str) -> int:
+    """The frame rate of a recipe given as JSON text."""
+    from phav_spec.recipe import parse_recipe
+
+    return parse_recipe(text).video.fps
