@@ -268,12 +268,12 @@ def write_dataset(
 
     records: dict[str, dict[str, Any]] = {}
     todo = []
-    for task in tasks:
+    for task, recipes in zip(tasks, shards, strict=True):
         record = _read_record(work / f"{task.name.removesuffix('.tar')}.json", out)
         if record is not None:
             records[task.name] = record
             if progress is not None:
-                progress(len(task.recipes), sum(parse_recipe(t).n_frames for t in task.recipes))
+                progress(len(recipes), sum(r.n_frames for r in recipes))
         else:
             todo.append(task)
     resumed = len(records)

@@ -13,27 +13,16 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from phav_generator.physics.trajectory import Trajectory
+from phav_generator.render.camera import project as project_points
 from phav_generator.skeleton import BONES, PARENTS
 
 _ROLE_COLOURS = {"protagonist": (220, 40, 40), "supporting": (40, 90, 220), "background": (120, 120, 120)}
 
 
 def project(points: np.ndarray, cam_to_world: np.ndarray, intrinsics: tuple[float, float, float, float]) -> np.ndarray:
-    """Pixel coordinates (…, 2) of world points (…, 3); NaN for points behind the camera.
-
-    The camera looks down −Z with +Y up; pixel (u, v) covers [u, u + 1) × [v, v + 1).
-    """
-    fx, fy, cx, cy = intrinsics
-    r = cam_to_world[:3, :3]
-    t = cam_to_world[:3, 3]
-    local = (np.asarray(points) - t) @ r
-    depth = -local[..., 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = fx * local[..., 0] / depth + cx
-        v = -fy * local[..., 1] / depth + cy
-    out = np.stack([u, v], axis=-1)
-    out[depth <= 1e-3] = np.nan
-    return out
+    """Pixel coordinates (…, 2) of world points (…, 3) for drawing; NaN for points less than
+    1 mm in front of the camera (``render.camera.project``'s convention)."""
+    return project_points(points, cam_to_world, intrinsics, min_depth=1e-3)
 
 
 def _ground_grid(draw: ImageDraw.ImageDraw, cam: np.ndarray, intr, centre: np.ndarray, z: float) -> None:
@@ -96,8 +85,10 @@ def depth_image(code: np.ndarray) -> np.ndarray:
     """A 16-bit depth code (cm) as a colour image: inverse depth on the turbo map, sky black."""
     import cv2
 
+    from phav_spec.encoding import DEPTH_MAX_CODE
+
     metres = code.astype(np.float64) / 100.0
-    sky = code == np.iinfo(np.uint16).max
+    sky = code == DEPTH_MAX_CODE
     inverse = np.where(sky, 0.0, 1.0 / np.maximum(metres, 0.01))
     top = np.percentile(inverse[~sky], 99) if np.any(~sky) else 1.0
     scaled = np.clip(inverse / max(top, 1e-9) * 255.0, 0, 255).astype(np.uint8)

@@ -13,7 +13,7 @@ import numpy as np
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.camera import project, view
 from phav_generator.render.gl import Frame
-from phav_generator.render.scene import JOINT_SCALE, humans_by_id
+from phav_generator.render.scene import humans_by_id, joint_radius
 from phav_generator.rotations import quat_to_matrix
 from phav_generator.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points, dims_for
 from phav_spec.encoding import instance_rgb
@@ -26,9 +26,7 @@ VISIBILITY_SLACK_M = 0.003
 
 def _joint_radii(dims: BodyDims) -> np.ndarray:
     """Radius of each metadata joint's rendered sphere (the renderer's rule)."""
-    return np.array(
-        [JOINT_SCALE * max(dims.capsules[b].radius, dims.capsules[PARENTS[b]].radius) for b in JOINT_BODIES]
-    )
+    return np.array([joint_radius(dims, b) for b in JOINT_BODIES])
 
 
 def _box3d(dims: BodyDims, pos: np.ndarray, quat: np.ndarray) -> np.ndarray:

@@ -41,14 +41,20 @@ def view(cam_to_world: np.ndarray) -> np.ndarray:
     return out
 
 
-def project(points: np.ndarray, cam_to_world: np.ndarray, intrinsics: tuple[float, float, float, float]) -> np.ndarray:
+def project(
+    points: np.ndarray,
+    cam_to_world: np.ndarray,
+    intrinsics: tuple[float, float, float, float],
+    *,
+    min_depth: float = 1e-9,
+) -> np.ndarray:
     """Pixel coordinates (..., 2) as (u + 0.5, v + 0.5) of world points (..., 3), and NaN
-    where a point is not in front of the camera."""
+    where a point is not at least ``min_depth`` in front of the camera."""
     fx, fy, cx, cy = intrinsics
     v = view(cam_to_world)
     cam = points @ v[:3, :3].T + v[:3, 3]
     z = -cam[..., 2]
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.stack([cx + fx * cam[..., 0] / z, cy - fy * cam[..., 1] / z], axis=-1)
-    out[z <= 1e-9] = np.nan
+    out[z <= min_depth] = np.nan
     return out

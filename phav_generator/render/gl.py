@@ -539,7 +539,9 @@ class FrameRenderer:
             lo, hi = d.mesh.positions.min(axis=0), d.mesh.positions.max(axis=0)
             centre = (lo + hi) / 2.0
             radius = float(np.linalg.norm(d.mesh.positions - centre, axis=1).max())
-            self._bounds.append((centre.astype(np.float64), radius))
+            # Transforms are rigid up to a fixed scale (static slabs may be stretched).
+            scale = float(np.linalg.svd(d.transforms[0][:3, :3], compute_uv=False).max())
+            self._bounds.append((centre.astype(np.float64), radius * scale))
         self.triangles_built = sum(d.mesh.n_triangles for d in drawables)
         self.triangles_drawn = 0  # summed over the labelled passes of every frame
         # Rain: streak origins in a box around the camera, from the recipe's render seed.
@@ -614,17 +616,17 @@ class FrameRenderer:
                     self.shadow_prog["model_t"].write(_gl(d.transforms[frame]))
                     vao.render(moderngl.TRIANGLES)
             self.shadow_tex.use(location=0)
-        self._view = view(cam_to_world)
-        p["view_t"].write(_gl(self._view))
+        world_to_cam = view(cam_to_world)
+        visible = self._in_frustum(frame, world_to_cam, intrinsics)  # the same at every supersampling
+        p["view_t"].write(_gl(world_to_cam))
         p["view_t1"].write(_gl(view(cam_to_world_next)))
         _set(p, "eye", tuple(float(x) for x in cam_to_world[:3, 3]))
-        self.rain_prog["view_t"].write(_gl(view(cam_to_world)))
+        self.rain_prog["view_t"].write(_gl(world_to_cam))
         rain = self._rain_lines(frame, cam_to_world[:3, 3]) if self.rain_vao is not None else None
         rot = tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9))  # column-major mat3
         _set(self.sky, "cam_rot", rot)
-        _set(self.sky, "intrinsics", tuple(float(x) for x in intrinsics))
         # Labelled pass at 1×, then rain into its colour only.
-        self._scene_pass(self.fbo, frame, intrinsics, 1, labelled=True)
+        self._scene_pass(self.fbo, frame, intrinsics, 1, visible, labelled=True)
         if rain is not None:
             self._rain_pass(self.colour_fbo, rain, intrinsics, 1)
         raw = self._read(self.fbo, 0, 4, "f1", np.uint8)
@@ -634,7 +636,7 @@ class FrameRenderer:
         flow = self._read(self.fbo, 4, 4, "f4", np.float32)
         middle = time.perf_counter()
         if self.fbo_ss is not None:
-            self._scene_pass(self.fbo_ss, frame, intrinsics, self.supersample, labelled=False)
+            self._scene_pass(self.fbo_ss, frame, intrinsics, self.supersample, visible, labelled=False)
             if rain is not None:
                 self._rain_pass(self.fbo_ss, rain, intrinsics, self.supersample)
         rgb = self._post(intrinsics, cam_to_world)
@@ -650,7 +652,7 @@ class FrameRenderer:
             rgb=rgb,
         )
 
-    def _scene_pass(self, fbo, frame: int, intrinsics, scale: int, *, labelled: bool) -> None:
+    def _scene_pass(self, fbo, frame: int, intrinsics, scale: int, visible: list[bool], *, labelled: bool) -> None:
         ctx, p = self.ctx, self.program
         w, h = self.size[0] * scale, self.size[1] * scale
         fbo.use()
@@ -665,7 +667,6 @@ class FrameRenderer:
         ctx.enable(moderngl.DEPTH_TEST)
         p["proj"].write(_gl(projection(*scaled, w, h)))
         _set(p, "size", (float(w), float(h)))
-        visible = self._in_frustum(frame, scaled, w, h)
         last = None
         for d, vao, keep in zip(self.drawables, self.vaos, visible, strict=True):
             if not keep:
@@ -687,19 +688,17 @@ class FrameRenderer:
                 last = look
             vao.render(moderngl.TRIANGLES)
 
-    def _in_frustum(self, frame: int, intrinsics, w: int, h: int) -> list[bool]:
+    def _in_frustum(self, frame: int, world_to_cam: np.ndarray, intrinsics) -> list[bool]:
         """Conservatively, which drawables' bounding spheres reach into the view at ``frame``."""
-        world_to_cam = self._view
+        w, h = self.size
         fx, fy, cx, cy = intrinsics
         # Side planes through the camera centre, as unit normals pointing into the frustum.
         planes = np.array([[fx, 0.0, -cx], [-fx, 0.0, -(w - cx)], [0.0, -fy, -cy], [0.0, fy, -(h - cy)]])
         planes /= np.linalg.norm(planes, axis=1, keepdims=True)
         out = []
-        for d, (centre, radius) in zip(self.drawables, self._bounds, strict=True):
+        for d, (centre, r) in zip(self.drawables, self._bounds, strict=True):
             t = d.transforms[frame]
-            scale = float(np.abs(np.linalg.svd(t[:3, :3], compute_uv=False)).max())
             c = world_to_cam[:3, :3] @ (t[:3, :3] @ centre + t[:3, 3]) + world_to_cam[:3, 3]
-            r = radius * scale
             out.append(bool(-c[2] + r >= NEAR_M and np.all(planes @ c >= -r)))
         return out
 

@@ -56,6 +56,12 @@ _TOP_PARTS = {"chest", "left_upper_arm", "right_upper_arm"}
 _SHOE_PARTS = {"left_foot", "right_foot"}
 
 
+def joint_radius(dims, body: int) -> float:
+    """Radius of the sphere drawn at the joint at ``body``'s origin: a little wider than the
+    thickest capsule meeting there, so the joint's class shows where it is not hidden."""
+    return JOINT_SCALE * max(dims.capsules[body].radius, dims.capsules[PARENTS[body]].radius)
+
+
 def class_id(name: str) -> int:
     return PIXEL_CLASSES[name].class_id
 
@@ -130,8 +136,7 @@ def _person(track: PersonTrack, human) -> list[Drawable]:
         if bone.name == "head" and human.hair_style != "bald":
             out += _hair(cap, human, transforms[:, k], instance)
     for name, body in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
-        parent = PARENTS[body]
-        radius = JOINT_SCALE * max(dims.capsules[body].radius, dims.capsules[parent].radius)
+        radius = joint_radius(dims, body)
         colour = colours["skin"] if name == "neck" else colours["top"] if "hip" not in name else colours["bottom"]
         out.append(Drawable(sphere(radius), transforms[:, body], class_id(name), instance, colour))
     return out
