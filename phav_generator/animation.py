@@ -166,6 +166,19 @@ def blend(base: Pose, other: Pose, muscles: tuple[str, ...] | list[str], weight:
     return Pose(base.root_pos, base.root_quat, q)
 
 
+def anchor(pose: Pose) -> Pose:
+    """The pose re-expressed so its first sample stands at the motion frame's origin facing
+    +X (planar position and yaw; height and joints unchanged). A clip that starts part-way
+    into a motion then starts where the recipe puts the person, facing its heading, instead
+    of wherever the motion had travelled by then."""
+    yaw0 = float(_yaw_of(pose.root_quat[0]))
+    undo = yaw_matrix(-yaw0)
+    offset = pose.root_pos[0] * np.array([1.0, 1.0, 0.0])
+    root_pos = (pose.root_pos - offset) @ undo.T
+    root_rot = undo @ quat_to_matrix(pose.root_quat)
+    return Pose(root_pos, matrix_to_quat(root_rot), pose.q)
+
+
 def place(pose: Pose, dims: BodyDims, position: tuple[float, float, float], heading_deg: float) -> Pose:
     """Motion frame → world: scale to the human, stand on ``position``, face ``heading_deg``."""
     scale = dims.height_m / REFERENCE_HEIGHT_M
@@ -200,12 +213,15 @@ def animate(
     position: tuple[float, float, float],
     heading_deg: float,
 ) -> Pose:
-    """A motion played for a clip and placed in the world: the pins' and servos' targets."""
+    """A motion played for a clip and placed in the world: the pins' and servos' targets.
+
+    The clip's first frame stands on ``position`` facing ``heading_deg`` (``anchor``),
+    wherever in the motion ``start_s`` falls."""
     motion = get_motion(name)
     pose = play(motion, clip_times, start_s, params)
     if params.mirror:
         pose = mirror(pose)
-    return place(pose, dims, position, heading_deg)
+    return place(anchor(pose), dims, position, heading_deg)
 
 
 def identity_quats(n: int) -> np.ndarray:

@@ -239,6 +239,45 @@ def preview(
     console.print(f"wrote {escape(', '.join(written))} ({len(all_frames)} frames of {vid})")
 
 
+@app.command()
+def sheets(
+    theta: ThetaOption = "phav-v1",
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Dataset seed the recipes come from.")] = 0,
+    kinds: Annotated[
+        str, typer.Option("--by", help="Comma-separated: environment, weather, day_phase, action.")
+    ] = "environment,weather,day_phase,action",
+    out: Annotated[Path, typer.Option("--out", help="Directory for the sheets (JPEG) and their README.md.")] = Path(
+        "sheets"
+    ),
+) -> None:
+    """Contact sheets, one per environment, weather, day phase and action: RGB at three frames
+    above the middle frame's labels, depth and flow, with an index page."""
+    from phav_generator.render.gl import gl_context
+    from phav_generator.sheets import SHEET_KINDS, render_sheet, sheet_specs, write_index
+
+    chosen = tuple(k.strip() for k in kinds.split(",") if k.strip())
+    unknown = sorted(set(chosen) - set(SHEET_KINDS))
+    if unknown or not chosen:
+        raise PhavUserError(f"unknown kind(s) {unknown}; choose from {', '.join(SHEET_KINDS)}", field="--by")
+    th = load_theta(theta)
+    try:
+        specs = list(sheet_specs(th, seed, chosen))
+    except ValueError as e:
+        raise PhavUserError(str(e), field="--by") from None
+    ctx = gl_context()
+    try:
+        with _progress() as bar:
+            task = bar.add_task("rendering sheets", total=len(specs))
+            for spec in specs:
+                with atomic_write(out / f"{spec.name}.jpg") as tmp:
+                    render_sheet(spec, ctx).save(tmp, format="JPEG", quality=88, subsampling=0)
+                bar.advance(task)
+    finally:
+        ctx.release()
+    index = write_index(specs, out, th, seed)
+    console.print(f"wrote {len(specs)} sheets and {escape(str(index))}")
+
+
 def _is_manifest(path: Path) -> bool:
     return path.suffix == ".json" and path.name == "manifest.json"
 

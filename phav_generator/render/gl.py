@@ -10,9 +10,11 @@ affine in the vertex position and interpolate perspective-correctly. Labels, dep
 flow come from one sample per pixel and are never blended.
 
 Per frame: a sun shadow map (depth only), the labelled pass at 1× (its colour is raw RGB),
-rain streaks into colour only, the colour again at ``supersample``× (colour only), and a
-full-screen post pass (downsampling, motion blur along the flow, screen-space reflections
-on water and wet ground, ambient occlusion from depth, bloom, colour grading, vignette).
+rain streaks into colour only, then ``supersample`` fully shaded colour samples per pixel
+(SSAA: one jittered colour-only pass per sample, side by side in one wide target, averaged
+by a resolve pass), and a full-screen post pass (motion blur along the flow, screen-space
+reflections on water and wet ground, ambient occlusion from depth, bloom, colour grading,
+vignette).
 """
 
 from __future__ import annotations
@@ -32,6 +34,18 @@ MATTE, GROUND, WATER, EMISSIVE = 0, 1, 2, 3
 #: Shadow map: texels per side and the half extent (m) of the square it covers.
 SHADOW_SIZE = 1024
 SHADOW_HALF_M = 30.0
+#: Supersampling patterns: sub-pixel offsets (image convention, pixels from the centre) of
+#: the colour samples per pixel. 2: diagonal pair; 4: rotated grid; 8: sparse n-rooks;
+#: 16: 4 × 4 ordered grid (the bench's reference).
+SAMPLE_PATTERNS: dict[int, tuple[tuple[float, float], ...]] = {
+    1: ((0.0, 0.0),),
+    2: ((-0.25, -0.25), (0.25, 0.25)),
+    4: ((-0.125, -0.375), (0.375, -0.125), (-0.375, 0.125), (0.125, 0.375)),
+    8: tuple((x / 16.0, y / 16.0) for x, y in ((1, -3), (-1, 3), (5, 1), (-3, -5), (-5, 5), (-7, -1), (3, 7), (7, -7))),
+    16: tuple(((i + 0.5) / 4.0 - 0.5, (j + 0.5) / 4.0 - 0.5) for j in range(4) for i in range(4)),
+}
+#: Drawables with a bounding radius beyond this (m) are drawn after the rest of the scene.
+LARGE_M = 15.0
 #: Rain streaks at rain intensity 1, and how far around the camera they fall (m).
 RAIN_STREAKS = 1800
 RAIN_BOX_M = 12.0
@@ -71,23 +85,49 @@ vec3 sky(vec3 dir) {
 }
 """
 
-_VERTEX = """
+#: Every drawable's model matrices at t and t + 1, one texture row per drawable: texels
+#: 0–3 are the columns at t, 4–7 at t + 1 (written once per frame; one draw per pass).
+_MODELS = """
+uniform sampler2D models;
+mat4 model(uint object, int at) {
+    ivec2 c = ivec2(4 * at, int(object));
+    return mat4(texelFetch(models, c, 0), texelFetch(models, c + ivec2(1, 0), 0),
+                texelFetch(models, c + ivec2(2, 0), 0), texelFetch(models, c + ivec2(3, 0), 0));
+}
+"""
+
+_VERTEX = (
+    """
 #version 330
-uniform mat4 model_t;
-uniform mat4 model_t1;
 uniform mat4 view_t;
 uniform mat4 view_t1;
 uniform mat4 proj;
 uniform mat4 light_vp;
+uniform int with_flow;
 in vec3 in_pos;
 in vec3 in_normal;
+in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
+in vec3 in_colour;
+in vec3 in_pattern_colour;
+in vec3 in_emission;
 out vec3 v_normal;
 out vec3 v_world;
 out vec3 v_local;
 out float v_depth;
 out vec4 v_clip1;
 out vec4 v_light;
+flat out uint v_class;
+flat out uint v_instance;
+flat out int v_material;
+flat out int v_pattern;
+flat out vec3 v_colour;
+flat out vec3 v_pattern_colour;
+flat out vec3 v_emission;
+"""
+    + _MODELS
+    + """
 void main() {
+    mat4 model_t = model(in_ids.x, 0);
     vec4 world = model_t * vec4(in_pos, 1.0);
     vec4 cam = view_t * world;
     v_depth = -cam.z;
@@ -95,27 +135,29 @@ void main() {
     v_local = in_pos;
     v_normal = mat3(model_t) * in_normal;
     v_light = light_vp * world;
-    v_clip1 = proj * (view_t1 * (model_t1 * vec4(in_pos, 1.0)));
+    v_clip1 = with_flow == 1 ? proj * (view_t1 * (model(in_ids.x, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
+    v_class = in_ids.y;
+    v_instance = in_ids.z;
+    v_material = int(in_ids.w / 16u);
+    v_pattern = int(in_ids.w % 16u);
+    v_colour = in_colour;
+    v_pattern_colour = in_pattern_colour;
+    v_emission = in_emission;
     gl_Position = proj * cam;
 }
 """
+)
 
+#: The scene's fragment shader. ``SHADOWS``, ``LAMPS`` and ``WET`` are defined per renderer
+#: (``_features``): llvmpipe runs both sides of a branch, so work the scene lacks is compiled
+#: out rather than skipped at run time.
 _FRAGMENT = (
     """
-#version 330
-uniform vec3 base_colour;
-uniform vec3 pattern_colour;
-uniform int pattern;
-uniform int material;
-uniform vec3 emission;
-uniform uint class_id;
-uniform uint instance_id;
 uniform vec3 sky_ambient;
 uniform vec3 ground_ambient;
 uniform float wetness;
 uniform vec3 eye;
 uniform vec2 size;
-uniform int use_shadow;
 uniform sampler2DShadow shadow_map;
 uniform int lamp_count;
 uniform vec3 lamp_pos[16];
@@ -126,32 +168,36 @@ in vec3 v_local;
 in float v_depth;
 in vec4 v_clip1;
 in vec4 v_light;
+flat in uint v_class;
+flat in uint v_instance;
+flat in int v_material;
+flat in int v_pattern;
+flat in vec3 v_colour;          // linear (display colour to the power 2.2, done once on the CPU)
+flat in vec3 v_pattern_colour;  // linear
+flat in vec3 v_emission;
 """
     + _SKY_FUNCTION
     + _TONE
     + _OUTPUTS
     + """
 float sunlit(vec3 n) {
-    if (use_shadow == 0) return 1.0;
+#if !SHADOWS
+    return 1.0;
+#endif
     vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
     if (p.x <= 0.0 || p.x >= 1.0 || p.y <= 0.0 || p.y >= 1.0 || p.z >= 1.0) return 1.0;
     float bias = 0.0015 + 0.004 * (1.0 - abs(dot(n, sun_dir)));
-    float s = 0.0;
-    vec2 texel = vec2(1.0 / textureSize(shadow_map, 0).x);
-    for (int i = -1; i <= 1; i += 2)
-        for (int j = -1; j <= 1; j += 2)
-            s += texture(shadow_map, vec3(p.xy + vec2(i, j) * 0.75 * texel, p.z - bias));
-    return s * 0.25;
+    return texture(shadow_map, vec3(p.xy, p.z - bias));  // 2×2 percentage-closer (linear filter)
 }
 
 vec3 albedo() {
-    vec3 c = pow(base_colour, vec3(2.2));  // colours are given as display (sRGB-like) values
-    if (pattern == 1) {  // horizontal stripes around the body part
-        c = mix(c, pow(pattern_colour, vec3(2.2)), step(0.5, fract(v_local.z * 14.0)));
-    } else if (pattern == 2) {  // checks
+    vec3 c = v_colour;
+    if (v_pattern == 1) {  // horizontal stripes around the body part
+        c = mix(c, v_pattern_colour, step(0.5, fract(v_local.z * 14.0)));
+    } else if (v_pattern == 2) {  // checks
         vec3 q = floor(v_local * 12.0);
-        c = mix(c, pow(pattern_colour, vec3(2.2)), mod(q.x + q.y + q.z, 2.0));
-    } else if (pattern == 3) {  // speckle noise (ground grain), from the world position
+        c = mix(c, v_pattern_colour, mod(q.x + q.y + q.z, 2.0));
+    } else if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
         vec2 cell = floor(v_world.xy * 2.0);
         float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
         c *= 0.88 + 0.24 * h;
@@ -164,31 +210,41 @@ void main() {
     if (!gl_FrontFacing) n = -n;
     vec3 a = albedo();
     float reflectivity = 0.0;
-    vec3 to_eye = normalize(eye - v_world);
-    float wet = (material == 1 && n.z > 0.7) ? wetness : 0.0;
-    if (material == 2) wet = 1.0;
+#if WET
+    float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
+    if (v_material == 2) wet = 1.0;
     a *= 1.0 - 0.45 * wet;
+#else
+    float wet = 0.0;
+#endif
     float hemi = 0.5 + 0.5 * n.z;
     vec3 light = mix(ground_ambient, sky_ambient, hemi);
-    light += sun_colour * max(dot(n, sun_dir), 0.0) * sunlit(n);
+    float facing = max(dot(n, sun_dir), 0.0);
+    float shade = (facing > 0.0 || wet > 0.0) ? sunlit(n) : 0.0;  // the shadow map only where it matters
+    light += sun_colour * facing * shade;
+#if LAMPS
     for (int i = 0; i < lamp_count; ++i) {
         vec3 d = lamp_pos[i] - v_world;
         float r2 = dot(d, d);
         light += lamp_colour * max(dot(n, d * inversesqrt(r2)), 0.0) * 5.0 / (1.0 + r2);
     }
-    vec3 c = a * light + emission;
+#endif
+    vec3 c = a * light + v_emission;
+#if WET
     if (wet > 0.0) {
+        vec3 to_eye = normalize(eye - v_world);
         float cosv = max(dot(n, to_eye), 0.0);
         float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
         reflectivity = wet * mix(0.25, 1.0, fresnel);
         vec3 mirrored = reflect(-to_eye, n);
         c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
-        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * sunlit(n);
+        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * shade;
     }
+#endif
     c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));
     out_colour = vec4(tone(c), reflectivity);
-    out_class = class_id;
-    out_instance = instance_id;
+    out_class = v_class;
+    out_instance = v_instance;
     out_depth = v_depth;
     if (v_clip1.w > 1e-6) {
         vec2 window1 = (v_clip1.xy / v_clip1.w * 0.5 + 0.5) * size;
@@ -214,6 +270,7 @@ _SKY_FRAGMENT = (
 uniform uint sky_class;
 uniform vec4 intrinsics;  // fx, fy, cx, cy (image convention)
 uniform vec2 size;
+uniform vec2 origin;  // the viewport's lower-left corner in the target
 uniform mat3 cam_rot;  // camera → world
 """
     + _SKY_FUNCTION
@@ -221,7 +278,7 @@ uniform mat3 cam_rot;  // camera → world
     + _OUTPUTS
     + """
 void main() {
-    vec2 xy = gl_FragCoord.xy;  // GL window coordinates, y up: image row v = size.y − y
+    vec2 xy = gl_FragCoord.xy - origin;  // GL window coordinates, y up: image row v = size.y − y
     vec3 dir_cam = vec3((xy.x - intrinsics.z) / intrinsics.x, (xy.y - size.y + intrinsics.w) / intrinsics.y, -1.0);
     out_colour = vec4(tone(sky(normalize(cam_rot * dir_cam))), 0.0);
     out_class = sky_class;
@@ -232,14 +289,18 @@ void main() {
 """
 )
 
-_SHADOW_VERTEX = """
+_SHADOW_VERTEX = (
+    """
 #version 330
-uniform mat4 model_t;
 uniform mat4 light_vp;
 in vec3 in_pos;
-in vec3 in_normal;
-void main() { gl_Position = light_vp * (model_t * vec4(in_pos, 1.0)); }
+in uvec4 in_ids;
 """
+    + _MODELS
+    + """
+void main() { gl_Position = light_vp * (model(in_ids.x, 0) * vec4(in_pos, 1.0)); }
+"""
+)
 
 _SHADOW_FRAGMENT = """
 #version 330
@@ -268,9 +329,24 @@ layout(location = 0) out vec4 out_colour;
 void main() { out_colour = vec4(rain_colour, rain_alpha * clamp(2.0 / max(v_depth, 0.5), 0.15, 1.0)); }
 """
 
-_POST_FRAGMENT = """
+_RESOLVE_FRAGMENT = """
 #version 330
-uniform sampler2D colour_ss;   // supersampled colour, linear filtering
+uniform sampler2D samples;  // the samples' images side by side, each one frame wide
+uniform int count;
+uniform int width;
+out vec4 out_colour;
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec4 acc = vec4(0.0);
+    for (int i = 0; i < count; ++i) acc += texelFetch(samples, px + ivec2(i * width, 0), 0);
+    out_colour = acc / float(count);
+}
+"""
+
+#: The post-processing shader; ``MOTION_BLUR``, ``SSR``, ``AO`` and ``BLOOM`` are defined per
+#: renderer like the scene shader's switches.
+_POST_FRAGMENT = """
+uniform sampler2D colour_ss;   // supersampled (resolved) colour, linear filtering
 uniform sampler2D colour_1x;   // raw colour; alpha = reflectivity
 uniform sampler2D depth_1x;    // metres along the axis, inf = sky
 uniform sampler2D flow_1x;     // image-convention pixels, z = valid
@@ -286,6 +362,15 @@ uniform vec3 grade_gain;
 uniform float grade_lift;
 uniform float saturation;
 out vec4 out_colour;
+
+// Unit directions of the ambient-occlusion taps (8 around the circle) and the bloom taps
+// (12, alternating 3 and 7 px): constants, so no per-pixel trigonometry.
+const vec2 AO_TAPS[8] = vec2[8](vec2(0.92388, 0.38268), vec2(0.38268, 0.92388), vec2(-0.38268, 0.92388),
+    vec2(-0.92388, 0.38268), vec2(-0.92388, -0.38268), vec2(-0.38268, -0.92388), vec2(0.38268, -0.92388),
+    vec2(0.92388, -0.38268));
+const vec2 BLOOM_TAPS[12] = vec2[12](vec2(3.0, 0.0), vec2(6.06218, 3.5), vec2(1.5, 2.59808), vec2(0.0, 7.0),
+    vec2(-1.5, 2.59808), vec2(-6.06218, 3.5), vec2(-3.0, 0.0), vec2(-6.06218, -3.5), vec2(-1.5, -2.59808),
+    vec2(0.0, -7.0), vec2(1.5, -2.59808), vec2(6.06218, -3.5));
 
 float depth_at(vec2 px) { return texture(depth_1x, px / size).r; }
 
@@ -304,13 +389,17 @@ void main() {
     vec2 uv = px / size;
     vec3 c = texture(colour_ss, uv).rgb;
     vec4 fl = texture(flow_1x, uv);
-    if (motion_blur > 0.0 && fl.z > 0.5) {
-        vec2 step = vec2(fl.x, -fl.y) * motion_blur;
-        vec3 acc = vec3(0.0);
-        for (int i = 0; i < 6; ++i) acc += texture(colour_ss, (px + step * (float(i) / 5.0 - 0.5)) / size).rgb;
-        c = acc / 6.0;
-    }
+#if MOTION_BLUR
+    vec2 step = vec2(fl.x, -fl.y) * motion_blur;
+    // Only where the shutter smears a quarter pixel or more; a loop no pixel of a block
+    // enters costs nothing (llvmpipe runs both sides of an if, but exits idle loops).
+    int taps = (fl.z > 0.5 && dot(step, step) > 0.0625) ? 6 : 0;
+    vec3 acc = vec3(0.0);
+    for (int i = 0; i < taps; ++i) acc += texture(colour_ss, (px + step * (float(i) / 5.0 - 0.5)) / size).rgb;
+    if (taps > 0) c = acc / 6.0;
+#endif
     float d = depth_at(px);
+#if SSR
     float reflectivity = texture(colour_1x, uv).a;
     if (reflectivity > 0.01 && d < 1e30) {
         vec3 p = cam_point(px, d);
@@ -331,26 +420,26 @@ void main() {
             t *= 1.22;
         }
     }
-    if (ao_strength > 0.0 && d < 1e30) {
+#endif
+#if AO
+    if (d < 1e30) {
         float radius = clamp(0.45 * intrinsics.x / d, 2.0, 10.0);
         float occluded = 0.0;
         for (int i = 0; i < 8; ++i) {
-            float ang = 6.2831853 * (float(i) + 0.5) / 8.0;
-            float dn = depth_at(px + radius * vec2(cos(ang), sin(ang)));
+            float dn = depth_at(px + radius * AO_TAPS[i]);
             float gap = d - dn;
             occluded += (gap > 0.03 && gap < 0.8) ? 1.0 - gap / 0.8 : 0.0;
         }
         c *= 1.0 - ao_strength * occluded / 8.0;
     }
-    if (bloom > 0.0) {
+#endif
+#if BLOOM
+    {
         vec3 glow = vec3(0.0);
-        for (int i = 0; i < 12; ++i) {
-            float ang = 6.2831853 * float(i) / 12.0;
-            float rad = (i % 2 == 0) ? 3.0 : 7.0;
-            glow += max(texture(colour_ss, (px + rad * vec2(cos(ang), sin(ang))) / size).rgb - 0.75, 0.0);
-        }
+        for (int i = 0; i < 12; ++i) glow += max(texture(colour_ss, (px + BLOOM_TAPS[i]) / size).rgb - 0.75, 0.0);
         c += bloom * glow / 12.0;
     }
+#endif
     c = c * grade_gain + grade_lift;
     float luma = dot(c, vec3(0.2126, 0.7152, 0.0722));
     c = mix(vec3(luma), c, saturation);
@@ -428,6 +517,12 @@ def _default_lighting() -> Lighting:
     )  # fmt: skip
 
 
+def _features(source: str, flags: dict[str, bool]) -> str:
+    """A shader's source with its feature switches defined (sorted: the text is deterministic)."""
+    defines = "".join(f"#define {name} {int(on)}\n" for name, on in sorted(flags.items()))
+    return "#version 330\n" + defines + source
+
+
 def _set(prog: moderngl.Program, name: str, value) -> None:
     """Set a uniform if the program uses it (GLSL drops unused ones)."""
     if name in prog:
@@ -455,8 +550,9 @@ class FrameRenderer:
         post: PostSettings | None = None,
         rain_seed: int = 0,
     ):
-        if supersample < 1:
-            raise ValueError(f"supersample must be ≥ 1, got {supersample}")
+        if supersample not in SAMPLE_PATTERNS:
+            choices = sorted(SAMPLE_PATTERNS)
+            raise ValueError(f"supersample must be one of {choices} samples per pixel, got {supersample}")
         self.ctx = ctx
         self.size = (width, height)
         self.drawables = drawables
@@ -467,12 +563,20 @@ class FrameRenderer:
         self.lamps = lamps[:MAX_LAMPS] if self.lighting.lamp_intensity > 0.01 else np.zeros((0, 3))
         self.focus = np.zeros(3) if focus is None else np.asarray(focus, dtype=np.float64)
 
-        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        self.use_shadow = self.lighting.shadows and any(d.casts_shadow for d in drawables)
+        wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in drawables)
+        features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
+        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_features(_FRAGMENT, features))
         self.sky = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_SKY_FRAGMENT)
         self.sky_class = sky_class
         self.shadow_prog = ctx.program(vertex_shader=_SHADOW_VERTEX, fragment_shader=_SHADOW_FRAGMENT)
         self.rain_prog = ctx.program(vertex_shader=_RAIN_VERTEX, fragment_shader=_RAIN_FRAGMENT)
-        self.post_prog = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_POST_FRAGMENT)
+        ps = self.post_settings
+        post_features = {"MOTION_BLUR": ps.motion_blur > 0.0, "SSR": wet, "AO": ps.ambient_occlusion > 0.0,
+                         "BLOOM": ps.bloom > 0.0}  # fmt: skip
+        self.post_prog = ctx.program(
+            vertex_shader=_SKY_VERTEX, fragment_shader=_features(_POST_FRAGMENT, post_features)
+        )
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
         self._tri = ctx.buffer(tri.tobytes())
         self.sky_vao = ctx.vertex_array(self.sky, [(self._tri, "2f", "in_xy")])
@@ -496,21 +600,30 @@ class FrameRenderer:
         self.colour_fbo = ctx.framebuffer(color_attachments=[self.colour_1x], depth_attachment=self.zbuffer)
         self._objects += [self.colour_1x, self.class_rb, self.instance_rb, self.depth_tex, self.flow_tex,
                           self.zbuffer, self.fbo, self.colour_fbo]  # fmt: skip
-        # Supersampled colour pass (its own depth buffer) and the post-processed output.
+        # Supersampled colour: the samples side by side (their own depth buffer), resolved to 1×.
         s = supersample
         if s > 1:
-            self.colour_ss = ctx.texture((width * s, height * s), 4, dtype="f1")
-            self.zbuffer_ss = ctx.depth_renderbuffer((width * s, height * s))
-            self.fbo_ss = ctx.framebuffer(color_attachments=[self.colour_ss], depth_attachment=self.zbuffer_ss)
-            self._objects += [self.colour_ss, self.zbuffer_ss, self.fbo_ss]
+            self.samples_tex = ctx.texture((width * s, height), 4, dtype="f1")
+            self.zbuffer_ss = ctx.depth_renderbuffer((width * s, height))
+            self.fbo_ss = ctx.framebuffer(color_attachments=[self.samples_tex], depth_attachment=self.zbuffer_ss)
+            self.colour_ss = ctx.texture((width, height), 4, dtype="f1")
+            self.resolve_fbo = ctx.framebuffer(color_attachments=[self.colour_ss])
+            self.resolve_prog = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_RESOLVE_FRAGMENT)
+            self.resolve_vao = ctx.vertex_array(self.resolve_prog, [(self._tri, "2f", "in_xy")])
+            _set(self.resolve_prog, "samples", 5)
+            _set(self.resolve_prog, "count", s)
+            _set(self.resolve_prog, "width", width)
+            self._objects += [self.samples_tex, self.zbuffer_ss, self.fbo_ss, self.colour_ss, self.resolve_fbo,
+                              self.resolve_vao, self.resolve_prog]  # fmt: skip
         else:
             self.colour_ss, self.fbo_ss = self.colour_1x, None
+        # Read at pixel centres and, for blur, bloom and reflections, between them.
+        self.colour_ss.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.colour_ss.repeat_x = self.colour_ss.repeat_y = False
         self.out_rb = ctx.renderbuffer((width, height), 4, dtype="f1")
         self.out_fbo = ctx.framebuffer(color_attachments=[self.out_rb])
         self._objects += [self.out_rb, self.out_fbo]
         # Sun shadow map.
-        self.use_shadow = self.lighting.shadows
         if self.use_shadow:
             self.shadow_tex = ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE))
             self.shadow_tex.compare_func = "<="
@@ -520,29 +633,48 @@ class FrameRenderer:
             self.light_vp = _sun_matrix(self.lighting.sun_dir, self.focus)
         else:
             self.light_vp = np.eye(4)
-        # Geometry.
-        self.vaos, self.shadow_vaos = [], []
-        for d in drawables:
-            vbo = ctx.buffer(np.hstack([d.mesh.positions, d.mesh.normals]).astype(np.float32).tobytes())
-            ibo = ctx.buffer(d.mesh.triangles.tobytes())
-            self._objects += [vbo, ibo]
-            self.vaos.append(ctx.vertex_array(self.program, [(vbo, "3f 3f", "in_pos", "in_normal")], ibo))
-            self.shadow_vaos.append(
-                ctx.vertex_array(self.shadow_prog, [(vbo, "3f 12x", "in_pos")], ibo)
-                if self.use_shadow and d.casts_shadow
-                else None
-            )
-        self._objects += self.vaos + [v for v in self.shadow_vaos if v is not None]
+        # Geometry: every drawable in one vertex buffer, drawn with one call per pass through
+        # a per-frame index buffer (the visible drawables, nearest first).
+        vertices, self._indices = _pack(drawables)
+        self._world = _stack_transforms(drawables)  # (L, N, 4, 4) world transforms per frame
+        n = len(drawables)
+        # The models texture's rows: each drawable's matrix columns (column-major, as GLSL).
+        self._columns = np.ascontiguousarray(self._world.transpose(0, 1, 3, 2).reshape(-1, n, 16), dtype=np.float32)
+        self.models_tex = ctx.texture((8, max(n, 1)), 4, dtype="f4")
+        self.models_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self.vbo = ctx.buffer(vertices.tobytes() if n else bytes(_VERTEX_DTYPE.itemsize))
+        total = sum(len(i) for i in self._indices)
+        self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
+        self.vao = ctx.vertex_array(
+            self.program,
+            [(self.vbo, "3f 3f 4u 3f 3f 3f", "in_pos", "in_normal", "in_ids", "in_colour", "in_pattern_colour",
+              "in_emission")],
+            self.index_buffer, index_element_size=4,
+        )  # fmt: skip
+        self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao]
+        casters = [self._indices[i] for i, d in enumerate(drawables) if d.casts_shadow]
+        self.shadow_vao = None
+        if self.use_shadow:
+            self._shadow_count = sum(len(i) for i in casters)
+            self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
+            self.shadow_vao = ctx.vertex_array(
+                self.shadow_prog, [(self.vbo, "3f 12x 4u 36x", "in_pos", "in_ids")], self.shadow_ibo,
+                index_element_size=4,
+            )  # fmt: skip
+            self._objects += [self.shadow_ibo, self.shadow_vao]
         # Bounding spheres (local centre, radius) for frustum culling of the camera passes.
-        self._bounds = []
-        for d in drawables:
+        self._centres = np.zeros((n, 3))
+        self._radii = np.zeros(n)
+        for i, d in enumerate(drawables):
             lo, hi = d.mesh.positions.min(axis=0), d.mesh.positions.max(axis=0)
             centre = (lo + hi) / 2.0
             radius = float(np.linalg.norm(d.mesh.positions - centre, axis=1).max())
             # Transforms are rigid up to a fixed scale (static slabs may be stretched).
             scale = float(np.linalg.svd(d.transforms[0][:3, :3], compute_uv=False).max())
-            self._bounds.append((centre.astype(np.float64), radius * scale))
-        self.triangles_built = sum(d.mesh.n_triangles for d in drawables)
+            self._centres[i], self._radii[i] = centre, radius * scale
+        self._large = self._radii > LARGE_M
+        self._n_triangles = np.array([d.mesh.n_triangles for d in drawables], dtype=np.int64)
+        self.triangles_built = int(self._n_triangles.sum())
         self.triangles_drawn = 0  # summed over the labelled passes of every frame
         # Rain: streak origins in a box around the camera, from the recipe's render seed.
         n_rain = round(RAIN_STREAKS * self.lighting.rain)
@@ -569,13 +701,14 @@ class FrameRenderer:
         _set(p, "sky_ambient", lt.sky_ambient)
         _set(p, "ground_ambient", lt.ground_ambient)
         _set(p, "wetness", float(lt.wetness))
-        _set(p, "use_shadow", int(self.use_shadow))
         _set(p, "lamp_count", len(self.lamps))
         _set(p, "lamp_colour", tuple(float(x) * lt.lamp_intensity for x in (1.0, 0.78, 0.5)))
         if len(self.lamps):
             padded = np.zeros((MAX_LAMPS, 3), dtype=np.float32)
             padded[: len(self.lamps)] = self.lamps
             p["lamp_pos"].write(padded.tobytes())
+        _set(p, "models", 6)
+        _set(self.shadow_prog, "models", 6)
         if self.use_shadow:
             self.shadow_tex.use(location=0)
             _set(p, "shadow_map", 0)
@@ -606,18 +739,22 @@ class FrameRenderer:
         ctx, p = self.ctx, self.program
         start = time.perf_counter()
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
-        if self.use_shadow:
+        last = len(self._columns) - 1
+        at, nxt = min(frame, last), min(frame + 1, last)
+        self.models_tex.write(np.concatenate([self._columns[at], self._columns[nxt]], axis=1).tobytes())
+        self.models_tex.use(location=6)
+        if self.shadow_vao is not None:
             self.shadow_fbo.use()
             ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
             self.shadow_fbo.clear(depth=1.0)
             ctx.enable(moderngl.DEPTH_TEST)
-            for d, vao in zip(self.drawables, self.shadow_vaos, strict=True):
-                if vao is not None:
-                    self.shadow_prog["model_t"].write(_gl(d.transforms[frame]))
-                    vao.render(moderngl.TRIANGLES)
+            self.shadow_vao.render(moderngl.TRIANGLES)
             self.shadow_tex.use(location=0)
         world_to_cam = view(cam_to_world)
-        visible = self._in_frustum(frame, world_to_cam, intrinsics)  # the same at every supersampling
+        order = self._draw_order(at, world_to_cam, intrinsics)  # the same at every supersampling
+        indices = np.concatenate([self._indices[i] for i in order]) if len(order) else np.zeros(0, np.uint32)
+        self.index_buffer.write(indices.tobytes())
+        self.triangles_drawn += int(self._n_triangles[order].sum())
         p["view_t"].write(_gl(world_to_cam))
         p["view_t1"].write(_gl(view(cam_to_world_next)))
         _set(p, "eye", tuple(float(x) for x in cam_to_world[:3, 3]))
@@ -626,9 +763,11 @@ class FrameRenderer:
         rot = tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9))  # column-major mat3
         _set(self.sky, "cam_rot", rot)
         # Labelled pass at 1×, then rain into its colour only.
-        self._scene_pass(self.fbo, frame, intrinsics, 1, visible, labelled=True)
+        self.fbo.use()
+        self.fbo.clear(depth=1.0)
+        self._scene_pass(len(indices), intrinsics, 0, labelled=True)
         if rain is not None:
-            self._rain_pass(self.colour_fbo, rain, intrinsics, 1)
+            self._rain_pass(self.colour_fbo, rain, intrinsics, 0)
         raw = self._read(self.fbo, 0, 4, "f1", np.uint8)
         class_id = self._read(self.fbo, 1, 1, "u2", np.uint16)[..., 0]
         instance = self._read(self.fbo, 2, 1, "u2", np.uint16)[..., 0]
@@ -636,9 +775,7 @@ class FrameRenderer:
         flow = self._read(self.fbo, 4, 4, "f4", np.float32)
         middle = time.perf_counter()
         if self.fbo_ss is not None:
-            self._scene_pass(self.fbo_ss, frame, intrinsics, self.supersample, visible, labelled=False)
-            if rain is not None:
-                self._rain_pass(self.fbo_ss, rain, intrinsics, self.supersample)
+            self._supersample(len(indices), intrinsics, rain)
         rgb = self._post(intrinsics, cam_to_world)
         self.seconds["render"] += middle - start
         self.seconds["post"] += time.perf_counter() - middle
@@ -652,55 +789,42 @@ class FrameRenderer:
             rgb=rgb,
         )
 
-    def _scene_pass(self, fbo, frame: int, intrinsics, scale: int, visible: list[bool], *, labelled: bool) -> None:
+    def _scene_pass(self, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
+        """Draw the scene (the first ``n_indices`` of the frame's index buffer) into the bound
+        framebuffer's ``slot``-th frame-sized viewport."""
         ctx, p = self.ctx, self.program
-        w, h = self.size[0] * scale, self.size[1] * scale
-        fbo.use()
-        ctx.viewport = (0, 0, w, h)
-        fbo.clear(depth=1.0)
-        ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        fx, fy, cx, cy = intrinsics
-        scaled = (fx * scale, fy * scale, cx * scale, cy * scale)
-        _set(self.sky, "intrinsics", tuple(float(x) for x in scaled))
-        _set(self.sky, "size", (float(w), float(h)))
-        self.sky_vao.render(moderngl.TRIANGLES)
+        w, h = self.size
+        ctx.viewport = (slot * w, 0, w, h)
+        ctx.disable(moderngl.BLEND)
         ctx.enable(moderngl.DEPTH_TEST)
-        p["proj"].write(_gl(projection(*scaled, w, h)))
+        p["proj"].write(_gl(projection(*intrinsics, w, h)))
         _set(p, "size", (float(w), float(h)))
-        last = None
-        for d, vao, keep in zip(self.drawables, self.vaos, visible, strict=True):
-            if not keep:
-                continue
-            if labelled:
-                self.triangles_drawn += d.mesh.n_triangles
-            nxt = min(frame + 1, len(d.transforms) - 1)
-            p["model_t"].write(_gl(d.transforms[frame]))
-            p["model_t1"].write(_gl(d.transforms[nxt]))
-            look = (d.class_id, d.instance_id, d.colour, d.material, d.emission, d.pattern, d.pattern_colour)
-            if look != last:
-                p["class_id"].value = d.class_id
-                p["instance_id"].value = d.instance_id
-                p["base_colour"].value = d.colour
-                _set(p, "material", d.material)
-                _set(p, "emission", d.emission)
-                _set(p, "pattern", d.pattern)
-                _set(p, "pattern_colour", d.pattern_colour)
-                last = look
-            vao.render(moderngl.TRIANGLES)
+        _set(p, "with_flow", int(labelled))
+        if n_indices:
+            self.vao.render(moderngl.TRIANGLES, vertices=n_indices)
+        # The sky last, only where no surface was drawn (it sits on the far plane).
+        _set(self.sky, "intrinsics", tuple(float(x) for x in intrinsics))
+        _set(self.sky, "size", (float(w), float(h)))
+        _set(self.sky, "origin", (float(slot * w), 0.0))
+        ctx.depth_func = "<="
+        self.sky_vao.render(moderngl.TRIANGLES)
+        ctx.depth_func = "<"
 
-    def _in_frustum(self, frame: int, world_to_cam: np.ndarray, intrinsics) -> list[bool]:
-        """Conservatively, which drawables' bounding spheres reach into the view at ``frame``."""
+    def _draw_order(self, at: int, world_to_cam: np.ndarray, intrinsics) -> np.ndarray:
+        """The drawables whose bounding spheres reach into the view at frame ``at``, nearest
+        first and large slabs (ground, terrain) last, so hidden surfaces fail the depth test
+        before they are shaded. The order depends only on the scene: it is deterministic."""
         w, h = self.size
         fx, fy, cx, cy = intrinsics
         # Side planes through the camera centre, as unit normals pointing into the frustum.
         planes = np.array([[fx, 0.0, -cx], [-fx, 0.0, -(w - cx)], [0.0, -fy, -cy], [0.0, fy, -(h - cy)]])
         planes /= np.linalg.norm(planes, axis=1, keepdims=True)
-        out = []
-        for d, (centre, r) in zip(self.drawables, self._bounds, strict=True):
-            t = d.transforms[frame]
-            c = world_to_cam[:3, :3] @ (t[:3, :3] @ centre + t[:3, 3]) + world_to_cam[:3, 3]
-            out.append(bool(-c[2] + r >= NEAR_M and np.all(planes @ c >= -r)))
-        return out
+        t = self._world[at]
+        world = np.einsum("nij,nj->ni", t[:, :3, :3], self._centres) + t[:, :3, 3]
+        c = world @ world_to_cam[:3, :3].T + world_to_cam[:3, 3]
+        r = self._radii
+        seen = np.flatnonzero((-c[:, 2] + r >= NEAR_M) & np.all(c @ planes.T >= -r[:, None], axis=1))
+        return seen[np.lexsort((seen, -c[seen, 2], self._large[seen]))]
 
     def _rain_lines(self, frame: int, eye: np.ndarray) -> np.ndarray:
         """Streak end points (2N, 3) at this frame: falling, wrapped into a box around the eye."""
@@ -711,13 +835,31 @@ class FrameRenderer:
         bottom = top + fall * (0.5 / 30.0)  # half a frame of motion: a streak
         return np.stack([top, bottom], axis=1).reshape(-1, 3).astype(np.float32)
 
-    def _rain_pass(self, fbo, lines: np.ndarray, intrinsics, scale: int) -> None:
-        ctx = self.ctx
-        fbo.use()
-        w, h = self.size[0] * scale, self.size[1] * scale
-        ctx.viewport = (0, 0, w, h)
+    def _supersample(self, n_indices: int, intrinsics, rain: np.ndarray | None) -> None:
+        """One jittered colour-only pass per sample of the pattern, then their mean at 1×."""
         fx, fy, cx, cy = intrinsics
-        self.rain_prog["proj"].write(_gl(projection(fx * scale, fy * scale, cx * scale, cy * scale, w, h)))
+        self.fbo_ss.use()
+        self.fbo_ss.clear(depth=1.0)
+        for slot, (dx, dy) in enumerate(SAMPLE_PATTERNS[self.supersample]):
+            # Pixel centre (u + ½) of this sample's image sees image point u + ½ + dx.
+            self._scene_pass(n_indices, (fx, fy, cx - dx, cy - dy), slot, labelled=False)
+        if rain is not None:
+            for slot, (dx, dy) in enumerate(SAMPLE_PATTERNS[self.supersample]):
+                self._rain_pass(self.fbo_ss, rain, (fx, fy, cx - dx, cy - dy), slot)
+        ctx = self.ctx
+        self.resolve_fbo.use()
+        ctx.viewport = (0, 0, *self.size)
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        self.samples_tex.use(location=5)
+        self.resolve_vao.render(moderngl.TRIANGLES)
+
+    def _rain_pass(self, fbo, lines: np.ndarray, intrinsics, slot: int) -> None:
+        """Blend the rain streaks into ``fbo``'s ``slot``-th frame-sized viewport."""
+        ctx = self.ctx
+        w, h = self.size
+        fbo.use()
+        ctx.viewport = (slot * w, 0, w, h)
+        self.rain_prog["proj"].write(_gl(projection(*intrinsics, w, h)))
         self.rain_buffer.write(lines.tobytes())
         ctx.enable(moderngl.DEPTH_TEST | moderngl.BLEND)
         # Streaks blend into the colour; its alpha (the reflectivity) stays.
@@ -733,7 +875,6 @@ class FrameRenderer:
         self.out_fbo.use()
         ctx.viewport = (0, 0, w, h)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        self.colour_ss.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.colour_ss.use(location=1)
         self.colour_1x.use(location=2)
         self.depth_tex.use(location=3)
@@ -747,8 +888,6 @@ class FrameRenderer:
         _set(q, "up_cam", tuple(float(x) for x in cam_to_world[:3, :3].T @ np.array([0.0, 0.0, 1.0])))
         self.post_vao.render(moderngl.TRIANGLES)
         out = self._read(self.out_fbo, 0, 4, "f1", np.uint8)[..., :3]
-        if self.colour_ss is self.colour_1x:
-            self.colour_1x.filter = (moderngl.NEAREST, moderngl.NEAREST)
         return np.ascontiguousarray(out)
 
     def _read(self, fbo, attachment: int, components: int, dtype: str, np_dtype) -> np.ndarray:
@@ -777,6 +916,38 @@ def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
     ortho = np.diag([1.0 / s, 1.0 / s, -2.0 / (far - near), 1.0])
     ortho[2, 3] = -(far + near) / (far - near)
     return ortho @ view(c2w)
+
+
+#: One vertex of the shared buffer: geometry, then its drawable's labels and look.
+_VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4", 4), ("colour", "<f4", 3),
+                          ("pattern_colour", "<f4", 3), ("emission", "<f4", 3)])  # fmt: skip
+
+
+def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Every drawable's vertices in one array (labels and look per vertex; colours made
+    linear here, once) and each drawable's triangle indices into it."""
+    parts, indices, offset = [], [], 0
+    for i, d in enumerate(drawables):
+        v = np.zeros(len(d.mesh.positions), dtype=_VERTEX_DTYPE)
+        v["pos"], v["normal"] = d.mesh.positions, d.mesh.normals
+        v["ids"] = (i, d.class_id, d.instance_id, d.material * 16 + d.pattern)
+        v["colour"] = np.power(np.asarray(d.colour, dtype=np.float64), 2.2)
+        v["pattern_colour"] = np.power(np.asarray(d.pattern_colour, dtype=np.float64), 2.2)
+        v["emission"] = d.emission
+        parts.append(v)
+        indices.append((d.mesh.triangles.reshape(-1) + offset).astype(np.uint32))
+        offset += len(v)
+    return (np.concatenate(parts) if parts else np.zeros(0, _VERTEX_DTYPE)), indices
+
+
+def _stack_transforms(drawables: list[Drawable]) -> np.ndarray:
+    """World transforms (L, N, 4, 4) of N drawables over L frames (a shorter track holds its
+    last pose)."""
+    frames = max((len(d.transforms) for d in drawables), default=1)
+    out = np.tile(np.eye(4), (frames, len(drawables), 1, 1))
+    for i, d in enumerate(drawables):
+        out[:, i] = d.transforms[np.minimum(np.arange(frames), len(d.transforms) - 1)]
+    return out
 
 
 def _gl(m: np.ndarray) -> bytes:

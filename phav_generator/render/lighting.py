@@ -109,9 +109,9 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         sky_zenith=zenith,
         sky_horizon=horizon,
         fog_colour=fog_colour,
-        fog_per_m=HAZE_PER_M + FOG_PER_M * fog,
+        fog_per_m=HAZE_PER_M + (0.0 if indoor else FOG_PER_M * fog),  # no fog or rain inside a house
         wetness=wetness,
-        rain=rain,
+        rain=0.0 if indoor else rain,
         lamp_intensity=lamps,
         daylight=daylight,
     )

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 #: Segments around a capsule or sphere, and rings per hemisphere.
-AROUND = 16
-RINGS = 4
+AROUND = 12
+RINGS = 3
 
 
 @dataclass(frozen=True)
@@ -70,30 +70,33 @@ def _orthonormal(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def capsule(a: tuple[float, float, float], b: tuple[float, float, float], radius: float) -> Mesh:
     """A capsule from ``a`` to ``b`` (a sphere where they coincide): a cylinder and two
-    hemispheres, smooth normals."""
+    hemispheres, smooth normals, a single vertex at each pole (no degenerate triangles)."""
     a_, b_ = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
     axis = b_ - a_
     length = float(np.linalg.norm(axis))
     axis = axis / length if length > 1e-9 else np.array([0.0, 0.0, 1.0])
     u, v = _orthonormal(axis)
-    # Latitude rings from the pole at a (−90°) to the pole at b (+90°); the equator is
-    # repeated, once at each end of the cylinder.
-    lats = [(-math.pi / 2 + math.pi / 2 * i / RINGS, a_) for i in range(RINGS + 1)]
-    lats += [(math.pi / 2 * i / RINGS, b_) for i in range(RINGS + 1)]
-    positions, normals = [], []
+    # Latitude rings between the poles: the hemisphere at a up to its equator, then the one
+    # at b from its equator (the cylinder is the band between the two; a sphere has one).
+    lats = [(-math.pi / 2 + math.pi / 2 * i / RINGS, a_) for i in range(1, RINGS + 1)]
+    lats += [(math.pi / 2 * i / RINGS, b_) for i in range(0 if length > 1e-9 else 1, RINGS)]
+    positions, normals = [a_ - radius * axis], [-axis]
     for lat, centre in lats:
         for k in range(AROUND):
             lon = 2 * math.pi * k / AROUND
             n = math.cos(lat) * (math.cos(lon) * u + math.sin(lon) * v) + math.sin(lat) * axis
             positions.append(centre + radius * n)
             normals.append(n)
-    triangles = []
-    for ring in range(len(lats) - 1):
+    positions.append(b_ + radius * axis)
+    normals.append(axis)
+    last = len(positions) - 1
+    ring = lambda r, k: 1 + r * AROUND + k % AROUND  # noqa: E731
+    triangles = [(0, ring(0, k + 1), ring(0, k)) for k in range(AROUND)]
+    for r in range(len(lats) - 1):
         for k in range(AROUND):
-            i0 = ring * AROUND + k
-            i1 = ring * AROUND + (k + 1) % AROUND
-            j0, j1 = i0 + AROUND, i1 + AROUND
+            i0, i1, j0, j1 = ring(r, k), ring(r, k + 1), ring(r + 1, k), ring(r + 1, k + 1)
             triangles += [(i0, i1, j1), (i0, j1, j0)]
+    triangles += [(ring(len(lats) - 1, k), ring(len(lats) - 1, k + 1), last) for k in range(AROUND)]
     return _mesh(positions, normals, triangles)
 
 

@@ -178,7 +178,7 @@ def _upper_storey(env: EnvironmentScene, n: int) -> list[Drawable]:
 
 def build_drawables(recipe: Recipe, trajectory: Trajectory, lighting: Lighting | None = None) -> list[Drawable]:
     """Everything the camera may see in this video, static world first (lamps glow when
-    ``lighting`` switches them on; windows show its sky)."""
+    ``lighting`` switches them on; windows show its sky, through the fog when there is fog)."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     n = len(trajectory.times)
     eye = np.eye(4)
@@ -188,7 +188,8 @@ def build_drawables(recipe: Recipe, trajectory: Trajectory, lighting: Lighting |
     for c in env.colliders:
         look: dict = {}
         if c.pixel_class == "window" and lighting is not None:
-            look = {"material": EMISSIVE, "emission": tuple(0.9 * x for x in lighting.sky_horizon)}
+            # The outside seen through the glass: the horizon, or the fog veiling it.
+            look = {"material": EMISSIVE, "emission": tuple(0.9 * x for x in lighting.fog_colour)}
         elif c.pixel_class == "lamp":
             look = {"material": EMISSIVE, "emission": glow}
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import phav_generator.motion_library as ml
-from phav_generator.animation import MOTION_LIBRARY, MotionParams, get_motion, mirror, play
+from phav_generator.animation import MOTION_LIBRARY, REFERENCE_HEIGHT_M, MotionParams, animate, get_motion, mirror, play
 from phav_generator.rotations import quat_to_matrix
 from phav_generator.skeleton import (
     BONE_INDEX,
@@ -447,3 +447,23 @@ def test_actions_are_distinguishable_by_a_nearest_centroid_classifier():
     )
     print(summary)
     assert acc >= 0.6, summary
+
+
+@pytest.mark.parametrize("name", ["walk_forward_01", "run_away_panic_01", "walk_circle_01"])
+def test_a_clip_starting_part_way_into_a_motion_starts_where_the_recipe_puts_it(name):
+    """Started seconds into a travelling motion, the clip's first frame still stands on the
+    recipe's position facing its heading, and then moves as the motion does from there."""
+    motion = get_motion(name)
+    dims = REF
+    times = np.arange(31) / 30.0
+    params = MotionParams(speed=1.0, amplitude=1.0, phase=0.0, style=0.0, mirror=False)
+    start = 0.6 * motion.length_s
+    placed = animate(name, times, start, params, dims, (4.0, -2.0, 0.5), 30.0)
+    np.testing.assert_allclose(placed.root_pos[0, :2], (4.0, -2.0), atol=1e-9)
+    m = quat_to_matrix(placed.root_quat[0])
+    assert np.degrees(np.arctan2(m[1, 0], m[0, 0])) == pytest.approx(30.0, abs=1e-6)
+    # The path from there is the motion's own, rigidly moved: distances along it are kept.
+    raw = play(motion, times, start, params).root_pos * (1.75 / REFERENCE_HEIGHT_M)
+    np.testing.assert_allclose(np.linalg.norm(np.diff(placed.root_pos[:, :2], axis=0), axis=1),
+                               np.linalg.norm(np.diff(raw[:, :2], axis=0), axis=1), atol=1e-9)  # fmt: skip
+    assert np.linalg.norm(raw[0, :2]) > 0.5  # the motion had travelled: the anchoring mattered

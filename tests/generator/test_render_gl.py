@@ -11,8 +11,9 @@ import pytest
 from phav_generator.render.camera import project
 from phav_generator.render.gl import Drawable, FrameRenderer, gl_context
 from phav_generator.render.meshes import box, capsule
+from phav_generator.render.modalities import encode_frame
 from phav_generator.rotations import axis_angle_matrix, look_at
-from phav_spec.encoding import encode_depth
+from phav_spec.encoding import DEPTH_MAX_CODE, decode_flow, encode_depth
 
 W, H = 340, 256
 INTRINSICS = (260.0, 260.0, 170.0, 128.0)
@@ -122,11 +123,44 @@ def test_flow_of_a_rotating_limb(ctx):
 
 
 def test_points_behind_the_camera_at_the_next_frame_have_no_flow(ctx):
-    """The camera moves through a wall 3 m ahead: every wall point is behind it at t + 1."""
+    """The camera moves through a wall 3 m ahead: every wall point is behind it at t + 1,
+    and the flow PNG encodes every pixel as invalid (0, 0, 0)."""
     wall = _pose(translation=(0.0, 0.0, -3.0))
     cam1 = _pose(translation=(0.0, 0.0, -4.0))
     frame = _render(ctx, [Drawable(box((20, 20, 0.01)), np.stack([wall, wall]), 2)], np.eye(4), cam1)
     assert not frame.flow_valid.any() and np.all(frame.flow == 0.0)
+    assert np.all(encode_frame(frame)["flow"] == 0)
+
+
+def test_sky_is_encoded_as_no_depth_and_no_flow(ctx):
+    """A box floating in the sky: sky pixels get the depth sky code and invalid flow."""
+    cam = _look((0.0, -6.0, 1.0), (0.0, 0.0, 1.0))
+    t = _pose(translation=(0.0, 0.0, 1.0))
+    frame = _render(ctx, [Drawable(box((0.5, 0.5, 0.5)), np.stack([t, t]), 22, 3)], cam, cam)
+    out = encode_frame(frame)
+    sky = frame.class_id == SKY
+    assert 0.5 < sky.mean() < 0.99
+    assert np.all(out["depth"][sky] == DEPTH_MAX_CODE) and np.all(out["flow"][sky] == 0)
+    assert np.all(out["depth"][~sky] < DEPTH_MAX_CODE) and np.all(out["flow"][~sky][:, 2] == 1)
+
+
+def test_flow_beyond_512_px_is_encoded_invalid(ctx):
+    """The camera slides 10 m sideways over a ground plane: near pixels move more than 512 px
+    (encoded invalid), far ones less (encoded and decoded within the 1/64 px quantum)."""
+    cam0 = _look((0.0, 0.0, 1.6), (0.0, 30.0, 0.0))
+    cam1 = cam0.copy()
+    cam1[:3, 3] += (10.0, 0.0, 0.0)
+    plane = _pose(translation=(0.0, 40.0, -0.01))
+    frame = _render(ctx, [Drawable(box((200, 40, 0.01)), np.stack([plane, plane]), 2)], cam0, cam1)
+    expected = _analytic_flow(frame.depth_m, cam0, cam1)
+    on = frame.class_id == 2
+    speed = np.abs(expected).max(axis=-1)
+    far, near = on & (speed < 500.0), on & (speed > 524.0)
+    assert far.sum() > 1000 and near.sum() > 1000  # both sides of the limit are in view
+    flow, valid = decode_flow(encode_frame(frame)["flow"])
+    assert not valid[near].any() and np.all(encode_frame(frame)["flow"][near] == 0)
+    assert valid[far].all()
+    assert np.abs(flow[far] - expected[far]).max() < EPE_PX + 1.0 / 64.0
 
 
 def test_rendering_is_deterministic(ctx):
