@@ -116,3 +116,27 @@ def test_bench_render_reports_stages_error_and_the_floor():
     assert [r[0] for r in rows[:2]] == ["1×", "2×"]
     assert all(float(r[1]) > 0 for r in rows[:2])
     assert "encode-only floor" in out and "content hashes equal the bench's 2× run" in out
+
+
+def test_sheets_make_one_image_per_value_and_an_index(tmp_path):
+    """Weather sheets: one JPEG per weather of one base scene, listed by the index page, and
+    different from each other only where the weather shows (the labels row is shared)."""
+    import numpy as np
+    from PIL import Image
+
+    from phav_spec.vocab import WEATHERS
+
+    out = tmp_path / "sheets"
+    result = run_cli("sheets", "--by", "weather", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    images = {w: np.asarray(Image.open(out / f"weather-{w}.jpg")) for w in WEATHERS.names}
+    index = (out / "README.md").read_text()
+    assert all(f"weather-{w}.jpg" in index for w in WEATHERS.names)
+    shapes = {im.shape for im in images.values()}
+    assert shapes == {(18 + 2 * 256, 3 * 340, 3)}
+    rgb = {w: im[18 : 18 + 256].astype(float) for w, im in images.items()}  # the RGB row
+    labels = {w: im[18 + 256 + 20 :, :340].astype(float) for w, im in images.items()}  # semantic tile
+    assert np.abs(rgb["fog"] - rgb["clear"]).mean() > 5.0
+    assert max(np.abs(labels[w] - labels["clear"]).mean() for w in WEATHERS.names) < 1.0
+    bad = run_cli("sheets", "--by", "mood", "--out", str(out))
+    assert bad.returncode == 2 and "mood" in bad.stderr and "Traceback" not in bad.stderr
