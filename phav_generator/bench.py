@@ -128,7 +128,7 @@ class RenderRun:
     frames: int
     seconds: dict[str, float]  # physics, render, post, encode, write
     edge_error: float | None  # mean |RGB − 4× reference| on edge pixels, 8-bit levels
-    triangles_built: dict[str, int]  # per environment (scene totals)
+    triangles_built: dict[str, float]  # per environment, mean over its videos of the scene total
     triangles_drawn: dict[str, float]  # per environment, mean per frame after culling
     hashes: dict[str, str]  # video id → content hash
 
@@ -214,7 +214,7 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
                             errors.append(float(diff[edge].mean()) if edge.any() else 0.0)
                 seconds["render"] += renderer.seconds["render"]
                 seconds["post"] += renderer.seconds["post"]
-                built[env] = renderer.triangles_built
+                built.setdefault(env, []).append(renderer.triangles_built)
                 drawn.setdefault(env, []).append(renderer.triangles_drawn / max(n, 1))
                 renderer.release()
                 hashes[r.video_id] = h.video_hash()
@@ -222,7 +222,8 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
                 encode_only = sum(n_frames) / max(png_s, 1e-9)
                 continue
             runs.append(RenderRun(factor, sum(n_frames), seconds, float(np.mean(errors)) if errors else None,
-                                  built, {e: float(np.mean(v)) for e, v in drawn.items()}, hashes))  # fmt: skip
+                                  {e: float(np.mean(v)) for e, v in built.items()},
+                                  {e: float(np.mean(v)) for e, v in drawn.items()}, hashes))  # fmt: skip
     finally:
         ctx.release()
         for p in tmp.glob("*"):

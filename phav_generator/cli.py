@@ -524,10 +524,10 @@ def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int
                   f"({two_workers / encode_only:.2f}× the one-process floor); "
                   f"its content hashes {'equal' if same else 'DIFFER from'} the bench's 2× run")  # fmt: skip
     tri = Table(title="triangles per environment", title_justify="left")
-    for col in ("environment", "built (scene)", "drawn / frame (after culling)"):
+    for col in ("environment", "built (scene, mean per video)", "drawn / frame (after culling)"):
         tri.add_column(col, justify="right")
     for env in sorted(runs[0].triangles_built):
-        tri.add_row(env, f"{runs[0].triangles_built[env]:,}", f"{runs[0].triangles_drawn[env]:,.0f}")
+        tri.add_row(env, f"{runs[0].triangles_built[env]:,.0f}", f"{runs[0].triangles_drawn[env]:,.0f}")
     console.print(tri)
 
 
