@@ -659,7 +659,6 @@ class FrameRenderer:
         casters = [self._indices[i] for i, d in enumerate(drawables) if d.casts_shadow]
         self.shadow_vao = None
         if self.use_shadow:
-            self._shadow_count = sum(len(i) for i in casters)
             self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
             self.shadow_vao = ctx.vertex_array(
                 self.shadow_prog, [(self.vbo, "3f 12x 4u 36x", "in_pos", "in_ids")], self.shadow_ibo,
