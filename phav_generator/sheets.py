@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from PIL import Image, ImageDraw
@@ -21,6 +22,9 @@ from phav_generator.sampling import RecipeSampler
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
 from phav_spec.vocab import ACTIONS, DAY_PHASES, ENVIRONMENTS, WEATHERS
+
+if TYPE_CHECKING:
+    import moderngl
 
 #: What a sheet can be made per, and the values of each.
 SHEET_KINDS: dict[str, tuple[str, ...]] = {
@@ -86,7 +90,7 @@ def _caption(r: Recipe) -> str:
             f"{hour:02d}:{minute:02d}, {r.camera.kind} camera, {r.n_frames} frames")  # fmt: skip
 
 
-def render_sheet(spec: SheetSpec, ctx=None) -> Image.Image:
+def render_sheet(spec: SheetSpec, ctx: moderngl.Context | None = None) -> Image.Image:
     """The sheet of ``spec``: RGB at three frames above the middle frame's labels, depth, flow."""
     from phav_generator.physics.simulate import simulate
     from phav_generator.render.modalities import encode_frame
