@@ -56,9 +56,14 @@ class MetaColumn:
     doc: str
 
 
-CAMERA_COLUMNS: tuple[MetaColumn, ...] = (
+#: The key every per-frame table starts with.
+_FRAME_KEY: tuple[MetaColumn, ...] = (
     MetaColumn("video_id", "string", "v000123"),
     MetaColumn("frame", "int64", "frame index from 0"),
+)
+
+CAMERA_COLUMNS: tuple[MetaColumn, ...] = (
+    *_FRAME_KEY,
     MetaColumn("time_s", "float64", "frame / fps"),
     MetaColumn("fx", "float64", "focal length along u, px"),
     MetaColumn("fy", "float64", "focal length along v, px"),
@@ -68,8 +73,7 @@ CAMERA_COLUMNS: tuple[MetaColumn, ...] = (
 )
 
 PEOPLE_COLUMNS: tuple[MetaColumn, ...] = (
-    MetaColumn("video_id", "string", "v000123"),
-    MetaColumn("frame", "int64", "frame index from 0"),
+    *_FRAME_KEY,
     MetaColumn("person_id", "int64", "0 protagonist, 1 supporting, 2… background"),
     MetaColumn("instance_rgb", "list<int64>[3]", "the person's colour in the instance modality"),
     MetaColumn("role", "string", "protagonist, supporting or background"),
