@@ -63,7 +63,7 @@ def _first(sampler: RecipeSampler, seed: int, keep: Callable[[Recipe], bool], wh
 def sheet_specs(theta: Theta, seed: int, kinds: tuple[str, ...]) -> Iterator[SheetSpec]:
     """The sheets of ``kinds``, in the vocabularies' order."""
     unknown = sorted(set(kinds) - set(SHEET_KINDS))
-    if unknown:
+    if unknown or not kinds:
         raise ValueError(f"unknown sheet kind(s) {unknown}; choose from {', '.join(SHEET_KINDS)}")
     sampler = RecipeSampler(theta)
     base = None
