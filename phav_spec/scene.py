@@ -526,8 +526,8 @@ def _lake_colliders() -> tuple[Collider, ...]:
 
 def _stadium_colliders() -> tuple[Collider, ...]:
     # The pitch is the base plane. The main (north) stand's first terrace, top 1.5, carries
-    # waypoint (0, 32, 1.5) with 3 m to spare; the background waypoint (0, 30, 0) therefore
-    # lies inside its footprint (see test_colliders.py), the only such overlap.
+    # waypoint (0, 32, 1.5) with 3 m to spare; the background waypoint (0, 27, 0) stands 2 m
+    # in front of it.
     g = 0.0
     north = (
         _box("stairs", 0.0, 32.5, g, 60.0, 7.0, 1.5),  # terrace, y ∈ [29, 36]
@@ -769,7 +769,7 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     (-45.0, 0.0, 0.0),
                     (45.0, 0.0, 0.0),
                     (0.0, -30.0, 0.0),
-                    (0.0, 30.0, 0.0),
+                    (0.0, 27.0, 0.0),
                     (-30.0, 20.0, 0.0),
                     (30.0, -20.0, 0.0),
                 ),

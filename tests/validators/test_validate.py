@@ -48,7 +48,7 @@ def _replace_column(table: pa.Table, name: str, values) -> pa.Table:
 def test_good_table_passes(good):
     result = run_cli("validate!", str(good))
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "1500 recipes, 1500 valid" in result.stdout and "all checks passed" in result.stdout
+    assert "1500 recipes" in result.stdout and "1500/1500 recipes valid" in result.stdout and "all checks passed" in result.stdout
     stats = run_cli("stats", str(good))
     assert stats.returncode == 0 and "goodness of fit" in stats.stdout and "camera" in stats.stdout
 
@@ -83,8 +83,8 @@ def test_invalid_recipe_json_is_found_and_the_rest_still_checked(good, tmp_path)
     bad = _rewrite(good, tmp_path / "r.parquet", edit)
     result = run_cli("validate!", str(bad), "--theta", "phav-v1")
     assert result.returncode == 1
-    assert result.stdout.count("RECIPE_INVALID") == 2
-    assert "world.weather" in result.stdout and "1498 valid" in result.stdout
+    assert result.stdout.count("schema RECIPE_INVALID") == 2
+    assert "world.weather" in result.stdout and "1498/1500 recipes valid" in result.stdout
 
 
 def test_wrong_theta_is_reported(good, tmp_path):

@@ -1,0 +1,463 @@
+"""The paper's failure cases, recomputed from poses, cameras and the environment geometry.
+
+Nothing here trusts a flag the generator wrote (``penetration_m``, ``joint_limit_excess``,
+``visible``): every measure is taken again from the 3-D joints in ``people.parquet``, the
+camera poses in ``cameras.parquet`` and the environment's collision boxes rebuilt from each
+recipe (``phav_spec.scene``); the base motion for the perturbation test is re-planned from
+the recipe (``phav_generator.physics.plan``: kinematics only, no physics, no GL).
+
+A video fails when any measure crosses its threshold; the dataset fails when the share of
+failed videos exceeds the budget (default 10 %, the paper's estimate of its failure rate).
+A non-finite pose is a broken file rather than a failure case and always fails.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from phav_spec.metadata import JOINT_ORDER
+from phav_spec.recipe import Recipe
+from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, WALKABLE_PIXEL_CLASSES, Collider
+from phav_validators.findings import CheckResult, Finding, Reason, Report
+
+if TYPE_CHECKING:
+    import pyarrow as pa
+
+#: The paper's estimate of its failure rate: the default budget.
+DEFAULT_BUDGET = 0.10
+
+_J = {name: i for i, name in enumerate(JOINT_ORDER)}
+#: Joint pairs on one rigid body or across one hinge: their distance never changes.
+RIGID_PAIRS: tuple[tuple[int, int], ...] = tuple(
+    (_J[a], _J[b])
+    for a, b in (
+        ("neck", "left_shoulder"), ("neck", "right_shoulder"), ("left_shoulder", "right_shoulder"),
+        ("left_shoulder", "left_elbow"), ("left_elbow", "left_wrist"),
+        ("right_shoulder", "right_elbow"), ("right_elbow", "right_wrist"),
+        ("left_hip", "right_hip"), ("left_hip", "left_knee"), ("left_knee", "left_ankle"),
+        ("right_hip", "right_knee"), ("right_knee", "right_ankle"),
+    )
+)  # fmt: skip
+#: Limbs whose midpoints are tested against the geometry along with the joints.
+_LIMBS = RIGID_PAIRS[3:7] + RIGID_PAIRS[8:] + ((_J["neck"], _J["left_hip"]), (_J["neck"], _J["right_hip"]))
+
+
+#: An ankle this close (m) above its support is planted; a neck this far above the hips, upright.
+PLANTED_M = 0.15
+UPRIGHT_M = 0.35
+
+
+@dataclass(frozen=True)
+class Thresholds:
+    """Where a measure becomes a failure (metres, seconds, radians; docs/validation.md)."""
+
+    max_speed_m_s: float = 30.0  # a joint faster than this between frames: explosion
+    max_stretch_m: float = 0.03  # a rigid joint pair longer or shorter than its median by this
+    penetration_m: float = 0.08  # a joint or limb midpoint this deep inside a box or the ground
+    knee_hyperextension_m: float = 0.08  # knee this far behind the hip–ankle line
+    on_screen_fraction: float = 0.5  # protagonist in view in fewer frames than this: off-screen
+    min_instance_pixels: int = 30  # fewer protagonist pixels than this: hidden
+    camera_inside_m: float = 0.02  # the camera this deep inside geometry
+    perturbation_m: float = 0.30  # necessary-muscle joints this far from the base motion (mean)
+    slide_m_s: float = 0.8  # a planted foot's mean horizontal speed above this
+
+
+@dataclass
+class PersonSeries:
+    """One person's 3-D joints over the frames of a video."""
+
+    person_id: int
+    role: str
+    frames: np.ndarray  # (T,) frame numbers, sorted
+    joints: np.ndarray  # (T, 13, 3)
+    pinned: np.ndarray  # (T,) root pin ≥ 0.5: the body follows its animation, physics does not own it
+
+
+@dataclass
+class CameraSeries:
+    frames: np.ndarray  # (T,)
+    poses: np.ndarray  # (T, 4, 4) camera to world
+    intrinsics: np.ndarray  # (T, 4) fx, fy, cx, cy
+
+
+@dataclass
+class VideoFailures:
+    """The measures of one video and the failures they amount to."""
+
+    video_id: str
+    measures: dict[str, float] = field(default_factory=dict)
+    failures: list[tuple[Reason, str]] = field(default_factory=list)
+
+    @property
+    def failed(self) -> bool:
+        return bool(self.failures)
+
+
+def _fixed_list(column: pa.ChunkedArray, width: int) -> np.ndarray:
+    """A fixed-size list<float64> column as (rows, width) floats (nulls as NaN)."""
+    flat = column.combine_chunks().flatten()
+    return flat.to_numpy(zero_copy_only=False).astype(float).reshape(-1, width)
+
+
+def people_series(table: pa.Table) -> dict[str, list[PersonSeries]]:
+    """``people.parquet`` → per video, per person, the joints ordered by frame."""
+    vids = np.asarray(table.column("video_id").to_pylist(), dtype=object)
+    frames = table.column("frame").to_numpy()
+    pids = table.column("person_id").to_numpy()
+    roles = np.asarray(table.column("role").to_pylist(), dtype=object)
+    joints = _fixed_list(table.column("joints3d"), 39).reshape(-1, 13, 3)
+    pinned = _fixed_list(table.column("pin_weight"), 15)[:, 0] >= 0.5
+    order = np.lexsort((frames, pids, vids))
+    out: dict[str, list[PersonSeries]] = {}
+    start = 0
+    n = len(order)
+    while start < n:
+        i0 = order[start]
+        end = start
+        while end < n and vids[order[end]] == vids[i0] and pids[order[end]] == pids[i0]:
+            end += 1
+        rows = order[start:end]
+        out.setdefault(str(vids[i0]), []).append(
+            PersonSeries(int(pids[i0]), str(roles[i0]), frames[rows], joints[rows], pinned[rows])
+        )
+        start = end
+    return out
+
+
+def camera_series(table: pa.Table) -> dict[str, CameraSeries]:
+    """``cameras.parquet`` → per video the camera poses ordered by frame."""
+    vids = np.asarray(table.column("video_id").to_pylist(), dtype=object)
+    frames = table.column("frame").to_numpy()
+    poses = _fixed_list(table.column("cam_to_world"), 16).reshape(-1, 4, 4)
+    intr = np.stack([table.column(c).to_numpy() for c in ("fx", "fy", "cx", "cy")], axis=1)
+    order = np.lexsort((frames, vids))
+    out: dict[str, CameraSeries] = {}
+    for vid in dict.fromkeys(vids[order]):
+        rows = order[vids[order] == vid]
+        out[str(vid)] = CameraSeries(frames[rows], poses[rows], intr[rows])
+    return out
+
+
+class BoxSet:
+    """An environment's collision boxes as arrays, for vectorised inside / crossing tests."""
+
+    def __init__(self, colliders: Sequence[Collider]):
+        self.colliders = tuple(colliders)
+        self.center = np.array([c.center for c in colliders], dtype=float).reshape(-1, 3)
+        self.half = np.array([c.half_size for c in colliders], dtype=float).reshape(-1, 3)
+        yaw = np.radians([c.yaw_deg for c in colliders])
+        self.cos, self.sin = np.cos(yaw), np.sin(yaw)
+
+    def local(self, points: np.ndarray) -> np.ndarray:
+        """Points (..., 3) in every box's frame: (..., B, 3)."""
+        d = points[..., None, :] - self.center
+        x = d[..., 0] * self.cos + d[..., 1] * self.sin
+        y = -d[..., 0] * self.sin + d[..., 1] * self.cos
+        return np.stack([x, y, d[..., 2]], axis=-1)
+
+    def depth_inside(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """How deep each point (..., 3) is inside its deepest box (negative: outside all) and
+        which box (..., ); with no boxes, −inf and −1."""
+        if len(self.colliders) == 0:
+            shape = points.shape[:-1]
+            return np.full(shape, -np.inf), np.full(shape, -1)
+        depth = (self.half - np.abs(self.local(points))).min(axis=-1)  # (..., B)
+        which = depth.argmax(axis=-1)
+        return np.take_along_axis(depth, which[..., None], axis=-1)[..., 0], which
+
+    def crossed(self, a: np.ndarray, b: np.ndarray, min_height: float = 1.0) -> np.ndarray:
+        """For segments a→b (T, 3), the index of a box at least ``min_height`` tall whose
+        interior the segment passes through (slab test), −1 when none."""
+        out = np.full(len(a), -1)
+        if len(self.colliders) == 0:
+            return out
+        la, lb = self.local(a), self.local(b)  # (T, B, 3)
+        d = lb - la
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t0 = (-self.half - la) / d
+            t1 = (self.half - la) / d
+        lo = np.where(d == 0, np.where(np.abs(la) < self.half, -np.inf, np.inf), np.minimum(t0, t1))
+        hi = np.where(d == 0, np.where(np.abs(la) < self.half, np.inf, -np.inf), np.maximum(t0, t1))
+        enter, leave = lo.max(axis=-1), hi.min(axis=-1)
+        hit = (enter < leave) & (leave > 0) & (enter < 1) & (2 * self.half[:, 2] >= min_height)
+        any_hit = hit.any(axis=-1)
+        out[any_hit] = hit[any_hit].argmax(axis=-1)
+        return out
+
+
+_BOXES: dict[str, BoxSet] = {}
+
+
+def boxes(environment: str) -> BoxSet:
+    """The environment's collision boxes (cached per process)."""
+    if environment not in _BOXES:
+        _BOXES[environment] = BoxSet(ENVIRONMENT_SCENES[environment].colliders)
+    return _BOXES[environment]
+
+
+def _support(environment: str, points: np.ndarray) -> np.ndarray:
+    """Height of the walkable surface under each point (..., 3): the highest walkable box
+    top below the point, else the ground plane."""
+    env = ENVIRONMENT_SCENES[environment]
+    walk = [c for c in env.colliders if c.pixel_class in WALKABLE_PIXEL_CLASSES]
+    height = np.full(points.shape[:-1], env.ground_z)
+    if not walk:
+        return height
+    bs = BoxSet(walk)
+    local = bs.local(points)  # (..., B, 3)
+    over = (np.abs(local[..., 0]) <= bs.half[:, 0]) & (np.abs(local[..., 1]) <= bs.half[:, 1])
+    tops = bs.center[:, 2] + bs.half[:, 2]
+    below = over & (tops <= points[..., None, 2] + 0.05)
+    return np.maximum(height, np.where(below, tops, -np.inf).max(axis=-1))
+
+
+def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pixel coordinates (T, 13, 2) and camera depths (T, 13) of joints at the given camera rows."""
+    pose = cams.poses[index]
+    r = pose[:, :3, :3]
+    t = pose[:, :3, 3]
+    cam = np.einsum("tji,tkj->tki", r, joints - t[:, None, :])  # R^T (p − t)
+    z = -cam[..., 2]
+    fx, fy, cx, cy = (cams.intrinsics[index, i][:, None] for i in range(4))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        uv = np.stack([cx + fx * cam[..., 0] / z, cy - fy * cam[..., 1] / z], axis=-1)
+    return uv, z
+
+
+def _base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
+    """The protagonist's animated (unperturbed) joints per frame (T, 13, 3) and whether the
+    pins hold the body to the animation then (T,), re-planned from the recipe."""
+    from phav_generator.physics.plan import plan_scene
+    from phav_generator.skeleton import JOINT_BODIES, forward_kinematics
+
+    plan = plan_scene(recipe)
+    person = next((p for p in plan.people if p.person_id == recipe.protagonist.person_id), None)
+    if person is None:
+        return None
+    steps = np.arange(recipe.n_frames) * plan.substeps
+    t = person.targets
+    pos, _ = forward_kinematics(person.dims, t.root_pos[steps], t.root_quat[steps], t.q[steps])
+    return pos[:, list(JOINT_BODIES)], person.pin[steps] >= 0.5
+
+
+def _necessary_joints(action: str) -> list[int]:
+    """Joints moved by the action's necessary muscles (a joint is its body's origin, so it
+    moves with its parent body)."""
+    from phav_generator.skeleton import BONES, JOINT_BODIES
+
+    necessary = set(ACTION_SCENES[action].necessary_muscles)
+    return [j for j, b in enumerate(JOINT_BODIES) if BONES[b].parent in necessary]
+
+
+def video_failures(
+    recipe: Recipe,
+    people: Sequence[PersonSeries],
+    cams: CameraSeries | None,
+    *,
+    instance_pixels: Mapping[int, Sequence[int]] | None = None,
+    thresholds: Thresholds = Thresholds(),
+) -> VideoFailures:
+    """Every failure measure of one video; ``failures`` lists those over their threshold."""
+    th = thresholds
+    out = VideoFailures(recipe.video_id)
+    env = recipe.environment.name
+    box = boxes(env)
+    ground = ENVIRONMENT_SCENES[env].ground_z
+    fps = recipe.video.fps
+    m = out.measures
+
+    def fail(reason: Reason, message: str) -> None:
+        out.failures.append((reason, message))
+
+    for person in people:
+        j = person.joints
+        who = f"{person.role} {person.person_id}"
+        if not np.isfinite(j).all():
+            bad = np.flatnonzero(~np.isfinite(j).all(axis=(1, 2)))
+            fail(Reason.NAN_POSE, f"{who}: non-finite joints in {len(bad)} frames (first {int(person.frames[bad[0]])})")
+            continue
+        if len(j) > 1:
+            speed = float(np.linalg.norm(np.diff(j, axis=0), axis=-1).max() * fps)
+            m[f"max_joint_speed_m_s/{person.person_id}"] = speed
+            if speed > th.max_speed_m_s:
+                fail(Reason.ENERGY_EXPLOSION, f"{who}: a joint moves at {speed:.1f} m/s (> {th.max_speed_m_s:g})")
+        lengths = np.stack([np.linalg.norm(j[:, a] - j[:, b], axis=-1) for a, b in RIGID_PAIRS], axis=1)
+        stretch = float(np.abs(lengths - np.median(lengths, axis=0)).max())
+        m[f"max_limb_stretch_m/{person.person_id}"] = stretch
+        if stretch > th.max_stretch_m:
+            fail(Reason.ENERGY_EXPLOSION, f"{who}: a limb changes length by {stretch * 100:.1f} cm")
+        points = np.concatenate([j, 0.5 * (j[:, [a for a, _ in _LIMBS]] + j[:, [b for _, b in _LIMBS]])], axis=1)
+        depth, which = box.depth_inside(points)
+        below = ground - points[..., 2]
+        deepest = float(max(depth.max(), below.max()))
+        m[f"penetration_m/{person.person_id}"] = deepest
+        if deepest > th.penetration_m:
+            t, k = np.unravel_index(int(np.argmax(np.maximum(depth, below))), depth.shape)
+            where = (
+                f"a {box.colliders[which[t, k]].pixel_class} box" if depth[t, k] >= below[t, k] else "the ground"
+            )
+            fail(Reason.INTERPENETRATION,
+                 f"{who}: {deepest * 100:.0f} cm inside {where} at frame {int(person.frames[t])}")  # fmt: skip
+        else:
+            hips = 0.5 * (j[:, _J["left_hip"]] + j[:, _J["right_hip"]])
+            crossed = box.crossed(hips[:-1], hips[1:])
+            if (crossed >= 0).any():
+                t = int(np.flatnonzero(crossed >= 0)[0])
+                fail(Reason.INTERPENETRATION, f"{who}: passes through a {box.colliders[crossed[t]].pixel_class} "
+                     f"box between frames {int(person.frames[t])} and {int(person.frames[t + 1])}")  # fmt: skip
+        if person.role != "background":
+            _knees(j, who, th, m, fail, person.person_id)
+
+    protagonist = next((p for p in people if p.person_id == recipe.protagonist.person_id), None)
+    if protagonist is None:
+        fail(Reason.OFF_SCREEN, "no protagonist rows in people.parquet")
+        return out
+    if not np.isfinite(protagonist.joints).all():
+        return out
+    if cams is not None:
+        index = np.searchsorted(cams.frames, protagonist.frames)
+        index = np.clip(index, 0, len(cams.frames) - 1)
+        uv, z = _project(protagonist.joints, cams, index)
+        w, h = recipe.video.width, recipe.video.height
+        inside = (z > 0.05) & (uv[..., 0] >= 0) & (uv[..., 0] < w) & (uv[..., 1] >= 0) & (uv[..., 1] < h)
+        seen = inside.sum(axis=1) >= 4
+        if instance_pixels is not None and recipe.protagonist.person_id in instance_pixels:
+            pixels = np.asarray(instance_pixels[recipe.protagonist.person_id])[protagonist.frames]
+            seen &= pixels >= th.min_instance_pixels
+        share = float(seen.mean())
+        m["protagonist_on_screen"] = share
+        if share < th.on_screen_fraction:
+            fail(Reason.OFF_SCREEN, f"the protagonist is in view in {share:.0%} of frames")
+        cam_pos = cams.poses[:, :3, 3]
+        depth, which = box.depth_inside(cam_pos)
+        inside_m = float(max(depth.max(), (ground - cam_pos[:, 2]).max()))
+        m["camera_inside_m"] = inside_m
+        if inside_m > th.camera_inside_m:
+            t = int(np.argmax(np.maximum(depth, ground - cam_pos[:, 2])))
+            fail(Reason.CAMERA_IN_GEOMETRY, f"the camera is {inside_m * 100:.0f} cm inside geometry at frame {t}")
+    _perturbation(recipe, protagonist, th, m, fail)
+    _sliding(recipe, protagonist, th, m, fail)
+    return out
+
+
+def _knees(j: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: Any, pid: int) -> None:
+    """Knees bent backwards: the knee behind the hip–ankle line, 'behind' from the torso."""
+    hips_mid = 0.5 * (j[:, _J["left_hip"]] + j[:, _J["right_hip"]])
+    up = j[:, _J["neck"]] - hips_mid
+    right = j[:, _J["right_hip"]] - j[:, _J["left_hip"]]
+    forward = np.cross(up, right)
+    forward /= np.maximum(np.linalg.norm(forward, axis=-1, keepdims=True), 1e-9)
+    worst = 0.0
+    for side in ("left", "right"):
+        hip, knee, ankle = (j[:, _J[f"{side}_{n}"]] for n in ("hip", "knee", "ankle"))
+        axis = ankle - hip
+        axis /= np.maximum(np.linalg.norm(axis, axis=-1, keepdims=True), 1e-9)
+        off = (knee - hip) - np.sum((knee - hip) * axis, axis=-1, keepdims=True) * axis
+        worst = max(worst, float(-np.sum(off * forward, axis=-1).min()))
+    m[f"knee_hyperextension_m/{pid}"] = worst
+    if worst > th.knee_hyperextension_m:
+        fail(Reason.JOINT_LIMIT, f"{who}: a knee bends backwards ({worst * 100:.0f} cm behind the hip–ankle line)")
+
+
+def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: Any) -> None:
+    """A random perturbation that moves the action's necessary muscles far from the motion."""
+    if recipe.variation.kind != "random_perturbation":
+        return
+    base = _base_motion_joints(recipe)
+    if base is None:
+        return
+    target, pinned = base
+    frames = person.frames[person.frames < len(target)]
+    keep = pinned[frames]
+    if not keep.any():
+        return
+    joints = _necessary_joints(recipe.action)
+    if not joints:
+        return
+    hips = [_J["left_hip"], _J["right_hip"]]
+    got = person.joints[: len(frames)][keep]
+    want = target[frames][keep]
+    got = got[:, joints] - got[:, hips].mean(axis=1, keepdims=True)
+    want = want[:, joints] - want[:, hips].mean(axis=1, keepdims=True)
+    distance = float(np.linalg.norm(got - want, axis=-1).mean())
+    m["perturbation_m"] = distance
+    if distance > th.perturbation_m:
+        fail(Reason.PERTURBATION_TOO_STRONG,
+             f"the necessary muscles are {distance * 100:.0f} cm from the base motion on average")  # fmt: skip
+
+
+def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: Any) -> None:
+    """Feet on the ground that move: mean horizontal speed of a planted ankle."""
+    if len(person.frames) < 3:
+        return
+    ankles = person.joints[:, [_J["left_ankle"], _J["right_ankle"]]]  # (T, 2, 3)
+    support = _support(recipe.environment.name, ankles)
+    height = ankles[..., 2] - support
+    step = np.diff(ankles, axis=0) * recipe.video.fps
+    horizontal = np.linalg.norm(step[..., :2], axis=-1)
+    vertical = np.abs(step[..., 2])
+    # Only while upright: a released ragdoll sliding along the ground after a fall is physics.
+    hips = 0.5 * (person.joints[:, _J["left_hip"], 2] + person.joints[:, _J["right_hip"], 2])
+    upright = person.joints[:, _J["neck"], 2] - hips > UPRIGHT_M
+    # And while pinned: a released ragdoll (car hit, dive) is thrown, not walking.
+    owned = (upright & person.pinned)[:-1, None]
+    planted = (height[:-1] < PLANTED_M) & (height[1:] < PLANTED_M) & (vertical < 0.3) & owned
+    if planted.sum() < 3:
+        return
+    speed = float(horizontal[planted].mean())
+    m["planted_foot_speed_m_s"] = speed
+    if speed > th.slide_m_s:
+        fail(Reason.FOOT_SLIDING, f"planted feet slide at {speed:.2f} m/s on average")
+
+
+def check_failures(
+    recipes: Mapping[str, Recipe],
+    people: pa.Table,
+    cameras: pa.Table,
+    *,
+    instance_pixels: Mapping[str, Mapping[int, Sequence[int]]] | None = None,
+    budget: float = DEFAULT_BUDGET,
+    thresholds: Thresholds = Thresholds(),
+    source: str = "people.parquet",
+    progress: Any = None,
+) -> tuple[CheckResult, list[VideoFailures]]:
+    """The failures check over every video with a recipe and metadata rows."""
+    series = people_series(people)
+    cams = camera_series(cameras)
+    report = Report()
+    results: list[VideoFailures] = []
+    for vid in sorted(recipes):
+        recipe = recipes[vid]
+        rows = series.get(vid)
+        if not rows:
+            report.add(Finding(Reason.MISSING_FILE, "no rows in people.parquet", file=source, video_id=vid))
+            continue
+        pixels = instance_pixels.get(vid) if instance_pixels is not None else None
+        result = video_failures(recipe, rows, cams.get(vid), instance_pixels=pixels, thresholds=thresholds)
+        results.append(result)
+        for reason, message in result.failures:
+            hard = reason == Reason.NAN_POSE
+            report.add(Finding(reason, message, file=source, video_id=vid, numbers=dict(result.measures),
+                               severity="fail" if hard else "warn"))  # fmt: skip
+        if progress is not None:
+            progress(1)
+    failed = sum(r.failed for r in results)
+    rate = failed / len(results) if results else 0.0
+    if rate > budget:
+        report.add(Finding(
+            Reason.FAILURE_BUDGET,
+            f"{failed} of {len(results)} videos ({rate:.1%}) show failure cases; the budget is {budget:.0%}",
+            file=source, numbers={"failed": failed, "videos": len(results), "rate": rate, "budget": budget,
+                                  "failed_videos": [r.video_id for r in results if r.failed]},
+        ))  # fmt: skip
+    by_reason: dict[str, int] = {}
+    for r in results:
+        for reason in dict.fromkeys(reason for reason, _ in r.failures):
+            by_reason[reason.value] = by_reason.get(reason.value, 0) + 1
+    numbers = {"videos": len(results), "failed": failed, "rate": rate, "budget": budget, "by_reason": by_reason}
+    summary = f"{failed}/{len(results)} videos with failure cases ({rate:.1%}, budget {budget:.0%})"
+    return CheckResult.from_report("failures", report, summary, numbers), results

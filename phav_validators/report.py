@@ -1,0 +1,165 @@
+"""Reports of ``phav-validate`` as files: JSON (schema in docs/validation.md) and HTML.
+
+The HTML page is self-contained (inline SVG histograms, frames as base64 PNG): per
+dataset the check table, observed against expected shares per variable, and the first
+flagged frame of each of the worst videos.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+from collections.abc import Sequence
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+from phav_spec.files import atomic_write
+from phav_validators.validate import DatasetReport
+
+#: Version of the JSON report's layout; bumped when a field changes meaning.
+REPORT_VERSION = 1
+#: Flagged videos shown with a frame in the HTML report.
+MAX_FRAMES = 6
+
+
+def _phav_version() -> str:
+    try:
+        return version("phav")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def report_json(reports: Sequence[DatasetReport]) -> dict[str, Any]:
+    """The whole run as one JSON document."""
+    failed = any(r.status.value == "fail" for r in reports)
+    return {
+        "report_version": REPORT_VERSION,
+        "phav_version": _phav_version(),
+        "status": "fail" if failed else "warn" if any(r.status.value == "warn" for r in reports) else "pass",
+        "exit_code": 1 if failed else 0,
+        "datasets": [r.to_json() for r in reports],
+    }
+
+
+def _default(value: Any) -> Any:
+    import numpy as np
+
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
+
+
+def write_json(reports: Sequence[DatasetReport], path: Path) -> None:
+    """Write the report atomically (NaN written as null)."""
+    data = json.loads(json.dumps(report_json(reports), default=_default).replace("NaN", "null"))
+    with atomic_write(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=2, sort_keys=True, ensure_ascii=False) + "\n", encoding="utf-8")
+
+
+def _histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], expected: Sequence[float]) -> str:
+    """Side-by-side bars of observed and expected shares per value (at most 40 values)."""
+    rows = [(str(v), o, e) for v, o, e in zip(values, observed, expected, strict=True) if o > 0 or e > 0][:40]
+    if not rows:
+        return ""
+    bar_w, gap, height, top = 9, 6, 120, 18
+    width = max(len(rows) * (2 * bar_w + gap) + 40, 240)
+    peak = max(max(o, e) for _, o, e in rows) or 1.0
+    parts = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height + top + 70}" '
+        'font-family="sans-serif" font-size="10">',
+        f'<text x="4" y="12" font-weight="bold">{html.escape(title)}</text>',
+    ]
+    for i, (label, o, e) in enumerate(rows):
+        x = 30 + i * (2 * bar_w + gap)
+        for j, (share, colour) in enumerate(((o, "#3b6fb6"), (e, "#e39b2d"))):
+            h = share / peak * height
+            parts.append(f'<rect x="{x + j * bar_w}" y="{top + height - h:.1f}" width="{bar_w - 1}" '
+                         f'height="{h:.1f}" fill="{colour}"><title>{html.escape(label)}: '
+                         f'{"observed" if j == 0 else "expected"} {share:.2%}</title></rect>')  # fmt: skip
+        parts.append(f'<text transform="translate({x + bar_w},{top + height + 6}) rotate(60)">'
+                     f"{html.escape(label[:18])}</text>")  # fmt: skip
+    parts.append(f'<text x="4" y="{top + 10}">{peak:.0%}</text></svg>')
+    return "".join(parts)
+
+
+def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
+    """The RGB frame (or the video's first) as a base64 PNG data URL, None if unreadable."""
+    import cv2
+
+    from phav_validators.reproduce import shard_video_frames
+
+    first = None
+    try:
+        for f, arrays in shard_video_frames(shard, video_id):
+            first = first if first is not None else arrays["rgb"]
+            if f == frame:
+                first = arrays["rgb"]
+                break
+    except OSError:
+        return None
+    if first is None:
+        return None
+    ok, png = cv2.imencode(".png", first[..., ::-1])
+    return "data:image/png;base64," + base64.b64encode(png.tobytes()).decode("ascii") if ok else None
+
+
+def report_html(reports: Sequence[DatasetReport]) -> str:
+    esc = html.escape
+    out = [
+        "<!doctype html><html><head><meta charset='utf-8'><title>phav-validate report</title><style>",
+        "body{font-family:sans-serif;margin:2em;max-width:1200px}table{border-collapse:collapse}",
+        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left;vertical-align:top}",
+        ".pass{color:#1a7f37}.warn{color:#b58100}.fail{color:#c00;font-weight:bold}.skip{color:#888}",
+        "figure{display:inline-block;margin:6px}</style></head><body>",
+        f"<h1>phav-validate report</h1><p>phav {esc(_phav_version())}. Legend: "
+        "<span style='color:#3b6fb6'>■ observed</span> <span style='color:#e39b2d'>■ expected from θ</span></p>",
+    ]
+    for r in reports:
+        theta = f"θ {esc(r.theta['name'])} {esc(r.theta['hash'][:12])}…" if r.theta else "no θ"
+        out.append(f"<h2>{esc(r.source)} — <span class='{r.status.value}'>{r.status.value.upper()}</span></h2>")
+        out.append(f"<p>{r.n_videos} videos, {r.n_frames:,} frames; {theta}</p>")
+        out.append("<table><tr><th>check</th><th>status</th><th>s</th><th>result</th><th>findings</th></tr>")
+        for c in r.checks:
+            counts = ", ".join(f"{k.value} × {n}" for k, n in sorted(c.report.counts.items()))
+            out.append(f"<tr><td>{c.name}</td><td class='{c.status.value}'>{c.status.value}</td>"
+                       f"<td>{c.seconds:.1f}</td><td>{esc(c.summary)}</td><td>{esc(counts)}</td></tr>")  # fmt: skip
+        out.append("</table>")
+        findings = [(c.name, f) for c in r.checks for f in c.report.findings][:200]
+        if findings:
+            out.append("<h3>Findings</h3><table><tr><th>check</th><th>reason</th><th>where</th><th>message</th></tr>")
+            for name, f in findings:
+                where = " ".join(x for x in (f.file, f.video_id) if x)
+                out.append(f"<tr><td>{name}</td><td class='{f.severity}'>{f.reason.value}</td><td>{esc(where)}</td>"
+                           f"<td>{esc(f.message)}</td></tr>")  # fmt: skip
+            out.append("</table>")
+        if r.distribution is not None:
+            out.append("<h3>Observed against expected</h3>")
+            for s in r.distribution.summaries:
+                n = max(int(s.observed.sum()), 1)
+                shares = [float(o) / n for o in s.observed]
+                title = f"{s.variable} ({s.applies_to}, n = {n})"
+                out.append(_histogram_svg(title, s.values, shares, [float(e) for e in s.expected]))
+        frames = []
+        for vid, _, _, reasons in r.worst_videos(MAX_FRAMES):
+            if vid not in r.flagged_frames:
+                continue
+            shard, frame = r.flagged_frames[vid]
+            url = _frame_png(shard, vid, frame)
+            if url is not None:
+                frames.append(f"<figure><img src='{url}' width='340'><figcaption>{esc(vid)} frame {frame:05d}: "
+                              f"{esc(', '.join(reasons))}</figcaption></figure>")  # fmt: skip
+        if frames:
+            out.append("<h3>Flagged videos</h3>" + "".join(frames))
+    out.append("</body></html>")
+    return "\n".join(out)
+
+
+def write_html(reports: Sequence[DatasetReport], path: Path) -> None:
+    """Write the HTML report atomically."""
+    text = report_html(reports)
+    with atomic_write(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")

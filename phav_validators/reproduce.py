@@ -1,0 +1,169 @@
+"""The reproducibility check: regenerate a seeded sample of videos from their recipes and
+compare them with the shards, frame by frame, and with the manifest's content hashes.
+
+When this machine's renderer fingerprint equals the manifest's, pixels must be identical
+(DESIGN.md: same fingerprint → identical pixels). Otherwise the comparison uses tolerances
+(``TOLERANCES``) and the report says so. This is the only check that catches a frame that was
+changed together with its manifest entry: everything else compares the data with itself.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from phav_spec.encoding import MODALITIES, decode_flow
+from phav_spec.manifest import DatasetManifest
+from phav_spec.recipe import Recipe
+from phav_validators.findings import CheckResult, Finding, Reason, Report
+from phav_validators.scan import FRAME_KEYS, _decode
+from phav_validators.tarsafe import TarScan, iter_members
+
+#: Per modality, the largest difference tolerated when fingerprints differ: mean absolute
+#: level difference (colour), share of differing pixels (labels, depth > 1 %, flow validity),
+#: mean end-point error in px (flow).
+TOLERANCES: dict[str, float] = {
+    "rgb": 3.0, "raw_rgb": 3.0, "semantic": 0.01, "instance": 0.01, "depth": 0.01, "flow": 0.1,
+}  # fmt: skip
+
+
+def shard_video_frames(path: str | Path, video_id: str) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+    """Decoded frames of one video from a shard, in order (incomplete frames are skipped)."""
+    prefix = f"{video_id}/"
+    current: int | None = None
+    members: dict[str, bytes] = {}
+
+    def emit() -> dict[str, np.ndarray] | None:
+        if current is None or any(k not in members for k in FRAME_KEYS[:-1]):
+            return None
+        arrays = {m.name: _decode(members[m.key], m) for m in MODALITIES}
+        return None if any(a is None for a in arrays.values()) else arrays  # type: ignore[return-value]
+
+    for name, data in iter_members(path, TarScan()):
+        if not name.startswith(prefix):
+            if current is not None and name.partition("/")[0] != video_id:
+                break  # a video's frames are contiguous
+            continue
+        frame_text, _, ext = name[len(prefix) :].partition(".")
+        if not frame_text.isdigit():
+            continue
+        frame = int(frame_text)
+        if frame != current:
+            arrays = emit()
+            if arrays is not None:
+                yield current, arrays  # type: ignore[misc]
+            current, members = frame, {}
+        members[ext] = data
+    arrays = emit()
+    if arrays is not None:
+        yield current, arrays  # type: ignore[misc]
+
+
+def frame_difference(name: str, a: np.ndarray, b: np.ndarray) -> float:
+    """How far two frames of one modality are apart, in ``TOLERANCES``' units."""
+    if a.shape != b.shape:
+        return float("inf")
+    if name in ("rgb", "raw_rgb"):
+        return float(np.abs(a.astype(np.int16) - b.astype(np.int16)).mean())
+    if name in ("semantic", "instance"):
+        return float((a != b).any(axis=-1).mean())
+    if name == "depth":
+        da, db = a.astype(np.float64), b.astype(np.float64)
+        return float((np.abs(da - db) > 0.01 * np.maximum(da, db)).mean())
+    fa, va = decode_flow(a)
+    fb, vb = decode_flow(b)
+    both = va & vb
+    epe = float(np.linalg.norm(fa[both] - fb[both], axis=-1).mean()) if both.any() else 0.0
+    return max(epe, float((va != vb).mean()) * 10.0)  # a 1 % validity disagreement counts as 0.1 px
+
+
+def check_reproducibility(
+    root: Path,
+    manifest: DatasetManifest | None,
+    recipes: Mapping[str, Recipe],
+    candidates: Sequence[str],
+    *,
+    count: int,
+    seed: int,
+    progress: Callable[[str, int], Callable[[int], None]] | None = None,
+) -> tuple[CheckResult, bool | None]:
+    """Regenerate ``count`` videos chosen with ``seed`` among ``candidates``; compare them.
+
+    Returns the check and whether the renderer fingerprints matched (None: not compared)."""
+    name = "reproducibility"
+    if manifest is None:
+        return CheckResult.skipped(name, "no manifest: nothing to compare with"), None
+    if count == 0:
+        return CheckResult.skipped(name, "--regenerate 0"), None
+    pool = [v for v in candidates if v in recipes]
+    if not pool:
+        return CheckResult.skipped(name, "no video with a valid recipe"), None
+    rng = np.random.Generator(np.random.PCG64(seed))
+    chosen = sorted(pool[i] for i in rng.permutation(len(pool))[: min(count, len(pool))])
+    try:
+        from phav_generator.dataset import renderer_fingerprint
+        from phav_generator.render.gl import gl_context, gl_strings
+        from phav_generator.render.video import VideoHashes, render_video
+
+        ctx = gl_context()
+    except Exception as e:  # no EGL / GL here: say so rather than guess
+        return CheckResult.skipped(name, f"cannot create a GL context to regenerate ({e})"), None
+    here = renderer_fingerprint(gl_strings(ctx))
+    exact = manifest.renderer is not None and manifest.renderer.digest() == here.digest()
+    entries = {v.video_id: v for v in manifest.videos}
+    report = Report()
+    advance = progress("regenerating", len(chosen)) if progress is not None else None
+    matched = 0
+    worst: dict[str, float] = {m.name: 0.0 for m in MODALITIES}
+    try:
+        for vid in chosen:
+            recipe, entry = recipes[vid], entries.get(vid)
+            shard = root / entry.shard if entry is not None else None
+            stored = shard_video_frames(shard, vid) if shard is not None and shard.exists() else iter(())
+            hashes = VideoHashes(recipe.n_frames)
+            first_bad: dict[str, int] = {}
+            for rf in render_video(recipe, ctx=ctx):
+                hashes.add(rf.index, rf.modalities)
+                got = next(stored, None)
+                if got is None or got[0] != rf.index:
+                    first_bad.setdefault("frames", rf.index)
+                    continue
+                for m in MODALITIES:
+                    a, b = rf.modalities[m.name], got[1][m.name]
+                    if exact:
+                        same = a.shape == b.shape and np.array_equal(a, b)
+                        if not same:
+                            first_bad.setdefault(m.name, rf.index)
+                    else:
+                        diff = frame_difference(m.name, a, b)
+                        worst[m.name] = max(worst[m.name], diff)
+                        if diff > TOLERANCES[m.name]:
+                            first_bad.setdefault(m.name, rf.index)
+            hash_ok = entry is not None and entry.content_hash == hashes.video_hash()
+            if exact and not hash_ok:
+                first_bad.setdefault("content hash", -1)
+            if first_bad:
+                where = ", ".join(f"{k} (frame {f:05d})" if f >= 0 else k for k, f in first_bad.items())
+                basis = "bit-exact (same renderer fingerprint)" if exact else "within tolerances (other renderer)"
+                report.add(Finding(
+                    Reason.REGENERATION_MISMATCH,
+                    f"regenerated from its recipe, the video differs from the shard: {where}; expected {basis}",
+                    file=entry.shard if entry is not None else None, video_id=vid,
+                    numbers={"first_frames": first_bad, "exact": exact},
+                ))  # fmt: skip
+            else:
+                matched += 1
+            if advance is not None:
+                advance(1)
+    finally:
+        ctx.release()
+    basis = "bit-exact: same renderer fingerprint" if exact else "tolerances: another renderer fingerprint"
+    numbers: dict[str, Any] = {"regenerated": len(chosen), "matched": matched, "exact": exact, "videos": chosen}
+    if not exact:
+        numbers["worst_difference"] = worst
+        numbers["tolerances"] = TOLERANCES
+    summary = f"{matched}/{len(chosen)} regenerated videos match ({basis})"
+    return CheckResult.from_report(name, report, summary, numbers), exact

@@ -1,0 +1,127 @@
+"""Read a shard's members in place, safely: nothing is extracted, nothing hostile is read.
+
+A released tar is untrusted input. Members are streamed from the file (no extraction, so
+nothing can be written anywhere); a member whose name is absolute or climbs with ``..``,
+that is a link, device, FIFO or directory, or that is larger than any frame can be
+(``MAX_MEMBER_BYTES``: a decompression bomb starts as a huge member) is refused unread and
+reported. A tar that ends mid-member is reported as truncated with how far reading got.
+The file's sha256 and size are computed on the same pass.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import tarfile
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+from typing import BinaryIO
+
+#: The largest member read (bytes). A 340×256 16-bit RGB PNG is at most ~0.6 MB even stored
+#: uncompressed; frames up to 4K in 16-bit RGB (≈ 50 MB raw) still fit.
+MAX_MEMBER_BYTES = 64 * 2**20
+
+
+@dataclass
+class Refusal:
+    """A member that was not read, and why (``unsafe`` or ``oversized``)."""
+
+    name: str
+    kind: str
+    why: str
+
+
+@dataclass
+class TarScan:
+    """What one pass over a tar found besides its members: refusals, truncation, digest."""
+
+    refused: list[Refusal] = field(default_factory=list)
+    truncated: str | None = None  # why reading stopped early, None when the tar ended cleanly
+    sha256: str = ""
+    bytes: int = 0
+
+
+class _HashingReader:
+    """A read-only file that hashes and counts what is read through it (sequential reads)."""
+
+    def __init__(self, raw: BinaryIO):
+        self._raw = raw
+        self.sha256 = hashlib.sha256()
+        self.size = 0
+
+    def read(self, n: int = -1) -> bytes:
+        data = self._raw.read(n)
+        self.sha256.update(data)
+        self.size += len(data)
+        return data
+
+
+def unsafe_reason(info: tarfile.TarInfo) -> str | None:
+    """Why a member must not be read (None when it is a plain file with a relative name)."""
+    name = info.name
+    if name.startswith(("/", "\\")) or (len(name) > 1 and name[1] == ":"):
+        return "absolute path"
+    if ".." in PurePosixPath(name.replace("\\", "/")).parts:
+        return "path climbs out with '..'"
+    if info.issym() or info.islnk():
+        return f"link to {info.linkname!r}"
+    if info.ischr() or info.isblk():
+        return "device file"
+    if info.isfifo():
+        return "FIFO"
+    if info.isdir():
+        return "directory"
+    if not info.isfile():
+        return f"not a regular file (type {info.type!r})"
+    return None
+
+
+def _end_marker(raw: BinaryIO, offset: int) -> str | None:
+    """None when a zero block (tar's end-of-archive marker) follows the last member at
+    ``offset``; otherwise why not. A tar cut at a member boundary reads like a shorter
+    complete one in stream mode; only the missing marker tells it apart."""
+    position = raw.tell()
+    raw.seek(offset)
+    block = raw.read(tarfile.BLOCKSIZE)
+    raw.seek(position)
+    if len(block) < tarfile.BLOCKSIZE or block.count(0) != tarfile.BLOCKSIZE:
+        return f"no end-of-archive marker after the last member (at byte {offset})"
+    return None
+
+
+def iter_members(path: str | Path, scan: TarScan) -> Iterator[tuple[str, bytes]]:
+    """Yield (name, bytes) of every safe regular member, in tar order; ``scan`` collects
+    refusals, truncation and the file's digest (complete once the iterator is exhausted)."""
+    with open(path, "rb") as raw:
+        reader = _HashingReader(raw)
+        try:
+            # Stream mode ("r|"): sequential reads only, so the digest covers every byte.
+            with tarfile.open(fileobj=reader, mode="r|") as tar:  # type: ignore[call-overload]
+                for info in tar:
+                    why = unsafe_reason(info)
+                    if why is not None:
+                        scan.refused.append(Refusal(info.name, "unsafe", why))
+                        continue
+                    if info.size > MAX_MEMBER_BYTES:
+                        scan.refused.append(
+                            Refusal(info.name, "oversized", f"{info.size} bytes > {MAX_MEMBER_BYTES} allowed")
+                        )
+                        continue
+                    member = tar.extractfile(info)
+                    if member is None:  # pragma: no cover - regular files always have data
+                        continue
+                    data = member.read()
+                    if len(data) != info.size:
+                        raise tarfile.ReadError(f"member {info.name!r} ends after {len(data)} of {info.size} bytes")
+                    yield info.name, data
+                end = tar.offset
+            raw_end = _end_marker(raw, end)
+            if raw_end is not None:
+                scan.truncated = raw_end
+        except (tarfile.TarError, EOFError, OSError) as e:
+            scan.truncated = f"{e or type(e).__name__} (after {reader.size} bytes)"
+        # Whatever follows the end-of-archive blocks still belongs to the file's digest.
+        while reader.read(1 << 20):
+            pass
+        scan.sha256 = reader.sha256.hexdigest()
+        scan.bytes = reader.size
