@@ -127,7 +127,7 @@ def print_summary(report: DatasetReport, *, details: bool = False, per_reason_li
             colour = "red" if f.severity == "fail" else "yellow"
             console.print(f"  [{colour}]{c.name} {f.reason.value}[/] {escape(where + ': ' if where else '')}"
                           f"{escape(f.message)}", soft_wrap=True)  # fmt: skip
-        for reason, k in per_reason.items():
+        for reason in per_reason:
             total = c.report.counts[Reason(reason)]
             if total > per_reason_limit:
                 console.print(f"  … {total - per_reason_limit} more {c.name} {reason} (see --json)")

@@ -126,11 +126,16 @@ def check_table(
     impossible += unknown
     tests = [FitTest(table.variable, "marginal", "chi2", len(values), stat, dof, p, impossible)]
     if impossible:
-        bad = sorted({str(v) for v, c in zip(values, codes, strict=True) if c < 0 or probs[c] <= 0})
+        hit = [j for j, c in enumerate(codes) if c < 0 or probs[c] <= 0]
+        bad = sorted({str(values[j]) for j in hit})
+        ids = columns.get("video_id")
+        videos = sorted({str(ids[idx[j]]) for j in hit}) if ids is not None else []
         findings.append(Finding(
             Reason.IMPOSSIBLE_VALUE,
-            f"{table.variable}: {impossible} videos have values θ gives probability zero ({', '.join(bad[:5])})",
-            file=source, numbers={"count": impossible, "values": bad[:20]},
+            f"{table.variable}: {impossible} videos have values θ gives probability zero ({', '.join(bad[:5])})"
+            + (f": {', '.join(videos[:5])}" if videos else ""),
+            file=source, video_id=videos[0] if len(videos) == 1 else None,
+            numbers={"count": impossible, "values": bad[:20], "videos": videos[:50]},
         ))  # fmt: skip
     if table.parents:
         keys = list(zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True))

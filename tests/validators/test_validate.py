@@ -48,7 +48,8 @@ def _replace_column(table: pa.Table, name: str, values) -> pa.Table:
 def test_good_table_passes(good):
     result = run_cli("validate!", str(good))
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "1500 recipes" in result.stdout and "1500/1500 recipes valid" in result.stdout and "all checks passed" in result.stdout
+    assert "1500 recipes" in result.stdout and "1500/1500 recipes valid" in result.stdout
+    assert "all checks passed" in result.stdout
     stats = run_cli("stats", str(good))
     assert stats.returncode == 0 and "goodness of fit" in stats.stdout and "camera" in stats.stdout
 
