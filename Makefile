@@ -21,6 +21,7 @@ demo: $(STAMP)
 	$(VENV)/bin/phav sample --theta recipes/phav-v1.yaml --n 2000 --seed 0 --out $(DEMO)/recipes.parquet
 	$(VENV)/bin/phav-validate $(DEMO)/recipes.parquet --theta recipes/phav-v1.yaml
 	$(VENV)/bin/phav generate --theta recipes/phav-v1-short.yaml --videos 4 --seed 0 --workers 2 --shard-size 2 --out $(DEMO)/videos
+	$(VENV)/bin/phav-validate $(DEMO)/videos --workers 2 --json $(DEMO)/validation.json --html $(DEMO)/validation.html
 	$(VENV)/bin/phav regenerate $(DEMO)/videos --video v000000 --out $(DEMO)/rebuilt
 	$(VENV)/bin/phav preview $(DEMO)/videos --video v000000 --out $(DEMO)/v000000-preview.png
 
