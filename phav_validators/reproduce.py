@@ -19,7 +19,7 @@ from phav_spec.encoding import MODALITIES, decode_flow
 from phav_spec.manifest import DatasetManifest
 from phav_spec.recipe import Recipe
 from phav_validators.findings import CheckResult, Finding, Reason, Report
-from phav_validators.scan import FRAME_KEYS, _decode
+from phav_validators.scan import FRAME_KEYS, decode_image
 from phav_validators.tarsafe import TarScan, iter_members
 
 #: Per modality, the largest difference tolerated when fingerprints differ: mean absolute
@@ -39,7 +39,7 @@ def shard_video_frames(path: str | Path, video_id: str) -> Iterator[tuple[int, d
     def emit() -> dict[str, np.ndarray] | None:
         if current is None or any(k not in members for k in FRAME_KEYS[:-1]):
             return None
-        arrays = {m.name: _decode(members[m.key], m) for m in MODALITIES}
+        arrays = {m.name: decode_image(members[m.key]) for m in MODALITIES}
         return None if any(a is None for a in arrays.values()) else arrays  # type: ignore[return-value]
 
     for name, data in iter_members(path, TarScan()):

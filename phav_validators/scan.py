@@ -22,7 +22,6 @@ from phav_spec.encoding import (
     FLOW_SCALE,
     MODALITIES,
     ContentHasher,
-    ModalityEncoding,
     instance_rgb,
     video_content_hash,
 )
@@ -165,7 +164,8 @@ def png_header(data: bytes) -> tuple[int, int, int, int] | None:
     return width, height, depth, colour
 
 
-def _decode(data: bytes, m: ModalityEncoding) -> np.ndarray | None:
+def decode_image(data: bytes) -> np.ndarray | None:
+    """PNG bytes → array in RGB order (None if unreadable); the caller checks the header first."""
     import cv2
 
     image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
@@ -371,7 +371,7 @@ class ShardScanner:
                          f"{where}: {m.name} must be {want_depth}-bit colour type {want_colour}, "
                          f"found {depth}-bit colour type {colour}", video_id=vid, frame=f, modality=m.name)
                 return None
-            image = _decode(data, m)
+            image = decode_image(data)
             if image is None or image.shape[:2] != (height, width):
                 self.add("encoding", Reason.PNG_FORMAT, f"{where} cannot be decoded", video_id=vid, frame=f)
                 return None
@@ -384,11 +384,11 @@ class ShardScanner:
             version = meta["metadata_version"]
             meta["camera"], meta["people"]
         except (ValueError, KeyError, TypeError):
-            self.add("encoding", Reason.PNG_FORMAT, f"{vid}/{f:05d}.json is not the frame metadata contract",
+            self.add("encoding", Reason.METADATA_INVALID, f"{vid}/{f:05d}.json is not the frame metadata contract",
                      video_id=vid, frame=f)  # fmt: skip
             return None
         if not isinstance(version, int) or version > METADATA_VERSION:
-            self.add("encoding", Reason.PNG_FORMAT,
+            self.add("encoding", Reason.VERSION_UNKNOWN,
                      f"{vid}/{f:05d}.json has metadata version {version!r}; this phav reads ≤ {METADATA_VERSION}",
                      video_id=vid, frame=f)  # fmt: skip
             return None
