@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.render.camera import view
 from phav_spec.encoding import (
     DEPTH_MAX_CODE,
     FLOW_OFFSET,
@@ -179,14 +180,6 @@ def _camera(row: dict[str, Any]) -> tuple[np.ndarray, tuple[float, float, float,
     return pose, (float(row["fx"]), float(row["fy"]), float(row["cx"]), float(row["cy"]))
 
 
-def _world_to_cam(pose: np.ndarray) -> np.ndarray:
-    r = pose[:3, :3]
-    out = np.eye(4)
-    out[:3, :3] = r.T
-    out[:3, 3] = -r.T @ pose[:3, 3]
-    return out
-
-
 def flow_against_depth(
     depth: np.ndarray,
     flow: np.ndarray,
@@ -220,7 +213,7 @@ def flow_against_depth(
     pose0, (fx, fy, cx, cy) = _camera(cam0)
     pose1, (fx1, fy1, cx1, cy1) = _camera(cam1)
     cam = np.stack([(u - cx) * z / fx, -(v - cy) * z / fy, -z, np.ones_like(z)])
-    moved = (_world_to_cam(pose1) @ pose0) @ cam
+    moved = (view(pose1) @ pose0) @ cam
     z1 = -moved[2]
     with np.errstate(divide="ignore", invalid="ignore"):
         u1 = cx1 + fx1 * moved[0] / z1
@@ -465,7 +458,7 @@ class ShardScanner:
             pose, (fx, fy, cx, cy) = _camera(meta["camera"])
         except (KeyError, TypeError, ValueError):
             return
-        w2c = _world_to_cam(pose)
+        w2c = view(pose)
         height, width = depth.shape
         for row in meta["people"]:
             try:
