@@ -166,8 +166,8 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
     from phav_generator.physics.simulate import simulate
     from phav_generator.render.gl import gl_context
     from phav_generator.render.modalities import encode_frame
-    from phav_generator.render.video import VideoHashes, scene_renderer
-    from phav_spec.encoding import MODALITIES
+    from phav_generator.render.video import scene_renderer
+    from phav_spec.encoding import MODALITIES, VideoHashes
     from phav_spec.metadata import frame_json
 
     ctx = gl_context()

@@ -127,7 +127,8 @@ def render_shard(task: ShardTask, out: Path, report: Progress | None = None) -> 
 
     from phav_generator.io.shards import open_shard
     from phav_generator.render.gl import gl_strings
-    from phav_generator.render.video import VideoHashes, render_video
+    from phav_generator.render.video import render_video
+    from phav_spec.encoding import VideoHashes
 
     ctx = _context()
     work = out / WORK_DIR

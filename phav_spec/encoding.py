@@ -26,6 +26,7 @@ __all__ = [
     "MODALITIES",
     "ContentHasher",
     "ModalityEncoding",
+    "VideoHashes",
     "content_hash",
     "decode_depth",
     "decode_flow",
@@ -321,6 +322,27 @@ def modality(name: str) -> ModalityEncoding:
         return _BY_NAME[name]
     except KeyError:
         raise KeyError(f"unknown modality {name!r}; expected one of: {', '.join(_BY_NAME)}") from None
+
+
+class VideoHashes:
+    """One ``content_hash`` per modality over a video's frames, fed frame by frame in order
+    (arrays named by zero-padded frame number), and the video's hash over those."""
+
+    def __init__(self, n_frames: int):
+        self._hashers = {m.name: ContentHasher(n_frames) for m in MODALITIES}
+
+    def add(self, frame: int, modalities: Mapping[str, np.ndarray]) -> None:
+        """Add frame ``frame``'s arrays; raises ValueError when frames come out of order."""
+        for name, hasher in self._hashers.items():
+            hasher.add(f"{frame:05d}", modalities[name])
+
+    def hexdigests(self) -> dict[str, str]:
+        """Per modality name, the content hash (ValueError unless every frame was added)."""
+        return {name: h.hexdigest() for name, h in self._hashers.items()}
+
+    def video_hash(self) -> str:
+        """The video's content hash: one digest over the per-modality hashes."""
+        return video_content_hash(self.hexdigests())
 
 
 #: Person ids that have an instance colour (protagonist, supporting, background actors).

@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from phav_spec.vocab import (
     ACTIONS,
     CAMERAS,
@@ -827,10 +829,24 @@ def support_height(env_name: str, x: float, y: float, *, reference_z: float | No
     """
     env = ENVIRONMENT_SCENES[env_name]
     limit = (env.ground_z if reference_z is None else reference_z) + MAX_STEP_M
-    height = env.ground_z
+    return float(walkable_heights(env_name, np.float64(x), np.float64(y), limit))
+
+
+def walkable_heights(env_name: str, x: np.ndarray, y: np.ndarray, ceiling: np.ndarray | float) -> np.ndarray:
+    """``support_height`` for many points at once: per point (x, y of one broadcast shape),
+    the top of the highest walkable collider whose footprint holds it and whose top is at
+    most ``ceiling`` (per point or one value), else the ground plane's height."""
+    env = ENVIRONMENT_SCENES[env_name]
+    x, y, ceiling = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float), np.asarray(ceiling, float))
+    height = np.full(x.shape, env.ground_z)
     for c in env.colliders:
-        if c.pixel_class in WALKABLE_PIXEL_CLASSES and height < c.top <= limit and c.contains_xy(x, y):
-            height = c.top
+        if c.pixel_class not in WALKABLE_PIXEL_CLASSES:
+            continue
+        yaw = math.radians(c.yaw_deg)
+        cos, sin = math.cos(yaw), math.sin(yaw)
+        dx, dy = x - c.center[0], y - c.center[1]
+        inside = (np.abs(dx * cos + dy * sin) <= c.half_size[0]) & (np.abs(-dx * sin + dy * cos) <= c.half_size[1])
+        height = np.where(inside & (c.top <= ceiling), np.maximum(height, c.top), height)
     return height
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
-from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, WALKABLE_PIXEL_CLASSES, Collider
+from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, Collider, walkable_heights
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 
 if TYPE_CHECKING:
@@ -197,22 +197,6 @@ def boxes(environment: str) -> BoxSet:
     if environment not in _BOXES:
         _BOXES[environment] = BoxSet(ENVIRONMENT_SCENES[environment].colliders)
     return _BOXES[environment]
-
-
-def _support(environment: str, points: np.ndarray) -> np.ndarray:
-    """Height of the walkable surface under each point (..., 3): the highest walkable box
-    top below the point, else the ground plane."""
-    env = ENVIRONMENT_SCENES[environment]
-    walk = [c for c in env.colliders if c.pixel_class in WALKABLE_PIXEL_CLASSES]
-    height = np.full(points.shape[:-1], env.ground_z)
-    if not walk:
-        return height
-    bs = BoxSet(walk)
-    local = bs.local(points)  # (..., B, 3)
-    over = (np.abs(local[..., 0]) <= bs.half[:, 0]) & (np.abs(local[..., 1]) <= bs.half[:, 1])
-    tops = bs.center[:, 2] + bs.half[:, 2]
-    below = over & (tops <= points[..., None, 2] + 0.05)
-    return np.maximum(height, np.where(below, tops, -np.inf).max(axis=-1))
 
 
 def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -395,7 +379,7 @@ def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, 
     if len(person.frames) < 3:
         return
     ankles = person.joints[:, [_J["left_ankle"], _J["right_ankle"]]]  # (T, 2, 3)
-    support = _support(recipe.environment.name, ankles)
+    support = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)
     height = ankles[..., 2] - support
     step = np.diff(ankles, axis=0) * recipe.video.fps
     horizontal = np.linalg.norm(step[..., :2], axis=-1)

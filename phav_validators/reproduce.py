@@ -106,7 +106,8 @@ def check_reproducibility(
     try:
         from phav_generator.dataset import renderer_fingerprint
         from phav_generator.render.gl import gl_context, gl_strings
-        from phav_generator.render.video import VideoHashes, render_video
+        from phav_generator.render.video import render_video
+        from phav_spec.encoding import VideoHashes
 
         ctx = gl_context()
     except Exception as e:  # no EGL / GL here: say so rather than guess

@@ -16,15 +16,14 @@ from typing import Any
 
 import numpy as np
 
-from phav_generator.render.camera import view
+from phav_generator.render.camera import project, view
 from phav_spec.encoding import (
     DEPTH_MAX_CODE,
     FLOW_OFFSET,
     FLOW_SCALE,
     MODALITIES,
-    ContentHasher,
+    VideoHashes,
     instance_rgb,
-    video_content_hash,
 )
 from phav_spec.metadata import METADATA_VERSION
 from phav_spec.vocab import PIXEL_CLASSES, PixelGroup
@@ -211,21 +210,16 @@ def flow_against_depth(
     v = vs * s + 0.5
     z = d[vs, us] / 100.0
     pose0, (fx, fy, cx, cy) = _camera(cam0)
-    pose1, (fx1, fy1, cx1, cy1) = _camera(cam1)
-    cam = np.stack([(u - cx) * z / fx, -(v - cy) * z / fy, -z, np.ones_like(z)])
-    moved = (view(pose1) @ pose0) @ cam
-    z1 = -moved[2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u1 = cx1 + fx1 * moved[0] / z1
-        v1 = cy1 - fy1 * moved[1] / z1
+    pose1, intrinsics1 = _camera(cam1)
+    world = pose0[:3, :3] @ np.stack([(u - cx) * z / fx, -(v - cy) * z / fy, -z]) + pose0[:3, 3:]
+    uv1 = project(world.T, pose1, intrinsics1)  # NaN where the point is behind the next camera
     fv = f[vs, us]
     du = (fv[:, 0].astype(np.float64) - FLOW_OFFSET) / FLOW_SCALE
     dv = (fv[:, 1].astype(np.float64) - FLOW_OFFSET) / FLOW_SCALE
-    epe = np.hypot(u1 - u - du, v1 - v - dv)
-    front = z1 > 0
+    front = np.isfinite(uv1[:, 0])
     if not front.any():
         return 0, 0.0, 0.0
-    epe = epe[front]
+    epe = np.hypot(uv1[front, 0] - u[front] - du[front], uv1[front, 1] - v[front] - dv[front])
     return len(epe), float(epe.mean()), float((epe > FLOW_BAD_PX).mean())
 
 
@@ -235,7 +229,7 @@ class _VideoState:
     def __init__(self, expect: VideoExpect, consistency: bool):
         self.expect = expect
         self.scan = VideoScan(expect.video_id, decoded=expect.decode)
-        self.hashers = {m.name: ContentHasher(expect.n_frames) for m in MODALITIES} if expect.decode else {}
+        self.hashes = VideoHashes(expect.n_frames)
         self.hash_ok = expect.decode
         self.consistency = consistency and expect.decode
         self.previous: tuple[int, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]] | None = None
@@ -336,8 +330,7 @@ class ShardScanner:
         self.frames_decoded += 1
         if state.hash_ok:
             try:
-                for name, hasher in state.hashers.items():
-                    hasher.add(f"{f:05d}", arrays[name])
+                state.hashes.add(f, arrays)
             except ValueError:  # frames out of order: the hash cannot be formed
                 state.hash_ok = False
         self._check_frame(state, f, arrays, meta)
@@ -455,7 +448,7 @@ class ShardScanner:
     def _joints(self, state: _VideoState, f: int, depth: np.ndarray, meta: dict[str, Any]) -> None:
         """3-D joints projected with the frame's camera against 2-D joints and the depth image."""
         try:
-            pose, (fx, fy, cx, cy) = _camera(meta["camera"])
+            pose, intrinsics = _camera(meta["camera"])
         except (KeyError, TypeError, ValueError):
             return
         w2c = view(pose)
@@ -467,11 +460,8 @@ class ShardScanner:
                 visible = np.array(row["visible"], dtype=bool)
             except (KeyError, TypeError, ValueError):
                 continue
-            cam = j3 @ w2c[:3, :3].T + w2c[:3, 3]
-            z = -cam[:, 2]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                uv = np.stack([cx + fx * cam[:, 0] / z, cy - fy * cam[:, 1] / z], axis=1)
-            uv[z <= 1e-9] = np.nan
+            z = -(j3 @ w2c[2, :3] + w2c[2, 3])  # depth along the camera axis
+            uv = project(j3, pose, intrinsics)  # the metadata's own projection and NaN rule
             both = np.isfinite(uv).all(axis=1) & np.isfinite(j2).all(axis=1)
             mismatch = np.isfinite(uv).all(axis=1) != np.isfinite(j2).all(axis=1)
             err = float(np.abs(uv[both] - j2[both]).max(initial=0.0))
@@ -498,8 +488,8 @@ class ShardScanner:
                          f"{len(scan.frames)} complete frames, the recipe has {expect.n_frames} (missing {shown})",
                          video_id=vid, missing=absent[:50])  # fmt: skip
         if expect.decode and state.hash_ok and len(scan.frames) == expect.n_frames:
-            scan.modality_hashes = {name: h.hexdigest() for name, h in state.hashers.items()}
-            scan.content_hash = video_content_hash(scan.modality_hashes)
+            scan.modality_hashes = state.hashes.hexdigests()
+            scan.content_hash = state.hashes.video_hash()
         if expect.decode and expect.modality_hashes:
             if scan.content_hash is None:
                 self.add("integrity", Reason.HASH_MISMATCH,

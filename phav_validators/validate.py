@@ -313,10 +313,9 @@ def _consistency(videos: Mapping[str, VideoScan], shard_of: Mapping[str, str], r
         compared += 1
         if v.flow_epe:
             t, n, epe, _ = max(v.flow_epe, key=lambda x: (x[2], x[0]))
-            worst_epe = max(worst_epe, epe)
-            worst_bad = max(worst_bad, max(x[3] for x in v.flow_epe))
-            if epe > FLOW_MEAN_EPE_PX or max(x[3] for x in v.flow_epe) > FLOW_BAD_FRACTION:
-                tb, _, _, badf = max(v.flow_epe, key=lambda x: (x[3], x[0]))
+            tb, _, _, badf = max(v.flow_epe, key=lambda x: (x[3], x[0]))
+            worst_epe, worst_bad = max(worst_epe, epe), max(worst_bad, badf)
+            if epe > FLOW_MEAN_EPE_PX or badf > FLOW_BAD_FRACTION:
                 report.add(Finding(
                     Reason.FLOW_DEPTH_MISMATCH,
                     f"flow disagrees with depth + camera motion on static pixels: mean end-point error "

@@ -28,7 +28,7 @@ from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traff
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
 from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, BodyDims, dims_for, forward_kinematics
 from phav_spec.recipe import Recipe
-from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, MAX_STEP_M, WALKABLE_PIXEL_CLASSES
+from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, MAX_STEP_M, walkable_heights
 from phav_spec.vocab import MUSCLES, OBJECTS
 
 #: Physics steps per second unless a stiff spring needs more (``phav bench`` chose it).
@@ -623,23 +623,6 @@ def _arm_pose_for_tie(p: PersonPlan, action: str) -> PersonPlan:
     return _with(p, targets=Pose(p.targets.root_pos, p.targets.root_quat, q))
 
 
-def _path_support(env_name: str, points: np.ndarray, highest: float) -> np.ndarray:
-    """Height of the walkable surface under each point (T, 3) of a background path: the
-    highest walkable top no higher than ``highest`` whose footprint holds the point, else
-    the ground. Walkers step up onto a kerb or terrace instead of wading through it."""
-    env = ENVIRONMENT_SCENES[env_name]
-    height = np.full(len(points), env.ground_z)
-    for c in env.colliders:
-        if c.pixel_class not in WALKABLE_PIXEL_CLASSES or c.top > highest:
-            continue
-        yaw = math.radians(c.yaw_deg)
-        dx, dy = points[:, 0] - c.center[0], points[:, 1] - c.center[1]
-        lx, ly = dx * math.cos(yaw) + dy * math.sin(yaw), -dx * math.sin(yaw) + dy * math.cos(yaw)
-        inside = (np.abs(lx) <= c.half_size[0]) & (np.abs(ly) <= c.half_size[1])
-        height = np.where(inside, np.maximum(height, c.top), height)
-    return height
-
-
 def _background(b: _Builder) -> list[PersonPlan]:
     """Background pedestrians: kinematic walkers between waypoints, posed at frame times only."""
     r = b.recipe
@@ -666,7 +649,8 @@ def _background(b: _Builder) -> list[PersonPlan]:
         travelled = np.minimum(actor.speed_mps * frame_times, dist)
         along = delta / max(dist, 1e-9)
         root = start[None, :] + travelled[:, None] * along[None, :]
-        root[:, 2] = _path_support(r.environment.name, root, max(start[2], dest[2]) + MAX_STEP_M)
+        # Walkers step up onto kerbs and terraces on their way instead of wading through them.
+        root[:, 2] = walkable_heights(r.environment.name, root[:, 0], root[:, 1], max(start[2], dest[2]) + MAX_STEP_M)
         root[:, 2] += pose.root_pos[:, 2]  # the gait's own bob and standing height
         arrived = travelled >= dist
         q = pose.q.copy()

@@ -3,8 +3,8 @@
 ``render_video`` is the pure core of ``phav generate`` and ``phav regenerate``: it simulates
 (unless given a trajectory), builds the scene once, renders each frame with its flow
 towards the next and yields the encoded arrays with the frame's camera and people rows;
-``VideoHashes`` accumulates one content hash per modality over the frames (arrays named by
-zero-padded frame number). Nothing here touches files.
+``phav_spec.encoding.VideoHashes`` accumulates one content hash per modality over the frames
+(arrays named by zero-padded frame number). Nothing here touches files.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ from phav_generator.render.gl import FrameRenderer, PostSettings, gl_context
 from phav_generator.render.lighting import lighting_for
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.scene import build_drawables, class_id, lamp_positions
-from phav_spec.encoding import MODALITIES, ContentHasher, video_content_hash
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES
 
@@ -39,24 +38,6 @@ class RenderedFrame:
     modalities: dict[str, np.ndarray]
     camera: dict[str, Any]
     people: list[dict[str, Any]]
-
-
-class VideoHashes:
-    """One content hash per modality over a video's frames, fed frame by frame."""
-
-    def __init__(self, n_frames: int):
-        self._hashers = {m.name: ContentHasher(n_frames) for m in MODALITIES}
-
-    def add(self, frame: int, modalities: dict[str, np.ndarray]) -> None:
-        for name, hasher in self._hashers.items():
-            hasher.add(f"{frame:05d}", modalities[name])
-
-    def hexdigests(self) -> dict[str, str]:
-        return {name: h.hexdigest() for name, h in self._hashers.items()}
-
-    def video_hash(self) -> str:
-        """The video's content hash: one digest over the per-modality hashes."""
-        return video_content_hash(self.hexdigests())
 
 
 def scene_renderer(

@@ -16,7 +16,8 @@ import pytest
 
 from phav_generator.dataset import renderer_fingerprint
 from phav_generator.render.gl import gl_context, gl_strings
-from phav_generator.render.video import VideoHashes, render_video
+from phav_generator.render.video import render_video
+from phav_spec.encoding import VideoHashes
 from tests.generator.physics_support import recipe_for
 
 GOLDEN = Path(__file__).parents[1] / "golden" / "render-hashes.json"

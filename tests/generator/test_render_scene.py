@@ -93,7 +93,8 @@ def test_instance_colours_are_distinct_and_never_black():
 _HASH_SCRIPT = """
 import json, sys
 from tests.generator.physics_support import recipe_for
-from phav_generator.render.video import VideoHashes, render_video
+from phav_generator.render.video import render_video
+from phav_spec.encoding import VideoHashes
 r = recipe_for("walk", "urban", seconds=0.3, variation="none")
 h = VideoHashes(r.n_frames)
 for rf in render_video(r):
@@ -118,8 +119,8 @@ def test_a_video_hashes_the_same_in_two_processes():
 
 
 def test_streamed_hashes_equal_the_content_hash_of_all_frames(ctx):
-    from phav_generator.render.video import VideoHashes, render_video
-    from phav_spec.encoding import content_hash
+    from phav_generator.render.video import render_video
+    from phav_spec.encoding import VideoHashes, content_hash
 
     recipe = recipe_for("wave", "green", seconds=0.2, variation="none")
     frames = list(render_video(recipe, ctx=ctx))
