@@ -19,7 +19,7 @@ from phav_spec.encoding import MODALITIES, decode_flow
 from phav_spec.manifest import DatasetManifest
 from phav_spec.recipe import Recipe
 from phav_validators.findings import CheckResult, Finding, Reason, Report
-from phav_validators.scan import FRAME_KEYS, decode_image
+from phav_validators.scan import FRAME_KEYS, decode_image, png_header
 from phav_validators.tarsafe import TarScan, iter_members
 
 #: Per modality, the largest difference tolerated when fingerprints differ: mean absolute
@@ -30,14 +30,20 @@ TOLERANCES: dict[str, float] = {
 }  # fmt: skip
 
 
-def shard_video_frames(path: str | Path, video_id: str) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
-    """Decoded frames of one video from a shard, in order (incomplete frames are skipped)."""
+def shard_video_frames(
+    path: str | Path, video_id: str, size: tuple[int, int] = (340, 256)
+) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+    """Decoded frames of one video from a shard, in order. Incomplete frames, and frames with
+    an image whose PNG header is not ``size`` (width, height), are skipped undecoded: the
+    same guard against decompression bombs as the integrity scan."""
     prefix = f"{video_id}/"
     current: int | None = None
     members: dict[str, bytes] = {}
 
     def emit() -> dict[str, np.ndarray] | None:
         if current is None or any(k not in members for k in FRAME_KEYS[:-1]):
+            return None
+        if any((png_header(members[m.key]) or (0, 0))[:2] != size for m in MODALITIES):
             return None
         arrays = {m.name: decode_image(members[m.key]) for m in MODALITIES}
         return None if any(a is None for a in arrays.values()) else arrays  # type: ignore[return-value]
@@ -123,7 +129,8 @@ def check_reproducibility(
         for vid in chosen:
             recipe, entry = recipes[vid], entries.get(vid)
             shard = root / entry.shard if entry is not None else None
-            stored = shard_video_frames(shard, vid) if shard is not None and shard.exists() else iter(())
+            size = (recipe.video.width, recipe.video.height)
+            stored = shard_video_frames(shard, vid, size) if shard is not None and shard.exists() else iter(())
             hashes = VideoHashes(recipe.n_frames)
             first_bad: dict[str, int] = {}
             for rf in render_video(recipe, ctx=ctx):

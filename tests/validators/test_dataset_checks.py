@@ -397,3 +397,13 @@ def test_exit_codes_and_single_shard_input(clean, tmp_path):
     integrity = ds["checks"][0]
     assert integrity["numbers"]["shards"] == 1 and integrity["numbers"]["videos"] == 1
     assert ds["checks"][2]["numbers"]["videos"] == 1
+
+
+def test_frame_reader_skips_images_of_another_size(copy):
+    """The reproducibility / HTML reader never decodes an image whose header is off-size."""
+    from phav_validators.reproduce import shard_video_frames
+
+    shard = _shard_of(copy, "v000000")
+    _rewrite_tar(shard, _png_edit("v000000/00001.rgb.png", lambda a: cv2.resize(a, (4000, 4000))))
+    frames = [f for f, _ in shard_video_frames(shard, "v000000")]
+    assert 1 not in frames and frames[:2] == [0, 2]
