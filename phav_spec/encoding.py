@@ -227,7 +227,9 @@ class ContentHasher:
         self._digest.update(_frame(name.encode("utf-8")))
         self._digest.update(_frame(array.dtype.str.encode("ascii")))
         self._digest.update(_frame(struct.pack(f"<{array.ndim}Q", *array.shape)))
-        self._digest.update(_frame(array.tobytes(order="C")))
+        # The pixels' length prefix, then the buffer itself: no copy of a frame's bytes.
+        self._digest.update(struct.pack("<Q", array.nbytes))
+        self._digest.update(array)  # C-contiguous, so hashlib reads its buffer in place
         self._last = name
         self._added += 1
 

@@ -281,9 +281,7 @@ def video_failures(
         m[f"penetration_m/{person.person_id}"] = deepest
         if deepest > th.penetration_m:
             t, k = np.unravel_index(int(np.argmax(np.maximum(depth, below))), depth.shape)
-            where = (
-                f"a {box.colliders[which[t, k]].pixel_class} box" if depth[t, k] >= below[t, k] else "the ground"
-            )
+            where = f"a {box.colliders[which[t, k]].pixel_class} box" if depth[t, k] >= below[t, k] else "the ground"
             fail(Reason.INTERPENETRATION,
                  f"{who}: {deepest * 100:.0f} cm inside {where} at frame {int(person.frames[t])}")  # fmt: skip
         else:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import tarfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import BinaryIO
@@ -89,9 +89,17 @@ def _end_marker(raw: BinaryIO, offset: int) -> str | None:
     return None
 
 
-def iter_members(path: str | Path, scan: TarScan) -> Iterator[tuple[str, bytes]]:
+def iter_members(
+    path: str | Path, scan: TarScan, only: Callable[[str], bool] | None = None
+) -> Iterator[tuple[str, bytes]]:
     """Yield (name, bytes) of every safe regular member, in tar order; ``scan`` collects
-    refusals, truncation and the file's digest (complete once the iterator is exhausted)."""
+    refusals, truncation and the file's digest (complete once the iterator is exhausted).
+
+    With ``only``, just the members it accepts are read and the rest are seeked over; no
+    digest is formed and damage ends the iteration silently (another pass reports it)."""
+    if only is not None:
+        yield from _iter_some(path, only)
+        return
     with open(path, "rb") as raw:
         reader = _HashingReader(raw)
         try:
@@ -125,3 +133,19 @@ def iter_members(path: str | Path, scan: TarScan) -> Iterator[tuple[str, bytes]]
             pass
         scan.sha256 = reader.sha256.hexdigest()
         scan.bytes = reader.size
+
+
+def _iter_some(path: str | Path, only: Callable[[str], bool]) -> Iterator[tuple[str, bytes]]:
+    """The safe regular members ``only`` accepts, read by seeking (random-access tar mode)."""
+    try:
+        with tarfile.open(path, mode="r:") as tar:
+            for info in tar:
+                if not only(info.name) or unsafe_reason(info) is not None or info.size > MAX_MEMBER_BYTES:
+                    continue
+                member = tar.extractfile(info)
+                data = member.read() if member is not None else b""
+                if len(data) != info.size:
+                    return
+                yield info.name, data
+    except (tarfile.TarError, EOFError, OSError):
+        return

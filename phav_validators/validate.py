@@ -13,8 +13,8 @@ import itertools
 import math
 import multiprocessing
 import time
-from collections.abc import Callable, Iterator, Mapping
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -281,23 +281,82 @@ def _init_worker() -> None:
     """One thread per worker process: OpenCV's own pool would fight the other workers."""
     import cv2
 
+    from phav_validators.scan import tune_allocator
+
     cv2.setNumThreads(1)
+    tune_allocator()
 
 
-def _scan_all(jobs: list[ShardJob], workers: int, advance: Callable[[int], None] | None) -> Iterator[ShardScan]:
-    """Scan shards (in a pool of spawned processes when workers > 1), in job order."""
-    if workers <= 1 or len(jobs) <= 1:
-        for job in jobs:
-            yield scan_shard(job)
+class _Scans:
+    """The shard pass under way. With ``workers`` > 1 every job is submitted to a pool of
+    spawned processes at once, so the checks that need no pixels (schema, distribution,
+    most of failures) run in this process meanwhile; otherwise jobs run here on demand.
+    Either way each job's result is the same, and results are taken in job order."""
+
+    def __init__(self, jobs: list[ShardJob], workers: int, advance: Callable[[int], None] | None):
+        self.jobs = jobs
+        self._advance = advance
+        self._results: dict[int, ShardScan] = {}
+        self.waited = 0.0  # seconds spent here waiting for (or running) jobs
+        self._job_of = {v.video_id: i for i, job in enumerate(jobs) for v in job.videos}
+        self._pool: ProcessPoolExecutor | None = None
+        self._futures: list[Future[ShardScan]] = []
+        if workers > 1 and len(jobs) > 1:
+            mp = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(max_workers=min(workers, len(jobs)), mp_context=mp,
+                                             initializer=_init_worker)  # fmt: skip
+            self._futures = [self._pool.submit(scan_shard, job) for job in jobs]
             if advance is not None:
-                advance(1)
-        return
-    mp = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=min(workers, len(jobs)), mp_context=mp, initializer=_init_worker) as pool:
-        for result in pool.map(scan_shard, jobs):
-            yield result
-            if advance is not None:
-                advance(1)
+                for future in self._futures:
+                    future.add_done_callback(lambda _: advance(1))
+
+    def result(self, i: int) -> ShardScan:
+        if i not in self._results:
+            start = time.perf_counter()
+            if self._pool is not None:
+                self._results[i] = self._futures[i].result()
+            else:
+                self._results[i] = scan_shard(self.jobs[i])
+                if self._advance is not None:
+                    self._advance(1)
+            self.waited += time.perf_counter() - start
+        return self._results[i]
+
+    def all(self) -> list[ShardScan]:
+        return [self.result(i) for i in range(len(self.jobs))]
+
+    def video(self, video_id: str) -> VideoScan | None:
+        """The video's scan (waiting for its job), None if no job covers it."""
+        i = self._job_of.get(video_id)
+        return None if i is None else self.result(i).videos.get(video_id)
+
+    def video_ids(self) -> list[str]:
+        return list(self._job_of)
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+
+
+class _InstancePixels(Mapping[str, Mapping[int, Sequence[int]]]):
+    """Per decoded video, its people's instance pixels per frame, each taken from the scan
+    when the failures check first asks for it (so that check overlaps the shard pass)."""
+
+    def __init__(self, scans: _Scans):
+        self._scans = scans
+
+    def __getitem__(self, video_id: str) -> Mapping[int, Sequence[int]]:
+        scan = self._scans.video(video_id)
+        if scan is None or not scan.decoded:
+            raise KeyError(video_id)
+        return scan.instance_pixels
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._scans.video_ids())
+
+    def __len__(self) -> int:
+        return len(self._scans.video_ids())
 
 
 # --- checks on the scan ----------------------------------------------------------------------
@@ -414,116 +473,53 @@ def validate_dataset(
     loaded = _load(inp, theta, timings)
     results: dict[str, CheckResult] = {}
     want = set(opts.checks)
-    recipes_only = inp.recipes_only
     m = loaded.manifest
 
-    # schema
-    start = time.perf_counter()
-    _schema_links(loaded, inp)
-    n_recipes = loaded.table.table.num_rows if loaded.table is not None else 0
-    results["schema"] = CheckResult.from_report(
-        "schema", loaded.schema, f"{len(loaded.recipes)}/{n_recipes} recipes valid (schema ≤ {RECIPE_SCHEMA_VERSION})",
-        {"recipes": n_recipes, "valid": len(loaded.recipes)},
-    )  # fmt: skip
-    timings["schema"] += time.perf_counter() - start
-
-    # the shard pass: integrity, encoding, consistency
-    scans: list[ShardScan] = []
+    # The shard pass (integrity, encoding, consistency) starts first: with workers it runs
+    # beside schema, distribution and failures, which need no pixels until failures asks.
+    jobs: list[ShardJob] = []
     scan_report = Report()
-    if not recipes_only and want & set(_SCAN_CHECKS):
-        start = time.perf_counter()
+    scan_start = time.perf_counter()
+    if not inp.recipes_only and want & set(_SCAN_CHECKS):
         jobs, scan_report = _jobs(inp, loaded, opts)
-        advance = progress("scanning shards", len(jobs)) if progress is not None and jobs else None
-        scans = list(_scan_all(jobs, opts.workers, advance))
-        timings["scan"] = time.perf_counter() - start
-    videos = {vid: v for s in scans for vid, v in s.videos.items()}
-    shard_of = {vid: Path(s.path).name for s in scans for vid in s.videos}
-    frames_decoded = sum(s.frames_decoded for s in scans)
-    if recipes_only:
+    advance = progress("scanning shards", len(jobs)) if progress is not None and jobs else None
+    scans = _Scans(jobs, opts.workers, advance)
+    try:
+        start = time.perf_counter()
+        _schema_links(loaded, inp)
+        n_recipes = loaded.table.table.num_rows if loaded.table is not None else 0
+        results["schema"] = CheckResult.from_report(
+            "schema", loaded.schema,
+            f"{len(loaded.recipes)}/{n_recipes} recipes valid (schema ≤ {RECIPE_SCHEMA_VERSION})",
+            {"recipes": n_recipes, "valid": len(loaded.recipes)},
+        )  # fmt: skip
+        timings["schema"] += time.perf_counter() - start
+
+        start = time.perf_counter()
+        results["distribution"], dist_result = _distribution(loaded, opts)
+        timings["distribution"] = time.perf_counter() - start
+
+        selected = _selected_videos(inp, loaded, scans)
+        if not inp.recipes_only and "failures" in want:
+            start = time.perf_counter()
+            waited = scans.waited
+            results["failures"] = _failures(inp, loaded, selected, _InstancePixels(scans), opts, progress)
+            timings["failures"] = time.perf_counter() - start - (scans.waited - waited)
+
+        shard_scans = scans.all()
+        timings["scan"] = time.perf_counter() - scan_start
+    finally:
+        scans.close()
+    videos = {vid: v for s in shard_scans for vid, v in s.videos.items()}
+    shard_of = {vid: Path(s.path).name for s in shard_scans for vid in s.videos}
+    if inp.recipes_only:
         for name in ("integrity", "encoding", "failures", "consistency", "reproducibility"):
             results[name] = CheckResult.skipped(name, "a recipes table alone: no shards or metadata to read")
     else:
-        integrity = loaded.integrity
-        for f in scan_report.findings:
-            integrity.add(f)
-        for s in scans:
-            for f in s.findings["integrity"]:
-                integrity.add(f)
-        hashed = sum(1 for v in videos.values() if v.content_hash is not None)
-        members = sum(len(v.frames) for v in videos.values())
-        n_shards = len({s.path for s in scans})
-        results["integrity"] = CheckResult.from_report(
-            "integrity", integrity,
-            f"{n_shards} shards read, {hashed}/{len(videos)} videos' pixel hashes recomputed",
-            {"shards": n_shards, "videos": len(videos), "hashed": hashed, "complete_frames": members,
-             "refused_members": sum(len(s.tar.refused) for s in scans),
-             "truncated_shards": sum(s.tar.truncated is not None for s in scans)},
-        )  # fmt: skip
-        encoding = Report()
-        for s in scans:
-            for f in s.findings["encoding"]:
-                encoding.add(f)
-        results["encoding"] = CheckResult.from_report(
-            "encoding", encoding, f"{frames_decoded} frames decoded and checked ({opts.sample:.0%} sample)",
-            {"frames_decoded": frames_decoded, "sample": opts.sample},
-        )  # fmt: skip
-        consistency = Report()
-        numbers = _consistency(videos, shard_of, consistency)
-        results["consistency"] = CheckResult.from_report(
-            "consistency", consistency,
-            f"{numbers['videos']} videos; worst mean flow EPE {numbers['worst_flow_mean_epe_px']:.3f} px",
-            numbers,
-        )  # fmt: skip
+        results.update(_scan_results(shard_scans, videos, shard_of, loaded.integrity, scan_report, opts))
 
-    # distribution
-    start = time.perf_counter()
-    dist_result = None
-    if loaded.table is None or loaded.theta is None:
-        why = "no readable recipes table" if loaded.table is None else "no θ: pass --theta or ship theta.yaml"
-        results["distribution"] = CheckResult.skipped("distribution", why)
-        if loaded.distribution.findings:
-            results["distribution"] = CheckResult.from_report("distribution", loaded.distribution, why, {})
-    else:
-        from phav_validators.distribution import check_distributions
-
-        rt = loaded.table
-        dist_result = check_distributions(
-            {name: rt.column(name) for name in rt.table.column_names}, loaded.theta, alpha=opts.alpha,
-            source=str(rt.path.name),
-        )  # fmt: skip
-        for f in dist_result.report.findings:
-            loaded.distribution.add(f)
-        rejected = sum(t.rejected for t in dist_result.tests)
-        results["distribution"] = CheckResult.from_report(
-            "distribution", loaded.distribution,
-            f"{len(dist_result.tests)} tests against θ {loaded.theta.name}, {rejected} rejected "
-            f"(Holm, α = {opts.alpha:g})",
-            {"tests": len(dist_result.tests), "rejected": rejected, "videos": dist_result.n_videos,
-             "mean_duration_s": dist_result.mean_duration,
-             "expected_mean_duration_s": dist_result.expected_mean_duration},
-        )  # fmt: skip
-    timings["distribution"] = time.perf_counter() - start
-
-    # failures
-    selected = _selected_videos(inp, loaded, scans)
-    if not recipes_only and "failures" in want:
-        start = time.perf_counter()
-        people, cameras = _read_tables(inp)
-        if people is None or cameras is None:
-            results["failures"] = CheckResult.skipped("failures", "people.parquet / cameras.parquet unreadable")
-        else:
-            from phav_validators.failures import check_failures
-
-            chosen = {vid: loaded.recipes[vid] for vid in selected if vid in loaded.recipes}
-            pixels = {vid: v.instance_pixels for vid, v in videos.items() if v.decoded}
-            advance = progress("failure cases", len(chosen)) if progress is not None and chosen else None
-            results["failures"], _ = check_failures(chosen, people, cameras, instance_pixels=pixels,
-                                                    budget=opts.budget, progress=advance)  # fmt: skip
-        timings["failures"] = time.perf_counter() - start
-
-    # reproducibility
     fingerprint_match = None
-    if not recipes_only and "reproducibility" in want:
+    if not inp.recipes_only and "reproducibility" in want:
         start = time.perf_counter()
         from phav_validators.reproduce import check_reproducibility
 
@@ -532,6 +528,7 @@ def validate_dataset(
         )
         timings["reproducibility"] = time.perf_counter() - start
 
+    # The pass's time is shared by the checks that read it (it overlaps the others).
     share = timings.pop("scan", 0.0) / max(len(want & set(_SCAN_CHECKS)), 1)
     for name in _SCAN_CHECKS:
         timings[name] = timings.get(name, 0.0) + share
@@ -559,10 +556,100 @@ def validate_dataset(
     return report
 
 
-def _selected_videos(inp: DatasetInput, loaded: _Loaded, scans: list[ShardScan]) -> set[str]:
+def _scan_results(
+    scans: list[ShardScan],
+    videos: Mapping[str, VideoScan],
+    shard_of: Mapping[str, str],
+    integrity: Report,
+    scan_report: Report,
+    opts: Options,
+) -> dict[str, CheckResult]:
+    """integrity, encoding and consistency from the shard pass."""
+    for f in scan_report.findings:
+        integrity.add(f)
+    for s in scans:
+        for f in s.findings["integrity"]:
+            integrity.add(f)
+    hashed = sum(1 for v in videos.values() if v.content_hash is not None)
+    members = sum(len(v.frames) for v in videos.values())
+    n_shards = len({s.path for s in scans})
+    frames_decoded = sum(s.frames_decoded for s in scans)
+    out = {}
+    out["integrity"] = CheckResult.from_report(
+        "integrity", integrity,
+        f"{n_shards} shards read, {hashed}/{len(videos)} videos' pixel hashes recomputed",
+        {"shards": n_shards, "videos": len(videos), "hashed": hashed, "complete_frames": members,
+         "refused_members": sum(len(s.tar.refused) for s in scans),
+         "truncated_shards": sum(s.tar.truncated is not None for s in scans)},
+    )  # fmt: skip
+    encoding = Report()
+    for s in scans:
+        for f in s.findings["encoding"]:
+            encoding.add(f)
+    out["encoding"] = CheckResult.from_report(
+        "encoding", encoding, f"{frames_decoded} frames decoded and checked ({opts.sample:.0%} sample)",
+        {"frames_decoded": frames_decoded, "sample": opts.sample},
+    )  # fmt: skip
+    consistency = Report()
+    numbers = _consistency(videos, shard_of, consistency)
+    out["consistency"] = CheckResult.from_report(
+        "consistency", consistency,
+        f"{numbers['videos']} videos; worst mean flow EPE {numbers['worst_flow_mean_epe_px']:.3f} px",
+        numbers,
+    )  # fmt: skip
+    return out
+
+
+def _distribution(loaded: _Loaded, opts: Options) -> tuple[CheckResult, DistributionResult | None]:
+    """The recipes table against θ's exact expectations."""
+    if loaded.table is None or loaded.theta is None:
+        why = "no readable recipes table" if loaded.table is None else "no θ: pass --theta or ship theta.yaml"
+        if loaded.distribution.findings:
+            return CheckResult.from_report("distribution", loaded.distribution, why, {}), None
+        return CheckResult.skipped("distribution", why), None
+    from phav_validators.distribution import check_distributions
+
+    rt = loaded.table
+    result = check_distributions(
+        {name: rt.column(name) for name in rt.table.column_names}, loaded.theta, alpha=opts.alpha,
+        source=str(rt.path.name),
+    )  # fmt: skip
+    for f in result.report.findings:
+        loaded.distribution.add(f)
+    rejected = sum(t.rejected for t in result.tests)
+    check = CheckResult.from_report(
+        "distribution", loaded.distribution,
+        f"{len(result.tests)} tests against θ {loaded.theta.name}, {rejected} rejected (Holm, α = {opts.alpha:g})",
+        {"tests": len(result.tests), "rejected": rejected, "videos": result.n_videos,
+         "mean_duration_s": result.mean_duration, "expected_mean_duration_s": result.expected_mean_duration},
+    )  # fmt: skip
+    return check, result
+
+
+def _failures(
+    inp: DatasetInput,
+    loaded: _Loaded,
+    selected: set[str],
+    pixels: Mapping[str, Mapping[int, Sequence[int]]],
+    opts: Options,
+    progress: ProgressFactory | None,
+) -> CheckResult:
+    """Failure cases recomputed from the metadata tables, the recipes and instance pixels."""
+    people, cameras = _read_tables(inp)
+    if people is None or cameras is None:
+        return CheckResult.skipped("failures", "people.parquet / cameras.parquet unreadable")
+    from phav_validators.failures import check_failures
+
+    chosen = {vid: loaded.recipes[vid] for vid in selected if vid in loaded.recipes}
+    advance = progress("failure cases", len(chosen)) if progress is not None and chosen else None
+    result, _ = check_failures(chosen, people, cameras, instance_pixels=pixels, budget=opts.budget, progress=advance)
+    return result
+
+
+def _selected_videos(inp: DatasetInput, loaded: _Loaded, scans: _Scans) -> set[str]:
     """The videos this run covers: those of the named shards, else every video."""
-    if inp.shards is not None and scans:
-        return {vid for s in scans for vid in s.videos}
+    if inp.shards is not None and scans.jobs:
+        return set(scans.video_ids())
     if loaded.manifest is not None:
         return {v.video_id for v in loaded.manifest.videos}
     return set(loaded.recipes)

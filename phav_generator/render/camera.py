@@ -52,9 +52,12 @@ def project(
     where a point is not at least ``min_depth`` in front of the camera."""
     fx, fy, cx, cy = intrinsics
     v = view(cam_to_world)
-    cam = points @ v[:3, :3].T + v[:3, 3]
-    z = -cam[..., 2]
+    px, py, pz = np.moveaxis(np.asarray(points, dtype=float), -1, 0)
+    # Written out rather than ``points @ R.T``: a (N, 3) @ (3, 3) product is slow in BLAS
+    # and its rounding may differ between BLAS builds; this is the same on every machine.
+    x, y, z = (r[0] * px + r[1] * py + r[2] * pz + t for r, t in zip(v[:3, :3], v[:3, 3], strict=True))
+    z = -z
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.stack([cx + fx * cam[..., 0] / z, cy - fy * cam[..., 1] / z], axis=-1)
+        out = np.stack([cx + fx * x / z, cy - fy * y / z], axis=-1)
     out[z <= min_depth] = np.nan
     return out

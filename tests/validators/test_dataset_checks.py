@@ -235,6 +235,9 @@ def test_links_devices_and_bombs_are_refused(tmp_path):
         ("v000000/00000.rgb.png", "unsafe"), ("dev", "unsafe"), ("v000000/00000.depth.png", "oversized"),
     ]  # fmt: skip
     assert scan.truncated is None and scan.bytes == path.stat().st_size
+    # A secondary scan part seeks to the members it wants and still refuses the hostile ones.
+    assert [n for n, _ in iter_members(path, TarScan(), only=lambda name: True)] == ["fine.txt"]
+    assert [n for n, _ in iter_members(path, TarScan(), only=lambda name: name != "fine.txt")] == []
 
 
 def test_truncated_tar_fails_integrity(copy):
@@ -407,3 +410,23 @@ def test_frame_reader_skips_images_of_another_size(copy):
     _rewrite_tar(shard, _png_edit("v000000/00001.rgb.png", lambda a: cv2.resize(a, (4000, 4000))))
     frames = [f for f, _ in shard_video_frames(shard, "v000000")]
     assert 1 not in frames and frames[:2] == [0, 2]
+
+
+def test_worker_count_does_not_change_the_report(copy):
+    """Shards split into parts scanned by a pool, with failures overlapping the scan, give the
+    report one process gives, findings in the same order (here in a secondary part's video)."""
+
+    def paint(image):
+        image[10:12, 20:22] = (1, 2, 3)
+        return image
+
+    _rewrite_tar(_shard_of(copy, "v000001"), _png_edit("v000001/00004.seg.png", paint))
+    checks = tuple(c for c in CHECKS if c != "reproducibility")
+    inp = resolve([copy])[0]
+    one, two = (validate_dataset(inp, options=Options(checks=checks, workers=w)).to_json() for w in (1, 2))
+    for report in (one, two):
+        for check in report["checks"]:
+            check.pop("seconds")
+    assert one == two
+    _assert_fails(validate_dataset(inp, options=Options(checks=checks, workers=2)), "encoding",
+                  Reason.FOREIGN_COLOUR, video="v000001")  # fmt: skip
