@@ -35,7 +35,7 @@ app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
 #: What `phav bench --sections` can run.
-BENCH_SECTIONS = ("sampling", "physics", "probe", "render")
+BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "validation")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 
@@ -448,10 +448,18 @@ def bench(
     render_frames: Annotated[
         int | None, typer.Option("--render-frames", min=2, help="At most this many frames per video.")
     ] = None,
+    validation_videos: Annotated[
+        int, typer.Option("--validation-videos", min=2, help="phav-v1-short videos generated, then validated.")
+    ] = 20,
+    validation_trials: Annotated[
+        int, typer.Option("--validation-trials", min=1, help="Seeds per --sample fraction in the detection table.")
+    ] = 10,
 ) -> None:
     """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
-    (timestep against joint error and ms per frame) and the action probe (how recognisable
-    the 35 actions are from simulated motion, against simulation time)."""
+    (timestep against joint error and ms per frame), the action probe (how recognisable
+    the 35 actions are from simulated motion, against simulation time), rendering (frames/s
+    against edge error) and validation (frames/s per check against generation, detection
+    against --sample)."""
     from phav_generator.bench import bench_sampling
 
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
@@ -466,6 +474,8 @@ def bench(
         _bench_probe_table(theta, seed=seed, clips=probe_clips)
     if "render" in chosen:
         _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames)
+    if "validation" in chosen:
+        _bench_validation_tables(seed=seed, videos=validation_videos, trials=validation_trials, out_dir=out_dir)
     if "sampling" not in chosen:
         return
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
@@ -480,6 +490,38 @@ def bench(
             f"{r.duration_error:.3f}", f"{r.worst_p:.2g}", f"{r.rejected}/{r.n_tests}",
         )  # fmt: skip
     console.print(table)
+
+
+def _bench_validation_tables(*, seed: int, videos: int, trials: int, out_dir: Path | None) -> None:
+    import tempfile
+
+    from phav_validators.bench import bench_validation
+
+    theta = load_theta("phav-v1-short")
+    with tempfile.TemporaryDirectory() as tmp, console.status("validation bench") as status:
+        work = out_dir / "validation" if out_dir is not None else Path(tmp)
+        b = bench_validation(theta, work, videos=videos, seed=seed, trials=trials, progress=status.update)
+    title = (f"validation (θ {theta.name}, {b.videos} videos of seed {seed}, {b.frames:,} frames, {b.workers} workers;"
+             f" phav generate took {b.generate_s:.1f} s = {b.frames / b.generate_s:.1f} frames/s)")  # fmt: skip
+    table = Table(title=title, title_justify="left")
+    for col in ("checks", "seconds", "frames/s", "× generation", "status on clean data", "false alarms (fails)"):
+        table.add_column(col, justify="right")
+    for run in (*b.runs, b.combined):
+        label = "all but reproducibility" if run is b.combined else run.checks
+        per_s = f"{run.frames_per_s:,.1f}" + (" regenerated" if run.checks == "reproducibility" else "")
+        table.add_row(label, f"{run.seconds:.1f}", per_s, f"{b.generate_s / run.seconds:.1f}", run.status,
+                      str(run.fails))  # fmt: skip
+    console.print(table)
+    aim = "meets" if b.speedup >= 5 else "MISSES"
+    console.print(f"every check but reproducibility: {b.speedup:.1f}× faster than generation ({aim} the ≥ 5× aim)")
+    det = Table(title=f"integrity against --sample ({b.corrupted} of {b.videos} videos with one depth pixel changed, "
+                      f"{trials} seeds each)", title_justify="left")  # fmt: skip
+    for col in ("--sample", "videos decoded", "seconds", "detected", "expected (hypergeometric)"):
+        det.add_column(col, justify="right")
+    for d in b.detection:
+        det.add_row(f"{d.fraction:g}", f"{d.videos_decoded:.1f}", f"{d.seconds:.1f}",
+                    f"{d.detected}/{d.trials} = {d.detected / d.trials:.0%}", f"{d.expected:.0%}")  # fmt: skip
+    console.print(det)
 
 
 def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None) -> None:

@@ -64,6 +64,7 @@ def validate(
     """Validate PHAV datasets: integrity, schema, encoding, distribution, failures,
     consistency and reproducibility."""
     from phav_validators.report import write_html, write_json
+    from phav_validators.scan import tune_allocator
     from phav_validators.source import resolve
     from phav_validators.validate import Options, validate_dataset
 
@@ -72,6 +73,7 @@ def validate(
         budget=failure_budget,
     )  # fmt: skip
     inputs = resolve(paths)
+    tune_allocator()  # this process scans too when --workers is 1
     reports = []
     for inp in inputs:
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),

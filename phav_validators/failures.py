@@ -228,7 +228,7 @@ def _base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
     return pos[:, list(JOINT_BODIES)], person.pin[steps] >= 0.5
 
 
-def _necessary_joints(action: str) -> list[int]:
+def necessary_joints(action: str) -> list[int]:
     """Joints moved by the action's necessary muscles (a joint is its body's origin, so it
     moves with its parent body)."""
     from phav_generator.skeleton import BONES, JOINT_BODIES
@@ -357,7 +357,7 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
     keep = pinned[frames]
     if not keep.any():
         return
-    joints = _necessary_joints(recipe.action)
+    joints = necessary_joints(recipe.action)
     if not joints:
         return
     hips = [_J["left_hip"], _J["right_hip"]]

@@ -140,3 +140,20 @@ def test_sheets_make_one_image_per_value_and_an_index(tmp_path):
     assert max(np.abs(labels[w] - labels["clear"]).mean() for w in WEATHERS.names) < 1.0
     bad = run_cli("sheets", "--by", "mood", "--out", str(out))
     assert bad.returncode == 2 and "mood" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_bench_validation_reports_speed_and_detection_against_sample():
+    result = run_cli("bench", "--sections", "validation", "--validation-videos", "2", "--validation-trials", "1")
+    assert result.returncode == 0, result.stderr
+    out = result.stdout
+    rows = {
+        cells[0]: cells
+        for cells in ([c.strip() for c in line.strip("│ ").split("│")] for line in out.splitlines())
+        if len(cells) >= 5
+    }
+    for check in ("integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility"):
+        assert float(rows[check][1]) > 0 and rows[check][5] == "0", rows[check]  # no false alarm on clean data
+    assert "all but reproducibility" in rows and "faster than generation" in out
+    # One of two videos corrupted: at --sample 1 integrity always finds it, as expected.
+    assert rows["1"][3].startswith("1/1") and rows["1"][4] == "100%"
+    assert rows["0.1"][4] == "50%"  # one of two videos drawn

@@ -430,3 +430,24 @@ def test_worker_count_does_not_change_the_report(copy):
     assert one == two
     _assert_fails(validate_dataset(inp, options=Options(checks=checks, workers=2)), "encoding",
                   Reason.FOREIGN_COLOUR, video="v000001")  # fmt: skip
+
+
+def test_hypergeometric_detection_probability_matches_enumeration():
+    import itertools
+    import math
+
+    from phav_validators.bench import hypergeometric_hit
+
+    for n, bad, drawn in ((5, 1, 2), (6, 2, 3), (7, 3, 1), (4, 1, 4), (4, 0, 2)):
+        draws = list(itertools.combinations(range(n), drawn))
+        hit = sum(any(i < bad for i in d) for d in draws) / len(draws)
+        assert math.isclose(hypergeometric_hit(n, bad, drawn), hit), (n, bad, drawn)
+
+
+def test_bench_corruption_is_caught_by_integrity(copy):
+    from phav_validators.bench import flip_depth_pixel
+
+    flip_depth_pixel(_shard_of(copy, "v000002"), "v000002/00003.depth.png")
+    _assert_fails(_validate(copy, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000002")
+    with pytest.raises(ValueError, match="no member"):
+        flip_depth_pixel(_shard_of(copy, "v000002"), "v000002/99999.depth.png")
