@@ -350,12 +350,11 @@ def parameter_draws(table: pa.Table, param: ContinuousParameter) -> tuple[np.nda
     if param.group is None:
         groups = np.full(len(values), "all", dtype=object)
     else:
+        # By recipe row, never by position: a list parameter (``strengths[]``) yields several
+        # draws per recipe, and their count may equal the number of recipes by chance.
         group_rows, group_values = _path(table, param.group)
-        if len(group_values) == len(values):
-            groups = group_values
-        else:
-            by_row = dict(zip(group_rows.tolist(), group_values.tolist(), strict=True))
-            groups = np.array([by_row.get(r) for r in rows.tolist()], dtype=object)
+        by_row = dict(zip(group_rows.tolist(), group_values.tolist(), strict=True))
+        groups = np.array([by_row.get(r) for r in rows.tolist()], dtype=object)
     keep &= np.array([g is not None for g in groups], dtype=bool)
     return groups[keep], values[keep].astype(float)
 

@@ -134,3 +134,23 @@ def test_every_categorical_parameter_is_checked(sampled, case):
     result = check_distributions({k: v for k, v in columns.items() if k != "recipe"}, other)
     assert not result.ok
     assert any(variable in f.message for f in result.report.findings), [f.message for f in result.report.findings][:5]
+
+
+def test_list_draws_are_grouped_by_their_recipe_even_when_counts_coincide():
+    """Four strengths of one muscle-weakening recipe among four recipes: each draw belongs to
+    that recipe's variation kind, not to the recipe at its list position (a false alarm
+    `phav-validate` once raised on a clean four-video dataset)."""
+    import json
+
+    from phav_spec.theta import load_theta
+
+    theta = load_theta("phav-v1")
+    weakened = {"kind": "muscle_weakening", "muscles": ["chest", "left_foot", "right_hand", "neck"],
+                "strengths": [0.1, 0.2, 0.3, 0.4]}  # fmt: skip
+    others = [{"kind": "none"}, {"kind": "objects", "object": "cup"}, {"kind": "none"}]
+    recipes = [json.dumps({"variation": v}) for v in (weakened, *others)]
+    param = next(p for p in CONTINUOUS_PARAMETERS if p.value == "variation.strengths[]")
+    groups, values = parameter_draws(parse_recipes_arrow(recipes), param)
+    assert groups.tolist() == ["muscle_weakening"] * 4 and values.tolist() == [0.1, 0.2, 0.3, 0.4]
+    _, outside = check_continuous(recipes, theta)
+    assert not [o for o in outside if o[0] == param.name], outside
