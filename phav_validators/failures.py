@@ -63,7 +63,7 @@ class Thresholds:
     min_instance_pixels: int = 30  # fewer protagonist pixels than this: hidden
     camera_inside_m: float = 0.02  # the camera this deep inside geometry
     perturbation_m: float = 0.30  # necessary-muscle joints this far from the base motion (mean)
-    slide_m_s: float = 0.8  # a planted foot's mean horizontal speed above this
+    slide_m_s: float = 0.5  # the slowest planted foot's mean horizontal speed above this
 
 
 @dataclass
@@ -212,7 +212,7 @@ def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple
     return uv, z
 
 
-def _base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
+def base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
     """The protagonist's animated (unperturbed) joints per frame (T, 13, 3) and whether the
     pins hold the body to the animation then (T,), re-planned from the recipe."""
     from phav_generator.physics.plan import plan_scene
@@ -349,7 +349,7 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
     """A random perturbation that moves the action's necessary muscles far from the motion."""
     if recipe.variation.kind != "random_perturbation":
         return
-    base = _base_motion_joints(recipe)
+    base = base_motion_joints(recipe)
     if base is None:
         return
     target, pinned = base
@@ -373,7 +373,7 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
 
 
 def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: Any) -> None:
-    """Feet on the ground that move: mean horizontal speed of a planted ankle."""
+    """Feet on the ground that move: mean horizontal speed of the slowest planted ankle."""
     if len(person.frames) < 3:
         return
     ankles = person.joints[:, [_J["left_ankle"], _J["right_ankle"]]]  # (T, 2, 3)
@@ -388,9 +388,12 @@ def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, 
     # And while pinned: a released ragdoll (car hit, dive) is thrown, not walking.
     owned = (upright & person.pinned)[:-1, None]
     planted = (height[:-1] < PLANTED_M) & (height[1:] < PLANTED_M) & (vertical < 0.3) & owned
-    if planted.sum() < 3:
+    # A low foot may be swinging (mid-swing clearance is a few cm), but a walker always has
+    # one foot that stays put: per frame, the slowest low foot is the one that must not move.
+    some = planted.any(axis=1)
+    if some.sum() < 3:
         return
-    speed = float(horizontal[planted].mean())
+    speed = float(np.where(planted, horizontal, np.inf)[some].min(axis=1).mean())
     m["planted_foot_speed_m_s"] = speed
     if speed > th.slide_m_s:
         fail(Reason.FOOT_SLIDING, f"planted feet slide at {speed:.2f} m/s on average")

@@ -451,3 +451,52 @@ def test_bench_corruption_is_caught_by_integrity(copy):
     _assert_fails(_validate(copy, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000002")
     with pytest.raises(ValueError, match="no member"):
         flip_depth_pixel(_shard_of(copy, "v000002"), "v000002/99999.depth.png")
+
+
+def test_every_injected_physics_failure_is_caught_and_clean_videos_are_not(clean):
+    """The failures check's recall in CI: each case of the issue's list injected into each
+    clean video's metadata (phav_validators.inject) is caught with its reason."""
+    from phav_spec.recipe_table import read_recipe_table
+    from phav_validators.failures import camera_series, people_series, video_failures
+    from phav_validators.inject import INJECTIONS, inject
+
+    recipes = {r.video_id: r for r in read_recipe_table(clean / "recipes.parquet").recipes()}
+    people = people_series(pq.read_table(clean / "people.parquet"))
+    cams = camera_series(pq.read_table(clean / "cameras.parquet"))
+    applied = dict.fromkeys(INJECTIONS, 0)
+    for vid, recipe in sorted(recipes.items()):
+        assert not video_failures(recipe, people[vid], cams[vid]).failed, vid
+        for kind, reason in INJECTIONS.items():
+            injected = inject(kind, recipe, people[vid], cams[vid])
+            if injected is None:
+                continue
+            applied[kind] += 1
+            reasons = [r for r, _ in video_failures(recipe, *injected).failures]
+            assert reason in reasons, (vid, kind, reasons)
+        assert not video_failures(recipe, people[vid], cams[vid]).failed, "an injection changed its input"
+    # The golf video's "simple" scene has no box to walk into; no video is randomly perturbed.
+    assert applied == {**dict.fromkeys(INJECTIONS, len(recipes)), "wall": 2, "perturbation": 0}, applied
+    with pytest.raises(ValueError, match="unknown injection"):
+        inject("teleport", recipes["v000000"], people["v000000"], cams["v000000"])
+
+
+def test_perturbation_far_from_the_base_motion_is_caught():
+    """A randomly perturbed recipe whose protagonist follows its re-planned base motion
+    passes; the same joints with the necessary muscles moved 40 cm fail."""
+    from phav_generator.sampling import sample_recipes
+    from phav_spec.theta import load_theta
+    from phav_validators.failures import CameraSeries, PersonSeries, base_motion_joints, video_failures
+    from phav_validators.inject import inject
+
+    recipes = sample_recipes(load_theta("phav-v1-short"), n=200, seed=0)
+    recipe = next(r for r in recipes if r.variation.kind == "random_perturbation")
+    joints, pinned = base_motion_joints(recipe)
+    n = len(joints)
+    me = PersonSeries(recipe.protagonist.person_id, "protagonist", np.arange(n), joints, pinned)
+    clean = video_failures(recipe, [me], None)
+    assert clean.measures["perturbation_m"] < 0.01 and not clean.failed, clean.failures
+    intrinsics = np.tile([300.0, 300.0, 170.0, 128.0], (n, 1))
+    cams = CameraSeries(np.arange(n), np.repeat(np.eye(4)[None], n, axis=0), intrinsics)
+    people, _ = inject("perturbation", recipe, [me], cams)
+    reasons = [r for r, _ in video_failures(recipe, people, None).failures]
+    assert Reason.PERTURBATION_TOO_STRONG in reasons, reasons
