@@ -339,7 +339,13 @@ def _knees(j: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: A
         axis = ankle - hip
         axis /= np.maximum(np.linalg.norm(axis, axis=-1, keepdims=True), 1e-9)
         off = (knee - hip) - np.sum((knee - hip) * axis, axis=-1, keepdims=True) * axis
-        worst = max(worst, float(-np.sum(off * forward, axis=-1).min()))
+        # "Behind" is the torso's forward made perpendicular to the leg, so a seated leg
+        # (hip–ankle line pointing forward) is judged in its own plane; where forward runs
+        # almost along the leg (< 17°) the side is undefined and the frame is not judged.
+        back = forward - np.sum(forward * axis, axis=-1, keepdims=True) * axis
+        norm = np.linalg.norm(back, axis=-1)
+        behind = -np.sum(off * back, axis=-1) / np.maximum(norm, 1e-9)
+        worst = max(worst, float(np.where(norm > 0.3, behind, 0.0).max()))
     m[f"knee_hyperextension_m/{pid}"] = worst
     if worst > th.knee_hyperextension_m:
         fail(Reason.JOINT_LIMIT, f"{who}: a knee bends backwards ({worst * 100:.0f} cm behind the hip–ankle line)")
@@ -357,10 +363,11 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
     keep = pinned[frames]
     if not keep.any():
         return
-    joints = necessary_joints(recipe.action)
+    hips = [_J["left_hip"], _J["right_hip"]]
+    # Pelvis-relative: the hips are the reference, so they are not among the joints measured.
+    joints = [j for j in necessary_joints(recipe.action) if j not in hips]
     if not joints:
         return
-    hips = [_J["left_hip"], _J["right_hip"]]
     got = person.joints[: len(frames)][keep]
     want = target[frames][keep]
     got = got[:, joints] - got[:, hips].mean(axis=1, keepdims=True)

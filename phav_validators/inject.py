@@ -10,7 +10,8 @@ series it changes; the recipe is never touched.
 - off-screen: the camera turned 180° about the vertical in every frame;
 - camera-inside: the camera moved into the nearest box's centre (else 50 cm under the
   ground) for the middle third of the clip;
-- perturbation: (random-perturbation videos) the necessary muscles' joints moved 40 cm;
+- perturbation: (random-perturbation videos) the necessary muscles' joints other than the
+  hips moved 40 cm;
 - sliding: the whole body drifting sideways at 1.5 m/s, planted feet included.
 """
 
@@ -98,7 +99,8 @@ def inject(
     elif kind == "perturbation":
         if recipe.variation.kind != "random_perturbation":
             return None
-        moved = necessary_joints(recipe.action)
+        # Relative to the pelvis (as the check measures): the hips themselves stay.
+        moved = [i for i in necessary_joints(recipe.action) if i not in (_J["left_hip"], _J["right_hip"])]
         if not moved:
             return None
         j[:, moved] += np.array([0.4, 0.0, 0.0])
