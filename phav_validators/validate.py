@@ -44,7 +44,7 @@ CHECKS: tuple[str, ...] = (
 _SCAN_CHECKS = ("integrity", "encoding", "consistency")
 #: Scan jobs per worker process: shards split into parts so that workers finish together
 #: (every part reads its whole tar but decodes only its own videos).
-PARTS_PER_WORKER = 4
+PARTS_PER_WORKER = 8
 
 #: Consistency thresholds (clean datasets measure ~0.006 px mean EPE; docs/validation.md).
 FLOW_MEAN_EPE_PX = 0.25
@@ -287,25 +287,36 @@ def _init_worker() -> None:
     tune_allocator()
 
 
-class _Scans:
-    """The shard pass under way. With ``workers`` > 1 every job is submitted to a pool of
-    spawned processes at once, so the checks that need no pixels (schema, distribution,
-    most of failures) run in this process meanwhile; otherwise jobs run here on demand.
-    Either way each job's result is the same, and results are taken in job order."""
+def _ready() -> None:
+    """A worker's first task: nothing, so that it starts (and imports) while the main
+    process still reads the dataset's sidecar files."""
 
-    def __init__(self, jobs: list[ShardJob], workers: int, advance: Callable[[int], None] | None):
+
+def _start_pool(workers: int) -> ProcessPoolExecutor:
+    """``workers`` spawned scanning processes, started now."""
+    mp = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=mp, initializer=_init_worker)
+    for _ in range(workers):
+        pool.submit(_ready)
+    return pool
+
+
+class _Scans:
+    """The shard pass under way. With a ``pool`` every job is submitted at once, so the
+    checks that need no pixels (schema, distribution, most of failures) run in this process
+    meanwhile; without one, jobs run here on demand. Either way each job's result is the
+    same, and results are taken in job order. ``close`` shuts the pool down."""
+
+    def __init__(self, jobs: list[ShardJob], pool: ProcessPoolExecutor | None, advance: Callable[[int], None] | None):
         self.jobs = jobs
         self._advance = advance
         self._results: dict[int, ShardScan] = {}
         self.waited = 0.0  # seconds spent here waiting for (or running) jobs
         self._job_of = {v.video_id: i for i, job in enumerate(jobs) for v in job.videos}
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool = pool
         self._futures: list[Future[ShardScan]] = []
-        if workers > 1 and len(jobs) > 1:
-            mp = multiprocessing.get_context("spawn")
-            self._pool = ProcessPoolExecutor(max_workers=min(workers, len(jobs)), mp_context=mp,
-                                             initializer=_init_worker)  # fmt: skip
-            self._futures = [self._pool.submit(scan_shard, job) for job in jobs]
+        if pool is not None:
+            self._futures = [pool.submit(scan_shard, job) for job in jobs]
             if advance is not None:
                 for future in self._futures:
                     future.add_done_callback(lambda _: advance(1))
@@ -333,10 +344,10 @@ class _Scans:
     def video_ids(self) -> list[str]:
         return list(self._job_of)
 
-    def close(self) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
-            self._pool = None
+    def cancel(self) -> None:
+        """Drop the jobs not started yet (an error or ^C in this process)."""
+        for future in self._futures:
+            future.cancel()
 
 
 class _InstancePixels(Mapping[str, Mapping[int, Sequence[int]]]):
@@ -469,6 +480,24 @@ def validate_dataset(
 ) -> DatasetReport:
     """Run the chosen checks on one dataset; user errors (bad --theta) raise PhavUserError."""
     opts = options
+    want = set(opts.checks)
+    scanning = not inp.recipes_only and bool(want & set(_SCAN_CHECKS))
+    # Workers start first, so that their start-up overlaps reading the sidecar files.
+    pool = _start_pool(opts.workers) if scanning and opts.workers > 1 else None
+    try:
+        return _validate(inp, theta, opts, progress, pool)
+    finally:
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _validate(
+    inp: DatasetInput,
+    theta: str | None,
+    opts: Options,
+    progress: ProgressFactory | None,
+    pool: ProcessPoolExecutor | None,
+) -> DatasetReport:
     timings: dict[str, float] = {}
     loaded = _load(inp, theta, timings)
     results: dict[str, CheckResult] = {}
@@ -483,7 +512,7 @@ def validate_dataset(
     if not inp.recipes_only and want & set(_SCAN_CHECKS):
         jobs, scan_report = _jobs(inp, loaded, opts)
     advance = progress("scanning shards", len(jobs)) if progress is not None and jobs else None
-    scans = _Scans(jobs, opts.workers, advance)
+    scans = _Scans(jobs, pool if len(jobs) > 1 else None, advance)
     try:
         start = time.perf_counter()
         _schema_links(loaded, inp)
@@ -508,8 +537,9 @@ def validate_dataset(
 
         shard_scans = scans.all()
         timings["scan"] = time.perf_counter() - scan_start
-    finally:
-        scans.close()
+    except BaseException:
+        scans.cancel()
+        raise
     videos = {vid: v for s in shard_scans for vid, v in s.videos.items()}
     shard_of = {vid: Path(s.path).name for s in shard_scans for vid in s.videos}
     if inp.recipes_only:
