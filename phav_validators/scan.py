@@ -227,14 +227,17 @@ def flow_against_depth(
     ok &= depth[:-1:s, :-1:s] < DEPTH_MAX_CODE
     ok &= flow[:-1:s, :-1:s, 2] == 1
     rows, cols = np.nonzero(ok)
-    rows *= s
-    cols *= s
-    d = depth[rows, cols].astype(np.float64)
+    # Flat indices and ``take``: cheaper than 2-D fancy indexing, same values.
+    width = depth.shape[1]
+    at = rows * (s * width) + cols * s
+    flat = depth.reshape(-1)
+    d = flat.take(at).astype(np.float64)
     tol = SMOOTH_DEPTH * d
-    smooth = (np.abs(depth[rows, cols + 1] - d) <= tol) & (np.abs(depth[rows + 1, cols] - d) <= tol)
-    rows, cols, z = rows[smooth], cols[smooth], d[smooth] / 100.0
+    smooth = (np.abs(flat.take(at + 1) - d) <= tol) & (np.abs(flat.take(at + width) - d) <= tol)
+    at, z = at[smooth], d[smooth] / 100.0
     if len(z) == 0:
         return 0, 0.0, 0.0
+    rows, cols = np.divmod(at, width)
     u = cols + 0.5
     v = rows + 0.5
     pose0, (fx, fy, cx, cy) = _camera(cam0)
@@ -244,7 +247,7 @@ def flow_against_depth(
     front = np.isfinite(uv1[:, 0])
     if not front.any():
         return 0, 0.0, 0.0
-    code = flow[rows[front], cols[front], :2].astype(np.float64)
+    code = flow.reshape(-1, 3).take(at[front], axis=0).astype(np.float64)
     du = (code[:, 0] - FLOW_OFFSET) / FLOW_SCALE
     dv = (code[:, 1] - FLOW_OFFSET) / FLOW_SCALE
     epe = np.hypot(uv1[front, 0] - u[front] - du, uv1[front, 1] - v[front] - dv)
