@@ -43,7 +43,7 @@ CHECKS: tuple[str, ...] = (
 )  # fmt: skip
 _SCAN_CHECKS = ("integrity", "encoding", "consistency")
 #: Scan jobs per worker process: shards split into parts so that workers finish together
-#: (every part reads its whole tar but decodes only its own videos).
+#: (a shard's first part reads the whole tar; the others seek to their own videos' members).
 PARTS_PER_WORKER = 8
 
 #: Consistency thresholds (clean datasets measure ~0.006 px mean EPE; docs/validation.md).
@@ -305,7 +305,7 @@ class _Scans:
     """The shard pass under way. With a ``pool`` every job is submitted at once, so the
     checks that need no pixels (schema, distribution, most of failures) run in this process
     meanwhile; without one, jobs run here on demand. Either way each job's result is the
-    same, and results are taken in job order. ``close`` shuts the pool down."""
+    same, and results are taken in job order. The caller owns (and shuts down) the pool."""
 
     def __init__(self, jobs: list[ShardJob], pool: ProcessPoolExecutor | None, advance: Callable[[int], None] | None):
         self.jobs = jobs

@@ -679,13 +679,19 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     r = recipe
     action = r.action
     scene = ACTION_SCENES[action]
+    start = np.array(r.protagonist.position, dtype=np.float64)
     if action == "climb_stairs":
         probe = _person(
             b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
-            r.motion.mirror, r.protagonist.position, r.protagonist.heading_deg,
+            r.motion.mirror, tuple(start), r.protagonist.heading_deg,
         )  # fmt: skip
+        # A clip that starts part-way up (or down) a flight has the height climbed so far in
+        # its root: take it out, so the clip starts standing on the waypoint (the steps are
+        # built from the rise within the clip).
+        climbed = probe.targets.root_pos[0, 2] - start[2] - probe.dims.standing_pelvis_height
+        start[2] -= climbed
         _staircase(b, probe)
-    position = tuple(np.array(r.protagonist.position) + np.array([0.0, 0.0, b.stand_offset_z]))
+    position = tuple(start + np.array([0.0, 0.0, b.stand_offset_z]))
     p = _person(
         b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
         r.motion.mirror, position, r.protagonist.heading_deg,

@@ -358,3 +358,25 @@ def test_a_chair_never_cuts_through_the_legs() -> None:
                     seen += 1
                     assert not _box_meets_bones(box, p.dims, rot, pos, legs), f"{action} seed {seed}"
     assert seen >= 6
+
+
+def test_stairs_clips_start_standing_on_their_waypoint() -> None:
+    """A climb_stairs clip cut from late in a long flight starts on the waypoint (or on the
+    landing it descends from), not in the air or under it with the height climbed before."""
+    from phav_generator.sampling import sample_recipes
+    from phav_generator.skeleton import lowest_point
+    from phav_spec.theta import load_theta
+
+    recipes = [r for r in sample_recipes(load_theta("phav-v1"), n=1500, seed=5) if r.action == "climb_stairs"]
+    assert len(recipes) >= 20
+    late = 0
+    for r in recipes:
+        plan = plan_scene(r)
+        me = plan.people[0]
+        t = me.targets
+        pos, rot = forward_kinematics(me.dims, t.root_pos[:1], t.root_quat[:1], t.q[:1])
+        feet = float(lowest_point(me.dims, pos, rot)[0])
+        support = r.protagonist.position[2] + plan.stand_offset_z
+        assert abs(feet - support) < 0.2, (r.motion.base_motion, r.motion.start_s, feet, support)  # a run: ~0.18
+        late += r.motion.start_s > 5.0
+    assert late >= 5  # the clips that used to start metres off the ground
