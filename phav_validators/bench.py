@@ -26,7 +26,7 @@ from phav_spec.manifest import load_manifest
 from phav_spec.theta import Theta
 from phav_validators.findings import Reason
 from phav_validators.source import resolve
-from phav_validators.validate import CHECKS, Options, validate_dataset
+from phav_validators.validate import CHECKS, DatasetReport, Options, validate_dataset
 
 #: --sample fractions the detection table measures.
 SAMPLE_FRACTIONS: tuple[float, ...] = (0.1, 0.25, 0.5, 1.0)
@@ -109,7 +109,7 @@ def flip_depth_pixel(shard: Path, member: str) -> None:
     tmp.replace(shard)
 
 
-def _timed(path: Path, options: Options) -> tuple[float, object]:
+def _timed(path: Path, options: Options) -> tuple[float, DatasetReport]:
     inp = resolve([path])[0]
     start = time.perf_counter()
     report = validate_dataset(inp, options=options)
@@ -137,6 +137,8 @@ def bench_validation(
             progress(text)
 
     data = work / "clean"
+    if data.exists():  # a finished earlier run would be resumed, not timed
+        shutil.rmtree(data)
     say(f"generating {videos} videos with {workers} workers")
     recipes = list(sample_recipes(theta, n=videos, seed=seed))
     start = time.perf_counter()
@@ -146,16 +148,16 @@ def bench_validation(
     manifest = load_manifest(data / "manifest.json")
     frames = sum(v.n_frames for v in manifest.videos)
 
-    def run(checks: tuple[str, ...], **kw: object) -> tuple[CheckSpeed, object]:
+    def run(checks: tuple[str, ...], regenerate: int = 1) -> tuple[CheckSpeed, DatasetReport]:
         say(f"validating: {', '.join(checks)}")
-        seconds, report = _timed(data, Options(checks=checks, workers=workers, seed=seed, **kw))  # type: ignore[arg-type]
+        seconds, report = _timed(data, Options(checks=checks, workers=workers, seed=seed, regenerate=regenerate))
         fails = sum(1 for c in report.checks for f in c.report.findings if f.severity == "fail")
         count = frames if checks != ("reproducibility",) else 0
         return CheckSpeed(",".join(checks), seconds, count, report.status.value, fails), report
 
     runs = []
     for name in CHECKS:
-        speed, report = run((name,), regenerate=1)
+        speed, report = run((name,))
         if name == "reproducibility":  # frames regenerated, not frames read
             n_frames = {v.video_id: v.n_frames for v in manifest.videos}
             regenerated = sum(n_frames[v] for v in report.checks[0].numbers.get("videos", []))
