@@ -485,7 +485,7 @@ def validate_dataset(
     # Workers start first, so that their start-up overlaps reading the sidecar files.
     pool = _start_pool(opts.workers) if scanning and opts.workers > 1 else None
     try:
-        return _validate(inp, theta, opts, progress, pool)
+        return _validate(inp, theta, opts, progress, scanning, pool)
     finally:
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)
@@ -496,6 +496,7 @@ def _validate(
     theta: str | None,
     opts: Options,
     progress: ProgressFactory | None,
+    scanning: bool,
     pool: ProcessPoolExecutor | None,
 ) -> DatasetReport:
     timings: dict[str, float] = {}
@@ -509,7 +510,7 @@ def _validate(
     jobs: list[ShardJob] = []
     scan_report = Report()
     scan_start = time.perf_counter()
-    if not inp.recipes_only and want & set(_SCAN_CHECKS):
+    if scanning:
         jobs, scan_report = _jobs(inp, loaded, opts)
     advance = progress("scanning shards", len(jobs)) if progress is not None and jobs else None
     scans = _Scans(jobs, pool if len(jobs) > 1 else None, advance)
