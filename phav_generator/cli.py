@@ -325,6 +325,15 @@ class _RenderProgress:
         self._bar.update(self._task, advance=videos, frames=self._frames, rate=rate)
 
 
+def _register_train() -> None:
+    from phav_validators.learn.cli import train_command
+
+    app.command("train")(train_command)
+
+
+_register_train()
+
+
 @app.command()
 def generate(
     theta: ThetaOption = "phav-v1",

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 app = typer.Typer(name="phav-validate", add_completion=False, pretty_exceptions_enable=False)
 
 _ALL = "integrity,schema,encoding,distribution,failures,consistency,reproducibility"
+_OPTIONAL = "learnability"
 _STYLE = {"pass": "green", "warn": "yellow", "fail": "bold red", "skip": "dim"}
 
 
@@ -49,7 +50,7 @@ def validate(
     ] = None,
     checks: Annotated[
         str | None,
-        typer.Option(help="Comma-separated checks (default: all of " + _ALL + ")."),
+        typer.Option(help="Comma-separated checks (default: all of " + _ALL + "; " + _OPTIONAL + " only when named)."),
     ] = None,
     json_out: Annotated[Path | None, typer.Option("--json", help="Write the full report as JSON here.")] = None,
     html_out: Annotated[Path | None, typer.Option("--html", help="Write an HTML report with plots here.")] = None,
@@ -60,9 +61,26 @@ def validate(
     alpha: Annotated[float, typer.Option(help="Family-wise significance level of the distribution tests.")] = 1e-3,
     failure_budget: Annotated[float, typer.Option(help="Largest share of videos with failure cases.")] = 0.10,
     details: Annotated[bool, typer.Option("--details", help="Print per-variable histograms.")] = False,
+    learn_minutes: Annotated[
+        float, typer.Option(help="learnability: minutes of CPU training, all streams together.")
+    ] = 10.0,
+    learn_epochs: Annotated[
+        int, typer.Option(min=1, help="learnability: epochs per stream (within the minutes).")
+    ] = 30,
+    learn_dir: Annotated[
+        Path | None,
+        typer.Option(help="learnability: folder for checkpoints (a rerun resumes) and confusion.png."),
+    ] = None,
+    threads: Annotated[
+        int | None, typer.Option(min=1, help="learnability: torch threads (results are reproducible per count).")
+    ] = None,
+    shuffle_labels: Annotated[
+        bool, typer.Option("--shuffle-labels", help="learnability control run: permute labels (must fail).")
+    ] = False,
 ) -> None:
     """Validate PHAV datasets: integrity, schema, encoding, distribution, failures,
     consistency and reproducibility."""
+    from phav_validators.learn.learnability import LearnOptions
     from phav_validators.report import write_html, write_json
     from phav_validators.scan import tune_allocator
     from phav_validators.source import resolve
@@ -71,6 +89,8 @@ def validate(
     options = Options(
         checks=_checks(checks), workers=workers, sample=sample, regenerate=regenerate, seed=seed, alpha=alpha,
         budget=failure_budget,
+        learn=LearnOptions(epochs=learn_epochs, budget_minutes=learn_minutes, seed=seed, threads=threads,
+                           shuffle_labels=shuffle_labels, out_dir=learn_dir, workers=workers),
     )  # fmt: skip
     inputs = resolve(paths)
     tune_allocator()  # this process scans too when --workers is 1

@@ -56,6 +56,8 @@ class Reason(StrEnum):
     MASK_MISMATCH = "MASK_MISMATCH"  # instance masks ≠ semantic person classes
     # reproducibility
     REGENERATION_MISMATCH = "REGENERATION_MISMATCH"  # a regenerated video differs
+    # learnability
+    NOT_LEARNABLE = "NOT_LEARNABLE"  # a small TSN does not beat chance on held-out actors
 
 
 class Status(StrEnum):

@@ -1,6 +1,7 @@
 """``phav-validate`` on a dataset: the seven checks, run once each, collected into one report.
 
-integrity · schema · encoding · distribution · failures · consistency · reproducibility
+integrity · schema · encoding · distribution · failures · consistency · reproducibility,
+and when named, learnability (a small TSN trained on the pixels; docs/learnability.md)
 (docs/validation.md says what each measures and where its thresholds come from). Shards are
 scanned once, in a process pool when ``workers`` > 1; integrity, encoding and consistency
 read their numbers off that one pass. Every check runs even when another fails, so one
@@ -9,6 +10,7 @@ report lists everything wrong; a check whose inputs are missing is skipped, and 
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import multiprocessing
@@ -36,11 +38,15 @@ if TYPE_CHECKING:
     import pyarrow as pa
 
     from phav_validators.distribution import DistributionResult
+    from phav_validators.learn.learnability import LearnOptions, LearnResult
 
 #: The checks in the order they run and print.
 CHECKS: tuple[str, ...] = (
     "integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility",
 )  # fmt: skip
+#: Checks run only when named (``--checks learnability``): they train a network.
+OPTIONAL_CHECKS: tuple[str, ...] = ("learnability",)
+ALL_CHECKS = CHECKS + OPTIONAL_CHECKS
 _SCAN_CHECKS = ("integrity", "encoding", "consistency")
 #: Scan jobs per worker process: shards split into parts so that workers finish together
 #: (a shard's first part reads the whole tar; the others seek to their own videos' members).
@@ -69,11 +75,13 @@ class Options:
     seed: int = 0
     alpha: float = 1e-3
     budget: float = DEFAULT_BUDGET
+    #: Settings of the learnability check (None: its defaults).
+    learn: LearnOptions | None = None
 
     def __post_init__(self) -> None:
-        unknown = [c for c in self.checks if c not in CHECKS]
+        unknown = [c for c in self.checks if c not in ALL_CHECKS]
         if unknown:
-            raise PhavUserError(f"unknown check {unknown[0]!r}; choose from {', '.join(CHECKS)}", field="--checks")
+            raise PhavUserError(f"unknown check {unknown[0]!r}; choose from {', '.join(ALL_CHECKS)}", field="--checks")
         if not 0.0 < self.sample <= 1.0:
             raise PhavUserError(f"must be in (0, 1], got {self.sample}", field="--sample")
         if self.workers < 1:
@@ -95,6 +103,7 @@ class DatasetReport:
     theta: dict[str, str] | None = None
     fingerprint_match: bool | None = None
     distribution: DistributionResult | None = None
+    learnability: LearnResult | None = None
     #: Per flagged video, one representative (shard path, frame) for the HTML report.
     flagged_frames: dict[str, tuple[str, int]] = field(default_factory=dict)
 
@@ -559,12 +568,18 @@ def _validate(
         )
         timings["reproducibility"] = time.perf_counter() - start
 
+    learn_result = None
+    if "learnability" in want:
+        start = time.perf_counter()
+        results["learnability"], learn_result = _learnability(inp, loaded, opts, progress)
+        timings["learnability"] = time.perf_counter() - start
+
     # The pass's time is shared by the checks that read it (it overlaps the others).
     share = timings.pop("scan", 0.0) / max(len(want & set(_SCAN_CHECKS)), 1)
     for name in _SCAN_CHECKS:
         timings[name] = timings.get(name, 0.0) + share
     checks = []
-    for name in CHECKS:
+    for name in ALL_CHECKS:
         if name not in want:
             continue
         result = results.get(name) or CheckResult.skipped(name, "not applicable")
@@ -578,6 +593,7 @@ def _validate(
         theta={"name": loaded.theta.name, "hash": loaded.theta.hash} if loaded.theta is not None else None,
         fingerprint_match=fingerprint_match,
         distribution=dist_result,
+        learnability=learn_result,
     )
     for check in checks:
         for f in check.report.findings:
@@ -684,3 +700,19 @@ def _selected_videos(inp: DatasetInput, loaded: _Loaded, scans: _Scans) -> set[s
     if loaded.manifest is not None:
         return {v.video_id for v in loaded.manifest.videos}
     return set(loaded.recipes)
+
+
+def _learnability(
+    inp: DatasetInput, loaded: _Loaded, opts: Options, progress: ProgressFactory | None
+) -> tuple[CheckResult, LearnResult | None]:
+    """A small TSN trained on a held-out-actor split of the dataset's pixels."""
+    if inp.recipes_only or loaded.manifest is None or loaded.table is None:
+        return CheckResult.skipped("learnability", "needs shards, a manifest and the recipes table"), None
+    if inp.shards is not None:
+        return CheckResult.skipped("learnability", "trains on the whole dataset: name its directory"), None
+    from phav_validators.learn.learnability import LearnOptions, check_learnability
+
+    learn = opts.learn if opts.learn is not None else LearnOptions()
+    if learn.workers != opts.workers:
+        learn = dataclasses.replace(learn, workers=opts.workers)
+    return check_learnability(inp.root, learn, progress=progress)

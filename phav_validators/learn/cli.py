@@ -1,0 +1,153 @@
+"""``phav train``: TSN / Cool-TSN on PHAV and real datasets, the paper's protocol as options.
+
+Registered on the ``phav`` app by ``phav_generator.cli``; torch is imported only when it runs.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from phav_generator.cli_support import console
+from phav_spec.errors import PhavUserError
+
+
+def _size(text: str) -> tuple[int, int]:
+    w, _, h = text.lower().partition("x")
+    if not (w.isdigit() and h.isdigit()) or int(w) < 16 or int(h) < 16:
+        raise PhavUserError(f"expected WIDTHxHEIGHT of at least 16x16, e.g. 85x64, got {text!r}", field="--size")
+    return int(w), int(h)
+
+
+def _ints(text: str, field: str) -> tuple[int, ...]:
+    try:
+        values = tuple(int(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise PhavUserError(f"expected comma-separated integers, got {text!r}", field=field) from None
+    if not values:
+        raise PhavUserError("give at least one value", field=field)
+    return values
+
+
+def _fractions(text: str) -> tuple[float, ...]:
+    try:
+        values = tuple(float(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise PhavUserError(f"expected comma-separated fractions, e.g. 0.01,0.25,1, got {text!r}",
+                            field="--real-fraction") from None  # fmt: skip
+    if not values or any(not 0.0 < v <= 1.0 for v in values):
+        raise PhavUserError(f"fractions must be in (0, 1], got {text!r}", field="--real-fraction")
+    return values
+
+
+def _real(text: str) -> tuple[str, Path]:
+    layout, sep, path = text.partition("=")
+    if not sep or layout not in ("ucf101", "hmdb51"):
+        raise PhavUserError(f"expected ucf101=PATH or hmdb51=PATH, got {text!r}", field="--real")
+    return layout, Path(path)
+
+
+def train_command(
+    dataset: Annotated[Path | None, typer.Argument(help="A PHAV dataset directory (shards are streamed).")] = None,
+    out: Annotated[Path, typer.Option(help="Output folder: checkpoints (a rerun resumes), results.json.")] = Path(
+        "phav-train"
+    ),
+    streams: Annotated[str, typer.Option(help="Comma-separated streams: rgb, flow.")] = "rgb,flow",
+    split: Annotated[
+        str, typer.Option(help="PHAV split: random, actor, motion or actor+motion (held out).")
+    ] = "random",
+    splits: Annotated[int, typer.Option(min=1, max=3, help="Splits averaged (PHAV: seeded 80/20; real: 1..N).")] = 1,
+    epochs: Annotated[int, typer.Option(min=1, help="Epochs per stream.")] = 30,
+    lr: Annotated[float, typer.Option(help="Peak learning rate (SGD, momentum 0.9, cosine decay).")] = 0.02,
+    batch: Annotated[int, typer.Option(min=1, help="Clips per mini-batch (single source).")] = 32,
+    size: Annotated[str, typer.Option(help="Stored frame size WIDTHxHEIGHT; crops are 7/8 of it.")] = "85x64",
+    widths: Annotated[str, typer.Option(help="Backbone widths, one stride-2 stage each.")] = "32,64,128,192",
+    flow: Annotated[str, typer.Option(help="Flow: gt (PHAV's ground truth), farneback or tvl1 (estimated).")] = "gt",
+    real: Annotated[
+        str | None, typer.Option(help="A real dataset: ucf101=PATH or hmdb51=PATH (official split files beside it).")
+    ] = None,
+    mode: Annotated[str, typer.Option(help="With --real: tsn (real only), cool (Cool-TSN) or ft (TSN-FT).")] = "tsn",
+    mix: Annotated[str, typer.Option(help="Cool-TSN clips per batch, virtual:real (the paper: 10:22).")] = "10:22",
+    real_fraction: Annotated[str, typer.Option(help="Fractions of real training data swept, e.g. 0.01,0.25,1.")] = "1",
+    init: Annotated[Path | None, typer.Option(help="TSN-FT: a phav train output folder (or checkpoint).")] = None,
+    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    threads: Annotated[int | None, typer.Option(min=1, help="Torch threads (default: the usable cores).")] = None,
+    workers: Annotated[int, typer.Option(min=1, help="Processes decoding shards.")] = 1,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of splits, initialisation and sampling.")] = 0,
+) -> None:
+    """Train TSN on PHAV, or TSN / TSN-FT / Cool-TSN on a real dataset; print accuracies."""
+    from phav_validators.learn.config import require_torch
+    from phav_validators.learn.data import FLOW_SOURCES, load_phav, load_real, real_split
+    from phav_validators.learn.experiment import MODES, phav_runs, real_runs, summarise
+    from phav_validators.learn.splits import check_split_kind
+    from phav_validators.learn.train import TrainConfig, default_threads, torch_device
+
+    require_torch()
+    # Every option is checked before any data is read.
+    stream_list = tuple(s.strip() for s in streams.split(",") if s.strip())
+    if not stream_list:
+        raise PhavUserError("name at least one stream", field="--streams")
+    check_split_kind(split)
+    torch_device(device)
+    fractions = _fractions(real_fraction)
+    real_source = _real(real) if real is not None else None
+    if mode not in MODES:
+        raise PhavUserError(f"choose from {', '.join(MODES)}, got {mode!r}", field="--mode")
+    if flow not in FLOW_SOURCES:
+        raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
+    v, _, r = mix.partition(":")
+    if not (v.isdigit() and r.isdigit()) or int(v) < 1 or int(r) < 1:
+        raise PhavUserError(f"expected VIRTUAL:REAL clip counts, e.g. 10:22, got {mix!r}", field="--mix")
+    stored = _size(size)
+    base = TrainConfig(stream=stream_list[0], widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
+                       mix=(("virtual", batch),), seed=seed,
+                       threads=threads if threads is not None else default_threads())  # fmt: skip
+    for stream in stream_list[1:]:
+        TrainConfig(stream=stream)
+    if dataset is None and real is None:
+        raise PhavUserError("give a PHAV dataset directory, --real, or both", field="DATASET")
+    out.mkdir(parents=True, exist_ok=True)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as bar:  # fmt: skip
+
+        def progress(description: str, total: int):
+            task = bar.add_task(description, total=total or None)
+            return lambda n: bar.advance(task, n)
+
+        virtual = None
+        if dataset is not None:
+            virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0))
+        if real_source is None:
+            runs = phav_runs(virtual, base, stream_list, out, split_kind=split, splits=splits, device=device,
+                             progress=progress)  # fmt: skip
+        else:
+            layout, root = real_source
+            runs = []
+            for k in range(1, splits + 1):
+                official = real_split(layout, root, k)
+                load = progress(f"decoding {layout} split {k}", len(official.train) + len(official.test))
+                train_clips = load_real(official.train, size=stored, flow=flow, progress=load)
+                test_clips = load_real(official.test, size=stored, flow=flow, progress=load)
+                runs += real_runs(mode, train_clips, test_clips, len(official.classes), base, stream_list, out,
+                                  virtual=virtual, mix=(int(v), int(r)), fractions=fractions, split=k,
+                                  init=init, device=device, progress=progress)  # fmt: skip
+    rows = summarise(runs)
+    table = Table(title=f"test accuracy ({'PHAV ' + split if real is None else real + ' ' + mode})")
+    for col in ("fraction", "stream", "splits", "mean", "min", "max"):
+        table.add_column(col, justify="right")
+    for row in rows:
+        table.add_row(f"{row['fraction']:g}", row["stream"], str(row["splits"]), f"{row['mean_accuracy']:.1%}",
+                      f"{row['min']:.1%}", f"{row['max']:.1%}")  # fmt: skip
+    console.print(table)
+    from phav_spec.files import atomic_write
+
+    results = {"runs": [r.to_json() for r in runs], "summary": rows, "config": base.to_json()}
+    with atomic_write(out / "results.json") as tmp:
+        tmp.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
+    console.print(f"results: {escape(str(out / 'results.json'))}")

@@ -1,0 +1,210 @@
+"""``phav-validate --checks learnability``: can a small TSN learn the actions from the pixels?
+
+A seeded held-out-actor split (the test set's human models never appear in training),
+both streams trained within a CPU budget, late fusion, and a one-sided binomial test of
+the fused test accuracy against chance. The model sees RGB frames and flow only; labels
+and groups are used for the loss and the split, never as input. Chance is the better of
+guessing uniformly and always answering the test set's most common class.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from phav_spec.errors import PhavUserError
+from phav_validators.findings import CheckResult, Finding, Reason, Report
+from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
+from phav_validators.learn.splits import make_split
+from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, train
+
+ProgressFactory = Callable[[str, int], Callable[[int], None]]
+
+
+@dataclass(frozen=True)
+class LearnOptions:
+    """How the learnability check trains and what it demands."""
+
+    split: str = "actor"
+    streams: tuple[str, ...] = ("rgb", "flow")
+    epochs: int = 30
+    #: Minutes of training for all streams together (each stream gets its share).
+    budget_minutes: float = 10.0
+    size: tuple[int, int] = DEFAULT_SIZE
+    flow: str = "gt"
+    seed: int = 0
+    threads: int | None = None
+    alpha: float = 1e-3
+    #: The fused accuracy must also be at least this many times chance.
+    min_over_chance: float = 2.0
+    #: Control run: labels permuted across clips before splitting (must fail).
+    shuffle_labels: bool = False
+    #: Checkpoints and the confusion image; None: a temporary folder (no resume).
+    out_dir: Path | None = None
+    workers: int = 1
+
+    def __post_init__(self) -> None:
+        if self.budget_minutes <= 0:
+            raise PhavUserError(f"must be positive, got {self.budget_minutes}", field="--learn-minutes")
+        if not self.streams or any(s not in ("rgb", "flow") for s in self.streams):
+            raise PhavUserError(f"streams are rgb and flow, got {self.streams}", field="--streams")
+
+
+@dataclass
+class LearnResult:
+    """Test accuracies per stream and fused, against chance, with the confusion matrix."""
+
+    classes: list[str]
+    labels: np.ndarray  # (N,) test labels
+    scores: dict[str, np.ndarray]  # stream → (N, classes) probabilities
+    fused: np.ndarray
+    chance: float
+    p_value: float
+    train_clips: int
+    minutes: float
+    stopped_on_time: bool
+    held_out: dict[str, list[str]] = field(default_factory=dict)
+
+    def accuracy(self, stream: str | None = None) -> float:
+        probs = self.fused if stream is None else self.scores[stream]
+        return float((probs.argmax(1) == self.labels).mean()) if len(self.labels) else 0.0
+
+    def confusion(self) -> np.ndarray:
+        n = len(self.classes)
+        matrix = np.zeros((n, n), dtype=np.int64)
+        np.add.at(matrix, (self.labels, self.fused.argmax(1)), 1)
+        return matrix
+
+
+def chance_level(labels: np.ndarray, n_classes: int) -> float:
+    """The best accuracy without looking at the input: uniform guessing or the majority class."""
+    if len(labels) == 0:
+        return 1.0 / n_classes
+    return max(1.0 / n_classes, float(np.bincount(labels, minlength=n_classes).max() / len(labels)))
+
+
+def binomial_p(correct: int, n: int, chance: float) -> float:
+    """One-sided p of ≥ ``correct`` right answers out of ``n`` when each is right with ``chance``."""
+    from scipy.stats import binomtest
+
+    if n == 0:
+        return 1.0
+    return float(binomtest(correct, n, chance, alternative="greater").pvalue)
+
+
+def shuffled(clips: ClipSet, seed: int) -> ClipSet:
+    """The same clips with labels permuted among them (the control that must not learn)."""
+    rng = np.random.Generator(np.random.PCG64([seed, 0x5EED]))
+    labels = [clips.clips[int(i)].label for i in rng.permutation(len(clips))]
+    out = [dataclasses.replace(c, label=label) for c, label in zip(clips.clips, labels, strict=True)]
+    return ClipSet(clips.source, clips.classes, out)
+
+
+def run_learnability(
+    clips: ClipSet, opts: LearnOptions, *, progress: ProgressFactory | None = None
+) -> LearnResult:
+    """Split, train every stream within the budget, test, fuse and test against chance."""
+    if opts.shuffle_labels:
+        clips = shuffled(clips, opts.seed)
+    split = make_split(clips.clips, opts.split, seed=opts.seed)
+    train_clips = [clips.clips[i] for i in split.train]
+    test_clips = [clips.clips[i] for i in split.test]
+    threads = opts.threads if opts.threads is not None else default_threads()
+    budget = opts.budget_minutes * 60.0 / len(opts.streams)
+    scores: dict[str, np.ndarray] = {}
+    seconds, stopped = 0.0, False
+    with tempfile.TemporaryDirectory(prefix="phav-learn-") as tmp:
+        out = opts.out_dir if opts.out_dir is not None else Path(tmp)
+        for stream in opts.streams:
+            config = TrainConfig(stream=stream, epochs=opts.epochs, seed=opts.seed, threads=threads)
+            advance = progress(f"learnability: training {stream}", opts.epochs) if progress is not None else None
+            result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
+                           checkpoint=out / f"{stream}.pt", max_seconds=budget,
+                           progress=(lambda e, n, a=advance: a(1)) if advance is not None else None)  # fmt: skip
+            seconds += result.seconds
+            stopped = stopped or result.stopped_on_time
+            scores[stream] = predict(result.model, test_clips, config, "virtual")
+    labels = np.array([c.label for c in test_clips], dtype=np.int64)
+    fused = fuse(scores)
+    chance = chance_level(labels, len(clips.classes))
+    p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
+    return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
+                       split.held_out)  # fmt: skip
+
+
+def check_learnability(
+    root: Path, opts: LearnOptions, *, progress: ProgressFactory | None = None
+) -> tuple[CheckResult, LearnResult]:
+    """The learnability check on a dataset directory, and the numbers behind it."""
+    load_bar = progress("learnability: reading clips", 0) if progress is not None else None
+    clips = load_phav(root, size=opts.size, flow=opts.flow, workers=opts.workers, progress=load_bar)
+    result = run_learnability(clips, opts, progress=progress)
+    report = Report()
+    fused = result.accuracy()
+    ratio = fused / result.chance
+    n = len(result.labels)
+    if result.p_value >= opts.alpha or ratio < opts.min_over_chance:
+        report.add(Finding(
+            Reason.NOT_LEARNABLE,
+            f"fused accuracy {fused:.1%} on {n} held-out clips is {ratio:.1f}× chance ({result.chance:.1%}), "
+            f"binomial p = {result.p_value:.2g}; needs p < {opts.alpha:g} and ≥ {opts.min_over_chance:g}× chance",
+            file=str(root), numbers={"accuracy": fused, "chance": result.chance, "p_value": result.p_value},
+        ))  # fmt: skip
+    if result.stopped_on_time:
+        report.notes.append(f"training stopped at the {opts.budget_minutes:g}-minute budget before "
+                            f"{opts.epochs} epochs: the result depends on this machine's speed")  # fmt: skip
+    if opts.shuffle_labels:
+        report.notes.append("labels were shuffled (control run): this check is expected to fail")
+    streams = ", ".join(f"{s} {result.accuracy(s):.1%}" for s in result.scores)
+    numbers: dict[str, Any] = {
+        "split": opts.split, "train_clips": result.train_clips, "test_clips": n, "chance": result.chance,
+        "fused_accuracy": fused, "times_chance": ratio, "p_value": result.p_value,
+        "training_minutes": result.minutes, "held_out": result.held_out,
+        **{f"{s}_accuracy": result.accuracy(s) for s in result.scores},
+    }  # fmt: skip
+    if opts.out_dir is not None:
+        image = opts.out_dir / "confusion.png"
+        write_confusion_png(result.confusion(), result.classes, image)
+        numbers["confusion_png"] = str(image)
+    summary = (f"fused {fused:.1%} ({ratio:.1f}× chance {result.chance:.1%}, p = {result.p_value:.2g}) on {n} "
+               f"held-out clips; {streams}; {result.minutes:.1f} min training")  # fmt: skip
+    return CheckResult.from_report("learnability", report, summary, numbers), result
+
+
+def write_confusion_png(matrix: np.ndarray, classes: Sequence[str], path: Path, *, cell: int = 14) -> None:
+    """A confusion-matrix heat map (rows: true class, columns: predicted; row-normalised),
+    class names down the left and diagonal accuracy in the title, written atomically."""
+    import cv2
+
+    from phav_spec.files import atomic_write
+
+    n = len(classes)
+    rows = matrix.sum(axis=1, keepdims=True)
+    share = np.divide(matrix, rows, out=np.zeros(matrix.shape, dtype=float), where=rows > 0)
+    left, top = 8 + 7 * max(len(c) for c in classes), 30
+    image = np.full((top + n * cell + 8, left + n * cell + 8, 3), 255, np.uint8)
+    heat = (255 - np.round(share * 255)).astype(np.uint8)
+    block = np.repeat(np.repeat(heat, cell, axis=0), cell, axis=1)
+    # White → blue (RGB): red and green fall with the share, blue stays full.
+    image[top : top + n * cell, left : left + n * cell, :2] = block[..., None]
+    for i, name in enumerate(classes):
+        cv2.putText(image, name, (4, top + i * cell + cell - 3), cv2.FONT_HERSHEY_PLAIN, 0.8, (0, 0, 0), 1,
+                    cv2.LINE_AA)  # fmt: skip
+    for k in range(n + 1):
+        cv2.line(image, (left, top + k * cell), (left + n * cell, top + k * cell), (220, 220, 220), 1)
+        cv2.line(image, (left + k * cell, top), (left + k * cell, top + n * cell), (220, 220, 220), 1)
+    total = int(matrix.sum())
+    accuracy = np.trace(matrix) / total if total else 0.0
+    cv2.putText(image, f"true (rows) vs predicted (columns): accuracy {accuracy:.1%} of {total}", (4, 18),
+                cv2.FONT_HERSHEY_PLAIN, 1.0, (0, 0, 0), 1, cv2.LINE_AA)  # fmt: skip
+    ok, png = cv2.imencode(".png", image[..., ::-1])
+    if not ok:  # pragma: no cover - OpenCV encodes any uint8 image
+        raise RuntimeError("PNG encoding failed")
+    with atomic_write(path) as tmp:
+        tmp.write_bytes(png.tobytes())

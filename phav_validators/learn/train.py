@@ -1,0 +1,416 @@
+"""Training and testing a TSN stream, alone on one source or Cool-TSN on mixed sources.
+
+Mini-batches take a fixed number of clips from each source (the paper: blocks of 32 with
+10 virtual and 22 real); each clip gives K snippets, one per uniform segment, at a random
+offset while training and at segment centres when testing. The loss is the multi-task loss
+of ``model.multitask_loss``. A checkpoint is written atomically after every epoch, with
+the optimiser and random states, so an interrupted run resumes to the same weights an
+uninterrupted one reaches. Results are deterministic for a given seed and thread count.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import os
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from phav_spec.errors import PhavUserError
+from phav_validators.learn.config import Architecture, in_channels, require_torch
+from phav_validators.learn.data import Clip
+
+#: TSN's gradient-norm clips (RGB 40, flow 20) and the fusion weights of its two streams.
+CLIP_GRAD = {"rgb": 40.0, "flow": 20.0}
+FUSION_WEIGHTS = {"rgb": 1.0, "flow": 1.5}
+#: Flow is clipped at ±20 px of a 340-px-wide frame (TSN's bound), scaled to the stored width.
+FLOW_BOUND_PX = 20.0
+_RGB_MEAN, _RGB_STD = 0.45, 0.225
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """How one stream is trained; everything that changes the weights is here."""
+
+    stream: str = "flow"
+    segments: int = 3
+    test_segments: int = 5
+    flow_frames: int = 5
+    crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
+    widths: tuple[int, ...] = Architecture.widths
+    dropout: float = Architecture.dropout
+    epochs: int = 20
+    #: Clips per mini-batch from each source, e.g. {"virtual": 10, "real": 22}.
+    mix: tuple[tuple[str, int], ...] = (("virtual", 32),)
+    lr: float = 0.02
+    momentum: float = 0.9
+    weight_decay: float = 5e-4
+    seed: int = 0
+    threads: int = 1
+
+    def __post_init__(self) -> None:
+        in_channels(self.stream, self.flow_frames)  # raises on an unknown stream
+        for name, value in (("segments", self.segments), ("test_segments", self.test_segments),
+                            ("flow_frames", self.flow_frames), ("epochs", self.epochs), ("threads", self.threads)):
+            if value < 1:
+                raise PhavUserError(f"must be at least 1, got {value}", field=f"--{name.replace('_', '-')}")
+        if not 0.2 <= self.crop <= 1.0:
+            raise PhavUserError(f"must be in [0.2, 1], got {self.crop}", field="--crop")
+        if not self.mix or any(n < 1 for _, n in self.mix):
+            raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
+        if not self.lr > 0:
+            raise PhavUserError(f"must be positive, got {self.lr}", field="--lr")
+
+    @property
+    def arch(self) -> Architecture:
+        return Architecture(self.widths, self.dropout)
+
+    @property
+    def batch(self) -> int:
+        return sum(n for _, n in self.mix)
+
+    @property
+    def sources(self) -> list[str]:
+        return [name for name, _ in self.mix]
+
+    def to_json(self) -> dict[str, Any]:
+        return json.loads(json.dumps(asdict(self)))
+
+
+@dataclass
+class Epoch:
+    """One epoch's record: mean loss per source, training accuracy, seconds."""
+
+    epoch: int
+    losses: dict[str, float]
+    train_accuracy: float
+    seconds: float
+
+
+@dataclass
+class TrainResult:
+    """The trained model and what training did."""
+
+    model: Any  # phav_validators.learn.model.TSN
+    config: TrainConfig
+    history: list[Epoch] = field(default_factory=list)
+    seconds: float = 0.0
+    stopped_on_time: bool = False
+    resumed_from: int = 0  # epochs already done when this run started
+
+
+# --- snippets ------------------------------------------------------------------------------
+
+
+def snippet_starts(n_frames: int, segments: int, length: int, rng: np.random.Generator | None) -> list[int]:
+    """First frame of each segment's snippet of ``length`` frames: a random offset in the
+    segment with ``rng``, its centre without. Clips shorter than a snippet start at 0."""
+    span = max(n_frames - length + 1, 1)
+    step = span / segments
+    if rng is None:
+        return [min(span - 1, int(step * (k + 0.5))) for k in range(segments)]
+    return [min(span - 1, int(step * k + rng.random() * step)) for k in range(segments)]
+
+
+def crop_box(shape: tuple[int, int], crop: float) -> tuple[int, int]:
+    """(height, width) of the crop of a (height, width) frame."""
+    return max(1, round(shape[0] * crop)), max(1, round(shape[1] * crop))
+
+
+def snippets(
+    clip: Clip, config: TrainConfig, *, rng: np.random.Generator | None, segments: int | None = None
+) -> np.ndarray:
+    """One clip's input (K, C, h, w) float32: K snippets, cropped and normalised; with ``rng``
+    a random crop and horizontal flip (flow's u negated), else the centre crop."""
+    k = segments if segments is not None else config.segments
+    length = 1 if config.stream == "rgb" else config.flow_frames
+    starts = snippet_starts(clip.n_frames, k, length, rng)
+    frames = np.minimum(np.add.outer(np.asarray(starts), np.arange(length)), clip.n_frames - 1)
+    h, w = clip.rgb.shape[1:3]
+    ch, cw = crop_box((h, w), config.crop)
+    if rng is None:
+        y0, x0, flip = (h - ch) // 2, (w - cw) // 2, False
+    else:
+        y0, x0 = int(rng.integers(0, h - ch + 1)), int(rng.integers(0, w - cw + 1))
+        flip = bool(rng.random() < 0.5)
+    if config.stream == "rgb":
+        x = clip.rgb[frames[:, 0], y0 : y0 + ch, x0 : x0 + cw].astype(np.float32)
+        x = (x / 255.0 - _RGB_MEAN) / _RGB_STD
+        x = x.transpose(0, 3, 1, 2)  # (K, 3, h, w)
+    else:
+        bound = FLOW_BOUND_PX * w / 340.0
+        x = clip.flow[frames, y0 : y0 + ch, x0 : x0 + cw].astype(np.float32)  # (K, L, h, w, 2)
+        x = np.clip(x, -bound, bound) * (4.0 / bound)
+        x = x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
+    if flip:
+        x = x[..., ::-1]
+        if config.stream == "flow":
+            x = x.copy()
+            x[:, 0::2] *= -1.0
+    return np.ascontiguousarray(x)
+
+
+# --- mini-batches ---------------------------------------------------------------------------
+
+
+class MixedBatches:
+    """Endless mini-batches of (source, clip index) with a fixed count per source.
+
+    Each source is drawn without replacement from its own shuffled order, reshuffled when
+    used up, so every batch holds every source in the configured ratio."""
+
+    def __init__(self, pools: Mapping[str, Sequence[int]], mix: Sequence[tuple[str, int]], rng: np.random.Generator):
+        for name, _ in mix:
+            if not pools.get(name):
+                raise PhavUserError(f"source {name!r} has no training clips", field="--mix")
+        self._pools = {name: list(pools[name]) for name, _ in mix}
+        self._mix = list(mix)
+        self._rng = rng
+        self._order: dict[str, list[int]] = {name: [] for name, _ in mix}
+
+    def state(self) -> dict[str, list[int]]:
+        """What is left of each source's current pass (checkpointed with the random state)."""
+        return {name: list(order) for name, order in self._order.items()}
+
+    def load_state(self, state: Mapping[str, Sequence[int]]) -> None:
+        self._order = {name: list(state.get(name, ())) for name, _ in self._mix}
+
+    def next(self) -> list[tuple[str, int]]:
+        batch = []
+        for name, count in self._mix:
+            for _ in range(count):
+                if not self._order[name]:
+                    pool = self._pools[name]
+                    self._order[name] = [pool[int(i)] for i in self._rng.permutation(len(pool))]
+                batch.append((name, self._order[name].pop()))
+        return batch
+
+
+# --- training -------------------------------------------------------------------------------
+
+
+def _fingerprint(config: TrainConfig, data: Mapping[str, Sequence[Clip]], heads: Mapping[str, int]) -> str:
+    """What a checkpoint must agree on to be resumed: the config, heads and training clips."""
+    h = hashlib.sha256(json.dumps(config.to_json(), sort_keys=True).encode())
+    h.update(json.dumps(dict(sorted(heads.items()))).encode())
+    for name in sorted(data):
+        for clip in data[name]:
+            h.update(f"{name}\0{clip.key}\0{clip.label}\0{clip.rgb.shape}\n".encode())
+            h.update(clip.rgb[0].tobytes())  # pixels and flow as stored (size, flow source)
+            h.update(clip.flow[-1].tobytes())
+    return h.hexdigest()
+
+
+def _save(path: Path, state: dict[str, Any]) -> None:
+    """torch.save through a temporary file and a rename (never a half-written checkpoint)."""
+    import torch
+
+    from phav_spec.files import atomic_write
+
+    buffer = io.BytesIO()
+    torch.save(state, buffer)
+    with atomic_write(path) as tmp:
+        tmp.write_bytes(buffer.getvalue())
+
+
+def load_checkpoint(path: str | Path) -> dict[str, Any]:
+    """A checkpoint's contents; a damaged or foreign file is a PhavUserError."""
+    import torch
+
+    try:
+        state = torch.load(Path(path), map_location="cpu", weights_only=False)
+    except FileNotFoundError:
+        raise PhavUserError("no such checkpoint", source=str(path)) from None
+    except Exception as e:  # torch raises many types for damaged files
+        raise PhavUserError(f"not a readable checkpoint ({type(e).__name__})", source=str(path)) from None
+    if not isinstance(state, dict) or state.get("format") != "phav-tsn-1":
+        raise PhavUserError("not a phav TSN checkpoint", source=str(path))
+    return state
+
+
+def train(
+    data: Mapping[str, Sequence[Clip]],
+    heads: Mapping[str, int],
+    config: TrainConfig,
+    *,
+    checkpoint: str | Path | None = None,
+    init: str | Path | None = None,
+    max_seconds: float | None = None,
+    progress: Callable[[Epoch, int], None] | None = None,
+    device: str = "cpu",
+) -> TrainResult:
+    """Train one stream on ``data`` (source → training clips) with a head per source.
+
+    Args:
+        heads: classes per source (its head's width).
+        checkpoint: written after every epoch; when it exists, training resumes from it.
+        init: a checkpoint whose backbone starts this model (TSN-FT); heads start afresh.
+        max_seconds: stop at the last epoch boundary that fits in this many seconds of
+            training (then the result depends on the machine's speed, and says so).
+        progress: called after every epoch with the record and the total epochs.
+        device: where the model runs (``cpu``, ``cuda``, ``cuda:1``); random draws stay on the CPU.
+    """
+    require_torch()
+    import torch
+
+    from phav_validators.learn.model import TSN, multitask_loss
+
+    for name in config.sources:
+        if name not in heads:
+            raise PhavUserError(f"no classes given for source {name!r}", field="--mix")
+    dev = torch_device(device)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(config.threads)
+    try:
+        gen = torch.Generator().manual_seed(config.seed)
+        model = TSN(in_channels(config.stream, config.flow_frames), heads, config.arch, generator=gen)
+        if init is not None:
+            _init_backbone(model, load_checkpoint(init), init)
+        opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
+                              weight_decay=config.weight_decay)  # fmt: skip
+        rng = np.random.Generator(np.random.PCG64(config.seed))
+        fingerprint = _fingerprint(config, data, heads)
+        result = TrainResult(model, config)
+        ckpt = Path(checkpoint) if checkpoint is not None else None
+        resumed = None
+        if ckpt is not None and ckpt.exists():
+            state = resumed = load_checkpoint(ckpt)
+            if state["fingerprint"] != fingerprint:
+                raise PhavUserError("made with other settings or data; delete it or choose another output",
+                                    source=str(ckpt))  # fmt: skip
+            model.load_state_dict(state["model"])
+            opt.load_state_dict(state["optimizer"])
+            rng.bit_generator.state = state["numpy_rng"]
+            gen.set_state(state["torch_rng"])
+            result.history = [Epoch(**e) for e in state["history"]]
+            result.seconds = state["seconds"]
+            result.resumed_from = len(result.history)
+        model.to(dev)
+        pools = {name: list(range(len(data[name]))) for name in config.sources}
+        batches = MixedBatches(pools, config.mix, rng)
+        if resumed is not None:
+            batches.load_state(resumed["batches"])
+        names = config.sources
+        n_train = sum(len(data[name]) for name in names)
+        steps_per_epoch = max(1, math.ceil(n_train / config.batch))
+        total_steps = steps_per_epoch * config.epochs
+        model.train()
+        for epoch in range(len(result.history), config.epochs):
+            last = result.history[-1].seconds if result.history else 0.0
+            if max_seconds is not None and result.seconds + last > max_seconds:
+                result.stopped_on_time = True
+                break
+            start = time.perf_counter()
+            sums = {name: [0.0, 0] for name in names}
+            correct = seen = 0
+            for step in range(steps_per_epoch):
+                lr = config.lr * 0.5 * (1.0 + math.cos(math.pi * (epoch * steps_per_epoch + step) / total_steps))
+                for group in opt.param_groups:
+                    group["lr"] = lr
+                batch = batches.next()
+                x = torch.from_numpy(np.stack([snippets(data[s][i], config, rng=rng) for s, i in batch])).to(dev)
+                labels = torch.tensor([data[s][i].label for s, i in batch], device=dev)
+                sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
+                scores = model(x, generator=gen)
+                loss, parts = multitask_loss(scores, labels, sources, names)
+                if not torch.isfinite(loss):
+                    raise PhavUserError(f"training diverged at epoch {epoch + 1}, step {step + 1} "
+                                        f"(loss {loss.item()}); lower the learning rate", field="--lr")  # fmt: skip
+                opt.zero_grad(set_to_none=True)
+                loss.backward()
+                torch.nn.utils.clip_grad_norm_(model.parameters(), CLIP_GRAD[config.stream])
+                opt.step()
+                for name, part in parts.items():
+                    k = int((sources == names.index(name)).sum())
+                    sums[name][0] += part.item() * k
+                    sums[name][1] += k
+                for z, name in enumerate(names):
+                    mine = sources == z
+                    correct += int((scores[name][mine].argmax(1) == labels[mine]).sum())
+                seen += len(batch)
+            record = Epoch(epoch + 1, {n: s / max(k, 1) for n, (s, k) in sums.items()}, correct / max(seen, 1),
+                           time.perf_counter() - start)  # fmt: skip
+            result.history.append(record)
+            result.seconds += record.seconds
+            if ckpt is not None:
+                _save(ckpt, {
+                    "format": "phav-tsn-1", "fingerprint": fingerprint, "config": config.to_json(),
+                    "heads": dict(heads), "model": model.state_dict(), "optimizer": opt.state_dict(),
+                    "numpy_rng": rng.bit_generator.state, "torch_rng": gen.get_state(), "batches": batches.state(),
+                    "history": [asdict(e) for e in result.history], "seconds": result.seconds,
+                })  # fmt: skip
+            if progress is not None:
+                progress(record, config.epochs)
+        model.eval()
+        return result
+    finally:
+        torch.set_num_threads(threads)
+
+
+def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> None:
+    """Copy a checkpoint's backbone into ``model`` (TSN-FT); the shapes must agree."""
+    backbone = {k.removeprefix("backbone."): v for k, v in state["model"].items() if k.startswith("backbone.")}
+    try:
+        model.backbone.load_state_dict(backbone)
+    except RuntimeError:
+        raise PhavUserError("its backbone has another stream or architecture than this run",
+                            source=str(source)) from None  # fmt: skip
+
+
+def predict(
+    model: Any, clips: Sequence[Clip], config: TrainConfig, head: str, *, batch: int = 32, device: str = "cpu"
+) -> np.ndarray:
+    """Class probabilities (N, classes) of ``head``: ``test_segments`` centre snippets per clip."""
+    import torch
+
+    dev = torch_device(device)
+    model.to(dev)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(config.threads)
+    model.eval()
+    out = []
+    try:
+        with torch.no_grad():
+            for i in range(0, len(clips), batch):
+                x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.test_segments)
+                                               for c in clips[i : i + batch]])).to(dev)  # fmt: skip
+                out.append(torch.softmax(model(x)[head], dim=1).cpu().numpy())
+    finally:
+        torch.set_num_threads(threads)
+    n = model.heads[head].out_features
+    return np.concatenate(out) if out else np.zeros((0, n), np.float32)
+
+
+def fuse(scores: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Late fusion: the streams' class probabilities averaged with TSN's weights (RGB 1, flow 1.5)."""
+    total = sum(FUSION_WEIGHTS[s] for s in scores)
+    return sum(FUSION_WEIGHTS[s] * p for s, p in scores.items()) / total
+
+
+def torch_device(name: str) -> Any:
+    """A torch device by name; one this machine lacks is a PhavUserError."""
+    require_torch()
+    import torch
+
+    try:
+        dev = torch.device(name)
+    except RuntimeError:
+        raise PhavUserError(f"unknown device {name!r}; e.g. cpu, cuda, cuda:1", field="--device") from None
+    if dev.type == "cuda" and not torch.cuda.is_available():
+        raise PhavUserError("CUDA is not available on this machine (torch sees no GPU)", field="--device")
+    return dev
+
+
+def default_threads() -> int:
+    """Torch threads when none are asked for: the cores this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)

@@ -1,0 +1,165 @@
+"""Clips from PHAV shards (streamed) and from UCF-101 / HMDB-51 folders (PyAV), and splits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_spec.errors import PhavUserError
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.vocab import ACTIONS
+from phav_validators.learn.data import decode_video, hmdb51_split, load_phav, load_real, ucf101_split
+from phav_validators.learn.splits import make_split
+from tests.validators.learn.helpers import (
+    HMDB_CLASSES,
+    UCF_CLASSES,
+    hmdb51_folder,
+    motion_clips,
+    moving_square,
+    ucf101_folder,
+    write_video,
+)
+
+
+def test_phav_clips_carry_actions_actors_and_motions_from_the_recipes(phav):
+    clips = load_phav(phav, size=(85, 64))
+    table = read_recipe_table(phav / "recipes.parquet")
+    recipes = {r.video_id: r for r in table.recipes()}
+    assert [c.key for c in clips.clips] == sorted(recipes)
+    for clip in clips.clips:
+        r = recipes[clip.key]
+        assert clip.label == ACTIONS.index(r.action) and clips.classes[clip.label] == r.action
+        assert clip.groups == {"actor": r.protagonist.human.model, "motion": r.motion.base_motion}
+        assert clip.rgb.shape == (r.n_frames, 64, 85, 3) and clip.flow.shape == (r.n_frames, 64, 85, 2)
+        assert np.isfinite(clip.flow.astype(np.float32)).all()
+
+
+def test_phav_flow_keeps_its_mean_when_stored_smaller(phav):
+    """Area resizing averages the ground-truth flow (invalid counted as 0), vectors scaled."""
+    import cv2
+
+    from phav_spec.encoding import decode_flow
+    from phav_validators.tarsafe import TarScan, iter_members
+
+    clips = load_phav(phav, size=(85, 64))
+    shard = sorted(phav.glob("*.tar"))[0]
+    name, data = next((n, d) for n, d in iter_members(shard, TarScan()) if n.endswith("00003.flow.png"))
+    code = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)[..., ::-1]
+    flow = np.nan_to_num(decode_flow(np.ascontiguousarray(code))[0])
+    clip = next(c for c in clips.clips if c.key == name.split("/")[0])
+    stored = clip.flow[3].astype(np.float64)
+    assert stored[..., 0].mean() == pytest.approx(flow[..., 0].mean() * 85 / 340, abs=2e-3)
+    assert stored[..., 1].mean() == pytest.approx(flow[..., 1].mean() * 64 / 256, abs=2e-3)
+
+
+def test_phav_loading_is_the_same_in_worker_processes(phav):
+    one = load_phav(phav, workers=1)
+    two = load_phav(phav, workers=2)
+    for a, b in zip(one.clips, two.clips, strict=True):
+        assert a.key == b.key and np.array_equal(a.rgb, b.rgb) and np.array_equal(a.flow, b.flow)
+
+
+def test_estimated_flow_replaces_the_ground_truth_on_request(phav):
+    gt = load_phav(phav, videos=["v000000"])
+    fb = load_phav(phav, videos=["v000000"], flow="farneback")
+    assert len(fb) == 1 and fb.clips[0].flow.shape == gt.clips[0].flow.shape
+    assert not np.array_equal(fb.clips[0].flow, gt.clips[0].flow)
+    assert np.array_equal(fb.clips[0].rgb, gt.clips[0].rgb)
+
+
+def test_a_shard_missing_frames_is_a_user_error(phav, tmp_path):
+    import shutil
+    import tarfile
+
+    copy = tmp_path / "data"
+    shutil.copytree(phav, copy)
+    shard = sorted(copy.glob("*.tar"))[0]
+    with tarfile.open(shard) as tar:
+        members = [(i, tar.extractfile(i).read()) for i in tar.getmembers() if not i.name.endswith("00002.rgb.png")]
+    with tarfile.open(shard, "w") as tar:
+        for info, data in members:
+            import io
+
+            tar.addfile(info, io.BytesIO(data))
+    with pytest.raises(PhavUserError, match="frames missing"):
+        load_phav(copy)
+
+
+def test_not_a_dataset_is_a_user_error(tmp_path):
+    with pytest.raises(PhavUserError, match="no manifest"):
+        load_phav(tmp_path)
+
+
+def test_ucf101_layout_and_split_files(tmp_path):
+    root = ucf101_folder(tmp_path)
+    split = ucf101_split(root, 1)
+    assert split.classes == list(UCF_CLASSES)
+    assert len(split.train) == 12 and len(split.test) == 6
+    assert {v.group for v in split.test} == {"g01"} and "g01" not in {v.group for v in split.train}
+    clips = load_real(split.test, size=(32, 24))
+    assert [c.label for c in clips] == [v.label for v in split.test]
+    assert all(c.source == "real" and c.rgb.shape == (10, 24, 32, 3) for c in clips)
+    # the square moves right in class 0 and down in class 1: the estimated flow says so
+    right = clips[0].flow[:-1, ..., 0].astype(np.float32).mean()
+    down = clips[2].flow[:-1, ..., 1].astype(np.float32).mean()
+    assert right > 0.02 and down > 0.02, (right, down)
+
+
+def test_hmdb51_layout_and_split_files(tmp_path):
+    root = hmdb51_folder(tmp_path)
+    split = hmdb51_split(root, 2)
+    assert split.classes == sorted(HMDB_CLASSES)
+    assert len(split.test) == 3 and len(split.train) == 6  # the 0-marked clips are unused
+    clips = load_real(split.train, size=(32, 24))
+    assert sorted({c.label for c in clips}) == [0, 1, 2]
+
+
+def test_real_dataset_errors_name_the_file(tmp_path):
+    with pytest.raises(PhavUserError, match="ucfTrainTestlist"):
+        ucf101_split(tmp_path)
+    root = ucf101_folder(tmp_path / "ucf", groups=2, clips=1)
+    bad = root / UCF_CLASSES[0] / f"v_{UCF_CLASSES[0]}_g01_c01.avi"
+    bad.write_bytes(b"not a video")
+    with pytest.raises(PhavUserError) as e:
+        load_real(ucf101_split(root, 1).test)
+    assert str(bad) in str(e.value)
+    (tmp_path / "ucf" / "ucfTrainTestlist" / "classInd.txt").write_text("one Apply\n")
+    with pytest.raises(PhavUserError, match="classInd"):
+        ucf101_split(root, 1)
+
+
+def test_decode_video_round_trips_frame_count(tmp_path):
+    frames = moving_square((1, 1), frames=7)
+    write_video(tmp_path / "a.avi", frames)
+    decoded = decode_video(tmp_path / "a.avi")
+    assert len(decoded) == 7 and decoded[0].shape == frames[0].shape
+    assert np.abs(decoded[3].astype(int) - frames[3]).mean() < 12  # lossy, but the same picture
+
+
+@pytest.mark.parametrize("kind", ["actor", "motion", "actor+motion"])
+def test_held_out_splits_share_no_group_with_training(kind):
+    clips = motion_clips(6, 20).clips
+    split = make_split(clips, kind, seed=4)
+    for group in kind.split("+"):
+        train = {clips[i].groups[group] for i in split.train}
+        test = {clips[i].groups[group] for i in split.test}
+        assert not train & test
+        assert set(split.held_out[group]) >= test
+    if kind == "motion":  # every class keeps motions on both sides
+        assert {clips[i].label for i in split.test} == {clips[i].label for i in split.train} == set(range(6))
+    assert len(split.train) + len(split.test) + split.dropped == len(clips)
+    assert make_split(clips, kind, seed=4) == split
+    assert make_split(clips, kind, seed=5) != split
+
+
+def test_random_split_is_80_20_and_seeded():
+    clips = motion_clips(5, 20).clips
+    a = make_split(clips, "random", seed=0)
+    assert len(a.test) == 20 and len(a.train) == 80 and not set(a.train) & set(a.test)
+    assert make_split(clips, "random", seed=0) == a and make_split(clips, "random", seed=1) != a
+
+
+def test_bad_split_names_the_option():
+    with pytest.raises(PhavUserError) as e:
+        make_split(motion_clips(2, 2).clips, "weather", seed=0)
+    assert e.value.field == "--split" and "actor+motion" in e.value.detail

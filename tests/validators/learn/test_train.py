@@ -1,0 +1,145 @@
+"""Training: deterministic, resumable, mixed-source batches in the configured ratio, and a
+learnable signal is learnt (a shuffled one is not)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import torch
+
+from phav_spec.errors import PhavUserError
+from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
+from phav_validators.learn.train import MixedBatches, TrainConfig, predict, snippet_starts, snippets, train
+from tests.validators.learn.helpers import motion_clips
+
+SMALL = TrainConfig(stream="flow", widths=(8, 16), epochs=2, mix=(("virtual", 8),), threads=1, lr=0.05)
+
+
+def _weights(model) -> dict[str, torch.Tensor]:
+    return {k: v.clone() for k, v in model.state_dict().items()}
+
+
+def test_snippet_starts_cover_every_segment():
+    assert snippet_starts(30, 3, 1, None) == [5, 15, 25]
+    rng = np.random.Generator(np.random.PCG64(0))
+    for _ in range(50):
+        starts = snippet_starts(30, 3, 5, rng)
+        assert all(int(k * 26 / 3) <= s < (k + 1) * 26 / 3 for k, s in enumerate(starts))
+    assert snippet_starts(2, 3, 5, None) == [0, 0, 0]  # shorter than a snippet
+
+
+def test_flow_snippets_stack_five_frames_and_flip_negates_u():
+    clip = motion_clips(1, 1, frames=12).clips[0]
+    clip.flow[..., 0] = 1.0
+    clip.flow[..., 1] = 0.5
+    config = dataclasses.replace(SMALL, crop=1.0)
+    x = snippets(clip, config, rng=None)
+    assert x.shape == (3, 10, 24, 32)
+    bound = 20.0 * 32 / 340
+    assert np.allclose(x[:, 0::2], 4.0 * min(1.0, bound) / bound) and np.allclose(x[:, 1::2], 2.0 / bound)
+    flips = [snippets(clip, config, rng=np.random.Generator(np.random.PCG64(s))) for s in range(8)]
+    signs = {float(np.sign(f[0, 0, 0, 0])) for f in flips}
+    assert signs == {1.0, -1.0}  # some flipped (u negated), some not
+    assert all(np.allclose(f[:, 1::2], 2.0 / bound) for f in flips)  # v kept
+
+
+def test_training_is_deterministic_for_a_seed():
+    data = motion_clips(3, 6)
+    a = train({"virtual": data.clips}, {"virtual": 3}, SMALL)
+    b = train({"virtual": data.clips}, {"virtual": 3}, SMALL)
+    c = train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(SMALL, seed=1))
+    wa, wb, wc = _weights(a.model), _weights(b.model), _weights(c.model)
+    assert all(torch.equal(wa[k], wb[k]) for k in wa)
+    assert not all(torch.equal(wa[k], wc[k]) for k in wa)
+
+
+def test_an_interrupted_run_resumes_to_the_uninterrupted_weights(tmp_path):
+    data = motion_clips(3, 6)
+    config = dataclasses.replace(SMALL, epochs=3)
+    whole = train({"virtual": data.clips}, {"virtual": 3}, config)
+
+    def stop_after_two(epoch, total):
+        if epoch.epoch == 2:
+            raise KeyboardInterrupt
+
+    ckpt = tmp_path / "flow.pt"
+    with pytest.raises(KeyboardInterrupt):
+        train({"virtual": data.clips}, {"virtual": 3}, config, checkpoint=ckpt, progress=stop_after_two)
+    assert ckpt.exists() and not list(tmp_path.glob(".*.tmp"))
+    resumed = train({"virtual": data.clips}, {"virtual": 3}, config, checkpoint=ckpt)
+    assert resumed.resumed_from == 2 and len(resumed.history) == 3
+    ww, wr = _weights(whole.model), _weights(resumed.model)
+    assert all(torch.equal(ww[k], wr[k]) for k in ww)
+    # a finished checkpoint trains nothing more; other settings refuse it
+    again = train({"virtual": data.clips}, {"virtual": 3}, config, checkpoint=ckpt)
+    assert again.resumed_from == 3
+    with pytest.raises(PhavUserError, match="other settings"):
+        train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(config, lr=0.1), checkpoint=ckpt)
+
+
+def test_a_damaged_checkpoint_is_a_user_error(tmp_path):
+    ckpt = tmp_path / "flow.pt"
+    ckpt.write_bytes(b"not a checkpoint")
+    data = motion_clips(2, 2)
+    with pytest.raises(PhavUserError, match="not a readable checkpoint"):
+        train({"virtual": data.clips}, {"virtual": 2}, SMALL, checkpoint=ckpt)
+
+
+def test_mixed_batches_hold_every_source_in_the_ratio():
+    rng = np.random.Generator(np.random.PCG64(0))
+    batches = MixedBatches({"virtual": range(7), "real": range(100, 130)}, [("virtual", 10), ("real", 22)], rng)
+    seen_virtual = []
+    for _ in range(20):
+        batch = batches.next()
+        assert len(batch) == 32
+        assert sum(s == "virtual" for s, _ in batch) == 10 and sum(s == "real" for s, _ in batch) == 22
+        seen_virtual += [i for s, i in batch if s == "virtual"]
+    # without replacement within a pass: after 200 draws every virtual clip came up 28-29 times
+    counts = np.bincount(seen_virtual, minlength=7)
+    assert counts.min() >= 28 and counts.max() <= 29
+
+
+def test_cool_tsn_both_heads_losses_fall_on_a_mixed_batch():
+    """A tiny mix (10 virtual : 22 real per batch): both sources' losses fall, and
+    every batch trained on holds both in the configured ratio."""
+    virtual = motion_clips(4, 6, source="virtual", seed=1)
+    real = motion_clips(3, 12, source="real", seed=2)
+    config = TrainConfig(stream="flow", widths=(8, 16), epochs=20, mix=(("virtual", 10), ("real", 22)), lr=0.05)
+    seen = []
+    original = MixedBatches.next
+
+    def spy(self):
+        batch = original(self)
+        seen.append((sum(s == "virtual" for s, _ in batch), sum(s == "real" for s, _ in batch)))
+        return batch
+
+    MixedBatches.next = spy
+    try:
+        result = train({"virtual": virtual.clips, "real": real.clips}, {"virtual": 4, "real": 3}, config)
+    finally:
+        MixedBatches.next = original
+    assert seen and set(seen) == {(10, 22)}
+    first, last = result.history[0].losses, result.history[-1].losses
+    assert last["virtual"] < 0.8 * first["virtual"], (first, last)
+    assert last["real"] < 0.8 * first["real"], (first, last)
+    probs = predict(result.model, real.clips, config, "real")
+    assert probs.shape == (36, 3) and np.allclose(probs.sum(1), 1.0, atol=1e-5)
+
+
+def test_learnable_motion_passes_and_shuffled_labels_do_not():
+    clips = motion_clips(6, 20)
+    opts = LearnOptions(epochs=15, budget_minutes=5, threads=1, streams=("flow",))
+    result = run_learnability(clips, opts)
+    assert result.accuracy() > 0.8 and result.p_value < 1e-6, (result.accuracy(), result.p_value)
+    control = run_learnability(clips, dataclasses.replace(opts, shuffle_labels=True))
+    assert control.accuracy() < 0.5 and control.p_value > 1e-3, (control.accuracy(), control.p_value)
+
+
+def test_chance_is_the_better_of_uniform_and_the_majority_class():
+    assert chance_level(np.array([0, 1, 2, 3]), 35) == pytest.approx(1 / 4)
+    assert chance_level(np.array([0, 0, 0, 1]), 35) == pytest.approx(3 / 4)
+    assert chance_level(np.arange(35), 35) == pytest.approx(1 / 35)
+    assert binomial_p(0, 10, 0.1) == pytest.approx(1.0)
+    assert binomial_p(10, 10, 0.5) == pytest.approx(0.5**10)
