@@ -35,7 +35,7 @@ app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
 #: What `phav bench --sections` can run.
-BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "validation")
+BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "validation", "training")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 
@@ -463,12 +463,19 @@ def bench(
     validation_trials: Annotated[
         int, typer.Option("--validation-trials", min=1, help="Seeds per --sample fraction in the detection table.")
     ] = 10,
+    training_data: Annotated[
+        Path | None, typer.Option("--training-data", help="A PHAV dataset to train on (default: generate one).")
+    ] = None,
+    training_videos: Annotated[
+        int, typer.Option("--training-videos", min=10, help="phav-v1-short videos generated when no --training-data.")
+    ] = 120,
+    training_epochs: Annotated[int, typer.Option("--training-epochs", min=1, help="Epochs per stream.")] = 80,
 ) -> None:
     """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
     (timestep against joint error and ms per frame), the action probe (how recognisable
     the 35 actions are from simulated motion, against simulation time), rendering (frames/s
-    against edge error) and validation (frames/s per check against generation, detection
-    against --sample)."""
+    against edge error), validation (frames/s per check against generation, detection
+    against --sample) and training (clips/s per stream, test accuracy against minutes)."""
     from phav_generator.bench import bench_sampling
 
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
@@ -485,6 +492,9 @@ def bench(
         _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames)
     if "validation" in chosen:
         _bench_validation_tables(seed=seed, videos=validation_videos, trials=validation_trials, out_dir=out_dir)
+    if "training" in chosen:
+        _bench_training_tables(data=training_data, videos=training_videos, epochs=training_epochs, seed=seed,
+                               out_dir=out_dir)  # fmt: skip
     if "sampling" not in chosen:
         return
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
@@ -531,6 +541,54 @@ def _bench_validation_tables(*, seed: int, videos: int, trials: int, out_dir: Pa
         det.add_row(f"{d.fraction:g}", f"{d.videos_decoded:.1f}", f"{d.seconds:.1f}",
                     f"{d.detected}/{d.trials} = {d.detected / d.trials:.0%}", f"{d.expected:.0%}")  # fmt: skip
     console.print(det)
+
+
+def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed: int, out_dir: Path | None) -> None:
+    import tempfile
+    from dataclasses import replace
+
+    from phav_validators.learn.bench import learning_curve, throughput
+    from phav_validators.learn.config import require_torch
+    from phav_validators.learn.data import load_phav
+    from phav_validators.learn.train import TrainConfig, default_threads
+
+    require_torch()
+    with tempfile.TemporaryDirectory() as tmp, console.status("training bench") as status:
+        if data is None:
+            from phav_generator.dataset import chunk, write_dataset
+            from phav_generator.sampling import sample_recipes
+
+            data = (out_dir if out_dir is not None else Path(tmp)) / "training"
+            status.update(f"generating {videos} phav-v1-short videos")
+            theta = load_theta("phav-v1-short")
+            write_dataset(chunk(list(sample_recipes(theta, n=videos, seed=seed)), 16), data, name="phav",
+                          theta=theta, dataset_seed=seed, workers=default_threads())  # fmt: skip
+        status.update(f"reading {data}")
+        clips = load_phav(data, workers=default_threads())
+        base = TrainConfig(epochs=epochs, seed=seed, threads=default_threads())
+        speeds = [throughput(clips.clips, replace(base, stream=s)) for s in ("rgb", "flow")]
+        points = []
+        for kind in ("random", "actor"):
+            points += learning_curve(clips, kind, base, every=max(1, epochs // 8), progress=status.update)
+    w, h = clips.clips[0].rgb.shape[2], clips.clips[0].rgb.shape[1]
+    table = Table(title=f"training speed ({base.threads} torch threads, frames stored at {w}×{h}, batch "
+                        f"{base.batch} clips × {base.segments} snippets)", title_justify="left")  # fmt: skip
+    for col in ("stream", "parameters", "training clips/s", "testing clips/s", "s per epoch of 100 clips"):
+        table.add_column(col, justify="right")
+    for sp in speeds:
+        table.add_row(sp.stream, f"{sp.parameters:,}", f"{sp.train_clips_per_s:.0f}", f"{sp.test_clips_per_s:.0f}",
+                      f"{100 / sp.train_clips_per_s:.1f}")  # fmt: skip
+    console.print(table)
+    curve = Table(title=f"test accuracy against training minutes ({len(clips)} clips of {escape(str(data))})",
+                  title_justify="left")  # fmt: skip
+    for col in ("split", "epochs", "minutes", "rgb", "flow", "fused", "× chance", "binomial p"):
+        curve.add_column(col, justify="right")
+    for p in points:
+        a = p.accuracy
+        curve.add_row(f"{p.split} ({p.test_clips})", str(p.epoch), f"{p.minutes:.1f}", f"{a['rgb']:.1%}",
+                      f"{a['flow']:.1%}", f"{a['fused']:.1%}", f"{a['fused'] / p.chance:.1f}",
+                      f"{p.p_fused:.1g}")  # fmt: skip
+    console.print(curve)
 
 
 def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None) -> None:

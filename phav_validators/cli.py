@@ -66,7 +66,7 @@ def validate(
     ] = 10.0,
     learn_epochs: Annotated[
         int, typer.Option(min=1, help="learnability: epochs per stream (within the minutes).")
-    ] = 30,
+    ] = 80,
     learn_dir: Annotated[
         Path | None,
         typer.Option(help="learnability: folder for checkpoints (a rerun resumes) and confusion.png."),

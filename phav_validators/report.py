@@ -154,6 +154,12 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
                               f"{esc(', '.join(reasons))}</figcaption></figure>")  # fmt: skip
         if frames:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
+        if r.learnability is not None:
+            from phav_validators.learn.learnability import confusion_png
+
+            png = confusion_png(r.learnability.confusion(), r.learnability.classes)
+            url = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+            out.append(f"<h3>Learnability: confusion on held-out actors (fused)</h3><img src='{url}'>")
     out.append("</body></html>")
     return "\n".join(out)
 

@@ -63,11 +63,14 @@ def train_command(
         str, typer.Option(help="PHAV split: random, actor, motion or actor+motion (held out).")
     ] = "random",
     splits: Annotated[int, typer.Option(min=1, max=3, help="Splits averaged (PHAV: seeded 80/20; real: 1..N).")] = 1,
-    epochs: Annotated[int, typer.Option(min=1, help="Epochs per stream.")] = 30,
-    lr: Annotated[float, typer.Option(help="Peak learning rate (SGD, momentum 0.9, cosine decay).")] = 0.02,
+    epochs: Annotated[int, typer.Option(min=1, help="Epochs per stream.")] = 80,
+    lr: Annotated[float, typer.Option(help="Peak learning rate (cosine decay).")] = 0.05,
+    optimizer: Annotated[str, typer.Option(help="sgd (momentum 0.9, weight decay 5e-4, as TSN) or adamw.")] = "sgd",
     batch: Annotated[int, typer.Option(min=1, help="Clips per mini-batch (single source).")] = 32,
     size: Annotated[str, typer.Option(help="Stored frame size WIDTHxHEIGHT; crops are 7/8 of it.")] = "85x64",
     widths: Annotated[str, typer.Option(help="Backbone widths, one stride-2 stage each.")] = "32,64,128,192",
+    stem_pool: Annotated[bool, typer.Option(help="Max-pool after the stem (for frames of 170x128 and up).")] = False,
+    dropout: Annotated[float, typer.Option(help="Dropout before the classifiers.")] = 0.3,
     flow: Annotated[str, typer.Option(help="Flow: gt (PHAV's ground truth), farneback or tvl1 (estimated).")] = "gt",
     real: Annotated[
         str | None, typer.Option(help="A real dataset: ucf101=PATH or hmdb51=PATH (official split files beside it).")
@@ -106,7 +109,7 @@ def train_command(
         raise PhavUserError(f"expected VIRTUAL:REAL clip counts, e.g. 10:22, got {mix!r}", field="--mix")
     stored = _size(size)
     base = TrainConfig(stream=stream_list[0], widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
-                       mix=(("virtual", batch),), seed=seed,
+                       optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool, dropout=dropout,
                        threads=threads if threads is not None else default_threads())  # fmt: skip
     for stream in stream_list[1:]:
         TrainConfig(stream=stream)

@@ -12,11 +12,13 @@ STREAMS = ("rgb", "flow")
 
 @dataclass(frozen=True)
 class Architecture:
-    """The backbone's shape: a 5×5 stride-2 stem, then one stride-2 block per width after
-    the first (two 3×3 convolutions each), global average pooling and dropout."""
+    """The backbone's shape: a 5×5 stride-2 stem (then a 3×3 stride-2 max-pool when
+    ``stem_pool``, for large frames), one stride-2 block per width after the first (two
+    3×3 convolutions each), global average pooling and dropout."""
 
     widths: tuple[int, ...] = (32, 64, 128, 192)
     dropout: float = 0.5
+    stem_pool: bool = False
 
     def __post_init__(self) -> None:
         if not self.widths or min(self.widths) < 1:

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from phav_spec.encoding import decode_flow
+from phav_spec.encoding import FLOW_OFFSET, FLOW_SCALE
 from phav_spec.errors import PhavUserError
 
 #: How flow is obtained: the dataset's ground truth, or estimated from the RGB frames.
@@ -177,7 +177,7 @@ def _load_shard(task: _ShardTask) -> list[Clip]:
             if kind == "rgb":
                 frames[vid][int(frame)] = decode_png(data, rgb_enc, source=source)
             else:
-                flows[vid][int(frame)] = decode_flow(decode_png(data, flow_enc, source=source))[0]
+                flows[vid][int(frame)] = kitti_flow(decode_png(data, flow_enc, source=source), source=source)
         except ValueError as e:
             raise PhavUserError(str(e)) from None
     clips = []
@@ -191,6 +191,20 @@ def _load_shard(task: _ShardTask) -> list[Clip]:
         flow = [flows[vid][i] for i in order] if gt else None
         clips.append(make_clip(vid, label, "virtual", rgb, flow, size=task.size, flow=task.flow, groups=groups))
     return clips
+
+
+def kitti_flow(code: np.ndarray, *, source: str) -> np.ndarray:
+    """KITTI flow codes (H, W, 3) uint16, RGB order → (u, v) float32 pixels, 0 where invalid.
+
+    ``phav_spec.encoding.decode_flow`` in float32 and without NaN: the same values, read
+    about three times faster, which matters when a whole dataset is loaded for training."""
+    valid = code[..., 2]
+    if valid.max(initial=0) > 1:
+        raise ValueError(f"{source}: flow B channel must be 0 or 1 (was it read in BGR order?)")
+    flow = code[..., :2].astype(np.float32)
+    flow -= FLOW_OFFSET
+    flow *= valid[..., None].astype(np.float32) / FLOW_SCALE
+    return flow
 
 
 def load_phav(

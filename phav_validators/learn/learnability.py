@@ -3,8 +3,10 @@
 A seeded held-out-actor split (the test set's human models never appear in training),
 both streams trained within a CPU budget, late fusion, and a one-sided binomial test of
 the fused test accuracy against chance. The model sees RGB frames and flow only; labels
-and groups are used for the loss and the split, never as input. Chance is the better of
-guessing uniformly and always answering the test set's most common class.
+and groups are used for the loss and the split, never as input. Chance is the accuracy of
+answers independent of the input: 1/classes for uniform guessing, or, when higher, the
+agreement expected from the test labels' and the predictions' frequencies alone (Cohen's
+p_e), so that a model answering one common class does not count as learning.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ class LearnOptions:
 
     split: str = "actor"
     streams: tuple[str, ...] = ("rgb", "flow")
-    epochs: int = 30
+    epochs: int = 80
     #: Minutes of training for all streams together (each stream gets its share).
     budget_minutes: float = 10.0
     size: tuple[int, int] = DEFAULT_SIZE
@@ -82,11 +84,14 @@ class LearnResult:
         return matrix
 
 
-def chance_level(labels: np.ndarray, n_classes: int) -> float:
-    """The best accuracy without looking at the input: uniform guessing or the majority class."""
+def chance_level(labels: np.ndarray, predicted: np.ndarray, n_classes: int) -> float:
+    """Accuracy expected of answers independent of the input: ``max(1/C, Σ_c p(c) q(c))``
+    with p the test labels' and q the predictions' class frequencies."""
     if len(labels) == 0:
         return 1.0 / n_classes
-    return max(1.0 / n_classes, float(np.bincount(labels, minlength=n_classes).max() / len(labels)))
+    p = np.bincount(labels, minlength=n_classes) / len(labels)
+    q = np.bincount(predicted, minlength=n_classes) / len(predicted)
+    return max(1.0 / n_classes, float(p @ q))
 
 
 def binomial_p(correct: int, n: int, chance: float) -> float:
@@ -116,12 +121,13 @@ def run_learnability(
     train_clips = [clips.clips[i] for i in split.train]
     test_clips = [clips.clips[i] for i in split.test]
     threads = opts.threads if opts.threads is not None else default_threads()
-    budget = opts.budget_minutes * 60.0 / len(opts.streams)
     scores: dict[str, np.ndarray] = {}
     seconds, stopped = 0.0, False
     with tempfile.TemporaryDirectory(prefix="phav-learn-") as tmp:
         out = opts.out_dir if opts.out_dir is not None else Path(tmp)
-        for stream in opts.streams:
+        for i, stream in enumerate(opts.streams):
+            # Each stream may use an equal share of what the streams before it left over.
+            budget = (opts.budget_minutes * 60.0 - seconds) / (len(opts.streams) - i)
             config = TrainConfig(stream=stream, epochs=opts.epochs, seed=opts.seed, threads=threads)
             advance = progress(f"learnability: training {stream}", opts.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
@@ -132,7 +138,7 @@ def run_learnability(
             scores[stream] = predict(result.model, test_clips, config, "virtual")
     labels = np.array([c.label for c in test_clips], dtype=np.int64)
     fused = fuse(scores)
-    chance = chance_level(labels, len(clips.classes))
+    chance = chance_level(labels, fused.argmax(1), len(clips.classes))
     p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
     return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
                        split.held_out)  # fmt: skip
@@ -142,7 +148,10 @@ def check_learnability(
     root: Path, opts: LearnOptions, *, progress: ProgressFactory | None = None
 ) -> tuple[CheckResult, LearnResult]:
     """The learnability check on a dataset directory, and the numbers behind it."""
-    load_bar = progress("learnability: reading clips", 0) if progress is not None else None
+    from phav_spec.manifest import load_manifest
+
+    n_videos = len(load_manifest(root / "manifest.json").videos)
+    load_bar = progress("learnability: reading clips", n_videos) if progress is not None else None
     clips = load_phav(root, size=opts.size, flow=opts.flow, workers=opts.workers, progress=load_bar)
     result = run_learnability(clips, opts, progress=progress)
     report = Report()
@@ -177,12 +186,19 @@ def check_learnability(
     return CheckResult.from_report("learnability", report, summary, numbers), result
 
 
-def write_confusion_png(matrix: np.ndarray, classes: Sequence[str], path: Path, *, cell: int = 14) -> None:
-    """A confusion-matrix heat map (rows: true class, columns: predicted; row-normalised),
-    class names down the left and diagonal accuracy in the title, written atomically."""
-    import cv2
-
+def write_confusion_png(matrix: np.ndarray, classes: Sequence[str], path: Path) -> None:
+    """``confusion_png`` written atomically to ``path``."""
     from phav_spec.files import atomic_write
+
+    data = confusion_png(matrix, classes)
+    with atomic_write(path) as tmp:
+        tmp.write_bytes(data)
+
+
+def confusion_png(matrix: np.ndarray, classes: Sequence[str], *, cell: int = 14) -> bytes:
+    """A confusion-matrix heat map as PNG bytes (rows: true class, columns: predicted;
+    row-normalised), class names down the left and the accuracy in the title."""
+    import cv2
 
     n = len(classes)
     rows = matrix.sum(axis=1, keepdims=True)
@@ -201,10 +217,9 @@ def write_confusion_png(matrix: np.ndarray, classes: Sequence[str], path: Path, 
         cv2.line(image, (left + k * cell, top), (left + k * cell, top + n * cell), (220, 220, 220), 1)
     total = int(matrix.sum())
     accuracy = np.trace(matrix) / total if total else 0.0
-    cv2.putText(image, f"true (rows) vs predicted (columns): accuracy {accuracy:.1%} of {total}", (4, 18),
+    cv2.putText(image, f"true (rows) vs predicted (columns, same order): {accuracy:.1%} of {total}", (4, 18),
                 cv2.FONT_HERSHEY_PLAIN, 1.0, (0, 0, 0), 1, cv2.LINE_AA)  # fmt: skip
     ok, png = cv2.imencode(".png", image[..., ::-1])
     if not ok:  # pragma: no cover - OpenCV encodes any uint8 image
         raise RuntimeError("PNG encoding failed")
-    with atomic_write(path) as tmp:
-        tmp.write_bytes(png.tobytes())
+    return png.tobytes()

@@ -33,6 +33,8 @@ class Backbone(nn.Module):
         super().__init__()
         w = arch.widths
         layers = _conv(channels, w[0], 5, 2)
+        if arch.stem_pool:
+            layers.append(nn.MaxPool2d(3, 2, 1))
         for c_in, c_out in itertools.pairwise(w):
             layers += _conv(c_in, c_out, 3, 2) + _conv(c_out, c_out, 3, 1)
         self.features = nn.Sequential(*layers)

@@ -43,13 +43,19 @@ class TrainConfig:
     segments: int = 3
     test_segments: int = 5
     flow_frames: int = 5
+    #: Subtract each flow frame's median vector: a cheap camera-motion compensation (the
+    #: median of a frame is mostly background), so a moving kite camera is not the signal.
+    flow_centre: bool = True
     crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
     widths: tuple[int, ...] = Architecture.widths
-    dropout: float = Architecture.dropout
-    epochs: int = 20
+    dropout: float = 0.3
+    stem_pool: bool = Architecture.stem_pool
+    epochs: int = 80
     #: Clips per mini-batch from each source, e.g. {"virtual": 10, "real": 22}.
     mix: tuple[tuple[str, int], ...] = (("virtual", 32),)
-    lr: float = 0.02
+    #: ``sgd`` (TSN's: momentum, weight decay) or ``adamw`` (decoupled weight decay).
+    optimizer: str = "sgd"
+    lr: float = 0.05
     momentum: float = 0.9
     weight_decay: float = 5e-4
     seed: int = 0
@@ -65,12 +71,14 @@ class TrainConfig:
             raise PhavUserError(f"must be in [0.2, 1], got {self.crop}", field="--crop")
         if not self.mix or any(n < 1 for _, n in self.mix):
             raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
+        if self.optimizer not in ("sgd", "adamw"):
+            raise PhavUserError(f"choose sgd or adamw, got {self.optimizer!r}", field="--optimizer")
         if not self.lr > 0:
             raise PhavUserError(f"must be positive, got {self.lr}", field="--lr")
 
     @property
     def arch(self) -> Architecture:
-        return Architecture(self.widths, self.dropout)
+        return Architecture(self.widths, self.dropout, self.stem_pool)
 
     @property
     def batch(self) -> int:
@@ -147,6 +155,8 @@ def snippets(
     else:
         bound = FLOW_BOUND_PX * w / 340.0
         x = clip.flow[frames, y0 : y0 + ch, x0 : x0 + cw].astype(np.float32)  # (K, L, h, w, 2)
+        if config.flow_centre:
+            x -= np.median(x.reshape(k, length, -1, 2), axis=2)[:, :, None, None, :]
         x = np.clip(x, -bound, bound) * (4.0 / bound)
         x = x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
     if flip:
@@ -196,10 +206,12 @@ class MixedBatches:
 # --- training -------------------------------------------------------------------------------
 
 
-def _fingerprint(config: TrainConfig, data: Mapping[str, Sequence[Clip]], heads: Mapping[str, int]) -> str:
-    """What a checkpoint must agree on to be resumed: the config, heads and training clips."""
+def _fingerprint(
+    config: TrainConfig, data: Mapping[str, Sequence[Clip]], heads: Mapping[str, int], init: str | Path | None
+) -> str:
+    """What a checkpoint must agree on to be resumed: the config, heads, start and training clips."""
     h = hashlib.sha256(json.dumps(config.to_json(), sort_keys=True).encode())
-    h.update(json.dumps(dict(sorted(heads.items()))).encode())
+    h.update(json.dumps([dict(sorted(heads.items())), None if init is None else Path(init).name]).encode())
     for name in sorted(data):
         for clip in data[name]:
             h.update(f"{name}\0{clip.key}\0{clip.label}\0{clip.rgb.shape}\n".encode())
@@ -244,6 +256,7 @@ def train(
     init: str | Path | None = None,
     max_seconds: float | None = None,
     progress: Callable[[Epoch, int], None] | None = None,
+    after_epoch: Callable[[TrainResult], None] | None = None,
     device: str = "cpu",
 ) -> TrainResult:
     """Train one stream on ``data`` (source → training clips) with a head per source.
@@ -255,6 +268,8 @@ def train(
         max_seconds: stop at the last epoch boundary that fits in this many seconds of
             training (then the result depends on the machine's speed, and says so).
         progress: called after every epoch with the record and the total epochs.
+        after_epoch: called after every epoch with the result so far (to test the model
+            as it trains; it is put back in training mode afterwards).
         device: where the model runs (``cpu``, ``cuda``, ``cuda:1``); random draws stay on the CPU.
     """
     require_torch()
@@ -273,26 +288,29 @@ def train(
         model = TSN(in_channels(config.stream, config.flow_frames), heads, config.arch, generator=gen)
         if init is not None:
             _init_backbone(model, load_checkpoint(init), init)
-        opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
-                              weight_decay=config.weight_decay)  # fmt: skip
+        model.to(dev)  # before the optimiser, whose state must live beside the parameters
+        if config.optimizer == "adamw":
+            opt = torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
+        else:
+            opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
+                                  weight_decay=config.weight_decay)  # fmt: skip
         rng = np.random.Generator(np.random.PCG64(config.seed))
-        fingerprint = _fingerprint(config, data, heads)
+        fingerprint = _fingerprint(config, data, heads, init)
         result = TrainResult(model, config)
         ckpt = Path(checkpoint) if checkpoint is not None else None
-        resumed = None
+        resumed: dict[str, Any] | None = None
         if ckpt is not None and ckpt.exists():
-            state = resumed = load_checkpoint(ckpt)
-            if state["fingerprint"] != fingerprint:
+            resumed = load_checkpoint(ckpt)
+            if resumed["fingerprint"] != fingerprint:
                 raise PhavUserError("made with other settings or data; delete it or choose another output",
                                     source=str(ckpt))  # fmt: skip
-            model.load_state_dict(state["model"])
-            opt.load_state_dict(state["optimizer"])
-            rng.bit_generator.state = state["numpy_rng"]
-            gen.set_state(state["torch_rng"])
-            result.history = [Epoch(**e) for e in state["history"]]
-            result.seconds = state["seconds"]
+            model.load_state_dict(resumed["model"])
+            opt.load_state_dict(resumed["optimizer"])
+            rng.bit_generator.state = resumed["numpy_rng"]
+            gen.set_state(resumed["torch_rng"])
+            result.history = [Epoch(**e) for e in resumed["history"]]
+            result.seconds = resumed["seconds"]
             result.resumed_from = len(result.history)
-        model.to(dev)
         pools = {name: list(range(len(data[name]))) for name in config.sources}
         batches = MixedBatches(pools, config.mix, rng)
         if resumed is not None:
@@ -348,6 +366,9 @@ def train(
                 })  # fmt: skip
             if progress is not None:
                 progress(record, config.epochs)
+            if after_epoch is not None:
+                after_epoch(result)
+                model.train()
         model.eval()
         return result
     finally:

@@ -12,9 +12,10 @@ from phav_validators.learn.data import Clip, ClipSet
 def motion_clips(
     n_classes: int = 6, per_class: int = 20, *, frames: int = 12, size=(32, 24), source: str = "virtual", seed: int = 0
 ) -> ClipSet:
-    """Clips of random RGB noise; class c's flow points at angle π(c + ½)/n − π/2 (plus
-    noise: rightwards, so that a horizontal flip, u → −u, never turns one class into
-    another), each clip played by one of 10 actors and one of 3 motions per class."""
+    """Clips of random RGB noise; in a central patch (a mover on a still background) class
+    c's flow points at angle π(c + ½)/n − π/2 (plus noise; rightwards, so that a
+    horizontal flip, u → −u, never turns one class into another), each clip played by one
+    of 10 actors and one of 3 motions per class."""
     rng = np.random.Generator(np.random.PCG64(seed))
     w, h = size
     clips = []
@@ -22,8 +23,9 @@ def motion_clips(
         for k in range(per_class):
             angle = math.pi * (c + 0.5) / n_classes - math.pi / 2
             flow = rng.normal(0.0, 0.3, (frames, h, w, 2))
-            flow[..., 0] += 1.5 * math.cos(angle)
-            flow[..., 1] += 1.5 * math.sin(angle)
+            patch = flow[:, h // 4 : 3 * h // 4, w // 4 : 3 * w // 4]
+            patch[..., 0] += 1.5 * math.cos(angle)
+            patch[..., 1] += 1.5 * math.sin(angle)
             rgb = rng.integers(0, 256, (frames, h, w, 3), dtype=np.uint8)
             groups = {"actor": f"model_{k % 10:02d}", "motion": f"class{c}_motion{k % 3}"}
             clips.append(Clip(f"{source}{c:02d}{k:03d}", c, source, rgb, flow.astype(np.float16), groups))

@@ -64,7 +64,7 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     report = tmp_path / "report.json"
     learn = tmp_path / "learn"
     result = run_cli("validate!", str(phav), "--checks", "learnability", "--learn-epochs", "1", "--threads", "1",
-                     "--learn-dir", str(learn), "--json", str(report))  # fmt: skip
+                     "--learn-dir", str(learn), "--json", str(report), "--html", str(tmp_path / "r.html"))  # fmt: skip
     # three clips cannot show learning: the check runs and fails with its numbers
     assert result.returncode == 1, result.stderr
     check = json.loads(report.read_text())["datasets"][0]["checks"][0]
@@ -76,3 +76,13 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     image = cv2.imread(numbers["confusion_png"])
     assert image is not None and image.shape[0] > 35 * 14
     assert (learn / "rgb.pt").exists() and (learn / "flow.pt").exists()
+    assert "Learnability: confusion" in (tmp_path / "r.html").read_text()
+
+
+def test_bench_training_section_prints_speed_and_accuracy_against_minutes(phav):
+    result = run_cli("bench", "--sections", "training", "--training-data", str(phav), "--training-epochs", "2")
+    assert result.returncode == 0, result.stderr
+    out = result.stdout
+    assert "training speed" in out and "training clips/s" in out
+    assert "test accuracy against training minutes" in out
+    assert "random" in out and "held-out actor" in out

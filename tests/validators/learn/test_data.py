@@ -163,3 +163,16 @@ def test_bad_split_names_the_option():
     with pytest.raises(PhavUserError) as e:
         make_split(motion_clips(2, 2).clips, "weather", seed=0)
     assert e.value.field == "--split" and "actor+motion" in e.value.detail
+
+
+def test_kitti_flow_reads_what_the_spec_decoder_reads():
+    from phav_spec.encoding import decode_flow, encode_flow
+    from phav_validators.learn.data import kitti_flow
+
+    rng = np.random.Generator(np.random.PCG64(0))
+    u, v = rng.uniform(-600, 600, (2, 16, 24))
+    code = encode_flow(u, v, rng.random((16, 24)) > 0.2)
+    expected = np.nan_to_num(decode_flow(code)[0])
+    assert np.array_equal(kitti_flow(code, source="x"), expected)
+    with pytest.raises(ValueError, match="BGR"):
+        kitti_flow(np.ascontiguousarray(code[..., ::-1]), source="x")

@@ -34,7 +34,7 @@ def test_flow_snippets_stack_five_frames_and_flip_negates_u():
     clip = motion_clips(1, 1, frames=12).clips[0]
     clip.flow[..., 0] = 1.0
     clip.flow[..., 1] = 0.5
-    config = dataclasses.replace(SMALL, crop=1.0)
+    config = dataclasses.replace(SMALL, crop=1.0, flow_centre=False)
     x = snippets(clip, config, rng=None)
     assert x.shape == (3, 10, 24, 32)
     bound = 20.0 * 32 / 340
@@ -43,6 +43,17 @@ def test_flow_snippets_stack_five_frames_and_flip_negates_u():
     signs = {float(np.sign(f[0, 0, 0, 0])) for f in flips}
     assert signs == {1.0, -1.0}  # some flipped (u negated), some not
     assert all(np.allclose(f[:, 1::2], 2.0 / bound) for f in flips)  # v kept
+
+
+def test_flow_centring_removes_camera_motion_and_keeps_the_mover():
+    clip = motion_clips(1, 1, frames=12).clips[0]
+    clip.flow[...] = (0.8, -0.4)  # the camera pans: every pixel moves alike
+    clip.flow[:, 8:12, 10:14] = (1.8, -0.4)  # a small mover on top of the pan
+    x = snippets(clip, dataclasses.replace(SMALL, crop=1.0), rng=None)
+    bound = 20.0 * 32 / 340
+    assert np.allclose(x[:, :, :8], 0.0) and np.allclose(x[:, :, 12:], 0.0)
+    assert np.allclose(x[:, 0::2, 8:12, 10:14], 1.0 * 4.0 / bound, atol=1e-2)
+    assert np.allclose(x[:, 1::2, 8:12, 10:14], 0.0, atol=1e-2)
 
 
 def test_training_is_deterministic_for_a_seed():
@@ -106,7 +117,7 @@ def test_cool_tsn_both_heads_losses_fall_on_a_mixed_batch():
     every batch trained on holds both in the configured ratio."""
     virtual = motion_clips(4, 6, source="virtual", seed=1)
     real = motion_clips(3, 12, source="real", seed=2)
-    config = TrainConfig(stream="flow", widths=(8, 16), epochs=20, mix=(("virtual", 10), ("real", 22)), lr=0.05)
+    config = TrainConfig(stream="flow", widths=(8, 16), epochs=40, mix=(("virtual", 10), ("real", 22)), lr=0.05)
     seen = []
     original = MixedBatches.next
 
@@ -137,9 +148,11 @@ def test_learnable_motion_passes_and_shuffled_labels_do_not():
     assert control.accuracy() < 0.5 and control.p_value > 1e-3, (control.accuracy(), control.p_value)
 
 
-def test_chance_is_the_better_of_uniform_and_the_majority_class():
-    assert chance_level(np.array([0, 1, 2, 3]), 35) == pytest.approx(1 / 4)
-    assert chance_level(np.array([0, 0, 0, 1]), 35) == pytest.approx(3 / 4)
-    assert chance_level(np.arange(35), 35) == pytest.approx(1 / 35)
+def test_chance_is_uniform_guessing_or_the_agreement_of_the_marginals():
+    labels = np.array([0, 0, 0, 1])
+    assert chance_level(labels, np.array([0, 0, 0, 0]), 35) == pytest.approx(3 / 4)  # always the majority
+    assert chance_level(labels, np.array([1, 1, 1, 1]), 35) == pytest.approx(1 / 4)
+    assert chance_level(labels, np.array([5, 6, 7, 8]), 35) == pytest.approx(1 / 35)  # never below uniform
+    assert chance_level(np.arange(35), np.arange(35)[::-1], 35) == pytest.approx(1 / 35)
     assert binomial_p(0, 10, 0.1) == pytest.approx(1.0)
     assert binomial_p(10, 10, 0.5) == pytest.approx(0.5**10)

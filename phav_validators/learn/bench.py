@@ -1,0 +1,123 @@
+"""``phav bench --sections training``: clips per second per stream on this machine, and test
+accuracy against training minutes (random and held-out-actor splits), speed against error.
+
+Each stream trains for a fixed number of epochs and is tested after every ``every``-th; the
+fused accuracy at a point combines both streams at the same epoch, at the sum of their
+training minutes. Testing time is not counted as training time.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from phav_validators.learn.data import Clip, ClipSet
+from phav_validators.learn.learnability import binomial_p, chance_level
+from phav_validators.learn.splits import make_split
+from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, snippets, train
+
+
+@dataclass(frozen=True)
+class Throughput:
+    """Clips per second of one stream: training steps (snippets, forward, backward, update)
+    and testing (``test_segments`` snippets, forward)."""
+
+    stream: str
+    train_clips_per_s: float
+    test_clips_per_s: float
+    parameters: int
+
+
+@dataclass(frozen=True)
+class CurvePoint:
+    """Test accuracy after ``epoch`` epochs of each stream, at ``minutes`` of training."""
+
+    split: str
+    epoch: int
+    minutes: float
+    accuracy: dict[str, float]  # rgb, flow, fused
+    test_clips: int
+    chance: float
+    p_fused: float
+
+
+def throughput(clips: Sequence[Clip], config: TrainConfig, *, steps: int = 4) -> Throughput:
+    """Time ``steps`` training steps (after one warm-up) and one pass of testing."""
+    import torch
+
+    from phav_validators.learn.model import TSN, multitask_loss
+
+    torch_threads = torch.get_num_threads()
+    torch.set_num_threads(config.threads)
+    try:
+        gen = torch.Generator().manual_seed(config.seed)
+        channels = 3 if config.stream == "rgb" else 2 * config.flow_frames
+        model = TSN(channels, {"virtual": 35}, config.arch, generator=gen)
+        opt = torch.optim.SGD(model.parameters(), lr=1e-3, momentum=0.9)
+        rng = np.random.Generator(np.random.PCG64(config.seed))
+        batch = config.batch
+        start = 0.0
+        for step in range(steps + 1):
+            if step == 1:
+                start = time.perf_counter()
+            chosen = [clips[int(i)] for i in rng.integers(0, len(clips), batch)]
+            x = torch.from_numpy(np.stack([snippets(c, config, rng=rng) for c in chosen]))
+            labels = torch.tensor([c.label for c in chosen])
+            loss, _ = multitask_loss(model(x, generator=gen), labels, torch.zeros(batch, dtype=torch.long),
+                                     ["virtual"])  # fmt: skip
+            opt.zero_grad()
+            loss.backward()
+            opt.step()
+        train_s = (time.perf_counter() - start) / steps
+    finally:
+        torch.set_num_threads(torch_threads)
+    start = time.perf_counter()
+    predict(model, list(clips[: 2 * batch]), config, "virtual")
+    test_s = time.perf_counter() - start
+    n_params = sum(p.numel() for p in model.parameters())
+    return Throughput(config.stream, batch / train_s, min(len(clips), 2 * batch) / test_s, n_params)
+
+
+def learning_curve(
+    clips: ClipSet,
+    split_kind: str,
+    base: TrainConfig,
+    streams: Sequence[str] = ("rgb", "flow"),
+    *,
+    every: int = 1,
+    progress: Callable[[str], None] | None = None,
+) -> list[CurvePoint]:
+    """Test accuracy per stream and fused against training minutes on one seeded split."""
+    split = make_split(clips.clips, split_kind, seed=base.seed)
+    train_clips = [clips.clips[i] for i in split.train]
+    test_clips = [clips.clips[i] for i in split.test]
+    labels = np.array([c.label for c in test_clips], dtype=np.int64)
+    scores: dict[str, dict[int, np.ndarray]] = {s: {} for s in streams}
+    minutes: dict[str, dict[int, float]] = {s: {} for s in streams}
+    for stream in streams:
+        config = replace(base, stream=stream)
+
+        def record(result: TrainResult, stream: str = stream, config: TrainConfig = config) -> None:
+            epoch = len(result.history)
+            if epoch % every == 0 or epoch == config.epochs:
+                scores[stream][epoch] = predict(result.model, test_clips, config, "virtual")
+                minutes[stream][epoch] = result.seconds / 60.0
+                if progress is not None:
+                    acc = float((scores[stream][epoch].argmax(1) == labels).mean())
+                    progress(f"{split.name}: {stream} epoch {epoch}/{config.epochs}, test accuracy {acc:.1%}")
+
+        train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config, after_epoch=record)
+    points = []
+    for epoch in sorted(set.intersection(*(set(scores[s]) for s in streams))):
+        probs = {s: scores[s][epoch] for s in streams}
+        fused = fuse(probs)
+        accuracy = {s: float((p.argmax(1) == labels).mean()) for s, p in probs.items()}
+        correct = int((fused.argmax(1) == labels).sum())
+        accuracy["fused"] = correct / max(len(labels), 1)
+        chance = chance_level(labels, fused.argmax(1), len(clips.classes))
+        points.append(CurvePoint(split.name, epoch, sum(minutes[s][epoch] for s in streams), accuracy, len(labels),
+                                 chance, binomial_p(correct, len(labels), chance)))  # fmt: skip
+    return points
