@@ -176,3 +176,21 @@ def test_kitti_flow_reads_what_the_spec_decoder_reads():
     assert np.array_equal(kitti_flow(code, source="x"), expected)
     with pytest.raises(ValueError, match="BGR"):
         kitti_flow(np.ascontiguousarray(code[..., ::-1]), source="x")
+
+
+def test_flow_estimators_farneback_and_a_clear_error_without_tvl1():
+    import cv2
+
+    from phav_validators.learn.data import estimate_flow
+
+    frames = list(moving_square((2, 0), frames=4))
+    flows = estimate_flow(frames, "farneback")
+    assert len(flows) == 4 and flows[0].shape == (48, 64, 2)
+    assert flows[0][..., 0].mean() > 0.05  # the square moves right
+    if hasattr(cv2, "optflow"):  # opencv-contrib installed: TV-L1 runs
+        assert len(estimate_flow(frames, "tvl1")) == 4
+    else:
+        with pytest.raises(PhavUserError, match="opencv-contrib"):
+            estimate_flow(frames, "tvl1")
+    with pytest.raises(PhavUserError, match="farneback or tvl1"):
+        estimate_flow(frames, "raft")

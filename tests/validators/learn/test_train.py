@@ -10,9 +10,10 @@ import pytest
 import torch
 
 from phav_spec.errors import PhavUserError
+from phav_validators.learn.data import load_phav, load_real, ucf101_split
 from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
 from phav_validators.learn.train import MixedBatches, TrainConfig, predict, snippet_starts, snippets, train
-from tests.validators.learn.helpers import motion_clips
+from tests.validators.learn.helpers import motion_clips, ucf101_folder
 
 SMALL = TrainConfig(stream="flow", widths=(8, 16), epochs=2, mix=(("virtual", 8),), threads=1, lr=0.05)
 
@@ -112,12 +113,14 @@ def test_mixed_batches_hold_every_source_in_the_ratio():
     assert counts.min() >= 28 and counts.max() <= 29
 
 
-def test_cool_tsn_both_heads_losses_fall_on_a_mixed_batch():
-    """A tiny mix (10 virtual : 22 real per batch): both sources' losses fall, and
-    every batch trained on holds both in the configured ratio."""
-    virtual = motion_clips(4, 6, source="virtual", seed=1)
-    real = motion_clips(3, 12, source="real", seed=2)
-    config = TrainConfig(stream="flow", widths=(8, 16), epochs=40, mix=(("virtual", 10), ("real", 22)), lr=0.05)
+def test_cool_tsn_both_heads_losses_fall_on_a_mixed_batch(phav, tmp_path):
+    """Cool-TSN on a generated UCF-101 folder (real) mixed 10 : 22 with PHAV clips
+    (virtual): both sources' losses fall, and every batch trained on holds both in the
+    configured ratio."""
+    virtual = load_phav(phav, size=(32, 24))
+    official = ucf101_split(ucf101_folder(tmp_path), 1)
+    real = load_real(official.train, size=(32, 24))
+    config = TrainConfig(stream="flow", widths=(8, 16), epochs=30, mix=(("virtual", 10), ("real", 22)), lr=0.05)
     seen = []
     original = MixedBatches.next
 
@@ -128,15 +131,16 @@ def test_cool_tsn_both_heads_losses_fall_on_a_mixed_batch():
 
     MixedBatches.next = spy
     try:
-        result = train({"virtual": virtual.clips, "real": real.clips}, {"virtual": 4, "real": 3}, config)
+        heads = {"virtual": len(virtual.classes), "real": len(official.classes)}
+        result = train({"virtual": virtual.clips, "real": real}, heads, config)
     finally:
         MixedBatches.next = original
-    assert seen and set(seen) == {(10, 22)}
+    assert len(seen) == 30 and set(seen) == {(10, 22)}
     first, last = result.history[0].losses, result.history[-1].losses
     assert last["virtual"] < 0.8 * first["virtual"], (first, last)
     assert last["real"] < 0.8 * first["real"], (first, last)
-    probs = predict(result.model, real.clips, config, "real")
-    assert probs.shape == (36, 3) and np.allclose(probs.sum(1), 1.0, atol=1e-5)
+    probs = predict(result.model, real, config, "real")
+    assert probs.shape == (len(real), 3) and np.allclose(probs.sum(1), 1.0, atol=1e-5)
 
 
 def test_learnable_motion_passes_and_shuffled_labels_do_not():
