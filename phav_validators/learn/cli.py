@@ -102,6 +102,10 @@ def train_command(
     real_source = _real(real) if real is not None else None
     if mode not in MODES:
         raise PhavUserError(f"choose from {', '.join(MODES)}, got {mode!r}", field="--mode")
+    if real_source is not None and mode == "cool" and dataset is None:
+        raise PhavUserError("Cool-TSN mixes PHAV clips into every batch: give a PHAV dataset", field="--mode")
+    if real_source is not None and mode == "ft" and init is None:
+        raise PhavUserError("TSN-FT starts from a PHAV run: give --init (a phav train output folder)", field="--init")
     if flow not in FLOW_SOURCES:
         raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
     v, _, r = mix.partition(":")

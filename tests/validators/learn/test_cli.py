@@ -57,6 +57,10 @@ def test_train_user_errors_are_one_line(phav, tmp_path):
         assert result.returncode == 2, (args, result.stdout, result.stderr)
         assert field in result.stderr and "Traceback" not in result.stderr
     result = run_cli("train", str(phav), "--real", f"ucf101={tmp_path}", "--mode", "ft", *FAST)
+    assert result.returncode == 2 and "--init" in result.stderr
+    result = run_cli("train", "--real", f"ucf101={tmp_path}", "--mode", "cool", *FAST)
+    assert result.returncode == 2 and "PHAV dataset" in result.stderr
+    result = run_cli("train", str(phav), "--real", f"ucf101={tmp_path}", "--out", str(tmp_path / "x"), *FAST)
     assert result.returncode == 2 and "ucfTrainTestlist" in result.stderr
 
 
