@@ -130,9 +130,11 @@ def train_command(
         virtual = None
         if dataset is not None:
             virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0))
+        classes: dict[str, list[str]] = {}  # run name → its test classes
         if real_source is None:
             runs = phav_runs(virtual, base, stream_list, out, split_kind=split, splits=splits, device=device,
                              progress=progress)  # fmt: skip
+            classes = {r.name: virtual.classes for r in runs}
         else:
             layout, root = real_source
             runs = []
@@ -141,9 +143,11 @@ def train_command(
                 load = progress(f"decoding {layout} split {k}", len(official.train) + len(official.test))
                 train_clips = load_real(official.train, size=stored, flow=flow, progress=load)
                 test_clips = load_real(official.test, size=stored, flow=flow, progress=load)
-                runs += real_runs(mode, train_clips, test_clips, len(official.classes), base, stream_list, out,
-                                  virtual=virtual, mix=(int(v), int(r)), fractions=fractions, split=k,
-                                  init=init, device=device, progress=progress)  # fmt: skip
+                done = real_runs(mode, train_clips, test_clips, len(official.classes), base, stream_list, out,
+                                 virtual=virtual, mix=(int(v), int(r)), fractions=fractions, split=k,
+                                 init=init, device=device, progress=progress)  # fmt: skip
+                runs += done
+                classes |= {r.name: official.classes for r in done}
     rows = summarise(runs)
     table = Table(title=f"test accuracy ({'PHAV ' + split if real is None else real + ' ' + mode})")
     for col in ("fraction", "stream", "splits", "mean", "min", "max"):
@@ -153,7 +157,12 @@ def train_command(
                       f"{row['min']:.1%}", f"{row['max']:.1%}")  # fmt: skip
     console.print(table)
     from phav_spec.files import atomic_write
+    from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 
+    for run in runs:  # the fused predictions (or the only stream's)
+        names = classes[run.name]
+        write_confusion_png(confusion_matrix(run.labels, run.predicted, len(names)), names,
+                            out / f"{run.name}-confusion.png")  # fmt: skip
     results = {"runs": [r.to_json() for r in runs], "summary": rows, "config": base.to_json()}
     with atomic_write(out / "results.json") as tmp:
         tmp.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")

@@ -34,8 +34,8 @@ class RunResult:
     test_clips: int
     accuracy: dict[str, float]
     minutes: dict[str, float]
-    labels: list[int] = field(default_factory=list)
-    predicted: list[int] = field(default_factory=list)
+    labels: list[int] = field(default_factory=list)  # test labels
+    predicted: list[int] = field(default_factory=list)  # fused (or the one stream's) answers
 
     def to_json(self) -> dict[str, Any]:
         out = asdict(self)

@@ -78,10 +78,14 @@ class LearnResult:
         return float((probs.argmax(1) == self.labels).mean()) if len(self.labels) else 0.0
 
     def confusion(self) -> np.ndarray:
-        n = len(self.classes)
-        matrix = np.zeros((n, n), dtype=np.int64)
-        np.add.at(matrix, (self.labels, self.fused.argmax(1)), 1)
-        return matrix
+        return confusion_matrix(self.labels, self.fused.argmax(1), len(self.classes))
+
+
+def confusion_matrix(labels: Sequence[int] | np.ndarray, predicted: Sequence[int] | np.ndarray, n: int) -> np.ndarray:
+    """Counts (n, n): row = true class, column = predicted class."""
+    matrix = np.zeros((n, n), dtype=np.int64)
+    np.add.at(matrix, (np.asarray(labels, dtype=np.int64), np.asarray(predicted, dtype=np.int64)), 1)
+    return matrix
 
 
 def chance_level(labels: np.ndarray, predicted: np.ndarray, n_classes: int) -> float:

@@ -23,6 +23,7 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     assert run["train_clips"] == 2 and run["test_clips"] == 1
     assert set(run["accuracy"]) == {"rgb", "flow", "fused"}
     assert (out / "split1-rgb.pt").exists() and (out / "split1-flow.pt").exists()
+    assert cv2.imread(str(out / "split1-confusion.png")) is not None
     again = run_cli(*args)  # every checkpoint is finished: nothing retrained, same numbers
     assert again.returncode == 0, again.stderr
     assert json.loads((out / "results.json").read_text())["runs"] == data["runs"]
