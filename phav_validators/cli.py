@@ -79,7 +79,7 @@ def validate(
     ] = False,
 ) -> None:
     """Validate PHAV datasets: integrity, schema, encoding, distribution, failures,
-    consistency and reproducibility."""
+    consistency and reproducibility; and, when named, learnability (a small TSN is trained)."""
     from phav_validators.learn.learnability import LearnOptions
     from phav_validators.report import write_html, write_json
     from phav_validators.scan import tune_allocator

@@ -325,27 +325,39 @@ def _variation(b: _Builder, p: PersonPlan) -> PersonPlan:
 
 def _hold(b: _Builder, person: PersonPlan, obj: str, body: str, t0: float = 0.0, t1: float | None = None, name=None):
     """A handheld prop gripped by ``body`` from t0 to t1 (None: the whole clip)."""
-    shape, size, mass, rel = _HANDHELD_SHAPES[obj]
-    scale = person.dims.height_m / 1.75
-    rel_pos, rel_quat = _grip(rel, scale)
+    rel_pos, rel_quat = _grip(_HANDHELD_SHAPES[obj][3], person.dims.height_m / 1.75)
     pos, rot = _body_poses(person.dims, person.targets.take(slice(0, 1)))
     k = BONE_INDEX[body]
     start = _world_grip(pos[0, k], rot[0, k], rel_pos)
     quat = _rot_to_quat(rot[0, k])
     end = b.times[-1] + 1.0 if t1 is None else t1
+    name = name or f"{obj}_{len(b.props)}"
+    return _gripped_prop(b, person, obj, body, name, start, quat, "hold", t0, end, (rel_pos, rel_quat))
+
+
+def _gripped_prop(
+    b: _Builder,
+    person: PersonPlan,
+    obj: str,
+    body: str,
+    name: str,
+    pos: np.ndarray,
+    quat: np.ndarray,
+    kind: str,
+    t0: float,
+    t1: float,
+    grip: tuple[np.ndarray, np.ndarray],
+    vel: np.ndarray | None = None,
+) -> PropPlan:
+    """Add a handheld prop gripped by ``body`` from t0 to t1 and annotate the manipulation
+    (``kind``: hold, catch, pick) from t0 to t1 or the clip's end."""
+    shape, size, mass, _ = _HANDHELD_SHAPES[obj]
     prop = PropPlan(
-        name=name or f"{obj}_{len(b.props)}",
-        object=obj,
-        pixel_class=OBJECTS[obj],
-        shape=shape,
-        size=size,
-        mass=mass,
-        pos=start,
-        quat=quat,
-        grips=((person.person_id, body, t0, end, rel_pos, rel_quat),),
-    )
+        name=name, object=obj, pixel_class=OBJECTS[obj], shape=shape, size=size, mass=mass, pos=pos, quat=quat,
+        vel=np.zeros(3) if vel is None else vel, grips=((person.person_id, body, t0, t1, grip[0], grip[1]),),
+    )  # fmt: skip
     b.props.append(prop)
-    b.manipulations.append(Manipulation(obj, person.person_id, body, "hold", t0, min(end, b.times[-1])))
+    b.manipulations.append(Manipulation(obj, person.person_id, body, kind, t0, min(t1, float(b.times[-1]))))
     return prop
 
 
@@ -379,23 +391,9 @@ def _catch(b: _Builder, p: PersonPlan, body: str) -> None:
     start = target + distance * forward + np.array([0.0, 0.0, 0.3])
     g = np.array([0.0, 0.0, -9.81])
     vel = (target - start - 0.5 * g * t_catch**2) / max(t_catch, 1e-3)
-    shape, size, mass, rel = _HANDHELD_SHAPES["ball"]
-    rel_pos, rel_quat = _grip(rel, p.dims.height_m / 1.75)
-    b.props.append(
-        PropPlan(
-            name="ball_catch",
-            object="ball",
-            pixel_class=OBJECTS["ball"],
-            shape=shape,
-            size=size,
-            mass=mass,
-            pos=start,
-            quat=np.array([1.0, 0.0, 0.0, 0.0]),
-            vel=vel,
-            grips=((p.person_id, body, t_catch, b.times[-1] + 1.0, rel_pos, rel_quat),),
-        )
-    )
-    b.manipulations.append(Manipulation("ball", p.person_id, body, "catch", t_catch, float(b.times[-1])))
+    grip = _grip(_HANDHELD_SHAPES["ball"][3], p.dims.height_m / 1.75)
+    _gripped_prop(b, p, "ball", body, "ball_catch", start, np.array([1.0, 0.0, 0.0, 0.0]), "catch", t_catch,
+                  b.times[-1] + 1.0, grip, vel=vel)  # fmt: skip
 
 
 def _kick(b: _Builder, p: PersonPlan) -> None:
@@ -782,16 +780,11 @@ def _pick(b: _Builder, p: PersonPlan, hand: str) -> None:
     pos, rot = _body_poses(p.dims, p.targets)
     h = pos[:, BONE_INDEX[hand]]
     i = int(np.argmin(h[:, 2]))
-    shape, size, mass, rel = _HANDHELD_SHAPES["bottle"]
+    _, size, _, rel = _HANDHELD_SHAPES["bottle"]
     ground = b.recipe.protagonist.position[2]
-    rel_pos, rel_quat = _grip(rel, p.dims.height_m / 1.75)
-    grip_world = _world_grip(h[i], rot[i, BONE_INDEX[hand]], rel_pos)
+    grip = _grip(rel, p.dims.height_m / 1.75)
+    grip_world = _world_grip(h[i], rot[i, BONE_INDEX[hand]], grip[0])
     start = np.array([grip_world[0], grip_world[1], ground + size[0] + size[1] + 0.005])
     t_pick = float(b.times[i])
-    b.props.append(
-        PropPlan(
-            "bottle_pick", "bottle", OBJECTS["bottle"], shape, size, mass, start, np.array([1.0, 0, 0, 0]),
-            grips=((p.person_id, hand, t_pick, b.times[-1] + 1.0, rel_pos, rel_quat),),
-        )
-    )  # fmt: skip
-    b.manipulations.append(Manipulation("bottle", p.person_id, hand, "pick", t_pick, float(b.times[-1])))
+    _gripped_prop(b, p, "bottle", hand, "bottle_pick", start, np.array([1.0, 0, 0, 0]), "pick", t_pick,
+                  b.times[-1] + 1.0, grip)  # fmt: skip
