@@ -108,8 +108,8 @@ def train_command(
         raise PhavUserError("TSN-FT starts from a PHAV run: give --init (a phav train output folder)", field="--init")
     if flow not in FLOW_SOURCES:
         raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
-    v, _, r = mix.partition(":")
-    if not (v.isdigit() and r.isdigit()) or int(v) < 1 or int(r) < 1:
+    n_virtual, _, n_real = mix.partition(":")
+    if not (n_virtual.isdigit() and n_real.isdigit()) or int(n_virtual) < 1 or int(n_real) < 1:
         raise PhavUserError(f"expected VIRTUAL:REAL clip counts, e.g. 10:22, got {mix!r}", field="--mix")
     stored = _size(size)
     base = TrainConfig(stream=stream_list[0], widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
@@ -119,7 +119,10 @@ def train_command(
         TrainConfig(stream=stream)
     if dataset is None and real is None:
         raise PhavUserError("give a PHAV dataset directory, --real, or both", field="DATASET")
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise PhavUserError(f"cannot create the output folder: {e.strerror}", source=str(out)) from None
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as bar:  # fmt: skip
 
@@ -144,7 +147,7 @@ def train_command(
                 train_clips = load_real(official.train, size=stored, flow=flow, progress=load)
                 test_clips = load_real(official.test, size=stored, flow=flow, progress=load)
                 done = real_runs(mode, train_clips, test_clips, len(official.classes), base, stream_list, out,
-                                 virtual=virtual, mix=(int(v), int(r)), fractions=fractions, split=k,
+                                 virtual=virtual, mix=(int(n_virtual), int(n_real)), fractions=fractions, split=k,
                                  init=init, device=device, progress=progress)  # fmt: skip
                 runs += done
                 classes |= {r.name: official.classes for r in done}
