@@ -237,7 +237,8 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
     import torch
 
     try:
-        state = torch.load(Path(path), map_location="cpu", weights_only=False)
+        # weights_only: a checkpoint is data (tensors, numbers, strings); it can never run code.
+        state = torch.load(Path(path), map_location="cpu", weights_only=True)
     except FileNotFoundError:
         raise PhavUserError("no such checkpoint", source=str(path)) from None
     except Exception as e:  # torch raises many types for damaged files

@@ -160,3 +160,18 @@ def test_chance_is_uniform_guessing_or_the_agreement_of_the_marginals():
     assert chance_level(np.arange(35), np.arange(35)[::-1], 35) == pytest.approx(1 / 35)
     assert binomial_p(0, 10, 0.1) == pytest.approx(1.0)
     assert binomial_p(10, 10, 0.5) == pytest.approx(0.5**10)
+
+
+class _Payload:
+    """An object whose unpickling would run code (``__reduce__``): a hostile checkpoint."""
+
+    def __reduce__(self):
+        return (print, ("code ran while loading a checkpoint",))
+
+
+def test_a_checkpoint_that_would_run_code_is_refused(tmp_path):
+    ckpt = tmp_path / "flow.pt"
+    torch.save({"format": "phav-tsn-1", "payload": _Payload()}, ckpt)
+    data = motion_clips(2, 2)
+    with pytest.raises(PhavUserError, match="not a readable checkpoint"):
+        train({"virtual": data.clips}, {"virtual": 2}, SMALL, checkpoint=ckpt)
