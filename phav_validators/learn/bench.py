@@ -17,7 +17,7 @@ import numpy as np
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.learnability import binomial_p, chance_level
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, snippets, train
+from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, train
 
 
 @dataclass(frozen=True)
@@ -44,41 +44,18 @@ class CurvePoint:
     p_fused: float
 
 
-def throughput(clips: Sequence[Clip], config: TrainConfig, *, steps: int = 4) -> Throughput:
-    """Time ``steps`` training steps (after one warm-up) and one pass of testing."""
-    import torch
-
-    from phav_validators.learn.model import TSN, multitask_loss
-
-    torch_threads = torch.get_num_threads()
-    torch.set_num_threads(config.threads)
-    try:
-        gen = torch.Generator().manual_seed(config.seed)
-        channels = 3 if config.stream == "rgb" else 2 * config.flow_frames
-        model = TSN(channels, {"virtual": 35}, config.arch, generator=gen)
-        opt = torch.optim.SGD(model.parameters(), lr=1e-3, momentum=0.9)
-        rng = np.random.Generator(np.random.PCG64(config.seed))
-        batch = config.batch
-        start = 0.0
-        for step in range(steps + 1):
-            if step == 1:
-                start = time.perf_counter()
-            chosen = [clips[int(i)] for i in rng.integers(0, len(clips), batch)]
-            x = torch.from_numpy(np.stack([snippets(c, config, rng=rng) for c in chosen]))
-            labels = torch.tensor([c.label for c in chosen])
-            loss, _ = multitask_loss(model(x, generator=gen), labels, torch.zeros(batch, dtype=torch.long),
-                                     ["virtual"])  # fmt: skip
-            opt.zero_grad()
-            loss.backward()
-            opt.step()
-        train_s = (time.perf_counter() - start) / steps
-    finally:
-        torch.set_num_threads(torch_threads)
+def throughput(clips: Sequence[Clip], config: TrainConfig, *, steps: int = 8) -> Throughput:
+    """Time one epoch of ``steps`` training steps (``train`` itself: snippets, forward,
+    backward, update) and one pass of testing over two batches."""
+    batch = config.batch
+    chosen = [clips[i % len(clips)] for i in range(steps * batch)]
+    result = train({"virtual": chosen}, {"virtual": 35}, replace(config, epochs=1, mix=(("virtual", batch),)))
     start = time.perf_counter()
-    predict(model, list(clips[: 2 * batch]), config, "virtual")
+    tested = list(clips[: 2 * batch])
+    predict(result.model, tested, config, "virtual")
     test_s = time.perf_counter() - start
-    n_params = sum(p.numel() for p in model.parameters())
-    return Throughput(config.stream, batch / train_s, min(len(clips), 2 * batch) / test_s, n_params)
+    n_params = sum(p.numel() for p in result.model.parameters())
+    return Throughput(config.stream, len(chosen) / result.seconds, len(tested) / test_s, n_params)
 
 
 def learning_curve(
