@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from phav_spec.errors import PhavUserError
+
+#: ``progress(description, total)`` starts a bar and returns its ``advance(n)`` (as in
+#: ``phav_validators.validate``).
+ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 #: Input channels per stream: an RGB frame, or ``flow_frames`` stacked (u, v) flow frames.
 STREAMS = ("rgb", "flow")

@@ -4,7 +4,7 @@ training data. Every run is checkpointed under one output folder, so a rerun res
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import TrainConfig, fuse, predict, train
@@ -19,9 +20,6 @@ from phav_validators.learn.train import TrainConfig, fuse, predict, train
 #: ``tsn``: one source; ``cool``: PHAV mixed into every real mini-batch; ``ft``: real
 #: training started from a PHAV checkpoint's backbone.
 MODES = ("tsn", "cool", "ft")
-
-ProgressFactory = Callable[[str, int], Callable[[int], None]]
-
 
 @dataclass
 class RunResult:

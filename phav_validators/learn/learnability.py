@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,11 +22,10 @@ import numpy as np
 
 from phav_spec.errors import PhavUserError
 from phav_validators.findings import CheckResult, Finding, Reason, Report
+from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
 from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, train
-
-ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 
 @dataclass(frozen=True)
