@@ -715,4 +715,4 @@ def _learnability(
     learn = opts.learn if opts.learn is not None else LearnOptions()
     if learn.workers != opts.workers:
         learn = dataclasses.replace(learn, workers=opts.workers)
-    return check_learnability(inp.root, learn, progress=progress)
+    return check_learnability(inp.root, learn, progress=progress, manifest=loaded.manifest, table=loaded.table)

@@ -17,11 +17,16 @@ from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from phav_spec.encoding import FLOW_OFFSET, FLOW_SCALE
 from phav_spec.errors import PhavUserError
+
+if TYPE_CHECKING:
+    from phav_spec.manifest import DatasetManifest
+    from phav_spec.recipe_table import RecipeTable
 
 #: How flow is obtained: the dataset's ground truth, or estimated from the RGB frames.
 FLOW_SOURCES = ("gt", "farneback", "tvl1")
@@ -215,11 +220,14 @@ def load_phav(
     videos: Iterable[str] | None = None,
     workers: int = 1,
     progress: Callable[[int], None] | None = None,
+    manifest: DatasetManifest | None = None,
+    table: RecipeTable | None = None,
 ) -> ClipSet:
     """A PHAV dataset directory's clips (or those in ``videos``), labelled by action.
 
     Shards are streamed in place, one per task, in ``workers`` processes. The label is the
-    recipe's action, the groups its protagonist's human model and base motion."""
+    recipe's action, the groups its protagonist's human model and base motion. A caller
+    that has already read the manifest or the recipes table passes them in."""
     from phav_spec.manifest import load_manifest
     from phav_spec.recipe_table import read_recipe_table
     from phav_spec.vocab import ACTIONS
@@ -227,11 +235,13 @@ def load_phav(
     root = Path(root)
     if flow not in FLOW_SOURCES:
         raise PhavUserError(f"unknown flow source {flow!r}; choose from {', '.join(FLOW_SOURCES)}", field="--flow")
-    manifest_path = root / "manifest.json"
-    if not manifest_path.exists():
-        raise PhavUserError("not a PHAV dataset directory (no manifest.json)", source=str(root))
-    manifest = load_manifest(manifest_path)
-    table = read_recipe_table(root / "recipes.parquet")
+    if manifest is None:
+        manifest_path = root / "manifest.json"
+        if not manifest_path.exists():
+            raise PhavUserError("not a PHAV dataset directory (no manifest.json)", source=str(root))
+        manifest = load_manifest(manifest_path)
+    if table is None:
+        table = read_recipe_table(root / "recipes.parquet")
     actions = list(ACTIONS.names)
     rows = zip(table.column("video_id"), table.column("action"), table.column("human_model"),
                table.column("base_motion"), strict=True)  # fmt: skip

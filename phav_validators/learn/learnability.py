@@ -16,7 +16,7 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -26,6 +26,10 @@ from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
 from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, train
+
+if TYPE_CHECKING:
+    from phav_spec.manifest import DatasetManifest
+    from phav_spec.recipe_table import RecipeTable
 
 
 @dataclass(frozen=True)
@@ -148,14 +152,22 @@ def run_learnability(
 
 
 def check_learnability(
-    root: Path, opts: LearnOptions, *, progress: ProgressFactory | None = None
+    root: Path,
+    opts: LearnOptions,
+    *,
+    progress: ProgressFactory | None = None,
+    manifest: DatasetManifest | None = None,
+    table: RecipeTable | None = None,
 ) -> tuple[CheckResult, LearnResult]:
-    """The learnability check on a dataset directory, and the numbers behind it."""
+    """The learnability check on a dataset directory, and the numbers behind it (its
+    manifest and recipes table are read unless given)."""
     from phav_spec.manifest import load_manifest
 
-    n_videos = len(load_manifest(root / "manifest.json").videos)
-    load_bar = progress("learnability: reading clips", n_videos) if progress is not None else None
-    clips = load_phav(root, size=opts.size, flow=opts.flow, workers=opts.workers, progress=load_bar)
+    if manifest is None:
+        manifest = load_manifest(root / "manifest.json")
+    load_bar = progress("learnability: reading clips", len(manifest.videos)) if progress is not None else None
+    clips = load_phav(root, size=opts.size, flow=opts.flow, workers=opts.workers, progress=load_bar,
+                      manifest=manifest, table=table)  # fmt: skip
     result = run_learnability(clips, opts, progress=progress)
     report = Report()
     fused = result.accuracy()
