@@ -242,6 +242,9 @@ OBJECTS: Registry[str] = Registry(
         ("car", "car"),
         ("truck", "truck"),
         ("bus", "bus"),
+        ("box", "misc"),
+        ("shopping_cart", "misc"),
+        ("door", "door"),
     ),
 )
 

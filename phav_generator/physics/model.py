@@ -51,6 +51,8 @@ PIN_TIMECONST = 0.01
 PIN_SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)
 #: Mass (kg) and inertia (kg m²) of the pin body: heavy enough that the weld moves the pelvis.
 PIN_MASS = 1.0e5
+#: Hinge damping of a pushed door (N m s / rad): a heavy door that stops when let go.
+DOOR_DAMPING = 15.0
 
 
 @dataclass
@@ -78,6 +80,7 @@ class PropHandles:
     qpos: int | None  # free joint address (dynamic props), first slide (driven props)
     qvel: int | None
     driven: bool = False  # moves along the plan's path (cars): x, y, z slides from its start
+    hinged: bool = False  # turns on a hinge (a door): one qpos, from its closed position
     grip_eqs: list[int] = field(default_factory=list)
 
 
@@ -210,7 +213,16 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
         body.name = "prop_" + prop.name
         body.pos = list(prop.pos)
         body.quat = list(prop.quat) if prop.path is None else [1.0, 0.0, 0.0, 0.0]
-        if prop.path is not None:
+        if prop.hinge is not None:
+            # A door: turns about the vertical axis through its body origin, heavily damped.
+            j = body.add_joint()
+            j.name = "prop_" + prop.name
+            j.type = mujoco.mjtJoint.mjJNT_HINGE
+            j.axis = [0.0, 0.0, 1.0]
+            j.range = list(prop.hinge)
+            j.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+            j.damping = [DOOR_DAMPING, 0.0, 0.0]
+        elif prop.path is not None:
             # Driven along its path through three slides: unlike a mocap body it has a
             # velocity, so a contact sees the car coming instead of a teleporting wall.
             body.gravcomp = 1.0
@@ -228,6 +240,7 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
     g = parent.add_geom()
     g.name = "prop_" + prop.name
     _add_geom_shape(g, prop.shape, prop.size)
+    g.pos = list(prop.offset)
     if parent is spec.worldbody:
         g.pos = list(prop.pos)
     if parent is spec.worldbody or prop.path is not None:
@@ -406,6 +419,7 @@ def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan])
             j = jid("prop_" + prop.name)
             handle.qpos = int(model.jnt_qposadr[j])
             handle.qvel = int(model.jnt_dofadr[j])
+            handle.hinged = prop.hinge is not None
         handle.grip_eqs = [eqid(f"grip_{prop.name}_{k}") for k in range(len(prop.grips))]
         props.append(handle)
     camera = None

@@ -27,6 +27,7 @@ from phav_generator.animation import (
 from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traffic
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
 from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, BodyDims, dims_for, forward_kinematics
+from phav_spec.motions import MOTIONS
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, MAX_STEP_M, walkable_heights
 from phav_spec.vocab import MUSCLES, OBJECTS
@@ -45,6 +46,12 @@ RELEASE_RAMP_S = 0.1
 HANDS = ("right_hand", "left_hand")
 #: Servo strength of an arm whose hand is tied to someone else's body.
 TIED_ARM_STRENGTH = 0.4
+#: Half the thickness of the posts that hold a pull-up bar's ends (m).
+POST_HALF_WIDTH_M = 0.04
+#: Gap between the fingertips and the face of what they push (m): touching, not pressing.
+PUSH_GAP_M = 0.01
+DOOR_WIDTH_M = 1.0
+DOOR_HEIGHT_M = 2.0
 
 
 @dataclass(frozen=True)
@@ -93,7 +100,9 @@ class PropPlan:
     quat: np.ndarray  # initial orientation (4,)
     vel: np.ndarray = field(default_factory=lambda: np.zeros(3))
     dynamic: bool = True  # free body; False: static (chair, bar, stairs) or kinematic path
-    path: np.ndarray | None = None  # (S, 3) kinematic positions (cars)
+    path: np.ndarray | None = None  # (S, 3) kinematic positions (cars, pushed loads)
+    hinge: tuple[float, float] | None = None  # a door: (lower, upper) angle (rad) about its vertical axis at pos
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)  # geom centre in the body frame (a door's leaf)
     grips: tuple[
         tuple[int, str, float, float, np.ndarray, np.ndarray], ...
     ] = ()  # (person, body, t0, t1, rel pos, rel quat)
@@ -486,6 +495,16 @@ def _pull_up_bar(b: _Builder, p: PersonPlan) -> None:
             top + np.array([0.0, 0.0, 0.08]), quat, dynamic=False,
         )
     )  # fmt: skip
+    # Two posts carry the bar's ends down to the ground, out beside the shoulders.
+    across = yaw_matrix(yaw) @ np.array([1.0, 0.0, 0.0])
+    ground = b.recipe.protagonist.position[2]
+    bar_z = top[2] + 0.08
+    for side in (-1.0, 1.0):
+        foot = top + side * (half_length + POST_HALF_WIDTH_M) * across
+        b.boxes.append(
+            StaticBox(OBJECTS["pull_up_bar"], (float(foot[0]), float(foot[1]), (ground + bar_z + 0.04) / 2),
+                      (POST_HALF_WIDTH_M, POST_HALF_WIDTH_M, (bar_z + 0.04 - ground) / 2), math.degrees(yaw))
+        )  # fmt: skip
     near = np.abs(hands[:, 2] - top[2]) < 0.15
     if near.any():
         idx = np.flatnonzero(near)
@@ -494,6 +513,89 @@ def _pull_up_bar(b: _Builder, p: PersonPlan) -> None:
                 "pull_up_bar", p.person_id, "right_hand", "hold", float(b.times[idx[0]]), float(b.times[idx[-1]])
             )
         )
+
+
+def _push_target(b: _Builder, p: PersonPlan) -> None:
+    """What a push motion pushes, by its description: a door, a shopping cart, else a box."""
+    motion = b.recipe.motion.base_motion
+    description = MOTIONS[motion].description if motion in MOTIONS else ""
+    if "door" in description:
+        _door(b, p)
+    else:
+        _pushed_load(b, p, "shopping_cart" if "cart" in description else "box")
+
+
+def _hand_reach(b: _Builder, p: PersonPlan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Forward axis, left axis and, per plan step, both palms' fingertip points (S, 2, 3)."""
+    pos, rot = _body_poses(p.dims, p.targets)
+    heading = np.deg2rad(b.recipe.protagonist.heading_deg)
+    fwd = yaw_matrix(heading) @ np.array([1.0, 0.0, 0.0])
+    left = yaw_matrix(heading) @ np.array([0.0, 1.0, 0.0])
+    tips = []
+    for hand in HANDS:
+        k = BONE_INDEX[hand]
+        cap = p.dims.capsules[k]
+        tip = pos[:, k] + rot[:, k] @ np.array(cap.b)
+        tips.append(tip + cap.radius * fwd)
+    return fwd, left, np.stack(tips, axis=1)
+
+
+def _pushed_load(b: _Builder, p: PersonPlan, obj: str) -> None:
+    """A box or cart just beyond the fingertips, driven forward as far as they have pushed it."""
+    fwd, left, tips = _hand_reach(b, p)
+    x0 = np.array(b.recipe.protagonist.position, dtype=np.float64)
+    ground = x0[2] + b.stand_offset_z
+    # The load never comes back towards the hands: it stays where the furthest push left it.
+    reach = np.maximum.accumulate(np.max((tips - x0) @ fwd, axis=1)) + PUSH_GAP_M
+    lateral = float(np.mean((tips - x0) @ left))
+    hand_z = float(np.median(tips[..., 2])) - ground
+    if obj == "box":  # a crate whose top stands just above the hands
+        half = (0.3, 0.35, max(0.3, (hand_z + 0.1) / 2))
+        bottom = 0.01
+    else:  # a cart's basket, its handle end at the hands
+        half = (0.45, 0.28, max(0.2, (hand_z - 0.15) / 2))
+        bottom = 0.15
+    path = x0 + (reach[:, None] + half[0]) * fwd + lateral * left
+    path[:, 2] = ground + bottom + half[2]
+    quat = _rot_to_quat(yaw_matrix(np.deg2rad(b.recipe.protagonist.heading_deg)))
+    b.props.append(PropPlan(obj, obj, OBJECTS[obj], "box", half, 40.0, path[0], quat, dynamic=False, path=path))
+    moving = np.flatnonzero(np.diff(reach) > 1e-4)
+    if moving.size:
+        t0, t1 = float(b.times[moving[0]]), float(b.times[moving[-1] + 1])
+        b.manipulations.append(Manipulation(obj, p.person_id, "right_hand", "push", t0, t1))
+
+
+def _door(b: _Builder, p: PersonPlan) -> None:
+    """A hinged door in a frame across the path, where the hands first reach out; the hands
+    push its leaf open (contact, no constraint) and the damped hinge resists."""
+    fwd, left, tips = _hand_reach(b, p)
+    x0 = np.array(b.recipe.protagonist.position, dtype=np.float64)
+    ground = x0[2] + b.stand_offset_z
+    reach = np.max((tips - x0) @ fwd, axis=1)
+    pelvis_reach = (p.targets.root_pos - x0) @ fwd
+    # The door stands where the hands are furthest ahead of the pelvis (they meet the leaf).
+    i = int(np.argmax(reach - pelvis_reach))
+    plane = float(reach[i]) + PUSH_GAP_M
+    width, height = DOOR_WIDTH_M, DOOR_HEIGHT_M
+    hinge_side = 0.7  # the hinge on the person's left; the leaf spans past their right hand
+    hinge = x0 + plane * fwd + hinge_side * left
+    hinge[2] = ground + 0.01
+    heading = b.recipe.protagonist.heading_deg
+    quat = _rot_to_quat(yaw_matrix(np.deg2rad(heading)))
+    b.props.append(
+        PropPlan("door", "door", OBJECTS["door"], "box", (0.02, width / 2, height / 2), 25.0, hinge, quat,
+                 hinge=(0.0, math.radians(100.0)), offset=(0.02, -width / 2, height / 2))
+    )  # fmt: skip
+    # The frame: two posts beside the leaf and a lintel over it (the leaf opens away from them).
+    for side, y in (("hinge", hinge_side + 0.06), ("latch", hinge_side - width - 0.06)):
+        c = x0 + (plane - 0.05) * fwd + y * left
+        b.boxes.append(StaticBox("door", (float(c[0]), float(c[1]), ground + (height + 0.1) / 2),
+                                 (0.05, 0.05, (height + 0.1) / 2), heading))  # fmt: skip
+    c = x0 + (plane - 0.05) * fwd + (hinge_side - width / 2) * left
+    b.boxes.append(StaticBox("door", (float(c[0]), float(c[1]), ground + height + 0.06), (0.05, width / 2 + 0.11, 0.05),
+                             heading))  # fmt: skip
+    b.manipulations.append(Manipulation("door", p.person_id, "right_hand", "push", float(b.times[i]),
+                                        float(b.times[-1])))  # fmt: skip
 
 
 def _staircase(b: _Builder, p: PersonPlan) -> None:
@@ -729,6 +831,8 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
             _chair_under_pelvis(b, p)
         elif obj == "pull_up_bar":
             _pull_up_bar(b, p)
+    if action == "push":
+        _push_target(b, p)
     if r.variation.kind == "objects":
         _hold(b, p, r.variation.object, _free_hand(scene.necessary_muscles), name=f"{r.variation.object}_variation")
     supporting = _supporting_people(b, p)

@@ -186,7 +186,7 @@ class _Run:
         self.release_time = [math.inf] * len(physical)
         self.strength_now = [p.strengths[0].copy() for p in physical]
         self.pin_now = [float(p.pin[0]) for p in physical]
-        self.car_geoms = {h.geom for h, prop in zip(scene.props, plan.props, strict=True) if prop.path is not None}
+        self.car_geoms = {h.geom for h, prop in zip(scene.props, plan.props, strict=True) if prop.object == "car"}
         self.pan = None
 
     def initialise(self) -> None:
@@ -199,7 +199,7 @@ class _Run:
             d.qvel[h.qvel_root + 3 : h.qvel_root + 6] = ref.root_omega[0]
             d.qvel[h.qvel_dofs] = ref.qvel[0]
         for prop, h in zip(self.plan.props, self.scene.props, strict=True):
-            if h.qpos is not None and not h.driven:
+            if h.qpos is not None and not (h.driven or h.hinged):
                 d.qpos[h.qpos : h.qpos + 3] = prop.pos
                 d.qpos[h.qpos + 3 : h.qpos + 7] = prop.quat
                 d.qvel[h.qvel : h.qvel + 3] = prop.vel
@@ -415,7 +415,8 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
             [d.xpos[h.bodies] for h in scene.people]
             + [pos[f] for pos, _ in background_fk]
             + [
-                footprint_points(d.xpos[h.body], math.atan2(d.xmat[h.body, 3], d.xmat[h.body, 0]), prop.size)
+                footprint_points(d.geom_xpos[h.geom], math.atan2(d.geom_xmat[h.geom, 3], d.geom_xmat[h.geom, 0]),
+                                 prop.size)
                 for prop, h in zip(plan.props, scene.props, strict=True)
                 if h.driven
             ]
@@ -432,8 +433,10 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
             q = d.qpos[h.qpos_dofs]
             person_excess[i, f] = float(np.max(np.maximum(q - h.upper, h.lower - q), initial=0.0))
         for j, h in enumerate(scene.props):
-            prop_pos[j, f] = d.xpos[h.body]
-            prop_quat[j, f] = d.xquat[h.body]
+            # The geom's pose, not its body's: a static prop hangs off the world body, a
+            # driven one's body only slides while its geom carries the heading.
+            prop_pos[j, f] = d.geom_xpos[h.geom]
+            mujoco.mju_mat2Quat(prop_quat[j, f], d.geom_xmat[h.geom])
         pen, cpen, touches = _penetrations(run)
         penetration[:, f] = pen
         cam_pen[f] = cpen

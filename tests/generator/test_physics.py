@@ -380,3 +380,69 @@ def test_stairs_clips_start_standing_on_their_waypoint() -> None:
         assert abs(feet - support) < 0.2, (r.motion.base_motion, r.motion.start_s, feet, support)  # a run: ~0.18
         late += r.motion.start_s > 5.0
     assert late >= 5  # the clips that used to start metres off the ground
+
+
+def test_props_are_recorded_where_the_model_has_them() -> None:
+    """A trajectory carries each prop's geom pose: a static bar where the plan put it, a
+    driven car turned to its heading (its body only slides)."""
+    for action, name in (("pull_up", "pull_up_bar"), ("car_hit", "car")):
+        recipe = recipe_for(action, seconds=0.5, variation="none")
+        planned = next(p for p in plan_scene(recipe).props if p.name == name)
+        track = next(p for p in simulate(recipe, keep_state=False).props if p.name == name)
+        np.testing.assert_allclose(track.pos[0], planned.pos, atol=1e-6)
+        np.testing.assert_allclose(np.abs(track.quat[0] @ planned.quat), 1.0, atol=1e-6)
+
+
+def test_a_pull_up_bar_stands_on_posts() -> None:
+    plan = plan_scene(recipe_for("pull_up", seconds=1.0, variation="none"))
+    bar = next(p for p in plan.props if p.name == "pull_up_bar")
+    posts = [bx for bx in plan.boxes if bx.pixel_class == "misc"]
+    ground = plan.recipe.protagonist.position[2]
+    assert len(posts) == 2
+    for post in posts:
+        assert post.center[2] - post.half_size[2] == pytest.approx(ground)
+        assert post.center[2] + post.half_size[2] > bar.pos[2]
+        # each post stands just beyond one end of the bar
+        assert np.linalg.norm(np.array(post.center[:2]) - bar.pos[:2]) == pytest.approx(bar.size[1] + post.half_size[0])
+
+
+def _push_recipes() -> dict[str, object]:
+    """One 5 s push recipe per push motion of phav-v1."""
+    from phav_generator.sampling import sample_recipes
+    from tests.generator.physics_support import theta_for
+
+    out: dict[str, object] = {}
+    for r in sample_recipes(theta_for("push", "simple", seconds=5.0, variation="none"), n=60, seed=0):
+        out.setdefault(r.motion.base_motion, r)
+    return out
+
+
+def test_push_moves_what_it_pushes() -> None:
+    """A pushed box or cart advances ahead of the fingertips without being reached through;
+    a pushed door swings open on its hinge, and the pushing is annotated."""
+    from phav_generator.physics.plan import _Builder, _hand_reach
+
+    recipes = _push_recipes()
+    assert set(recipes) == {"push_heavy_box_01", "push_shopping_cart_01", "push_open_door_01"}
+    for motion, recipe in recipes.items():
+        tr = simulate(recipe, keep_state=False)
+        assert tr.exploded_at is None and not any(tr.warnings.values()), motion
+        obj = {"push_heavy_box_01": "box", "push_shopping_cart_01": "shopping_cart"}.get(motion, "door")
+        track = next(p for p in tr.props if p.name == obj)
+        assert any(m[0] == obj and m[3] == "push" for m in tr.manipulations), motion
+        plan = plan_scene(recipe)
+        if obj == "door":
+            # The leaf's yaw relative to its closed pose: opened by more than 30°.
+            q0, q1 = track.quat[0], track.quat[-1]
+            turn = 2 * np.degrees(np.arccos(min(1.0, abs(float(q0 @ q1)))))
+            assert turn > 30.0, f"door opened only {turn:.1f}°"
+            continue
+        x0 = np.array(recipe.protagonist.position)
+        heading = np.deg2rad(recipe.protagonist.heading_deg)
+        fwd = np.array([np.cos(heading), np.sin(heading), 0.0])
+        advance = (track.pos[-1] - track.pos[0]) @ fwd
+        assert advance > 1.0, f"{obj} advanced only {advance:.2f} m"
+        _, _, tips = _hand_reach(_Builder(recipe, plan.substeps), plan.people[0])
+        near_face = (track.pos - x0) @ fwd - track.size[0]
+        reach = ((tips[:: plan.substeps] - x0) @ fwd).max(axis=1)
+        assert np.all(reach <= near_face + 1e-6), f"the hands reach into the {obj}"
