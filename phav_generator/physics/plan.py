@@ -587,7 +587,7 @@ def _door(b: _Builder, p: PersonPlan) -> None:
                  hinge=(0.0, math.radians(100.0)), offset=(0.02, -width / 2, height / 2))
     )  # fmt: skip
     # The frame: two posts beside the leaf and a lintel over it (the leaf opens away from them).
-    for side, y in (("hinge", hinge_side + 0.06), ("latch", hinge_side - width - 0.06)):
+    for y in (hinge_side + 0.06, hinge_side - width - 0.06):  # the hinge post, the latch post
         c = x0 + (plane - 0.05) * fwd + y * left
         b.boxes.append(StaticBox("door", (float(c[0]), float(c[1]), ground + (height + 0.1) / 2),
                                  (0.05, 0.05, (height + 0.1) / 2), heading))  # fmt: skip

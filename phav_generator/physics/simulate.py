@@ -415,8 +415,9 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
             [d.xpos[h.bodies] for h in scene.people]
             + [pos[f] for pos, _ in background_fk]
             + [
-                footprint_points(d.geom_xpos[h.geom], math.atan2(d.geom_xmat[h.geom, 3], d.geom_xmat[h.geom, 0]),
-                                 prop.size)
+                footprint_points(
+                    d.geom_xpos[h.geom], math.atan2(d.geom_xmat[h.geom, 3], d.geom_xmat[h.geom, 0]), prop.size
+                )
                 for prop, h in zip(plan.props, scene.props, strict=True)
                 if h.driven
             ]

@@ -57,9 +57,7 @@ def _loss_and_grads(model: TSN, x, labels, sources, names):
     return loss, grads
 
 
-@pytest.mark.parametrize(
-    "case", ["source_absent", "one_class_only", "all_invalid_flow", "imbalance_100_to_1"]
-)
+@pytest.mark.parametrize("case", ["source_absent", "one_class_only", "all_invalid_flow", "imbalance_100_to_1"])
 def test_loss_and_gradients_stay_finite(case):
     model = _model("flow", {"virtual": 35, "real": 5})
     g = torch.Generator().manual_seed(3)
