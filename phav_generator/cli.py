@@ -38,6 +38,13 @@ app.add_typer(recipe_app, name="recipe")
 BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "validation", "training")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
+EngineOption = Annotated[
+    str, typer.Option("--engine", help="local (a process pool of --workers) or ray (pip install 'phav[ray]').")
+]
+AddressOption = Annotated[
+    str | None,
+    typer.Option("--address", help="Ray cluster address (default: start a local Ray with --workers CPUs)."),
+]
 
 
 def _progress() -> Progress:
@@ -345,8 +352,14 @@ def generate(
     workers: Annotated[int, typer.Option("--workers", min=1, help="Worker processes (one GL context each).")] = 1,
     shard_size: Annotated[int, typer.Option("--shard-size", min=1, help="Videos per tar shard.")] = 16,
     name: Annotated[str, typer.Option("--name", help="Dataset name: shards are NAME-000000.tar, …")] = "phav",
+    engine: EngineOption = "local",
+    address: AddressOption = None,
 ) -> None:
-    """Sample N recipes from θ and render them into WebDataset shards with metadata and a manifest."""
+    """Sample N recipes from θ and render them into WebDataset shards with metadata and a manifest.
+
+    Rerun the same command on the same --out to resume an interrupted run: finished videos
+    and shards (recorded in its journal) are kept, and the result is byte for byte the
+    uninterrupted one."""
     from phav_generator.dataset import chunk, write_dataset
     from phav_generator.sampling import sample_recipes
 
@@ -355,10 +368,10 @@ def generate(
     recipes = list(sample_recipes(th, n=videos, seed=seed))
     with _RenderProgress(len(recipes), "rendering") as progress:
         result = write_dataset(chunk(recipes, shard_size), out, name=name, theta=th, dataset_seed=seed,
-                               workers=workers, progress=progress)  # fmt: skip
+                               workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
     m = result.manifest
     frames = sum(v.n_frames for v in m.videos)
-    resumed = f", {result.resumed_shards} shard(s) already finished" if result.resumed_shards else ""
+    resumed = f", {result.resumed_videos} video(s) already finished" if result.resumed_videos else ""
     console.print(
         f"wrote {len(m.videos)} videos ({frames:,} frames) in {len(m.shards)} shard(s) to {escape(str(out))}"
         f"{resumed}; θ {escape(th.name)} {th.hash[:12]}…, seed {seed}"
@@ -380,6 +393,8 @@ def regenerate(
     out: Annotated[Path, typer.Option("--out", help="Directory for the rebuilt videos.")],
     video: Annotated[list[str] | None, typer.Option("--video", help="Only this video id (repeatable).")] = None,
     workers: Annotated[int, typer.Option("--workers", min=1, help="Worker processes.")] = 1,
+    engine: EngineOption = "local",
+    address: AddressOption = None,
 ) -> None:
     """Rebuild videos from their recipes and say whether every content hash matches."""
     from phav_generator.regenerate import compare_hashes, plan_regeneration
@@ -389,7 +404,8 @@ def regenerate(
         from phav_generator.dataset import write_dataset
 
         result = write_dataset(plan.shards, out, name=plan.name, theta=plan.theta, dataset_seed=plan.dataset_seed,
-                               workers=workers, progress=progress, shard_names=plan.shard_names)  # fmt: skip
+                               workers=workers, progress=progress, shard_names=plan.shard_names, engine=engine,
+                               address=address)  # fmt: skip
     report = compare_hashes(plan.expected, result.manifest)
     console.print(f"rebuilt {plan.n_videos} video(s) into {escape(str(out))}")
     if plan.expected is None:

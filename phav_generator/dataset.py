@@ -3,30 +3,38 @@
 Layout (DESIGN.md): ``{name}-{000000}.tar`` shards beside ``theta.yaml`` (when θ is known),
 ``recipes.parquet``, ``cameras.parquet``, ``people.parquet`` and ``manifest.json``.
 
-A shard is the unit of work and of resumption. Each is a pure function of its recipes, so
-the worker count and completion order cannot change a byte. A shard is finished when its
-record ``.phav-work/{shard}.json`` exists (written atomically after the tar and its
-metadata parts); ``write_dataset`` on a directory holding finished shards of the same run
-skips them. The tables and the manifest are assembled last, then the work folder goes.
+A video is the unit of work, a pure function of its recipe, so neither the engine, the
+worker count nor the completion order can change a byte. A worker renders a video into
+``.phav-work/parts/`` (its tar members and metadata rows, each written atomically); the
+driver journals it in ``.phav-work/journal.jsonl`` and, once a shard's videos are all in,
+joins their parts into the shard's tar (atomically) and journals the shard. Rerunning on
+the directory resumes from the journal: nothing it records is redone, and nothing it does
+not record is trusted. The tables and the manifest are assembled last, then the work
+folder goes.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import multiprocessing
+import os
 import platform
 import queue
+import re
 import shutil
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
-from phav_spec.canonical import canonical_json
+from phav_generator.faults import KILL_AT_ENV, crash_point, task_delay
+from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write
+from phav_spec.files import WriteError, atomic_write
 from phav_spec.manifest import (
     MANIFEST_VERSION,
     DatasetManifest,
@@ -42,6 +50,11 @@ from phav_spec.theta import Theta
 
 WORK_DIR = ".phav-work"
 RUN_FILE = "run.json"
+JOURNAL_FILE = "journal.jsonl"
+LOCK_FILE = "lock"
+PARTS_DIR = "parts"
+#: Where videos are rendered: a local process pool, or a Ray cluster.
+ENGINES = ("local", "ray")
 #: Videos per shard unless told otherwise.
 DEFAULT_SHARD_SIZE = 16
 
@@ -91,11 +104,12 @@ def shard_name(name: str, index: int) -> str:
 
 
 @dataclass(frozen=True)
-class ShardTask:
-    """One shard to render: its name and the JSON of its recipes, in order."""
+class VideoTask:
+    """One video to render: the shard it belongs to and its recipe's JSON."""
 
-    name: str
-    recipes: tuple[str, ...]
+    shard: str
+    video_id: str
+    recipe: str
 
 
 # --- worker side ---------------------------------------------------------------------------
@@ -119,60 +133,111 @@ def _context() -> Any:
     return _worker_ctx
 
 
-def render_shard(task: ShardTask, out: Path, report: Progress | None = None) -> dict[str, Any]:
-    """Render one shard's videos into ``out/{task.name}`` and its metadata parts; returns
-    the shard's record (also written to the work folder, last, as the shard's commit)."""
+def _part_path(work: Path, video_id: str, what: str) -> Path:
+    return work / PARTS_DIR / f"{video_id}.{what}"
+
+
+def render_part(task: VideoTask, out: Path, report: Progress | None = None) -> dict[str, Any]:
+    """Render one video into the work folder: its tar members (a *part* of its shard) and
+    its metadata rows, each written atomically; returns the video's record."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    from phav_generator.io.shards import open_shard
+    from phav_generator.io.shards import open_part
     from phav_generator.render.gl import gl_strings
     from phav_generator.render.video import render_video
     from phav_spec.encoding import VideoHashes
 
+    task_delay(task.video_id)
     ctx = _context()
     work = out / WORK_DIR
+    recipe = parse_recipe(task.recipe, source=f"{task.shard} recipe {task.video_id}")
+    hashes = VideoHashes(recipe.n_frames)
     cameras: list[dict[str, Any]] = []
     people: list[dict[str, Any]] = []
-    videos: list[dict[str, Any]] = []
-    with open_shard(out / task.name) as (shard, digest):
-        for text in task.recipes:
-            recipe = parse_recipe(text, source=f"{task.name} recipe")
-            hashes = VideoHashes(recipe.n_frames)
-            for rf in render_video(recipe, ctx=ctx):
-                hashes.add(rf.index, rf.modalities)
-                shard.add_frame(recipe.video_id, rf.index, rf.modalities, frame_json(rf.camera, rf.people))
-                cameras.append(rf.camera)
-                people += rf.people
-                if report is not None:
-                    report(0, 1)
-            videos.append({
-                "video_id": recipe.video_id, "shard": task.name, "n_frames": recipe.n_frames,
-                "content_hash": hashes.video_hash(), "modality_hashes": hashes.hexdigests(),
-            })  # fmt: skip
+    with open_part(_part_path(work, recipe.video_id, "tar.part")) as part:
+        for rf in render_video(recipe, ctx=ctx):
+            hashes.add(rf.index, rf.modalities)
+            part.add_frame(recipe.video_id, rf.index, rf.modalities, frame_json(rf.camera, rf.people))
+            cameras.append(rf.camera)
+            people += rf.people
+            crash_point(f"part:{recipe.video_id}:{rf.index}")
             if report is not None:
-                report(1, 0)
-    stem = task.name.removesuffix(".tar")
+                report(0, 1)
     for table, rows, columns in (("cameras", cameras, CAMERA_COLUMNS), ("people", people, PEOPLE_COLUMNS)):
-        with atomic_write(work / f"{stem}.{table}.parquet") as tmp:
+        with atomic_write(_part_path(work, recipe.video_id, f"{table}.parquet")) as tmp:
             pq.write_table(pa.Table.from_pylist(rows, schema=arrow_schema(columns)), tmp, compression="zstd")
-    record = {
-        "shard": {"name": task.name, "sha256": digest.sha256, "bytes": digest.bytes,
-                  "video_ids": [v["video_id"] for v in videos]},
-        "videos": videos,
-        "gl": gl_strings(ctx),
+    crash_point(f"part-done:{recipe.video_id}")
+    return {
+        "video_id": recipe.video_id, "shard": task.shard, "n_frames": recipe.n_frames,
+        "content_hash": hashes.video_hash(), "modality_hashes": hashes.hexdigests(),
+        "part_bytes": part.size, "gl": gl_strings(ctx),
     }  # fmt: skip
-    with atomic_write(work / f"{stem}.json") as tmp:
-        tmp.write_text(canonical_json(record), encoding="utf-8")
-    return record
 
 
-def _pool_render(task: ShardTask, out: str) -> dict[str, Any]:
+def _pool_render(task: VideoTask, out: str) -> dict[str, Any]:
     def report(videos: int, frames: int) -> None:
         if _worker_events is not None:
             _worker_events.put((videos, frames))
 
-    return render_shard(task, Path(out), report)
+    return render_part(task, Path(out), report)
+
+
+# --- the run journal -----------------------------------------------------------------------
+
+
+class Journal:
+    """The run's journal: one JSON line per finished video and per finished shard.
+
+    Appended (and fsynced) by the driver only, after the file it records is in place, so a
+    line never claims work that is not on disk. A line torn by a crash is cut off when the
+    journal is opened again; everything before it stands.
+    """
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.videos: dict[str, dict[str, Any]] = {}
+        self.shards: dict[str, dict[str, Any]] = {}
+        self._lines = 0
+        good = 0
+        try:
+            data = path.read_bytes()
+        except FileNotFoundError:
+            data = b""
+        for line in data.splitlines(keepends=True):
+            if not line.endswith(b"\n"):
+                break
+            try:
+                entry = json.loads(line)
+                kind, record = entry["kind"], entry["record"]
+            except (ValueError, KeyError, TypeError):
+                break
+            self._remember(kind, record)
+            good += len(line)
+            self._lines += 1
+        if good != len(data):
+            with open(path, "r+b") as fh:
+                fh.truncate(good)
+                os.fsync(fh.fileno())
+
+    def append(self, kind: str, record: dict[str, Any]) -> None:
+        line = (canonical_json({"kind": kind, "record": record}) + "\n").encode("utf-8")
+        self._lines += 1
+        with open(self.path, "ab") as fh:
+            if os.environ.get(KILL_AT_ENV) == f"journal:{self._lines}":
+                fh.write(line[: len(line) // 2])
+                fh.flush()
+                crash_point(f"journal:{self._lines}")
+            fh.write(line)
+            fh.flush()
+            os.fsync(fh.fileno())
+        self._remember(kind, record)
+
+    def _remember(self, kind: str, record: dict[str, Any]) -> None:
+        if kind == "video":
+            self.videos[record["video_id"]] = record
+        else:
+            self.shards[record["name"]] = record
 
 
 # --- driver side ---------------------------------------------------------------------------
@@ -183,18 +248,8 @@ class DatasetResult:
     manifest: DatasetManifest
     rendered_shards: int
     resumed_shards: int
-
-
-def _read_record(path: Path, out: Path) -> dict[str, Any] | None:
-    """A finished shard's record, or None when the shard must be (re)rendered."""
-    try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-        tar = out / record["shard"]["name"]
-        if tar.stat().st_size != record["shard"]["bytes"]:
-            return None
-        return record
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
+    rendered_videos: int = 0
+    resumed_videos: int = 0
 
 
 def _check_run(work: Path, run: dict[str, Any]) -> None:
@@ -217,6 +272,107 @@ def _check_run(work: Path, run: dict[str, Any]) -> None:
         tmp.write_text(canonical_json(run), encoding="utf-8")
 
 
+#: What to do after a failed write: nothing finished is lost.
+RESUME_HINT = "finished videos are kept; free space or fix the place, then rerun the same command to resume"
+
+
+class _Run:
+    """The driver's side of one run: journals finished videos, joins shards as their last
+    video arrives, and knows what is left to do."""
+
+    def __init__(self, out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], progress: Progress | None):
+        self.out, self.work = out, out / WORK_DIR
+        self.names = names
+        self.ids = {n: [r.video_id for r in recipes] for n, recipes in zip(names, shards, strict=True)}
+        self.frames = {r.video_id: r.n_frames for recipes in shards for r in recipes}
+        self.progress = progress
+        (self.work / PARTS_DIR).mkdir(parents=True, exist_ok=True)
+        self.journal = Journal(self.work / JOURNAL_FILE)
+        self.resumed_shards = self.resumed_videos = self.rendered_shards = 0
+        # What the journal claims must still be on disk: a missing or short file is redone.
+        for name in list(self.journal.shards):
+            rec = self.journal.shards[name]
+            if name not in self.ids or not _has_size(out / name, rec["shard"]["bytes"]):
+                del self.journal.shards[name]
+        for vid in list(self.journal.videos):
+            rec = self.journal.videos[vid]
+            part = _part_path(self.work, vid, "tar.part")
+            if vid not in self.frames or not (
+                rec["shard"] in self.journal.shards or _has_size(part, rec["part_bytes"])
+            ):
+                del self.journal.videos[vid]
+
+    def todo(self, tasks: Sequence[VideoTask]) -> list[VideoTask]:
+        """Videos not finished yet, in index order; reports the finished ones as progress."""
+        left = []
+        for t in tasks:
+            if t.shard in self.journal.shards or t.video_id in self.journal.videos:
+                self.resumed_videos += 1
+                if self.progress is not None:
+                    self.progress(1, self.frames[t.video_id])
+            else:
+                left.append(t)
+        self.resumed_shards = sum(n in self.journal.shards for n in self.names)
+        for name in self.names:  # a crash between a shard's last video and its tar
+            self._maybe_join(name)
+        return left
+
+    def finished(self, record: dict[str, Any]) -> None:
+        self.journal.append("video", record)
+        self._maybe_join(record["shard"])
+
+    def _maybe_join(self, name: str) -> None:
+
+        from phav_generator.io.shards import assemble_shard
+
+        if name in self.journal.shards or any(v not in self.journal.videos for v in self.ids[name]):
+            return
+        ids = self.ids[name]
+        digest = assemble_shard([_part_path(self.work, v, "tar.part") for v in ids], self.out / name,
+                                checkpoint=lambda k: crash_point(f"shard:{name}:{k}"))  # fmt: skip
+        stem = name.removesuffix(".tar")
+        for table, columns in (("cameras", CAMERA_COLUMNS), ("people", PEOPLE_COLUMNS)):
+            parts = [_part_path(self.work, v, f"{table}.parquet") for v in ids]
+            _concat_parquet(parts, columns, self.work / f"{stem}.{table}.parquet")
+        videos = [self.journal.videos[v] for v in ids]
+        gl = {canonical_json(v["gl"]) for v in videos}
+        if len(gl) > 1:
+            raise PhavUserError(
+                f"the videos of {name} were rendered by different GL renderers; use one kind of machine",
+                source=str(self.out),
+            )
+        record = {
+            "name": name,
+            "shard": {"name": name, "sha256": digest.sha256, "bytes": digest.bytes, "video_ids": ids},
+            "videos": [{k: v[k] for k in ("video_id", "shard", "n_frames", "content_hash", "modality_hashes")}
+                       for v in videos],
+            "gl": videos[0]["gl"],
+        }  # fmt: skip
+        self.journal.append("shard", record)
+        self.rendered_shards += 1
+        for v in ids:
+            with contextlib.suppress(FileNotFoundError):
+                _part_path(self.work, v, "tar.part").unlink()
+
+
+def _concat_parquet(parts: Sequence[Path], columns: Any, target: Path) -> None:
+    """Rows of ``parts``, in order, into one zstd Parquet file at ``target`` (atomically)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    tables = [pq.read_table(p) for p in parts]
+    merged = pa.concat_tables(tables) if tables else arrow_schema(columns).empty_table()
+    with atomic_write(target) as tmp:
+        pq.write_table(merged, tmp, compression="zstd")
+
+
+def _has_size(path: Path, size: int) -> bool:
+    try:
+        return path.stat().st_size == size
+    except OSError:
+        return False
+
+
 def write_dataset(
     shards: Sequence[Sequence[Recipe]],
     out: str | Path,
@@ -227,37 +383,87 @@ def write_dataset(
     workers: int = 1,
     progress: Progress | None = None,
     shard_names: Sequence[str] | None = None,
+    engine: str = "local",
+    address: str | None = None,
 ) -> DatasetResult:
     """Render ``shards`` (lists of recipes; shard i is ``{name}-{i:06d}.tar`` unless
     ``shard_names`` says otherwise) into ``out``.
 
-    Finished shards of the same run found in ``out`` are kept, not redone. Writes
+    The unit of work is a video: ``engine`` ``"local"`` (a process pool of ``workers``) or
+    ``"ray"`` (a Ray cluster at ``address``, else a local one) renders each into a part,
+    and this process journals it and joins a shard's parts into its tar once all are in.
+    Work already journalled in ``out`` for the same run is kept, not redone. Writes
     ``theta.yaml`` (when θ is given), ``recipes.parquet``, ``cameras.parquet``,
     ``people.parquet`` and, last, ``manifest.json``.
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
     out = Path(out)
+    if engine not in ENGINES:
+        raise PhavUserError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}", field="--engine")
     if out.exists() and not out.is_dir():
         raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
-    work = out / WORK_DIR
-    try:
-        work.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise PhavUserError(f"cannot create the output directory: {e.strerror or e}", source=str(out)) from None
     names = list(shard_names) if shard_names is not None else [shard_name(name, i) for i in range(len(shards))]
     if len(names) != len(shards) or len(set(names)) != len(names):
         raise ValueError("shard_names must name every shard once")
     tasks = [
-        ShardTask(n, tuple(r.model_dump_json() for r in recipes)) for n, recipes in zip(names, shards, strict=True)
+        VideoTask(n, r.video_id, r.model_dump_json()) for n, recipes in zip(names, shards, strict=True) for r in recipes
     ]
+    try:
+        return _write(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
+                      workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
+    except WriteError as e:
+        raise e.with_hint(RESUME_HINT) from None
+    except OSError as e:
+        raise WriteError(e, str(e.filename or out), RESUME_HINT) from None
+
+
+def _write(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], tasks: list[VideoTask], *, name: str,
+           theta: Theta | None, dataset_seed: int, workers: int, progress: Progress | None, engine: str,
+           address: str | None) -> DatasetResult:  # fmt: skip
+    work = out / WORK_DIR
+    (work / PARTS_DIR).mkdir(parents=True, exist_ok=True)
+    with _exclusive(work):
+        _remove_stale_temporaries(out, work, work / PARTS_DIR)
+        return _write_locked(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
+                             workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
+
+
+@contextlib.contextmanager
+def _exclusive(work: Path) -> Iterator[None]:
+    """Hold the directory's lock: two runs writing one directory would tear each other's files."""
+    import fcntl
+
+    with open(work / LOCK_FILE, "a+b") as fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise PhavUserError("another run is writing to this directory", source=str(work.parent)) from None
+        yield
+
+
+#: ``atomic_write``'s temporaries: ``.{name}.{16 hex}.tmp``.
+_TEMPORARY = re.compile(r"\..+\.[0-9a-f]{16}\.tmp")
+
+
+def _remove_stale_temporaries(*folders: Path) -> None:
+    """Temporaries a killed run left behind (a live run holds the lock, so none is in use)."""
+    for folder in folders:
+        for path in folder.iterdir():
+            if _TEMPORARY.fullmatch(path.name) and path.is_file():
+                path.unlink()
+
+
+def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], tasks: list[VideoTask], *,
+                  name: str, theta: Theta | None, dataset_seed: int, workers: int, progress: Progress | None,
+                  engine: str, address: str | None) -> DatasetResult:  # fmt: skip
+
+    work = out / WORK_DIR
     run = {
         "name": name,
         "theta_hash": theta.hash if theta is not None else None,
         "dataset_seed": dataset_seed,
         "shards": [[r.video_id for r in recipes] for recipes in shards],
-        "recipes_hash": _recipes_digest(tasks),
+        "shard_names": names,
+        "recipes_hash": sha256_hex(canonical_json([t.recipe for t in tasks])),
     }
     _check_run(work, run)
     if theta is not None:
@@ -267,31 +473,26 @@ def write_dataset(
     write_recipe_table(RecipeRows().extend(all_recipes).to_arrow(theta=theta, dataset_seed=dataset_seed),
                        out / "recipes.parquet")  # fmt: skip
 
-    records: dict[str, dict[str, Any]] = {}
-    todo = []
-    for task, recipes in zip(tasks, shards, strict=True):
-        record = _read_record(work / f"{task.name.removesuffix('.tar')}.json", out)
-        if record is not None:
-            records[task.name] = record
-            if progress is not None:
-                progress(len(recipes), sum(r.n_frames for r in recipes))
-        else:
-            todo.append(task)
-    resumed = len(records)
-    _render_all(todo, out, workers, progress, records)
+    state = _Run(out, names, shards, progress)
+    todo = state.todo(tasks)
+    if engine == "ray":
+        from phav_generator.engines import run_on_ray
 
-    gl = {json.dumps(records[t.name]["gl"], sort_keys=True) for t in tasks}
+        run_on_ray(todo, out, workers=workers, address=address, progress=progress, finished=state.finished)
+    else:
+        _run_local(todo, out, workers, progress, state.finished)
+
+    records = state.journal.shards
+    gl = {canonical_json(records[n]["gl"]) for n in names}
     if len(gl) > 1:
         raise PhavUserError(
             "shards were rendered by different GL renderers; delete the directory and regenerate on one machine",
             source=str(out),
         )
-    fingerprint = renderer_fingerprint(records[tasks[0].name]["gl"]) if tasks else None
+    fingerprint = renderer_fingerprint(records[names[0]]["gl"]) if names else None
     for table, columns in (("cameras", CAMERA_COLUMNS), ("people", PEOPLE_COLUMNS)):
-        parts = [pq.read_table(work / f"{t.name.removesuffix('.tar')}.{table}.parquet") for t in tasks]
-        merged = pa.concat_tables(parts) if parts else arrow_schema(columns).empty_table()
-        with atomic_write(out / f"{table}.parquet") as tmp:
-            pq.write_table(merged, tmp, compression="zstd")
+        parts = [work / f"{n.removesuffix('.tar')}.{table}.parquet" for n in names]
+        _concat_parquet(parts, columns, out / f"{table}.parquet")
     manifest = DatasetManifest(
         manifest_version=MANIFEST_VERSION,
         name=name,
@@ -300,42 +501,52 @@ def write_dataset(
         dataset_seed=dataset_seed,
         recipe_schema_version=RECIPE_SCHEMA_VERSION,
         renderer=fingerprint,
-        shards=[ShardEntry.model_validate(records[t.name]["shard"]) for t in tasks],
-        videos=[VideoEntry.model_validate(v) for t in tasks for v in records[t.name]["videos"]],
+        shards=[ShardEntry.model_validate(records[n]["shard"]) for n in names],
+        videos=[VideoEntry.model_validate(v) for n in names for v in records[n]["videos"]],
     )
     dump_manifest(manifest, out / "manifest.json")
     shutil.rmtree(work, ignore_errors=True)
-    return DatasetResult(manifest, rendered_shards=len(todo), resumed_shards=resumed)
+    return DatasetResult(manifest, rendered_shards=state.rendered_shards, resumed_shards=state.resumed_shards,
+                         rendered_videos=len(todo), resumed_videos=state.resumed_videos)  # fmt: skip
 
 
-def _recipes_digest(tasks: Sequence[ShardTask]) -> str:
-    from phav_spec.canonical import sha256_hex
-
-    return sha256_hex(canonical_json([list(t.recipes) for t in tasks]))
-
-
-def _render_all(
-    tasks: Sequence[ShardTask], out: Path, workers: int, progress: Progress | None, records: dict[str, Any]
-) -> None:
-    """Render every task, in this process (one worker) or a pool of spawned processes."""
+def _run_local(tasks: Sequence[VideoTask], out: Path, workers: int, progress: Progress | None,
+               finished: Callable[[dict[str, Any]], None]) -> None:  # fmt: skip
+    """Render every task in this process (one worker) or a pool of spawned processes."""
     if not tasks:
         return
     if workers <= 1 or len(tasks) == 1:
         for task in tasks:
-            records[task.name] = render_shard(task, out, progress)
+            record = render_part(task, out, progress)
+            if progress is not None:
+                progress(1, 0)
+            finished(record)
         return
     mp = multiprocessing.get_context("spawn")
     events = mp.Queue()
     with ProcessPoolExecutor(
         max_workers=min(workers, len(tasks)), mp_context=mp, initializer=_init_worker, initargs=(events,)
     ) as pool:
-        futures: dict[Future, ShardTask] = {pool.submit(_pool_render, t, str(out)): t for t in tasks}
+        futures: dict[Future, VideoTask] = {pool.submit(_pool_render, t, str(out)): t for t in tasks}
         pending = set(futures)
-        while pending:
-            done, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-            _drain(events, progress)
-            for fut in done:
-                records[futures[fut].name] = fut.result()
+        try:
+            while pending:
+                done, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+                _drain(events, progress)
+                # Journal in completion order: which video finishes first cannot change a byte.
+                for fut in sorted(done, key=lambda f: futures[f].video_id):
+                    record = fut.result()
+                    if progress is not None:
+                        progress(1, 0)
+                    finished(record)
+        except BrokenProcessPool:
+            raise PhavUserError(
+                "a worker process died (killed, or out of memory); finished videos are kept, rerun to resume",
+                source=str(out),
+            ) from None
+        finally:
+            for fut in pending:
+                fut.cancel()
         _drain(events, progress)
 
 
@@ -358,10 +569,12 @@ def chunk(recipes: Sequence[Recipe], shard_size: int) -> list[list[Recipe]]:
 
 __all__ = [
     "DEFAULT_SHARD_SIZE",
+    "ENGINES",
     "DatasetResult",
-    "ShardTask",
+    "Journal",
+    "VideoTask",
     "chunk",
-    "render_shard",
+    "render_part",
     "renderer_fingerprint",
     "shard_name",
     "write_dataset",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import secrets
@@ -36,6 +37,32 @@ def parse_json_object(text: str | bytes, *, source: str) -> dict[str, Any]:
     return data
 
 
+class WriteError(PhavUserError):
+    """A write that failed (full disk, file size limit, read-only place…), said in words a
+    user can act on; ``errno`` is the operating system's code."""
+
+    def __init__(self, error: OSError, target: str, hint: str = ""):
+        self.error = error
+        self.errno = error.errno
+        if error.errno in (errno.ENOSPC, errno.EDQUOT):
+            what = "the disk is full"
+        elif error.errno == errno.EFBIG:
+            what = "a file size limit was reached"
+        elif error.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+            what = "the place is not writable"
+        else:
+            what = f"cannot write: {error.strerror or error}"
+        super().__init__(f"{what}; {hint}" if hint else what, source=target)
+        self.target, self.hint = target, hint
+
+    def with_hint(self, hint: str) -> WriteError:
+        """The same error, followed by what to do about it."""
+        return WriteError(self.error, self.target, hint)
+
+    def __reduce__(self):  # crosses process boundaries intact (pool workers)
+        return (WriteError, (self.error, self.target, self.hint))
+
+
 @contextlib.contextmanager
 def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; on success it is fsynced and renamed over it.
@@ -59,7 +86,7 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
     except OSError as e:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
-        raise PhavUserError(f"cannot write: {e.strerror or e}", source=str(target)) from None
+        raise WriteError(e, str(target)) from None
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import hashlib
 import io
 import tarfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -56,24 +56,41 @@ class ShardDigest:
     bytes: int = 0
 
 
-class ShardWriter:
-    """Members of one tar, in order; use through ``open_shard``."""
+def tar_member(name: str, data: bytes) -> bytes:
+    """One USTAR member exactly as ``tarfile`` writes it: header, data, zeros to a block."""
+    info = tarfile.TarInfo(name)
+    info.size = len(data)
+    info.mtime = TAR_MTIME
+    info.mode = TAR_MODE
+    info.uid = info.gid = 0
+    info.uname = info.gname = ""
+    header = info.tobuf(tarfile.USTAR_FORMAT, "utf-8", "surrogateescape")
+    return header + data + tarfile.NUL * (-len(data) % tarfile.BLOCKSIZE)
 
-    def __init__(self, tar: tarfile.TarFile):
-        self._tar = tar
+
+def tar_end(members_bytes: int) -> bytes:
+    """What ``tarfile`` appends when it closes after ``members_bytes`` of members: two zero
+    blocks, then zeros to a whole record."""
+    end = members_bytes + 2 * tarfile.BLOCKSIZE
+    return tarfile.NUL * (2 * tarfile.BLOCKSIZE + (-end % tarfile.RECORDSIZE))
+
+
+class ShardWriter:
+    """Tar members in order, written straight to a binary file (no end-of-archive blocks:
+    a video's members are a *part* that ``assemble_shard`` joins with others)."""
+
+    def __init__(self, sink: BinaryIO):
+        self._sink = sink
         self._names: set[str] = set()
+        self.size = 0
 
     def add(self, name: str, data: bytes) -> None:
         if name in self._names:
             raise ValueError(f"duplicate tar member {name!r}")
         self._names.add(name)
-        info = tarfile.TarInfo(name)
-        info.size = len(data)
-        info.mtime = TAR_MTIME
-        info.mode = TAR_MODE
-        info.uid = info.gid = 0
-        info.uname = info.gname = ""
-        self._tar.addfile(info, io.BytesIO(data))
+        member = tar_member(name, data)
+        self._sink.write(member)
+        self.size += len(member)
 
     def add_frame(self, video_id: str, frame: int, modalities: dict, frame_meta: bytes) -> None:
         """One WebDataset sample ``{video_id}/{frame:05d}``: six PNGs and the json metadata."""
@@ -84,12 +101,48 @@ class ShardWriter:
 
 
 @contextmanager
+def open_part(path: str | Path) -> Iterator[ShardWriter]:
+    """Write one video's tar members to ``path`` atomically (a part, not a whole tar)."""
+    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
+        yield ShardWriter(fh)
+
+
+@contextmanager
 def open_shard(path: str | Path) -> Iterator[tuple[ShardWriter, ShardDigest]]:
-    """Write a tar at ``path`` atomically; the digest is filled in once the block exits."""
+    """Write a whole tar at ``path`` atomically; the digest is filled in once the block exits."""
     digest = ShardDigest()
     with atomic_write(path) as tmp, open(tmp, "wb") as fh:
         sink = _HashingWriter(fh)
-        with tarfile.open(fileobj=sink, mode="w", format=tarfile.USTAR_FORMAT) as tar:  # type: ignore[arg-type]
-            yield ShardWriter(tar), digest
+        writer = ShardWriter(sink)  # type: ignore[arg-type]
+        yield writer, digest
+        sink.write(tar_end(writer.size))
         digest.sha256 = sink.sha256.hexdigest()
         digest.bytes = sink.size
+
+
+#: Bytes copied at a time when parts are joined into a shard.
+_COPY_CHUNK = 1 << 20
+
+
+def assemble_shard(
+    parts: Sequence[Path], path: str | Path, *, checkpoint: Callable[[int], None] | None = None
+) -> ShardDigest:
+    """Join video parts, in order, into the tar at ``path`` (atomically) and hash it.
+
+    ``checkpoint(k)`` runs after the k-th part is copied (crash-injection tests use it).
+    """
+    digest = ShardDigest()
+    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
+        sink = _HashingWriter(fh)
+        size = 0
+        for k, part in enumerate(parts):
+            with open(part, "rb") as src:
+                while chunk := src.read(_COPY_CHUNK):
+                    sink.write(chunk)
+                    size += len(chunk)
+            if checkpoint is not None:
+                checkpoint(k)
+        sink.write(tar_end(size))
+        digest.sha256 = sink.sha256.hexdigest()
+        digest.bytes = sink.size
+    return digest

@@ -21,6 +21,7 @@ from phav_validators.learn.train import TrainConfig, fuse, predict, train
 #: training started from a PHAV checkpoint's backbone.
 MODES = ("tsn", "cool", "ft")
 
+
 @dataclass
 class RunResult:
     """One trained-and-tested configuration: accuracy per stream and fused."""

@@ -118,9 +118,7 @@ def shuffled(clips: ClipSet, seed: int) -> ClipSet:
     return ClipSet(clips.source, clips.classes, out)
 
 
-def run_learnability(
-    clips: ClipSet, opts: LearnOptions, *, progress: ProgressFactory | None = None
-) -> LearnResult:
+def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFactory | None = None) -> LearnResult:
     """Split, train every stream within the budget, test, fuse and test against chance."""
     if opts.shuffle_labels:
         clips = shuffled(clips, opts.seed)

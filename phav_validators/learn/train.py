@@ -63,8 +63,13 @@ class TrainConfig:
 
     def __post_init__(self) -> None:
         in_channels(self.stream, self.flow_frames)  # raises on an unknown stream
-        for name, value in (("segments", self.segments), ("test_segments", self.test_segments),
-                            ("flow_frames", self.flow_frames), ("epochs", self.epochs), ("threads", self.threads)):
+        for name, value in (
+            ("segments", self.segments),
+            ("test_segments", self.test_segments),
+            ("flow_frames", self.flow_frames),
+            ("epochs", self.epochs),
+            ("threads", self.threads),
+        ):
             if value < 1:
                 raise PhavUserError(f"must be at least 1, got {value}", field=f"--{name.replace('_', '-')}")
         if not 0.2 <= self.crop <= 1.0:

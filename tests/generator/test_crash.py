@@ -1,0 +1,141 @@
+"""Crash safety of `phav generate`: SIGKILL at any point, a full disk, a dead worker — then a
+rerun gives exactly the dataset an uninterrupted run gives (issue: scale-out, crash safety)."""
+
+from __future__ import annotations
+
+import errno
+import os
+import resource
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from phav_generator import dataset as dataset_module
+from phav_generator.dataset import JOURNAL_FILE, WORK_DIR, Journal, chunk, write_dataset
+from phav_generator.faults import KILL_AT_ENV
+from phav_generator.sampling import sample_recipes
+from phav_spec.errors import PhavUserError
+from phav_spec.theta import load_theta
+
+SEED = 4
+ARGS = ("--theta", "phav-v1-short", "--videos", "3", "--seed", str(SEED), "--shard-size", "2", "--name", "demo")
+
+
+def _generate(out: Path, *extra: str, kill_at: str | None = None, fsize: int | None = None):
+    env = {"PATH": "", "COLUMNS": "200"}
+    if kill_at is not None:
+        env[KILL_AT_ENV] = kill_at
+
+    def limit() -> None:  # runs in the child: a file size limit, as `ulimit -f` sets
+        if fsize is not None:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+
+    return subprocess.run(
+        [sys.executable, "-m", "phav_generator.cli", "generate", *ARGS, "--out", str(out), *extra],
+        capture_output=True, text=True, env=env, preexec_fn=limit,
+    )  # fmt: skip
+
+
+def _files(out: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(out.iterdir()) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory) -> dict[str, bytes]:
+    """Every file of an uninterrupted run."""
+    out = tmp_path_factory.mktemp("ref") / "data"
+    result = _generate(out)
+    assert result.returncode == 0, result.stderr
+    return _files(out)
+
+
+def test_sigkill_anywhere_then_resume_gives_the_uninterrupted_dataset(reference, tmp_path):
+    """One directory killed again and again: inside a video's tar part, between a part and
+    its journal line, half-way through a journal line, inside a shard's tar — each rerun
+    gets further, and the last gives the same bytes as a run never interrupted."""
+    out = tmp_path / "data"
+    points = ("part:v000000:7", "part-done:v000000", "journal:2", "shard:demo-000000.tar:0", "journal:3",
+              "part:v000002:3")  # fmt: skip
+    for point in points:
+        result = _generate(out, kill_at=point)
+        assert result.returncode == -signal.SIGKILL, (point, result.returncode, result.stderr[-500:])
+        assert not (out / "manifest.json").exists()
+        journal = Journal(out / WORK_DIR / JOURNAL_FILE)  # a torn line is cut off here
+        for shard in journal.shards:
+            assert (out / shard).exists()
+    finished = _generate(out)
+    assert finished.returncode == 0, finished.stderr
+    assert _files(out) == reference
+    assert not (out / WORK_DIR).exists()
+
+
+def test_a_killed_worker_is_a_one_line_error_and_the_rerun_resumes(reference, tmp_path):
+    out = tmp_path / "data"
+    result = _generate(out, "--workers", "2", kill_at="part:v000002:2")
+    assert result.returncode == 2
+    assert "worker process died" in result.stderr and "Traceback" not in result.stderr
+    assert _generate(out, "--workers", "2").returncode == 0
+    assert _files(out) == reference
+
+
+def test_a_file_size_limit_is_a_clear_error_that_keeps_finished_videos(reference, tmp_path):
+    """RLIMIT_FSIZE below a shard's size: the videos' parts fit, joining them does not."""
+    out = tmp_path / "data"
+    shard = len(reference["demo-000000.tar"])
+    result = _generate(out, fsize=shard - 20_000)
+    assert result.returncode == 2, result.stderr
+    assert "file size limit" in result.stderr and "Traceback" not in result.stderr
+    kept = Journal(out / WORK_DIR / JOURNAL_FILE)
+    assert set(kept.videos) >= {"v000000", "v000001"} and not kept.shards
+    assert _generate(out).returncode == 0
+    assert _files(out) == reference
+
+
+def test_a_full_disk_is_a_clear_error_that_keeps_finished_videos(monkeypatch, tmp_path):
+    theta = load_theta("phav-v1-short")
+    shards = chunk(list(sample_recipes(theta, n=2, seed=SEED)), 1)
+    render = dataset_module.render_part
+
+    def full_after_one(task, out, report=None):
+        if task.video_id == "v000001":
+            raise OSError(errno.ENOSPC, "No space left on device", str(out / "x"))
+        return render(task, out, report)
+
+    monkeypatch.setattr(dataset_module, "render_part", full_after_one)
+    out = tmp_path / "data"
+    with pytest.raises(PhavUserError, match="disk is full"):
+        write_dataset(shards, out, name="demo", theta=theta, dataset_seed=SEED)
+    assert (out / "demo-000000.tar").exists()
+    monkeypatch.setattr(dataset_module, "render_part", render)
+    resumed = write_dataset(shards, out, name="demo", theta=theta, dataset_seed=SEED)
+    assert (resumed.resumed_videos, resumed.rendered_videos) == (1, 1)
+    clean = write_dataset(shards, tmp_path / "clean", name="demo", theta=theta, dataset_seed=SEED)
+    assert resumed.manifest == clean.manifest
+
+
+def test_a_torn_journal_line_is_cut_off(tmp_path):
+    path = tmp_path / "journal.jsonl"
+    j = Journal(path)
+    j.append("video", {"video_id": "v000000", "shard": "a.tar", "part_bytes": 1})
+    with open(path, "ab") as fh:
+        fh.write(b'{"kind": "video", "rec')
+    again = Journal(path)
+    assert list(again.videos) == ["v000000"]
+    assert path.read_bytes().endswith(b"}\n")
+    again.append("shard", {"name": "a.tar"})
+    assert list(Journal(path).shards) == ["a.tar"]
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only directories")
+def test_an_unwritable_output_directory_is_a_clear_error(tmp_path):
+    out = tmp_path / "ro"
+    out.mkdir()
+    out.chmod(0o555)
+    try:
+        result = _generate(out)
+    finally:
+        out.chmod(0o755)
+    assert result.returncode == 2 and "not writable" in result.stderr and "Traceback" not in result.stderr
