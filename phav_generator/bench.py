@@ -230,3 +230,53 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
             p.unlink()
         tmp.rmdir()
     return runs, encode_only
+
+
+#: A PHAV-sized run: the paper's 39,982 videos (about 6 million frames).
+PHAV_VIDEOS = 39_982
+
+
+@dataclass(frozen=True)
+class GenerationRun:
+    """``write_dataset`` of the same recipes with one worker count, timed end to end."""
+
+    workers: int
+    engine: str
+    videos: int
+    frames: int
+    seconds: float
+    identical: bool  # every file equals the first run's, byte for byte
+
+    @property
+    def fps(self) -> float:
+        return self.frames / self.seconds
+
+
+def bench_generation(
+    recipes: list, theta: Theta, *, seed: int, workers: tuple[int, ...] = (1, 2), engine: str = "local"
+) -> list[GenerationRun]:
+    """Frames per second of whole-dataset generation (render, encode, shards, tables,
+    manifest) for each worker count; every run must give the first run's bytes."""
+    from phav_generator.dataset import chunk, write_dataset
+
+    frames = sum(r.n_frames for r in recipes)
+    runs: list[GenerationRun] = []
+    first: dict[str, bytes] | None = None
+    with tempfile.TemporaryDirectory() as tmp:
+        for w in workers:
+            out = Path(tmp) / f"w{w}"
+            start = time.perf_counter()
+            write_dataset(chunk(recipes, 16), out, name="bench", theta=theta, dataset_seed=seed, workers=w,
+                          engine=engine)  # fmt: skip
+            seconds = time.perf_counter() - start
+            files = {p.name: p.read_bytes() for p in sorted(out.iterdir()) if p.is_file()}
+            first = files if first is None else first
+            runs.append(GenerationRun(w, engine, len(recipes), frames, seconds, files == first))
+    return runs
+
+
+def mean_frames_per_video(theta: Theta, *, seed: int, n: int = 4000) -> float:
+    """Mean clip length in frames of ``n`` recipes sampled from θ."""
+    from phav_generator.sampling import sample_recipes
+
+    return float(np.mean([r.n_frames for r in sample_recipes(theta, n=n, seed=seed)]))

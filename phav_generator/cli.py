@@ -35,7 +35,7 @@ app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
 #: What `phav bench --sections` can run.
-BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "validation", "training")
+BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "generation", "validation", "training")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 EngineOption = Annotated[
@@ -486,12 +486,17 @@ def bench(
         int, typer.Option("--training-videos", min=10, help="phav-v1-short videos generated when no --training-data.")
     ] = 120,
     training_epochs: Annotated[int, typer.Option("--training-epochs", min=1, help="Epochs per stream.")] = 80,
+    generation_videos: Annotated[
+        int, typer.Option("--generation-videos", min=1, help="First N phav-v1 recipes generated per worker count.")
+    ] = 8,
+    engine: EngineOption = "local",
 ) -> None:
     """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
     (timestep against joint error and ms per frame), the action probe (how recognisable
     the 35 actions are from simulated motion, against simulation time), rendering (frames/s
-    against edge error), validation (frames/s per check against generation, detection
-    against --sample) and training (clips/s per stream, test accuracy against minutes)."""
+    against edge error), generation (frames/s with 1 and 2 workers, byte-identical, and
+    the projected wall time of a PHAV-sized run), validation (frames/s per check against
+    generation, detection against --sample) and training (clips/s per stream, test accuracy against minutes)."""
     from phav_generator.bench import bench_sampling
 
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
@@ -506,6 +511,8 @@ def bench(
         _bench_probe_table(theta, seed=seed, clips=probe_clips)
     if "render" in chosen:
         _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames)
+    if "generation" in chosen:
+        _bench_generation_table(theta, seed=seed, videos=generation_videos, engine=engine)
     if "validation" in chosen:
         _bench_validation_tables(seed=seed, videos=validation_videos, trials=validation_trials, out_dir=out_dir)
     if "training" in chosen:
@@ -605,6 +612,34 @@ def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed:
                       f"{a['flow']:.1%}", f"{a['fused']:.1%}", f"{a['fused'] / p.chance:.1f}",
                       f"{p.p_fused:.1g}")  # fmt: skip
     console.print(curve)
+
+
+def _bench_generation_table(theta: Theta, *, seed: int, videos: int, engine: str) -> None:
+    from phav_generator.bench import PHAV_VIDEOS, bench_generation, mean_frames_per_video
+    from phav_generator.sampling import sample_recipes
+
+    recipes = list(sample_recipes(theta, n=videos, seed=seed))
+    with console.status(f"generation bench: {videos} videos with 1 and 2 workers ({engine})"):
+        runs = bench_generation(recipes, theta, seed=seed, engine=engine)
+    per_video = mean_frames_per_video(theta, seed=seed)
+    phav_frames = PHAV_VIDEOS * per_video
+    one = runs[0].fps
+    title = (f"generation (θ {theta.name}, first {videos} recipes of seed {seed}, {runs[0].frames} frames, "
+             f"--engine {engine}); PHAV size: {PHAV_VIDEOS:,} videos ≈ {phav_frames / 1e6:.1f} M frames")  # fmt: skip
+    table = Table(title=title, title_justify="left")
+    for col in ("workers", "seconds", "frames/s", "scaling efficiency", "bytes identical to 1 worker",
+                "PHAV-size wall time"):  # fmt: skip
+        table.add_column(col, justify="right")
+    for run in runs:
+        efficiency = run.fps / (run.workers * one)
+        table.add_row(str(run.workers), f"{run.seconds:.1f}", f"{run.fps:.1f}", f"{efficiency:.0%}",
+                      "yes" if run.identical else "NO", f"{phav_frames / run.fps / 3600:.1f} h")  # fmt: skip
+    console.print(table)
+    last = runs[-1]
+    added = (last.fps - one) / max(last.workers - 1, 1)
+    projected = ", ".join(f"{k} workers ≈ {phav_frames / (one + (k - 1) * added) / 3600:.1f} h" for k in (4, 8, 16))
+    console.print(f"each added worker (a core of its own, with its own GL context) adds ≈ {added:.1f} frames/s; "
+                  f"at that rate a PHAV-sized run takes {projected}")  # fmt: skip
 
 
 def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None) -> None:

@@ -37,3 +37,13 @@ def test_an_unknown_engine_is_a_one_line_error(tmp_path):
     theta = load_theta("phav-v1-short")
     with pytest.raises(PhavUserError, match="unknown engine 'spark'"):
         write_dataset([], tmp_path / "x", name="demo", theta=theta, dataset_seed=0, engine="spark")
+
+
+def test_generation_bench_times_each_worker_count_on_identical_bytes():
+    from phav_generator.bench import bench_generation
+
+    theta = load_theta("phav-v1-short")
+    recipes = list(sample_recipes(theta, n=2, seed=SEED))
+    runs = bench_generation(recipes, theta, seed=SEED, workers=(1, 2))
+    assert [r.workers for r in runs] == [1, 2]
+    assert all(r.identical and r.frames == sum(x.n_frames for x in recipes) and r.fps > 0 for r in runs)
