@@ -322,25 +322,24 @@ class _Run:
         self._maybe_join(record["shard"])
 
     def _maybe_join(self, name: str) -> None:
-
+        """Join the shard's parts into its tar once every one of its videos is journalled."""
         from phav_generator.io.shards import assemble_shard
 
         if name in self.journal.shards or any(v not in self.journal.videos for v in self.ids[name]):
             return
         ids = self.ids[name]
+        videos = [self.journal.videos[v] for v in ids]
+        if len({canonical_json(v["gl"]) for v in videos}) > 1:
+            raise PhavUserError(
+                f"the videos of {name} were rendered by different GL renderers; use one kind of machine",
+                source=str(self.out),
+            )
         digest = assemble_shard([_part_path(self.work, v, "tar.part") for v in ids], self.out / name,
                                 checkpoint=lambda k: crash_point(f"shard:{name}:{k}"))  # fmt: skip
         stem = name.removesuffix(".tar")
         for table, columns in (("cameras", CAMERA_COLUMNS), ("people", PEOPLE_COLUMNS)):
             parts = [_part_path(self.work, v, f"{table}.parquet") for v in ids]
             _concat_parquet(parts, columns, self.work / f"{stem}.{table}.parquet")
-        videos = [self.journal.videos[v] for v in ids]
-        gl = {canonical_json(v["gl"]) for v in videos}
-        if len(gl) > 1:
-            raise PhavUserError(
-                f"the videos of {name} were rendered by different GL renderers; use one kind of machine",
-                source=str(self.out),
-            )
         record = {
             "name": name,
             "shard": {"name": name, "sha256": digest.sha256, "bytes": digest.bytes, "video_ids": ids},
@@ -350,9 +349,10 @@ class _Run:
         }  # fmt: skip
         self.journal.append("shard", record)
         self.rendered_shards += 1
-        for v in ids:
-            with contextlib.suppress(FileNotFoundError):
-                _part_path(self.work, v, "tar.part").unlink()
+        for v in ids:  # the shard holds them now
+            for what in ("tar.part", "cameras.parquet", "people.parquet"):
+                with contextlib.suppress(FileNotFoundError):
+                    _part_path(self.work, v, what).unlink()
 
 
 def _concat_parquet(parts: Sequence[Path], columns: Any, target: Path) -> None:
