@@ -50,6 +50,7 @@ TIED_ARM_STRENGTH = 0.4
 POST_HALF_WIDTH_M = 0.04
 #: Gap between the fingertips and the face of what they push (m): touching, not pressing.
 PUSH_GAP_M = 0.01
+#: A pushed door's leaf (m): wide enough for both hands and a walker's shoulders.
 DOOR_WIDTH_M = 1.0
 DOOR_HEIGHT_M = 2.0
 
