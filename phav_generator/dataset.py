@@ -31,7 +31,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
-from phav_generator.faults import KILL_AT_ENV, crash_point, task_delay
+from phav_generator.faults import armed, crash_point, task_delay
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write
@@ -224,7 +224,7 @@ class Journal:
         line = (canonical_json({"kind": kind, "record": record}) + "\n").encode("utf-8")
         self._lines += 1
         with open(self.path, "ab") as fh:
-            if os.environ.get(KILL_AT_ENV) == f"journal:{self._lines}":
+            if armed(f"journal:{self._lines}"):
                 fh.write(line[: len(line) // 2])
                 fh.flush()
                 crash_point(f"journal:{self._lines}")

@@ -26,9 +26,14 @@ KILL_AT_ENV = "PHAV_FAULT_KILL_AT"
 DELAY_ENV = "PHAV_FAULT_DELAY_S"
 
 
+def armed(name: str) -> bool:
+    """Whether ``PHAV_FAULT_KILL_AT`` names this point (a writer may tear its write first)."""
+    return os.environ.get(KILL_AT_ENV) == name
+
+
 def crash_point(name: str) -> None:
     """SIGKILL this process if ``PHAV_FAULT_KILL_AT`` names this point."""
-    if os.environ.get(KILL_AT_ENV) == name:
+    if armed(name):
         os.kill(os.getpid(), signal.SIGKILL)
 
 
