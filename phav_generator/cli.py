@@ -39,7 +39,7 @@ BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "generation", "valid
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 EngineOption = Annotated[
-    str, typer.Option("--engine", help="local (a process pool of --workers) or ray (pip install 'phav[ray]').")
+    str, typer.Option("--engine", help="local (a process pool of --workers) or ray (pip install 'phav\\[ray]').")
 ]
 AddressOption = Annotated[
     str | None,
@@ -355,10 +355,9 @@ def generate(
     engine: EngineOption = "local",
     address: AddressOption = None,
 ) -> None:
-    """Sample N recipes from θ and render them into WebDataset shards with metadata and a manifest.
-
-    Rerun the same command on the same --out to resume an interrupted run: finished videos
-    and shards (recorded in its journal) are kept, and the result is byte for byte the
+    """Sample N recipes from θ and render them into WebDataset shards with metadata and a
+    manifest. Rerun the same command on the same --out to resume an interrupted run: the
+    videos and shards its journal records are kept, and the result is byte for byte the
     uninterrupted one."""
     from phav_generator.dataset import chunk, write_dataset
     from phav_generator.sampling import sample_recipes
