@@ -280,3 +280,43 @@ def mean_frames_per_video(theta: Theta, *, seed: int, n: int = 4000) -> float:
     from phav_generator.sampling import sample_recipes
 
     return float(np.mean([r.n_frames for r in sample_recipes(theta, n=n, seed=seed)]))
+
+
+def machine_lines() -> list[str]:
+    """Markdown rows naming the machine and renderer the numbers were measured on."""
+    import os
+    import platform
+
+    from phav_generator.dataset import renderer_fingerprint
+    from phav_generator.render.gl import gl_context, gl_strings
+
+    ctx = gl_context()
+    try:
+        fp = renderer_fingerprint(gl_strings(ctx))
+    finally:
+        ctx.release()
+    memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 1024**3
+    versions = ", ".join(f"{k} {v}" for k, v in sorted(fp.versions.items()))
+    return [
+        "| | |",
+        "|---|---|",
+        f"| CPU | {fp.cpu_model}, {os.cpu_count()} logical cores |",
+        f"| memory | {memory:.0f} GiB |",
+        f"| system | {platform.system()} {platform.release()}, Python {platform.python_version()} |",
+        f"| GL | {fp.gl_vendor}; {fp.gl_renderer}; {fp.gl_version} |",
+        f"| versions | {versions} |",
+        f"| renderer fingerprint | `{fp.digest()}` |",
+    ]
+
+
+def benchmark_report(sections: dict[str, str], *, command: str) -> str:
+    """One Markdown page: the machine and renderer, then each bench section's tables as text."""
+    import datetime
+
+    lines = ["# Benchmarks", "", f"Made by `{command}` on {datetime.date.today().isoformat()}.", "",
+             "Numbers depend on the machine and renderer below (the fingerprint names everything the pixels",
+             "depend on: same fingerprint, same pixels). Rerun the command to measure yours.", "",
+             *machine_lines()]  # fmt: skip
+    for name, text in sections.items():
+        lines += ["", f"## {name}", "", "```", *(line.rstrip() for line in text.rstrip().splitlines()), "```"]
+    return "\n".join(lines) + "\n"

@@ -489,6 +489,10 @@ def bench(
         int, typer.Option("--generation-videos", min=1, help="First N phav-v1 recipes generated per worker count.")
     ] = 8,
     engine: EngineOption = "local",
+    report: Annotated[
+        Path | None,
+        typer.Option("--report", help="Also write the sections as one Markdown report (e.g. docs/benchmarks.md)."),
+    ] = None,
 ) -> None:
     """Speed against error: sampling (throughput, Parquet size, distance from θ), physics
     (timestep against joint error and ms per frame), the action probe (how recognisable
@@ -496,29 +500,45 @@ def bench(
     against edge error), generation (frames/s with 1 and 2 workers, byte-identical, and
     the projected wall time of a PHAV-sized run), validation (frames/s per check against
     generation, detection against --sample) and training (clips/s per stream, test accuracy against minutes)."""
-    from phav_generator.bench import bench_sampling
-
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
     unknown = sorted(set(chosen) - set(BENCH_SECTIONS))
     if unknown:
         choices = ", ".join(BENCH_SECTIONS)
         raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
     theta = load_theta("phav-v1")
-    if "physics" in chosen:
-        _bench_physics_table(theta, seed=seed, clips=physics_clips)
-    if "probe" in chosen:
-        _bench_probe_table(theta, seed=seed, clips=probe_clips)
-    if "render" in chosen:
-        _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames)
-    if "generation" in chosen:
-        _bench_generation_table(theta, seed=seed, videos=generation_videos, engine=engine)
-    if "validation" in chosen:
-        _bench_validation_tables(seed=seed, videos=validation_videos, trials=validation_trials, out_dir=out_dir)
-    if "training" in chosen:
-        _bench_training_tables(data=training_data, videos=training_videos, epochs=training_epochs, seed=seed,
-                               out_dir=out_dir)  # fmt: skip
-    if "sampling" not in chosen:
-        return
+    runners = {
+        "sampling": lambda: _bench_sampling_table(theta, n=n, seed=seed, out_dir=out_dir),
+        "physics": lambda: _bench_physics_table(theta, seed=seed, clips=physics_clips),
+        "probe": lambda: _bench_probe_table(theta, seed=seed, clips=probe_clips),
+        "render": lambda: _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames),
+        "generation": lambda: _bench_generation_table(theta, seed=seed, videos=generation_videos, engine=engine),
+        "validation": lambda: _bench_validation_tables(seed=seed, videos=validation_videos, trials=validation_trials,
+                                                       out_dir=out_dir),
+        "training": lambda: _bench_training_tables(data=training_data, videos=training_videos, epochs=training_epochs,
+                                                   seed=seed, out_dir=out_dir),
+    }  # fmt: skip
+    recorded: dict[str, str] = {}
+    console.record = report is not None
+    try:
+        for section in BENCH_SECTIONS:  # a fixed order, whatever order --sections names them in
+            if section in chosen:
+                runners[section]()
+                if report is not None:
+                    recorded[section] = console.export_text(clear=True)
+    finally:
+        console.record = False
+    if report is not None:
+        from phav_generator.bench import benchmark_report
+
+        command = "phav bench --sections " + ",".join(s for s in BENCH_SECTIONS if s in chosen)
+        with atomic_write(report) as tmp:
+            tmp.write_text(benchmark_report(recorded, command=command), encoding="utf-8")
+        console.print(f"wrote {escape(str(report))}")
+
+
+def _bench_sampling_table(theta: Theta, *, n: int, seed: int, out_dir: Path | None) -> None:
+    from phav_generator.bench import bench_sampling
+
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
     table = Table(title=f"sampling (θ {theta.name}, one process)", title_justify="left")
     for col in ("recipes", "recipes/s", "µs/recipe", "Parquet bytes", "bytes/recipe",

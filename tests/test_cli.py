@@ -45,9 +45,20 @@ def test_usage_errors_exit_2_without_traceback(tmp_path):
     assert not (tmp_path / "x.parquet").exists()
 
 
-def test_bench_reports_speed_against_error():
-    result = run_cli("bench", "--n", "400", "--sections", "sampling")
+def test_bench_reports_speed_against_error(tmp_path):
+    report = tmp_path / "benchmarks.md"
+    result = run_cli("bench", "--n", "400", "--sections", "sampling", "--report", str(report))
     assert result.returncode == 0, result.stderr
+    # The Markdown report: the machine and renderer, then the section's table as printed.
+    text = report.read_text(encoding="utf-8")
+    assert text.startswith("# Benchmarks\n") and "`phav bench --sections sampling`" in text
+    fingerprint = next(line for line in text.splitlines() if line.startswith("| renderer fingerprint |"))
+    assert len(fingerprint.split("`")[1]) == 64
+    gl = next(line for line in text.splitlines() if line.startswith("| GL | "))
+    assert gl.count(";") == 2 and len(gl) > 20  # vendor; renderer; version
+    section = text.split("## sampling\n", 1)[1]
+    printed = [line.rstrip() for line in result.stdout.splitlines() if line.startswith("│")]
+    assert printed and all(line in section for line in printed)
     header = next(line for line in result.stdout.splitlines() if "recipes/s" in line)
     columns = [c.strip() for c in header.strip("┃ ").split("┃")]
     assert columns[:4] == ["recipes", "recipes/s", "µs/recipe", "Parquet bytes"]
