@@ -257,7 +257,7 @@ def bench_generation(
 ) -> list[GenerationRun]:
     """Frames per second of whole-dataset generation (render, encode, shards, tables,
     manifest) for each worker count; every run must give the first run's bytes."""
-    from phav_generator.dataset import chunk, write_dataset
+    from phav_generator.dataset import DEFAULT_SHARD_SIZE, chunk, write_dataset
 
     frames = sum(r.n_frames for r in recipes)
     runs: list[GenerationRun] = []
@@ -266,8 +266,8 @@ def bench_generation(
         for w in workers:
             out = Path(tmp) / f"w{w}"
             start = time.perf_counter()
-            write_dataset(chunk(recipes, 16), out, name="bench", theta=theta, dataset_seed=seed, workers=w,
-                          engine=engine)  # fmt: skip
+            write_dataset(chunk(recipes, DEFAULT_SHARD_SIZE), out, name="bench", theta=theta, dataset_seed=seed,
+                          workers=w, engine=engine)  # fmt: skip
             seconds = time.perf_counter() - start
             files = {p.name: p.read_bytes() for p in sorted(out.iterdir()) if p.is_file()}
             first = files if first is None else first

@@ -66,8 +66,7 @@ def run_on_ray(
         started = True
     try:
         render = ray.remote(num_cpus=1, max_retries=0)(_render)
-        refs = {render.remote(t, str(out)): t for t in tasks}
-        pending = list(refs)
+        pending = [render.remote(t, str(out)) for t in tasks]
         while pending:
             done, pending = ray.wait(pending, num_returns=1, timeout=1.0)
             for ref in done:

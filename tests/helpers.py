@@ -43,3 +43,8 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[
         cwd=cwd,
         env={"COLUMNS": "200", "PATH": ""},
     )
+
+
+def file_bytes(folder: Path) -> dict[str, bytes]:
+    """Every file directly in ``folder``, by name: two datasets compare byte for byte."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}

@@ -75,6 +75,10 @@ def tar_end(members_bytes: int) -> bytes:
     return tarfile.NUL * (2 * tarfile.BLOCKSIZE + (-end % tarfile.RECORDSIZE))
 
 
+#: Bytes copied at a time when parts are joined into a shard.
+_COPY_CHUNK = 1 << 20
+
+
 class ShardWriter:
     """Tar members in order, written straight to a binary file (no end-of-archive blocks:
     a video's members are a *part* that ``assemble_shard`` joins with others)."""
@@ -91,6 +95,13 @@ class ShardWriter:
         member = tar_member(name, data)
         self._sink.write(member)
         self.size += len(member)
+
+    def add_part(self, path: Path) -> None:
+        """Copy a video's part (members written by another ``ShardWriter``) in, as is."""
+        with open(path, "rb") as src:
+            while chunk := src.read(_COPY_CHUNK):
+                self._sink.write(chunk)
+                self.size += len(chunk)
 
     def add_frame(self, video_id: str, frame: int, modalities: dict, frame_meta: bytes) -> None:
         """One WebDataset sample ``{video_id}/{frame:05d}``: six PNGs and the json metadata."""
@@ -120,10 +131,6 @@ def open_shard(path: str | Path) -> Iterator[tuple[ShardWriter, ShardDigest]]:
         digest.bytes = sink.size
 
 
-#: Bytes copied at a time when parts are joined into a shard.
-_COPY_CHUNK = 1 << 20
-
-
 def assemble_shard(
     parts: Sequence[Path], path: str | Path, *, checkpoint: Callable[[int], None] | None = None
 ) -> ShardDigest:
@@ -131,18 +138,9 @@ def assemble_shard(
 
     ``checkpoint(k)`` runs after the k-th part is copied (crash-injection tests use it).
     """
-    digest = ShardDigest()
-    with atomic_write(path) as tmp, open(tmp, "wb") as fh:
-        sink = _HashingWriter(fh)
-        size = 0
+    with open_shard(path) as (writer, digest):
         for k, part in enumerate(parts):
-            with open(part, "rb") as src:
-                while chunk := src.read(_COPY_CHUNK):
-                    sink.write(chunk)
-                    size += len(chunk)
+            writer.add_part(part)
             if checkpoint is not None:
                 checkpoint(k)
-        sink.write(tar_end(size))
-        digest.sha256 = sink.sha256.hexdigest()
-        digest.bytes = sink.size
     return digest

@@ -19,6 +19,7 @@ from phav_generator.faults import KILL_AT_ENV
 from phav_generator.sampling import sample_recipes
 from phav_spec.errors import PhavUserError
 from phav_spec.theta import load_theta
+from tests.helpers import file_bytes
 
 SEED = 4
 ARGS = ("--theta", "phav-v1-short", "--videos", "3", "--seed", str(SEED), "--shard-size", "2", "--name", "demo")
@@ -39,17 +40,13 @@ def _generate(out: Path, *extra: str, kill_at: str | None = None, fsize: int | N
     )  # fmt: skip
 
 
-def _files(out: Path) -> dict[str, bytes]:
-    return {p.name: p.read_bytes() for p in sorted(out.iterdir()) if p.is_file()}
-
-
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory) -> dict[str, bytes]:
     """Every file of an uninterrupted run."""
     out = tmp_path_factory.mktemp("ref") / "data"
     result = _generate(out)
     assert result.returncode == 0, result.stderr
-    return _files(out)
+    return file_bytes(out)
 
 
 def test_sigkill_anywhere_then_resume_gives_the_uninterrupted_dataset(reference, tmp_path):
@@ -68,7 +65,7 @@ def test_sigkill_anywhere_then_resume_gives_the_uninterrupted_dataset(reference,
             assert (out / shard).exists()
     finished = _generate(out)
     assert finished.returncode == 0, finished.stderr
-    assert _files(out) == reference
+    assert file_bytes(out) == reference
     assert not (out / WORK_DIR).exists()
 
 
@@ -78,7 +75,7 @@ def test_a_killed_worker_is_a_one_line_error_and_the_rerun_resumes(reference, tm
     assert result.returncode == 2
     assert "worker process died" in result.stderr and "Traceback" not in result.stderr
     assert _generate(out, "--workers", "2").returncode == 0
-    assert _files(out) == reference
+    assert file_bytes(out) == reference
 
 
 def test_a_file_size_limit_is_a_clear_error_that_keeps_finished_videos(reference, tmp_path):
@@ -91,7 +88,7 @@ def test_a_file_size_limit_is_a_clear_error_that_keeps_finished_videos(reference
     kept = Journal(out / WORK_DIR / JOURNAL_FILE)
     assert set(kept.videos) >= {"v000000", "v000001"} and not kept.shards
     assert _generate(out).returncode == 0
-    assert _files(out) == reference
+    assert file_bytes(out) == reference
 
 
 def test_a_full_disk_is_a_clear_error_that_keeps_finished_videos(monkeypatch, tmp_path):

@@ -229,3 +229,30 @@ def test_preview_sheets_all_modalities_and_a_gif(dataset, recipes, tmp_path):
     assert gif.n_frames == recipes[1].n_frames
     result = run_cli("preview", str(dataset), "--video", "v009999", "--out", str(out))
     assert result.returncode == 2 and "v009999" in result.stderr
+
+
+def test_joined_parts_are_the_tar_tarfile_writes(tmp_path):
+    """Video parts joined into a shard give the bytes one tarfile pass over the same members
+    gives (header, padding, end-of-archive blocks and record padding included)."""
+    import io
+
+    from phav_generator.io.shards import TAR_MODE, TAR_MTIME, assemble_shard, open_part
+
+    rng = np.random.default_rng(1)
+    members, parts = [], []
+    for v in range(3):
+        parts.append(tmp_path / f"v{v}.tar.part")
+        with open_part(parts[-1]) as part:
+            for j in range(5):  # sizes across block boundaries, empty members included
+                name, data = f"v{v:06d}/{j:05d}.x", rng.bytes(int(rng.integers(0, 3000)))
+                part.add(name, data)
+                members.append((name, data))
+    digest = assemble_shard(parts, tmp_path / "joined.tar")
+    expected = io.BytesIO()
+    with tarfile.open(fileobj=expected, mode="w", format=tarfile.USTAR_FORMAT) as tar:
+        for name, data in members:
+            info = tarfile.TarInfo(name)
+            info.size, info.mtime, info.mode = len(data), TAR_MTIME, TAR_MODE
+            tar.addfile(info, io.BytesIO(data))
+    assert (tmp_path / "joined.tar").read_bytes() == expected.getvalue()
+    assert digest.bytes == len(expected.getvalue())

@@ -10,12 +10,9 @@ from phav_generator.faults import DELAY_ENV, delay_for
 from phav_generator.sampling import sample_recipes
 from phav_spec.errors import PhavUserError
 from phav_spec.theta import load_theta
+from tests.helpers import file_bytes
 
 SEED = 6
-
-
-def _files(out):
-    return {p.name: p.read_bytes() for p in sorted(out.iterdir()) if p.is_file()}
 
 
 def test_ray_and_the_local_pool_give_identical_datasets(tmp_path, monkeypatch):
@@ -30,7 +27,7 @@ def test_ray_and_the_local_pool_give_identical_datasets(tmp_path, monkeypatch):
     ray = write_dataset(shards, tmp_path / "ray", name="demo", theta=theta, dataset_seed=SEED, workers=2,
                         engine="ray")  # fmt: skip
     assert ray.manifest == local.manifest
-    assert _files(tmp_path / "ray") == _files(tmp_path / "local")
+    assert file_bytes(tmp_path / "ray") == file_bytes(tmp_path / "local")
 
 
 def test_an_unknown_engine_is_a_one_line_error(tmp_path):
