@@ -11,7 +11,7 @@ $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	# torch first, pinned: the machine's local CPU wheel (a bare `torch` pulls GBs of CUDA).
 	$(PY) -m pip install --quiet torch==2.13.0
-	$(PY) -m pip install --quiet -e '.[dev,train,ray]'
+	$(PY) -m pip install --quiet -e '.[dev,train,ray,croissant]'
 	touch $@
 
 install: $(STAMP)

@@ -405,7 +405,7 @@ def regenerate(
         result = write_dataset(plan.shards, out, name=plan.name, theta=plan.theta, dataset_seed=plan.dataset_seed,
                                workers=workers, progress=progress, shard_names=plan.shard_names, engine=engine,
                                address=address)  # fmt: skip
-    report = compare_hashes(plan.expected, result.manifest)
+    report = compare_hashes(plan.expected, result.manifest, out=out, release=plan.release)
     console.print(f"rebuilt {plan.n_videos} video(s) into {escape(str(out))}")
     if plan.expected is None:
         console.print("no manifest beside the source: nothing to compare (hashes are in the new manifest.json)")
@@ -414,6 +414,54 @@ def regenerate(
     for line in report.mismatches:
         console.print(f"  [red]mismatch[/red] {escape(line)}")
     if report.mismatches:
+        raise typer.Exit(EXIT_FINDINGS)
+
+
+@app.command()
+def release(
+    source: Annotated[Path, typer.Argument(help="A finished dataset directory (phav generate's --out).")],
+    out: Annotated[Path, typer.Option("--out", help="Release directory (a rerun resumes it).")],
+    recipes_only: Annotated[
+        bool, typer.Option("--recipes-only", help="Leave out the pixels and metadata tables: users regenerate them.")
+    ] = False,
+    license: Annotated[str, typer.Option("--license", help="The data's license (SPDX id or URL).")] = "CC-BY-4.0",
+    url: Annotated[str | None, typer.Option("--url", help="Where the release will be published.")] = None,
+    date: Annotated[str | None, typer.Option("--date", help="Publication date, YYYY-MM-DD.")] = None,
+) -> None:
+    """Pack a dataset for publication: its files (hard links where possible), release.json with
+    every file's sha256, a dataset card (README.md with θ, statistics and histograms) and a
+    Croissant description (croissant.json). --recipes-only ships recipes, θ and the manifest
+    alone; `phav regenerate REL/manifest.json` rebuilds the rest and checks every hash."""
+    from rich.progress import DownloadColumn, TransferSpeedColumn
+
+    from phav_generator.card import check_croissant
+    from phav_generator.release import CROISSANT_FILE, make_release
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), DownloadColumn(), TransferSpeedColumn(),
+                  console=console, transient=True) as bar:  # fmt: skip
+
+        def progress(description: str, total: int, bar: Progress = bar):
+            task = bar.add_task(description, total=total)
+            return lambda n: bar.advance(task, n)
+
+        result = make_release(source, out, recipes_only=recipes_only, license=license, url=url, date=date,
+                              progress=progress)  # fmt: skip
+    index = result.index
+    kind = "recipe-only release" if index.recipes_only else "release"
+    kept = f" ({result.kept} file(s) already in place)" if result.kept else ""
+    console.print(
+        f"wrote the {kind} of {escape(index.name)} to {escape(str(out))}{kept}: {result.release_bytes:,} bytes, "
+        f"{result.share_of_full:.2%} of the full release's {index.full_bytes:,}"
+    )
+    issues = check_croissant(out / CROISSANT_FILE)
+    if issues is None:
+        console.print("croissant.json not checked: pip install 'phav\\[croissant]' to validate it")
+        return
+    errors, warnings = issues
+    console.print(f"croissant.json: mlcroissant finds {len(errors)} error(s), {len(warnings)} warning(s)")
+    for line in errors + warnings:
+        console.print(f"  {escape(line)}", soft_wrap=True)
+    if errors:
         raise typer.Exit(EXIT_FINDINGS)
 
 

@@ -1,4 +1,5 @@
-"""The Ray engine: the same video tasks as the local pool, run as Ray tasks on a cluster.
+"""The Ray engine: the same video tasks as the local pool, run as Ray tasks on a cluster,
+and a process-pool stand-in on Ray for the validator's shard scans.
 
 Workers render into the output directory themselves, so every node must see it at the same
 path (a shared or cluster filesystem); the driver journals each video and joins the shards
@@ -8,7 +9,9 @@ in which tasks finish. Ray is an optional extra: ``pip install 'phav[ray]'``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import contextlib
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Future
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +36,31 @@ def _render(task: Any, out: str) -> dict[str, Any]:
     return render_part(task, Path(out))
 
 
+@contextlib.contextmanager
+def ray_session(workers: int, address: str | None) -> Iterator[Any]:
+    """Ray, connected: to the cluster at ``address``, else to a local Ray with ``workers``
+    CPUs started here and stopped on exit (an already initialised Ray is used as it is)."""
+    ray = _require_ray()
+    if ray.is_initialized():
+        yield ray
+        return
+    env = fault_env()
+    options: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
+                               "runtime_env": {"env_vars": env} if env else None}  # fmt: skip
+    if address:
+        options["address"] = address
+    else:
+        options.update(num_cpus=workers, object_store_memory=LOCAL_OBJECT_STORE_BYTES)
+    try:
+        ray.init(**options)
+    except ConnectionError as e:
+        raise PhavUserError(f"cannot reach the Ray cluster: {e}", source=address, field="--address") from None
+    try:
+        yield ray
+    finally:
+        ray.shutdown()
+
+
 def run_on_ray(
     tasks: Sequence[Any],
     out: Path,
@@ -47,24 +75,9 @@ def run_on_ray(
     With ``address`` the tasks go to that cluster; otherwise a local Ray with ``workers``
     CPUs is started for the run and stopped after it.
     """
-    ray = _require_ray()
     if not tasks:
         return
-    started = False
-    if not ray.is_initialized():
-        env = fault_env()
-        options: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
-                                   "runtime_env": {"env_vars": env} if env else None}  # fmt: skip
-        if address:
-            options["address"] = address
-        else:
-            options.update(num_cpus=workers, object_store_memory=LOCAL_OBJECT_STORE_BYTES)
-        try:
-            ray.init(**options)
-        except ConnectionError as e:
-            raise PhavUserError(f"cannot reach the Ray cluster: {e}", source=address, field="--address") from None
-        started = True
-    try:
+    with ray_session(workers, address) as ray:
         render = ray.remote(num_cpus=1, max_retries=0)(_render)
         pending = [render.remote(t, str(out)) for t in tasks]
         while pending:
@@ -74,9 +87,37 @@ def run_on_ray(
                 if progress is not None:
                     progress(1, record["n_frames"])
                 finished(record)
-    finally:
-        if started:
-            ray.shutdown()
+
+
+_initialised: set[str] = set()
+
+
+def _call(fn: Callable[..., Any], initializer: Callable[[], None] | None, *args: Any) -> Any:
+    """``fn(*args)`` in a Ray worker, after ``initializer`` has run once in that process."""
+    if initializer is not None:
+        key = f"{initializer.__module__}.{initializer.__qualname__}"
+        if key not in _initialised:
+            initializer()
+            _initialised.add(key)
+    return fn(*args)
+
+
+class RayPool:
+    """What the validator uses of ``ProcessPoolExecutor`` (``submit`` → a Future, and
+    ``shutdown``), with Ray tasks of one CPU as the workers. ``initializer`` runs once in
+    each worker process before its first task, as the executor's would."""
+
+    def __init__(self, workers: int, address: str | None, initializer: Callable[[], None] | None = None):
+        self._session = ray_session(workers, address)
+        ray = self._session.__enter__()
+        self._remote = ray.remote(num_cpus=1, max_retries=0)(_call)
+        self._initializer = initializer
+
+    def submit(self, fn: Callable[..., Any], *args: Any) -> Future[Any]:
+        return self._remote.remote(fn, self._initializer, *args).future()
+
+    def shutdown(self, wait: bool = True, cancel_futures: bool = False) -> None:
+        self._session.__exit__(None, None, None)
 
 
 def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:

@@ -2,8 +2,10 @@
 
 The source is a dataset directory, its ``manifest.json``, a ``recipes.parquet`` or one recipe
 JSON. When a manifest is found, shards keep its names and membership and every rebuilt
-video's hashes are compared with it: exactly when the renderer fingerprints are equal
-(DESIGN.md: same fingerprint → identical pixels), and the report says when they are not.
+video's hashes are compared with it, and every rebuilt shard's sha256; a release's
+``release.json`` adds the sha256 of the metadata tables the renderer wrote.
+Equality is expected exactly when the renderer fingerprints are equal (DESIGN.md: same
+fingerprint → identical pixels), and the report says when they are not.
 """
 
 from __future__ import annotations
@@ -12,12 +14,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from phav_generator.dataset import DEFAULT_SHARD_SIZE, chunk
+from phav_generator.release import RELEASE_FILE, ReleaseIndex, file_sha256, load_release_index
 from phav_spec.errors import PhavUserError
 from phav_spec.files import parse_json_object, read_text
 from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.recipe import Recipe, load_recipe
 from phav_spec.recipe_table import read_recipe_table
-from phav_spec.theta import Theta
+from phav_spec.theta import Theta, load_theta
 
 
 @dataclass(frozen=True)
@@ -30,6 +33,8 @@ class RegenerationPlan:
     theta: Theta | None
     dataset_seed: int
     expected: DatasetManifest | None
+    #: The release's ``release.json`` when the source is a release: every file's sha256.
+    release: ReleaseIndex | None = None
 
     @property
     def n_videos(self) -> int:
@@ -61,6 +66,16 @@ def _locate(source: Path) -> tuple[Path | None, Path | None, Path | None]:
                         source=str(source))  # fmt: skip
 
 
+def _theta_beside(table_path: Path, theta: Theta | None) -> Theta | None:
+    """The dataset's ``theta.yaml`` when it is the table's θ: rewritten, it keeps its bytes
+    (the table stores θ as canonical JSON, whose key order differs)."""
+    path = table_path.parent / "theta.yaml"
+    if theta is None or not path.exists():
+        return theta
+    beside = load_theta(path)
+    return beside if beside.hash == theta.hash else theta
+
+
 def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) -> RegenerationPlan:
     """Resolve a source into shards of recipes to rebuild, optionally only some videos."""
     manifest_path, table_path, recipe_path = _locate(Path(source))
@@ -77,7 +92,7 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
     if unknown:
         raise PhavUserError(f"no video {unknown[0]!r} in {len(by_id)} recipes", source=str(table_path), field="--video")
     keep = set(wanted)
-    theta, seed = table.theta, table.dataset_seed or 0
+    theta, seed = _theta_beside(table_path, table.theta), table.dataset_seed or 0
     if manifest_path is None:
         recipes = [by_id[v] for v in by_id if v in keep]
         return RegenerationPlan(chunk(recipes, DEFAULT_SHARD_SIZE), None, "phav", theta, seed, None)
@@ -91,7 +106,9 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
         if chosen:
             shards.append(chosen)
             names.append(shard.name)
-    return RegenerationPlan(shards, names, manifest.name, theta, seed, manifest)
+    release_path = manifest_path.parent / RELEASE_FILE
+    release = load_release_index(release_path) if release_path.exists() else None
+    return RegenerationPlan(shards, names, manifest.name, theta, seed, manifest, release)
 
 
 @dataclass
@@ -102,6 +119,9 @@ class HashReport:
     matched: int = 0
     exact: bool = True  # renderer fingerprints equal: bit-exact equality is expected
     mismatches: list[str] = field(default_factory=list)
+    #: Whole files (shards, and a release's other files) compared by sha256, and matched.
+    files_compared: int = 0
+    files_matched: int = 0
 
     def summary(self) -> str:
         basis = (
@@ -109,11 +129,27 @@ class HashReport:
             if self.exact
             else "different renderer fingerprint: pixels may legitimately differ"
         )
-        return f"content hashes: {self.matched}/{self.compared} videos match ({basis})"
+        files = f"; files: {self.files_matched}/{self.files_compared} sha256 match" if self.files_compared else ""
+        return f"content hashes: {self.matched}/{self.compared} videos match{files} ({basis})"
+
+    def _file(self, name: str, expected: str, got: str) -> None:
+        self.files_compared += 1
+        if expected == got:
+            self.files_matched += 1
+        else:
+            self.mismatches.append(f"{name}: sha256 {got[:12]}…, expected {expected[:12]}…")
 
 
-def compare_hashes(expected: DatasetManifest | None, rebuilt: DatasetManifest) -> HashReport:
-    """Per video and modality, which rebuilt content hashes differ from the expected ones."""
+def compare_hashes(
+    expected: DatasetManifest | None,
+    rebuilt: DatasetManifest,
+    *,
+    out: Path | None = None,
+    release: ReleaseIndex | None = None,
+) -> HashReport:
+    """Per video and modality, which rebuilt content hashes differ from the expected ones;
+    then the sha256 of every rebuilt shard holding the same videos as the expected one and,
+    when every video was rebuilt into ``out``, of the metadata tables ``release`` lists."""
     report = HashReport()
     if expected is None:
         return report
@@ -131,4 +167,13 @@ def compare_hashes(expected: DatasetManifest | None, rebuilt: DatasetManifest) -
             continue
         differ = [m for m in sorted(video.modality_hashes) if old.modality_hashes.get(m) != video.modality_hashes[m]]
         report.mismatches.append(f"{video.video_id}: {', '.join(differ) or 'content hash'}")
+    shards = {s.name: s for s in expected.shards}
+    for shard in rebuilt.shards:
+        old_shard = shards.get(shard.name)
+        if old_shard is not None and old_shard.video_ids == shard.video_ids:
+            report._file(shard.name, old_shard.sha256, shard.sha256)
+    if release is not None and out is not None and len(rebuilt.videos) == len(expected.videos):
+        for f in release.files:
+            if f.kind == "metadata":  # renderer outputs (recipes and θ are the inputs)
+                report._file(f.path, f.sha256, file_sha256(out / f.path))
     return report

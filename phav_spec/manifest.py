@@ -8,7 +8,6 @@ decides whether pixels must match bit for bit (row "renderer of record").
 
 from __future__ import annotations
 
-import json
 import os
 from typing import Annotated, Any, Self
 
@@ -23,7 +22,7 @@ from pydantic import (
 )
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
-from phav_spec.canonical import canonical_json, sha256_hex
+from phav_spec.canonical import canonical_json, pretty_json, sha256_hex
 from phav_spec.encoding import MODALITIES, ModalityEncoding, video_content_hash
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, parse_json_object, read_text
@@ -53,11 +52,6 @@ ShardName = Annotated[str, StringConstraints(pattern=SHARD_NAME_PATTERN)]
 Sha256Hex = Annotated[str, StringConstraints(pattern=SHA256_PATTERN)]
 
 _CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-
-def _pretty_json(data: Any) -> str:
-    """Serialise JSON data deterministically for humans: sorted keys, indent 2, UTF-8 text."""
-    return json.dumps(data, sort_keys=True, indent=2, ensure_ascii=False, allow_nan=False)
 
 
 class RendererFingerprint(BaseModel):
@@ -270,6 +264,6 @@ def load_manifest(path: str | os.PathLike[str]) -> DatasetManifest:
 
 def dump_manifest(manifest: DatasetManifest, path: str | os.PathLike[str]) -> None:
     """Write ``manifest`` as canonical JSON (sorted keys, indent 2) atomically."""
-    text = _pretty_json(manifest.model_dump(mode="json")) + "\n"
+    text = pretty_json(manifest.model_dump(mode="json")) + "\n"
     with atomic_write(path) as tmp:
         tmp.write_text(text, encoding="utf-8", newline="\n")

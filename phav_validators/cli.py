@@ -77,9 +77,23 @@ def validate(
     shuffle_labels: Annotated[
         bool, typer.Option("--shuffle-labels", help="learnability control run: permute labels (must fail).")
     ] = False,
+    engine: Annotated[
+        str, typer.Option(help="local (a process pool of --workers) or ray (pip install 'phav\\[ray]').")
+    ] = "local",
+    address: Annotated[
+        str | None, typer.Option(help="Ray cluster address (default: a local Ray with --workers CPUs).")
+    ] = None,
+    regenerate_into: Annotated[
+        Path | None,
+        typer.Option(
+            help="Recipe-only release: regenerate its pixels here and keep them (default: a temporary "
+            "directory, deleted after)."
+        ),
+    ] = None,
 ) -> None:
     """Validate PHAV datasets: integrity, schema, encoding, distribution, failures,
-    consistency and reproducibility; and, when named, learnability (a small TSN is trained)."""
+    consistency and reproducibility; and, when named, learnability (a small TSN is trained).
+    A recipe-only release has the pixels its checks read regenerated first."""
     from phav_validators.learn.learnability import LearnOptions
     from phav_validators.report import write_html, write_json
     from phav_validators.scan import tune_allocator
@@ -91,6 +105,7 @@ def validate(
         budget=failure_budget,
         learn=LearnOptions(epochs=learn_epochs, budget_minutes=learn_minutes, seed=seed, threads=threads,
                            shuffle_labels=shuffle_labels, out_dir=learn_dir, workers=workers),
+        engine=engine, address=address, regenerate_into=regenerate_into,
     )  # fmt: skip
     inputs = resolve(paths)
     tune_allocator()  # this process scans too when --workers is 1

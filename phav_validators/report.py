@@ -60,16 +60,16 @@ def write_json(reports: Sequence[DatasetReport], path: Path) -> None:
         tmp.write_text(json.dumps(data, indent=2, sort_keys=True, ensure_ascii=False) + "\n", encoding="utf-8")
 
 
-def _histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], expected: Sequence[float]) -> str:
+def histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], expected: Sequence[float]) -> str:
     """Side-by-side bars of observed and expected shares per value (at most 40 values)."""
     rows = [(str(v), o, e) for v, o, e in zip(values, observed, expected, strict=True) if o > 0 or e > 0][:40]
     if not rows:
         return ""
     bar_w, gap, height, top = 9, 6, 120, 18
-    width = max(len(rows) * (2 * bar_w + gap) + 40, 240)
+    width = max(len(rows) * (2 * bar_w + gap) + 130, 240)  # room for the last rotated label
     peak = max(max(o, e) for _, o, e in rows) or 1.0
     parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height + top + 70}" '
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height + top + 100}" '
         'font-family="sans-serif" font-size="10">',
         f'<text x="4" y="12" font-weight="bold">{html.escape(title)}</text>',
     ]
@@ -142,7 +142,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
                 n = max(int(s.observed.sum()), 1)
                 shares = [float(o) / n for o in s.observed]
                 title = f"{s.variable} ({s.applies_to}, n = {n})"
-                out.append(_histogram_svg(title, s.values, shares, [float(e) for e in s.expected]))
+                out.append(histogram_svg(title, s.values, shares, [float(e) for e in s.expected]))
         frames = []
         for vid, _, _, reasons in r.worst_videos(MAX_FRAMES):
             if vid not in r.flagged_frames:

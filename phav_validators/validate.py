@@ -31,6 +31,7 @@ from phav_spec.recipe_table import RecipeTable, read_recipe_table
 from phav_spec.theta import Theta, load_theta
 from phav_validators.failures import DEFAULT_BUDGET
 from phav_validators.findings import CheckResult, Finding, Reason, Report, Status
+from phav_validators.regenerated import PIXEL_CHECKS, is_recipe_release, validate_release
 from phav_validators.scan import ShardJob, ShardScan, VideoExpect, VideoScan, scan_shard
 from phav_validators.source import CAMERAS, PEOPLE, THETA, DatasetInput
 
@@ -77,6 +78,11 @@ class Options:
     budget: float = DEFAULT_BUDGET
     #: Settings of the learnability check (None: its defaults).
     learn: LearnOptions | None = None
+    #: ``local`` (a process pool of ``workers``) or ``ray`` (Ray tasks; ``address`` names a cluster).
+    engine: str = "local"
+    address: str | None = None
+    #: Where a recipe-only release's pixels are regenerated (None: a temporary directory).
+    regenerate_into: Path | None = None
 
     def __post_init__(self) -> None:
         unknown = [c for c in self.checks if c not in ALL_CHECKS]
@@ -90,6 +96,8 @@ class Options:
             raise PhavUserError(f"must be at least 0, got {self.regenerate}", field="--regenerate")
         if not 0.0 <= self.budget <= 1.0:
             raise PhavUserError(f"must be in [0, 1], got {self.budget}", field="--failure-budget")
+        if self.engine not in ("local", "ray"):
+            raise PhavUserError(f"unknown engine {self.engine!r}; choose local or ray", field="--engine")
 
 
 @dataclass
@@ -301,8 +309,12 @@ def _ready() -> None:
     process still reads the dataset's sidecar files."""
 
 
-def _start_pool(workers: int) -> ProcessPoolExecutor:
-    """``workers`` spawned scanning processes, started now."""
+def _start_pool(workers: int, engine: str = "local", address: str | None = None) -> ProcessPoolExecutor:
+    """``workers`` spawned scanning processes, started now (Ray tasks with ``engine`` ray)."""
+    if engine == "ray":
+        from phav_generator.engines import RayPool
+
+        return RayPool(workers, address, initializer=_init_worker)  # type: ignore[return-value]
     mp = multiprocessing.get_context("spawn")
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=mp, initializer=_init_worker)
     for _ in range(workers):
@@ -490,9 +502,12 @@ def validate_dataset(
     """Run the chosen checks on one dataset; user errors (bad --theta) raise PhavUserError."""
     opts = options
     want = set(opts.checks)
+    if is_recipe_release(inp) and want & set(PIXEL_CHECKS):
+        return validate_release(inp, theta=theta, options=opts, progress=progress)
     scanning = not inp.recipes_only and bool(want & set(_SCAN_CHECKS))
     # Workers start first, so that their start-up overlaps reading the sidecar files.
-    pool = _start_pool(opts.workers) if scanning and opts.workers > 1 else None
+    parallel = opts.workers > 1 or opts.engine == "ray"
+    pool = _start_pool(opts.workers, opts.engine, opts.address) if scanning and parallel else None
     try:
         return _validate(inp, theta, opts, progress, scanning, pool)
     finally:

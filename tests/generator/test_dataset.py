@@ -214,7 +214,7 @@ def test_a_fresh_process_renders_the_same_manifest(dataset, tmp_path):
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
-    assert "3/3 videos match (same renderer fingerprint" in result.stdout
+    assert "3/3 videos match; files: 2/2 sha256 match (same renderer fingerprint" in result.stdout  # 2 shards
 
 
 def test_preview_sheets_all_modalities_and_a_gif(dataset, recipes, tmp_path):

@@ -1,0 +1,346 @@
+"""A release's descriptions: the dataset card (Markdown with SVG histograms) and Croissant.
+
+Both are pure functions of the dataset's manifest, recipes table, θ and release index, so
+one dataset always gets the same card and the same ``croissant.json``, byte for byte (no
+dates, no host names). Croissant 1.0 (https://mlcommons.org/croissant/) describes every
+file the release carries with its sha256 and the record sets a loader can read: the
+recipes, and in a full release the cameras, the people and each modality's frames.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections import Counter
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from phav_spec.expectations import duration_cdf
+
+if TYPE_CHECKING:
+    from phav_generator.release import ReleaseIndex
+    from phav_spec.encoding import ModalityEncoding
+    from phav_spec.manifest import DatasetManifest
+    from phav_spec.recipe_table import RecipeTable
+    from phav_spec.theta import Theta
+
+#: Variables whose observed-against-θ histograms the card shows (each one SVG file).
+CARD_VARIABLES = ("action", "environment", "weather", "day_phase", "camera", "variation", "human_model")
+#: Bins of the clip-length histogram between θ's shortest and longest clip.
+DURATION_BINS = 12
+CROISSANT_CONFORMS_TO = "http://mlcommons.org/croissant/1.0"
+#: The Croissant 1.0 JSON-LD context (the specification's, key for key).
+CROISSANT_CONTEXT: dict[str, Any] = {
+    "@language": "en",
+    "@vocab": "https://schema.org/",
+    "citeAs": "cr:citeAs",
+    "column": "cr:column",
+    "conformsTo": "dct:conformsTo",
+    "cr": "http://mlcommons.org/croissant/",
+    "rai": "http://mlcommons.org/croissant/RAI/",
+    "data": {"@id": "cr:data", "@type": "@json"},
+    "dataType": {"@id": "cr:dataType", "@type": "@vocab"},
+    "dct": "http://purl.org/dc/terms/",
+    "equivalentProperty": "cr:equivalentProperty",
+    "examples": {"@id": "cr:examples", "@type": "@json"},
+    "extract": "cr:extract",
+    "field": "cr:field",
+    "fileProperty": "cr:fileProperty",
+    "fileObject": "cr:fileObject",
+    "fileSet": "cr:fileSet",
+    "format": "cr:format",
+    "includes": "cr:includes",
+    "isLiveDataset": "cr:isLiveDataset",
+    "jsonPath": "cr:jsonPath",
+    "key": "cr:key",
+    "md5": "cr:md5",
+    "parentField": "cr:parentField",
+    "path": "cr:path",
+    "recordSet": "cr:recordSet",
+    "references": "cr:references",
+    "regex": "cr:regex",
+    "repeated": "cr:repeated",
+    "replace": "cr:replace",
+    "samplingRate": "cr:samplingRate",
+    "sc": "https://schema.org/",
+    "separator": "cr:separator",
+    "source": "cr:source",
+    "subField": "cr:subField",
+    "transform": "cr:transform",
+}
+_FORMATS = {".tar": "application/x-tar", ".parquet": "application/x-parquet", ".json": "application/json",
+            ".yaml": "application/yaml"}  # fmt: skip
+#: Recipe columns a Croissant loader reads, with their schema.org types.
+RECIPE_FIELDS = {"video_id": "sc:Text", "action": "sc:Text", "environment": "sc:Text", "human_model": "sc:Text",
+                 "weather": "sc:Text", "day_phase": "sc:Text", "variation": "sc:Text", "camera": "sc:Text",
+                 "base_motion": "sc:Text", "duration_s": "sc:Float", "n_frames": "sc:Integer",
+                 "clock_hour": "sc:Float", "recipe": "sc:Text"}  # fmt: skip
+CAMERA_FIELDS = {"video_id": "sc:Text", "frame": "sc:Integer", "time_s": "sc:Float", "fx": "sc:Float",
+                 "fy": "sc:Float", "cx": "sc:Float", "cy": "sc:Float"}  # fmt: skip
+PEOPLE_FIELDS = {"video_id": "sc:Text", "frame": "sc:Integer", "person_id": "sc:Integer", "role": "sc:Text",
+                 "human_model": "sc:Text", "pixels": "sc:Integer"}  # fmt: skip
+
+
+def _shares(counts: np.ndarray) -> list[float]:
+    total = max(float(counts.sum()), 1.0)
+    return [float(c) / total for c in counts]
+
+
+def histograms(table: RecipeTable, theta: Theta) -> dict[str, str]:
+    """SVG histograms, observed against θ's expectation, by file name (``action.svg``, …)."""
+    from phav_validators.distribution import check_distributions
+    from phav_validators.report import histogram_svg
+
+    columns = {name: table.column(name) for name in table.table.column_names}
+    result = check_distributions(columns, theta)
+    out = {}
+    for s in result.summaries:
+        if s.variable in CARD_VARIABLES:
+            title = f"{s.variable} (n = {int(s.observed.sum())}; blue observed, orange θ)"
+            out[f"{s.variable}.svg"] = histogram_svg(title, s.values, _shares(s.observed), list(map(float, s.expected)))
+    durations = np.asarray(columns["duration_s"], dtype=float)
+    edges = np.linspace(theta.durations.t_min, theta.durations.t_max, DURATION_BINS + 1)
+    observed, _ = np.histogram(np.clip(durations, edges[0], edges[-1]), bins=edges)
+    expected = np.diff(duration_cdf(theta)(edges))
+    labels = [f"{a:.2f}–{b:.2f} s" for a, b in itertools.pairwise(edges)]
+    title = f"clip length (n = {len(durations)}; blue observed, orange θ)"
+    out["duration_s.svg"] = histogram_svg(title, labels, _shares(observed), list(map(float, expected)))
+    return out
+
+
+def _bytes(n: int) -> str:
+    for unit in ("B", "KB", "MB", "GB", "TB"):
+        if n < 1000 or unit == "TB":
+            return f"{n:,} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1000  # type: ignore[assignment]
+    raise AssertionError
+
+
+def dataset_card(
+    manifest: DatasetManifest, table: RecipeTable, theta: Theta, index: ReleaseIndex, figures: list[str]
+) -> str:
+    """The release's README.md: what the data is, how to get and check its pixels, statistics,
+    histograms against θ, the θ itself, the files with their hashes, and how to cite."""
+    from phav_validators.distribution import check_distributions
+
+    columns = {name: table.column(name) for name in table.table.column_names}
+    fit = check_distributions(columns, theta)
+    n_frames = sum(v.n_frames for v in manifest.videos)
+    fps = theta.video.fps
+    rejected = sum(t.rejected for t in fit.tests)
+    r = manifest.renderer
+    lines = [
+        f"# {manifest.name}: procedural human action videos",
+        "",
+        f"{len(manifest.videos):,} videos, {n_frames:,} frames ({_span(n_frames / fps)} at {fps} fps), "
+        f"{theta.video.width}×{theta.video.height}, sampled from θ `{theta.name}` (hash `{theta.hash[:16]}…`) "
+        f"with dataset seed {manifest.dataset_seed} and rendered by phav {manifest.phav_version}, following the "
+        "PHAV paper (de Souza et al., CVPR 2017). Every frame has six modalities (below) and per-frame metadata.",
+        "",
+    ]
+    if index.recipes_only:
+        lines += [
+            "## This is a recipe-only release",
+            "",
+            f"It carries the recipes, θ and the manifest ({_bytes(index.included_bytes)}), not the pixels "
+            f"({_bytes(index.full_bytes)} in the full release). Rebuild them and check every hash:",
+            "",
+            "```",
+            "pip install phav",
+            "phav regenerate manifest.json --out DIR --workers N",
+            "phav-validate .            # regenerates what its checks need, then validates",
+            "```",
+            "",
+            "Pixels are bit-identical where the renderer fingerprint (below) is equal; elsewhere they may differ "
+            "in the last bits, and `phav regenerate` says which videos do.",
+            "",
+        ]
+    else:
+        lines += ["Check it: `phav-validate .` (integrity, encoding, distribution, failure cases, consistency, "
+                  "reproducibility).", ""]  # fmt: skip
+    lines += [
+        "## Modalities",
+        "",
+        "| name | file in each sample | type | description |",
+        "|---|---|---|---|",
+        *(
+            f"| {m.name} | `{m.key}` | {m.channels}×{m.dtype}{f' ({m.units})' if m.units else ''} | {m.description} |"
+            for m in manifest.modalities
+        ),
+        "",
+        "Shards are WebDataset tars; a sample is one frame keyed `{video_id}/{frame:05d}` with the files above and "
+        "its metadata (`.json`). `cameras.parquet` and `people.parquet` hold the per-frame cameras and people.",
+        "",
+        "## Statistics",
+        "",
+        f"- mean clip length {fit.mean_duration:.2f} s (θ expects {fit.expected_mean_duration:.2f} s)",
+        f"- {len(fit.tests)} goodness-of-fit tests of the recipes against θ: {rejected} rejected "
+        "(Holm, family-wise α = 0.001)",
+        f"- {len(manifest.shards)} shard(s); full release {_bytes(index.full_bytes)}",
+        "",
+        "| action | videos | frames |",
+        "|---|---:|---:|",
+    ]
+    actions = columns["action"]
+    frames_by_action: Counter[str] = Counter()
+    for action, n in zip(actions, columns["n_frames"], strict=True):
+        frames_by_action[action] += int(n)
+    for action, count in sorted(Counter(actions).items()):
+        lines.append(f"| {action} | {count} | {frames_by_action[action]:,} |")
+    lines += ["", "### Histograms: observed (blue) against θ's expectation (orange)", ""]
+    lines += [f"![{name.removesuffix('.svg')}](histograms/{name})" for name in figures]
+    if r is not None:
+        lines += [
+            "",
+            "## Renderer of record",
+            "",
+            f"{r.gl_renderer} ({r.gl_vendor}, OpenGL {r.gl_version}) on {r.cpu_model}; "
+            + ", ".join(f"{k} {v}" for k, v in sorted(r.versions.items()))
+            + f". Fingerprint digest `{r.digest()}`.",
+        ]
+    lines += [
+        "",
+        "## Files",
+        "",
+        "Every file of the full release; `release.json` has the same list, and the manifest each video's "
+        "per-modality content hashes.",
+        "",
+        "| file | bytes | sha256 | in this release |",
+        "|---|---:|---|---|",
+        *(
+            f"| {f.path} | {f.bytes:,} | `{f.sha256}` | {'yes' if f.included else 'no (regenerate)'} |"
+            for f in index.files
+        ),
+        "",
+        "## θ",
+        "",
+        "```yaml",
+        theta.to_yaml().rstrip(),
+        "```",
+        "",
+        "## License and citation",
+        "",
+        f"Data license: {index.license}. If you use this dataset, cite the paper whose generative model made it:",
+        "",
+        "```bibtex",
+        _citation(),
+        "```",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _span(seconds: float) -> str:
+    return f"{seconds / 3600:.1f} h" if seconds >= 3600 else f"{seconds / 60:.1f} min"
+
+
+def _citation() -> str:
+    from phav_generator.release import PHAV_CITATION
+
+    return PHAV_CITATION
+
+
+def _file_object(f: Any) -> dict[str, Any]:
+    suffix = "." + f.path.rsplit(".", 1)[-1]
+    return {"@type": "cr:FileObject", "@id": f.path, "name": f.path, "contentUrl": f.path,
+            "contentSize": f"{f.bytes} B", "encodingFormat": _FORMATS[suffix], "sha256": f.sha256}  # fmt: skip
+
+
+def _fields(record_set: str, file_id: str, columns: dict[str, str]) -> list[dict[str, Any]]:
+    return [{"@type": "cr:Field", "@id": f"{record_set}/{col}", "name": col, "dataType": kind,
+             "source": {"fileObject": {"@id": file_id}, "extract": {"column": col}}}
+            for col, kind in columns.items()]  # fmt: skip
+
+
+def _modality_note(m: ModalityEncoding) -> str:
+    """The modality's description, warning where PIL (Croissant loaders' decoder) loses bits."""
+    if m.dtype == "uint16" and m.channels == 3:
+        return f"{m.description}. 16-bit RGB PNG: PIL reduces it to 8 bits; decode the bytes with OpenCV"
+    return m.description
+
+
+def croissant(
+    manifest: DatasetManifest, table: RecipeTable, index: ReleaseIndex, *, url: str | None, date: str | None
+) -> dict[str, Any]:
+    """The release as Croissant 1.0 JSON-LD (``mlcroissant validate`` accepts it offline)."""
+    n_frames = sum(v.n_frames for v in manifest.videos)
+    carried = [f for f in index.files if f.included]
+    description = (
+        f"{len(manifest.videos)} procedural human action videos ({n_frames} frames) generated by phav "
+        f"{manifest.phav_version} from θ {table.theta.name if table.theta else 'unnamed'} with seed "
+        f"{manifest.dataset_seed}: RGB, raw RGB, semantic and instance segmentation, depth (cm) and forward flow."
+    )
+    if index.recipes_only:
+        description += (
+            " This recipe-only release carries recipes, θ and the manifest; "
+            "`phav regenerate manifest.json --out DIR` rebuilds the pixels and checks every hash."
+        )
+    distribution: list[dict[str, Any]] = [_file_object(f) for f in carried]
+    record_sets: list[dict[str, Any]] = [{
+        "@type": "cr:RecordSet", "@id": "recipes", "name": "recipes",
+        "description": "One procedural recipe per video: the sampled variables and the full recipe JSON.",
+        "key": {"@id": "recipes/video_id"},
+        "field": _fields("recipes", "recipes.parquet", RECIPE_FIELDS),
+    }]  # fmt: skip
+    if not index.recipes_only:
+        shards = [f.path for f in carried if f.kind == "shard"]
+        for m in manifest.modalities:
+            distribution.append({
+                "@type": "cr:FileSet", "@id": f"{m.name}-frames", "name": f"{m.name}-frames",
+                "containedIn": [{"@id": s} for s in shards], "encodingFormat": "image/png",
+                "includes": f"*/*.{m.key}",
+            })  # fmt: skip
+            record_sets.append({
+                "@type": "cr:RecordSet", "@id": m.name, "name": m.name, "description": _modality_note(m),
+                "field": [
+                    {"@type": "cr:Field", "@id": f"{m.name}/image", "name": "image", "dataType": "sc:ImageObject",
+                     "source": {"fileSet": {"@id": f"{m.name}-frames"}, "extract": {"fileProperty": "content"}}},
+                    {"@type": "cr:Field", "@id": f"{m.name}/key", "name": "key", "dataType": "sc:Text",
+                     "source": {"fileSet": {"@id": f"{m.name}-frames"}, "extract": {"fileProperty": "fullpath"},
+                                "transform": {"regex": r"^.*(v\d{6}/\d{5})\.[^/]*$"}}},
+                ],
+            })  # fmt: skip
+        record_sets.append({"@type": "cr:RecordSet", "@id": "cameras", "name": "cameras",
+                            "description": "Per frame: the camera's intrinsics (pixels).",
+                            "field": _fields("cameras", "cameras.parquet", CAMERA_FIELDS)})  # fmt: skip
+        record_sets.append({"@type": "cr:RecordSet", "@id": "people", "name": "people",
+                            "description": "Per frame and person: role, human model and visible pixels.",
+                            "field": _fields("people", "people.parquet", PEOPLE_FIELDS)})  # fmt: skip
+    out: dict[str, Any] = {
+        "@context": CROISSANT_CONTEXT,
+        "@type": "sc:Dataset",
+        "conformsTo": CROISSANT_CONFORMS_TO,
+        "name": manifest.name,
+        "description": description,
+        "license": index.license,
+        "version": "1.0.0",
+        "citeAs": _citation(),
+        "keywords": ["action recognition", "synthetic data", "procedural generation", "video", "PHAV"],
+        "isLiveDataset": False,
+        "distribution": distribution,
+        "recordSet": record_sets,
+    }
+    if url is not None:
+        out["url"] = url
+    if date is not None:
+        out["datePublished"] = date
+    return out
+
+
+def check_croissant(path: Path) -> tuple[list[str], list[str]] | None:
+    """(errors, warnings) of mlcroissant's offline validation of ``path``, None when
+    mlcroissant is not installed (``pip install 'phav[croissant]'``)."""
+    try:
+        import mlcroissant as mlc
+    except ImportError:
+        return None
+    import logging
+
+    logging.getLogger("absl").setLevel(logging.ERROR)  # the issues come back as values
+    try:
+        ds = mlc.Dataset(str(path))
+    except mlc.ValidationError as e:
+        return [str(e)], []
+    issues = ds.metadata.ctx.issues
+    return sorted(issues.errors), sorted(issues.warnings)

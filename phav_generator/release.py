@@ -1,0 +1,289 @@
+"""``phav release``: a dataset directory packed for publication, in full or as recipes alone.
+
+A release holds the dataset's files (shards, ``recipes.parquet``, ``theta.yaml``,
+``manifest.json``, ``cameras.parquet``, ``people.parquet``), a dataset card (``README.md``
+with θ, statistics and histograms under ``histograms/``), a Croissant JSON-LD description
+(``croissant.json``) and ``release.json``, which lists every file of the *full* release
+with its size and sha256 and says which are included. A recipe-only release leaves out the
+shards and the two metadata tables, all of which ``phav regenerate manifest.json`` rebuilds
+and checks against those hashes. Everything is written atomically; ``release.json`` comes
+last, so its presence marks a finished release, and a rerun keeps the files already there.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import errno
+import hashlib
+import os
+import shutil
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from phav_spec.canonical import pretty_json
+from phav_spec.errors import PhavUserError
+from phav_spec.files import WriteError, atomic_write, parse_json_object, read_text
+from phav_spec.manifest import DatasetManifest, Sha256Hex, load_manifest
+from phav_spec.recipe_table import RecipeTable, read_recipe_table
+from phav_spec.theta import Theta, load_theta
+
+__all__ = [
+    "RELEASE_FILE",
+    "RELEASE_VERSION",
+    "ReleaseFile",
+    "ReleaseIndex",
+    "ReleaseResult",
+    "file_sha256",
+    "load_release_index",
+    "make_release",
+]
+
+#: Version of ``release.json``'s format; readers refuse newer ones.
+RELEASE_VERSION = 1
+RELEASE_FILE = "release.json"
+CARD_FILE = "README.md"
+CROISSANT_FILE = "croissant.json"
+HISTOGRAMS_DIR = "histograms"
+#: Files every release carries: what regeneration starts from and checks against.
+RECIPE_FILES = ("manifest.json", "recipes.parquet", "theta.yaml")
+#: Files the renderer made: in a full release, rebuilt by ``phav regenerate`` otherwise.
+METADATA_FILES = ("cameras.parquet", "people.parquet")
+#: The paper the dataset's generative model comes from (cited by the card and Croissant).
+PHAV_CITATION = """@inproceedings{deSouza2017procedural,
+  title     = {Procedural Generation of Videos to Train Deep Action Recognition Networks},
+  author    = {de Souza, C{\\'e}sar Roberto and Gaidon, Adrien and Cabon, Yohann and L{\\'o}pez Pe{\\~n}a, Antonio M.},
+  booktitle = {IEEE Conference on Computer Vision and Pattern Recognition (CVPR)},
+  year      = {2017}
+}"""
+_HASH_CHUNK = 1 << 20
+
+Progress = Callable[[str, int], Callable[[int], None]]
+
+
+class ReleaseFile(BaseModel):
+    """One file of the full release: where it is, its size and sha256, and whether this
+    release carries it (a recipe-only release leaves out what regeneration rebuilds)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+    path: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    bytes: int = Field(ge=0)
+    sha256: Sha256Hex
+    included: bool
+    kind: str = Field(pattern=r"^(shard|recipes|metadata)$")
+
+
+class ReleaseIndex(BaseModel):
+    """Contents of ``release.json``."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+    release_version: int = Field(default=RELEASE_VERSION, ge=1)
+    name: str
+    recipes_only: bool
+    phav_version: str
+    license: str
+    files: list[ReleaseFile]
+
+    @property
+    def full_bytes(self) -> int:
+        """Bytes of the full release's data files."""
+        return sum(f.bytes for f in self.files)
+
+    @property
+    def included_bytes(self) -> int:
+        return sum(f.bytes for f in self.files if f.included)
+
+    def file(self, path: str) -> ReleaseFile | None:
+        return next((f for f in self.files if f.path == path), None)
+
+
+def load_release_index(path: str | Path) -> ReleaseIndex:
+    """Read ``release.json``; unreadable, malformed or newer files raise PhavUserError."""
+    data = parse_json_object(read_text(path), source=str(path))
+    version = data.get("release_version")
+    if isinstance(version, int) and version > RELEASE_VERSION:
+        raise PhavUserError(f"release version {version} is newer than this phav reads ({RELEASE_VERSION}); "
+                            "upgrade phav", source=str(path), field="release_version")  # fmt: skip
+    try:
+        return ReleaseIndex.model_validate(data)
+    except ValidationError as e:
+        err = e.errors()[0]
+        raise PhavUserError(err["msg"], source=str(path), field=".".join(str(x) for x in err["loc"])) from None
+
+
+@dataclass(frozen=True)
+class ReleaseResult:
+    """What ``make_release`` wrote: the index and the bytes of the whole release directory."""
+
+    index: ReleaseIndex
+    out: Path
+    release_bytes: int
+    kept: int  # files a previous, interrupted run had already written
+
+    @property
+    def share_of_full(self) -> float:
+        """This release's bytes as a share of the full release's data files."""
+        return self.release_bytes / max(self.index.full_bytes, 1)
+
+
+def file_sha256(path: Path, advance: Callable[[int], None] | None = None) -> str:
+    """sha256 hex digest of a file, read in 1 MiB chunks (``advance`` gets each chunk's bytes)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while chunk := fh.read(_HASH_CHUNK):
+            digest.update(chunk)
+            if advance is not None:
+                advance(len(chunk))
+    return digest.hexdigest()
+
+
+@dataclass(frozen=True)
+class _Source:
+    root: Path
+    manifest: DatasetManifest
+    table: RecipeTable
+    theta: Theta
+
+
+def _load_source(root: Path) -> _Source:
+    """A finished dataset directory: its manifest, recipes and θ, and every file present."""
+    if not root.is_dir():
+        raise PhavUserError("not a dataset directory", source=str(root))
+    if not (root / "manifest.json").exists():
+        unfinished = (root / ".phav-work").exists()
+        raise PhavUserError("an unfinished run: finish it with phav generate" if unfinished else "no manifest.json",
+                            source=str(root))  # fmt: skip
+    manifest = load_manifest(root / "manifest.json")
+    table = read_recipe_table(root / "recipes.parquet")
+    theta_path = root / "theta.yaml"
+    theta = load_theta(theta_path) if theta_path.exists() else table.theta
+    if theta is None:
+        raise PhavUserError("no theta.yaml and the recipes table records no θ", source=str(root))
+    if manifest.theta_hash is not None and theta.hash != manifest.theta_hash:
+        raise PhavUserError(f"θ hashes to {theta.hash[:12]}…, the manifest records {manifest.theta_hash[:12]}…",
+                            source=str(theta_path))  # fmt: skip
+    ids = table.column("video_id")
+    listed = [v.video_id for v in manifest.videos]
+    if sorted(ids) != sorted(listed):
+        raise PhavUserError("the recipes table and the manifest list different videos", source=str(root))
+    for name in (*(s.name for s in manifest.shards), *METADATA_FILES):
+        if not (root / name).is_file():
+            raise PhavUserError("missing from the dataset; regenerate it before releasing", source=str(root / name))
+    return _Source(root, manifest, table, theta)
+
+
+def _same_file(path: Path, size: int, sha256: str) -> bool:
+    return path.is_file() and path.stat().st_size == size and file_sha256(path) == sha256
+
+
+def _place(source: Path, target: Path, size: int, sha256: str, advance: Callable[[int], None] | None) -> bool:
+    """Put ``source`` at ``target`` (a hard link when the filesystem allows, else a copy),
+    checking its sha256; False when ``target`` already held it."""
+    if _same_file(target, size, sha256):
+        return False
+    tmp = target.with_name(f".{target.name}.link.tmp")
+    tmp.unlink(missing_ok=True)
+    try:
+        os.link(source, tmp)
+    except OSError as e:
+        if e.errno not in (errno.EXDEV, errno.EPERM, errno.EMLINK, errno.ENOTSUP):
+            raise
+        with atomic_write(target) as t:
+            shutil.copyfile(source, t)
+    else:
+        os.replace(tmp, target)
+    got = file_sha256(target, advance)
+    if got != sha256:
+        target.unlink()
+        raise PhavUserError(f"sha256 {got[:12]}… differs from the manifest's {sha256[:12]}…; run phav-validate on "
+                            "the dataset", source=str(source))  # fmt: skip
+    return True
+
+
+def _index(src: _Source, *, recipes_only: bool, license: str, advance: Callable[[int], None] | None) -> ReleaseIndex:
+    """Every data file of the full release with its size and sha256 (shards' from the manifest)."""
+    from phav_generator.dataset import _version
+
+    files = [ReleaseFile(path=s.name, bytes=s.bytes, sha256=s.sha256, included=not recipes_only, kind="shard")
+             for s in src.manifest.shards]  # fmt: skip
+    for name, kind in [(n, "recipes") for n in RECIPE_FILES] + [(n, "metadata") for n in METADATA_FILES]:
+        path = src.root / name
+        files.append(ReleaseFile(path=name, bytes=path.stat().st_size, sha256=file_sha256(path, advance),
+                                 included=kind == "recipes" or not recipes_only, kind=kind))  # fmt: skip
+    return ReleaseIndex(name=src.manifest.name, recipes_only=recipes_only, phav_version=_version("phav"),
+                        license=license, files=files)  # fmt: skip
+
+
+def make_release(
+    source: str | Path,
+    out: str | Path,
+    *,
+    recipes_only: bool = False,
+    license: str = "CC-BY-4.0",
+    url: str | None = None,
+    date: str | None = None,
+    progress: Progress | None = None,
+) -> ReleaseResult:
+    """Write the release of the finished dataset ``source`` into ``out`` (see the module doc)."""
+    src = _load_source(Path(source))
+    out = Path(out)
+    if out.resolve() == src.root.resolve():
+        raise PhavUserError("the release must go to another directory than the dataset", field="--out")
+    if out.exists() and not out.is_dir():
+        raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
+    if date is not None:
+        try:
+            dt.date.fromisoformat(date)
+        except ValueError:
+            raise PhavUserError(f"not a date (YYYY-MM-DD): {date!r}", field="--date") from None
+    try:
+        return _write_release(src, out, recipes_only=recipes_only, license=license, url=url, date=date,
+                              progress=progress)  # fmt: skip
+    except WriteError:
+        raise
+    except OSError as e:
+        raise WriteError(e, str(e.filename or out), "free space or fix permissions, then rerun to resume") from None
+
+
+def _write_release(src: _Source, out: Path, *, recipes_only: bool, license: str, url: str | None,
+                   date: str | None, progress: Progress | None) -> ReleaseResult:  # fmt: skip
+    out.mkdir(parents=True, exist_ok=True)
+    previous = out / RELEASE_FILE
+    if previous.exists():
+        old = load_release_index(previous)
+        if old.recipes_only != recipes_only or old.name != src.manifest.name:
+            raise PhavUserError("holds another release; choose an empty directory", source=str(out), field="--out")
+    small = sum((src.root / n).stat().st_size for n in RECIPE_FILES + METADATA_FILES)
+    advance = progress("hashing", small) if progress is not None else None
+    index = _index(src, recipes_only=recipes_only, license=license, advance=advance)
+    included = [f for f in index.files if f.included]
+    advance = progress("placing files", sum(f.bytes for f in included)) if progress is not None else None
+    kept = sum(not _place(src.root / f.path, out / f.path, f.bytes, f.sha256, advance) for f in included)
+    for f in index.files:  # a full release turned recipe-only keeps no stale shards
+        if not f.included:
+            (out / f.path).unlink(missing_ok=True)
+
+    from phav_generator.card import croissant, dataset_card, histograms
+
+    figures = histograms(src.table, src.theta)
+    (out / HISTOGRAMS_DIR).mkdir(exist_ok=True)
+    for name, svg in figures.items():
+        with atomic_write(out / HISTOGRAMS_DIR / name) as tmp:
+            tmp.write_text(svg, encoding="utf-8")
+    card = dataset_card(src.manifest, src.table, src.theta, index, sorted(figures))
+    with atomic_write(out / CARD_FILE) as tmp:
+        tmp.write_text(card, encoding="utf-8")
+    jsonld = croissant(src.manifest, src.table, index, url=url, date=date)
+    with atomic_write(out / CROISSANT_FILE) as tmp:
+        tmp.write_text(pretty_json(jsonld) + "\n", encoding="utf-8")
+    with atomic_write(out / RELEASE_FILE) as tmp:
+        tmp.write_text(pretty_json(index.model_dump(mode="json")) + "\n", encoding="utf-8")
+    return ReleaseResult(index, out, _tree_bytes(out), kept)
+
+
+def _tree_bytes(root: Path) -> int:
+    return sum(p.stat().st_size for p in sorted(root.rglob("*")) if p.is_file())

@@ -1,0 +1,234 @@
+"""`phav release`: full and recipe-only releases, their card and Croissant description, and
+rebuilding a recipe-only release with `phav regenerate` and `phav-validate` (issue: releases)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from phav_generator.card import check_croissant
+from phav_generator.release import RELEASE_FILE, file_sha256, load_release_index, make_release
+from phav_spec.encoding import video_content_hash
+from phav_spec.errors import PhavUserError
+from phav_spec.manifest import dump_manifest, load_manifest
+from tests.helpers import file_bytes, run_cli, theta_variant
+
+CARD_FILES = ("README.md", "croissant.json", RELEASE_FILE)
+
+
+def _tree(root: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def croissant_issues(path: Path) -> tuple[list[str], list[str]]:
+    """(errors, warnings) of mlcroissant's offline validation, as `mlcroissant validate` runs it."""
+    issues = check_croissant(path)
+    if issues is None:
+        pytest.skip("mlcroissant is not installed (pip install 'phav[croissant]')")
+    return issues
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory) -> Path:
+    """Four phav-v1-short videos in two shards."""
+    out = tmp_path_factory.mktemp("release") / "data"
+    result = run_cli("generate", "--theta", "phav-v1-short", "--videos", "4", "--seed", "5", "--shard-size", "2",
+                     "--workers", "2", "--out", str(out))  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    return out
+
+
+@pytest.fixture(scope="module")
+def recipe_release(dataset, tmp_path_factory) -> Path:
+    rel = tmp_path_factory.mktemp("rel") / "recipes-only"
+    result = run_cli("release", str(dataset), "--out", str(rel), "--recipes-only", "--date", "2026-11-21")
+    assert result.returncode == 0, result.stderr
+    assert "croissant.json: mlcroissant finds 0 error(s), 0 warning(s)" in result.stdout
+    return rel
+
+
+def test_a_full_release_carries_every_file_with_its_hash(dataset, tmp_path):
+    rel = tmp_path / "full"
+    result = make_release(dataset, rel, date="2026-11-21")
+    index = load_release_index(rel / RELEASE_FILE)
+    assert not index.recipes_only and all(f.included for f in index.files)
+    manifest = load_manifest(dataset / "manifest.json")
+    assert [f.path for f in index.files if f.kind == "shard"] == [s.name for s in manifest.shards]
+    for f in index.files:
+        assert (rel / f.path).read_bytes() == (dataset / f.path).read_bytes()
+        assert file_sha256(rel / f.path) == f.sha256 and (rel / f.path).stat().st_size == f.bytes
+    assert result.release_bytes > index.full_bytes  # plus the card, Croissant and histograms
+    card = (rel / "README.md").read_text(encoding="utf-8")
+    assert "phav-v1-short" in card and "## θ" in card and "Holm" in card
+    for figure in ("action", "environment", "duration_s"):
+        assert f"histograms/{figure}.svg" in card
+        assert (rel / "histograms" / f"{figure}.svg").read_text(encoding="utf-8").startswith("<svg")
+    errors, warnings = croissant_issues(rel / "croissant.json")
+    assert errors == [] and warnings == []
+
+
+def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
+    """A Croissant loader reads the recipes and each modality's frames out of the tars."""
+    import itertools
+
+    mlc = pytest.importorskip("mlcroissant")
+    rel = tmp_path / "full"
+    make_release(dataset, rel, date="2026-11-21")
+    ds = mlc.Dataset(str(rel / "croissant.json"))
+    recipes = list(ds.records("recipes"))
+    manifest = load_manifest(dataset / "manifest.json")
+    assert sorted(r["recipes/video_id"].decode() for r in recipes) == [v.video_id for v in manifest.videos]
+    first = next(iter(ds.records("depth")))
+    assert first["depth/key"] == b"v000000/00000" and first["depth/image"].size == (340, 256)
+    rgb = list(itertools.islice(ds.records("rgb"), 3))
+    assert [r["rgb/key"] for r in rgb] == [b"v000000/00000", b"v000000/00001", b"v000000/00002"]
+
+
+def test_a_recipe_only_release_is_small_validates_and_says_how_to_rebuild(dataset, recipe_release):
+    index = load_release_index(recipe_release / RELEASE_FILE)
+    assert index.recipes_only
+    carried = {f.path for f in index.files if f.included}
+    assert carried == {"manifest.json", "recipes.parquet", "theta.yaml"}
+    assert not list(recipe_release.glob("*.tar")) and not (recipe_release / "people.parquet").exists()
+    assert index.full_bytes == sum(p.stat().st_size for p in dataset.iterdir() if p.is_file())
+    card = (recipe_release / "README.md").read_text(encoding="utf-8")
+    assert "phav regenerate manifest.json --out DIR" in card and "no (regenerate)" in card
+    errors, warnings = croissant_issues(recipe_release / "croissant.json")
+    assert errors == [] and warnings == []
+
+
+def test_a_release_is_deterministic_and_a_rerun_keeps_what_is_there(dataset, recipe_release, tmp_path):
+    again = make_release(dataset, tmp_path / "again", recipes_only=True, date="2026-11-21")
+    assert _tree(tmp_path / "again") == _tree(recipe_release)
+    rerun = make_release(dataset, tmp_path / "again", recipes_only=True, date="2026-11-21")
+    assert rerun.kept == 3 and again.kept == 0
+    assert _tree(tmp_path / "again") == _tree(recipe_release)
+
+
+def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_path):
+    unfinished = tmp_path / "unfinished"
+    shutil.copytree(dataset, unfinished)
+    (unfinished / "manifest.json").unlink()
+    result = run_cli("release", str(unfinished), "--out", str(tmp_path / "r1"))
+    assert result.returncode == 2 and "no manifest.json" in result.stderr and "Traceback" not in result.stderr
+
+    tampered = tmp_path / "tampered"
+    shutil.copytree(dataset, tampered)
+    shard = sorted(tampered.glob("*.tar"))[1]
+    data = bytearray(shard.read_bytes())
+    data[600] ^= 0xFF
+    shard.write_bytes(bytes(data))
+    with pytest.raises(PhavUserError, match="differs from the manifest") as caught:
+        make_release(tampered, tmp_path / "r2")
+    assert shard.name in str(caught.value)
+
+    result = run_cli("release", str(dataset), "--out", str(recipe_release))  # full into a recipe-only one
+    assert result.returncode == 2 and "holds another release" in result.stderr
+    result = run_cli("release", str(dataset), "--out", str(tmp_path / "r3"), "--date", "21/11/2026")
+    assert result.returncode == 2 and "--date" in result.stderr
+
+
+def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset, recipe_release, tmp_path):
+    out = tmp_path / "rebuilt"
+    result = run_cli("regenerate", str(recipe_release / "manifest.json"), "--out", str(out), "--workers", "2")
+    assert result.returncode == 0, result.stderr
+    assert "4/4 videos match; files: 4/4 sha256 match" in result.stdout  # 2 shards, 2 tables
+    assert file_bytes(out) == file_bytes(dataset)
+
+    # A release whose metadata table no longer matches what the recipes render is caught.
+    bad = tmp_path / "bad"
+    shutil.copytree(recipe_release, bad)
+    index = json.loads((bad / RELEASE_FILE).read_text(encoding="utf-8"))
+    people = next(f for f in index["files"] if f["path"] == "people.parquet")
+    people["sha256"] = "0" * 64
+    (bad / RELEASE_FILE).write_text(json.dumps(index), encoding="utf-8")
+    result = run_cli("regenerate", str(bad / "manifest.json"), "--out", str(tmp_path / "rebuilt2"), "--workers", "2")
+    assert result.returncode == 1
+    assert "mismatch people.parquet: sha256" in result.stdout and "files: 3/4 sha256 match" in result.stdout
+
+
+def _validate(release: Path, *extra: str) -> dict:
+    out = release.parent / f"{release.name}-report.json"
+    result = run_cli("validate!", str(release), "--json", str(out), *extra)
+    assert result.returncode in (0, 1), result.stderr
+    report = json.loads(out.read_text(encoding="utf-8"))["datasets"][0]
+    return {c["name"]: c for c in report["checks"]} | {"_rc": result.returncode, "_stdout": result.stdout}
+
+
+def test_phav_validate_regenerates_a_recipe_only_release(recipe_release, tmp_path):
+    checks = _validate(recipe_release, "--workers", "2", "--regenerate-into", str(tmp_path / "px"))
+    assert checks["_rc"] == 0, checks["_stdout"]
+    assert all(checks[c]["status"] == "pass" for c in ("integrity", "encoding", "consistency", "reproducibility"))
+    assert checks["integrity"]["numbers"]["hashed"] == 4
+    assert any("regenerated 2 of 2 shards" in n for n in checks["integrity"]["notes"])
+    assert sorted(p.name for p in (tmp_path / "px").glob("*.tar")) == ["phav-000000.tar", "phav-000001.tar"]
+    # Asked again with the same directory, the shards are reused (and their hashes verified again).
+    again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(tmp_path / "px"))
+    assert any("reused 2 of 2 shards" in n for n in again["integrity"]["notes"])
+    assert again["integrity"]["status"] == "pass"
+
+
+def test_phav_validate_regenerates_only_the_sampled_shards(recipe_release, tmp_path):
+    checks = _validate(recipe_release, "--checks", "integrity,encoding", "--sample", "0.25",
+                       "--regenerate-into", str(tmp_path / "px"))  # fmt: skip
+    assert checks["_rc"] == 0
+    assert any("regenerated 1 of 2 shards" in n for n in checks["integrity"]["notes"])
+    assert len(list((tmp_path / "px").glob("*.tar"))) == 1
+
+
+def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_release, tmp_path):
+    """The release promises a content hash its recipe does not render: integrity fails."""
+    bad = tmp_path / "bad"
+    shutil.copytree(recipe_release, bad)
+    manifest = load_manifest(bad / "manifest.json")
+    video = manifest.videos[1]
+    hashes = dict(video.modality_hashes) | {"depth": "0" * 64}
+    lied = video.model_copy(update={"modality_hashes": hashes, "content_hash": video_content_hash(hashes)})
+    videos = [lied if v.video_id == video.video_id else v for v in manifest.videos]
+    dump_manifest(manifest.model_copy(update={"videos": videos}), bad / "manifest.json")
+    checks = _validate(bad, "--checks", "integrity")
+    assert checks["_rc"] == 1
+    assert checks["integrity"]["status"] == "fail"
+    assert checks["integrity"]["finding_counts"] == {"HASH_MISMATCH": 1}
+
+
+@pytest.mark.slow
+def test_phav_validate_on_ray_reports_what_the_local_pool_reports(recipe_release, tmp_path):
+    pytest.importorskip("ray")
+    local = _validate(recipe_release, "--workers", "2", "--regenerate-into", str(tmp_path / "px"))
+    ray = _validate(recipe_release, "--workers", "2", "--engine", "ray", "--regenerate-into", str(tmp_path / "px"))
+    for name in ("integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility"):
+        assert (ray[name]["status"], ray[name]["numbers"]) == (local[name]["status"], local[name]["numbers"]), name
+
+
+@pytest.mark.slow
+def test_a_recipe_only_release_of_100_videos(tmp_path):
+    """Issue 7's release check: 100 videos; the recipe-only release is under 1 % of the full
+    release's bytes, regenerates with every hash matching, and its Croissant file validates.
+    Clips of 0.2 s keep it quick, and make the 1 % harder to meet (recipes cost the same)."""
+
+    def short(data: dict) -> None:
+        data["name"] = "phav-v1-tiny"
+        data["durations"] = {"t_min": 0.2, "t_max": 0.2, "t_mod": 0.2}
+
+    theta = theta_variant(tmp_path, short)
+    data, rel = tmp_path / "data", tmp_path / "rel"
+    result = run_cli("generate", "--theta", str(theta), "--videos", "100", "--seed", "7", "--workers", "2",
+                     "--out", str(data))  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    result = run_cli("release", str(data), "--out", str(rel), "--recipes-only", "--date", "2026-11-21")
+    assert result.returncode == 0, result.stderr
+    release_bytes = sum(p.stat().st_size for p in rel.rglob("*") if p.is_file())
+    full_bytes = load_release_index(rel / RELEASE_FILE).full_bytes
+    assert release_bytes < 0.01 * full_bytes, (release_bytes, full_bytes)
+    errors, warnings = croissant_issues(rel / "croissant.json")
+    assert errors == [] and warnings == []
+    rebuilt = tmp_path / "rebuilt"
+    result = run_cli("regenerate", str(rel / "manifest.json"), "--out", str(rebuilt), "--workers", "2")
+    assert result.returncode == 0, result.stdout + result.stderr
+    n_shards = len(load_manifest(rel / "manifest.json").shards)
+    assert f"100/100 videos match; files: {n_shards + 2}/{n_shards + 2} sha256 match" in result.stdout
+    assert file_bytes(rebuilt) == file_bytes(data)
