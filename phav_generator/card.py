@@ -130,8 +130,12 @@ def dataset_card(
     fps = theta.video.fps
     rejected = sum(t.rejected for t in fit.tests)
     r = manifest.renderer
+    published = f", published {index.date_published}" if index.date_published else ""
+    where = f" at <{index.url}>" if index.url else ""
     lines = [
         f"# {manifest.name}: procedural human action videos",
+        "",
+        f"Version {index.dataset_version}{published}{where}; license {index.license}.",
         "",
         f"{len(manifest.videos):,} videos, {n_frames:,} frames ({_span(n_frames / fps)} at {fps} fps), "
         f"{theta.video.width}×{theta.video.height}, sampled from θ `{theta.name}` (hash `{theta.hash[:16]}…`) "
@@ -260,9 +264,7 @@ def _modality_note(m: ModalityEncoding) -> str:
     return m.description
 
 
-def croissant(
-    manifest: DatasetManifest, table: RecipeTable, index: ReleaseIndex, *, url: str | None, date: str | None
-) -> dict[str, Any]:
+def croissant(manifest: DatasetManifest, table: RecipeTable, index: ReleaseIndex) -> dict[str, Any]:
     """The release as Croissant 1.0 JSON-LD (``mlcroissant validate`` accepts it offline)."""
     n_frames = sum(v.n_frames for v in manifest.videos)
     carried = [f for f in index.files if f.included]
@@ -314,17 +316,17 @@ def croissant(
         "name": manifest.name,
         "description": description,
         "license": index.license,
-        "version": "1.0.0",
+        "version": index.dataset_version,
         "citeAs": _citation(),
         "keywords": ["action recognition", "synthetic data", "procedural generation", "video", "PHAV"],
         "isLiveDataset": False,
         "distribution": distribution,
         "recordSet": record_sets,
     }
-    if url is not None:
-        out["url"] = url
-    if date is not None:
-        out["datePublished"] = date
+    if index.url is not None:
+        out["url"] = index.url
+    if index.date_published is not None:
+        out["datePublished"] = index.date_published
     return out
 
 

@@ -427,6 +427,9 @@ def release(
     license: Annotated[str, typer.Option("--license", help="The data's license (SPDX id or URL).")] = "CC-BY-4.0",
     url: Annotated[str | None, typer.Option("--url", help="Where the release will be published.")] = None,
     date: Annotated[str | None, typer.Option("--date", help="Publication date, YYYY-MM-DD.")] = None,
+    dataset_version: Annotated[
+        str, typer.Option("--dataset-version", help="The dataset's version, MAJOR.MINOR.PATCH.")
+    ] = "1.0.0",
 ) -> None:
     """Pack a dataset for publication: its files (hard links where possible), release.json with
     every file's sha256, a dataset card (README.md with θ, statistics and histograms) and a
@@ -445,7 +448,7 @@ def release(
             return lambda n: bar.advance(task, n)
 
         result = make_release(source, out, recipes_only=recipes_only, license=license, url=url, date=date,
-                              progress=progress)  # fmt: skip
+                              version=dataset_version, progress=progress)  # fmt: skip
     index = result.index
     kind = "recipe-only release" if index.recipes_only else "release"
     kept = f" ({result.kept} file(s) already in place)" if result.kept else ""

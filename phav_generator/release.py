@@ -16,6 +16,7 @@ import datetime as dt
 import errno
 import hashlib
 import os
+import re
 import shutil
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -85,7 +86,10 @@ class ReleaseIndex(BaseModel):
     name: str
     recipes_only: bool
     phav_version: str
+    dataset_version: str
     license: str
+    url: str | None
+    date_published: str | None
     files: list[ReleaseFile]
 
     @property
@@ -204,7 +208,8 @@ def _place(source: Path, target: Path, size: int, sha256: str, advance: Callable
     return True
 
 
-def _index(src: _Source, *, recipes_only: bool, license: str, advance: Callable[[int], None] | None) -> ReleaseIndex:
+def _index(src: _Source, *, recipes_only: bool, about: dict[str, str | None],
+           advance: Callable[[int], None] | None) -> ReleaseIndex:  # fmt: skip
     """Every data file of the full release with its size and sha256 (shards' from the manifest)."""
     from phav_generator.dataset import _version
 
@@ -215,7 +220,7 @@ def _index(src: _Source, *, recipes_only: bool, license: str, advance: Callable[
         files.append(ReleaseFile(path=name, bytes=path.stat().st_size, sha256=file_sha256(path, advance),
                                  included=kind == "recipes" or not recipes_only, kind=kind))  # fmt: skip
     return ReleaseIndex(name=src.manifest.name, recipes_only=recipes_only, phav_version=_version("phav"),
-                        license=license, files=files)  # fmt: skip
+                        files=files, **about)  # fmt: skip
 
 
 def make_release(
@@ -226,6 +231,7 @@ def make_release(
     license: str = "CC-BY-4.0",
     url: str | None = None,
     date: str | None = None,
+    version: str = "1.0.0",
     progress: Progress | None = None,
 ) -> ReleaseResult:
     """Write the release of the finished dataset ``source`` into ``out`` (see the module doc)."""
@@ -235,22 +241,24 @@ def make_release(
         raise PhavUserError("the release must go to another directory than the dataset", field="--out")
     if out.exists() and not out.is_dir():
         raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
+    if not re.fullmatch(r"\d+\.\d+\.\d+", version):
+        raise PhavUserError(f"not MAJOR.MINOR.PATCH: {version!r}", field="--dataset-version")
     if date is not None:
         try:
             dt.date.fromisoformat(date)
         except ValueError:
             raise PhavUserError(f"not a date (YYYY-MM-DD): {date!r}", field="--date") from None
     try:
-        return _write_release(src, out, recipes_only=recipes_only, license=license, url=url, date=date,
-                              progress=progress)  # fmt: skip
+        about = {"dataset_version": version, "license": license, "url": url, "date_published": date}
+        return _write_release(src, out, recipes_only=recipes_only, about=about, progress=progress)
     except WriteError:
         raise
     except OSError as e:
         raise WriteError(e, str(e.filename or out), "free space or fix permissions, then rerun to resume") from None
 
 
-def _write_release(src: _Source, out: Path, *, recipes_only: bool, license: str, url: str | None,
-                   date: str | None, progress: Progress | None) -> ReleaseResult:  # fmt: skip
+def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[str, str | None],
+                   progress: Progress | None) -> ReleaseResult:  # fmt: skip
     out.mkdir(parents=True, exist_ok=True)
     previous = out / RELEASE_FILE
     if previous.exists():
@@ -259,7 +267,7 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, license: str,
             raise PhavUserError("holds another release; choose an empty directory", source=str(out), field="--out")
     small = sum((src.root / n).stat().st_size for n in RECIPE_FILES + METADATA_FILES)
     advance = progress("hashing", small) if progress is not None else None
-    index = _index(src, recipes_only=recipes_only, license=license, advance=advance)
+    index = _index(src, recipes_only=recipes_only, about=about, advance=advance)
     included = [f for f in index.files if f.included]
     advance = progress("placing files", sum(f.bytes for f in included)) if progress is not None else None
     kept = sum(not _place(src.root / f.path, out / f.path, f.bytes, f.sha256, advance) for f in included)
@@ -277,7 +285,7 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, license: str,
     card = dataset_card(src.manifest, src.table, src.theta, index, sorted(figures))
     with atomic_write(out / CARD_FILE) as tmp:
         tmp.write_text(card, encoding="utf-8")
-    jsonld = croissant(src.manifest, src.table, index, url=url, date=date)
+    jsonld = croissant(src.manifest, src.table, index)
     with atomic_write(out / CROISSANT_FILE) as tmp:
         tmp.write_text(pretty_json(jsonld) + "\n", encoding="utf-8")
     with atomic_write(out / RELEASE_FILE) as tmp:

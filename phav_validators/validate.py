@@ -462,7 +462,7 @@ def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
         if m.recipe_schema_version > RECIPE_SCHEMA_VERSION:
             report.add(Finding(Reason.VERSION_UNKNOWN, f"recipe schema version {m.recipe_schema_version} is newer "
                                f"than this phav knows ({RECIPE_SCHEMA_VERSION})", file="manifest.json"))  # fmt: skip
-    if inp.recipes_only:
+    if inp.recipes_only or is_recipe_release(inp):  # a recipe-only release regenerates its tables
         return
     for name, columns in ((CAMERAS, CAMERA_COLUMNS), (PEOPLE, PEOPLE_COLUMNS)):
         path = inp.root / name

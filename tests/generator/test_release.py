@@ -63,6 +63,7 @@ def test_a_full_release_carries_every_file_with_its_hash(dataset, tmp_path):
     assert result.release_bytes > index.full_bytes  # plus the card, Croissant and histograms
     card = (rel / "README.md").read_text(encoding="utf-8")
     assert "phav-v1-short" in card and "## θ" in card and "Holm" in card
+    assert "Version 1.0.0, published 2026-11-21; license CC-BY-4.0." in card
     for figure in ("action", "environment", "duration_s"):
         assert f"histograms/{figure}.svg" in card
         assert (rel / "histograms" / f"{figure}.svg").read_text(encoding="utf-8").startswith("<svg")
@@ -129,6 +130,8 @@ def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_p
     assert result.returncode == 2 and "holds another release" in result.stderr
     result = run_cli("release", str(dataset), "--out", str(tmp_path / "r3"), "--date", "21/11/2026")
     assert result.returncode == 2 and "--date" in result.stderr
+    result = run_cli("release", str(dataset), "--out", str(tmp_path / "r3"), "--dataset-version", "v2")
+    assert result.returncode == 2 and "--dataset-version" in result.stderr
 
 
 def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset, recipe_release, tmp_path):
@@ -169,6 +172,12 @@ def test_phav_validate_regenerates_a_recipe_only_release(recipe_release, tmp_pat
     again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(tmp_path / "px"))
     assert any("reused 2 of 2 shards" in n for n in again["integrity"]["notes"])
     assert again["integrity"]["status"] == "pass"
+
+
+def test_recipe_checks_of_a_recipe_only_release_need_no_pixels(recipe_release, tmp_path):
+    checks = _validate(recipe_release, "--checks", "schema,distribution", "--regenerate-into", str(tmp_path / "px"))
+    assert checks["_rc"] == 0 and checks["schema"]["status"] == "pass", checks["_stdout"]
+    assert not (tmp_path / "px").exists()
 
 
 def test_phav_validate_regenerates_only_the_sampled_shards(recipe_release, tmp_path):
