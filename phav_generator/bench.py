@@ -157,7 +157,7 @@ def _edges(semantic: np.ndarray, depth: np.ndarray) -> np.ndarray:
 
 
 def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference: int = 4,
-                 max_frames: int | None = None) -> tuple[list[RenderRun], float]:  # fmt: skip
+                 max_frames: int | None = None, gl: str = "llvmpipe") -> tuple[list[RenderRun], float]:  # fmt: skip
     """Each supersampling factor over the recipes, stage by stage, with the edge error of its
     RGB against ``reference``× supersampling; also the encode-only rate (six PNGs, frames/s)."""
     from phav_generator.io.metadata import MetadataBuilder
@@ -170,7 +170,7 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
     from phav_spec.encoding import MODALITIES, VideoHashes
     from phav_spec.metadata import frame_json
 
-    ctx = gl_context()
+    ctx = gl_context(gl)
     trajectories, physics_s = [], 0.0
     for r in recipes:
         t0 = time.perf_counter()
@@ -253,7 +253,13 @@ class GenerationRun:
 
 
 def bench_generation(
-    recipes: list, theta: Theta, *, seed: int, workers: tuple[int, ...] = (1, 2), engine: str = "local"
+    recipes: list,
+    theta: Theta,
+    *,
+    seed: int,
+    workers: tuple[int, ...] = (1, 2),
+    engine: str = "local",
+    gl: str = "llvmpipe",
 ) -> list[GenerationRun]:
     """Frames per second of whole-dataset generation (render, encode, shards, tables,
     manifest) for each worker count; every run must give the first run's bytes."""
@@ -267,7 +273,7 @@ def bench_generation(
             out = Path(tmp) / f"w{w}"
             start = time.perf_counter()
             write_dataset(chunk(recipes, DEFAULT_SHARD_SIZE), out, name="bench", theta=theta, dataset_seed=seed,
-                          workers=w, engine=engine)  # fmt: skip
+                          workers=w, engine=engine, gl=gl)  # fmt: skip
             seconds = time.perf_counter() - start
             files = {p.name: p.read_bytes() for p in sorted(out.iterdir()) if p.is_file()}
             first = files if first is None else first
@@ -282,15 +288,15 @@ def mean_frames_per_video(theta: Theta, *, seed: int, n: int = 4000) -> float:
     return float(np.mean([r.n_frames for r in sample_recipes(theta, n=n, seed=seed)]))
 
 
-def machine_lines() -> list[str]:
-    """Markdown rows naming the machine and renderer the numbers were measured on."""
+def machine_lines(gl: str = "llvmpipe") -> list[str]:
+    """Markdown rows naming the machine and renderer (``gl``) the numbers were measured on."""
     import os
     import platform
 
     from phav_generator.dataset import renderer_fingerprint
     from phav_generator.render.gl import gl_context, gl_strings
 
-    ctx = gl_context()
+    ctx = gl_context(gl)
     try:
         fp = renderer_fingerprint(gl_strings(ctx))
     finally:
@@ -309,14 +315,14 @@ def machine_lines() -> list[str]:
     ]
 
 
-def benchmark_report(sections: dict[str, str], *, command: str) -> str:
+def benchmark_report(sections: dict[str, str], *, command: str, gl: str = "llvmpipe") -> str:
     """One Markdown page: the machine and renderer, then each bench section's tables as text."""
     import datetime
 
     lines = ["# Benchmarks", "", f"Made by `{command}` on {datetime.date.today().isoformat()}.", "",
              "Numbers depend on the machine and renderer below (the fingerprint names everything the pixels",
              "depend on: same fingerprint, same pixels). Rerun the command to measure yours.", "",
-             *machine_lines()]  # fmt: skip
+             *machine_lines(gl)]  # fmt: skip
     for name, text in sections.items():
         lines += ["", f"## {name}", "", "```", *(line.rstrip() for line in text.rstrip().splitlines()), "```"]
     return "\n".join(lines) + "\n"

@@ -45,6 +45,14 @@ AddressOption = Annotated[
     str | None,
     typer.Option("--address", help="Ray cluster address (default: start a local Ray with --workers CPUs)."),
 ]
+GlOption = Annotated[
+    str,
+    typer.Option(
+        "--gl",
+        help="Renderer: llvmpipe (Mesa on the CPU, the renderer of record) or egl-gpu (a GPU's "
+        "EGL device; its pixels differ, and the manifest's fingerprint says which made them).",
+    ),
+]
 
 
 def _progress() -> Progress:
@@ -354,6 +362,7 @@ def generate(
     name: Annotated[str, typer.Option("--name", help="Dataset name: shards are NAME-000000.tar, …")] = "phav",
     engine: EngineOption = "local",
     address: AddressOption = None,
+    gl: GlOption = "llvmpipe",
 ) -> None:
     """Sample N recipes from θ and render them into WebDataset shards with metadata and a
     manifest. Rerun the same command on the same --out to resume an interrupted run: the
@@ -367,7 +376,8 @@ def generate(
     recipes = list(sample_recipes(th, n=videos, seed=seed))
     with _RenderProgress(len(recipes), "rendering") as progress:
         result = write_dataset(chunk(recipes, shard_size), out, name=name, theta=th, dataset_seed=seed,
-                               workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
+                               workers=workers, progress=progress, engine=engine, address=address,
+                               gl=gl)  # fmt: skip
     m = result.manifest
     frames = sum(v.n_frames for v in m.videos)
     resumed = f", {result.resumed_videos} video(s) already finished" if result.resumed_videos else ""
@@ -394,6 +404,7 @@ def regenerate(
     workers: Annotated[int, typer.Option("--workers", min=1, help="Worker processes.")] = 1,
     engine: EngineOption = "local",
     address: AddressOption = None,
+    gl: GlOption = "llvmpipe",
 ) -> None:
     """Rebuild videos from their recipes and say whether every content hash matches."""
     from phav_generator.regenerate import compare_hashes, plan_regeneration
@@ -404,7 +415,7 @@ def regenerate(
 
         result = write_dataset(plan.shards, out, name=plan.name, theta=plan.theta, dataset_seed=plan.dataset_seed,
                                workers=workers, progress=progress, shard_names=plan.shard_names, engine=engine,
-                               address=address)  # fmt: skip
+                               address=address, gl=gl)  # fmt: skip
     report = compare_hashes(plan.expected, result.manifest, out=out, release=plan.release)
     console.print(f"rebuilt {plan.n_videos} video(s) into {escape(str(out))}")
     if plan.expected is None:
@@ -540,6 +551,7 @@ def bench(
         int, typer.Option("--generation-videos", min=1, help="First N phav-v1 recipes generated per worker count.")
     ] = 8,
     engine: EngineOption = "local",
+    gl: GlOption = "llvmpipe",
     report: Annotated[
         Path | None,
         typer.Option("--report", help="Also write the sections as one Markdown report (e.g. docs/benchmarks.md)."),
@@ -556,13 +568,19 @@ def bench(
     if unknown:
         choices = ", ".join(BENCH_SECTIONS)
         raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
+    if gl != "llvmpipe":
+        from phav_generator.render.gl import require_gl
+
+        require_gl(gl)  # now, not after an hour of other sections
     theta = load_theta("phav-v1")
     runners = {
         "sampling": lambda: _bench_sampling_table(theta, n=n, seed=seed, out_dir=out_dir),
         "physics": lambda: _bench_physics_table(theta, seed=seed, clips=physics_clips),
         "probe": lambda: _bench_probe_table(theta, seed=seed, clips=probe_clips),
-        "render": lambda: _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames),
-        "generation": lambda: _bench_generation_table(theta, seed=seed, videos=generation_videos, engine=engine),
+        "render": lambda: _bench_render_table(theta, seed=seed, videos=render_videos, max_frames=render_frames,
+                                              gl=gl),
+        "generation": lambda: _bench_generation_table(theta, seed=seed, videos=generation_videos, engine=engine,
+                                                      gl=gl),
         "validation": lambda: _bench_validation_tables(seed=seed, videos=validation_videos, trials=validation_trials,
                                                        out_dir=out_dir),
         "training": lambda: _bench_training_tables(data=training_data, videos=training_videos, epochs=training_epochs,
@@ -583,7 +601,7 @@ def bench(
 
         command = "phav bench --sections " + ",".join(s for s in BENCH_SECTIONS if s in chosen)
         with atomic_write(report) as tmp:
-            tmp.write_text(benchmark_report(recorded, command=command), encoding="utf-8")
+            tmp.write_text(benchmark_report(recorded, command=command, gl=gl), encoding="utf-8")
         console.print(f"wrote {escape(str(report))}")
 
 
@@ -646,6 +664,7 @@ def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed:
     from phav_validators.learn.train import TrainConfig, default_threads
 
     require_torch()
+    source = escape(str(data)) if data is not None else f"{videos} generated phav-v1-short videos, seed {seed}"
     with tempfile.TemporaryDirectory() as tmp, console.status("training bench") as status:
         if data is None:
             from phav_generator.dataset import chunk, write_dataset
@@ -672,7 +691,7 @@ def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed:
         table.add_row(sp.stream, f"{sp.parameters:,}", f"{sp.train_clips_per_s:.0f}", f"{sp.test_clips_per_s:.0f}",
                       f"{100 / sp.train_clips_per_s:.1f}")  # fmt: skip
     console.print(table)
-    curve = Table(title=f"test accuracy against training minutes ({len(clips)} clips of {escape(str(data))})",
+    curve = Table(title=f"test accuracy against training minutes ({len(clips)} clips of {source})",
                   title_justify="left")  # fmt: skip
     for col in ("split", "epochs", "minutes", "rgb", "flow", "fused", "× chance", "binomial p"):
         curve.add_column(col, justify="right")
@@ -684,18 +703,19 @@ def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed:
     console.print(curve)
 
 
-def _bench_generation_table(theta: Theta, *, seed: int, videos: int, engine: str) -> None:
+def _bench_generation_table(theta: Theta, *, seed: int, videos: int, engine: str, gl: str) -> None:
     from phav_generator.bench import PHAV_VIDEOS, bench_generation, mean_frames_per_video
     from phav_generator.sampling import sample_recipes
 
     recipes = list(sample_recipes(theta, n=videos, seed=seed))
     with console.status(f"generation bench: {videos} videos with 1 and 2 workers ({engine})"):
-        runs = bench_generation(recipes, theta, seed=seed, engine=engine)
+        runs = bench_generation(recipes, theta, seed=seed, engine=engine, gl=gl)
     per_video = mean_frames_per_video(theta, seed=seed)
     phav_frames = PHAV_VIDEOS * per_video
     one = runs[0].fps
     title = (f"generation (θ {theta.name}, first {videos} recipes of seed {seed}, {runs[0].frames} frames, "
-             f"--engine {engine}); PHAV size: {PHAV_VIDEOS:,} videos ≈ {phav_frames / 1e6:.1f} M frames")  # fmt: skip
+             f"--engine {engine}, --gl {gl}); PHAV size: {PHAV_VIDEOS:,} videos ≈ "
+             f"{phav_frames / 1e6:.1f} M frames")  # fmt: skip
     table = Table(title=title, title_justify="left")
     for col in ("workers", "seconds", "frames/s", "scaling efficiency", "bytes identical to 1 worker",
                 "PHAV-size wall time"):  # fmt: skip
@@ -712,7 +732,7 @@ def _bench_generation_table(theta: Theta, *, seed: int, videos: int, engine: str
                   f"at that rate a PHAV-sized run takes {projected}")  # fmt: skip
 
 
-def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None) -> None:
+def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None, gl: str) -> None:
     import tempfile
 
     from phav_generator.bench import bench_render
@@ -727,16 +747,18 @@ def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int
                                         "n_frames": min(r.n_frames, frames_for(max_frames / r.video.fps, r.video.fps))})
                    for r in recipes]  # fmt: skip
     with console.status("render bench: 4× reference, 1× and 2× (one process)"):
-        runs, encode_only = bench_render(recipes)
+        runs, encode_only = bench_render(recipes, gl=gl)
     frames = runs[0].frames
     with tempfile.TemporaryDirectory() as tmp, console.status("phav generate with 2 workers"):
         start = time.perf_counter()
-        result = write_dataset(chunk(recipes, 1), tmp, name="bench", theta=theta, dataset_seed=seed, workers=2)
+        result = write_dataset(chunk(recipes, 1), tmp, name="bench", theta=theta, dataset_seed=seed, workers=2,
+                               gl=gl)  # fmt: skip
         two_workers = frames / (time.perf_counter() - start)
     same = {v.video_id: v.content_hash for v in result.manifest.videos} == next(
         r.hashes for r in runs if r.supersample == 2
     )
-    title = f"render (θ {theta.name}, first {len(recipes)} recipes of seed {seed}, {frames} frames, one process)"
+    title = (f"render (θ {theta.name}, first {len(recipes)} recipes of seed {seed}, {frames} frames, one process, "
+             f"--gl {gl})")  # fmt: skip
     table = Table(title=title, title_justify="left")
     for col in ("supersample", "frames/s", "physics", "render", "post", "encode", "write",
                 "edge error vs 4× (levels)", "× encode-only floor"):  # fmt: skip

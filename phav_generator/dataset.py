@@ -110,11 +110,13 @@ class VideoTask:
     shard: str
     video_id: str
     recipe: str
+    #: The renderer (``render.gl.GL_KINDS``): llvmpipe, the renderer of record, or egl-gpu.
+    gl: str = "llvmpipe"
 
 
 # --- worker side ---------------------------------------------------------------------------
 
-_worker_ctx: Any = None
+_worker_ctx: dict[str, Any] = {}
 _worker_events: Any = None
 
 
@@ -123,14 +125,13 @@ def _init_worker(events: Any) -> None:
     _worker_events = events
 
 
-def _context() -> Any:
-    """This process's GL context, made on first use (one per worker process)."""
-    global _worker_ctx
-    if _worker_ctx is None:
+def _context(kind: str) -> Any:
+    """This process's GL context of ``kind``, made on first use (one per worker process)."""
+    if kind not in _worker_ctx:
         from phav_generator.render.gl import gl_context
 
-        _worker_ctx = gl_context()
-    return _worker_ctx
+        _worker_ctx[kind] = gl_context(kind)
+    return _worker_ctx[kind]
 
 
 def _part_path(work: Path, video_id: str, what: str) -> Path:
@@ -149,7 +150,7 @@ def render_part(task: VideoTask, out: Path, report: Progress | None = None) -> d
     from phav_spec.encoding import VideoHashes
 
     task_delay(task.video_id)
-    ctx = _context()
+    ctx = _context(task.gl)
     work = out / WORK_DIR
     recipe = parse_recipe(task.recipe, source=f"{task.shard} recipe {task.video_id}")
     hashes = VideoHashes(recipe.n_frames)
@@ -385,6 +386,7 @@ def write_dataset(
     shard_names: Sequence[str] | None = None,
     engine: str = "local",
     address: str | None = None,
+    gl: str = "llvmpipe",
 ) -> DatasetResult:
     """Render ``shards`` (lists of recipes; shard i is ``{name}-{i:06d}.tar`` unless
     ``shard_names`` says otherwise) into ``out``.
@@ -394,7 +396,8 @@ def write_dataset(
     and this process journals it and joins a shard's parts into its tar once all are in.
     Work already journalled in ``out`` for the same run is kept, not redone. Writes
     ``theta.yaml`` (when θ is given), ``recipes.parquet``, ``cameras.parquet``,
-    ``people.parquet`` and, last, ``manifest.json``.
+    ``people.parquet`` and, last, ``manifest.json``. ``gl`` picks the renderer
+    (``render.gl.gl_context``); the manifest's fingerprint records the one that rendered.
     """
     out = Path(out)
     if engine not in ENGINES:
@@ -404,9 +407,14 @@ def write_dataset(
     names = list(shard_names) if shard_names is not None else [shard_name(name, i) for i in range(len(shards))]
     if len(names) != len(shards) or len(set(names)) != len(names):
         raise ValueError("shard_names must name every shard once")
-    tasks = [
-        VideoTask(n, r.video_id, r.model_dump_json()) for n, recipes in zip(names, shards, strict=True) for r in recipes
-    ]
+    if gl != "llvmpipe":
+        from phav_generator.render.gl import check_gl_kind, require_gl
+
+        check_gl_kind(gl)
+        if engine == "local":  # a Ray cluster's workers may have GPUs this driver lacks
+            require_gl(gl)
+    tasks = [VideoTask(n, r.video_id, r.model_dump_json(), gl)
+             for n, recipes in zip(names, shards, strict=True) for r in recipes]  # fmt: skip
     try:
         return _write(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
                       workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
@@ -464,6 +472,7 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
         "shards": [[r.video_id for r in recipes] for recipes in shards],
         "shard_names": names,
         "recipes_hash": sha256_hex(canonical_json([t.recipe for t in tasks])),
+        "gl": tasks[0].gl if tasks else None,  # a run never mixes renderers
     }
     _check_run(work, run)
     if theta is not None:

@@ -194,6 +194,11 @@ def test_a_directory_holding_another_run_is_refused(recipes, theta, tmp_path):
         write_dataset(chunk(recipes[:1], 1), out, name="demo", theta=theta, dataset_seed=SEED, progress=stop)
     with pytest.raises(PhavUserError, match="dataset_seed"):
         write_dataset(chunk(recipes[:1], 1), out, name="demo", theta=theta, dataset_seed=SEED + 1)
+    # Another renderer never finishes a run: its pixels would differ (the Ray engine skips the
+    # driver's own GPU probe, so the journalled run is what refuses here).
+    with pytest.raises(PhavUserError, match=r"\(gl differ\)"):
+        write_dataset(chunk(recipes[:1], 1), out, name="demo", theta=theta, dataset_seed=SEED, engine="ray",
+                      gl="egl-gpu")  # fmt: skip
 
 
 def test_generate_errors_are_one_line(tmp_path):
