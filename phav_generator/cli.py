@@ -407,9 +407,10 @@ def regenerate(
     gl: GlOption = "llvmpipe",
 ) -> None:
     """Rebuild videos from their recipes and say whether every content hash matches."""
-    from phav_generator.regenerate import compare_hashes, plan_regeneration
+    from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration
 
     plan = plan_regeneration(source, videos=video)
+    check_target(source, out)
     with _RenderProgress(plan.n_videos, "regenerating") as progress:
         from phav_generator.dataset import write_dataset
 

@@ -110,7 +110,11 @@ class RayPool:
     def __init__(self, workers: int, address: str | None, initializer: Callable[[], None] | None = None):
         self._session = ray_session(workers, address)
         ray = self._session.__enter__()
-        self._remote = ray.remote(num_cpus=1, max_retries=0)(_call)
+        try:
+            self._remote = ray.remote(num_cpus=1, max_retries=0)(_call)
+        except BaseException:
+            self._session.__exit__(None, None, None)
+            raise
         self._initializer = initializer
 
     def submit(self, fn: Callable[..., Any], *args: Any) -> Future[Any]:

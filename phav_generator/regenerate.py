@@ -111,6 +111,16 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
     return RegenerationPlan(shards, names, manifest.name, theta, seed, manifest, release)
 
 
+def check_target(source: str | Path, out: str | Path) -> None:
+    """Refuse an ``--out`` whose rebuilt files would overwrite what they are compared with:
+    the source's own directory, or any release."""
+    src = Path(source)
+    where = src if src.is_dir() else src.parent
+    if Path(out).resolve() == where.resolve() or (Path(out) / RELEASE_FILE).exists():
+        raise PhavUserError("must be a directory apart from the source (the rebuilt files would overwrite what "
+                            "they are compared with)", source=str(out), field="--out")  # fmt: skip
+
+
 @dataclass
 class HashReport:
     """How rebuilt videos compare with the manifest they came from."""

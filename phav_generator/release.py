@@ -6,8 +6,10 @@ with θ, statistics and histograms under ``histograms/``), a Croissant JSON-LD d
 (``croissant.json``) and ``release.json``, which lists every file of the *full* release
 with its size and sha256 and says which are included. A recipe-only release leaves out the
 shards and the two metadata tables, all of which ``phav regenerate manifest.json`` rebuilds
-and checks against those hashes. Everything is written atomically; ``release.json`` comes
-last, so its presence marks a finished release, and a rerun keeps the files already there.
+and checks against those hashes. Everything is written atomically. The release directory
+must be empty or hold this very release; a run marks it first (``.phav-release.json``) and
+writes ``release.json`` last, so ``release.json`` marks a finished release, and a rerun,
+even of an interrupted run, keeps the files already in place.
 """
 
 from __future__ import annotations
@@ -45,6 +47,9 @@ __all__ = [
 #: Version of ``release.json``'s format; readers refuse newer ones.
 RELEASE_VERSION = 1
 RELEASE_FILE = "release.json"
+#: Marks a release being written (and by whom: the manifest's sha256 and the kind), so
+#: that a rerun resumes its own release and never writes into someone else's directory.
+IN_PROGRESS_FILE = ".phav-release.json"
 CARD_FILE = "README.md"
 CROISSANT_FILE = "croissant.json"
 HISTOGRAMS_DIR = "histograms"
@@ -164,9 +169,9 @@ def _load_source(root: Path) -> _Source:
     manifest = load_manifest(root / "manifest.json")
     table = read_recipe_table(root / "recipes.parquet")
     theta_path = root / "theta.yaml"
-    theta = load_theta(theta_path) if theta_path.exists() else table.theta
-    if theta is None:
-        raise PhavUserError("no theta.yaml and the recipes table records no θ", source=str(root))
+    if not theta_path.is_file():
+        raise PhavUserError("missing from the dataset; a release ships its θ", source=str(theta_path))
+    theta = load_theta(theta_path)
     if manifest.theta_hash is not None and theta.hash != manifest.theta_hash:
         raise PhavUserError(f"θ hashes to {theta.hash[:12]}…, the manifest records {manifest.theta_hash[:12]}…",
                             source=str(theta_path))  # fmt: skip
@@ -174,7 +179,7 @@ def _load_source(root: Path) -> _Source:
     listed = [v.video_id for v in manifest.videos]
     if sorted(ids) != sorted(listed):
         raise PhavUserError("the recipes table and the manifest list different videos", source=str(root))
-    for name in (*(s.name for s in manifest.shards), *METADATA_FILES):
+    for name in (*(s.name for s in manifest.shards), *RECIPE_FILES, *METADATA_FILES):
         if not (root / name).is_file():
             raise PhavUserError("missing from the dataset; regenerate it before releasing", source=str(root / name))
     return _Source(root, manifest, table, theta)
@@ -194,12 +199,13 @@ def _place(source: Path, target: Path, size: int, sha256: str, advance: Callable
     try:
         os.link(source, tmp)
     except OSError as e:
-        if e.errno not in (errno.EXDEV, errno.EPERM, errno.EMLINK, errno.ENOTSUP):
+        if e.errno not in (errno.EXDEV, errno.EPERM, errno.EMLINK, errno.ENOTSUP, errno.ENOSYS, errno.EACCES):
             raise
         with atomic_write(target) as t:
             shutil.copyfile(source, t)
     else:
         os.replace(tmp, target)
+        tmp.unlink(missing_ok=True)  # replacing a link to the same file is a no-op that keeps tmp
     got = file_sha256(target, advance)
     if got != sha256:
         target.unlink()
@@ -237,8 +243,10 @@ def make_release(
     """Write the release of the finished dataset ``source`` into ``out`` (see the module doc)."""
     src = _load_source(Path(source))
     out = Path(out)
-    if out.resolve() == src.root.resolve():
-        raise PhavUserError("the release must go to another directory than the dataset", field="--out")
+    a, b = out.resolve(), src.root.resolve()
+    if a == b or a in b.parents or b in a.parents:
+        raise PhavUserError("the release and the dataset must not contain each other", source=str(out),
+                            field="--out")  # fmt: skip
     if out.exists() and not out.is_dir():
         raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
     if not re.fullmatch(r"\d+\.\d+\.\d+", version):
@@ -257,23 +265,38 @@ def make_release(
         raise WriteError(e, str(e.filename or out), "free space or fix permissions, then rerun to resume") from None
 
 
+def _claim(out: Path, src: _Source, recipes_only: bool) -> None:
+    """Make ``out`` this release's: it must be empty, or hold this release (finished, or
+    begun by an interrupted run, which ``IN_PROGRESS_FILE`` marks). ``release.json`` goes
+    first, so an interrupted rerun never leaves a finished-looking release behind."""
+    claim = {"manifest_sha256": file_sha256(src.root / "manifest.json"), "recipes_only": recipes_only}
+    marker, finished = out / IN_PROGRESS_FILE, out / RELEASE_FILE
+    if marker.exists():
+        ours = parse_json_object(read_text(marker), source=str(marker)) == claim
+    elif finished.exists():
+        old = load_release_index(finished)
+        entry = old.file("manifest.json")
+        ours = old.recipes_only == recipes_only and entry is not None and entry.sha256 == claim["manifest_sha256"]
+    else:
+        ours = not any(out.iterdir())
+    if not ours:
+        raise PhavUserError("holds other files or another release; choose an empty directory", source=str(out),
+                            field="--out")  # fmt: skip
+    with atomic_write(marker) as tmp:
+        tmp.write_text(pretty_json(claim) + "\n", encoding="utf-8")
+    finished.unlink(missing_ok=True)
+
+
 def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[str, str | None],
                    progress: Progress | None) -> ReleaseResult:  # fmt: skip
     out.mkdir(parents=True, exist_ok=True)
-    previous = out / RELEASE_FILE
-    if previous.exists():
-        old = load_release_index(previous)
-        if old.recipes_only != recipes_only or old.name != src.manifest.name:
-            raise PhavUserError("holds another release; choose an empty directory", source=str(out), field="--out")
+    _claim(out, src, recipes_only)
     small = sum((src.root / n).stat().st_size for n in RECIPE_FILES + METADATA_FILES)
     advance = progress("hashing", small) if progress is not None else None
     index = _index(src, recipes_only=recipes_only, about=about, advance=advance)
     included = [f for f in index.files if f.included]
     advance = progress("placing files", sum(f.bytes for f in included)) if progress is not None else None
     kept = sum(not _place(src.root / f.path, out / f.path, f.bytes, f.sha256, advance) for f in included)
-    for f in index.files:  # a full release turned recipe-only keeps no stale shards
-        if not f.included:
-            (out / f.path).unlink(missing_ok=True)
 
     from phav_generator.card import croissant, dataset_card, histograms
 
@@ -290,6 +313,7 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[s
         tmp.write_text(pretty_json(jsonld) + "\n", encoding="utf-8")
     with atomic_write(out / RELEASE_FILE) as tmp:
         tmp.write_text(pretty_json(index.model_dump(mode="json")) + "\n", encoding="utf-8")
+    (out / IN_PROGRESS_FILE).unlink()
     return ReleaseResult(index, out, _tree_bytes(out), kept)
 
 

@@ -6,6 +6,8 @@ read pixels need them, so the shards they cover are rendered from the recipes fi
 them, or only those holding the ``--sample`` of videos), into ``--regenerate-into`` or a
 temporary directory. The release's own manifest is put beside them, so the integrity check
 then compares the regenerated pixels and tar bytes with the hashes the release promises.
+A marker file says what was regenerated there and by which renderer: a later run reuses
+the directory only for exactly the same shards of the same release.
 """
 
 from __future__ import annotations
@@ -16,31 +18,40 @@ import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write
+from phav_spec.files import WriteError, atomic_write, parse_json_object, read_text
 from phav_validators.findings import Reason
 from phav_validators.source import MANIFEST, RECIPES, THETA, DatasetInput
 
 if TYPE_CHECKING:
     from phav_generator.regenerate import RegenerationPlan
-    from phav_spec.manifest import RendererFingerprint
     from phav_validators.validate import DatasetReport, Options, ProgressFactory
 
 #: Checks that need pixels (shards, or the metadata tables the renderer writes).
 PIXEL_CHECKS = ("integrity", "encoding", "failures", "consistency", "reproducibility", "learnability")
 #: Integrity reasons that mean "these bytes differ from the release's": expected, not a
-#: failure, when this machine's renderer is not the release's renderer of record.
+#: failure, when the regenerating renderer is not the release's renderer of record.
 _RENDERER_DEPENDENT = (Reason.HASH_MISMATCH, Reason.SHARD_BYTES_CHANGED)
+#: In a ``--regenerate-into`` directory: what was regenerated there, for which release, by
+#: which renderer, and the files it wrote.
+MARKER = ".phav-regenerated.json"
 
 
 def is_recipe_release(inp: DatasetInput) -> bool:
-    """True for a release directory whose ``release.json`` says it carries no pixels."""
+    """True for a release directory whose ``release.json`` says it carries no pixels (an
+    unreadable ``release.json`` is the integrity check's finding, not this question's)."""
     from phav_generator.release import RELEASE_FILE, load_release_index
 
     path = inp.root / RELEASE_FILE
-    return inp.recipes_path is None and path.exists() and load_release_index(path).recipes_only
+    if inp.recipes_path is not None or not path.exists():
+        return False
+    try:
+        return load_release_index(path).recipes_only
+    except PhavUserError:
+        return False
 
 
 def _shards_to_build(plan: RegenerationPlan, opts: Options) -> list[int]:
@@ -54,22 +65,46 @@ def _shards_to_build(plan: RegenerationPlan, opts: Options) -> list[int]:
     return [i for i, shard in enumerate(plan.shards) if any(r.video_id in chosen for r in shard)]
 
 
-def _built(into: Path, release_root: Path, names: list[str], plan: RegenerationPlan) -> bool:
-    """True when ``into`` already holds these shards next to the release's manifest (an
-    earlier run): the integrity check verifies their hashes either way."""
-    manifest = into / MANIFEST
-    if not manifest.exists() or manifest.read_bytes() != (release_root / MANIFEST).read_bytes():
-        return False
-    sizes = {s.name: s.bytes for s in plan.expected.shards} if plan.expected is not None else {}
-    return all((into / n).is_file() and (into / n).stat().st_size == sizes.get(n) for n in names)
+def _apart(into: Path, release_root: Path) -> None:
+    """Refuse the release itself, a directory inside it or holding it, and any release."""
+    a, b = into.resolve(), release_root.resolve()
+    if a == b or a in b.parents or b in a.parents or (into / "release.json").exists():
+        raise PhavUserError("must be a directory of its own, apart from the release", source=str(into),
+                            field="--regenerate-into")  # fmt: skip
+
+
+def _earlier(into: Path) -> dict[str, Any] | None:
+    """The marker of an earlier regeneration into ``into`` (None: there was none); a
+    directory holding anything else is refused."""
+    marker = into / MARKER
+    if marker.exists():
+        return parse_json_object(read_text(marker), source=str(marker))
+    if any(into.iterdir()):
+        raise PhavUserError("holds other files; choose an empty directory or one an earlier run regenerated into",
+                            source=str(into), field="--regenerate-into")  # fmt: skip
+    return None
+
+
+def _clear(into: Path, marker: dict[str, Any]) -> None:
+    """Remove the files an earlier regeneration wrote (its marker last)."""
+    for name in marker.get("files", []):
+        if isinstance(name, str) and name == Path(name).name and not name.startswith("."):
+            (into / name).unlink(missing_ok=True)
+    (into / MARKER).unlink()
 
 
 @contextlib.contextmanager
 def _directory(opts: Options) -> Iterator[Path]:
     if opts.regenerate_into is not None:
-        opts.regenerate_into.mkdir(parents=True, exist_ok=True)
+        try:
+            opts.regenerate_into.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise WriteError(e, str(opts.regenerate_into)) from None
         yield opts.regenerate_into
         return
+    if opts.engine == "ray" and opts.address:
+        raise PhavUserError("a Ray cluster's workers cannot see this machine's temporary directory; name one on "
+                            "storage every node mounts", field="--regenerate-into")  # fmt: skip
     path = Path(tempfile.mkdtemp(prefix="phav-validate-"))
     try:
         yield path
@@ -77,54 +112,67 @@ def _directory(opts: Options) -> Iterator[Path]:
         shutil.rmtree(path, ignore_errors=True)
 
 
-def _fingerprint_here() -> RendererFingerprint:
-    """This machine's renderer fingerprint (the one regenerated pixels were made with)."""
-    from phav_generator.dataset import renderer_fingerprint
-    from phav_generator.render.gl import gl_context, gl_strings
+def _regenerate(inp: DatasetInput, plan: RegenerationPlan, chosen: list[int], into: Path, options: Options,
+                progress: ProgressFactory | None) -> tuple[dict[str, Any], bool]:  # fmt: skip
+    """Regenerate the chosen shards into ``into``, or reuse an earlier run that made exactly
+    these; returns the marker (what is there, the renderer that made it) and whether reused."""
+    from phav_generator.dataset import write_dataset
+    from phav_generator.release import file_sha256
 
-    ctx = gl_context()
-    try:
-        return renderer_fingerprint(gl_strings(ctx))
-    finally:
-        ctx.release()
+    names = [plan.shard_names[i] for i in chosen] if plan.shard_names else []
+    wanted = {"release_manifest_sha256": file_sha256(inp.root / MANIFEST), "shards": names}
+    before = _earlier(into)
+    if before is not None and {k: before.get(k) for k in wanted} == wanted:
+        return before, True
+    if before is not None:
+        _clear(into, before)
+    n_videos = sum(len(plan.shards[i]) for i in chosen)
+    advance = progress("regenerating", n_videos) if progress is not None else None
+    result = write_dataset([plan.shards[i] for i in chosen], into, name=plan.name, theta=plan.theta,
+                           dataset_seed=plan.dataset_seed, workers=options.workers, shard_names=names,
+                           progress=(lambda videos, frames: advance(videos)) if advance else None,
+                           engine=options.engine, address=options.address)  # fmt: skip
+    for name in (MANIFEST, RECIPES, THETA):  # the release's, not the subset's
+        with atomic_write(into / name) as tmp:
+            shutil.copyfile(inp.root / name, tmp)
+    renderer = result.manifest.renderer
+    marker = wanted | {
+        "renderer": renderer.model_dump(mode="json") if renderer is not None else None,
+        "files": sorted(p.name for p in into.iterdir() if p.is_file() and not p.name.startswith(".")),
+    }
+    with atomic_write(into / MARKER) as tmp:
+        tmp.write_text(pretty_json(marker) + "\n", encoding="utf-8")
+    return marker, False
 
 
 def validate_release(
     inp: DatasetInput, *, theta: str | None, options: Options, progress: ProgressFactory | None
 ) -> DatasetReport:
     """Regenerate the shards the chosen checks read, then validate them as the release."""
-    from phav_generator.dataset import write_dataset
     from phav_generator.regenerate import plan_regeneration
-    from phav_validators.validate import validate_dataset
+    from phav_spec.manifest import RendererFingerprint
+    from phav_validators.validate import validate_as_is
 
     try:
         plan = plan_regeneration(inp.manifest_path)
     except PhavUserError as e:  # a broken release: validated as it is, the checks say what is wrong
-        report = validate_dataset(dataclasses.replace(inp, shards=None), theta=theta,
-                                  options=dataclasses.replace(options, checks=("integrity", "schema")),
-                                  progress=progress)  # fmt: skip
+        report = validate_as_is(dataclasses.replace(inp, shards=None), theta=theta,
+                                options=dataclasses.replace(options, checks=("integrity", "schema")),
+                                progress=progress)  # fmt: skip
         report.checks[0].report.notes.append(f"cannot regenerate the release: {e}")
         return report
     chosen = _shards_to_build(plan, options)
-    names = [plan.shard_names[i] for i in chosen] if plan.shard_names else []
+    if options.regenerate_into is not None:
+        _apart(options.regenerate_into, inp.root)
     with _directory(options) as into:
-        reused = _built(into, inp.root, names, plan)
-        if not reused:
-            n_videos = sum(len(plan.shards[i]) for i in chosen)
-            advance = progress("regenerating", n_videos) if progress is not None else None
-            write_dataset([plan.shards[i] for i in chosen], into, name=plan.name, theta=plan.theta,
-                          dataset_seed=plan.dataset_seed, workers=options.workers, shard_names=names,
-                          progress=(lambda videos, frames: advance(videos)) if advance else None,
-                          engine=options.engine, address=options.address)  # fmt: skip
-            for name in (MANIFEST, RECIPES, THETA):  # the release's, not the subset's
-                with atomic_write(into / name) as tmp:
-                    shutil.copyfile(inp.root / name, tmp)
-        every = len(chosen) == len(plan.shards)
-        built = DatasetInput(into, shards=None if every else [into / n for n in names], named=list(inp.named))
-        report = validate_dataset(built, theta=theta, options=options, progress=progress)
+        marker, reused = _regenerate(inp, plan, chosen, into, options, progress)
+        shards = None if len(chosen) == len(plan.shards) else [into / n for n in marker["shards"]]
+        report = validate_as_is(DatasetInput(into, shards=shards, named=list(inp.named)), theta=theta,
+                                options=options, progress=progress)  # fmt: skip
     report.source = f"{inp.label} (recipe-only release)"
     expected = plan.expected.renderer if plan.expected is not None else None
-    exact = expected is not None and expected.digest() == _fingerprint_here().digest()
+    made_by = RendererFingerprint.model_validate(marker["renderer"]) if marker.get("renderer") else None
+    exact = expected is not None and made_by is not None and expected.digest() == made_by.digest()
     where = f"kept in {options.regenerate_into}" if options.regenerate_into is not None else "in a temporary directory"
     basis = (
         "equals the release's: every hash must match"
@@ -133,7 +181,7 @@ def validate_release(
     )
     verb = "reused" if reused else "regenerated"
     note = f"{verb} {len(chosen)} of {len(plan.shards)} shards from the release's recipes ({where}); "
-    note += f"renderer fingerprint {basis}"
+    note += f"the renderer that made them {basis}"
     for check in report.checks:
         if check.name != "integrity":
             continue

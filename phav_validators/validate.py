@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from phav_generator.release import RELEASE_FILE, load_release_index
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS
@@ -179,6 +180,13 @@ def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -
                                           numbers={"field": e.field}))  # fmt: skip
         else:
             out.integrity.add(Finding(Reason.MISSING_FILE, "the dataset has no manifest.json", file=str(inp.root)))
+        release = inp.root / RELEASE_FILE
+        if release.exists():
+            try:
+                load_release_index(release)
+            except PhavUserError as e:
+                out.integrity.add(Finding(Reason.MANIFEST_INVALID, e.detail, file=str(release),
+                                          numbers={"field": e.field}))  # fmt: skip
     timings["integrity"] = time.perf_counter() - start
     start = time.perf_counter()
     table_path = inp.recipes_table
@@ -499,11 +507,23 @@ def validate_dataset(
     options: Options = Options(),
     progress: ProgressFactory | None = None,
 ) -> DatasetReport:
-    """Run the chosen checks on one dataset; user errors (bad --theta) raise PhavUserError."""
+    """Run the chosen checks on one dataset; user errors (bad --theta) raise PhavUserError.
+    A recipe-only release has the pixels its checks read regenerated first (``regenerated``)."""
+    if is_recipe_release(inp) and set(options.checks) & set(PIXEL_CHECKS):
+        return validate_release(inp, theta=theta, options=options, progress=progress)
+    return validate_as_is(inp, theta=theta, options=options, progress=progress)
+
+
+def validate_as_is(
+    inp: DatasetInput,
+    *,
+    theta: str | None = None,
+    options: Options = Options(),
+    progress: ProgressFactory | None = None,
+) -> DatasetReport:
+    """Run the chosen checks on the files the directory holds (nothing is regenerated)."""
     opts = options
     want = set(opts.checks)
-    if is_recipe_release(inp) and want & set(PIXEL_CHECKS):
-        return validate_release(inp, theta=theta, options=opts, progress=progress)
     scanning = not inp.recipes_only and bool(want & set(_SCAN_CHECKS))
     # Workers start first, so that their start-up overlaps reading the sidecar files.
     parallel = opts.workers > 1 or opts.engine == "ray"

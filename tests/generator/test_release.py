@@ -109,6 +109,24 @@ def test_a_release_is_deterministic_and_a_rerun_keeps_what_is_there(dataset, rec
     assert _tree(tmp_path / "again") == _tree(recipe_release)
 
 
+def test_an_interrupted_release_is_never_mistaken_for_a_finished_one(dataset, recipe_release, tmp_path):
+    out = tmp_path / "again"
+
+    class Stop(Exception):
+        pass
+
+    def stop_when_placing(description: str, total: int):
+        if description == "placing files":
+            raise Stop
+        return lambda n: None
+
+    with pytest.raises(Stop):
+        make_release(dataset, out, recipes_only=True, date="2026-11-21", progress=stop_when_placing)
+    assert not (out / RELEASE_FILE).exists() and (out / ".phav-release.json").exists()
+    make_release(dataset, out, recipes_only=True, date="2026-11-21")  # resumes its own directory
+    assert _tree(out) == _tree(recipe_release)
+
+
 def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_path):
     unfinished = tmp_path / "unfinished"
     shutil.copytree(dataset, unfinished)
@@ -127,7 +145,16 @@ def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_p
     assert shard.name in str(caught.value)
 
     result = run_cli("release", str(dataset), "--out", str(recipe_release))  # full into a recipe-only one
-    assert result.returncode == 2 and "holds another release" in result.stderr
+    assert result.returncode == 2 and "holds other files or another release" in result.stderr
+    busy = tmp_path / "busy"
+    busy.mkdir()
+    (busy / "README.md").write_text("someone else's", encoding="utf-8")
+    result = run_cli("release", str(dataset), "--out", str(busy))
+    assert result.returncode == 2 and "holds other files" in result.stderr
+    assert (busy / "README.md").read_text(encoding="utf-8") == "someone else's"
+    for inside in (dataset.parent, dataset / "rel"):  # a release never holds its dataset, nor the reverse
+        result = run_cli("release", str(dataset), "--out", str(inside))
+        assert result.returncode == 2 and "must not contain each other" in result.stderr
     result = run_cli("release", str(dataset), "--out", str(tmp_path / "r3"), "--date", "21/11/2026")
     assert result.returncode == 2 and "--date" in result.stderr
     result = run_cli("release", str(dataset), "--out", str(tmp_path / "r3"), "--dataset-version", "v2")
@@ -140,6 +167,9 @@ def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset
     assert result.returncode == 0, result.stderr
     assert "4/4 videos match; files: 4/4 sha256 match" in result.stdout  # 2 shards, 2 tables
     assert file_bytes(out) == file_bytes(dataset)
+
+    result = run_cli("regenerate", str(recipe_release / "manifest.json"), "--out", str(recipe_release))
+    assert result.returncode == 2 and "--out" in result.stderr and "apart from the source" in result.stderr
 
     # A release whose metadata table no longer matches what the recipes render is caught.
     bad = tmp_path / "bad"
@@ -188,6 +218,38 @@ def test_phav_validate_regenerates_only_the_sampled_shards(recipe_release, tmp_p
     assert len(list((tmp_path / "px").glob("*.tar"))) == 1
 
 
+def test_phav_validate_regenerates_again_when_asked_for_other_shards(recipe_release, tmp_path):
+    """A directory an earlier --sample run filled is cleared and refilled for a full run:
+    its metadata tables then cover every video (the failures check reads them)."""
+    px = str(tmp_path / "px")
+    first = _validate(recipe_release, "--checks", "integrity", "--sample", "0.25", "--regenerate-into", px)
+    assert any("regenerated 1 of 2 shards" in n for n in first["integrity"]["notes"])
+    full = _validate(recipe_release, "--checks", "integrity,failures", "--regenerate-into", px)
+    assert full["_rc"] == 0, full["_stdout"]
+    assert any("regenerated 2 of 2 shards" in n for n in full["integrity"]["notes"])
+    assert full["failures"]["status"] == "pass"
+
+
+def test_phav_validate_says_what_is_wrong_with_a_broken_release(recipe_release, tmp_path):
+    broken = tmp_path / "broken"
+    shutil.copytree(recipe_release, broken)
+    (broken / "recipes.parquet").unlink()
+    checks = _validate(broken)
+    assert checks["_rc"] == 1 and "Traceback" not in checks["_stdout"]
+    assert any("cannot regenerate the release" in n for n in checks["integrity"]["notes"])
+    assert checks["schema"]["finding_counts"] == {"MISSING_FILE": 1}
+
+    result = run_cli("validate!", str(recipe_release), "--regenerate-into", str(recipe_release / "px"))
+    assert result.returncode == 2 and "--regenerate-into" in result.stderr and "Traceback" not in result.stderr
+    assert not (recipe_release / "px").exists()
+
+    corrupt = tmp_path / "corrupt"
+    shutil.copytree(recipe_release, corrupt)
+    (corrupt / RELEASE_FILE).write_text("{not json", encoding="utf-8")
+    checks = _validate(corrupt, "--checks", "integrity,schema")
+    assert checks["_rc"] == 1 and checks["integrity"]["finding_counts"]["MANIFEST_INVALID"] == 1
+
+
 def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_release, tmp_path):
     """The release promises a content hash its recipe does not render: integrity fails."""
     bad = tmp_path / "bad"
@@ -207,8 +269,11 @@ def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_relea
 @pytest.mark.slow
 def test_phav_validate_on_ray_reports_what_the_local_pool_reports(recipe_release, tmp_path):
     pytest.importorskip("ray")
-    local = _validate(recipe_release, "--workers", "2", "--regenerate-into", str(tmp_path / "px"))
-    ray = _validate(recipe_release, "--workers", "2", "--engine", "ray", "--regenerate-into", str(tmp_path / "px"))
+    local = _validate(recipe_release, "--workers", "2", "--regenerate-into", str(tmp_path / "local"))
+    ray = _validate(recipe_release, "--workers", "2", "--engine", "ray", "--regenerate-into", str(tmp_path / "ray"))
+    assert local["_rc"] == 0, local["_stdout"]
+    assert any("regenerated 2 of 2 shards" in n for n in ray["integrity"]["notes"])  # rendered on Ray too
+    assert file_bytes(tmp_path / "ray") == file_bytes(tmp_path / "local")
     for name in ("integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility"):
         assert (ray[name]["status"], ray[name]["numbers"]) == (local[name]["status"], local[name]["numbers"]), name
 
