@@ -23,6 +23,8 @@ demo: $(STAMP)
 	$(VENV)/bin/phav generate --theta recipes/phav-v1-short.yaml --videos 4 --seed 0 --workers 2 --shard-size 2 --out $(DEMO)/videos
 	$(VENV)/bin/phav-validate $(DEMO)/videos --workers 2 --json $(DEMO)/validation.json --html $(DEMO)/validation.html
 	$(VENV)/bin/phav regenerate $(DEMO)/videos --video v000000 --out $(DEMO)/rebuilt
+	$(VENV)/bin/phav release $(DEMO)/videos --out $(DEMO)/release --recipes-only
+	$(VENV)/bin/phav-validate $(DEMO)/release --workers 2 --checks integrity,schema,encoding --regenerate-into $(DEMO)/release-pixels
 	$(VENV)/bin/phav preview $(DEMO)/videos --video v000000 --out $(DEMO)/v000000-preview.png
 
 test: $(STAMP)

@@ -209,8 +209,9 @@ def _place(source: Path, target: Path, size: int, sha256: str, advance: Callable
     got = file_sha256(target, advance)
     if got != sha256:
         target.unlink()
-        raise PhavUserError(f"sha256 {got[:12]}… differs from the manifest's {sha256[:12]}…; run phav-validate on "
-                            "the dataset", source=str(source))  # fmt: skip
+        raise PhavUserError(f"sha256 {got[:12]}… differs from the recorded {sha256[:12]}… (changed since it was "
+                            "generated, or while releasing); run phav-validate on the dataset",
+                            source=str(source))  # fmt: skip
     return True
 
 
@@ -267,8 +268,8 @@ def make_release(
 
 def _claim(out: Path, src: _Source, recipes_only: bool) -> None:
     """Make ``out`` this release's: it must be empty, or hold this release (finished, or
-    begun by an interrupted run, which ``IN_PROGRESS_FILE`` marks). ``release.json`` goes
-    first, so an interrupted rerun never leaves a finished-looking release behind."""
+    begun by an interrupted run, which ``IN_PROGRESS_FILE`` marks). An earlier
+    ``release.json`` is removed first, so an interrupted rerun never looks finished."""
     claim = {"manifest_sha256": file_sha256(src.root / "manifest.json"), "recipes_only": recipes_only}
     marker, finished = out / IN_PROGRESS_FILE, out / RELEASE_FILE
     if marker.exists():
