@@ -182,12 +182,24 @@ def check_table(
 
 
 def ks(variable: str, condition: str, x: np.ndarray, cdf: Callable[[np.ndarray], np.ndarray]) -> FitTest:
-    """Kolmogorov–Smirnov test of the finite values of ``x`` against ``cdf``."""
+    """Kolmogorov–Smirnov test of the finite values of ``x`` against ``cdf``.
+
+    θ may put an atom where the data are (fixed-length clips: T_min = T_max). scipy's test
+    assumes a continuous CDF and then finds the largest possible distance at the atom, so
+    there the statistic takes the CDF's left limits (D⁻ = max F(x₍ᵢ₎⁻) − (i−1)/n) and the
+    p-value the continuous null distribution, which is conservative for a discrete F.
+    """
     x = x[np.isfinite(x)]
-    if len(x) == 0:
+    n = len(x)
+    if n == 0:
         return FitTest(variable, condition, "ks", 0, 0.0, 0, 1.0)
-    res = stats.kstest(x, cdf)
-    return FitTest(variable, condition, "ks", len(x), float(res.statistic), 0, float(res.pvalue))
+    xs = np.sort(x)
+    at, left = np.asarray(cdf(xs), dtype=float), np.asarray(cdf(np.nextafter(xs, -np.inf)), dtype=float)
+    if not np.any(at - left > 1e-12):
+        res = stats.kstest(x, cdf)
+        return FitTest(variable, condition, "ks", n, float(res.statistic), 0, float(res.pvalue))
+    d = max(float(np.max(np.arange(1, n + 1) / n - at)), float(np.max(left - np.arange(n) / n)), 0.0)
+    return FitTest(variable, condition, "ks", n, d, 0, float(stats.kstwo.sf(d, n)))
 
 
 def _finite_column(columns: Mapping[str, Sequence[Any]], name: str, report: Report, source: str | None) -> np.ndarray:

@@ -31,11 +31,19 @@ def croissant_issues(path: Path) -> tuple[list[str], list[str]]:
     return issues
 
 
+def _tiny(data: dict) -> None:
+    """phav-v1 with clips of 0.2 s (6 frames): what is tested here does not need longer ones."""
+    data["name"] = "phav-v1-tiny"
+    data["durations"] = {"t_min": 0.2, "t_max": 0.2, "t_mod": 0.2}
+
+
 @pytest.fixture(scope="module")
 def dataset(tmp_path_factory) -> Path:
-    """Four phav-v1-short videos in two shards."""
-    out = tmp_path_factory.mktemp("release") / "data"
-    result = run_cli("generate", "--theta", "phav-v1-short", "--videos", "4", "--seed", "5", "--shard-size", "2",
+    """Four phav-v1-tiny videos in two shards."""
+    root = tmp_path_factory.mktemp("release")
+    theta = theta_variant(root, _tiny)
+    out = root / "data"
+    result = run_cli("generate", "--theta", str(theta), "--videos", "4", "--seed", "5", "--shard-size", "2",
                      "--workers", "2", "--out", str(out))  # fmt: skip
     assert result.returncode == 0, result.stderr
     return out
@@ -62,7 +70,7 @@ def test_a_full_release_carries_every_file_with_its_hash(dataset, tmp_path):
         assert file_sha256(rel / f.path) == f.sha256 and (rel / f.path).stat().st_size == f.bytes
     assert result.release_bytes > index.full_bytes  # plus the card, Croissant and histograms
     card = (rel / "README.md").read_text(encoding="utf-8")
-    assert "phav-v1-short" in card and "## θ" in card and "Holm" in card
+    assert "phav-v1-tiny" in card and "## θ" in card and "Holm" in card
     assert "Version 1.0.0, published 2026-11-21; license CC-BY-4.0." in card
     for figure in ("action", "environment", "duration_s"):
         assert f"histograms/{figure}.svg" in card
@@ -191,15 +199,22 @@ def _validate(release: Path, *extra: str) -> dict:
     return {c["name"]: c for c in report["checks"]} | {"_rc": result.returncode, "_stdout": result.stdout}
 
 
-def test_phav_validate_regenerates_a_recipe_only_release(recipe_release, tmp_path):
-    checks = _validate(recipe_release, "--workers", "2", "--regenerate-into", str(tmp_path / "px"))
+@pytest.fixture(scope="module")
+def local_validation(recipe_release, tmp_path_factory) -> tuple[dict, Path]:
+    """phav-validate of the recipe-only release with the local pool, and where it regenerated."""
+    px = tmp_path_factory.mktemp("validate") / "px"
+    return _validate(recipe_release, "--workers", "2", "--regenerate-into", str(px)), px
+
+
+def test_phav_validate_regenerates_a_recipe_only_release(recipe_release, local_validation):
+    checks, px = local_validation
     assert checks["_rc"] == 0, checks["_stdout"]
     assert all(checks[c]["status"] == "pass" for c in ("integrity", "encoding", "consistency", "reproducibility"))
     assert checks["integrity"]["numbers"]["hashed"] == 4
     assert any("regenerated 2 of 2 shards" in n for n in checks["integrity"]["notes"])
-    assert sorted(p.name for p in (tmp_path / "px").glob("*.tar")) == ["phav-000000.tar", "phav-000001.tar"]
+    assert sorted(p.name for p in px.glob("*.tar")) == ["phav-000000.tar", "phav-000001.tar"]
     # Asked again with the same directory, the shards are reused (and their hashes verified again).
-    again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(tmp_path / "px"))
+    again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(px))
     assert any("reused 2 of 2 shards" in n for n in again["integrity"]["notes"])
     assert again["integrity"]["status"] == "pass"
 
@@ -210,20 +225,15 @@ def test_recipe_checks_of_a_recipe_only_release_need_no_pixels(recipe_release, t
     assert not (tmp_path / "px").exists()
 
 
-def test_phav_validate_regenerates_only_the_sampled_shards(recipe_release, tmp_path):
-    checks = _validate(recipe_release, "--checks", "integrity,encoding", "--sample", "0.25",
-                       "--regenerate-into", str(tmp_path / "px"))  # fmt: skip
-    assert checks["_rc"] == 0
-    assert any("regenerated 1 of 2 shards" in n for n in checks["integrity"]["notes"])
-    assert len(list((tmp_path / "px").glob("*.tar"))) == 1
-
-
-def test_phav_validate_regenerates_again_when_asked_for_other_shards(recipe_release, tmp_path):
-    """A directory an earlier --sample run filled is cleared and refilled for a full run:
-    its metadata tables then cover every video (the failures check reads them)."""
+def test_phav_validate_regenerates_only_the_sampled_shards_then_others_when_asked(recipe_release, tmp_path):
+    """--sample regenerates only the shards holding the sampled videos; a later full run in
+    the same directory clears them and regenerates every shard, so the metadata tables cover
+    every video (the failures check reads them)."""
     px = str(tmp_path / "px")
-    first = _validate(recipe_release, "--checks", "integrity", "--sample", "0.25", "--regenerate-into", px)
+    first = _validate(recipe_release, "--checks", "integrity,encoding", "--sample", "0.25", "--regenerate-into", px)
+    assert first["_rc"] == 0, first["_stdout"]
     assert any("regenerated 1 of 2 shards" in n for n in first["integrity"]["notes"])
+    assert len(list((tmp_path / "px").glob("*.tar"))) == 1
     full = _validate(recipe_release, "--checks", "integrity,failures", "--regenerate-into", px)
     assert full["_rc"] == 0, full["_stdout"]
     assert any("regenerated 2 of 2 shards" in n for n in full["integrity"]["notes"])
@@ -267,13 +277,13 @@ def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_relea
 
 
 @pytest.mark.slow
-def test_phav_validate_on_ray_reports_what_the_local_pool_reports(recipe_release, tmp_path):
+def test_phav_validate_on_ray_reports_what_the_local_pool_reports(recipe_release, local_validation, tmp_path):
     pytest.importorskip("ray")
-    local = _validate(recipe_release, "--workers", "2", "--regenerate-into", str(tmp_path / "local"))
+    local, px = local_validation
     ray = _validate(recipe_release, "--workers", "2", "--engine", "ray", "--regenerate-into", str(tmp_path / "ray"))
     assert local["_rc"] == 0, local["_stdout"]
     assert any("regenerated 2 of 2 shards" in n for n in ray["integrity"]["notes"])  # rendered on Ray too
-    assert file_bytes(tmp_path / "ray") == file_bytes(tmp_path / "local")
+    assert file_bytes(tmp_path / "ray") == file_bytes(px)
     for name in ("integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility"):
         assert (ray[name]["status"], ray[name]["numbers"]) == (local[name]["status"], local[name]["numbers"]), name
 
@@ -284,11 +294,7 @@ def test_a_recipe_only_release_of_100_videos(tmp_path):
     release's bytes, regenerates with every hash matching, and its Croissant file validates.
     Clips of 0.2 s keep it quick, and make the 1 % harder to meet (recipes cost the same)."""
 
-    def short(data: dict) -> None:
-        data["name"] = "phav-v1-tiny"
-        data["durations"] = {"t_min": 0.2, "t_max": 0.2, "t_mod": 0.2}
-
-    theta = theta_variant(tmp_path, short)
+    theta = theta_variant(tmp_path, _tiny)
     data, rel = tmp_path / "data", tmp_path / "rel"
     result = run_cli("generate", "--theta", str(theta), "--videos", "100", "--seed", "7", "--workers", "2",
                      "--out", str(data))  # fmt: skip

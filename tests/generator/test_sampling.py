@@ -145,3 +145,28 @@ def test_parts_do_not_share_draws():
         changed_variation += a.variation != b.variation
         changed_background += a.background_actors != b.background_actors
     assert changed_variation > 30 and changed_background > 30
+
+
+def test_fixed_length_clips_pass_the_duration_tests():
+    """T_min = T_max = T_mod puts every clip at one length: an atom of θ's duration CDF. The
+    KS tests must accept it (a continuous-CDF KS test finds D = 1 there), and still reject
+    clips of another length."""
+    import copy
+
+    from phav_spec.expectations import duration_cdf
+    from phav_spec.theta import parse_theta
+    from phav_validators.distribution import ks
+    from tests.helpers import preset_dict
+
+    data = copy.deepcopy(preset_dict())
+    data["durations"] = {"t_min": 2.0, "t_max": 2.0, "t_mod": 2.0}
+    theta = parse_theta(data)
+    sampler = RecipeSampler(theta)
+    rows = RecipeRows().extend(sampler.sample(3, i) for i in range(300)).to_arrow(theta=theta, dataset_seed=3)
+    columns = {name: rows.column(name).to_pylist() for name in rows.column_names}
+    result = check_distributions(columns, theta)
+    durations = [t for t in result.tests if t.variable == "duration_s"]
+    assert durations and all(t.statistic < 1e-9 and t.p_value > 0.999 for t in durations)
+    assert not any(f.reason == Reason.DISTRIBUTION_MISMATCH for f in result.report.findings)
+    wrong = ks("duration_s", "marginal", np.full(300, 2.5), duration_cdf(theta))
+    assert wrong.statistic > 1 - 1e-9 and wrong.p_value < 1e-12
