@@ -28,7 +28,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write, parse_json_object, read_text
+from phav_spec.files import WriteError, atomic_write, nested, parse_json_object, read_text
 from phav_spec.manifest import DatasetManifest, Sha256Hex, load_manifest
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
 from phav_spec.theta import Theta, load_theta
@@ -244,8 +244,7 @@ def make_release(
     """Write the release of the finished dataset ``source`` into ``out`` (see the module doc)."""
     src = _load_source(Path(source))
     out = Path(out)
-    a, b = out.resolve(), src.root.resolve()
-    if a == b or a in b.parents or b in a.parents:
+    if nested(out, src.root):
         raise PhavUserError("the release and the dataset must not contain each other", source=str(out),
                             field="--out")  # fmt: skip
     if out.exists() and not out.is_dir():

@@ -37,6 +37,13 @@ def parse_json_object(text: str | bytes, *, source: str) -> dict[str, Any]:
     return data
 
 
+def nested(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
+    """True when two paths are one directory or one holds the other (symbolic links resolved):
+    writing into one would then write into, or over, the other."""
+    x, y = Path(a).resolve(), Path(b).resolve()
+    return x == y or x in y.parents or y in x.parents
+
+
 class WriteError(PhavUserError):
     """A write that failed (full disk, file size limit, read-only place…), said in words a
     user can act on; ``errno`` is the operating system's code."""

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write, parse_json_object, read_text
+from phav_spec.files import WriteError, atomic_write, nested, parse_json_object, read_text
 from phav_validators.findings import Reason
 from phav_validators.source import MANIFEST, RECIPES, THETA, DatasetInput
 
@@ -67,8 +67,7 @@ def _shards_to_build(plan: RegenerationPlan, opts: Options) -> list[int]:
 
 def _apart(into: Path, release_root: Path) -> None:
     """Refuse the release itself, a directory inside it or holding it, and any release."""
-    a, b = into.resolve(), release_root.resolve()
-    if a == b or a in b.parents or b in a.parents or (into / "release.json").exists():
+    if nested(into, release_root) or (into / "release.json").exists():
         raise PhavUserError("must be a directory of its own, apart from the release", source=str(into),
                             field="--regenerate-into")  # fmt: skip
 
