@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 from collections import Counter
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,6 +25,7 @@ if TYPE_CHECKING:
     from phav_spec.manifest import DatasetManifest
     from phav_spec.recipe_table import RecipeTable
     from phav_spec.theta import Theta
+    from phav_validators.distribution import DistributionResult
 
 #: Variables whose observed-against-θ histograms the card shows (each one SVG file).
 CARD_VARIABLES = ("action", "environment", "weather", "day_phase", "camera", "variation", "human_model")
@@ -87,15 +89,29 @@ def _shares(counts: np.ndarray) -> list[float]:
     return [float(c) / total for c in counts]
 
 
-def histograms(table: RecipeTable, theta: Theta) -> dict[str, str]:
+@dataclass(frozen=True)
+class RecipeFit:
+    """The recipes table's columns and their fit to θ, read and tested once for the card and
+    its histograms (the test reads every recipe)."""
+
+    columns: dict[str, list[Any]]
+    result: DistributionResult
+
+    @classmethod
+    def of(cls, table: RecipeTable, theta: Theta) -> RecipeFit:
+        from phav_validators.distribution import check_distributions
+
+        columns = {name: table.column(name) for name in table.table.column_names}
+        return cls(columns, check_distributions(columns, theta))
+
+
+def histograms(fit: RecipeFit, theta: Theta) -> dict[str, str]:
     """SVG histograms, observed against θ's expectation, by file name (``action.svg``, …)."""
-    from phav_validators.distribution import check_distributions
     from phav_validators.report import histogram_svg
 
-    columns = {name: table.column(name) for name in table.table.column_names}
-    result = check_distributions(columns, theta)
+    columns = fit.columns
     out = {}
-    for s in result.summaries:
+    for s in fit.result.summaries:
         if s.variable in CARD_VARIABLES:
             title = f"{s.variable} (n = {int(s.observed.sum())}; blue observed, orange θ)"
             out[f"{s.variable}.svg"] = histogram_svg(title, s.values, _shares(s.observed), list(map(float, s.expected)))
@@ -118,14 +134,11 @@ def _bytes(n: int) -> str:
 
 
 def dataset_card(
-    manifest: DatasetManifest, table: RecipeTable, theta: Theta, index: ReleaseIndex, figures: list[str]
+    manifest: DatasetManifest, recipes: RecipeFit, theta: Theta, index: ReleaseIndex, figures: list[str]
 ) -> str:
     """The release's README.md: what the data is, how to get and check its pixels, statistics,
     histograms against θ, the θ itself, the files with their hashes, and how to cite."""
-    from phav_validators.distribution import check_distributions
-
-    columns = {name: table.column(name) for name in table.table.column_names}
-    fit = check_distributions(columns, theta)
+    columns, fit = recipes.columns, recipes.result
     n_frames = sum(v.n_frames for v in manifest.videos)
     fps = theta.video.fps
     rejected = sum(t.rejected for t in fit.tests)

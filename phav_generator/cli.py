@@ -13,7 +13,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
-from phav_generator.cli_support import EXIT_FINDINGS, console, run_app
+from phav_generator.cli_support import EXIT_FINDINGS, bar_tasks, console, run_app
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, parse_json_object
 from phav_spec.recipe import recipe_json_schema
@@ -454,13 +454,8 @@ def release(
 
     with Progress(TextColumn("{task.description}"), BarColumn(), DownloadColumn(), TransferSpeedColumn(),
                   console=console, transient=True) as bar:  # fmt: skip
-
-        def progress(description: str, total: int, bar: Progress = bar):
-            task = bar.add_task(description, total=total)
-            return lambda n: bar.advance(task, n)
-
         result = make_release(source, out, recipes_only=recipes_only, license=license, url=url, date=date,
-                              version=dataset_version, progress=progress)  # fmt: skip
+                              version=dataset_version, progress=bar_tasks(bar))  # fmt: skip
     index = result.index
     kind = "recipe-only release" if index.recipes_only else "release"
     kept = f" ({result.kept} file(s) already in place)" if result.kept else ""

@@ -6,6 +6,7 @@ import sys
 from collections.abc import Callable
 
 from rich.console import Console
+from rich.progress import Progress
 from rich.text import Text
 
 from phav_spec.errors import PhavUserError
@@ -30,3 +31,14 @@ def run_app(app: Callable[[], object]) -> None:
     except KeyboardInterrupt:
         err_console.print("interrupted; finished files are intact (writes are atomic)")
         sys.exit(130)
+
+
+def bar_tasks(bar: Progress) -> Callable[[str, int], Callable[[int], None]]:
+    """A progress factory over ``bar``: ``factory(description, total)`` adds a task and
+    returns its ``advance(n)`` (the shape library code takes as ``progress``)."""
+
+    def factory(description: str, total: int) -> Callable[[int], None]:
+        task = bar.add_task(description, total=total)
+        return lambda n: bar.advance(task, n)
+
+    return factory

@@ -298,14 +298,15 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[s
     advance = progress("placing files", sum(f.bytes for f in included)) if progress is not None else None
     kept = sum(not _place(src.root / f.path, out / f.path, f.bytes, f.sha256, advance) for f in included)
 
-    from phav_generator.card import croissant, dataset_card, histograms
+    from phav_generator.card import RecipeFit, croissant, dataset_card, histograms
 
-    figures = histograms(src.table, src.theta)
+    fit = RecipeFit.of(src.table, src.theta)
+    figures = histograms(fit, src.theta)
     (out / HISTOGRAMS_DIR).mkdir(exist_ok=True)
     for name, svg in figures.items():
         with atomic_write(out / HISTOGRAMS_DIR / name) as tmp:
             tmp.write_text(svg, encoding="utf-8")
-    card = dataset_card(src.manifest, src.table, src.theta, index, sorted(figures))
+    card = dataset_card(src.manifest, fit, src.theta, index, sorted(figures))
     with atomic_write(out / CARD_FILE) as tmp:
         tmp.write_text(card, encoding="utf-8")
     jsonld = croissant(src.manifest, src.table, index)

@@ -14,7 +14,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from phav_generator.cli_support import EXIT_FINDINGS, console, run_app
+from phav_generator.cli_support import EXIT_FINDINGS, bar_tasks, console, run_app
 from phav_spec.errors import PhavUserError
 
 if TYPE_CHECKING:
@@ -113,12 +113,7 @@ def validate(
     for inp in inputs:
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                       console=console, transient=True) as bar:  # fmt: skip
-
-            def progress(description: str, total: int, bar: Progress = bar):
-                task = bar.add_task(description, total=total)
-                return lambda n: bar.advance(task, n)
-
-            report = validate_dataset(inp, theta=theta, options=options, progress=progress)
+            report = validate_dataset(inp, theta=theta, options=options, progress=bar_tasks(bar))
         reports.append(report)
         print_summary(report, details=details)
     if json_out is not None:
