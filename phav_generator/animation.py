@@ -10,11 +10,13 @@ heading over, so a walk keeps walking; then mirrored for handedness and scaled t
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from phav_generator.keyframes import hermite
 from phav_generator.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
 
@@ -222,6 +224,85 @@ def animate(
     if params.mirror:
         pose = mirror(pose)
     return place(anchor(pose), dims, position, heading_deg)
+
+
+#: Physics targets are the animation convolved with a Gaussian of this width (s). Procedural
+#: curves have corners (a running foot lands at speed, a joint clamped at its limit stops
+#: dead) that servos could follow only with an infinite torque, and each timestep resolved
+#: a corner differently (1 cm apart at a running foot strike). 5 ms is about the time a
+#: heel strike takes to stop the foot, and a sixth of a frame.
+TARGET_SMOOTHING_S = 0.005
+#: The fixed grid (Hz) the animation is sampled and smoothed on, so the smoothed targets are
+#: the same function of time whatever the physics timestep.
+TARGET_GRID_HZ = 480
+
+
+def _odd_pad(y: np.ndarray, n: int) -> np.ndarray:
+    """``y`` extended by ``n`` samples at both ends, point-reflected through the end values:
+    a linear trend continues, so smoothing does not slow a moving root near the clip's ends."""
+    n = min(n, len(y) - 1)
+    if n <= 0:
+        return y
+    head = 2.0 * y[0] - y[n:0:-1]
+    tail = 2.0 * y[-1] - y[-2 : -n - 2 : -1]
+    return np.concatenate([head, y, tail])
+
+
+def _gaussian_smooth(y: np.ndarray, sigma_samples: float) -> np.ndarray:
+    """Each column of ``y`` (T, C) convolved with a normalised Gaussian truncated at 4σ."""
+    n = math.ceil(4.0 * sigma_samples)
+    if n == 0 or len(y) < 2:
+        return y.copy()
+    kernel = np.exp(-0.5 * (np.arange(-n, n + 1) / sigma_samples) ** 2)
+    kernel /= kernel.sum()
+    padded = _odd_pad(y, n)
+    m = (len(padded) - len(y)) // 2
+    out = np.empty_like(y)
+    for c in range(y.shape[1]):
+        out[:, c] = np.convolve(padded[:, c], kernel, mode="same")[m : m + len(y)]
+    return out
+
+
+def _cubic_at(grid: np.ndarray, y: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """C1 cubic Hermite interpolation of samples ``y`` on a uniform ``grid`` at ``times``,
+    with central-difference slopes."""
+    if len(grid) < 2:
+        return np.broadcast_to(y[0], (len(times), y.shape[1])).copy()
+    slopes = np.gradient(y, grid, axis=0)
+    return hermite(grid, y, slopes, times)
+
+
+def smooth_targets(
+    pose_at: Callable[[np.ndarray], Pose],
+    times: np.ndarray,
+    *,
+    sigma_s: float = TARGET_SMOOTHING_S,
+    grid_hz: int = TARGET_GRID_HZ,
+) -> Pose:
+    """The pose ``pose_at`` gives, smoothed over ``sigma_s`` and sampled at ``times`` (s, from 0).
+
+    The animation is sampled on a fixed grid from ``times[0]`` to past ``times[-1]``,
+    convolved with a Gaussian and interpolated with C1 cubics, so the result is one smooth
+    function of time (continuous velocities) whatever the sampling of ``times``.
+    """
+    times = np.asarray(times, dtype=np.float64)
+    t0 = float(times[0])
+    count = max(1, math.ceil((float(times[-1]) - t0) * grid_hz - 1e-9))
+    grid = t0 + np.arange(count + 1) / grid_hz
+    pose = pose_at(grid)
+    sigma = sigma_s * grid_hz
+    q = _gaussian_smooth(pose.q, sigma)
+    root_pos = _gaussian_smooth(pose.root_pos, sigma)
+    # Quaternions: make consecutive samples agree in sign, smooth, renormalise.
+    quat = pose.root_quat.copy()
+    flips = np.sign(np.einsum("ij,ij->i", quat[1:], quat[:-1]))
+    quat[1:] *= np.cumprod(np.where(flips == 0, 1.0, flips))[:, None]
+    quat = _gaussian_smooth(quat, sigma)
+    q_t = clamp_to_limits(_cubic_at(grid, q, times))
+    pos_t = _cubic_at(grid, root_pos, times)
+    quat_t = _cubic_at(grid, quat, times)
+    quat_t /= np.linalg.norm(quat_t, axis=1, keepdims=True)
+    return Pose(pos_t, quat_t, q_t)
 
 
 def identity_quats(n: int) -> np.ndarray:

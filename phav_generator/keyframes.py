@@ -48,7 +48,9 @@ def _fc_slopes(h: np.ndarray, delta: np.ndarray) -> np.ndarray:
     return np.where(same, (w1 + w2) / (w1 / safe0 + w2 / safe1), 0.0)
 
 
-def _hermite(xk: np.ndarray, yk: np.ndarray, mk: np.ndarray, x: np.ndarray) -> np.ndarray:
+def hermite(xk: np.ndarray, yk: np.ndarray, mk: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Cubic Hermite curve through knots xk (K,) with values yk (K, C) and slopes mk (K, C),
+    at x (T,) → (T, C); held at the end knots outside [xk[0], xk[-1]]."""
     i = np.clip(np.searchsorted(xk, x, side="right") - 1, 0, len(xk) - 2)
     h = xk[i + 1] - xk[i]
     t = np.clip((x - xk[i]) / h, 0.0, 1.0)[:, None]
@@ -79,7 +81,7 @@ def monotone_cubic(xk: Sequence[float], yk: np.ndarray, x: np.ndarray) -> np.nda
     delta = np.diff(yk, axis=0) / h[:, None]
     mk = np.zeros_like(yk)
     mk[1:-1] = _fc_slopes(h, delta)
-    return _hermite(xk, yk, mk, x)
+    return hermite(xk, yk, mk, x)
 
 
 def periodic_cubic(xk: Sequence[float], yk: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -102,7 +104,7 @@ def periodic_cubic(xk: Sequence[float], yk: np.ndarray, x: np.ndarray) -> np.nda
     m = _fc_slopes(h, delta)  # slopes at ext_x[1:-1] = xk and xk[0] + 1
     knots = ext_x[1:-1]
     u = xk[0] + np.mod(x - xk[0], 1.0)
-    return _hermite(knots, ext_y[1:-1], m, u)
+    return hermite(knots, ext_y[1:-1], m, u)
 
 
 def _axis_rot(angle: np.ndarray, i: int, j: int) -> np.ndarray:

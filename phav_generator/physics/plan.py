@@ -23,6 +23,7 @@ from phav_generator.animation import (
     get_motion,
     motion_params,
     motion_rng,
+    smooth_targets,
 )
 from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traffic
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
@@ -216,7 +217,9 @@ def _uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
 def _animate_person(
     motion: str, start_s: float, params: MotionParams, dims: BodyDims, position, heading: float, times: np.ndarray
 ) -> Pose:
-    return animate(motion, times, start_s, params, dims, tuple(position), heading)
+    """The pins' and servos' targets: the motion placed in the world, smoothed (continuous
+    velocities) so every physics timestep follows the same function of time."""
+    return smooth_targets(lambda t: animate(motion, t, start_s, params, dims, tuple(position), heading), times)
 
 
 def _body_poses(dims: BodyDims, pose: Pose) -> tuple[np.ndarray, np.ndarray]:

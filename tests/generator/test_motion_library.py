@@ -13,14 +13,26 @@ import numpy as np
 import pytest
 
 import phav_generator.motion_library as ml
-from phav_generator.animation import MOTION_LIBRARY, REFERENCE_HEIGHT_M, MotionParams, animate, get_motion, mirror, play
+from phav_generator.animation import (
+    MOTION_LIBRARY,
+    REFERENCE_HEIGHT_M,
+    MotionParams,
+    Pose,
+    animate,
+    get_motion,
+    mirror,
+    play,
+    smooth_targets,
+)
 from phav_generator.rotations import quat_to_matrix
 from phav_generator.skeleton import (
     BONE_INDEX,
+    DOF_INDEX,
     LOWER,
     UPPER,
     body_dims,
     capsule_points,
+    clamp_to_limits,
     forward_kinematics,
 )
 from phav_spec.motions import MOTIONS, theta_ab
@@ -467,3 +479,47 @@ def test_a_clip_starting_part_way_into_a_motion_starts_where_the_recipe_puts_it(
     np.testing.assert_allclose(np.linalg.norm(np.diff(placed.root_pos[:, :2], axis=0), axis=1),
                                np.linalg.norm(np.diff(raw[:, :2], axis=0), axis=1), atol=1e-9)  # fmt: skip
     assert np.linalg.norm(raw[0, :2]) > 0.5  # the motion had travelled: the anchoring mattered
+
+
+KNEE = DOF_INDEX["right_knee_flex"]
+
+
+def _kinked_pose(t: np.ndarray) -> Pose:
+    """A knee that stops dead at t = 0.3125 s (the corner of a running foot strike) on a root
+    walking at a constant 1.4 m/s, turning at a constant rate."""
+    q = np.zeros((len(t), 30))
+    q[:, KNEE] = 0.3 + 6.0 * np.minimum(t, 0.3125)
+    root = np.stack([1.4 * t, 0.2 * t, np.full_like(t, 0.95)], axis=1)
+    half = 0.25 * t  # yaw 0.5 rad/s
+    quat = np.stack([np.cos(half), 0 * t, 0 * t, np.sin(half)], axis=1)
+    return Pose(root, quat, clamp_to_limits(q))
+
+
+def test_smoothed_targets_are_one_function_of_time_whatever_the_timestep() -> None:
+    """The physics targets at 1/240 s are the 1/1920 s targets at the shared instants, so the
+    rates integrate the same motion; the corner becomes a continuous velocity."""
+    coarse_t = np.arange(241) / 240.0
+    fine_t = np.arange(1921) / 1920.0
+    coarse = smooth_targets(_kinked_pose, coarse_t)
+    fine = smooth_targets(_kinked_pose, fine_t)
+    np.testing.assert_allclose(coarse.q, fine.q[::8], atol=1e-12)
+    np.testing.assert_allclose(coarse.root_pos, fine.root_pos[::8], atol=1e-12)
+    velocity = np.diff(fine.q[:, KNEE]) * 1920.0
+    raw = np.diff(_kinked_pose(fine_t).q[:, KNEE]) * 1920.0
+    assert np.abs(np.diff(raw)).max() > 5.0  # the raw knee stops within one step
+    # Smoothed: the 6 rad/s stop spreads over the Gaussian, whose steepest step is
+    # 6 / (σ √(2π)) / 1920 = 0.25 rad/s; C1 cubics add no corner of their own.
+    assert np.abs(np.diff(velocity)).max() < 0.3
+    far = np.abs(fine_t[1:] - 0.3125) > 0.03  # the 4σ kernel plus the cubics' neighbours
+    np.testing.assert_allclose(velocity[far], raw[far], atol=1e-6)  # away from the corner: unchanged
+
+
+def test_smoothing_keeps_a_steady_root_steady_up_to_the_clip_ends() -> None:
+    """Point reflection at the ends continues a constant velocity, so a walking root is not
+    slowed in its first or last frames, and its heading stays a unit quaternion."""
+    t = np.arange(31) / 30.0
+    pose = smooth_targets(_kinked_pose, t)
+    np.testing.assert_allclose(pose.root_pos, _kinked_pose(t).root_pos, atol=1e-9)
+    np.testing.assert_allclose(np.linalg.norm(pose.root_quat, axis=1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(np.abs(pose.root_quat), np.abs(_kinked_pose(t).root_quat), atol=1e-5)
+    assert np.all(pose.q >= LOWER - 1e-12) and np.all(pose.q <= UPPER + 1e-12)
