@@ -80,6 +80,9 @@ class MotionDef:
     #: Friction of the feet on the floor: 1 for shoes; a gait whose stance foot slides
     #: (the moonwalk) needs smooth soles, or friction holds the foot back.
     sole_friction: float = 1.0
+    #: A stairs motion's own flight (``motion_library.STAIR_*`` geometry): +1 up, −1 down,
+    #: 0 for none. The physics builds exactly those treads under the feet.
+    stairs: int = 0
 
 
 #: Every playable motion, by name; filled by ``phav_generator.motion_library`` and by
@@ -189,6 +192,49 @@ def place(pose: Pose, dims: BodyDims, position: tuple[float, float, float], head
     root_pos = local @ r.T + np.asarray(position, dtype=np.float64)
     root_rot = r @ quat_to_matrix(pose.root_quat)
     return Pose(root_pos, matrix_to_quat(root_rot), clamp_to_limits(pose.q))
+
+
+@dataclass(frozen=True)
+class Placement:
+    """How ``animate`` maps one clip's motion frame to the world: ``anchor`` removes the
+    planar position ``origin`` and yaw ``yaw0`` of the clip's first sample, ``place`` scales
+    by ``scale`` and turns to ``heading_rad`` about ``position``."""
+
+    origin: np.ndarray  # (3,), z = 0
+    yaw0: float
+    scale: float
+    heading_rad: float
+    position: np.ndarray  # (3,)
+
+    @property
+    def _turn(self) -> np.ndarray:
+        return yaw_matrix(self.heading_rad - self.yaw0)
+
+    def to_world(self, points: np.ndarray) -> np.ndarray:
+        """Motion-frame ground points (…, 3) (z: height above the motion's floor) → world."""
+        return (np.asarray(points, dtype=np.float64) - self.origin) @ self._turn.T * self.scale + self.position
+
+    def to_motion(self, points: np.ndarray) -> np.ndarray:
+        """The inverse of ``to_world``."""
+        return (np.asarray(points, dtype=np.float64) - self.position) / self.scale @ self._turn + self.origin
+
+
+def placement(
+    name: str,
+    start_s: float,
+    params: MotionParams,
+    dims: BodyDims,
+    position: tuple[float, float, float],
+    heading_deg: float,
+) -> Placement:
+    """The motion-frame → world map of the clip ``animate`` makes with the same arguments."""
+    pose = play(get_motion(name), np.zeros(1), start_s, params)
+    if params.mirror:
+        pose = mirror(pose)
+    origin = pose.root_pos[0] * np.array([1.0, 1.0, 0.0])
+    scale = dims.height_m / REFERENCE_HEIGHT_M
+    heading = float(np.deg2rad(heading_deg))
+    return Placement(origin, float(_yaw_of(pose.root_quat[0])), scale, heading, np.asarray(position, dtype=np.float64))
 
 
 def motion_rng(seed: int, stream: str) -> np.random.Generator:

@@ -1909,7 +1909,10 @@ def _register_all() -> None:
             continue
         m = MOTIONS[name]
         spec = SPECS[name]
-        register_motion(MotionDef(name, m.length_s, _build(spec, m.length_s), m.description, spec.sole_friction))
+        stairs = spec.gait.stairs if spec.gait is not None else 0
+        register_motion(
+            MotionDef(name, m.length_s, _build(spec, m.length_s), m.description, spec.sole_friction, stairs)
+        )
 
 
 _register_all()

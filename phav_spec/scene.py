@@ -55,6 +55,9 @@ class ActionScene:
     variation_objects: tuple[str, ...] = ()
     requires_classes: tuple[str, ...] = ()
     supporting_placement: str | None = None  # side_by_side, behind or facing (two people)
+    #: The action needs open sky: a climb's flight rises up to 5 m within one clip, and an
+    #: indoor environment's ceiling (the house's is 2.8 m) would cut through the climber.
+    outdoors: bool = False
     complementary_muscles: tuple[str, ...] = field(init=False)
 
     def __post_init__(self) -> None:
@@ -83,7 +86,7 @@ def _action_scenes() -> tuple[tuple[str, ActionScene], ...]:
         "brush_hair": s(_RIGHT_ARM + _HEAD + ("chest",), objects=("hair_brush",), variation_objects=("cup", "bottle")),
         "catch": s(_ARMS + _HEAD + ("chest",), objects=("ball",)),
         "clap": s(_ARMS + ("chest",)),
-        "climb_stairs": s(_LEGS + _CORE, variation_objects=_HANDHELD, requires_classes=("stairs",)),
+        "climb_stairs": s(_LEGS + _CORE, variation_objects=_HANDHELD, requires_classes=("stairs",), outdoors=True),
         "golf": s(_ARMS + _CORE + _HEAD, objects=("golf_club",)),
         "jump": s(_LEGS + _CORE, variation_objects=_HANDHELD),
         "kick_ball": s(_LEGS + ("pelvis",), objects=("ball",), variation_objects=("cup", "bottle")),

@@ -550,6 +550,11 @@ class Theta(BaseModel):
                 missing = [c for c in scene.requires_classes if c not in env_scene.pixel_classes]
                 if missing:
                     raise ValueError(f"theta_ae.rows.{action}.{env}: {env} has no {missing[0]}, which {action} needs")
+                if scene.outdoors and env_scene.indoor:
+                    raise ValueError(
+                        f"theta_ae.rows.{action}.{env}: {action} needs open sky (its flights rise up to 5 m) "
+                        f"and {env} is indoors"
+                    )
                 pc = arr.p_c_given_ae()[ai, ei]
                 if pc.sum() <= 0:
                     raise ValueError(

@@ -23,11 +23,20 @@ from phav_generator.animation import (
     get_motion,
     motion_params,
     motion_rng,
+    placement,
     smooth_targets,
 )
 from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traffic
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, BodyDims, dims_for, forward_kinematics
+from phav_generator.skeleton import (
+    BONE_INDEX,
+    BONES,
+    DOF_INDEX,
+    BodyDims,
+    capsule_points,
+    dims_for,
+    forward_kinematics,
+)
 from phav_spec.motions import MOTIONS
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, MAX_STEP_M, walkable_heights
@@ -602,9 +611,70 @@ def _door(b: _Builder, p: PersonPlan) -> None:
                                         float(b.times[-1])))  # fmt: skip
 
 
-def _staircase(b: _Builder, p: PersonPlan) -> None:
-    """Steps under the feet of a stairs motion, following the animated pelvis's rise or fall."""
-    pelvis = p.targets.root_pos
+#: Half width of a built flight of stairs (m).
+STAIRS_HALF_WIDTH_M = 0.6
+
+
+def _stairs(b: _Builder, probe: PersonPlan, start: np.ndarray) -> np.ndarray:
+    """Build the flight a climb_stairs clip walks on; return where to stand the protagonist.
+
+    A catalogue stairs motion plants its feet on its own treads (``motion_library.STAIR_*``,
+    in the motion frame): those treads are built in the world through the clip's
+    ``Placement``, so every plant lands on a tread whatever the person's height, the
+    clip's start in the flight or the handedness. Going up, the tread under the feet at
+    the clip's start is the waypoint's floor; going down, the lowest tread the clip reaches
+    is, and the person starts on the tread (or landing) above it: ``stand_offset_z``.
+    """
+    from phav_generator.motion_library import STAIR_RISE, STAIR_RUN, STAIR_START, stair_height
+
+    direction = get_motion(probe.motion).stairs
+    if direction == 0:
+        return _stairs_from_rise(b, probe, start)
+    r = b.recipe
+    pl = placement(probe.motion, r.motion.start_s, probe.params, probe.dims, tuple(start), r.protagonist.heading_deg)
+    s = b.substeps
+    t = probe.targets
+    pos, rot = _body_poses(probe.dims, Pose(t.root_pos[::s], t.root_quat[::s], t.q[::s]))
+    feet = [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]]
+    ends = np.concatenate(capsule_points(probe.dims, pos, rot), axis=-2)[:, feet + [f + len(BONES) for f in feet]]
+    in_motion = pl.to_motion(ends.reshape(-1, 3)).reshape(*ends.shape)
+    motion_x = in_motion[..., 0]
+    # The tread the clip starts on: the lowest one a sole stands on (within 2 cm) at the
+    # first frame. Not the lowest sole: going down, the swing foot is lower, in the air.
+    radius = probe.dims.capsules[feet[0]].radius / pl.scale
+    under = stair_height(motion_x[0], direction)
+    clearance = np.abs(in_motion[0, :, 2] - radius - under)
+    standing = clearance < 0.02 / pl.scale
+    h0 = float(under[standing].min() if standing.any() else under[np.argmin(clearance)])
+    lo, hi = float(motion_x.min()) - 0.3, float(motion_x.max()) + STAIR_RUN
+    h_low = float(stair_height(np.array([hi]), direction)[0]) if direction < 0 else h0
+    z0 = float(start[2])
+    b.stand_offset_z = pl.scale * (h0 - h_low)
+    stand = np.array([start[0], start[1], z0 - pl.scale * h0])
+    base = z0 - pl.scale * h_low  # the animation's z: the motion's floor in the world
+    yaw = math.degrees(pl.heading_rad - pl.yaw0)
+    n_lo = max(0, math.floor((lo - STAIR_START) / STAIR_RUN) + 1)
+    n_hi = math.floor((hi - STAIR_START) / STAIR_RUN) + 1
+    for n in range(n_lo, n_hi + 1):
+        # Tread n spans [start + (n − 1)·run, start + n·run) at n rises; tread 0 is the floor
+        # (a landing, going down) before the first riser.
+        x_from = STAIR_START + (n - 1) * STAIR_RUN if n else min(lo, STAIR_START - STAIR_RUN)
+        x_to = STAIR_START + n * STAIR_RUN
+        top = base + pl.scale * direction * STAIR_RISE * n
+        if top - z0 < 1e-3:
+            continue
+        centre = pl.to_world(np.array([(x_from + x_to) / 2, 0.0, 0.0]))
+        half = (pl.scale * (x_to - x_from) / 2, STAIRS_HALF_WIDTH_M, (top - z0) / 2)
+        b.boxes.append(StaticBox("stairs", (float(centre[0]), float(centre[1]), (z0 + top) / 2), half, yaw))
+    return stand
+
+
+def _stairs_from_rise(b: _Builder, probe: PersonPlan, start: np.ndarray) -> np.ndarray:
+    """Steps for a stairs motion without its own flight (an imported clip): the clip's
+    climb taken out of its start, then steps of 17 cm × 30 cm following the pelvis's rise."""
+    climbed = probe.targets.root_pos[0, 2] - start[2] - probe.dims.standing_pelvis_height
+    start = start - np.array([0.0, 0.0, climbed])
+    pelvis = probe.targets.root_pos
     rise = pelvis[-1, 2] - pelvis[0, 2]
     heading = b.recipe.protagonist.heading_deg
     fwd = yaw_matrix(np.deg2rad(heading)) @ np.array([1.0, 0.0, 0.0])
@@ -626,6 +696,7 @@ def _staircase(b: _Builder, p: PersonPlan) -> None:
         )
     if rise < 0:
         b.stand_offset_z = n_steps * step_rise
+    return start
 
 
 def _car(b: _Builder, p: PersonPlan) -> PersonPlan:
@@ -789,12 +860,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
             b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
             r.motion.mirror, tuple(start), r.protagonist.heading_deg,
         )  # fmt: skip
-        # A clip that starts part-way up (or down) a flight has the height climbed so far in
-        # its root: take it out, so the clip starts standing on the waypoint (the steps are
-        # built from the rise within the clip).
-        climbed = probe.targets.root_pos[0, 2] - start[2] - probe.dims.standing_pelvis_height
-        start[2] -= climbed
-        _staircase(b, probe)
+        start = _stairs(b, probe, start)
     position = tuple(start + np.array([0.0, 0.0, b.stand_offset_z]))
     p = _person(
         b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,

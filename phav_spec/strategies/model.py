@@ -73,9 +73,15 @@ def _preset_dict() -> dict[str, Any]:
 
 
 def _allowed_environments(action: str) -> tuple[str, ...]:
-    """Environments whose pixel classes include everything ``action`` requires."""
-    needs = ACTION_SCENES[action].requires_classes
-    return tuple(e for e in ENVIRONMENTS.names if all(c in ENVIRONMENT_SCENES[e].pixel_classes for c in needs))
+    """Environments whose pixel classes include everything ``action`` requires (outdoors
+    only for an action that needs open sky)."""
+    scene = ACTION_SCENES[action]
+    return tuple(
+        e
+        for e in ENVIRONMENTS.names
+        if all(c in ENVIRONMENT_SCENES[e].pixel_classes for c in scene.requires_classes)
+        and not (scene.outdoors and ENVIRONMENT_SCENES[e].indoor)
+    )
 
 
 def _allowed_variations(action: str) -> tuple[str, ...]:

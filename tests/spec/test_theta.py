@@ -78,6 +78,11 @@ BAD = {
     "T_min longer than every motion": (_set("durations", {"t_min": 9.9, "t_max": 10, "t_mod": 10}), "durations.t_min", "longer than every motion"),
     "indoors camera outdoors": (_set("theta_ec.default.indoors", 1), "theta_ec.rows.simple.indoors", "needs an indoor environment"),
     "car hit without a road": (_set("theta_ae.rows.car_hit", {"green": 1}), "theta_ae.rows.car_hit.green", "no road"),
+    "climbing stairs indoors": (
+        _set("theta_ae.rows.climb_stairs", {"urban": 1, "house_interior": 1}),
+        "theta_ae.rows.climb_stairs.house_interior",
+        "needs open sky",
+    ),
     "regex that does not compile": (_set("theta_ab.regex.walk", "(("), "theta_ab.regex.walk", "does not compile"),
     "regex that matches nothing": (_set("theta_ab.regex.walk", "^zzz$"), "theta_ab.regex.walk", "matches no motion"),
     "stiff spring": (_set("cameras.kite.springs.ct_spring_strength", {"kind": "uniform", "low": 1, "high": 1e7}), "cameras.kite.springs.ct_spring_strength", "allowed range"),
