@@ -163,11 +163,14 @@ def muscle_dof_mask(muscles: tuple[str, ...] | list[str]) -> np.ndarray:
     return np.isin(DOF_BODY, bodies)
 
 
-def blend(base: Pose, other: Pose, muscles: tuple[str, ...] | list[str], weight: float) -> Pose:
-    """Action blending: the DOFs of ``muscles`` follow ``other`` with ``weight``; root from base."""
+def blend(base: Pose, other: Pose, muscles: tuple[str, ...] | list[str], weight: float | np.ndarray) -> Pose:
+    """Action blending: the DOFs of ``muscles`` follow ``other`` with ``weight`` (one value or
+    one per sample); root from base."""
     mask = muscle_dof_mask(muscles)
+    w = np.asarray(weight, dtype=np.float64)
+    w = w[:, None] if w.ndim == 1 else w
     q = base.q.copy()
-    q[:, mask] = (1.0 - weight) * base.q[:, mask] + weight * other.q[:, mask]
+    q[:, mask] = (1.0 - w) * base.q[:, mask] + w * other.q[:, mask]
     return Pose(base.root_pos, base.root_quat, q)
 
 
@@ -280,7 +283,7 @@ def animate(
 TARGET_SMOOTHING_S = 0.005
 #: The fixed grid (Hz) the animation is sampled and smoothed on, so the smoothed targets are
 #: the same function of time whatever the physics timestep.
-TARGET_GRID_HZ = 480
+TARGET_GRID_HZ = 240
 
 
 def _odd_pad(y: np.ndarray, n: int) -> np.ndarray:
@@ -294,8 +297,9 @@ def _odd_pad(y: np.ndarray, n: int) -> np.ndarray:
     return np.concatenate([head, y, tail])
 
 
-def _gaussian_smooth(y: np.ndarray, sigma_samples: float) -> np.ndarray:
-    """Each column of ``y`` (T, C) convolved with a normalised Gaussian truncated at 4σ."""
+def gaussian_smooth(y: np.ndarray, sigma_samples: float) -> np.ndarray:
+    """Each column of ``y`` (T, C) convolved with a normalised Gaussian truncated at 4σ
+    (ends extended by point reflection)."""
     n = math.ceil(4.0 * sigma_samples)
     if n == 0 or len(y) < 2:
         return y.copy()
@@ -337,13 +341,13 @@ def smooth_targets(
     grid = t0 + np.arange(count + 1) / grid_hz
     pose = pose_at(grid)
     sigma = sigma_s * grid_hz
-    q = _gaussian_smooth(pose.q, sigma)
-    root_pos = _gaussian_smooth(pose.root_pos, sigma)
+    q = gaussian_smooth(pose.q, sigma)
+    root_pos = gaussian_smooth(pose.root_pos, sigma)
     # Quaternions: make consecutive samples agree in sign, smooth, renormalise.
     quat = pose.root_quat.copy()
     flips = np.sign(np.einsum("ij,ij->i", quat[1:], quat[:-1]))
     quat[1:] *= np.cumprod(np.where(flips == 0, 1.0, flips))[:, None]
-    quat = _gaussian_smooth(quat, sigma)
+    quat = gaussian_smooth(quat, sigma)
     q_t = clamp_to_limits(_cubic_at(grid, q, times))
     pos_t = _cubic_at(grid, root_pos, times)
     quat_t = _cubic_at(grid, quat, times)

@@ -58,6 +58,9 @@ class ActionScene:
     #: The action needs open sky: a climb's flight rises up to 5 m within one clip, and an
     #: indoor environment's ceiling (the house's is 2.8 m) would cut through the climber.
     outdoors: bool = False
+    #: The feet slide on the floor on purpose (the moonwalk's gliding stance foot): planted
+    #: feet that move are the action, not a glitch.
+    slides_feet: bool = False
     complementary_muscles: tuple[str, ...] = field(init=False)
 
     def __post_init__(self) -> None:
@@ -111,7 +114,7 @@ def _action_scenes() -> tuple[tuple[str, ActionScene], ...]:
         "hop": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD),
         "leg_split": s(_LEGS + ("pelvis",), variation_objects=("cup", "bottle")),
         "limp": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD),
-        "moonwalk": s(_LEGS + ("pelvis",), variation_objects=("cup", "bottle")),
+        "moonwalk": s(_LEGS + ("pelvis",), variation_objects=("cup", "bottle"), slides_feet=True),
         "stagger": s(_LEGS + _CORE + _HEAD, variation_objects=("bottle",)),
         "surrender": s(_ARMS + ("chest",), variation_objects=("bottle",)),
         "walking_hug": s(_ARMS + _LEGS + _CORE, supporting_placement="side_by_side"),

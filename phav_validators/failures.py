@@ -292,7 +292,7 @@ def video_failures(
                 fail(Reason.INTERPENETRATION, f"{who}: passes through a {box.colliders[crossed[t]].pixel_class} "
                      f"box between frames {int(person.frames[t])} and {int(person.frames[t + 1])}")  # fmt: skip
         if person.role != "background":
-            _knees(j, who, th, m, fail, person.person_id)
+            _knees(j, person.pinned, who, th, m, fail, person.person_id)
 
     protagonist = next((p for p in people if p.person_id == recipe.protagonist.person_id), None)
     if protagonist is None:
@@ -326,8 +326,16 @@ def video_failures(
     return out
 
 
-def _knees(j: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: Any, pid: int) -> None:
-    """Knees bent backwards: the knee behind the hip–ankle line, 'behind' from the torso."""
+def _knees(
+    j: np.ndarray, pinned: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: Any, pid: int
+) -> None:
+    """Knees bent backwards: the knee behind the hip–ankle line, 'behind' from the torso.
+
+    Judged while the pins hold the body. The torso's forward stands in for the knee's own
+    bending direction, which only holds while the hips are near their rest twist; a released
+    ragdoll tumbling after a car hit twists hip and waist together, and its knees (MuJoCo
+    hinges, limited to 0–155°) measured up to 35 cm "behind" with every knee angle ≥ 0.
+    """
     hips_mid = 0.5 * (j[:, _J["left_hip"]] + j[:, _J["right_hip"]])
     up = j[:, _J["neck"]] - hips_mid
     right = j[:, _J["right_hip"]] - j[:, _J["left_hip"]]
@@ -345,7 +353,7 @@ def _knees(j: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: A
         back = forward - np.sum(forward * axis, axis=-1, keepdims=True) * axis
         norm = np.linalg.norm(back, axis=-1)
         behind = -np.sum(off * back, axis=-1) / np.maximum(norm, 1e-9)
-        worst = max(worst, float(np.where(norm > 0.3, behind, 0.0).max()))
+        worst = max(worst, float(np.where((norm > 0.3) & pinned, behind, 0.0).max(initial=0.0)))
     m[f"knee_hyperextension_m/{pid}"] = worst
     if worst > th.knee_hyperextension_m:
         fail(Reason.JOINT_LIMIT, f"{who}: a knee bends backwards ({worst * 100:.0f} cm behind the hip–ankle line)")
@@ -380,8 +388,9 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
 
 
 def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: Any) -> None:
-    """Feet on the ground that move: mean horizontal speed of the slowest planted ankle."""
-    if len(person.frames) < 3:
+    """Feet on the ground that move: mean horizontal speed of the slowest planted ankle
+    (not for an action whose feet slide on purpose: the moonwalk)."""
+    if len(person.frames) < 3 or ACTION_SCENES[recipe.action].slides_feet:
         return
     ankles = person.joints[:, [_J["left_ankle"], _J["right_ankle"]]]  # (T, 2, 3)
     support = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)

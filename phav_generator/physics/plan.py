@@ -20,6 +20,7 @@ from phav_generator.animation import (
     Pose,
     animate,
     blend,
+    gaussian_smooth,
     get_motion,
     motion_params,
     motion_rng,
@@ -36,6 +37,7 @@ from phav_generator.skeleton import (
     capsule_points,
     dims_for,
     forward_kinematics,
+    lowest_point,
 )
 from phav_spec.motions import MOTIONS
 from phav_spec.recipe import Recipe
@@ -341,8 +343,36 @@ def _variation(b: _Builder, p: PersonPlan) -> PersonPlan:
     if v.kind == "action_blending":
         other_params = motion_params(p.params.speed, p.params.mirror, b.recipe.seeds.physics, f"blend/{p.person_id}")
         other = _animate_person(v.blend_motion, v.blend_start_s, other_params, p.dims, (0.0, 0.0, 0.0), 0.0, b.times)
-        return _with(p, targets=blend(p.targets, other, v.muscles, v.weight))
+        return _with(p, targets=blend(p.targets, other, v.muscles, _grounded_weight(b, p, other, v.muscles, v.weight)))
     return p
+
+
+#: Blend weights tried per step, as fractions of the recipe's, when blending would sink a body.
+_BLEND_LEVELS = np.linspace(1.0, 0.0, 9)
+#: Time constant (s) over which a lowered blend weight recovers: slow enough for the servos.
+BLEND_SMOOTHING_S = 0.1
+
+
+def _grounded_weight(b: _Builder, p: PersonPlan, other: Pose, muscles: tuple[str, ...], weight: float) -> np.ndarray:
+    """The blend weight per step: the recipe's, except where blending the second motion's
+    limbs in would push a body into the floor (a standing leg blended onto a lying body),
+    where it drops to the largest level that keeps every body above it; lowered early and
+    smoothly (a moving minimum, then a Gaussian), so the servos see no corner."""
+    floor = b.recipe.protagonist.position[2] + b.stand_offset_z
+    base_low = lowest_point(p.dims, *_body_poses(p.dims, p.targets))
+    limit = np.minimum(base_low, floor) - 0.01
+    allowed = np.zeros(len(b.times))
+    for level in _BLEND_LEVELS[::-1]:  # from 0 up: the largest level that stays above wins
+        pose = blend(p.targets, other, muscles, weight * level)
+        ok = lowest_point(p.dims, *_body_poses(p.dims, pose)) >= limit
+        allowed = np.where(ok, weight * level, allowed)
+    if np.all(allowed >= weight):
+        return np.full(len(b.times), weight)
+    rate = b.fps * b.substeps
+    half = max(1, round(2 * BLEND_SMOOTHING_S * rate))
+    padded = np.pad(allowed, half, mode="edge")
+    floor_w = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1).min(axis=1)
+    return np.clip(gaussian_smooth(floor_w[:, None], BLEND_SMOOTHING_S * rate)[:, 0], 0.0, weight)
 
 
 def _hold(b: _Builder, person: PersonPlan, obj: str, body: str, t0: float = 0.0, t1: float | None = None, name=None):
@@ -798,6 +828,10 @@ def _arm_pose_for_tie(p: PersonPlan, action: str) -> PersonPlan:
     return _with(p, targets=Pose(p.targets.root_pos, p.targets.root_quat, q))
 
 
+#: How far ahead of and behind its pelvis a background walker's feet reach (m).
+BACKGROUND_REACH_M = 0.5
+
+
 def _background(b: _Builder) -> list[PersonPlan]:
     """Background pedestrians: kinematic walkers between waypoints, posed at frame times only."""
     r = b.recipe
@@ -824,8 +858,17 @@ def _background(b: _Builder) -> list[PersonPlan]:
         travelled = np.minimum(actor.speed_mps * frame_times, dist)
         along = delta / max(dist, 1e-9)
         root = start[None, :] + travelled[:, None] * along[None, :]
-        # Walkers step up onto kerbs and terraces on their way instead of wading through them.
-        root[:, 2] = walkable_heights(r.environment.name, root[:, 0], root[:, 1], max(start[2], dest[2]) + MAX_STEP_M)
+        # Walkers step up onto kerbs and terraces on their way instead of wading through them:
+        # the highest surface within a stride ahead of or behind the pelvis, where the feet
+        # reach (the pelvis alone stepped up only once the front foot was in the kerb).
+        reach = max(start[2], dest[2]) + MAX_STEP_M
+        root[:, 2] = np.max(
+            [
+                walkable_heights(r.environment.name, *(root[:, :2] + o * along[:2]).T, reach)
+                for o in (-BACKGROUND_REACH_M, -BACKGROUND_REACH_M / 2, 0.0, BACKGROUND_REACH_M / 2, BACKGROUND_REACH_M)
+            ],
+            axis=0,
+        )
         root[:, 2] += pose.root_pos[:, 2]  # the gait's own bob and standing height
         arrived = travelled >= dist
         q = pose.q.copy()

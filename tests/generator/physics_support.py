@@ -57,3 +57,18 @@ def possible_pairs() -> list[tuple[str, str]]:
 def lowest_z(track, body_index: int) -> np.ndarray:
     """Height of a body's origin per frame."""
     return track.body_pos[:, body_index, 2]
+
+
+def simulated_people(recipe: Recipe) -> list:
+    """The recipe's people as the failures check reads them (``PersonSeries``), straight from
+    a simulation: joints per frame and whether the pins hold."""
+    from phav_generator.physics.simulate import simulate
+    from phav_generator.skeleton import JOINT_BODIES
+    from phav_validators.failures import PersonSeries
+
+    tr = simulate(recipe, keep_state=False)
+    joints = list(JOINT_BODIES)
+    return [
+        PersonSeries(p.person_id, p.role, np.arange(len(p.body_pos)), p.body_pos[:, joints], p.pin >= 0.5)
+        for p in tr.people
+    ]

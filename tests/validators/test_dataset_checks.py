@@ -500,3 +500,35 @@ def test_perturbation_far_from_the_base_motion_is_caught():
     people, _ = inject("perturbation", recipe, [me], cams)
     reasons = [r for r, _ in video_failures(recipe, people, None).failures]
     assert Reason.PERTURBATION_TOO_STRONG in reasons, reasons
+
+
+def _short_recipes(*ids: str) -> dict:
+    from phav_generator.sampling import sample_recipes
+    from phav_spec.theta import load_theta
+
+    return {r.video_id: r for r in sample_recipes(load_theta("phav-v1-short"), n=100, seed=0) if r.video_id in ids}
+
+
+def test_a_tumbling_ragdolls_knees_and_a_moonwalks_feet_are_not_failures():
+    """Two false alarms of the 100-video phav-v1-short measurement: a car-hit ragdoll's knees
+    (hinges, never past 0°) judged 'backwards' against its twisted torso, and the moonwalk's
+    gliding feet. Both pass now; the same knees bent backwards while pinned, and the same feet
+    under a walk, still fail."""
+    from phav_validators.failures import CameraSeries, video_failures
+    from phav_validators.inject import inject
+    from tests.generator.physics_support import simulated_people
+
+    recipes = _short_recipes("v000021", "v000052")
+    hit, moon = recipes["v000021"], recipes["v000052"]
+    assert (hit.action, moon.action) == ("car_hit", "moonwalk")
+    people = simulated_people(hit)
+    assert not video_failures(hit, people, None).failed
+    n = len(people[0].frames)
+    intrinsics = np.tile([300.0, 300.0, 170.0, 128.0], (n, 1))
+    cams = CameraSeries(np.arange(n), np.repeat(np.eye(4)[None], n, axis=0), intrinsics)
+    bent, _ = inject("knee", hit, people, cams)
+    assert Reason.JOINT_LIMIT in [r for r, _ in video_failures(hit, bent, None).failures]
+    people = simulated_people(moon)
+    assert not video_failures(moon, people, None).failed
+    as_walk = moon.model_copy(update={"action": "walk"})
+    assert Reason.FOOT_SLIDING in [r for r, _ in video_failures(as_walk, people, None).failures]
