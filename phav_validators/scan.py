@@ -51,8 +51,9 @@ JOINT_DEPTH_TOL_M = 0.01
 JOINT_2D_TOL_PX = 0.01
 
 _PERSON_GROUPS = (PixelGroup.HUMAN_PARTS, PixelGroup.HUMAN_JOINTS)
-#: Static scene classes: everything that never moves. Vehicles drive, ``misc`` holds props.
-_MOVING = ("sky", "car", "truck", "bus", "misc")
+#: Static scene classes: everything that never moves. Vehicles drive, ``misc`` holds props,
+#: and a door swings open when push pushes it.
+_MOVING = ("sky", "car", "truck", "bus", "misc", "door")
 FOREIGN = 255
 
 

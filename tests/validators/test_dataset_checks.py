@@ -532,3 +532,16 @@ def test_a_tumbling_ragdolls_knees_and_a_moonwalks_feet_are_not_failures():
     assert not video_failures(moon, people, None).failed
     as_walk = moon.model_copy(update={"action": "walk"})
     assert Reason.FOOT_SLIDING in [r for r, _ in video_failures(as_walk, people, None).failures]
+
+
+def test_flow_is_checked_against_depth_only_on_classes_that_never_move():
+    """The consistency check's static pixels: roads and walls, not vehicles, props or doors
+    (push swings a door open; its moving leaf failed v000024 of the 100-video measurement)."""
+    from phav_spec.vocab import PIXEL_CLASSES
+    from phav_validators.scan import class_lut
+
+    _, person, static = class_lut()
+    ids = {name: PIXEL_CLASSES[name].class_id for name in ("road", "building", "floor", "door", "car", "misc")}
+    assert static[ids["road"]] and static[ids["building"]] and static[ids["floor"]]
+    assert not any(static[ids[name]] for name in ("door", "car", "misc"))
+    assert not static[person].any()
