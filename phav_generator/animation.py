@@ -306,10 +306,12 @@ def gaussian_smooth(y: np.ndarray, sigma_samples: float) -> np.ndarray:
     kernel = np.exp(-0.5 * (np.arange(-n, n + 1) / sigma_samples) ** 2)
     kernel /= kernel.sum()
     padded = _odd_pad(y, n)
-    m = (len(padded) - len(y)) // 2
+    short = n - (len(padded) - len(y)) // 2  # a series shorter than the kernel: hold its ends
+    if short > 0:
+        padded = np.pad(padded, ((short, short), (0, 0)), mode="edge")
     out = np.empty_like(y)
     for c in range(y.shape[1]):
-        out[:, c] = np.convolve(padded[:, c], kernel, mode="same")[m : m + len(y)]
+        out[:, c] = np.convolve(padded[:, c], kernel, mode="valid")
     return out
 
 

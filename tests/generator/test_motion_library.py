@@ -19,6 +19,7 @@ from phav_generator.animation import (
     MotionParams,
     Pose,
     animate,
+    gaussian_smooth,
     get_motion,
     mirror,
     play,
@@ -523,3 +524,17 @@ def test_smoothing_keeps_a_steady_root_steady_up_to_the_clip_ends() -> None:
     np.testing.assert_allclose(np.linalg.norm(pose.root_quat, axis=1), 1.0, atol=1e-12)
     np.testing.assert_allclose(np.abs(pose.root_quat), np.abs(_kinked_pose(t).root_quat), atol=1e-5)
     assert np.all(pose.q >= LOWER - 1e-12) and np.all(pose.q <= UPPER + 1e-12)
+
+
+def test_smoothing_a_series_shorter_than_its_kernel_keeps_its_length_and_values() -> None:
+    """Series shorter than the kernel (a one-frame clip is 9 samples of the 240 Hz grid, the
+    kernel 11) are smoothed too: the length is kept, a constant stays constant, values stay
+    within their range; from the kernel's half width (4σ) plus one sample on, a line survives."""
+    for n in (1, 2, 3, 6, 11):
+        y = np.column_stack([np.full(n, 0.4), np.linspace(0.0, 1.0, n)])
+        out = gaussian_smooth(y, 2.4)
+        assert out.shape == y.shape
+        np.testing.assert_allclose(out[:, 0], 0.4, atol=1e-12)
+        assert np.all((out[:, 1] >= -1e-12) & (out[:, 1] <= 1.0 + 1e-12))
+        if n >= 11:
+            np.testing.assert_allclose(out[:, 1], y[:, 1], atol=1e-12)  # point reflection continues a line
