@@ -316,10 +316,8 @@ def gaussian_smooth(y: np.ndarray, sigma_samples: float) -> np.ndarray:
 
 
 def _cubic_at(grid: np.ndarray, y: np.ndarray, times: np.ndarray) -> np.ndarray:
-    """C1 cubic Hermite interpolation of samples ``y`` on a uniform ``grid`` at ``times``,
-    with central-difference slopes."""
-    if len(grid) < 2:
-        return np.broadcast_to(y[0], (len(times), y.shape[1])).copy()
+    """C1 cubic Hermite interpolation of samples ``y`` on a uniform ``grid`` (≥ 2 samples) at
+    ``times``, with central-difference slopes."""
     slopes = np.gradient(y, grid, axis=0)
     return hermite(grid, y, slopes, times)
 

@@ -823,6 +823,18 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
 )
 
 
+def why_not_hosted(action: str, environment: str) -> str | None:
+    """Why ``environment`` cannot host ``action`` (a pixel class it needs is missing, or it
+    needs open sky indoors), in words; None when it can."""
+    scene, env = ACTION_SCENES[action], ENVIRONMENT_SCENES[environment]
+    missing = [c for c in scene.requires_classes if c not in env.pixel_classes]
+    if missing:
+        return f"{environment} has no {missing[0]}, which {action} needs"
+    if scene.outdoors and env.indoor:
+        return f"{action} needs open sky (its flights rise up to 5 m) and {environment} is indoors"
+    return None
+
+
 def support_height(env_name: str, x: float, y: float, *, reference_z: float | None = None) -> float:
     """Height of the walkable surface under (x, y) in environment ``env_name``.
 

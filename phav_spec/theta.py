@@ -46,6 +46,7 @@ from phav_spec.scene import (
     PARAMETER_BOUNDS,
     SPRING_MIN_DISTANCES_M,
     WEATHER_LEVELS,
+    why_not_hosted,
 )
 from phav_spec.vocab import (
     ACTIONS,
@@ -547,14 +548,9 @@ class Theta(BaseModel):
                 if pe[ei] <= 0:
                     continue
                 env_scene = ENVIRONMENT_SCENES[env]
-                missing = [c for c in scene.requires_classes if c not in env_scene.pixel_classes]
-                if missing:
-                    raise ValueError(f"theta_ae.rows.{action}.{env}: {env} has no {missing[0]}, which {action} needs")
-                if scene.outdoors and env_scene.indoor:
-                    raise ValueError(
-                        f"theta_ae.rows.{action}.{env}: {action} needs open sky (its flights rise up to 5 m) "
-                        f"and {env} is indoors"
-                    )
+                reason = why_not_hosted(action, env)
+                if reason is not None:
+                    raise ValueError(f"theta_ae.rows.{action}.{env}: {reason}")
                 pc = arr.p_c_given_ae()[ai, ei]
                 if pc.sum() <= 0:
                     raise ValueError(

@@ -67,7 +67,9 @@ def _shards_to_build(plan: RegenerationPlan, opts: Options) -> list[int]:
 
 def _apart(into: Path, release_root: Path) -> None:
     """Refuse the release itself, a directory inside it or holding it, and any release."""
-    if nested(into, release_root) or (into / "release.json").exists():
+    from phav_generator.release import RELEASE_FILE
+
+    if nested(into, release_root) or (into / RELEASE_FILE).exists():
         raise PhavUserError("must be a directory of its own, apart from the release", source=str(into),
                             field="--regenerate-into")  # fmt: skip
 

@@ -361,13 +361,16 @@ def _grounded_weight(b: _Builder, p: PersonPlan, other: Pose, muscles: tuple[str
     floor = b.recipe.protagonist.position[2] + b.stand_offset_z
     base_low = lowest_point(p.dims, *_body_poses(p.dims, p.targets))
     limit = np.minimum(base_low, floor) - 0.01
+
+    def above(level: float) -> np.ndarray:
+        pose = blend(p.targets, other, muscles, weight * level)
+        return lowest_point(p.dims, *_body_poses(p.dims, pose)) >= limit
+
+    if np.all(above(1.0)):  # the usual case: nothing sinks at the recipe's weight
+        return np.full(len(b.times), weight)
     allowed = np.zeros(len(b.times))
     for level in _BLEND_LEVELS[::-1]:  # from 0 up: the largest level that stays above wins
-        pose = blend(p.targets, other, muscles, weight * level)
-        ok = lowest_point(p.dims, *_body_poses(p.dims, pose)) >= limit
-        allowed = np.where(ok, weight * level, allowed)
-    if np.all(allowed >= weight):
-        return np.full(len(b.times), weight)
+        allowed = np.where(above(level), weight * level, allowed)
     rate = b.fps * b.substeps
     half = max(1, round(2 * BLEND_SMOOTHING_S * rate))
     padded = np.pad(allowed, half, mode="edge")
@@ -662,9 +665,7 @@ def _stairs(b: _Builder, probe: PersonPlan, start: np.ndarray) -> np.ndarray:
         return _stairs_from_rise(b, probe, start)
     r = b.recipe
     pl = placement(probe.motion, r.motion.start_s, probe.params, probe.dims, tuple(start), r.protagonist.heading_deg)
-    s = b.substeps
-    t = probe.targets
-    pos, rot = _body_poses(probe.dims, Pose(t.root_pos[::s], t.root_quat[::s], t.q[::s]))
+    pos, rot = _body_poses(probe.dims, probe.targets.take(slice(None, None, b.substeps)))
     feet = [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]]
     ends = np.concatenate(capsule_points(probe.dims, pos, rot), axis=-2)[:, feet + [f + len(BONES) for f in feet]]
     in_motion = pl.to_motion(ends.reshape(-1, 3)).reshape(*ends.shape)

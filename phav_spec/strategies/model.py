@@ -32,6 +32,7 @@ from phav_spec.scene import (
     HUMAN_MODELS,
     PARAMETER_BOUNDS,
     SPRING_MIN_DISTANCES_M,
+    why_not_hosted,
 )
 from phav_spec.theta import RenderSettings, Theta, load_preset, parse_theta
 from phav_spec.vocab import (
@@ -73,15 +74,8 @@ def _preset_dict() -> dict[str, Any]:
 
 
 def _allowed_environments(action: str) -> tuple[str, ...]:
-    """Environments whose pixel classes include everything ``action`` requires (outdoors
-    only for an action that needs open sky)."""
-    scene = ACTION_SCENES[action]
-    return tuple(
-        e
-        for e in ENVIRONMENTS.names
-        if all(c in ENVIRONMENT_SCENES[e].pixel_classes for c in scene.requires_classes)
-        and not (scene.outdoors and ENVIRONMENT_SCENES[e].indoor)
-    )
+    """Environments that can host ``action`` (``scene.why_not_hosted``)."""
+    return tuple(e for e in ENVIRONMENTS.names if why_not_hosted(action, e) is None)
 
 
 def _allowed_variations(action: str) -> tuple[str, ...]:
