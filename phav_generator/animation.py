@@ -19,6 +19,7 @@ import numpy as np
 from phav_generator.keyframes import hermite
 from phav_generator.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
+from phav_spec.seeding import stream
 
 #: Height of the person the motion library is written for; motions scale with height.
 REFERENCE_HEIGHT_M = 1.75
@@ -240,15 +241,9 @@ def placement(
     return Placement(origin, float(_yaw_of(pose.root_quat[0])), scale, heading, np.asarray(position, dtype=np.float64))
 
 
-def motion_rng(seed: int, stream: str) -> np.random.Generator:
-    """A generator for run-time decisions of one video, one independent stream per name."""
-    key = tuple(stream.encode())
-    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed, spawn_key=key)))
-
-
 def motion_params(speed: float, mirror_motion: bool, seed: int, role: str = "protagonist") -> MotionParams:
     """Amplitude, phase and style drawn from a recipe seed, for one person (``role``)."""
-    rng = motion_rng(seed, f"motion/{role}")
+    rng = stream(seed, f"motion/{role}")
     amplitude = 0.85 + 0.3 * rng.random()
     phase = rng.random()
     style = 2.0 * rng.random() - 1.0

@@ -92,7 +92,10 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
     if unknown:
         raise PhavUserError(f"no video {unknown[0]!r} in {len(by_id)} recipes", source=str(table_path), field="--video")
     keep = set(wanted)
-    theta, seed = _theta_beside(table_path, table.theta), table.dataset_seed or 0
+    theta = _theta_beside(table_path, table.theta)
+    # A table of hand-made recipes has no dataset seed; its recipes carry their own seeds,
+    # so the seed is bookkeeping only and the manifest records 0.
+    seed = 0 if table.dataset_seed is None else table.dataset_seed
     if manifest_path is None:
         recipes = [by_id[v] for v in by_id if v in keep]
         return RegenerationPlan(chunk(recipes, DEFAULT_SHARD_SIZE), None, "phav", theta, seed, None)

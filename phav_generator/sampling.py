@@ -1,10 +1,9 @@
 """θ → recipes by ancestral sampling of the paper's graphical model.
 
 The factorisation is the paper's P1(D, W) P2(H) P3(A, L, B, V, C, E, …) (Section "Model").
-Video i's recipe depends only on (θ, dataset seed, i): the video key is 256 bits of
-``SeedSequence(dataset_seed, spawn_key=(i,))``, and each part of the model draws from its own
-PCG64 stream whose state is sha256(video key ‖ part name), so sampling 10 or 40,000 videos
-gives the same recipe i and adding a draw to one part never moves the draws of another.
+Video i's recipe depends only on (θ, dataset seed, i): each part of the model draws from its
+own stream of video i (``phav_spec.seeding``), so sampling 10 or 40,000 videos gives the same
+recipe i and adding a draw to one part never moves the draws of another.
 Every draw is one ``rng.random()`` double turned into a value by phav_spec.distributions;
 a part's draw order is part of the dataset's definition (changing it bumps the recipe
 schema version).
@@ -12,7 +11,6 @@ schema version).
 
 from __future__ import annotations
 
-import hashlib
 import math
 from collections.abc import Iterator, Mapping
 from typing import Any
@@ -38,6 +36,7 @@ from phav_spec.scene import (
     HumanModel,
     Vec3,
 )
+from phav_spec.seeding import PartStreams, runtime_seeds
 from phav_spec.theta import Theta
 from phav_spec.vocab import (
     ACTIONS,
@@ -53,68 +52,11 @@ from phav_spec.vocab import (
 PARTS: tuple[str, ...] = (
     "world", "human", "action", "environment", "background", "variation", "camera", "supporting",
 )  # fmt: skip
-#: Seeds handed to run-time stages, each hashed from the video key and its name.
-RUNTIME_SEEDS: tuple[str, ...] = ("physics", "perturbation", "render", "background")
-
-
-def video_key(dataset_seed: int, index: int) -> bytes:
-    """256 bits identifying video ``index`` of a dataset: SeedSequence(seed, spawn_key=(index,))."""
-    if dataset_seed < 0 or index < 0:
-        raise ValueError("dataset seed and video index must be non-negative")
-    seq = np.random.SeedSequence(dataset_seed, spawn_key=(index,))
-    return seq.generate_state(8, dtype=np.uint32).astype("<u4").tobytes()
-
-
-def _stream_state(key: bytes, name: str) -> dict:
-    """PCG64 state of the stream ``name`` of a video: sha256(video key ‖ name) → state, inc."""
-    digest = hashlib.sha256(key + b"/" + name.encode()).digest()
-    return {
-        "bit_generator": "PCG64",
-        "state": {
-            "state": int.from_bytes(digest[:16], "little"),
-            "inc": int.from_bytes(digest[16:], "little") | 1,
-        },
-        "has_uint32": 0,
-        "uinteger": 0,
-    }
-
-
-def part_rng(dataset_seed: int, index: int, part: str) -> np.random.Generator:
-    """A fresh Generator on the random stream of one named part of video ``index``."""
-    bit_generator = np.random.PCG64(0)
-    bit_generator.state = _stream_state(video_key(dataset_seed, index), part)
-    return np.random.Generator(bit_generator)
-
-
-def runtime_seeds(key: bytes) -> dict[str, int]:
-    """32-bit seeds for the run-time stages, hashed from the video key by name (no draws)."""
-    return {
-        name: int.from_bytes(hashlib.sha256(key + b"/seed:" + name.encode()).digest()[:4], "little")
-        for name in RUNTIME_SEEDS
-    }
-
-
 #: Variables ``RecipeSampler.sample(force=…)`` and ``phav vary --set`` can fix.
 VARIABLES: tuple[str, ...] = (
     "weather", "day_phase", "clock_hour", "rain", "fog", "clouds", "wet_ground", "sun_brightness",
     "ambient_luminosity", "cloud_intensity", "fog_intensity", "rain_intensity", "camera",
 )  # fmt: skip
-
-
-class _Streams:
-    """One reusable Generator per part, re-pointed at each video's streams (cheap)."""
-
-    def __init__(self) -> None:
-        self._bits = {p: np.random.PCG64(0) for p in PARTS}
-        self._gens = {p: np.random.Generator(b) for p, b in self._bits.items()}
-        self.key = b""
-
-    def start(self, dataset_seed: int, index: int) -> None:
-        self.key = video_key(dataset_seed, index)
-
-    def __getitem__(self, part: str) -> np.random.Generator:
-        self._bits[part].state = _stream_state(self.key, part)
-        return self._gens[part]
 
 
 def _rotate(dx: float, dy: float, heading_deg: float) -> tuple[float, float]:
@@ -162,7 +104,7 @@ class RecipeSampler:
             if cam.springs is not None
         }
         self._lengths = [MOTIONS[m].length_s for m in MOTIONS.names]
-        self._streams = _Streams()
+        self._streams = PartStreams(PARTS)
 
     def _camera_weights(self) -> np.ndarray:
         """Unnormalised P(C | A, E) ∝ θ_C·θ_AC·θ_EC (the hook a planted-bug test replaces)."""

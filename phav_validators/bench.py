@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from phav_spec.manifest import load_manifest
+from phav_spec.seeding import seeded_rng
 from phav_spec.theta import Theta
 from phav_validators.findings import Reason
 from phav_validators.source import resolve
@@ -171,7 +172,7 @@ def bench_validation(
         shutil.rmtree(bad_copy)
     shutil.copytree(data, bad_copy)
     ids = [v.video_id for v in manifest.videos]
-    rng = np.random.Generator(np.random.PCG64(seed))
+    rng = seeded_rng(seed)
     bad = sorted(ids[i] for i in rng.permutation(len(ids))[:corrupted])
     shard_of = {v.video_id: v.shard for v in manifest.videos}
     for vid in bad:

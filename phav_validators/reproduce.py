@@ -18,6 +18,7 @@ import numpy as np
 from phav_spec.encoding import MODALITIES, decode_flow
 from phav_spec.manifest import DatasetManifest
 from phav_spec.recipe import Recipe
+from phav_spec.seeding import seeded_rng
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 from phav_validators.scan import FRAME_KEYS, decode_image, png_header
 from phav_validators.tarsafe import TarScan, iter_members
@@ -107,7 +108,7 @@ def check_reproducibility(
     pool = [v for v in candidates if v in recipes]
     if not pool:
         return CheckResult.skipped(name, "no video with a valid recipe"), None
-    rng = np.random.Generator(np.random.PCG64(seed))
+    rng = seeded_rng(seed)
     chosen = sorted(pool[i] for i in rng.permutation(len(pool))[: min(count, len(pool))])
     try:
         from phav_generator.dataset import renderer_fingerprint

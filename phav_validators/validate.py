@@ -29,6 +29,7 @@ from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
+from phav_spec.seeding import seeded_rng
 from phav_spec.theta import Theta, load_theta
 from phav_validators.failures import DEFAULT_BUDGET
 from phav_validators.findings import CheckResult, Finding, Reason, Report, Status
@@ -229,7 +230,7 @@ def _sample(video_ids: list[str], fraction: float, seed: int) -> set[str]:
     if fraction >= 1.0:
         return set(video_ids)
     k = max(1, math.ceil(fraction * len(video_ids)))
-    rng = np.random.Generator(np.random.PCG64(seed))
+    rng = seeded_rng(seed)
     order = rng.permutation(len(video_ids))
     return {video_ids[i] for i in sorted(order[:k])}
 

@@ -23,7 +23,6 @@ from phav_generator.animation import (
     gaussian_smooth,
     get_motion,
     motion_params,
-    motion_rng,
     placement,
     smooth_targets,
 )
@@ -42,6 +41,7 @@ from phav_generator.skeleton import (
 from phav_spec.motions import MOTIONS
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, MAX_STEP_M, walkable_heights
+from phav_spec.seeding import stream
 from phav_spec.vocab import MUSCLES, OBJECTS
 
 #: Physics steps per second unless a stiff spring needs more (``phav bench`` chose it).
@@ -275,7 +275,7 @@ class _Builder:
         self.substeps = substeps
         self.n_frames = recipe.n_frames
         self.times = np.arange(recipe.n_frames * substeps + 1) / (self.fps * substeps)
-        self.rng = motion_rng(recipe.seeds.physics, "plan")
+        self.rng = stream(recipe.seeds.physics, "plan")
         self.props: list[PropPlan] = []
         self.boxes: list[StaticBox] = []
         self.ties: list[HandTie] = []
@@ -732,7 +732,7 @@ def _stairs_from_rise(b: _Builder, probe: PersonPlan, start: np.ndarray) -> np.n
 
 def _car(b: _Builder, p: PersonPlan) -> PersonPlan:
     """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins."""
-    rng = motion_rng(b.recipe.seeds.physics, "car_hit")
+    rng = stream(b.recipe.seeds.physics, "car_hit")
     speed = _uniform(rng, 5.0, 12.0)
     n = len(b.times)
     duration = b.times[-1]
@@ -760,14 +760,14 @@ def _dive(b: _Builder, p: PersonPlan) -> PersonPlan:
     """Dive floor: pins let go when the dive starts (pelvis below 75 % of standing)."""
     z = p.targets.root_pos[:, 2] - b.recipe.protagonist.position[2]
     low = np.flatnonzero(z < 0.75 * p.dims.standing_pelvis_height)
-    rng = motion_rng(b.recipe.seeds.physics, "dive")
+    rng = stream(b.recipe.seeds.physics, "dive")
     t0 = float(b.times[low[0]]) if low.size else _uniform(rng, 0.3, 0.6) * b.times[-1]
     return _release(p, b.times, t0, strength=0.5)
 
 
 def _stagger(b: _Builder, p: PersonPlan) -> PersonPlan:
     """Stagger: the root pin goes slack for a few short windows; the body stumbles."""
-    rng = motion_rng(b.recipe.seeds.physics, "stagger")
+    rng = stream(b.recipe.seeds.physics, "stagger")
     pin = p.pin.copy()
     duration = b.times[-1]
     for _ in range(2 + int(rng.random() * 2)):
@@ -910,7 +910,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
         r.motion.mirror, position, r.protagonist.heading_deg,
     )  # fmt: skip
-    rule_rng = motion_rng(r.seeds.physics, "rules")
+    rule_rng = stream(r.seeds.physics, "rules")
     p = _arm_pose_for_tie(p, action)
     p = _variation(b, p)
     if action == "car_hit":

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from phav_generator.animation import motion_rng
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel, build_model
 from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
 from phav_generator.physics.traffic import Traffic, footprint_points
@@ -25,6 +24,7 @@ from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_generator.rotations import look_at, matrix_to_quat, relative_rotation_vectors
 from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
 from phav_spec.recipe import Recipe
+from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS
 
 #: Above this joint speed (rad/s or m/s) a state counts as exploded.
@@ -145,7 +145,7 @@ def _inverse_dynamics(scene: SceneModel, refs: list[_Reference]) -> list[np.ndar
 def _perturbation_offsets(plan: ScenePlan) -> dict[tuple[int, int], np.ndarray]:
     """(person, body) → orbit offsets (S, 3): circles of the recipe's radius and period."""
     out = {}
-    rng = motion_rng(plan.recipe.seeds.perturbation, "orbits")
+    rng = stream(plan.recipe.seeds.perturbation, "orbits")
     t = plan.step_times
     for p in plan.people:
         for m in p.perturbed:

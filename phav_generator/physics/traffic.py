@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from phav_generator.animation import motion_rng
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
+from phav_spec.seeding import stream
 
 #: Vehicles per lane: 0 to this many.
 MAX_PER_LANE = 2
@@ -62,7 +62,7 @@ def plan_traffic(recipe: Recipe, obstacles: np.ndarray) -> tuple[Vehicle, ...]:
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     if not env.lanes:
         return ()
-    rng = motion_rng(recipe.seeds.background, "traffic")
+    rng = stream(recipe.seeds.background, "traffic")
     duration = recipe.n_frames / recipe.video.fps
     candidates: list[Vehicle] = []
     for lane_index, lane in enumerate(env.lanes):

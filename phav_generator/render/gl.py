@@ -29,6 +29,7 @@ from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
 from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
 from phav_spec.errors import PhavUserError
+from phav_spec.seeding import seeded_rng
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
 MATTE, GROUND, WATER, EMISSIVE = 0, 1, 2, 3
@@ -733,7 +734,7 @@ class FrameRenderer:
         self.triangles_drawn = 0  # summed over the labelled passes of every frame
         # Rain: streak origins in a box around the camera, from the recipe's render seed.
         n_rain = round(RAIN_STREAKS * self.lighting.rain)
-        rng = np.random.Generator(np.random.PCG64(rain_seed))
+        rng = seeded_rng(rain_seed)
         self.rain_origin = rng.random((n_rain, 3)) * 2.0 * RAIN_BOX_M - RAIN_BOX_M
         self.rain_buffer = ctx.buffer(reserve=max(n_rain, 1) * 2 * 3 * 4, dynamic=True) if n_rain else None
         self.rain_vao = (

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.splits import make_split
@@ -115,7 +116,7 @@ def subsample(clips: Sequence[Clip], fraction: float, seed: int) -> list[Clip]:
         raise PhavUserError(f"fractions must be in (0, 1], got {fraction}", field="--real-fraction")
     if fraction == 1.0:
         return list(clips)
-    rng = np.random.Generator(np.random.PCG64([seed, 0xF2AC]))
+    rng = seeded_rng(seed, 0xF2AC)
     chosen: list[int] = []
     for label in sorted({c.label for c in clips}):
         mine = [i for i, c in enumerate(clips) if c.label == label]

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.seeding import seeded_rng
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
@@ -112,7 +113,7 @@ def binomial_p(correct: int, n: int, chance: float) -> float:
 
 def shuffled(clips: ClipSet, seed: int) -> ClipSet:
     """The same clips with labels permuted among them (the control that must not learn)."""
-    rng = np.random.Generator(np.random.PCG64([seed, 0x5EED]))
+    rng = seeded_rng(seed, 0x5EED)
     labels = [clips.clips[int(i)].label for i in rng.permutation(len(clips))]
     out = [dataclasses.replace(c, label=label) for c, label in zip(clips.clips, labels, strict=True)]
     return ClipSet(clips.source, clips.classes, out)

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.seeding import seeded_rng
 from phav_validators.learn.data import Clip
 
 #: What a split may hold out: ``actor`` (the protagonist's human model) and ``motion``
@@ -29,7 +30,7 @@ class Split:
 
 
 def _rng(seed: int) -> np.random.Generator:
-    return np.random.Generator(np.random.PCG64(seed))
+    return seeded_rng(seed)
 
 
 def random_split(n: int, *, test_fraction: float = 0.2, seed: int) -> Split:

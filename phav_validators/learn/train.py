@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import Architecture, in_channels, require_torch
 from phav_validators.learn.data import Clip
 
@@ -300,7 +301,7 @@ def train(
         else:
             opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
                                   weight_decay=config.weight_decay)  # fmt: skip
-        rng = np.random.Generator(np.random.PCG64(config.seed))
+        rng = seeded_rng(config.seed)
         fingerprint = _fingerprint(config, data, heads, init)
         result = TrainResult(model, config)
         ckpt = Path(checkpoint) if checkpoint is not None else None

@@ -10,10 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from phav_generator.sampling import RecipeSampler, part_rng, runtime_seeds, video_key
+from phav_generator.sampling import RecipeSampler
 from phav_spec.expectations import exact_expectations, mean_duration
 from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table
+from phav_spec.seeding import part_rng, runtime_seeds, video_key
 from phav_spec.theta import load_preset
 from phav_validators.distribution import check_distributions
 from phav_validators.findings import Reason
