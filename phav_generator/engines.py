@@ -1,39 +1,136 @@
-"""The Ray engine: the same video tasks as the local pool, run as Ray tasks on a cluster,
-and a process-pool stand-in on Ray for the validator's shard scans.
+"""Where the units of work run: in this process, a local pool of spawned processes, or Ray.
 
-Workers render into the output directory themselves, so every node must see it at the same
-path (a shared or cluster filesystem); the driver journals each video and joins the shards
-exactly as with the local pool. Results are identical byte for byte, whatever the order
-in which tasks finish. Ray is an optional extra: ``pip install 'phav[ray]'``.
+An engine is handed the stage function to run (``pipeline.run_task`` bound to its output
+folder, or a validator's shard scan) and the tasks; it knows nothing of what they do. Each
+finished task's result goes to ``finished`` in this process, so the caller journals it; the
+order in which tasks finish cannot change a byte of what they make.
+
+Ray runs the tasks on a cluster (``address``) or on a Ray started here; its workers write
+into the output directory themselves, so every node must see it at the same path (a shared
+or cluster filesystem). Ray is an optional extra: ``pip install 'phav[ray]'``.
 """
 
 from __future__ import annotations
 
 import contextlib
+import multiprocessing
+import queue
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import Future
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
 from phav_generator.faults import fault_env
 from phav_spec.errors import PhavUserError
 
+#: Where tasks run: a local process pool, or a Ray cluster.
+ENGINES = ("local", "ray")
 #: Object store for a Ray started here (bytes): records are small, pixels go to disk.
 LOCAL_OBJECT_STORE_BYTES = 128 * 1024**2
+
+#: Called with (tasks finished, frames finished) increments as work completes.
+Progress = Callable[[int, int], None]
+#: ``stage(task, report)``: one unit of work, reporting frames as it goes; returns its record.
+Stage = Callable[[Any, Progress | None], dict[str, Any]]
+
+
+def check_engine(engine: str) -> None:
+    """A one-line user error for an engine that is not one of ``ENGINES``."""
+    if engine not in ENGINES:
+        raise PhavUserError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}", field="--engine")
+
+
+def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, address: str | None,
+              out: Path, progress: Progress | None, finished: Callable[[dict[str, Any]], None]) -> None:  # fmt: skip
+    """Run ``stage`` on every task with ``engine``; ``finished`` gets each record, in this process.
+
+    ``out`` names the directory the tasks write to (for the message when a worker dies).
+    Each finished task also counts as one video for ``progress``.
+    """
+    check_engine(engine)
+    if not tasks:
+        return
+    if engine == "ray":
+        _run_on_ray(stage, tasks, workers=workers, address=address, out=out, progress=progress, finished=finished)
+    elif workers <= 1 or len(tasks) == 1:
+        for task in tasks:
+            record = stage(task, progress)
+            if progress is not None:
+                progress(1, 0)
+            finished(record)
+    else:
+        _run_on_pool(stage, tasks, workers, out, progress, finished)
+
+
+# --- a local pool of spawned processes -------------------------------------------------------
+
+_worker_events: Any = None
+
+
+def _init_worker(events: Any) -> None:
+    global _worker_events
+    _worker_events = events
+
+
+def _report(videos: int, frames: int) -> None:
+    if _worker_events is not None:
+        _worker_events.put((videos, frames))
+
+
+def _pool_call(stage: Stage, task: Any) -> dict[str, Any]:
+    return stage(task, _report)
+
+
+def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, progress: Progress | None,
+                 finished: Callable[[dict[str, Any]], None]) -> None:  # fmt: skip
+    mp = multiprocessing.get_context("spawn")
+    events = mp.Queue()
+    with ProcessPoolExecutor(
+        max_workers=min(workers, len(tasks)), mp_context=mp, initializer=_init_worker, initargs=(events,)
+    ) as pool:
+        futures: dict[Future, int] = {pool.submit(_pool_call, stage, t): i for i, t in enumerate(tasks)}
+        pending = set(futures)
+        try:
+            while pending:
+                done, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+                _drain(events, progress)
+                # Handed on in task order within a batch: which finishes first cannot change a byte.
+                for fut in sorted(done, key=lambda f: futures[f]):
+                    record = fut.result()
+                    if progress is not None:
+                        progress(1, 0)
+                    finished(record)
+        except BrokenProcessPool:
+            raise PhavUserError(
+                "a worker process died (killed, or out of memory); finished videos are kept, rerun to resume",
+                source=str(out),
+            ) from None
+        finally:
+            for fut in pending:
+                fut.cancel()
+        _drain(events, progress)
+
+
+def _drain(events: Any, progress: Progress | None) -> None:
+    while True:
+        try:
+            videos, frames = events.get_nowait()
+        except (queue.Empty, OSError, ValueError):
+            return
+        if progress is not None:
+            progress(videos, frames)
+
+
+# --- Ray -------------------------------------------------------------------------------------
 
 
 def _require_ray() -> Any:
     try:
-        import ray
+        import ray  # optional extra: only --engine ray needs it
     except ImportError:
         raise PhavUserError("Ray is not installed; pip install 'phav[ray]'", field="--engine") from None
     return ray
-
-
-def _render(task: Any, out: str) -> dict[str, Any]:
-    from phav_generator.dataset import render_part
-
-    return render_part(task, Path(out))
 
 
 @contextlib.contextmanager
@@ -61,25 +158,16 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
         ray.shutdown()
 
 
-def run_on_ray(
-    tasks: Sequence[Any],
-    out: Path,
-    *,
-    workers: int,
-    address: str | None,
-    progress: Callable[[int, int], None] | None,
-    finished: Callable[[dict[str, Any]], None],
-) -> None:
-    """Render ``tasks`` (``dataset.VideoTask``) as Ray tasks; ``finished`` gets each record.
+def _ray_stage(stage: Stage, task: Any) -> dict[str, Any]:
+    return stage(task, None)
 
-    With ``address`` the tasks go to that cluster; otherwise a local Ray with ``workers``
-    CPUs is started for the run and stopped after it.
-    """
-    if not tasks:
-        return
+
+def _run_on_ray(stage: Stage, tasks: Sequence[Any], *, workers: int, address: str | None, out: Path,
+                progress: Progress | None, finished: Callable[[dict[str, Any]], None]) -> None:  # fmt: skip
+    """Run ``stage`` on ``tasks`` as Ray tasks of one CPU; ``finished`` gets each record."""
     with ray_session(workers, address) as ray:
-        render = ray.remote(num_cpus=1, max_retries=0)(_render)
-        pending = [render.remote(t, str(out)) for t in tasks]
+        remote = ray.remote(num_cpus=1, max_retries=0)(_ray_stage)
+        pending = [remote.remote(stage, t) for t in tasks]
         while pending:
             done, pending = ray.wait(pending, num_returns=1, timeout=1.0)
             for ref in done:
@@ -126,7 +214,7 @@ class RayPool:
 
 def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:
     """A task's record; a user error raised in a task is raised here as itself."""
-    from ray.exceptions import RayTaskError, WorkerCrashedError
+    from ray.exceptions import RayTaskError, WorkerCrashedError  # optional extra, as above
 
     try:
         return ray.get(ref)

@@ -13,13 +13,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from phav_generator.dataset import DEFAULT_SHARD_SIZE, chunk
-from phav_generator.release import RELEASE_FILE, ReleaseIndex, file_sha256, load_release_index
+from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, chunk
 from phav_spec.errors import PhavUserError
-from phav_spec.files import parse_json_object, read_text
+from phav_spec.files import file_sha256, parse_json_object, read_text
 from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.recipe import Recipe, load_recipe
 from phav_spec.recipe_table import read_recipe_table
+from phav_spec.release import RELEASE_FILE, ReleaseIndex, load_release_index
 from phav_spec.theta import Theta, load_theta
 
 

@@ -7,7 +7,8 @@ import errno
 import json
 import os
 import secrets
-from collections.abc import Iterator
+import hashlib
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -113,3 +114,18 @@ def _fsync_directory(directory: Path) -> None:
         pass
     finally:
         os.close(fd)
+
+
+#: Bytes read at a time when hashing a file.
+_HASH_CHUNK = 1 << 20
+
+
+def file_sha256(path: Path, advance: Callable[[int], None] | None = None) -> str:
+    """sha256 hex digest of a file, read in 1 MiB chunks (``advance`` gets each chunk's bytes)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while chunk := fh.read(_HASH_CHUNK):
+            digest.update(chunk)
+            if advance is not None:
+                advance(len(chunk))
+    return digest.hexdigest()

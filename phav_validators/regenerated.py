@@ -20,18 +20,21 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from phav_generator.dataset.write import write_dataset
+from phav_generator.regenerate import plan_regeneration
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write, nested, parse_json_object, read_text
+from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse_json_object, read_text
+from phav_spec.manifest import RendererFingerprint
+from phav_spec.release import RELEASE_FILE
+from phav_validators.as_is import validate_as_is
 from phav_validators.findings import Reason
+from phav_validators.options import DatasetReport, Options, ProgressFactory, sample_videos
 from phav_validators.source import MANIFEST, RECIPES, THETA, DatasetInput
 
 if TYPE_CHECKING:
     from phav_generator.regenerate import RegenerationPlan
-    from phav_validators.validate import DatasetReport, Options, ProgressFactory
 
-#: Checks that need pixels (shards, or the metadata tables the renderer writes).
-PIXEL_CHECKS = ("integrity", "encoding", "failures", "consistency", "reproducibility", "learnability")
 #: Integrity reasons that mean "these bytes differ from the release's": expected, not a
 #: failure, when the regenerating renderer is not the release's renderer of record.
 _RENDERER_DEPENDENT = (Reason.HASH_MISMATCH, Reason.SHARD_BYTES_CHANGED)
@@ -40,34 +43,18 @@ _RENDERER_DEPENDENT = (Reason.HASH_MISMATCH, Reason.SHARD_BYTES_CHANGED)
 MARKER = ".phav-regenerated.json"
 
 
-def is_recipe_release(inp: DatasetInput) -> bool:
-    """True for a release directory whose ``release.json`` says it carries no pixels (an
-    unreadable ``release.json`` is the integrity check's finding, not this question's)."""
-    from phav_generator.release import RELEASE_FILE, load_release_index
-
-    path = inp.root / RELEASE_FILE
-    if inp.recipes_path is not None or not path.exists():
-        return False
-    try:
-        return load_release_index(path).recipes_only
-    except PhavUserError:
-        return False
-
-
 def _shards_to_build(plan: RegenerationPlan, opts: Options) -> list[int]:
     """Indices of the plan's shards the checks read: those holding the sampled videos."""
-    from phav_validators.validate import _sample
 
     if opts.sample >= 1.0 or "learnability" in opts.checks:
         return list(range(len(plan.shards)))
     ids = [v.video_id for v in plan.expected.videos] if plan.expected is not None else []
-    chosen = _sample(ids, opts.sample, opts.seed)
+    chosen = sample_videos(ids, opts.sample, opts.seed)
     return [i for i, shard in enumerate(plan.shards) if any(r.video_id in chosen for r in shard)]
 
 
 def _apart(into: Path, release_root: Path) -> None:
     """Refuse the release itself, a directory inside it or holding it, and any release."""
-    from phav_generator.release import RELEASE_FILE
 
     if nested(into, release_root) or (into / RELEASE_FILE).exists():
         raise PhavUserError("must be a directory of its own, apart from the release", source=str(into),
@@ -117,8 +104,6 @@ def _regenerate(inp: DatasetInput, plan: RegenerationPlan, chosen: list[int], in
                 progress: ProgressFactory | None) -> tuple[dict[str, Any], bool]:  # fmt: skip
     """Regenerate the chosen shards into ``into``, or reuse an earlier run that made exactly
     these; returns the marker (what is there, the renderer that made it) and whether reused."""
-    from phav_generator.dataset import write_dataset
-    from phav_generator.release import file_sha256
 
     names = [plan.shard_names[i] for i in chosen] if plan.shard_names else []
     wanted = {"release_manifest_sha256": file_sha256(inp.root / MANIFEST), "shards": names}
@@ -150,9 +135,6 @@ def validate_release(
     inp: DatasetInput, *, theta: str | None, options: Options, progress: ProgressFactory | None
 ) -> DatasetReport:
     """Regenerate the shards the chosen checks read, then validate them as the release."""
-    from phav_generator.regenerate import plan_regeneration
-    from phav_spec.manifest import RendererFingerprint
-    from phav_validators.validate import validate_as_is
 
     try:
         plan = plan_regeneration(inp.manifest_path)

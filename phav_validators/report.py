@@ -15,8 +15,13 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
+import cv2
+import numpy as np
+
 from phav_spec.files import atomic_write
-from phav_validators.validate import DatasetReport
+from phav_validators.checks.reproduce import shard_video_frames
+from phav_validators.learn.learnability import confusion_png
+from phav_validators.options import DatasetReport
 
 #: Version of the JSON report's layout; bumped when a field changes meaning.
 REPORT_VERSION = 1
@@ -44,7 +49,6 @@ def report_json(reports: Sequence[DatasetReport]) -> dict[str, Any]:
 
 
 def _default(value: Any) -> Any:
-    import numpy as np
 
     if isinstance(value, np.generic):
         return value.item()
@@ -88,9 +92,6 @@ def histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], 
 
 def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
     """The RGB frame (or the video's first) as a base64 PNG data URL, None if unreadable."""
-    import cv2
-
-    from phav_validators.reproduce import shard_video_frames
 
     first = None
     try:
@@ -155,8 +156,6 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
         if frames:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
         if r.learnability is not None:
-            from phav_validators.learn.learnability import confusion_png
-
             png = confusion_png(r.learnability.confusion(), r.learnability.classes)
             url = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
             out.append(f"<h3>Learnability: confusion on held-out actors (fused)</h3><img src='{url}'>")

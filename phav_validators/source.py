@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from phav_spec.errors import PhavUserError
+from phav_spec.release import RELEASE_FILE, load_release_index
 
 MANIFEST = "manifest.json"
 RECIPES = "recipes.parquet"
@@ -82,3 +83,16 @@ def resolve(paths: list[Path]) -> list[DatasetInput]:
             )
         inp.named.append(path)
     return list(out.values())
+
+
+def is_recipe_release(inp: DatasetInput) -> bool:
+    """True for a release directory whose ``release.json`` says it carries no pixels (an
+    unreadable ``release.json`` is the integrity check's finding, not this question's)."""
+
+    path = inp.root / RELEASE_FILE
+    if inp.recipes_path is not None or not path.exists():
+        return False
+    try:
+        return load_release_index(path).recipes_only
+    except PhavUserError:
+        return False

@@ -33,9 +33,9 @@ def theta_variant(tmp_path: Path, edit: Callable[[dict[str, Any]], None], name: 
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
     """Run ``phav`` (or ``phav-validate`` when the first arg is 'validate!') as a user would."""
     if args and args[0] == "validate!":
-        module, rest = "phav_validators.cli", args[1:]
+        module, rest = "phav_app.validate_cli", args[1:]
     else:
-        module, rest = "phav_generator.cli", args
+        module, rest = "phav_app.cli", args
     return subprocess.run(
         [sys.executable, "-m", module, *rest],
         capture_output=True,

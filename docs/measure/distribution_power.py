@@ -17,9 +17,9 @@ from concurrent.futures import ProcessPoolExecutor
 
 import yaml
 
-from phav_generator.cli import sample_table
+from phav_app.cli import sample_table
 from phav_spec.theta import PRESETS_DIR, load_theta, parse_theta
-from phav_validators.distribution import check_distributions
+from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
 
 N_VIDEOS = 2000

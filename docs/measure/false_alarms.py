@@ -5,7 +5,7 @@ Generates ``--datasets`` datasets of ``--videos`` phav-v1-short videos (seeds 10
 kept in ``--work`` and reused when run again), validates each with every check (one video
 regenerated) and counts, per check, the datasets it failed or warned on: on clean data
 every fail is a false alarm. Then, per clean video, injects each failure case of the
-issue's list into a copy of its metadata (``phav_validators.inject`` says how) and asks
+issue's list into a copy of its metadata (``phav_validators.checks.inject`` says how) and asks
 the failures check about it.
 
     .venv/bin/python docs/measure/false_alarms.py --work /tmp/phav-fa --datasets 20 --videos 4
@@ -23,10 +23,11 @@ from pathlib import Path
 import pyarrow.parquet as pq
 
 from phav_spec.recipe_table import read_recipe_table
-from phav_validators.failures import camera_series, people_series, video_failures
-from phav_validators.inject import INJECTIONS, inject
+from phav_validators.checks.failures import camera_series, people_series, video_failures
+from phav_validators.checks.inject import INJECTIONS, inject
+from phav_validators.options import CHECKS, Options
 from phav_validators.source import resolve
-from phav_validators.validate import CHECKS, Options, validate_dataset
+from phav_validators.validate import validate_dataset
 
 SEED0 = 100
 

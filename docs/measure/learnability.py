@@ -2,7 +2,7 @@
 held-out-actor split of one PHAV dataset (docs/learnability.md's table).
 
 Clips are read once; each split trains both streams with the default ``phav train``
-settings and tests them every ``--every`` epochs (``phav_validators.learn.bench``).
+settings and tests them every ``--every`` epochs (``phav_app.bench.training``).
 
     .venv/bin/phav generate --theta phav-v1-short --videos 640 --seed 11 --workers 2 --out /tmp/d640
     .venv/bin/python docs/measure/learnability.py /tmp/d640 --json /tmp/curve.json
@@ -16,7 +16,7 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
-from phav_validators.learn.bench import learning_curve
+from phav_app.bench.training import learning_curve
 from phav_validators.learn.data import load_phav
 from phav_validators.learn.train import TrainConfig, default_threads
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -43,7 +44,6 @@ def in_channels(stream: str, flow_frames: int) -> int:
 
 def require_torch() -> None:
     """Raise a one-line PhavUserError when torch is not installed."""
-    import importlib.util
 
     if importlib.util.find_spec("torch") is None:
         raise PhavUserError("training needs torch: pip install torch (CPU wheel), or pip install 'phav[train]'")

@@ -19,10 +19,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import cv2
 import numpy as np
 
-from phav_spec.encoding import FLOW_OFFSET, FLOW_SCALE
+from phav_spec.encoding import FLOW_OFFSET, FLOW_SCALE, modality
 from phav_spec.errors import PhavUserError
+from phav_spec.manifest import load_manifest
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.vocab import ACTIONS
+from phav_spec.webdataset import decode_png
+from phav_validators.checks.tarsafe import TarScan, iter_members
 
 if TYPE_CHECKING:
     from phav_spec.manifest import DatasetManifest
@@ -76,7 +82,6 @@ class ClipSet:
 
 def resize_rgb(image: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     """An RGB frame at ``size`` (width, height), area-averaged."""
-    import cv2
 
     return cv2.resize(image, size, interpolation=cv2.INTER_AREA)
 
@@ -84,7 +89,6 @@ def resize_rgb(image: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 def resize_flow(flow: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     """Flow (H, W, 2) in pixels → at ``size`` (width, height), vectors scaled with the image;
     NaN (invalid) counts as no motion."""
-    import cv2
 
     h, w = flow.shape[:2]
     flow = np.nan_to_num(flow.astype(np.float32), nan=0.0)
@@ -97,7 +101,6 @@ def resize_flow(flow: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 def estimate_flow(frames: Sequence[np.ndarray], method: str) -> list[np.ndarray]:
     """Forward flow t→t+1 (H, W, 2) estimated from full-resolution RGB frames; the last
     frame, which has no successor, repeats the previous flow (zero for a single frame)."""
-    import cv2
 
     if method == "tvl1":
         if not hasattr(cv2, "optflow"):
@@ -159,11 +162,6 @@ _MEMBER = re.compile(r"^(v\d+)/(\d+)\.(rgb|flow)\.png$")
 
 def _load_shard(task: _ShardTask) -> list[Clip]:
     """The clips of one shard, its members streamed (RGB and flow only; nothing unpacked)."""
-    import cv2
-
-    from phav_spec.encoding import modality
-    from phav_spec.webdataset import decode_png
-    from phav_validators.tarsafe import TarScan, iter_members
 
     cv2.setNumThreads(1)
     rgb_enc, flow_enc = modality("rgb"), modality("flow")
@@ -228,9 +226,6 @@ def load_phav(
     Shards are streamed in place, one per task, in ``workers`` processes. The label is the
     recipe's action, the groups its protagonist's human model and base motion. A caller
     that has already read the manifest or the recipes table passes them in."""
-    from phav_spec.manifest import load_manifest
-    from phav_spec.recipe_table import read_recipe_table
-    from phav_spec.vocab import ACTIONS
 
     root = Path(root)
     if flow not in FLOW_SOURCES:

@@ -18,9 +18,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import cv2
 import numpy as np
+from scipy.stats import binomtest
 
 from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write
+from phav_spec.manifest import load_manifest
 from phav_spec.seeding import seeded_rng
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 from phav_validators.learn.config import ProgressFactory
@@ -104,7 +108,6 @@ def chance_level(labels: np.ndarray, predicted: np.ndarray, n_classes: int) -> f
 
 def binomial_p(correct: int, n: int, chance: float) -> float:
     """One-sided p of ≥ ``correct`` right answers out of ``n`` when each is right with ``chance``."""
-    from scipy.stats import binomtest
 
     if n == 0:
         return 1.0
@@ -160,7 +163,6 @@ def check_learnability(
 ) -> tuple[CheckResult, LearnResult]:
     """The learnability check on a dataset directory, and the numbers behind it (its
     manifest and recipes table are read unless given)."""
-    from phav_spec.manifest import load_manifest
 
     if manifest is None:
         manifest = load_manifest(root / "manifest.json")
@@ -202,7 +204,6 @@ def check_learnability(
 
 def write_confusion_png(matrix: np.ndarray, classes: Sequence[str], path: Path) -> None:
     """``confusion_png`` written atomically to ``path``."""
-    from phav_spec.files import atomic_write
 
     data = confusion_png(matrix, classes)
     with atomic_write(path) as tmp:
@@ -212,7 +213,6 @@ def write_confusion_png(matrix: np.ndarray, classes: Sequence[str], path: Path) 
 def confusion_png(matrix: np.ndarray, classes: Sequence[str], *, cell: int = 14) -> bytes:
     """A confusion-matrix heat map as PNG bytes (rows: true class, columns: predicted;
     row-normalised), class names down the left and the accuracy in the title."""
-    import cv2
 
     n = len(classes)
     rows = matrix.sum(axis=1, keepdims=True)

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write
 from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import Architecture, in_channels, require_torch
 from phav_validators.learn.data import Clip
@@ -229,8 +230,6 @@ def _fingerprint(
 def _save(path: Path, state: dict[str, Any]) -> None:
     """torch.save through a temporary file and a rename (never a half-written checkpoint)."""
     import torch
-
-    from phav_spec.files import atomic_write
 
     buffer = io.BytesIO()
     torch.save(state, buffer)

@@ -64,7 +64,7 @@ def simulated_people(recipe: Recipe) -> list:
     a simulation: joints per frame and whether the pins hold."""
     from phav_generator.physics.simulate import simulate
     from phav_generator.skeleton import JOINT_BODIES
-    from phav_validators.failures import PersonSeries
+    from phav_validators.checks.failures import PersonSeries
 
     tr = simulate(recipe, keep_state=False)
     joints = list(JOINT_BODIES)

@@ -13,8 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from phav_generator import dataset as dataset_module
-from phav_generator.dataset import JOURNAL_FILE, WORK_DIR, Journal, chunk, write_dataset
+from phav_generator.dataset import write as write_module
+from phav_generator.dataset.journal import JOURNAL_FILE, Journal
+from phav_generator.dataset.write import WORK_DIR, chunk, write_dataset
 from phav_generator.faults import KILL_AT_ENV
 from phav_generator.sampling import sample_recipes
 from phav_spec.errors import PhavUserError
@@ -35,7 +36,7 @@ def _generate(out: Path, *extra: str, kill_at: str | None = None, fsize: int | N
             resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
 
     return subprocess.run(
-        [sys.executable, "-m", "phav_generator.cli", "generate", *ARGS, "--out", str(out), *extra],
+        [sys.executable, "-m", "phav_app.cli", "generate", *ARGS, "--out", str(out), *extra],
         capture_output=True, text=True, env=env, preexec_fn=limit,
     )  # fmt: skip
 
@@ -94,19 +95,19 @@ def test_a_file_size_limit_is_a_clear_error_that_keeps_finished_videos(reference
 def test_a_full_disk_is_a_clear_error_that_keeps_finished_videos(monkeypatch, tmp_path):
     theta = load_theta("phav-v1-short")
     shards = chunk(list(sample_recipes(theta, n=2, seed=SEED)), 1)
-    render = dataset_module.render_part
+    render = write_module.run_task
 
-    def full_after_one(task, out, report=None):
+    def full_after_one(task, report=None, *, parts):
         if task.video_id == "v000001":
-            raise OSError(errno.ENOSPC, "No space left on device", str(out / "x"))
-        return render(task, out, report)
+            raise OSError(errno.ENOSPC, "No space left on device", str(parts / "x"))
+        return render(task, report, parts=parts)
 
-    monkeypatch.setattr(dataset_module, "render_part", full_after_one)
+    monkeypatch.setattr(write_module, "run_task", full_after_one)
     out = tmp_path / "data"
     with pytest.raises(PhavUserError, match="disk is full"):
         write_dataset(shards, out, name="demo", theta=theta, dataset_seed=SEED)
     assert (out / "demo-000000.tar").exists()
-    monkeypatch.setattr(dataset_module, "render_part", render)
+    monkeypatch.setattr(write_module, "run_task", render)
     resumed = write_dataset(shards, out, name="demo", theta=theta, dataset_seed=SEED)
     assert (resumed.resumed_videos, resumed.rendered_videos) == (1, 1)
     clean = write_dataset(shards, tmp_path / "clean", name="demo", theta=theta, dataset_seed=SEED)

@@ -14,7 +14,7 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from phav_generator.dataset import chunk, write_dataset
+from phav_generator.dataset.write import chunk, write_dataset
 from phav_generator.sampling import sample_recipes
 from phav_spec.encoding import DEPTH_MAX_CODE, MODALITIES, decode_depth, decode_flow
 from phav_spec.errors import PhavUserError
@@ -215,7 +215,7 @@ def test_generate_errors_are_one_line(tmp_path):
 def test_a_fresh_process_renders_the_same_manifest(dataset, tmp_path):
     """`phav regenerate DIR` in a fresh process: every hash equal, exit 0."""
     result = subprocess.run(
-        [sys.executable, "-m", "phav_generator.cli", "regenerate", str(dataset), "--out", str(tmp_path / "r")],
+        [sys.executable, "-m", "phav_app.cli", "regenerate", str(dataset), "--out", str(tmp_path / "r")],
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from phav_generator.dataset import chunk, write_dataset
+from phav_generator.dataset.write import chunk, write_dataset
 from phav_generator.faults import DELAY_ENV, delay_for
 from phav_generator.sampling import sample_recipes
 from phav_spec.errors import PhavUserError
@@ -37,7 +37,7 @@ def test_an_unknown_engine_is_a_one_line_error(tmp_path):
 
 
 def test_generation_bench_times_each_worker_count_on_identical_bytes():
-    from phav_generator.bench import bench_generation
+    from phav_app.bench.generator import bench_generation
 
     theta = load_theta("phav-v1-short")
     recipes = list(sample_recipes(theta, n=2, seed=SEED))

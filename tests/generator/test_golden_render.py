@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from phav_generator.dataset import renderer_fingerprint
+from phav_generator.dataset.fingerprint import renderer_fingerprint
 from phav_generator.render.gl import gl_context, gl_strings
 from phav_generator.render.video import render_video
 from phav_spec.encoding import VideoHashes

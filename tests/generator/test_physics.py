@@ -290,7 +290,7 @@ def test_zero_strength_muscles_do_not_explode() -> None:
 
 
 def test_physics_bench_measures_error_against_the_reference_rate() -> None:
-    from phav_generator.bench import REFERENCE_HZ, bench_physics
+    from phav_app.bench.generator import REFERENCE_HZ, bench_physics
 
     pinned = [recipe_for("clap", seconds=0.5, variation="none")]
     released = [recipe_for("car_hit", seconds=0.5, variation="none")]
@@ -304,7 +304,7 @@ def test_a_pinned_sprint_follows_its_animation_at_the_default_rate() -> None:
     """The timestep's error while pins hold: a run at the default rate stays within 1 cm of
     a 1/1920 s reference and of its own animation (it was 6.6 cm when the recorded poses lagged
     a physics step and the servos were torques the root pin never saw)."""
-    from phav_generator.bench import REFERENCE_HZ
+    from phav_app.bench.generator import REFERENCE_HZ
     from phav_generator.skeleton import JOINT_BODIES
 
     recipe = recipe_for("run", "simple", seconds=2.0, variation="none")
@@ -322,7 +322,7 @@ def test_a_running_foot_strike_is_the_same_at_every_rate() -> None:
     are smoothed over 5 ms on a fixed grid, so 1/120 s and 1/240 s land the foot where
     1/1920 s does. Unsmoothed, this clip (phav-v1, seed 0, v000051, its first landing) was
     1.33 cm apart at both rates: the reference slid the foot on, the coarse rates stopped it."""
-    from phav_generator.bench import REFERENCE_HZ
+    from phav_app.bench.generator import REFERENCE_HZ
     from phav_generator.sampling import sample_recipes
     from phav_generator.skeleton import JOINT_BODIES
     from phav_spec.theta import load_preset
@@ -466,7 +466,7 @@ def test_background_walkers_step_onto_kerbs_and_blending_keeps_a_lying_body_abov
     from phav_generator.animation import blend
     from phav_generator.sampling import sample_recipes
     from phav_spec.theta import load_theta
-    from phav_validators.failures import video_failures
+    from phav_validators.checks.failures import video_failures
 
     recipes = {r.video_id: r for r in sample_recipes(load_theta("phav-v1-short"), n=40, seed=0)}
     walkers, dive, run = recipes["v000027"], recipes["v000035"], recipes["v000005"]

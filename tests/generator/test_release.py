@@ -9,11 +9,13 @@ from pathlib import Path
 
 import pytest
 
-from phav_generator.card import check_croissant
-from phav_generator.release import RELEASE_FILE, file_sha256, load_release_index, make_release
+from phav_app.card import check_croissant
+from phav_app.release import make_release
 from phav_spec.encoding import video_content_hash
 from phav_spec.errors import PhavUserError
+from phav_spec.files import file_sha256
 from phav_spec.manifest import dump_manifest, load_manifest
+from phav_spec.release import RELEASE_FILE, load_release_index
 from tests.helpers import file_bytes, run_cli, theta_variant
 
 CARD_FILES = ("README.md", "croissant.json", RELEASE_FILE)

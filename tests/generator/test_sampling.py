@@ -16,7 +16,7 @@ from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table
 from phav_spec.seeding import part_rng, runtime_seeds, video_key
 from phav_spec.theta import load_preset
-from phav_validators.distribution import check_distributions
+from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
 from tests.helpers import PRESET_PATH, run_cli
 
@@ -156,7 +156,7 @@ def test_fixed_length_clips_pass_the_duration_tests():
 
     from phav_spec.expectations import duration_cdf
     from phav_spec.theta import parse_theta
-    from phav_validators.distribution import ks
+    from phav_validators.checks.distribution import ks
     from tests.helpers import preset_dict
 
     data = copy.deepcopy(preset_dict())

@@ -18,11 +18,12 @@ import pytest
 
 from phav_spec.manifest import dump_manifest, load_manifest
 from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_validators.checks.scan import ShardJob, VideoExpect, scan_shard
+from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import Reason, Status
-from phav_validators.scan import ShardJob, VideoExpect, scan_shard
+from phav_validators.options import CHECKS, Options
 from phav_validators.source import resolve
-from phav_validators.tarsafe import TarScan, iter_members
-from phav_validators.validate import CHECKS, Options, validate_dataset
+from phav_validators.validate import validate_dataset
 from tests.helpers import run_cli
 
 SEED = 3  # shoot_bow in urban, shoot_ball in the stadium, golf in simple: 119 frames
@@ -404,7 +405,7 @@ def test_exit_codes_and_single_shard_input(clean, tmp_path):
 
 def test_frame_reader_skips_images_of_another_size(copy):
     """The reproducibility / HTML reader never decodes an image whose header is off-size."""
-    from phav_validators.reproduce import shard_video_frames
+    from phav_validators.checks.reproduce import shard_video_frames
 
     shard = _shard_of(copy, "v000000")
     _rewrite_tar(shard, _png_edit("v000000/00001.rgb.png", lambda a: cv2.resize(a, (4000, 4000))))
@@ -436,7 +437,7 @@ def test_hypergeometric_detection_probability_matches_enumeration():
     import itertools
     import math
 
-    from phav_validators.bench import hypergeometric_hit
+    from phav_app.bench.validation import hypergeometric_hit
 
     for n, bad, drawn in ((5, 1, 2), (6, 2, 3), (7, 3, 1), (4, 1, 4), (4, 0, 2)):
         draws = list(itertools.combinations(range(n), drawn))
@@ -445,7 +446,7 @@ def test_hypergeometric_detection_probability_matches_enumeration():
 
 
 def test_bench_corruption_is_caught_by_integrity(copy):
-    from phav_validators.bench import flip_depth_pixel
+    from phav_app.bench.validation import flip_depth_pixel
 
     flip_depth_pixel(_shard_of(copy, "v000002"), "v000002/00003.depth.png")
     _assert_fails(_validate(copy, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000002")
@@ -455,10 +456,10 @@ def test_bench_corruption_is_caught_by_integrity(copy):
 
 def test_every_injected_physics_failure_is_caught_and_clean_videos_are_not(clean):
     """The failures check's recall in CI: each case of the issue's list injected into each
-    clean video's metadata (phav_validators.inject) is caught with its reason."""
+    clean video's metadata (phav_validators.checks.inject) is caught with its reason."""
     from phav_spec.recipe_table import read_recipe_table
-    from phav_validators.failures import camera_series, people_series, video_failures
-    from phav_validators.inject import INJECTIONS, inject
+    from phav_validators.checks.failures import camera_series, people_series, video_failures
+    from phav_validators.checks.inject import INJECTIONS, inject
 
     recipes = {r.video_id: r for r in read_recipe_table(clean / "recipes.parquet").recipes()}
     people = people_series(pq.read_table(clean / "people.parquet"))
@@ -485,8 +486,8 @@ def test_perturbation_far_from_the_base_motion_is_caught():
     passes; the same joints with the necessary muscles moved 40 cm fail."""
     from phav_generator.sampling import sample_recipes
     from phav_spec.theta import load_theta
-    from phav_validators.failures import CameraSeries, PersonSeries, base_motion_joints, video_failures
-    from phav_validators.inject import inject
+    from phav_validators.checks.failures import CameraSeries, PersonSeries, base_motion_joints, video_failures
+    from phav_validators.checks.inject import inject
 
     recipes = sample_recipes(load_theta("phav-v1-short"), n=200, seed=0)
     recipe = next(r for r in recipes if r.variation.kind == "random_perturbation")
@@ -514,8 +515,8 @@ def test_a_tumbling_ragdolls_knees_and_a_moonwalks_feet_are_not_failures():
     (hinges, never past 0°) judged 'backwards' against its twisted torso, and the moonwalk's
     gliding feet. Both pass now; the same knees bent backwards while pinned, and the same feet
     under a walk, still fail."""
-    from phav_validators.failures import CameraSeries, video_failures
-    from phav_validators.inject import inject
+    from phav_validators.checks.failures import CameraSeries, video_failures
+    from phav_validators.checks.inject import inject
     from tests.generator.physics_support import simulated_people
 
     recipes = _short_recipes("v000021", "v000052")
@@ -538,7 +539,7 @@ def test_flow_is_checked_against_depth_only_on_classes_that_never_move():
     """The consistency check's static pixels: roads and walls, not vehicles, props or doors
     (push swings a door open; its moving leaf failed v000024 of the 100-video measurement)."""
     from phav_spec.vocab import PIXEL_CLASSES
-    from phav_validators.scan import class_lut
+    from phav_validators.checks.scan import class_lut
 
     _, person, static = class_lut()
     ids = {name: PIXEL_CLASSES[name].class_id for name in ("road", "building", "floor", "door", "car", "misc")}

@@ -12,7 +12,12 @@ from phav_generator.sampling import RecipeSampler
 from phav_spec.expectations import CONTINUOUS_PARAMETERS
 from phav_spec.recipe_table import RecipeRows
 from phav_spec.theta import Theta, parse_theta
-from phav_validators.distribution import check_continuous, check_distributions, parameter_draws, parse_recipes_arrow
+from phav_validators.checks.distribution import (
+    check_continuous,
+    check_distributions,
+    parameter_draws,
+    parse_recipes_arrow,
+)
 from tests.helpers import preset_dict
 
 N = 800

@@ -39,7 +39,7 @@ def test_phav_flow_keeps_its_mean_when_stored_smaller(phav):
     import cv2
 
     from phav_spec.encoding import decode_flow
-    from phav_validators.tarsafe import TarScan, iter_members
+    from phav_validators.checks.tarsafe import TarScan, iter_members
 
     clips = load_phav(phav, size=(85, 64))
     shard = sorted(phav.glob("*.tar"))[0]

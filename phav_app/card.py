@@ -10,6 +10,7 @@ recipes, and in a full release the cameras, the people and each modality's frame
 from __future__ import annotations
 
 import itertools
+import logging
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,14 +19,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from phav_spec.expectations import duration_cdf
+from phav_spec.release import PHAV_CITATION
+from phav_validators.checks.distribution import check_distributions
+from phav_validators.report import histogram_svg
 
 if TYPE_CHECKING:
-    from phav_generator.release import ReleaseIndex
     from phav_spec.encoding import ModalityEncoding
     from phav_spec.manifest import DatasetManifest
     from phav_spec.recipe_table import RecipeTable
+    from phav_spec.release import ReleaseIndex
     from phav_spec.theta import Theta
-    from phav_validators.distribution import DistributionResult
+    from phav_validators.checks.distribution import DistributionResult
 
 #: Variables whose observed-against-θ histograms the card shows (each one SVG file).
 CARD_VARIABLES = ("action", "environment", "weather", "day_phase", "camera", "variation", "human_model")
@@ -99,7 +103,6 @@ class RecipeFit:
 
     @classmethod
     def of(cls, table: RecipeTable, theta: Theta) -> RecipeFit:
-        from phav_validators.distribution import check_distributions
 
         columns = {name: table.column(name) for name in table.table.column_names}
         return cls(columns, check_distributions(columns, theta))
@@ -107,7 +110,6 @@ class RecipeFit:
 
 def histograms(fit: RecipeFit, theta: Theta) -> dict[str, str]:
     """SVG histograms, observed against θ's expectation, by file name (``action.svg``, …)."""
-    from phav_validators.report import histogram_svg
 
     columns = fit.columns
     out = {}
@@ -254,7 +256,6 @@ def _span(seconds: float) -> str:
 
 
 def _citation() -> str:
-    from phav_generator.release import PHAV_CITATION
 
     return PHAV_CITATION
 
@@ -351,7 +352,6 @@ def check_croissant(path: Path) -> tuple[list[str], list[str]] | None:
         import mlcroissant as mlc
     except ImportError:
         return None
-    import logging
 
     logging.getLogger("absl").setLevel(logging.ERROR)  # the issues come back as values
     try:

@@ -15,13 +15,16 @@ from typing import Any
 
 import numpy as np
 
-from phav_spec.encoding import MODALITIES, decode_flow
+from phav_generator.dataset.fingerprint import renderer_fingerprint
+from phav_generator.render.gl import gl_context, gl_strings
+from phav_generator.render.video import render_video
+from phav_spec.encoding import MODALITIES, VideoHashes, decode_flow
 from phav_spec.manifest import DatasetManifest
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import seeded_rng
+from phav_validators.checks.scan import FRAME_KEYS, decode_image, png_header
+from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import CheckResult, Finding, Reason, Report
-from phav_validators.scan import FRAME_KEYS, decode_image, png_header
-from phav_validators.tarsafe import TarScan, iter_members
 
 #: Per modality, the largest difference tolerated when fingerprints differ: mean absolute
 #: level difference (colour), share of differing pixels (labels, depth > 1 %, flow validity),
@@ -111,11 +114,6 @@ def check_reproducibility(
     rng = seeded_rng(seed)
     chosen = sorted(pool[i] for i in rng.permutation(len(pool))[: min(count, len(pool))])
     try:
-        from phav_generator.dataset import renderer_fingerprint
-        from phav_generator.render.gl import gl_context, gl_strings
-        from phav_generator.render.video import render_video
-        from phav_spec.encoding import VideoHashes
-
         ctx = gl_context()
     except Exception as e:  # no EGL / GL here: say so rather than guess
         return CheckResult.skipped(name, f"cannot create a GL context to regenerate ({e})"), None

@@ -20,14 +20,18 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import cv2
 import numpy as np
 
+from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, chunk, write_dataset
+from phav_generator.sampling import sample_recipes
 from phav_spec.manifest import load_manifest
 from phav_spec.seeding import seeded_rng
 from phav_spec.theta import Theta
 from phav_validators.findings import Reason
+from phav_validators.options import CHECKS, DatasetReport, Options
 from phav_validators.source import resolve
-from phav_validators.validate import CHECKS, DatasetReport, Options, validate_dataset
+from phav_validators.validate import validate_dataset
 
 #: --sample fractions the detection table measures.
 SAMPLE_FRACTIONS: tuple[float, ...] = (0.1, 0.25, 0.5, 1.0)
@@ -88,7 +92,6 @@ def flip_depth_pixel(shard: Path, member: str) -> None:
     """Rewrite ``shard`` with one pixel of the 16-bit depth PNG ``member`` changed by one cm.
 
     The rewrite goes to a temporary file renamed over the shard, members kept in order."""
-    import cv2
 
     with tarfile.open(shard) as tar:
         members = [(info, tar.extractfile(info).read()) for info in tar.getmembers() if info.isfile()]
@@ -130,8 +133,6 @@ def bench_validation(
     progress: Callable[[str], None] | None = None,
 ) -> ValidationBench:
     """Generate ``videos`` recipes of ``theta`` into ``work``, then time and probe validation."""
-    from phav_generator.dataset import DEFAULT_SHARD_SIZE, chunk, write_dataset
-    from phav_generator.sampling import sample_recipes
 
     def say(text: str) -> None:
         if progress is not None:

@@ -1,6 +1,6 @@
 """``phav train``: TSN / Cool-TSN on PHAV and real datasets, the paper's protocol as options.
 
-Registered on the ``phav`` app by ``phav_generator.cli``; torch is imported only when it runs.
+Registered on the ``phav`` app by ``phav_app.cli``; torch is imported only when it runs.
 """
 
 from __future__ import annotations
@@ -14,8 +14,15 @@ from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from phav_generator.cli_support import console
+from phav_app.console import console
 from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write
+from phav_validators.learn.config import require_torch
+from phav_validators.learn.data import FLOW_SOURCES, load_phav, load_real, real_split
+from phav_validators.learn.experiment import MODES, phav_runs, real_runs, summarise
+from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
+from phav_validators.learn.splits import check_split_kind
+from phav_validators.learn.train import TrainConfig, default_threads, torch_device
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -85,11 +92,6 @@ def train_command(
     seed: Annotated[int, typer.Option(min=0, help="Seed of splits, initialisation and sampling.")] = 0,
 ) -> None:
     """Train TSN on PHAV, or TSN / TSN-FT / Cool-TSN on a real dataset; print accuracies."""
-    from phav_validators.learn.config import require_torch
-    from phav_validators.learn.data import FLOW_SOURCES, load_phav, load_real, real_split
-    from phav_validators.learn.experiment import MODES, phav_runs, real_runs, summarise
-    from phav_validators.learn.splits import check_split_kind
-    from phav_validators.learn.train import TrainConfig, default_threads, torch_device
 
     require_torch()
     # Every option is checked before any data is read.
@@ -159,8 +161,6 @@ def train_command(
         table.add_row(f"{row['fraction']:g}", row["stream"], str(row["splits"]), f"{row['mean_accuracy']:.1%}",
                       f"{row['min']:.1%}", f"{row['max']:.1%}")  # fmt: skip
     console.print(table)
-    from phav_spec.files import atomic_write
-    from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 
     for run in runs:  # the fused predictions (or the only stream's)
         names = classes[run.name]

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import datetime as dt
 import errno
-import hashlib
 import os
 import re
 import shutil
@@ -24,104 +23,31 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
-
+from phav_app.card import RecipeFit, croissant, dataset_card, histograms
+from phav_generator.dataset.fingerprint import package_version
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write, nested, parse_json_object, read_text
-from phav_spec.manifest import DatasetManifest, Sha256Hex, load_manifest
+from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse_json_object, read_text
+from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
+from phav_spec.release import (
+    CARD_FILE,
+    CROISSANT_FILE,
+    HISTOGRAMS_DIR,
+    IN_PROGRESS_FILE,
+    METADATA_FILES,
+    RECIPE_FILES,
+    RELEASE_FILE,
+    ReleaseFile,
+    ReleaseIndex,
+    load_release_index,
+)
 from phav_spec.theta import Theta, load_theta
 
-__all__ = [
-    "RELEASE_FILE",
-    "RELEASE_VERSION",
-    "ReleaseFile",
-    "ReleaseIndex",
-    "ReleaseResult",
-    "file_sha256",
-    "load_release_index",
-    "make_release",
-]
+__all__ = ["ReleaseResult", "make_release"]
 
-#: Version of ``release.json``'s format; readers refuse newer ones.
-RELEASE_VERSION = 1
-RELEASE_FILE = "release.json"
-#: Marks a release being written (and by whom: the manifest's sha256 and the kind), so
-#: that a rerun resumes its own release and never writes into someone else's directory.
-IN_PROGRESS_FILE = ".phav-release.json"
-CARD_FILE = "README.md"
-CROISSANT_FILE = "croissant.json"
-HISTOGRAMS_DIR = "histograms"
-#: Files every release carries: what regeneration starts from and checks against.
-RECIPE_FILES = ("manifest.json", "recipes.parquet", "theta.yaml")
-#: Files the renderer made: in a full release, rebuilt by ``phav regenerate`` otherwise.
-METADATA_FILES = ("cameras.parquet", "people.parquet")
-#: The paper the dataset's generative model comes from (cited by the card and Croissant).
-PHAV_CITATION = """@inproceedings{deSouza2017procedural,
-  title     = {Procedural Generation of Videos to Train Deep Action Recognition Networks},
-  author    = {de Souza, C{\\'e}sar Roberto and Gaidon, Adrien and Cabon, Yohann and L{\\'o}pez Pe{\\~n}a, Antonio M.},
-  booktitle = {IEEE Conference on Computer Vision and Pattern Recognition (CVPR)},
-  year      = {2017}
-}"""
-_HASH_CHUNK = 1 << 20
 
 Progress = Callable[[str, int], Callable[[int], None]]
-
-
-class ReleaseFile(BaseModel):
-    """One file of the full release: where it is, its size and sha256, and whether this
-    release carries it (a recipe-only release leaves out what regeneration rebuilds)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-    path: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
-    bytes: int = Field(ge=0)
-    sha256: Sha256Hex
-    included: bool
-    kind: str = Field(pattern=r"^(shard|recipes|metadata)$")
-
-
-class ReleaseIndex(BaseModel):
-    """Contents of ``release.json``."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-    release_version: int = Field(default=RELEASE_VERSION, ge=1)
-    name: str
-    recipes_only: bool
-    phav_version: str
-    dataset_version: str
-    license: str
-    url: str | None
-    date_published: str | None
-    files: list[ReleaseFile]
-
-    @property
-    def full_bytes(self) -> int:
-        """Bytes of the full release's data files."""
-        return sum(f.bytes for f in self.files)
-
-    @property
-    def included_bytes(self) -> int:
-        return sum(f.bytes for f in self.files if f.included)
-
-    def file(self, path: str) -> ReleaseFile | None:
-        return next((f for f in self.files if f.path == path), None)
-
-
-def load_release_index(path: str | Path) -> ReleaseIndex:
-    """Read ``release.json``; unreadable, malformed or newer files raise PhavUserError."""
-    data = parse_json_object(read_text(path), source=str(path))
-    version = data.get("release_version")
-    if isinstance(version, int) and version > RELEASE_VERSION:
-        raise PhavUserError(f"release version {version} is newer than this phav reads ({RELEASE_VERSION}); "
-                            "upgrade phav", source=str(path), field="release_version")  # fmt: skip
-    try:
-        return ReleaseIndex.model_validate(data)
-    except ValidationError as e:
-        err = e.errors()[0]
-        raise PhavUserError(err["msg"], source=str(path), field=".".join(str(x) for x in err["loc"])) from None
 
 
 @dataclass(frozen=True)
@@ -137,17 +63,6 @@ class ReleaseResult:
     def share_of_full(self) -> float:
         """This release's bytes as a share of the full release's data files."""
         return self.release_bytes / max(self.index.full_bytes, 1)
-
-
-def file_sha256(path: Path, advance: Callable[[int], None] | None = None) -> str:
-    """sha256 hex digest of a file, read in 1 MiB chunks (``advance`` gets each chunk's bytes)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as fh:
-        while chunk := fh.read(_HASH_CHUNK):
-            digest.update(chunk)
-            if advance is not None:
-                advance(len(chunk))
-    return digest.hexdigest()
 
 
 @dataclass(frozen=True)
@@ -218,7 +133,6 @@ def _place(source: Path, target: Path, size: int, sha256: str, advance: Callable
 def _index(src: _Source, *, recipes_only: bool, about: dict[str, str | None],
            advance: Callable[[int], None] | None) -> ReleaseIndex:  # fmt: skip
     """Every data file of the full release with its size and sha256 (shards' from the manifest)."""
-    from phav_generator.dataset import _version
 
     files = [ReleaseFile(path=s.name, bytes=s.bytes, sha256=s.sha256, included=not recipes_only, kind="shard")
              for s in src.manifest.shards]  # fmt: skip
@@ -226,7 +140,7 @@ def _index(src: _Source, *, recipes_only: bool, about: dict[str, str | None],
         path = src.root / name
         files.append(ReleaseFile(path=name, bytes=path.stat().st_size, sha256=file_sha256(path, advance),
                                  included=kind == "recipes" or not recipes_only, kind=kind))  # fmt: skip
-    return ReleaseIndex(name=src.manifest.name, recipes_only=recipes_only, phav_version=_version("phav"),
+    return ReleaseIndex(name=src.manifest.name, recipes_only=recipes_only, phav_version=package_version("phav"),
                         files=files, **about)  # fmt: skip
 
 
@@ -297,8 +211,6 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[s
     included = [f for f in index.files if f.included]
     advance = progress("placing files", sum(f.bytes for f in included)) if progress is not None else None
     kept = sum(not _place(src.root / f.path, out / f.path, f.bytes, f.sha256, advance) for f in included)
-
-    from phav_generator.card import RecipeFit, croissant, dataset_card, histograms
 
     fit = RecipeFit.of(src.table, src.theta)
     figures = histograms(fit, src.theta)

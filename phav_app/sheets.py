@@ -17,8 +17,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 from PIL import Image, ImageDraw
 
-from phav_generator.preview import depth_image, flow_image
+from phav_app.preview import depth_image, flow_image
+from phav_generator.physics.simulate import simulate
+from phav_generator.render.gl import gl_context
+from phav_generator.render.modalities import encode_frame
+from phav_generator.render.video import scene_renderer
 from phav_generator.sampling import RecipeSampler
+from phav_spec.files import atomic_write
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
 from phav_spec.vocab import ACTIONS, DAY_PHASES, ENVIRONMENTS, WEATHERS
@@ -92,16 +97,11 @@ def _caption(r: Recipe) -> str:
 
 def render_sheet(spec: SheetSpec, ctx: moderngl.Context | None = None) -> Image.Image:
     """The sheet of ``spec``: RGB at three frames above the middle frame's labels, depth, flow."""
-    from phav_generator.physics.simulate import simulate
-    from phav_generator.render.modalities import encode_frame
-    from phav_generator.render.video import scene_renderer
 
     r = spec.recipe
     tr = simulate(r, keep_state=False)
     own = ctx is None
     if own:
-        from phav_generator.render.gl import gl_context
-
         ctx = gl_context()
     renderer = scene_renderer(r, tr, ctx)
     try:
@@ -134,7 +134,6 @@ def render_sheet(spec: SheetSpec, ctx: moderngl.Context | None = None) -> Image.
 
 def write_index(specs: list[SheetSpec], directory: Path, theta: Theta, seed: int) -> Path:
     """A Markdown page listing the sheets by kind, with the recipe each shows."""
-    from phav_spec.files import atomic_write
 
     lines = ["# Contact sheets", "",
              f"Made by `phav sheets --theta {theta.name} --seed {seed}`: one sheet per value. Top row: RGB at",

@@ -8,13 +8,23 @@ the camera flies and whether the physics did what the action says.
 from __future__ import annotations
 
 import itertools
+import tarfile
+from pathlib import Path
 
+import cv2
 import numpy as np
 from PIL import Image, ImageDraw
 
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.camera import project as project_points
 from phav_generator.skeleton import BONES, PARENTS
+from phav_spec.encoding import DEPTH_MAX_CODE, MODALITIES, decode_flow
+from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write
+from phav_spec.manifest import load_manifest
+from phav_spec.recipe import parse_recipe
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.webdataset import decode_png
 
 _ROLE_COLOURS = {"protagonist": (220, 40, 40), "supporting": (40, 90, 220), "background": (120, 120, 120)}
 
@@ -83,9 +93,6 @@ SHEET_COLUMNS = ("rgb", "raw_rgb", "semantic", "instance", "depth", "flow")
 
 def depth_image(code: np.ndarray) -> np.ndarray:
     """A 16-bit depth code (cm) as a colour image: inverse depth on the turbo map, sky black."""
-    import cv2
-
-    from phav_spec.encoding import DEPTH_MAX_CODE
 
     metres = code.astype(np.float64) / 100.0
     sky = code == DEPTH_MAX_CODE
@@ -99,9 +106,6 @@ def depth_image(code: np.ndarray) -> np.ndarray:
 
 def flow_image(code: np.ndarray, max_px: float | None = None) -> np.ndarray:
     """A KITTI flow code as a colour image: hue = direction, brightness = speed, invalid black."""
-    import cv2
-
-    from phav_spec.encoding import decode_flow
 
     flow, valid = decode_flow(code)
     u, v = np.nan_to_num(flow[..., 0]), np.nan_to_num(flow[..., 1])
@@ -146,7 +150,6 @@ def modality_sheet(frames: list[tuple[int, dict[str, np.ndarray]]], title: str) 
 
 def write_gif(images: list[np.ndarray], path, fps: int) -> None:
     """An animated GIF of RGB frames (written atomically)."""
-    from phav_spec.files import atomic_write
 
     pictures = [Image.fromarray(im).convert("P", palette=Image.Palette.ADAPTIVE, colors=255) for im in images]
     with atomic_write(path) as tmp:
@@ -156,13 +159,6 @@ def write_gif(images: list[np.ndarray], path, fps: int) -> None:
 
 def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list[dict[str, np.ndarray]]]:
     """(video id, fps, every frame's modalities) of one video of a dataset, read from its shard."""
-    import tarfile
-    from pathlib import Path
-
-    from phav_spec.encoding import MODALITIES
-    from phav_spec.errors import PhavUserError
-    from phav_spec.manifest import load_manifest
-    from phav_spec.webdataset import decode_png
 
     directory = Path(directory)
     manifest_path = directory if directory.suffix == ".json" else directory / "manifest.json"
@@ -191,8 +187,6 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
     fps = 30  # DESIGN.md's rate; the recipe's own when the recipes table is there
     table_path = manifest_path.parent / "recipes.parquet"
     if table_path.exists():
-        from phav_spec.recipe_table import read_recipe_table
-
         table = read_recipe_table(table_path)
         ids = table.column("video_id")
         if vid in ids:
@@ -202,6 +196,5 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
 
 def parse_recipe_fps(text: str) -> int:
     """The frame rate of a recipe given as JSON text."""
-    from phav_spec.recipe import parse_recipe
 
     return parse_recipe(text).video.fps

@@ -4,21 +4,67 @@ and benchmark. One Typer app; user errors are one line and exit code 2."""
 from __future__ import annotations
 
 import json
+import re
+import tempfile
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from rich.markup import escape
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+from rich.progress import (
+    BarColumn,
+    DownloadColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+    TransferSpeedColumn,
+)
 from rich.table import Table
 
-from phav_generator.cli_support import EXIT_FINDINGS, bar_tasks, console, run_app
+from phav_app.bench.generator import (
+    PHAV_VIDEOS,
+    REFERENCE_HZ,
+    bench_generation,
+    bench_physics,
+    bench_render,
+    bench_sampling,
+    benchmark_report,
+    mean_frames_per_video,
+)
+from phav_app.bench.training import learning_curve, throughput
+from phav_app.bench.validation import bench_validation
+from phav_app.card import check_croissant
+from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, print_report, run_app
+from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet, write_gif
+from phav_app.release import make_release
+from phav_app.sheets import render_sheet, sheet_specs, write_index
+from phav_app.train_cli import train_command
+from phav_generator.dataset.write import chunk, write_dataset
+from phav_generator.physics.plan import DEFAULT_PHYSICS_HZ
+from phav_generator.physics.probe import evaluate_probe, format_confusion
+from phav_generator.physics.simulate import simulate
+from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration
+from phav_generator.render.gl import gl_context, require_gl
+from phav_generator.render.video import render_video
+from phav_generator.sampling import RecipeSampler, sample_recipes
+from phav_generator.vary import parse_settings
+from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, parse_json_object
-from phav_spec.recipe import recipe_json_schema
+from phav_spec.recipe import frames_for, load_recipe, recipe_json_schema
 from phav_spec.recipe_table import RecipeRows, RecipeTable, read_recipe_table, write_recipe_table
-from phav_spec.theta import Theta, load_theta
+from phav_spec.release import CROISSANT_FILE
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.theta import PRESETS_DIR, Theta, load_theta
+from phav_spec.vocab import ACTIONS, VOCABULARIES
+from phav_validators.checks.distribution import check_distributions
+from phav_validators.learn.config import require_torch
+from phav_validators.learn.data import load_phav
+from phav_validators.learn.train import TrainConfig, default_threads
 
 app = typer.Typer(
     name="phav",
@@ -64,7 +110,6 @@ def _progress() -> Progress:
 
 def sample_table(theta: Theta, *, n: int, seed: int, progress: Progress | None = None) -> RecipeRows:
     """Sample recipes 0 … n−1 into column lists (a progress bar when one is given)."""
-    from phav_generator.sampling import RecipeSampler
 
     sampler = RecipeSampler(theta)
     rows = RecipeRows()
@@ -104,8 +149,6 @@ def stats(
     alpha: Annotated[float, typer.Option(help="Family-wise significance level (Holm).")] = 1e-3,
 ) -> None:
     """Observed recipes against θ's exact expectations, per variable and conditional table."""
-    from phav_validators.distribution import check_distributions
-    from phav_validators.render import print_distribution, print_report
 
     rt = read_recipe_table(recipes)
     th = _theta_for(rt, theta)
@@ -169,7 +212,6 @@ def spec_vocab(
     ] = None,
 ) -> None:
     """The registries every stage reads: actions, environments, cameras, pixel classes, …"""
-    from phav_spec.vocab import VOCABULARIES
 
     if name is not None and name not in VOCABULARIES:
         raise PhavUserError(f"unknown vocabulary; known: {', '.join(VOCABULARIES)}", field=name)
@@ -187,7 +229,6 @@ def spec_vocab(
 @recipe_app.command("check")
 def recipe_check(file: Annotated[Path, typer.Argument(help="A recipe JSON file.")]) -> None:
     """Validate one recipe JSON file (upgrading an older schema version)."""
-    from phav_spec.recipe import load_recipe
 
     r = load_recipe(file)
     console.print(
@@ -227,7 +268,6 @@ def preview(
 ) -> None:
     """A contact sheet of a video: all six modalities side by side (depth and flow colour-mapped)
     for a few frames, and an animated GIF of its RGB; or, with --skeleton, stick figures."""
-    from phav_generator.preview import frames_from_dataset, modality_sheet, write_gif
 
     if skeleton:
         _skeleton_preview(source, out, frames)
@@ -235,9 +275,6 @@ def preview(
     if source.is_dir() or _is_manifest(source):
         vid, fps, all_frames = frames_from_dataset(source, video)
     else:
-        from phav_generator.render.video import render_video
-        from phav_spec.recipe import load_recipe
-
         r = load_recipe(source)
         vid, fps = r.video_id, r.video.fps
         all_frames = [rf.modalities for rf in render_video(r)]
@@ -267,8 +304,6 @@ def sheets(
 ) -> None:
     """Contact sheets, one per environment, weather, day phase and action: RGB at three frames
     above the middle frame's labels, depth and flow, with an index page."""
-    from phav_generator.render.gl import gl_context
-    from phav_generator.sheets import render_sheet, sheet_specs, write_index
 
     chosen = tuple(k.strip() for k in kinds.split(",") if k.strip())
     th = load_theta(theta)
@@ -295,10 +330,6 @@ def _is_manifest(path: Path) -> bool:
 
 
 def _skeleton_preview(recipe_file: Path, out: Path | None, frames: int) -> None:
-    from phav_generator.physics.simulate import simulate
-    from phav_generator.preview import contact_sheet
-    from phav_spec.recipe import load_recipe
-    from phav_spec.scene import ENVIRONMENT_SCENES
 
     r = load_recipe(recipe_file)
     tr = simulate(r, keep_state=False)
@@ -315,8 +346,6 @@ class _RenderProgress:
     """A progress bar over videos that also shows frames rendered per second."""
 
     def __init__(self, total_videos: int, description: str):
-        from rich.progress import TimeElapsedColumn
-
         self._bar = Progress(
             TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn("videos"),
             TextColumn("{task.fields[frames]:,} frames"), TextColumn("{task.fields[rate]}"),
@@ -341,7 +370,6 @@ class _RenderProgress:
 
 
 def _register_train() -> None:
-    from phav_validators.learn.cli import train_command
 
     app.command("train")(train_command)
 
@@ -368,8 +396,6 @@ def generate(
     manifest. Rerun the same command on the same --out to resume an interrupted run: the
     videos and shards its journal records are kept, and the result is byte for byte the
     uninterrupted one."""
-    from phav_generator.dataset import chunk, write_dataset
-    from phav_generator.sampling import sample_recipes
 
     _check_name(name)
     th = load_theta(theta)
@@ -388,7 +414,6 @@ def generate(
 
 
 def _check_name(name: str) -> None:
-    import re
 
     if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
         raise PhavUserError("use letters, digits, '_' and '-' only", field="--name")
@@ -407,13 +432,10 @@ def regenerate(
     gl: GlOption = "llvmpipe",
 ) -> None:
     """Rebuild videos from their recipes and say whether every content hash matches."""
-    from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration
 
     plan = plan_regeneration(source, videos=video)
     check_target(source, out)
     with _RenderProgress(plan.n_videos, "regenerating") as progress:
-        from phav_generator.dataset import write_dataset
-
         result = write_dataset(plan.shards, out, name=plan.name, theta=plan.theta, dataset_seed=plan.dataset_seed,
                                workers=workers, progress=progress, shard_names=plan.shard_names, engine=engine,
                                address=address, gl=gl)  # fmt: skip
@@ -447,10 +469,6 @@ def release(
     every file's sha256, a dataset card (README.md with θ, statistics and histograms) and a
     Croissant description (croissant.json). --recipes-only ships recipes, θ and the manifest
     alone; `phav regenerate REL/manifest.json` rebuilds the rest and checks every hash."""
-    from rich.progress import DownloadColumn, TransferSpeedColumn
-
-    from phav_generator.card import check_croissant
-    from phav_generator.release import CROISSANT_FILE, make_release
 
     with Progress(TextColumn("{task.description}"), BarColumn(), DownloadColumn(), TransferSpeedColumn(),
                   console=console, transient=True) as bar:  # fmt: skip
@@ -487,9 +505,6 @@ def vary(
     out: Annotated[Path | None, typer.Option("--out", help="Where to write (default: <video_id>-varied.json).")] = None,
 ) -> None:
     """Write a counterfactual recipe that changes only the named variables (seeds stay)."""
-    from phav_generator.vary import parse_settings
-    from phav_generator.vary import vary as vary_recipe
-    from phav_spec.recipe import load_recipe
 
     forced = parse_settings(settings)
     r = load_recipe(recipe_file)
@@ -505,7 +520,6 @@ def vary(
 
 def _preset_for(theta_hash: str) -> Theta:
     """The shipped preset whose hash a recipe records."""
-    from phav_spec.theta import PRESETS_DIR
 
     for path in sorted(PRESETS_DIR.glob("*.yaml")):
         th = load_theta(path)
@@ -565,8 +579,6 @@ def bench(
         choices = ", ".join(BENCH_SECTIONS)
         raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
     if gl != "llvmpipe":
-        from phav_generator.render.gl import require_gl
-
         require_gl(gl)  # now, not after an hour of other sections
     theta = load_theta("phav-v1")
     runners = {
@@ -593,8 +605,6 @@ def bench(
     finally:
         console.record = False
     if report is not None:
-        from phav_generator.bench import benchmark_report
-
         command = "phav bench --sections " + ",".join(s for s in BENCH_SECTIONS if s in chosen)
         with atomic_write(report) as tmp:
             tmp.write_text(benchmark_report(recorded, command=command, gl=gl), encoding="utf-8")
@@ -602,7 +612,6 @@ def bench(
 
 
 def _bench_sampling_table(theta: Theta, *, n: int, seed: int, out_dir: Path | None) -> None:
-    from phav_generator.bench import bench_sampling
 
     rows = bench_sampling(theta, n=n, seed=seed, out_dir=out_dir)
     table = Table(title=f"sampling (θ {theta.name}, one process)", title_justify="left")
@@ -619,9 +628,6 @@ def _bench_sampling_table(theta: Theta, *, n: int, seed: int, out_dir: Path | No
 
 
 def _bench_validation_tables(*, seed: int, videos: int, trials: int, out_dir: Path | None) -> None:
-    import tempfile
-
-    from phav_validators.bench import bench_validation
 
     theta = load_theta("phav-v1-short")
     with tempfile.TemporaryDirectory() as tmp, console.status("validation bench") as status:
@@ -651,21 +657,11 @@ def _bench_validation_tables(*, seed: int, videos: int, trials: int, out_dir: Pa
 
 
 def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed: int, out_dir: Path | None) -> None:
-    import tempfile
-    from dataclasses import replace
-
-    from phav_validators.learn.bench import learning_curve, throughput
-    from phav_validators.learn.config import require_torch
-    from phav_validators.learn.data import load_phav
-    from phav_validators.learn.train import TrainConfig, default_threads
 
     require_torch()
     source = escape(str(data)) if data is not None else f"{videos} generated phav-v1-short videos, seed {seed}"
     with tempfile.TemporaryDirectory() as tmp, console.status("training bench") as status:
         if data is None:
-            from phav_generator.dataset import chunk, write_dataset
-            from phav_generator.sampling import sample_recipes
-
             data = (out_dir if out_dir is not None else Path(tmp)) / "training"
             status.update(f"generating {videos} phav-v1-short videos")
             theta = load_theta("phav-v1-short")
@@ -700,8 +696,6 @@ def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed:
 
 
 def _bench_generation_table(theta: Theta, *, seed: int, videos: int, engine: str, gl: str) -> None:
-    from phav_generator.bench import PHAV_VIDEOS, bench_generation, mean_frames_per_video
-    from phav_generator.sampling import sample_recipes
 
     recipes = list(sample_recipes(theta, n=videos, seed=seed))
     with console.status(f"generation bench: {videos} videos with 1 and 2 workers ({engine})"):
@@ -729,16 +723,9 @@ def _bench_generation_table(theta: Theta, *, seed: int, videos: int, engine: str
 
 
 def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int | None, gl: str) -> None:
-    import tempfile
-
-    from phav_generator.bench import bench_render
-    from phav_generator.dataset import chunk, write_dataset
-    from phav_generator.sampling import sample_recipes
 
     recipes = list(sample_recipes(theta, n=videos, seed=seed))
     if max_frames is not None:  # shorter clips, same scenes: cut the duration, keep everything else
-        from phav_spec.recipe import frames_for
-
         recipes = [r.model_copy(update={"duration_s": min(r.duration_s, max_frames / r.video.fps),
                                         "n_frames": min(r.n_frames, frames_for(max_frames / r.video.fps, r.video.fps))})
                    for r in recipes]  # fmt: skip
@@ -777,8 +764,6 @@ def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int
 
 
 def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:
-    from phav_generator.physics.probe import evaluate_probe, format_confusion
-    from phav_spec.vocab import ACTIONS
 
     n_test = max(1, clips // 3)
     actions = ACTIONS.names
@@ -800,9 +785,6 @@ def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:
 
 
 def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:
-    from phav_generator.bench import REFERENCE_HZ, bench_physics
-    from phav_generator.physics.plan import DEFAULT_PHYSICS_HZ
-    from phav_generator.sampling import sample_recipes
 
     pinned, released = [], []
     for r in sample_recipes(theta, n=4000, seed=seed):

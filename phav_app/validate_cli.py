@@ -14,11 +14,18 @@ from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from phav_generator.cli_support import EXIT_FINDINGS, bar_tasks, console, run_app
+from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, run_app
 from phav_spec.errors import PhavUserError
+from phav_validators.checks.scan import tune_allocator
+from phav_validators.findings import Reason
+from phav_validators.learn.learnability import LearnOptions
+from phav_validators.options import CHECKS, Options
+from phav_validators.report import write_html, write_json
+from phav_validators.source import resolve
+from phav_validators.validate import validate_dataset
 
 if TYPE_CHECKING:
-    from phav_validators.validate import DatasetReport
+    from phav_validators.options import DatasetReport
 
 app = typer.Typer(name="phav-validate", add_completion=False, pretty_exceptions_enable=False)
 
@@ -28,7 +35,6 @@ _STYLE = {"pass": "green", "warn": "yellow", "fail": "bold red", "skip": "dim"}
 
 
 def _checks(text: str | None) -> tuple[str, ...]:
-    from phav_validators.validate import CHECKS
 
     if text is None:
         return CHECKS
@@ -94,11 +100,6 @@ def validate(
     """Validate PHAV datasets: integrity, schema, encoding, distribution, failures,
     consistency and reproducibility; and, when named, learnability (a small TSN is trained).
     A recipe-only release has the pixels its checks read regenerated first."""
-    from phav_validators.learn.learnability import LearnOptions
-    from phav_validators.report import write_html, write_json
-    from phav_validators.scan import tune_allocator
-    from phav_validators.source import resolve
-    from phav_validators.validate import Options, validate_dataset
 
     options = Options(
         checks=_checks(checks), workers=workers, sample=sample, regenerate=regenerate, seed=seed, alpha=alpha,
@@ -129,8 +130,6 @@ def validate(
 def print_summary(report: DatasetReport, *, details: bool = False, per_reason_limit: int = 5) -> None:
     """One line per check, the worst videos, then the findings (``per_reason_limit`` of each
     reason per check; the JSON report has them all)."""
-    from phav_validators.findings import Reason
-    from phav_validators.render import print_distribution
 
     theta = f"; θ {report.theta['name']} {report.theta['hash'][:12]}…" if report.theta else ""
     size = f"{report.n_videos} videos, {report.n_frames:,} frames" if report.n_frames else f"{report.n_videos} recipes"

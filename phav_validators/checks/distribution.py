@@ -7,12 +7,17 @@ IMPOSSIBLE_VALUE finding. Expected cells below five counts are pooled before the
 
 from __future__ import annotations
 
+import io
+import json
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import pyarrow as pa
+import pyarrow.compute as pc
+import pyarrow.json as pj
 from scipy import stats
 
 from phav_spec.expectations import (
@@ -302,11 +307,6 @@ def parse_recipes_arrow(recipes_json: Sequence[str]) -> pa.Table:
     Texts that are not JSON objects are left out (the integrity check reports them), so a
     damaged row cannot hide the distribution of the others.
     """
-    import io
-    import json
-
-    import pyarrow as pa
-    import pyarrow.json as pj
 
     def read(texts: Sequence[str]) -> pa.Table:
         return pj.read_json(io.BytesIO("\n".join(texts).encode("utf-8"))) if texts else pa.table({})
@@ -329,8 +329,6 @@ def parse_recipes_arrow(recipes_json: Sequence[str]) -> pa.Table:
 
 def _path(table: pa.Table, path: str) -> tuple[np.ndarray, np.ndarray]:
     """(row index, values) at a recipe path such as ``background_actors[].speed_mps``."""
-    import pyarrow as pa
-    import pyarrow.compute as pc
 
     rows = np.arange(table.num_rows)
     head, *rest = path.split(".")

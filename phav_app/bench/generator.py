@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import datetime
+import os
+import platform
 import tempfile
 import time
 from dataclasses import dataclass
@@ -9,10 +12,23 @@ from pathlib import Path
 
 import numpy as np
 
-from phav_generator.sampling import RecipeSampler
+from phav_generator.dataset.fingerprint import renderer_fingerprint
+from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, chunk, write_dataset
+from phav_generator.io.metadata import MetadataBuilder
+from phav_generator.io.png import encode_png
+from phav_generator.io.shards import open_shard
+from phav_generator.physics.simulate import simulate
+from phav_generator.render.gl import gl_context, gl_strings
+from phav_generator.render.modalities import encode_frame
+from phav_generator.render.video import scene_renderer
+from phav_generator.sampling import RecipeSampler, sample_recipes
+from phav_generator.skeleton import JOINT_BODIES
+from phav_spec.encoding import MODALITIES, VideoHashes
 from phav_spec.expectations import ExactTable, exact_expectations
+from phav_spec.metadata import frame_json
 from phav_spec.recipe_table import RecipeRows, write_recipe_table
 from phav_spec.theta import Theta
+from phav_validators.checks.distribution import check_distributions
 
 
 @dataclass(frozen=True)
@@ -36,7 +52,6 @@ def _max_abs_error(column: list, table: ExactTable) -> float:
 
 def bench_sampling(theta: Theta, *, n: int, seed: int, out_dir: Path | None = None) -> list[SamplingRun]:
     """Sample n/40, n/4 and n recipes; time the sampler and measure the distance from θ."""
-    from phav_validators.distribution import check_distributions
 
     exact = exact_expectations(theta)
     sizes = sorted({max(100, n // 40), max(100, n // 4), n})
@@ -91,8 +106,6 @@ def bench_physics(recipes: list, released: list, *, rates: tuple[int, ...] = PHY
     ``recipes`` are one-person scenes whose pins hold (the speed is measured on them);
     ``released`` are scenes whose ragdoll is let go (car hit), reported separately.
     """
-    from phav_generator.physics.simulate import simulate
-    from phav_generator.skeleton import JOINT_BODIES
 
     def joints(recipe, hz):
         t0 = time.perf_counter()
@@ -160,15 +173,6 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
                  max_frames: int | None = None, gl: str = "llvmpipe") -> tuple[list[RenderRun], float]:  # fmt: skip
     """Each supersampling factor over the recipes, stage by stage, with the edge error of its
     RGB against ``reference``× supersampling; also the encode-only rate (six PNGs, frames/s)."""
-    from phav_generator.io.metadata import MetadataBuilder
-    from phav_generator.io.png import encode_png
-    from phav_generator.io.shards import open_shard
-    from phav_generator.physics.simulate import simulate
-    from phav_generator.render.gl import gl_context
-    from phav_generator.render.modalities import encode_frame
-    from phav_generator.render.video import scene_renderer
-    from phav_spec.encoding import MODALITIES, VideoHashes
-    from phav_spec.metadata import frame_json
 
     ctx = gl_context(gl)
     trajectories, physics_s = [], 0.0
@@ -263,7 +267,6 @@ def bench_generation(
 ) -> list[GenerationRun]:
     """Frames per second of whole-dataset generation (render, encode, shards, tables,
     manifest) for each worker count; every run must give the first run's bytes."""
-    from phav_generator.dataset import DEFAULT_SHARD_SIZE, chunk, write_dataset
 
     frames = sum(r.n_frames for r in recipes)
     runs: list[GenerationRun] = []
@@ -283,18 +286,12 @@ def bench_generation(
 
 def mean_frames_per_video(theta: Theta, *, seed: int, n: int = 4000) -> float:
     """Mean clip length in frames of ``n`` recipes sampled from θ."""
-    from phav_generator.sampling import sample_recipes
 
     return float(np.mean([r.n_frames for r in sample_recipes(theta, n=n, seed=seed)]))
 
 
 def machine_lines(gl: str = "llvmpipe") -> list[str]:
     """Markdown rows naming the machine and renderer (``gl``) the numbers were measured on."""
-    import os
-    import platform
-
-    from phav_generator.dataset import renderer_fingerprint
-    from phav_generator.render.gl import gl_context, gl_strings
 
     ctx = gl_context(gl)
     try:
@@ -317,7 +314,6 @@ def machine_lines(gl: str = "llvmpipe") -> list[str]:
 
 def benchmark_report(sections: dict[str, str], *, command: str, gl: str = "llvmpipe") -> str:
     """One Markdown page: the machine and renderer, then each bench section's tables as text."""
-    import datetime
 
     lines = ["# Benchmarks", "", f"Made by `{command}` on {datetime.date.today().isoformat()}.", "",
              "Numbers depend on the machine and renderer below (the fingerprint names everything the pixels",

@@ -24,7 +24,7 @@ import numpy as np
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES
-from phav_validators.failures import CameraSeries, PersonSeries, boxes, necessary_joints
+from phav_validators.checks.failures import CameraSeries, PersonSeries, boxes, necessary_joints
 from phav_validators.findings import Reason
 
 #: Each injection and the reason the failures check should give it.

@@ -8,12 +8,15 @@ Findings are collected, never raised; a truncated or hostile tar yields what cou
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import json
 import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 
 from phav_generator.render.camera import project, view
@@ -27,8 +30,8 @@ from phav_spec.encoding import (
 )
 from phav_spec.metadata import METADATA_VERSION
 from phav_spec.vocab import PIXEL_CLASSES, PixelGroup
+from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import Finding, Reason
-from phav_validators.tarsafe import TarScan, iter_members
 
 _BY_KEY = {m.key: m for m in MODALITIES}
 #: A frame's members: the six modality PNGs then its json metadata.
@@ -88,7 +91,6 @@ def rgb_code(image: np.ndarray) -> np.ndarray:
 
     Through OpenCV: swapping R and B into a zero-alpha RGBA image lays each pixel out as a
     little-endian r<<16 | g<<8 | b word (5× faster than shifting three planes)."""
-    import cv2
 
     rgba = cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_BGR2RGBA)
     rgba[..., 3] = 0
@@ -165,8 +167,6 @@ def tune_allocator() -> bool:
     a scan on a VM. Raising the thresholds lets the heap reuse them. Call it in processes
     that scan (workers, the CLI); it changes memory reuse only, never results.
     """
-    import ctypes
-    import ctypes.util
 
     name = ctypes.util.find_library("c")
     try:
@@ -192,7 +192,6 @@ def png_header(data: bytes) -> tuple[int, int, int, int] | None:
 
 def decode_image(data: bytes) -> np.ndarray | None:
     """PNG bytes → array in RGB order (None if unreadable); the caller checks the header first."""
-    import cv2
 
     image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
     if image is None:

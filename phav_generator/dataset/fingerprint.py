@@ -1,0 +1,48 @@
+"""The renderer fingerprint: everything a dataset's pixels depend on (DESIGN.md), recorded in
+its manifest so that a reader knows whether bit-exact regeneration is promised."""
+
+from __future__ import annotations
+
+import platform
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+from phav_spec.manifest import RendererFingerprint
+
+
+def package_version(package: str) -> str:
+    """The installed version of ``package``, or ``unknown``."""
+    try:
+        return version(package)
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def _cpu() -> tuple[str, str]:
+    """CPU model name and sorted flags (Linux ``/proc/cpuinfo``; the platform elsewhere)."""
+    model, flags = platform.processor() or platform.machine(), ""
+    try:
+        text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return model, flags
+    for line in text.splitlines():
+        key, _, value = line.partition(":")
+        key = key.strip()
+        if key == "model name" and model in ("", platform.machine(), platform.processor()):
+            model = value.strip()
+        elif key in ("flags", "Features") and not flags:
+            flags = " ".join(sorted(value.split()))
+    return model, flags
+
+
+def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
+    """Everything the pixels depend on: GL strings, CPU, and the versions of the stack."""
+    model, flags = _cpu()
+    return RendererFingerprint(
+        gl_vendor=gl["GL_VENDOR"],
+        gl_renderer=gl["GL_RENDERER"],
+        gl_version=gl["GL_VERSION"],
+        cpu_model=model,
+        cpu_flags=flags,
+        versions={p: package_version(p) for p in ("phav", "numpy", "mujoco", "moderngl")},
+    )

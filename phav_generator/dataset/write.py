@@ -1,0 +1,277 @@
+"""Recipes → a dataset directory: shards, metadata tables and the manifest, resumably.
+
+Layout (DESIGN.md): ``{name}-{000000}.tar`` shards beside ``theta.yaml`` (when θ is known),
+``recipes.parquet``, ``cameras.parquet``, ``people.parquet`` and ``manifest.json``.
+
+A video is the unit of work, a pure function of its recipe (``pipeline.run_task``), so
+neither the engine, the worker count nor the completion order can change a byte. A worker
+renders a video into ``.phav-work/parts/`` (its tar members and metadata rows, each written
+atomically); this driver journals it (``journal``) and, once a shard's videos are all in,
+joins their parts into the shard's tar (atomically) and journals the shard. Rerunning on the
+directory resumes from the journal: nothing it records is redone, and nothing it does not
+record is trusted. The tables and the manifest are assembled last, then the work folder goes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import shutil
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from phav_generator.dataset.fingerprint import package_version, renderer_fingerprint
+from phav_generator.dataset.journal import JOURNAL_FILE, Journal, check_run
+from phav_generator.dataset.lock import exclusive, remove_stale_temporaries
+from phav_generator.engines import check_engine, run_tasks
+from phav_generator.faults import crash_point
+from phav_generator.io.shards import assemble_shard
+from phav_generator.pipeline import PART_TABLES, Progress, VideoTask, part_path, run_task
+from phav_generator.render.gl import check_gl_kind, require_gl
+from phav_spec.canonical import canonical_json, sha256_hex
+from phav_spec.errors import PhavUserError
+from phav_spec.files import WriteError, atomic_write
+from phav_spec.manifest import MANIFEST_VERSION, DatasetManifest, ShardEntry, VideoEntry, dump_manifest
+from phav_spec.metadata import arrow_schema
+from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
+from phav_spec.recipe_table import RecipeRows, write_recipe_table
+from phav_spec.theta import Theta
+
+WORK_DIR = ".phav-work"
+PARTS_DIR = "parts"
+#: Videos per shard unless told otherwise.
+DEFAULT_SHARD_SIZE = 16
+#: What to do after a failed write: nothing finished is lost.
+RESUME_HINT = "finished videos are kept; free space or fix the place, then rerun the same command to resume"
+
+
+def shard_name(name: str, index: int) -> str:
+    """The file name of shard ``index`` of dataset ``name``: ``{name}-{index:06d}.tar``."""
+    return f"{name}-{index:06d}.tar"
+
+
+def chunk(recipes: Sequence[Recipe], shard_size: int) -> list[list[Recipe]]:
+    """Consecutive videos, ``shard_size`` per shard (the last may hold fewer)."""
+    if shard_size < 1:
+        raise PhavUserError(f"must be at least 1, got {shard_size}", field="--shard-size")
+    return [list(recipes[i : i + shard_size]) for i in range(0, len(recipes), shard_size)]
+
+
+@dataclass(frozen=True)
+class DatasetResult:
+    """What a run wrote, and how much of it an earlier, interrupted run had already done."""
+
+    manifest: DatasetManifest
+    rendered_shards: int
+    resumed_shards: int
+    rendered_videos: int = 0
+    resumed_videos: int = 0
+
+
+class _Run:
+    """The driver's side of one run: journals finished videos, joins shards as their last
+    video arrives, and knows what is left to do."""
+
+    def __init__(self, out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], progress: Progress | None):
+        self.out, self.work = out, out / WORK_DIR
+        self.parts = self.work / PARTS_DIR
+        self.names = names
+        self.ids = {n: [r.video_id for r in recipes] for n, recipes in zip(names, shards, strict=True)}
+        self.frames = {r.video_id: r.n_frames for recipes in shards for r in recipes}
+        self.progress = progress
+        self.parts.mkdir(parents=True, exist_ok=True)
+        self.journal = Journal(self.work / JOURNAL_FILE)
+        self.resumed_shards = self.resumed_videos = self.rendered_shards = 0
+        # What the journal claims must still be on disk: a missing or short file is redone.
+        for name in list(self.journal.shards):
+            rec = self.journal.shards[name]
+            if name not in self.ids or not _has_size(out / name, rec["shard"]["bytes"]):
+                del self.journal.shards[name]
+        for vid in list(self.journal.videos):
+            rec = self.journal.videos[vid]
+            part = part_path(self.parts, vid, "tar.part")
+            if vid not in self.frames or not (
+                rec["shard"] in self.journal.shards or _has_size(part, rec["part_bytes"])
+            ):
+                del self.journal.videos[vid]
+
+    def todo(self, tasks: Sequence[VideoTask]) -> list[VideoTask]:
+        """Videos not finished yet, in index order; reports the finished ones as progress."""
+        left = []
+        for t in tasks:
+            if t.shard in self.journal.shards or t.video_id in self.journal.videos:
+                self.resumed_videos += 1
+                if self.progress is not None:
+                    self.progress(1, self.frames[t.video_id])
+            else:
+                left.append(t)
+        self.resumed_shards = sum(n in self.journal.shards for n in self.names)
+        for name in self.names:  # a crash between a shard's last video and its tar
+            self._maybe_join(name)
+        return left
+
+    def finished(self, record: dict[str, Any]) -> None:
+        self.journal.append("video", record)
+        self._maybe_join(record["shard"])
+
+    def _maybe_join(self, name: str) -> None:
+        """Join the shard's parts into its tar once every one of its videos is journalled."""
+        if name in self.journal.shards or any(v not in self.journal.videos for v in self.ids[name]):
+            return
+        ids = self.ids[name]
+        videos = [self.journal.videos[v] for v in ids]
+        if len({canonical_json(v["gl"]) for v in videos}) > 1:
+            raise PhavUserError(
+                f"the videos of {name} were rendered by different GL renderers; use one kind of machine",
+                source=str(self.out),
+            )
+        digest = assemble_shard([part_path(self.parts, v, "tar.part") for v in ids], self.out / name,
+                                checkpoint=lambda k: crash_point(f"shard:{name}:{k}"))  # fmt: skip
+        stem = name.removesuffix(".tar")
+        for table, columns in PART_TABLES:
+            parts = [part_path(self.parts, v, f"{table}.parquet") for v in ids]
+            _concat_parquet(parts, columns, self.work / f"{stem}.{table}.parquet")
+        record = {
+            "name": name,
+            "shard": {"name": name, "sha256": digest.sha256, "bytes": digest.bytes, "video_ids": ids},
+            "videos": [{k: v[k] for k in ("video_id", "shard", "n_frames", "content_hash", "modality_hashes")}
+                       for v in videos],
+            "gl": videos[0]["gl"],
+        }  # fmt: skip
+        self.journal.append("shard", record)
+        self.rendered_shards += 1
+        for v in ids:  # the shard holds them now
+            for what in ("tar.part", *(f"{table}.parquet" for table, _ in PART_TABLES)):
+                with contextlib.suppress(FileNotFoundError):
+                    part_path(self.parts, v, what).unlink()
+
+
+def _concat_parquet(parts: Sequence[Path], columns: Any, target: Path) -> None:
+    """Rows of ``parts``, in order, into one zstd Parquet file at ``target`` (atomically)."""
+    tables = [pq.read_table(p) for p in parts]
+    merged = pa.concat_tables(tables) if tables else arrow_schema(columns).empty_table()
+    with atomic_write(target) as tmp:
+        pq.write_table(merged, tmp, compression="zstd")
+
+
+def _has_size(path: Path, size: int) -> bool:
+    try:
+        return path.stat().st_size == size
+    except OSError:
+        return False
+
+
+def write_dataset(
+    shards: Sequence[Sequence[Recipe]],
+    out: str | Path,
+    *,
+    name: str,
+    theta: Theta | None,
+    dataset_seed: int,
+    workers: int = 1,
+    progress: Progress | None = None,
+    shard_names: Sequence[str] | None = None,
+    engine: str = "local",
+    address: str | None = None,
+    gl: str = "llvmpipe",
+) -> DatasetResult:
+    """Render ``shards`` (lists of recipes; shard i is ``{name}-{i:06d}.tar`` unless
+    ``shard_names`` says otherwise) into ``out``.
+
+    The unit of work is a video: ``engine`` ``"local"`` (a process pool of ``workers``) or
+    ``"ray"`` (a Ray cluster at ``address``, else a local one) renders each into a part,
+    and this process journals it and joins a shard's parts into its tar once all are in.
+    Work already journalled in ``out`` for the same run is kept, not redone. Writes
+    ``theta.yaml`` (when θ is given), ``recipes.parquet``, ``cameras.parquet``,
+    ``people.parquet`` and, last, ``manifest.json``. ``gl`` picks the renderer
+    (``render.gl.gl_context``); the manifest's fingerprint records the one that rendered.
+    """
+    out = Path(out)
+    check_engine(engine)
+    if out.exists() and not out.is_dir():
+        raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
+    names = list(shard_names) if shard_names is not None else [shard_name(name, i) for i in range(len(shards))]
+    if len(names) != len(shards) or len(set(names)) != len(names):
+        raise ValueError("shard_names must name every shard once")
+    if gl != "llvmpipe":
+        check_gl_kind(gl)
+        if engine == "local":  # a Ray cluster's workers may have GPUs this driver lacks
+            require_gl(gl)
+    tasks = [VideoTask(n, r.video_id, r.model_dump_json(), gl)
+             for n, recipes in zip(names, shards, strict=True) for r in recipes]  # fmt: skip
+    work = out / WORK_DIR
+    try:
+        (work / PARTS_DIR).mkdir(parents=True, exist_ok=True)
+        with exclusive(work):
+            remove_stale_temporaries(out, work, work / PARTS_DIR)
+            return _write_locked(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
+                                 workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
+    except WriteError as e:
+        raise e.with_hint(RESUME_HINT) from None
+    except OSError as e:
+        raise WriteError(e, str(e.filename or out), RESUME_HINT) from None
+
+
+def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], tasks: list[VideoTask], *,
+                  name: str, theta: Theta | None, dataset_seed: int, workers: int, progress: Progress | None,
+                  engine: str, address: str | None) -> DatasetResult:  # fmt: skip
+    """The run, holding the directory's lock: sidecars first, then the videos, then the manifest."""
+    work = out / WORK_DIR
+    check_run(work, {
+        "name": name,
+        "theta_hash": theta.hash if theta is not None else None,
+        "dataset_seed": dataset_seed,
+        "shards": [[r.video_id for r in recipes] for recipes in shards],
+        "shard_names": names,
+        "recipes_hash": sha256_hex(canonical_json([t.recipe for t in tasks])),
+        "gl": tasks[0].gl if tasks else None,  # a run never mixes renderers
+    })  # fmt: skip
+    if theta is not None:
+        with atomic_write(out / "theta.yaml") as tmp:
+            tmp.write_text(theta.to_yaml(), encoding="utf-8")
+    all_recipes = [r for recipes in shards for r in recipes]
+    write_recipe_table(RecipeRows().extend(all_recipes).to_arrow(theta=theta, dataset_seed=dataset_seed),
+                       out / "recipes.parquet")  # fmt: skip
+
+    state = _Run(out, names, shards, progress)
+    todo = state.todo(tasks)
+    stage = functools.partial(run_task, parts=state.parts)
+    run_tasks(stage, todo, engine=engine, workers=workers, address=address, out=out, progress=progress,
+              finished=state.finished)  # fmt: skip
+    manifest = _finish(out, names, state.journal.shards, name=name, theta=theta, dataset_seed=dataset_seed)
+    shutil.rmtree(work, ignore_errors=True)
+    return DatasetResult(manifest, rendered_shards=state.rendered_shards, resumed_shards=state.resumed_shards,
+                         rendered_videos=len(todo), resumed_videos=state.resumed_videos)  # fmt: skip
+
+
+def _finish(out: Path, names: list[str], records: dict[str, dict[str, Any]], *, name: str, theta: Theta | None,
+            dataset_seed: int) -> DatasetManifest:  # fmt: skip
+    """Every shard is in: join the metadata tables and write the manifest, last."""
+    gl = {canonical_json(records[n]["gl"]) for n in names}
+    if len(gl) > 1:
+        raise PhavUserError(
+            "shards were rendered by different GL renderers; delete the directory and regenerate on one machine",
+            source=str(out),
+        )
+    fingerprint = renderer_fingerprint(records[names[0]]["gl"]) if names else None
+    for table, columns in PART_TABLES:
+        parts = [out / WORK_DIR / f"{n.removesuffix('.tar')}.{table}.parquet" for n in names]
+        _concat_parquet(parts, columns, out / f"{table}.parquet")
+    manifest = DatasetManifest(
+        manifest_version=MANIFEST_VERSION,
+        name=name,
+        phav_version=package_version("phav"),
+        theta_hash=theta.hash if theta is not None else None,
+        dataset_seed=dataset_seed,
+        recipe_schema_version=RECIPE_SCHEMA_VERSION,
+        renderer=fingerprint,
+        shards=[ShardEntry.model_validate(records[n]["shard"]) for n in names],
+        videos=[VideoEntry.model_validate(v) for n in names for v in records[n]["videos"]],
+    )
+    dump_manifest(manifest, out / "manifest.json")
+    return manifest
