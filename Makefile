@@ -27,9 +27,14 @@ demo: $(STAMP)
 	$(VENV)/bin/phav-validate $(DEMO)/release --workers 2 --checks integrity,schema,encoding --regenerate-into $(DEMO)/release-pixels
 	$(VENV)/bin/phav preview $(DEMO)/videos --video v000000 --out $(DEMO)/v000000-preview.png
 
+# Lint, the import contracts (pyproject: [tool.importlinter]), then the suite with branch
+# coverage of the package; the wall time is the last line.
 test: $(STAMP)
-	$(VENV)/bin/ruff check .
-	$(PY) -m pytest -q
+	@start=$$(date +%s); \
+	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && \
+	$(PY) -m pytest -q --cov=phav_spec --cov=phav_generator --cov=phav_validators --cov=phav_app \
+		--cov-branch --cov-report=term:skip-covered; \
+	status=$$?; echo "make test: $$(( $$(date +%s) - start )) s wall"; exit $$status
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .

@@ -349,7 +349,7 @@ def check_croissant(path: Path) -> tuple[list[str], list[str]] | None:
     """(errors, warnings) of mlcroissant's offline validation of ``path``, None when
     mlcroissant is not installed (``pip install 'phav[croissant]'``)."""
     try:
-        import mlcroissant as mlc
+        import mlcroissant as mlc  # optional extra phav[croissant]
     except ImportError:
         return None
 

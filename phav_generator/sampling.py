@@ -124,9 +124,57 @@ class RecipeSampler:
             raise ValueError(f"cannot force {unknown}; variables: {', '.join(VARIABLES)}")
         self._streams.start(dataset_seed, index)
         theta = self.theta
-        fps = theta.video.fps
 
-        # P1(D, W): day phase, clock time given the phase, weather and its elements.
+        world = self._world(force)
+        h = self._h.sample(rng=self._streams["human"])  # P2(H): the protagonist's human model
+        human_name = HUMAN_MODELS.names[h]
+        a, b, duration, motion = self._motion()
+        action = ACTIONS.names[a]
+        e, wp, position, heading = self._place(a)
+        env_name = ENVIRONMENTS.names[e]
+        env = ENVIRONMENT_SCENES[env_name]
+
+        background = self._background(env, first_id=ACTIONS[action].n_people)
+        variation = self._variation(a, b, duration)
+        camera = self._camera(a, e, position, heading, HUMAN_MODELS[human_name], force.get("camera"))
+        supporting = self._supporting(action, h, position, heading)
+
+        return Recipe.model_validate(
+            {
+                "video_id": video_id(index),
+                "index": index,
+                "dataset_seed": dataset_seed,
+                "theta_hash": theta.hash,
+                "action": action,
+                "n_people": ACTIONS[action].n_people,
+                "duration_s": duration,
+                "n_frames": frames_for(duration, theta.video.fps),
+                "video": theta.video.model_dump(),
+                "motion": motion,
+                "variation": variation,
+                "protagonist": {
+                    "human": _human(human_name),
+                    "position": position,
+                    "heading_deg": heading,
+                },
+                "supporting_characters": supporting,
+                "environment": {
+                    "name": env_name,
+                    "indoor": env.indoor,
+                    "waypoint_index": wp,
+                    "waypoint": position,
+                },
+                "background_actors": background,
+                "camera": camera,
+                "world": world,
+                "render": theta.render,
+                "seeds": runtime_seeds(self._streams.key),
+            }
+        )
+
+    def _world(self, force: Mapping[str, Any]) -> dict[str, Any]:
+        """P1(D, W): day phase, clock time given the phase, weather and its elements."""
+        theta = self.theta
         rng = self._streams["world"]
         d = self._d.sample(rng=rng)
         d = DAY_PHASES.index(force["day_phase"]) if "day_phase" in force else d
@@ -159,16 +207,14 @@ class RecipeSampler:
                     "rain_intensity"):  # fmt: skip
             if key in force:
                 world[key] = float(force[key])
+        return world
 
-        # P2(H): the protagonist's human model.
-        rng = self._streams["human"]
-        h = self._h.sample(rng=rng)
-        human_name = HUMAN_MODELS.names[h]
-
-        # P3: action, base motion and clip length, playback parameters.
+    def _motion(self) -> tuple[int, int, float, dict[str, Any]]:
+        """P3: the action, its base motion and clip length, and playback parameters
+        (action index, motion index, duration in seconds, the recipe's ``motion``)."""
+        theta = self.theta
         rng = self._streams["action"]
         a = self._a.sample(rng=rng)
-        action = ACTIONS.names[a]
         b = self._b[a].sample(rng=rng)
         length_b = self._lengths[b]
         duration = triangular_inverse_cdf(*theta.durations.clip_length(length_b), rng.random())
@@ -182,53 +228,18 @@ class RecipeSampler:
             "speed": speed,
             "mirror": mirror,
         }
+        return a, b, duration, motion
 
-        # Environment E | A, the protagonist's waypoint P_W and heading.
+    def _place(self, a: int) -> tuple[int, int, Vec3, float]:
+        """Environment E | A, the protagonist's waypoint P_W and heading (environment index,
+        waypoint index, position, heading in degrees)."""
         rng = self._streams["environment"]
         e = self._e[a].sample(rng=rng)
-        env_name = ENVIRONMENTS.names[e]
-        env = ENVIRONMENT_SCENES[env_name]
+        env = ENVIRONMENT_SCENES[ENVIRONMENTS.names[e]]
         wp = sample_integer(0, len(env.protagonist_waypoints) - 1, rng=rng)
         position = env.protagonist_waypoints[wp]
-        heading = theta.protagonist_heading_deg.sample(rng=rng)
-
-        background = self._background(env, first_id=ACTIONS[action].n_people)
-        variation = self._variation(a, b, duration)
-        camera = self._camera(a, e, position, heading, HUMAN_MODELS[human_name], force.get("camera"))
-        supporting = self._supporting(action, h, position, heading)
-
-        return Recipe.model_validate(
-            {
-                "video_id": video_id(index),
-                "index": index,
-                "dataset_seed": dataset_seed,
-                "theta_hash": theta.hash,
-                "action": action,
-                "n_people": ACTIONS[action].n_people,
-                "duration_s": duration,
-                "n_frames": frames_for(duration, fps),
-                "video": theta.video.model_dump(),
-                "motion": motion,
-                "variation": variation,
-                "protagonist": {
-                    "human": _human(human_name),
-                    "position": position,
-                    "heading_deg": heading,
-                },
-                "supporting_characters": supporting,
-                "environment": {
-                    "name": env_name,
-                    "indoor": env.indoor,
-                    "waypoint_index": wp,
-                    "waypoint": position,
-                },
-                "background_actors": background,
-                "camera": camera,
-                "world": world,
-                "render": theta.render,
-                "seeds": runtime_seeds(self._streams.key),
-            }
-        )
+        heading = self.theta.protagonist_heading_deg.sample(rng=rng)
+        return e, wp, position, heading
 
     def _background(self, env: EnvironmentScene, first_id: int) -> list[dict]:
         """Background pedestrians on the environment's B_WG graph (none indoors)."""

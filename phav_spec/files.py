@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import hashlib
 import json
 import os
 import secrets
-import hashlib
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any

@@ -96,7 +96,7 @@ PEOPLE_COLUMNS: tuple[MetaColumn, ...] = (
 
 
 def _arrow_type(name: str) -> pa.DataType:
-    import pyarrow as pa
+    import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     if name.startswith("list<"):
         inner, _, size = name[5:].rpartition(">")
@@ -107,7 +107,7 @@ def _arrow_type(name: str) -> pa.DataType:
 
 def arrow_schema(columns: Sequence[MetaColumn]) -> pa.Schema:
     """The Arrow schema of a metadata table, with the contract version in its metadata."""
-    import pyarrow as pa
+    import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     return pa.schema(
         [pa.field(c.name, _arrow_type(c.arrow_type), nullable=False) for c in columns],

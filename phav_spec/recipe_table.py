@@ -112,7 +112,7 @@ class RecipeRows:
 
     def to_arrow(self, *, theta: Theta | None = None, dataset_seed: int | None = None) -> pa.Table:
         """The Arrow table, with θ, its hash, the seed and the schema version as metadata."""
-        import pyarrow as pa
+        import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
         def arrow(name: str) -> pa.DataType:
             if name.startswith("list<"):
@@ -132,7 +132,7 @@ class RecipeRows:
 
 def write_recipe_table(table: pa.Table, path: str | Path) -> int:
     """Write atomically (temp file in the same folder, then rename); returns the file's bytes."""
-    import pyarrow.parquet as pq
+    import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     with atomic_write(path) as tmp:
         pq.write_table(table, tmp, compression="zstd")
@@ -174,8 +174,8 @@ def _metadata_int(meta: dict[str, str], key: str, path: Path, *, default: int | 
 
 def read_recipe_table(path: str | Path) -> RecipeTable:
     """Read recipes.parquet; a missing, truncated or foreign file raises PhavUserError."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
+    import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
+    import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     path = Path(path)
     if not path.exists():

@@ -34,6 +34,7 @@ PHAV_CITATION = """@inproceedings{deSouza2017procedural,
   year      = {2017}
 }"""
 
+
 class ReleaseFile(BaseModel):
     """One file of the full release: where it is, its size and sha256, and whether this
     release carries it (a recipe-only release leaves out what regeneration rebuilds)."""

@@ -35,7 +35,7 @@ def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes
         ValueError: bytes that are not a PNG OpenCV can read, or an image of another bit depth
             or channel count than the modality's (naming ``source``).
     """
-    import cv2
+    import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when a 16-bit PNG is decoded
 
     image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
     if image is None:

@@ -271,7 +271,7 @@ def load_phav(
 def decode_video(path: Path, max_frames: int | None = None) -> list[np.ndarray]:
     """A video file's frames as RGB arrays (PyAV; no system ffmpeg needed)."""
     try:
-        import av
+        import av  # optional extra phav[train]: only real video datasets need PyAV
     except ImportError:
         raise PhavUserError("reading videos needs PyAV: pip install 'phav[train]'", source=str(path)) from None
     frames: list[np.ndarray] = []

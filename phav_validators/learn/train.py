@@ -229,7 +229,7 @@ def _fingerprint(
 
 def _save(path: Path, state: dict[str, Any]) -> None:
     """torch.save through a temporary file and a rename (never a half-written checkpoint)."""
-    import torch
+    import torch  # optional extra phav[train]: only training needs torch
 
     buffer = io.BytesIO()
     torch.save(state, buffer)
@@ -239,7 +239,7 @@ def _save(path: Path, state: dict[str, Any]) -> None:
 
 def load_checkpoint(path: str | Path) -> dict[str, Any]:
     """A checkpoint's contents; a damaged or foreign file is a PhavUserError."""
-    import torch
+    import torch  # optional extra phav[train]: only training needs torch
 
     try:
         # weights_only: a checkpoint is data (tensors, numbers, strings); it can never run code.
@@ -279,9 +279,9 @@ def train(
         device: where the model runs (``cpu``, ``cuda``, ``cuda:1``); random draws stay on the CPU.
     """
     require_torch()
-    import torch
+    import torch  # optional extra phav[train]: only training needs torch
 
-    from phav_validators.learn.model import TSN, multitask_loss
+    from phav_validators.learn.model import TSN, multitask_loss  # imports torch: optional extra phav[train]
 
     for name in config.sources:
         if name not in heads:
@@ -395,7 +395,7 @@ def predict(
     model: Any, clips: Sequence[Clip], config: TrainConfig, head: str, *, batch: int = 32, device: str = "cpu"
 ) -> np.ndarray:
     """Class probabilities (N, classes) of ``head``: ``test_segments`` centre snippets per clip."""
-    import torch
+    import torch  # optional extra phav[train]: only training needs torch
 
     dev = torch_device(device)
     model.to(dev)
@@ -424,7 +424,7 @@ def fuse(scores: Mapping[str, np.ndarray]) -> np.ndarray:
 def torch_device(name: str) -> Any:
     """A torch device by name; one this machine lacks is a PhavUserError."""
     require_torch()
-    import torch
+    import torch  # optional extra phav[train]: only training needs torch
 
     try:
         dev = torch.device(name)
