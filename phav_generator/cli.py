@@ -801,7 +801,7 @@ def _bench_probe_table(theta: Theta, *, seed: int, clips: int) -> None:
 
 def _bench_physics_table(theta: Theta, *, seed: int, clips: int) -> None:
     from phav_generator.bench import REFERENCE_HZ, bench_physics
-    from phav_generator.physics.plan import DEFAULT_PHYSICS_HZ
+    from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ
     from phav_generator.sampling import sample_recipes
 
     pinned, released = [], []

@@ -18,7 +18,9 @@ import mujoco
 import numpy as np
 
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel, build_model
-from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
+from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
+from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_generator.physics.traffic import Traffic, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_generator.rotations import look_at, matrix_to_quat, relative_rotation_vectors

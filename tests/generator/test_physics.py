@@ -13,7 +13,8 @@ import pytest
 
 from phav_generator.physics import Trajectory, compare
 from phav_generator.physics.model import build_model
-from phav_generator.physics.plan import StaticBox, plan_scene
+from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.physics.plan.scene_plan import StaticBox
 from phav_generator.physics.simulate import intrinsics, simulate, simulate_plan
 from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, LOWER, UPPER, forward_kinematics
 from phav_spec.errors import PhavUserError
@@ -363,7 +364,7 @@ def test_moonwalk_sliding_foot_slides() -> None:
 
 def test_a_chair_never_cuts_through_the_legs() -> None:
     """Sit / stand recipes: the seat box stays clear of the shins and feet all clip long."""
-    from phav_generator.physics.plan import _box_meets_bones
+    from phav_generator.physics.plan.furniture import box_meets_bones
     from phav_generator.skeleton import forward_kinematics as fk
 
     legs = ("left_lower_leg", "right_lower_leg", "left_foot", "right_foot")
@@ -376,7 +377,7 @@ def test_a_chair_never_cuts_through_the_legs() -> None:
             for box in plan.boxes:
                 if box.pixel_class == "chair":
                     seen += 1
-                    assert not _box_meets_bones(box, p.dims, rot, pos, legs), f"{action} seed {seed}"
+                    assert not box_meets_bones(box, p.dims, rot, pos, legs), f"{action} seed {seed}"
     assert seen >= 6
 
 
@@ -526,7 +527,8 @@ def _push_recipes() -> dict[str, object]:
 def test_push_moves_what_it_pushes() -> None:
     """A pushed box or cart advances ahead of the fingertips without being reached through;
     a pushed door swings open on its hinge, and the pushing is annotated."""
-    from phav_generator.physics.plan import _Builder, _hand_reach
+    from phav_generator.physics.plan.builder import PlanBuilder
+    from phav_generator.physics.plan.push import hand_reach
 
     recipes = _push_recipes()
     assert set(recipes) == {"push_heavy_box_01", "push_shopping_cart_01", "push_open_door_01"}
@@ -548,7 +550,7 @@ def test_push_moves_what_it_pushes() -> None:
         fwd = np.array([np.cos(heading), np.sin(heading), 0.0])
         advance = (track.pos[-1] - track.pos[0]) @ fwd
         assert advance > 1.0, f"{obj} advanced only {advance:.2f} m"
-        _, _, tips = _hand_reach(_Builder(recipe, plan.substeps), plan.people[0])
+        _, _, tips = hand_reach(PlanBuilder(recipe, plan.substeps), plan.people[0])
         near_face = (track.pos - x0) @ fwd - track.size[0]
         reach = ((tips[:: plan.substeps] - x0) @ fwd).max(axis=1)
         assert np.all(reach <= near_face + 1e-6), f"the hands reach into the {obj}"
