@@ -215,7 +215,7 @@ def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple
 def base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
     """The protagonist's animated (unperturbed) joints per frame (T, 13, 3) and whether the
     pins hold the body to the animation then (T,), re-planned from the recipe."""
-    from phav_generator.physics.plan import plan_scene
+    from phav_generator.physics.plan.scene import plan_scene
     from phav_generator.skeleton import JOINT_BODIES, forward_kinematics
 
     plan = plan_scene(recipe)

@@ -15,7 +15,8 @@ from phav_generator.physics import Trajectory, compare
 from phav_generator.physics.model import build_model
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.plan.scene_plan import StaticBox
-from phav_generator.physics.simulate import intrinsics, simulate, simulate_plan
+from phav_generator.physics.recording import intrinsics
+from phav_generator.physics.simulate import simulate, simulate_plan
 from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, LOWER, UPPER, forward_kinematics
 from phav_spec.errors import PhavUserError
 from phav_spec.scene import ACTION_SCENES
