@@ -44,7 +44,7 @@ from phav_app.release import make_release
 from phav_app.sheets import render_sheet, sheet_specs, write_index
 from phav_app.train_cli import train_command
 from phav_generator.dataset.write import chunk, write_dataset
-from phav_generator.physics.plan import DEFAULT_PHYSICS_HZ
+from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ
 from phav_generator.physics.probe import evaluate_probe, format_confusion
 from phav_generator.physics.simulate import simulate
 from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration

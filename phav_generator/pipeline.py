@@ -28,7 +28,7 @@ import pyarrow.parquet as pq
 
 from phav_generator.faults import crash_point, task_delay
 from phav_generator.io.shards import open_part
-from phav_generator.physics.plan import plan_scene
+from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
 from phav_generator.render.gl import gl_context, gl_strings
 from phav_generator.render.video import RenderedFrame, render_video

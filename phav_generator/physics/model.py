@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from phav_generator.physics.plan import PersonPlan, PropPlan, ScenePlan
+from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan
 from phav_generator.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.skeleton import BONES, DOFS
+from phav_generator.skeleton import BONE_INDEX, BONES, DOFS, forward_kinematics
 from phav_spec.scene import ENVIRONMENT_SCENES
 
 # Collision bits: world geometry, the camera, props, and one bit per physical person so a
@@ -57,6 +57,8 @@ DOOR_DAMPING = 15.0
 
 @dataclass
 class PersonHandles:
+    """Where one ragdoll lives in the model's arrays."""
+
     person_id: int
     bodies: np.ndarray  # (15,) body ids
     qpos_root: int  # address of the free joint's 7 qpos
@@ -74,6 +76,8 @@ class PersonHandles:
 
 @dataclass
 class PropHandles:
+    """Where one prop lives in the model's arrays, and how it moves."""
+
     name: str
     body: int
     geom: int
@@ -86,6 +90,8 @@ class PropHandles:
 
 @dataclass
 class CameraHandles:
+    """Where the kite camera's bodies, anchor and slides live in the model's arrays."""
+
     camera_body: int
     target_body: int
     anchor_mocap: int
@@ -134,6 +140,14 @@ def _box(parent, name: str, center, half, yaw_deg: float) -> None:
 
 
 def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
+    """An active ragdoll: its bodies, the pin welded to its pelvis, a servo per hinge."""
+    _add_ragdoll_bodies(spec, p, bit)
+    _add_pin(spec, p)
+    _add_servos(spec, p)
+
+
+def _add_ragdoll_bodies(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
+    """The skeleton's bodies: a free pelvis, one limited hinge per DOF, a capsule per bone."""
     pre = f"p{p.person_id}_"
     dims = p.dims
     others = sum(_PERSON_BITS) & ~bit
@@ -178,6 +192,11 @@ def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
             g.friction = [p.sole_friction, 0.005, 0.0001]
             g.priority = 1
         bodies[bone.name] = body
+
+
+def _add_pin(spec: mujoco.MjSpec, p: PersonPlan) -> None:
+    """The root pin: a driven body welded to the pelvis."""
+    pre = f"p{p.person_id}_"
     pin = spec.worldbody.add_body()
     pin.name = pre + "pin"
     # A heavy free body whose pose and velocity the simulation sets every step: unlike a
@@ -196,6 +215,11 @@ def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
     eq.solref = [PIN_TIMECONST, 1.0]
     eq.solimp = list(PIN_SOLIMP)
     eq.data = np.array([0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0], dtype=np.float64)
+
+
+def _add_servos(spec: mujoco.MjSpec, p: PersonPlan) -> None:
+    """A soft joint-equality servo per hinge (the perturbed muscles' ones more yielding)."""
+    pre = f"p{p.person_id}_"
     for d in DOFS:
         # Stiffness and damping are set per step from the muscle's strength.
         eq = spec.add_equality()
@@ -318,8 +342,6 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
 
 def _camera_anchor_point(plan: ScenePlan) -> np.ndarray:
     """Where the target spring holds on to the protagonist: pelvis, or head for close-ups."""
-    from phav_generator.skeleton import BONE_INDEX, forward_kinematics
-
     p = plan.people[0]
     pos, _ = forward_kinematics(p.dims, p.targets.root_pos[:1], p.targets.root_quat[:1], p.targets.q[:1])
     body = "head" if plan.recipe.camera.kind == "closeup" else "pelvis"
@@ -372,76 +394,77 @@ def build_model(plan: ScenePlan) -> SceneModel:
 
 
 def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan]) -> SceneModel:
-    def bid(name: str) -> int:
-        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
-
-    def jid(name: str) -> int:
-        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
-
-    def eqid(name: str) -> int:
-        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, name)
-
-    def gid(name: str) -> int:
-        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
-
-    people = []
-    for p in physical:
-        pre = f"p{p.person_id}_"
-        root = jid(pre + "root")
-        joints = [jid(pre + d.name) for d in DOFS]
-        bodies = np.array([bid(pre + b.name) for b in BONES])
-        people.append(
-            PersonHandles(
-                person_id=p.person_id,
-                bodies=bodies,
-                qpos_root=int(model.jnt_qposadr[root]),
-                qvel_root=int(model.jnt_dofadr[root]),
-                qpos_dofs=model.jnt_qposadr[joints].copy(),
-                qvel_dofs=model.jnt_dofadr[joints].copy(),
-                servo_eqs=np.array([eqid(pre + "servo_" + d.name) for d in DOFS]),
-                pin_qpos=int(model.jnt_qposadr[jid(pre + "pin")]),
-                pin_qvel=int(model.jnt_dofadr[jid(pre + "pin")]),
-                pin_eq=eqid(pre + "pin"),
-                geoms=np.array([gid(pre + b.name) for b in BONES]),
-                lower=model.jnt_range[joints, 0].copy(),
-                upper=model.jnt_range[joints, 1].copy(),
-            )
-        )
-    props = []
-    for prop in plan.props:
-        g = gid("prop_" + prop.name)
-        body = int(model.geom_bodyid[g])
-        handle = PropHandles(prop.name, body, g, None, None)
-        if prop.path is not None:
-            j = jid(f"prop_{prop.name}_x")
-            handle.qpos, handle.qvel, handle.driven = int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]), True
-        elif prop.dynamic:
-            j = jid("prop_" + prop.name)
-            handle.qpos = int(model.jnt_qposadr[j])
-            handle.qvel = int(model.jnt_dofadr[j])
-            handle.hinged = prop.hinge is not None
-        handle.grip_eqs = [eqid(f"grip_{prop.name}_{k}") for k in range(len(prop.grips))]
-        props.append(handle)
-    camera = None
-    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "camera") >= 0:
-        cj = [jid(f"camera_{a}") for a in "xyz"]
-        tj = [jid(f"camera_target_{a}") for a in "xyz"]
-        camera = CameraHandles(
-            camera_body=bid("camera"),
-            target_body=bid("camera_target"),
-            anchor_mocap=int(model.body_mocapid[bid("camera_anchor")]),
-            camera_geom=gid("camera"),
-            camera_qpos=model.jnt_qposadr[cj].copy(),
-            target_qpos=model.jnt_qposadr[tj].copy(),
-            camera_qvel=model.jnt_dofadr[cj].copy(),
-            target_qvel=model.jnt_dofadr[tj].copy(),
-        )
-    world = np.flatnonzero(model.geom_bodyid == 0)
+    """Where each part of the plan landed in the compiled model's arrays."""
     return SceneModel(
         model=model,
-        people=people,
-        props=props,
-        camera=camera,
-        tie_eqs=[eqid(f"tie_{k}") for k in range(len(plan.ties))],
-        world_geoms=world,
+        people=[_person_handles(model, p) for p in physical],
+        props=[_prop_handles(model, prop) for prop in plan.props],
+        camera=_camera_handles(model),
+        tie_eqs=[_id(model, mujoco.mjtObj.mjOBJ_EQUALITY, f"tie_{k}") for k in range(len(plan.ties))],
+        world_geoms=np.flatnonzero(model.geom_bodyid == 0),
+    )
+
+
+def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
+    return mujoco.mj_name2id(model, kind, name)
+
+
+def _person_handles(model: mujoco.MjModel, p: PersonPlan) -> PersonHandles:
+    """A ragdoll's bodies, joint addresses, servos, pin and geoms."""
+    obj = mujoco.mjtObj
+    pre = f"p{p.person_id}_"
+    root = _id(model, obj.mjOBJ_JOINT, pre + "root")
+    joints = [_id(model, obj.mjOBJ_JOINT, pre + d.name) for d in DOFS]
+    pin = _id(model, obj.mjOBJ_JOINT, pre + "pin")
+    return PersonHandles(
+        person_id=p.person_id,
+        bodies=np.array([_id(model, obj.mjOBJ_BODY, pre + b.name) for b in BONES]),
+        qpos_root=int(model.jnt_qposadr[root]),
+        qvel_root=int(model.jnt_dofadr[root]),
+        qpos_dofs=model.jnt_qposadr[joints].copy(),
+        qvel_dofs=model.jnt_dofadr[joints].copy(),
+        servo_eqs=np.array([_id(model, obj.mjOBJ_EQUALITY, pre + "servo_" + d.name) for d in DOFS]),
+        pin_qpos=int(model.jnt_qposadr[pin]),
+        pin_qvel=int(model.jnt_dofadr[pin]),
+        pin_eq=_id(model, obj.mjOBJ_EQUALITY, pre + "pin"),
+        geoms=np.array([_id(model, obj.mjOBJ_GEOM, pre + b.name) for b in BONES]),
+        lower=model.jnt_range[joints, 0].copy(),
+        upper=model.jnt_range[joints, 1].copy(),
+    )
+
+
+def _prop_handles(model: mujoco.MjModel, prop: PropPlan) -> PropHandles:
+    """A prop's body and geom, its joint addresses (driven, free or hinged) and grips."""
+    obj = mujoco.mjtObj
+    g = _id(model, obj.mjOBJ_GEOM, "prop_" + prop.name)
+    body = int(model.geom_bodyid[g])
+    handle = PropHandles(prop.name, body, g, None, None)
+    if prop.path is not None:
+        j = _id(model, obj.mjOBJ_JOINT, f"prop_{prop.name}_x")
+        handle.qpos, handle.qvel, handle.driven = int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]), True
+    elif prop.dynamic:
+        j = _id(model, obj.mjOBJ_JOINT, "prop_" + prop.name)
+        handle.qpos = int(model.jnt_qposadr[j])
+        handle.qvel = int(model.jnt_dofadr[j])
+        handle.hinged = prop.hinge is not None
+    handle.grip_eqs = [_id(model, obj.mjOBJ_EQUALITY, f"grip_{prop.name}_{k}") for k in range(len(prop.grips))]
+    return handle
+
+
+def _camera_handles(model: mujoco.MjModel) -> CameraHandles | None:
+    """The kite camera's bodies, anchor, geom and slide joints; None without a kite camera."""
+    obj = mujoco.mjtObj
+    if _id(model, obj.mjOBJ_BODY, "camera") < 0:
+        return None
+    cj = [_id(model, obj.mjOBJ_JOINT, f"camera_{a}") for a in "xyz"]
+    tj = [_id(model, obj.mjOBJ_JOINT, f"camera_target_{a}") for a in "xyz"]
+    return CameraHandles(
+        camera_body=_id(model, obj.mjOBJ_BODY, "camera"),
+        target_body=_id(model, obj.mjOBJ_BODY, "camera_target"),
+        anchor_mocap=int(model.body_mocapid[_id(model, obj.mjOBJ_BODY, "camera_anchor")]),
+        camera_geom=_id(model, obj.mjOBJ_GEOM, "camera"),
+        camera_qpos=model.jnt_qposadr[cj].copy(),
+        target_qpos=model.jnt_qposadr[tj].copy(),
+        camera_qvel=model.jnt_dofadr[cj].copy(),
+        target_qvel=model.jnt_dofadr[tj].copy(),
     )

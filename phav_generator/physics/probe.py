@@ -17,8 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.rotations import quat_to_matrix
+from phav_generator.sampling import sample_recipes
 from phav_generator.skeleton import BONE_INDEX
 from phav_spec.theta import Theta, parse_theta
 
@@ -188,9 +190,6 @@ def evaluate_probe(
 ) -> ProbeResult:
     """Simulate ``n_train`` clips per action from seed ``seed`` and ``n_test`` from ``seed + 1``,
     fit the probe on the first and report its confusion on the second."""
-    from phav_generator.physics.simulate import simulate
-    from phav_generator.sampling import sample_recipes
-
     split: dict[str, tuple[list[np.ndarray], list[str]]] = {"train": ([], []), "test": ([], [])}
     start = time.perf_counter()
     for action in actions:

@@ -18,7 +18,7 @@ from phav_generator.dataset.fingerprint import renderer_fingerprint
 from phav_generator.render.gl import gl_context, gl_strings
 from phav_generator.render.video import render_video
 from phav_spec.encoding import VideoHashes
-from tests.generator.physics_support import recipe_for
+from tests.generator.physics.support import recipe_for
 
 GOLDEN = Path(__file__).parents[1] / "golden" / "render-hashes.json"
 CASES = {"walk-urban": ("walk", "urban"), "wave-lake": ("wave", "lake")}

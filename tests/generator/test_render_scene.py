@@ -12,7 +12,7 @@ from phav_generator.physics.simulate import simulate
 from phav_generator.render.gl import FrameRenderer, gl_context
 from phav_generator.render.scene import build_drawables, class_id
 from phav_spec.vocab import PIXEL_CLASSES
-from tests.generator.physics_support import recipe_for
+from tests.generator.physics.support import recipe_for
 
 PALETTE_IDS = {PIXEL_CLASSES[n].class_id for n in PIXEL_CLASSES.names}
 PERSON_CLASSES = {
@@ -92,7 +92,7 @@ def test_instance_colours_are_distinct_and_never_black():
 
 _HASH_SCRIPT = """
 import json, sys
-from tests.generator.physics_support import recipe_for
+from tests.generator.physics.support import recipe_for
 from phav_generator.render.video import render_video
 from phav_spec.encoding import VideoHashes
 r = recipe_for("walk", "urban", seconds=0.3, variation="none")
@@ -174,7 +174,7 @@ def test_rgb_warped_by_the_flow_matches_the_next_frame_on_static_pixels(ctx):
     from phav_generator.render.video import render_video
     from phav_generator.vary import vary
     from phav_spec.encoding import decode_flow
-    from tests.generator.physics_support import theta_for
+    from tests.generator.physics.support import theta_for
 
     base = recipe_for("walk", "simple", seconds=0.3, variation="none")
     recipe = vary(base, theta_for("walk", "simple", seconds=0.3, variation="none"),

@@ -15,7 +15,7 @@ from phav_generator.vary import parse_settings, vary
 from phav_spec.errors import PhavUserError
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.vocab import OBJECTS, PIXEL_CLASSES
-from tests.generator.physics_support import recipe_for, theta_for
+from tests.generator.physics.support import recipe_for, theta_for
 
 SECONDS = 0.2
 LABELS = ("semantic", "instance", "depth", "flow")

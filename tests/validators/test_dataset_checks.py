@@ -517,7 +517,7 @@ def test_a_tumbling_ragdolls_knees_and_a_moonwalks_feet_are_not_failures():
     under a walk, still fail."""
     from phav_validators.checks.failures import CameraSeries, video_failures
     from phav_validators.checks.inject import inject
-    from tests.generator.physics_support import simulated_people
+    from tests.generator.physics.support import simulated_people
 
     recipes = _short_recipes("v000021", "v000052")
     hit, moon = recipes["v000021"], recipes["v000052"]

@@ -1,4 +1,5 @@
-"""Recipes for physics tests: one action in one environment, short clips, from a θ variant."""
+"""Recipes for physics tests: one action in one environment, short clips, from a θ variant;
+and the checks and views several physics tests share."""
 
 from __future__ import annotations
 
@@ -8,18 +9,28 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.physics.simulate import simulate
+from phav_generator.physics.trajectory import Trajectory
 from phav_generator.sampling import sample_recipes
+from phav_generator.skeleton import JOINT_BODIES
 from phav_spec.recipe import Recipe
-from phav_spec.theta import parse_theta
+from phav_spec.theta import load_preset, load_theta, parse_theta
 from phav_spec.vocab import ACTIONS, ENVIRONMENTS
+from phav_validators.checks.failures import PersonSeries
 from tests.helpers import preset_dict
+
+
+@functools.cache
+def _preset() -> dict[str, Any]:
+    """phav-v1's YAML mapping, read once (parsing the YAML cost as much as a short simulation)."""
+    return preset_dict()
 
 
 def theta_for(
     action: str, environment: str | None = None, *, seconds: float = 1.0, variation: str | None = None, **edits: Any
 ) -> Any:
     """phav-v1 restricted to one action (and environment, and variation), clips of ``seconds``."""
-    data = copy.deepcopy(preset_dict())
+    data = copy.deepcopy(_preset())
     data["theta_a"] = {action: 1}
     if environment is not None:
         data["theta_ae"]["rows"][action] = {environment: 1}
@@ -46,26 +57,31 @@ def recipe_for(
     return next(iter(sample_recipes(theta, n=1, seed=seed, start=index)))
 
 
+@functools.cache
+def short_recipe(video_id: str) -> Recipe:
+    """A recipe of the first 40 of phav-v1-short, seed 0 (the 100-video measurement's clips)."""
+    recipes = {r.video_id: r for r in sample_recipes(load_theta("phav-v1-short"), n=40, seed=0)}
+    return recipes[video_id]
+
+
 def possible_pairs() -> list[tuple[str, str]]:
     """Every (action, environment) with non-zero probability under phav-v1."""
-    from phav_spec.theta import load_preset
-
     ae = load_preset("phav-v1").arrays.ae
     return [(a, e) for i, a in enumerate(ACTIONS.names) for j, e in enumerate(ENVIRONMENTS.names) if ae[i, j] > 0]
 
 
-def lowest_z(track, body_index: int) -> np.ndarray:
-    """Height of a body's origin per frame."""
-    return track.body_pos[:, body_index, 2]
+def assert_healthy(tr: Trajectory) -> None:
+    """No explosion, no MuJoCo warning, nothing non-finite in the trajectory."""
+    assert tr.exploded_at is None, f"{tr.video_id}: exploded at frame {tr.exploded_at}"
+    bad = {k: v for k, v in tr.warnings.items() if v}
+    assert not bad, f"{tr.video_id}: MuJoCo warnings {bad}"
+    for name, array in tr.arrays().items():
+        assert np.all(np.isfinite(array)), f"{tr.video_id}: non-finite values in {name}"
 
 
 def simulated_people(recipe: Recipe) -> list:
     """The recipe's people as the failures check reads them (``PersonSeries``), straight from
     a simulation: joints per frame and whether the pins hold."""
-    from phav_generator.physics.simulate import simulate
-    from phav_generator.skeleton import JOINT_BODIES
-    from phav_validators.checks.failures import PersonSeries
-
     tr = simulate(recipe, keep_state=False)
     joints = list(JOINT_BODIES)
     return [

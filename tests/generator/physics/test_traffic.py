@@ -9,7 +9,7 @@ import pytest
 from phav_generator.physics.simulate import simulate
 from phav_generator.physics.traffic import STOP_GAP_M, Traffic, Vehicle, footprint_points
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
-from tests.generator.physics_support import recipe_for
+from tests.generator.physics.support import recipe_for
 
 LANE = Lane((0.0, -2.0, 0.0), (200.0, -2.0, 0.0), 2.0)
 DT = 1.0 / 30.0

@@ -22,7 +22,7 @@ from phav_generator.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.sampling import sample_recipes
 from phav_spec.theta import load_preset
 from phav_spec.vocab import ACTIONS
-from tests.generator.physics_support import recipe_for
+from tests.generator.physics.support import recipe_for
 
 #: The issue's bar for telling the 35 actions apart from protagonist motion.
 MIN_ACCURACY = 0.70

@@ -1,0 +1,40 @@
+"""Car hit: the car that crosses the protagonist's path, and the release its touch triggers."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
+from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
+from phav_generator.rotations import yaw_matrix
+from phav_spec.seeding import stream
+from phav_spec.vocab import OBJECTS
+
+
+def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
+    """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins."""
+    rng = stream(b.recipe.seeds.physics, "car_hit")
+    speed = uniform(rng, 5.0, 12.0)
+    n = len(b.times)
+    duration = b.times[-1]
+    t_hit = uniform(rng, 0.35, 0.6) * duration
+    side = 1.0 if rng.random() < 0.5 else -1.0
+    i_hit = int(np.searchsorted(b.times, t_hit))
+    pelvis = p.targets.root_pos[min(i_hit, n - 1)]
+    heading = np.deg2rad(b.recipe.protagonist.heading_deg)
+    across = yaw_matrix(heading) @ np.array([0.0, side, 0.0])
+    half = np.array([2.1, 0.9, 0.7])
+    ground = b.recipe.protagonist.position[2]
+    # The car's front reaches the pelvis at t_hit; then it brakes once it has touched.
+    centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + 0.15]) + across * (half[0] + 0.15)
+    path = centre_hit[None, :] - across[None, :] * speed * (b.times - t_hit)[:, None]
+    yaw = heading + side * math.pi / 2 + math.pi
+    quat = rot_to_quat(yaw_matrix(yaw))
+    b.props.append(
+        PropPlan("car", "car", OBJECTS["car"], "box", tuple(half), 1200.0, path[0], quat, dynamic=False, path=path)
+    )
+    b.manipulations.append(Manipulation("car", p.person_id, "pelvis", "hit", t_hit, float(b.times[-1])))
+    return replace(p, release_on_contact_with="car")

@@ -1,0 +1,84 @@
+"""A simulated person's plan: the animated targets per physics step, full strength and a
+held pin, and the release that hands a body over to physics."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from phav_generator.animation import MotionParams, Pose, animate, get_motion, motion_params, smooth_targets
+from phav_generator.physics.plan.builder import PlanBuilder
+from phav_generator.physics.plan.scene_plan import PersonPlan
+from phav_generator.skeleton import BodyDims, dims_for, forward_kinematics
+from phav_spec.recipe import HumanSpec
+from phav_spec.vocab import MUSCLES
+
+#: Strength of muscles once a ragdoll is released: a little tone, gravity does the rest.
+RELEASED_STRENGTH = 0.15
+#: Seconds over which a release lets the pins and muscles go.
+RELEASE_RAMP_S = 0.1
+
+
+def animate_person(
+    motion: str,
+    start_s: float,
+    params: MotionParams,
+    dims: BodyDims,
+    position: tuple[float, float, float],
+    heading: float,
+    times: np.ndarray,
+) -> Pose:
+    """The pins' and servos' targets: the motion placed in the world, smoothed (continuous
+    velocities) so every physics timestep follows the same function of time."""
+    return smooth_targets(lambda t: animate(motion, t, start_s, params, dims, tuple(position), heading), times)
+
+
+def body_poses(dims: BodyDims, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """World positions and rotations of every body of ``pose`` (forward kinematics)."""
+    return forward_kinematics(dims, pose.root_pos, pose.root_quat, pose.q)
+
+
+def plan_person(
+    b: PlanBuilder,
+    person_id: int,
+    role: str,
+    human: HumanSpec,
+    motion: str,
+    start_s: float,
+    speed: float,
+    mirror: bool,
+    position: tuple[float, float, float],
+    heading: float,
+) -> PersonPlan:
+    """A simulated person doing ``motion`` from ``position``: targets at every physics step,
+    full strength, pinned; the motion's parameters drawn from the physics seed per role and id."""
+    dims = dims_for(human)
+    params = motion_params(speed, mirror, b.recipe.seeds.physics, f"{role}/{person_id}")
+    targets = animate_person(motion, start_s, params, dims, position, heading, b.times)
+    n = len(b.times)
+    return PersonPlan(
+        person_id=person_id,
+        role=role,
+        dims=dims,
+        params=params,
+        motion=motion,
+        targets=targets,
+        strengths=np.ones((n, len(MUSCLES))),
+        pin=np.ones(n),
+        physical=True,
+        sole_friction=get_motion(motion).sole_friction,
+    )
+
+
+def _ramp(times: np.ndarray, t0: float, duration: float) -> np.ndarray:
+    """0 before t0, 1 after t0 + duration, linear in between."""
+    return np.clip((times - t0) / max(duration, 1e-9), 0.0, 1.0)
+
+
+def release(person: PersonPlan, times: np.ndarray, t0: float, strength: float = RELEASED_STRENGTH) -> PersonPlan:
+    """Pins off and muscles slack from t0 on (over 0.1 s): physics takes over."""
+    r = _ramp(times, t0, RELEASE_RAMP_S)
+    pin = person.pin * (1.0 - r)
+    strengths = person.strengths * (1.0 - r[:, None]) + strength * r[:, None]
+    return replace(person, pin=pin, strengths=np.minimum(person.strengths, strengths))

@@ -1,0 +1,142 @@
+"""``plan_scene(recipe) -> ScenePlan``: the planning steps of one video, in order.
+
+The protagonist (standing on a built flight for climb_stairs), the rules of the action
+and its variation, the props the action uses, the supporting characters and their ties,
+the background pedestrians, the camera's start and the traffic. Each step lives in the
+module named for what it plans; this one only calls them in order.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from phav_generator.physics.plan.background import background_people
+from phav_generator.physics.plan.builder import PlanBuilder
+from phav_generator.physics.plan.camera import clear_camera_start
+from phav_generator.physics.plan.car_hit import car_hit
+from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
+from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
+from phav_generator.physics.plan.people import plan_person
+from phav_generator.physics.plan.push import push_target
+from phav_generator.physics.plan.ragdoll_rules import dive_floor, limp, stagger
+from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan
+from phav_generator.physics.plan.stairs import build_stairs
+from phav_generator.physics.plan.supporting import arm_pose_for_tie, loosen_tied_arms, supporting_people
+from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ, choose_substeps
+from phav_generator.physics.plan.variations import apply_variation
+from phav_generator.physics.traffic import footprint_points, plan_traffic
+from phav_generator.skeleton import forward_kinematics
+from phav_spec.recipe import Recipe
+from phav_spec.scene import ACTION_SCENES
+from phav_spec.seeding import stream
+
+
+def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> ScenePlan:
+    """The simulation plan of a recipe (deterministic, pure)."""
+    substeps = choose_substeps(recipe, physics_hz)
+    b = PlanBuilder(recipe, substeps)
+    protagonist = _protagonist_rules(b, _protagonist(b))
+    _action_props(b, protagonist)
+    people = loosen_tied_arms([protagonist, *supporting_people(b, protagonist)], b.ties)
+    people = (*people, *background_people(b))
+    return ScenePlan(
+        recipe=recipe,
+        fps=recipe.video.fps,
+        substeps=substeps,
+        n_frames=recipe.n_frames,
+        people=people,
+        props=tuple(b.props),
+        boxes=tuple(b.boxes),
+        ties=tuple(b.ties),
+        manipulations=tuple(b.manipulations),
+        stand_offset_z=b.stand_offset_z,
+        camera_start=clear_camera_start(recipe),
+        traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, substeps)),
+    )
+
+
+def _protagonist(b: PlanBuilder) -> PersonPlan:
+    """The protagonist's animated targets, standing where the recipe says (climb_stairs:
+    on the flight built for the clip, raised onto its landing going down)."""
+    r = b.recipe
+    start = np.array(r.protagonist.position, dtype=np.float64)
+    if r.action == "climb_stairs":
+        probe = plan_person(
+            b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
+            r.motion.mirror, tuple(start), r.protagonist.heading_deg,
+        )  # fmt: skip
+        start = build_stairs(b, probe, start)
+    position = tuple(start + np.array([0.0, 0.0, b.stand_offset_z]))
+    return plan_person(
+        b, 0, "protagonist", r.protagonist.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
+        r.motion.mirror, position, r.protagonist.heading_deg,
+    )  # fmt: skip
+
+
+def _protagonist_rules(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
+    """The arm reaching to a partner, the recipe's variation, then the action's own rule
+    (car hit, dive floor, stagger, limp) on the protagonist's schedules."""
+    action = b.recipe.action
+    p = arm_pose_for_tie(p, action)
+    p = apply_variation(b, p)
+    if action == "car_hit":
+        p = car_hit(b, p)
+    elif action == "dive_floor":
+        p = dive_floor(b, p)
+    elif action == "stagger":
+        p = stagger(b, p)
+    elif action == "limp":
+        p = limp(p, stream(b.recipe.seeds.physics, "rules"))
+    return p
+
+
+def _action_props(b: PlanBuilder, p: PersonPlan) -> None:
+    """The props the action itself uses, what a push pushes, and the objects variation's prop."""
+    r = b.recipe
+    action = r.action
+    scene = ACTION_SCENES[action]
+    right = "left_hand" if r.motion.mirror else "right_hand"
+    left = "right_hand" if r.motion.mirror else "left_hand"
+    for obj in scene.objects:
+        if obj in ("hair_brush", "gun", "golf_club", "baseball_bat"):
+            hold(b, p, obj, right)
+        elif obj == "bow":
+            hold(b, p, obj, left)
+        elif obj == "bottle" and action == "pour":
+            hold(b, p, "bottle", right)
+        elif obj == "cup" and action == "pour":
+            hold(b, p, "cup", left)
+        elif obj == "bottle" and action == "pick":
+            pick(b, p, right)
+        elif obj == "ball" and action == "catch":
+            catch(b, p, right)
+        elif obj == "ball" and action in ("throw", "shoot_ball"):
+            throw(b, p, "ball", right, "throw")
+        elif obj == "ball" and action == "kick_ball":
+            kick(b, p)
+        elif obj == "chair":
+            chair_under_pelvis(b, p)
+        elif obj == "pull_up_bar":
+            pull_up_bar(b, p)
+    if action == "push":
+        push_target(b, p)
+    if r.variation.kind == "objects":
+        hold(b, p, r.variation.object, free_hand(scene.necessary_muscles), name=f"{r.variation.object}_variation")
+
+
+def _planned_obstacles(people: tuple[PersonPlan, ...], props: list[PropPlan], substeps: int) -> np.ndarray:
+    """Every person's bodies and every driven prop's footprint (F + 1, N, 3) per frame, as planned."""
+    parts = []
+    for p in people:
+        step = substeps if p.physical else 1
+        pos, _ = forward_kinematics(
+            p.dims, *(a[::step] for a in (p.targets.root_pos, p.targets.root_quat, p.targets.q))
+        )
+        parts.append(pos)
+    for prop in props:
+        if prop.path is not None:
+            yaw = 2.0 * math.atan2(prop.quat[3], prop.quat[0])
+            parts.append(footprint_points(prop.path[::substeps], yaw, prop.size))
+    return np.concatenate(parts, axis=1)

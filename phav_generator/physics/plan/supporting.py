@@ -1,0 +1,72 @@
+"""Supporting characters: the partner of two-person actions, tied to the protagonist by the
+hands (walk holding hands) or hand to shoulder (walking hug), with compliant tied arms."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from phav_generator.animation import Pose
+from phav_generator.physics.plan.builder import PlanBuilder
+from phav_generator.physics.plan.people import plan_person
+from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, PersonPlan
+from phav_generator.skeleton import BONE_INDEX, DOF_INDEX
+
+#: Servo strength of an arm whose hand is tied to someone else's body.
+TIED_ARM_STRENGTH = 0.4
+
+
+def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPlan]:
+    """The supporting characters, doing the protagonist's motion; the first is tied to the
+    protagonist in the two-person actions (hand in hand, or a hand on the far shoulder)."""
+    r = b.recipe
+    out = []
+    for s in r.supporting_characters:
+        person = plan_person(
+            b, s.person_id, "supporting", s.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
+            r.motion.mirror, s.position, s.heading_deg,
+        )  # fmt: skip
+        out.append(person)
+    if not out:
+        return out
+    partner = out[0]
+    scale = protagonist.dims.height_m / 1.75
+    if r.action == "walk_holding_hands":
+        # The partner is on the protagonist's right: right hand holds left hand.
+        palm = -0.08 * scale
+        b.ties.append(HandTie(0, "right_hand", partner.person_id, "left_hand", (0.0, -0.01, palm), (0.0, 0.01, palm)))
+        b.manipulations.append(Manipulation("hand", 0, "right_hand", "hold", 0.0, float(b.times[-1])))
+    elif r.action == "walking_hug":
+        shoulder = (0.0, -0.12 * scale, 0.17 * scale)  # the partner's far (right) shoulder
+        b.ties.append(HandTie(0, "right_hand", partner.person_id, "chest", (0.0, 0.0, -0.08 * scale), shoulder))
+        b.manipulations.append(Manipulation("hug", 0, "right_hand", "hold", 0.0, float(b.times[-1])))
+    return out
+
+
+def arm_pose_for_tie(p: PersonPlan, action: str) -> PersonPlan:
+    """Two-person rules: reach the arm to the partner (holding hands low, hug around shoulders)."""
+    q = p.targets.q.copy()
+    if action == "walk_holding_hands":
+        q[:, DOF_INDEX["right_shoulder_abd"]] = 0.35
+        q[:, DOF_INDEX["right_shoulder_flex"]] = 0.1
+        q[:, DOF_INDEX["right_elbow_flex"]] = 0.25
+    elif action == "walking_hug":
+        q[:, DOF_INDEX["right_shoulder_abd"]] = 1.45
+        q[:, DOF_INDEX["right_shoulder_flex"]] = 0.35
+        q[:, DOF_INDEX["right_elbow_flex"]] = 0.9
+    else:
+        return p
+    return replace(p, targets=Pose(p.targets.root_pos, p.targets.root_quat, q))
+
+
+def loosen_tied_arms(people: list[PersonPlan], ties: list[HandTie]) -> list[PersonPlan]:
+    """Tied arms go compliant so the tie, not the servos, decides where the hands meet."""
+    people = list(people)
+    for tie in ties:
+        for side, body in ((tie.person_a, tie.body_a), (tie.person_b, tie.body_b)):
+            if body.endswith("_hand"):
+                arm = [f"{body[: -len('hand')]}{part}" for part in ("upper_arm", "lower_arm", "hand")]
+                k = next(i for i, x in enumerate(people) if x.person_id == side)
+                s = people[k].strengths.copy()
+                s[:, [BONE_INDEX[m] for m in arm]] *= TIED_ARM_STRENGTH
+                people[k] = replace(people[k], strengths=s)
+    return people

@@ -1,0 +1,40 @@
+"""Furniture: a chair clear of the legs, a pull-up bar on its posts."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_generator.physics.plan.furniture import box_meets_bones
+from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.skeleton import forward_kinematics
+from tests.generator.physics.support import recipe_for
+
+
+def test_a_chair_never_cuts_through_the_legs() -> None:
+    """Sit / stand recipes: the seat box stays clear of the shins and feet all clip long."""
+    legs = ("left_lower_leg", "right_lower_leg", "left_foot", "right_foot")
+    seen = 0
+    for action in ("sit", "stand"):
+        for seed in range(6):
+            plan = plan_scene(recipe_for(action, seconds=3.0, seed=seed, variation="none"))
+            p = plan.people[0]
+            pos, rot = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
+            for box in plan.boxes:
+                if box.pixel_class == "chair":
+                    seen += 1
+                    assert not box_meets_bones(box, p.dims, rot, pos, legs), f"{action} seed {seed}"
+    assert seen >= 6
+
+
+def test_a_pull_up_bar_stands_on_posts() -> None:
+    plan = plan_scene(recipe_for("pull_up", seconds=1.0, variation="none"))
+    bar = next(p for p in plan.props if p.name == "pull_up_bar")
+    posts = [bx for bx in plan.boxes if bx.pixel_class == "misc"]
+    ground = plan.recipe.protagonist.position[2]
+    assert len(posts) == 2
+    for post in posts:
+        assert post.center[2] - post.half_size[2] == pytest.approx(ground)
+        assert post.center[2] + post.half_size[2] > bar.pos[2]
+        # each post stands just beyond one end of the bar
+        assert np.linalg.norm(np.array(post.center[:2]) - bar.pos[:2]) == pytest.approx(bar.size[1] + post.half_size[0])

@@ -1,0 +1,68 @@
+"""Action variations: they move the complementary muscles only, and blending never sinks a body."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_generator.animation import blend, muscle_dof_mask
+from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.physics.simulate import simulate
+from phav_spec.scene import ACTION_SCENES
+from phav_validators.checks.failures import video_failures
+from tests.generator.physics.support import recipe_for, short_recipe, simulated_people
+
+#: How far (joint angle) a variation may move the action's necessary muscles.
+NECESSARY_TOLERANCE_RAD = 0.1
+
+
+@pytest.mark.parametrize("kind", ["random_perturbation", "action_blending"])
+def test_variations_change_complementary_muscles_only(kind: str) -> None:
+    base = recipe_for("wave", seconds=2.0)
+    scene = ACTION_SCENES["wave"]
+    muscles = scene.complementary_muscles[:6]
+    if kind == "random_perturbation":
+        variation = {"kind": kind, "muscles": muscles, "radius_m": 0.3, "period_s": 0.8}
+    else:
+        variation = {
+            "kind": kind,
+            "muscles": muscles,
+            "blend_motion": "jumping_jacks_01",
+            "blend_start_s": 1.0,
+            "weight": 0.8,
+        }
+    varied = base.model_copy(
+        update={"variation": base.model_validate({**base.model_dump(), "variation": variation}).variation}
+    )
+    plain = base.model_copy(
+        update={"variation": base.model_validate({**base.model_dump(), "variation": {"kind": "none"}}).variation}
+    )
+    a, b = simulate(plain).people[0], simulate(varied).people[0]
+    necessary = muscle_dof_mask(scene.necessary_muscles)
+    varied_dofs = muscle_dof_mask(muscles)
+    change = np.abs(a.q - b.q).max(axis=0)
+    assert change[varied_dofs].max() > 0.2, f"varied muscles moved {np.round(change[varied_dofs], 3)}"
+    assert change[necessary].max() < NECESSARY_TOLERANCE_RAD, (
+        f"necessary muscles moved {np.round(change[necessary], 3)}"
+    )
+
+
+def test_blending_keeps_a_lying_body_above_ground() -> None:
+    """A true failure of the 100-video phav-v1-short measurement: a dive clip whose blended
+    leg (a standing one, onto a body lying on the floor) started 71 cm into the ground. The
+    blend weight now drops where it would sink a body."""
+    dive, run = short_recipe("v000035"), short_recipe("v000005")
+    assert dive.action == "dive_floor" and dive.variation.kind == run.variation.kind == "action_blending"
+    result = video_failures(dive, simulated_people(dive), None)
+    assert not result.failed, (dive.video_id, result.failures)
+
+    def targets(recipe, weight):
+        variation = recipe.variation.model_copy(update={"weight": weight})
+        return plan_scene(recipe.model_copy(update={"variation": variation})).people[0].targets
+
+    # The dive's body lies on the floor all clip: its standing blended leg is never let in.
+    np.testing.assert_array_equal(targets(dive, dive.variation.weight).q, targets(dive, 0.0).q)
+    # A runner's blended arms sink nothing: blended at the recipe's full weight.
+    weight = run.variation.weight
+    full = blend(targets(run, 0.0), targets(run, 1.0), run.variation.muscles, weight)
+    np.testing.assert_allclose(targets(run, weight).q, full.q, atol=1e-12)
