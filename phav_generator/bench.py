@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from phav_generator.motion.skeleton import JOINT_BODIES
 from phav_generator.sampling import RecipeSampler
 from phav_spec.expectations import ExactTable, exact_expectations
 from phav_spec.recipe_table import RecipeRows, write_recipe_table
@@ -92,7 +93,6 @@ def bench_physics(recipes: list, released: list, *, rates: tuple[int, ...] = PHY
     ``released`` are scenes whose ragdoll is let go (car hit), reported separately.
     """
     from phav_generator.physics.simulate import simulate
-    from phav_generator.skeleton import JOINT_BODIES
 
     def joints(recipe, hz):
         t0 = time.perf_counter()

@@ -12,9 +12,9 @@ import itertools
 import numpy as np
 from PIL import Image, ImageDraw
 
+from phav_generator.motion.skeleton import BONES, PARENTS
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.camera import project as project_points
-from phav_generator.skeleton import BONES, PARENTS
 
 _ROLE_COLOURS = {"protagonist": (220, 40, 40), "supporting": (40, 90, 220), "background": (120, 120, 120)}
 

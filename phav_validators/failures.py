@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from phav_generator.motion.skeleton import BONES, JOINT_BODIES, forward_kinematics
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, Collider, walkable_heights
@@ -216,7 +217,6 @@ def base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
     """The protagonist's animated (unperturbed) joints per frame (T, 13, 3) and whether the
     pins hold the body to the animation then (T,), re-planned from the recipe."""
     from phav_generator.physics.plan import plan_scene
-    from phav_generator.skeleton import JOINT_BODIES, forward_kinematics
 
     plan = plan_scene(recipe)
     person = next((p for p in plan.people if p.person_id == recipe.protagonist.person_id), None)
@@ -231,8 +231,6 @@ def base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
 def necessary_joints(action: str) -> list[int]:
     """Joints moved by the action's necessary muscles (a joint is its body's origin, so it
     moves with its parent body)."""
-    from phav_generator.skeleton import BONES, JOINT_BODIES
-
     necessary = set(ACTION_SCENES[action].necessary_muscles)
     return [j for j, b in enumerate(JOINT_BODIES) if BONES[b].parent in necessary]
 

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from phav_generator.motion.rotations import matrix_to_quat, yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, DOFS, forward_kinematics
 from phav_generator.physics.plan import PersonPlan, PropPlan, ScenePlan
-from phav_generator.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.skeleton import BONES, DOFS
 from phav_spec.scene import ENVIRONMENT_SCENES
 
 # Collision bits: world geometry, the camera, props, and one bit per physical person so a
@@ -318,8 +318,6 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
 
 def _camera_anchor_point(plan: ScenePlan) -> np.ndarray:
     """Where the target spring holds on to the protagonist: pelvis, or head for close-ups."""
-    from phav_generator.skeleton import BONE_INDEX, forward_kinematics
-
     p = plan.people[0]
     pos, _ = forward_kinematics(p.dims, p.targets.root_pos[:1], p.targets.root_quat[:1], p.targets.q[:1])
     body = "head" if plan.recipe.camera.kind == "closeup" else "pelvis"

@@ -15,20 +15,20 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from phav_generator.animation import (
+from phav_generator.motion.animation import (
     MotionParams,
     Pose,
     animate,
     blend,
     gaussian_smooth,
-    get_motion,
     motion_params,
     placement,
     smooth_targets,
 )
-from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traffic
-from phav_generator.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.skeleton import (
+from phav_generator.motion.gait import STAIR_RISE, STAIR_RUN, STAIR_START, stair_height
+from phav_generator.motion.library import get_motion
+from phav_generator.motion.rotations import matrix_to_quat, yaw_matrix
+from phav_generator.motion.skeleton import (
     BONE_INDEX,
     BONES,
     DOF_INDEX,
@@ -38,6 +38,7 @@ from phav_generator.skeleton import (
     forward_kinematics,
     lowest_point,
 )
+from phav_generator.physics.traffic import Vehicle, footprint_points, plan_traffic
 from phav_spec.motions import MOTIONS
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, MAX_STEP_M, walkable_heights
@@ -230,7 +231,8 @@ def _animate_person(
 ) -> Pose:
     """The pins' and servos' targets: the motion placed in the world, smoothed (continuous
     velocities) so every physics timestep follows the same function of time."""
-    return smooth_targets(lambda t: animate(motion, t, start_s, params, dims, tuple(position), heading), times)
+    clip = get_motion(motion)
+    return smooth_targets(lambda t: animate(clip, t, start_s, params, dims, tuple(position), heading), times)
 
 
 def _body_poses(dims: BodyDims, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
@@ -651,20 +653,19 @@ STAIRS_HALF_WIDTH_M = 0.6
 def _stairs(b: _Builder, probe: PersonPlan, start: np.ndarray) -> np.ndarray:
     """Build the flight a climb_stairs clip walks on; return where to stand the protagonist.
 
-    A catalogue stairs motion plants its feet on its own treads (``motion_library.STAIR_*``,
+    A catalogue stairs motion plants its feet on its own treads (``motion.gait.STAIR_*``,
     in the motion frame): those treads are built in the world through the clip's
     ``Placement``, so every plant lands on a tread whatever the person's height, the
     clip's start in the flight or the handedness. Going up, the tread under the feet at
     the clip's start is the waypoint's floor; going down, the lowest tread the clip reaches
     is, and the person starts on the tread (or landing) above it: ``stand_offset_z``.
     """
-    from phav_generator.motion_library import STAIR_RISE, STAIR_RUN, STAIR_START, stair_height
-
-    direction = get_motion(probe.motion).stairs
+    motion = get_motion(probe.motion)
+    direction = motion.stairs
     if direction == 0:
         return _stairs_from_rise(b, probe, start)
     r = b.recipe
-    pl = placement(probe.motion, r.motion.start_s, probe.params, probe.dims, tuple(start), r.protagonist.heading_deg)
+    pl = placement(motion, r.motion.start_s, probe.params, probe.dims, tuple(start), r.protagonist.heading_deg)
     pos, rot = _body_poses(probe.dims, probe.targets.take(slice(None, None, b.substeps)))
     feet = [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]]
     ends = np.concatenate(capsule_points(probe.dims, pos, rot), axis=-2)[:, feet + [f + len(BONES) for f in feet]]
@@ -851,9 +852,7 @@ def _background(b: _Builder) -> list[PersonPlan]:
         scale = dims.height_m / 1.75
         speed = actor.speed_mps / max(nominal * scale, 1e-6)
         params = motion_params(speed, False, r.seeds.background, f"background/{actor.person_id}")
-        pose = animate(
-            "walk_forward_01", frame_times, params.phase * walk.length_s, params, dims, (0.0, 0.0, 0.0), heading
-        )
+        pose = animate(walk, frame_times, params.phase * walk.length_s, params, dims, (0.0, 0.0, 0.0), heading)
         # Progress along the path, clamped at the destination; the gait's own advance is
         # replaced by the straight segment so the actor arrives where the recipe says.
         travelled = np.minimum(actor.speed_mps * frame_times, dist)

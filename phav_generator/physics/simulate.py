@@ -17,12 +17,12 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from phav_generator.motion.rotations import look_at, matrix_to_quat, relative_rotation_vectors
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel, build_model
 from phav_generator.physics.plan import RELEASE_RAMP_S, RELEASED_STRENGTH, ScenePlan, plan_scene
 from phav_generator.physics.traffic import Traffic, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
-from phav_generator.rotations import look_at, matrix_to_quat, relative_rotation_vectors
-from phav_generator.skeleton import BONE_INDEX, BONES, DOF_BODY, LOWER, UPPER, forward_kinematics
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.motion.skeleton import JOINT_BODIES
 from phav_generator.sampling import sample_recipes
 from phav_spec.recipe import Recipe
 from phav_spec.theta import parse_theta
@@ -63,7 +64,6 @@ def simulated_people(recipe: Recipe) -> list:
     """The recipe's people as the failures check reads them (``PersonSeries``), straight from
     a simulation: joints per frame and whether the pins hold."""
     from phav_generator.physics.simulate import simulate
-    from phav_generator.skeleton import JOINT_BODIES
     from phav_validators.failures import PersonSeries
 
     tr = simulate(recipe, keep_state=False)

@@ -11,11 +11,23 @@ import mujoco
 import numpy as np
 import pytest
 
+from phav_generator.motion.animation import blend, muscle_dof_mask
+from phav_generator.motion.library import get_motion, register_motion, unregister_motion
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import (
+    BONE_INDEX,
+    DOF_INDEX,
+    JOINT_BODIES,
+    LOWER,
+    UPPER,
+    capsule_points,
+    forward_kinematics,
+    lowest_point,
+)
 from phav_generator.physics import Trajectory, compare
 from phav_generator.physics.model import build_model
 from phav_generator.physics.plan import StaticBox, plan_scene
 from phav_generator.physics.simulate import intrinsics, simulate, simulate_plan
-from phav_generator.skeleton import BONE_INDEX, DOF_INDEX, LOWER, UPPER, forward_kinematics
 from phav_spec.errors import PhavUserError
 from phav_spec.scene import ACTION_SCENES
 from tests.generator.physics_support import possible_pairs, recipe_for, simulated_people
@@ -139,8 +151,6 @@ def test_walk_holding_hands_keeps_hands_tied() -> None:
     _healthy(tr)
     a, b = tr.people[0], tr.person(1)
     palm = np.array([0.0, 0.0, -0.08 * a.height_m / 1.75])
-    from phav_generator.rotations import quat_to_matrix
-
     pa = a.body_pos[:, BONE_INDEX["right_hand"]] + quat_to_matrix(a.body_quat[:, BONE_INDEX["right_hand"]]) @ palm
     pb = b.body_pos[:, BONE_INDEX["left_hand"]] + quat_to_matrix(b.body_quat[:, BONE_INDEX["left_hand"]]) @ palm
     gap = np.linalg.norm(pa - pb, axis=-1)
@@ -195,8 +205,6 @@ def test_variations_change_complementary_muscles_only(kind: str) -> None:
         update={"variation": base.model_validate({**base.model_dump(), "variation": {"kind": "none"}}).variation}
     )
     a, b = simulate(plain).people[0], simulate(varied).people[0]
-    from phav_generator.animation import muscle_dof_mask
-
     necessary = muscle_dof_mask(scene.necessary_muscles)
     varied_dofs = muscle_dof_mask(muscles)
     change = np.abs(a.q - b.q).max(axis=0)
@@ -305,7 +313,6 @@ def test_a_pinned_sprint_follows_its_animation_at_the_default_rate() -> None:
     a 1/1920 s reference and of its own animation (it was 6.6 cm when the recorded poses lagged
     a physics step and the servos were torques the root pin never saw)."""
     from phav_generator.bench import REFERENCE_HZ
-    from phav_generator.skeleton import JOINT_BODIES
 
     recipe = recipe_for("run", "simple", seconds=2.0, variation="none")
     joints = list(JOINT_BODIES)
@@ -324,7 +331,6 @@ def test_a_running_foot_strike_is_the_same_at_every_rate() -> None:
     1.33 cm apart at both rates: the reference slid the foot on, the coarse rates stopped it."""
     from phav_generator.bench import REFERENCE_HZ
     from phav_generator.sampling import sample_recipes
-    from phav_generator.skeleton import JOINT_BODIES
     from phav_spec.theta import load_preset
 
     jog = next(iter(sample_recipes(load_preset("phav-v1"), n=1, seed=0, start=51)))
@@ -335,20 +341,6 @@ def test_a_running_foot_strike_is_the_same_at_every_rate() -> None:
     for hz in (120, 240):
         coarse = simulate(recipe, physics_hz=hz, keep_state=False).people[0].body_pos[:, joints]
         assert np.linalg.norm(coarse - fine, axis=-1).max() < 0.005, f"1/{hz} s"
-
-
-def test_relative_rotation_vectors_recover_known_turns() -> None:
-    from phav_generator.rotations import axis_angle_matrix, matrix_to_quat, quat_to_matrix, relative_rotation_vectors
-
-    rng = np.random.default_rng(3)
-    qa = rng.normal(size=(6, 4))
-    qa /= np.linalg.norm(qa, axis=1, keepdims=True)
-    axis = np.array([0.0, 0.6, 0.8])
-    angles = np.array([0.3, 1e-9, 3.0, -0.5, 0.0, 2.5])
-    qb = matrix_to_quat(quat_to_matrix(qa) @ axis_angle_matrix(axis, angles))
-    expected = angles[:, None] * axis
-    np.testing.assert_allclose(relative_rotation_vectors(qa, qb), expected, atol=1e-9)
-    np.testing.assert_allclose(relative_rotation_vectors(qa, -qb), expected, atol=1e-9)  # q and −q: one turn
 
 
 def test_moonwalk_sliding_foot_slides() -> None:
@@ -364,7 +356,6 @@ def test_moonwalk_sliding_foot_slides() -> None:
 def test_a_chair_never_cuts_through_the_legs() -> None:
     """Sit / stand recipes: the seat box stays clear of the shins and feet all clip long."""
     from phav_generator.physics.plan import _box_meets_bones
-    from phav_generator.skeleton import forward_kinematics as fk
 
     legs = ("left_lower_leg", "right_lower_leg", "left_foot", "right_foot")
     seen = 0
@@ -372,7 +363,7 @@ def test_a_chair_never_cuts_through_the_legs() -> None:
         for seed in range(6):
             plan = plan_scene(recipe_for(action, seconds=3.0, seed=seed, variation="none"))
             p = plan.people[0]
-            pos, rot = fk(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
+            pos, rot = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
             for box in plan.boxes:
                 if box.pixel_class == "chair":
                     seen += 1
@@ -400,7 +391,6 @@ def test_stairs_feet_land_on_the_treads_the_plan_builds() -> None:
     tread: never in one, and on one for the stance share of the clip (the treads used to be
     built from the pelvis's rise, 0.4 m ahead whatever the clip, and the feet missed them)."""
     from phav_generator.sampling import sample_recipes
-    from phav_generator.skeleton import capsule_points
     from phav_spec.theta import load_theta
 
     recipes = [r for r in sample_recipes(load_theta("phav-v1"), n=1500, seed=5) if r.action == "climb_stairs"]
@@ -436,9 +426,6 @@ def test_a_stairs_motion_without_its_own_flight_gets_steps_from_its_rise() -> No
     """An imported climb (no catalogue treads: ``MotionDef.stairs == 0``) still gets a flight,
     built from its pelvis's rise, and starts on the waypoint with the climb before the clip
     taken out."""
-    from phav_generator.animation import MOTION_LIBRARY, get_motion, register_motion
-    from phav_generator.skeleton import lowest_point
-
     climb = get_motion("climb_up_stairs_01")
     imported = dataclasses.replace(climb, name="test_imported_climb", stairs=0)
     register_motion(imported, replace=True)
@@ -447,7 +434,7 @@ def test_a_stairs_motion_without_its_own_flight_gets_steps_from_its_rise() -> No
         motion = base.motion.model_copy(update={"base_motion": imported.name, "start_s": 6.0})
         plan = plan_scene(base.model_copy(update={"motion": motion}))
     finally:
-        del MOTION_LIBRARY[imported.name]
+        unregister_motion(imported.name)
     steps = [box for box in plan.boxes if box.pixel_class == "stairs"]
     assert len(steps) >= 3 and plan.stand_offset_z == 0.0
     tops = [box.center[2] + box.half_size[2] - base.protagonist.position[2] for box in steps]
@@ -463,7 +450,6 @@ def test_background_walkers_step_onto_kerbs_and_blending_keeps_a_lying_body_abov
     dive clip whose blended leg (a standing one, onto a body lying on the floor) started
     71 cm into the ground. Walkers now rise for the highest surface within a stride, and
     the blend weight drops where it would sink a body."""
-    from phav_generator.animation import blend
     from phav_generator.sampling import sample_recipes
     from phav_spec.theta import load_theta
     from phav_validators.failures import video_failures
