@@ -43,6 +43,7 @@ class Pose:
         return self.root_pos.shape[0]
 
     def take(self, index: np.ndarray | slice) -> Pose:
+        """The samples at ``index`` (an index array, mask or slice)."""
         return Pose(self.root_pos[index], self.root_quat[index], self.q[index])
 
 

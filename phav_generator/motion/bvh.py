@@ -125,6 +125,7 @@ class BvhClip:
 
     @property
     def n_frames(self) -> int:
+        """Number of frames (rows of ``frames``)."""
         return int(self.frames.shape[0])
 
     @property
@@ -149,7 +150,7 @@ class BvhClip:
 class _Tokens:
     """Whitespace tokens of the HIERARCHY section with their line numbers."""
 
-    def __init__(self, lines: list[str], stop: int, source: str):
+    def __init__(self, lines: list[str], stop: int, source: str) -> None:
         self.items: list[tuple[str, int]] = []
         for i in range(stop):
             line = lines[i].replace("{", " { ").replace("}", " } ")
@@ -159,9 +160,11 @@ class _Tokens:
         self.last_line = stop if stop > 0 else 1
 
     def peek(self) -> tuple[str, int] | None:
+        """The next token and its line, not consumed; None at the end."""
         return self.items[self.pos] if self.pos < len(self.items) else None
 
     def next(self, what: str) -> tuple[str, int]:
+        """Consume the next token; at the end, an error saying ``what`` was expected."""
         item = self.peek()
         if item is None:
             raise _err(self.source, f"unexpected end of HIERARCHY at line {self.last_line}: expected {what}")
@@ -169,6 +172,7 @@ class _Tokens:
         return item
 
     def rest_of_line(self, line: int) -> list[str]:
+        """Consume the tokens left on ``line`` up to a brace (a joint's name may hold spaces)."""
         out = []
         while (item := self.peek()) is not None and item[1] == line and item[0] not in ("{", "}"):
             out.append(item[0])

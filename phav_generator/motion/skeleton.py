@@ -169,6 +169,7 @@ class BodyDims:
 
     @property
     def standing_pelvis_height(self) -> float:
+        """Pelvis height (m) of this body standing upright on flat ground."""
         return float(self.offsets[0, 2])
 
 
