@@ -6,6 +6,7 @@ from its standing height, and lengths are those of a 1.75 m person (``REFERENCE_
 ``animate`` plays a motion back for a recipe: from ``start_s`` at ``speed``, wrapping to the
 start when it runs out (MotionSpec's contract) while carrying the root's displacement and
 heading over, so a walk keeps walking; then mirrored for handedness and scaled to the human.
+Playback takes the ``MotionDef`` itself; ``library.get_motion`` finds one by name.
 """
 
 from __future__ import annotations
