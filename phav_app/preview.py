@@ -15,9 +15,9 @@ import cv2
 import numpy as np
 from PIL import Image, ImageDraw
 
+from phav_generator.motion.skeleton import BONES, PARENTS
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.camera import project as project_points
-from phav_generator.skeleton import BONES, PARENTS
 from phav_spec.encoding import DEPTH_MAX_CODE, MODALITIES, decode_flow
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write

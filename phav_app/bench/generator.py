@@ -17,12 +17,12 @@ from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, chunk, write_datase
 from phav_generator.io.metadata import MetadataBuilder
 from phav_generator.io.png import encode_png
 from phav_generator.io.shards import open_shard
+from phav_generator.motion.skeleton import JOINT_BODIES
 from phav_generator.physics.simulate import simulate
 from phav_generator.render.gl import gl_context, gl_strings
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.video import scene_renderer
 from phav_generator.sampling import RecipeSampler, sample_recipes
-from phav_generator.skeleton import JOINT_BODIES
 from phav_spec.encoding import MODALITIES, VideoHashes
 from phav_spec.expectations import ExactTable, exact_expectations
 from phav_spec.metadata import frame_json

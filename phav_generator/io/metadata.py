@@ -10,12 +10,12 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points, dims_for
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.camera import project, view
 from phav_generator.render.gl import Frame
 from phav_generator.render.scene import humans_by_id, joint_radius
-from phav_generator.rotations import quat_to_matrix
-from phav_generator.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points, dims_for
 from phav_spec.encoding import instance_rgb
 from phav_spec.recipe import Recipe
 

@@ -16,11 +16,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from phav_generator.motion.rotations import relative_rotation_vectors
+from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
-from phav_generator.rotations import relative_rotation_vectors
-from phav_generator.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_spec.seeding import stream
 
 #: Above this joint speed (rad/s or m/s) a state counts as exploded.

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from phav_generator.motion.rotations import matrix_to_quat, yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, DOFS, forward_kinematics
 from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan
-from phav_generator.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.skeleton import BONE_INDEX, BONES, DOFS, forward_kinematics
 from phav_spec.scene import ENVIRONMENT_SCENES
 
 # Collision bits: world geometry, the camera, props, and one bit per physical person so a

@@ -17,11 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
-from phav_generator.rotations import quat_to_matrix
 from phav_generator.sampling import sample_recipes
-from phav_generator.skeleton import BONE_INDEX
 from phav_spec.theta import Theta, parse_theta
 
 #: Feature value standing for "nobody else near" (in body heights).

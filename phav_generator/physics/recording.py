@@ -13,12 +13,12 @@ import math
 import mujoco
 import numpy as np
 
+from phav_generator.motion.rotations import look_at, matrix_to_quat
+from phav_generator.motion.skeleton import BONES, LOWER, UPPER, forward_kinematics
 from phav_generator.physics.control import FULL_STATE, SimulationRun
 from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_generator.physics.traffic import Traffic, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
-from phav_generator.rotations import look_at, matrix_to_quat
-from phav_generator.skeleton import BONES, LOWER, UPPER, forward_kinematics
 from phav_spec.recipe import Recipe
 from phav_spec.vocab import OBJECTS
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
+from phav_generator.motion.rotations import look_at
 from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
 from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
@@ -962,8 +963,6 @@ class FrameRenderer:
 
 def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
     """Orthographic view-projection of the sun around ``focus`` (shadow map coordinates)."""
-    from phav_generator.rotations import look_at
-
     eye = focus + sun_dir * 150.0
     c2w = np.eye(4)
     c2w[:3, :3] = look_at(eye, focus)

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
+from phav_generator.motion.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.gl import EMISSIVE, GROUND, WATER, Drawable
 from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
-from phav_generator.rotations import quat_to_matrix, yaw_matrix
-from phav_generator.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
 from phav_spec.recipe import HumanSpec, Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, EnvironmentScene
 from phav_spec.vocab import PIXEL_CLASSES

@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from phav_generator.motion.skeleton import BONES, JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.scene import plan_scene
-from phav_generator.skeleton import BONES, JOINT_BODIES, forward_kinematics
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, Collider, walkable_heights

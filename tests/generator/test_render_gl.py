@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
+from phav_generator.motion.rotations import axis_angle_matrix, look_at
 from phav_generator.render.camera import project
 from phav_generator.render.gl import Drawable, FrameRenderer, gl_context
 from phav_generator.render.meshes import box, capsule
 from phav_generator.render.modalities import encode_frame
-from phav_generator.rotations import axis_angle_matrix, look_at
 from phav_spec.encoding import DEPTH_MAX_CODE, decode_flow, encode_depth
 
 W, H = 340, 256

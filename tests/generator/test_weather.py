@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from phav_generator.motion.rotations import look_at
 from phav_generator.render.gl import EXPOSURE, FrameRenderer, gl_context
 from phav_generator.render.lighting import lighting_for, sun_direction
 from phav_generator.render.scene import build_drawables, class_id
 from phav_generator.render.video import render_video
-from phav_generator.rotations import look_at
 from phav_generator.vary import parse_settings, vary
 from phav_spec.errors import PhavUserError
 from phav_spec.scene import ENVIRONMENT_SCENES

@@ -6,10 +6,11 @@ import math
 
 import numpy as np
 
-from phav_generator.animation import MotionParams, Pose, animate, get_motion, motion_params
+from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params
+from phav_generator.motion.library import get_motion
+from phav_generator.motion.skeleton import dims_for
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.scene_plan import PersonPlan
-from phav_generator.skeleton import dims_for
 from phav_spec.scene import MAX_STEP_M, walkable_heights
 from phav_spec.vocab import MUSCLES
 
@@ -35,9 +36,7 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
         scale = dims.height_m / 1.75
         speed = actor.speed_mps / max(nominal * scale, 1e-6)
         params = motion_params(speed, False, r.seeds.background, f"background/{actor.person_id}")
-        pose = animate(
-            "walk_forward_01", frame_times, params.phase * walk.length_s, params, dims, (0.0, 0.0, 0.0), heading
-        )
+        pose = animate(walk, frame_times, params.phase * walk.length_s, params, dims, (0.0, 0.0, 0.0), heading)
         # Progress along the path, clamped at the destination; the gait's own advance is
         # replaced by the straight segment so the actor arrives where the recipe says.
         travelled = np.minimum(actor.speed_mps * frame_times, dist)

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from phav_generator.motion.rotations import matrix_to_quat
 from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, PropPlan, StaticBox
-from phav_generator.rotations import matrix_to_quat
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import stream
 

@@ -7,9 +7,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
-from phav_generator.rotations import yaw_matrix
 from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS
 

@@ -6,11 +6,11 @@ import math
 
 import numpy as np
 
+from phav_generator.motion.rotations import yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX, BodyDims
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat
 from phav_generator.physics.plan.people import body_poses
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan, StaticBox
-from phav_generator.rotations import yaw_matrix
-from phav_generator.skeleton import BONE_INDEX, BodyDims
 from phav_spec.vocab import OBJECTS
 
 #: Half the thickness of the posts that hold a pull-up bar's ends (m).

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from phav_generator.motion.rotations import yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
 from phav_generator.physics.plan.people import body_poses
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
-from phav_generator.rotations import yaw_matrix
-from phav_generator.skeleton import BONE_INDEX
 from phav_spec.vocab import OBJECTS
 
 # Props held in the hand: shape, size, mass and the grip offset in the hand frame.

@@ -7,10 +7,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from phav_generator.animation import MotionParams, Pose, animate, get_motion, motion_params, smooth_targets
+from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params, smooth_targets
+from phav_generator.motion.library import get_motion
+from phav_generator.motion.skeleton import BodyDims, dims_for, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.scene_plan import PersonPlan
-from phav_generator.skeleton import BodyDims, dims_for, forward_kinematics
 from phav_spec.recipe import HumanSpec
 from phav_spec.vocab import MUSCLES
 
@@ -31,7 +32,8 @@ def animate_person(
 ) -> Pose:
     """The pins' and servos' targets: the motion placed in the world, smoothed (continuous
     velocities) so every physics timestep follows the same function of time."""
-    return smooth_targets(lambda t: animate(motion, t, start_s, params, dims, tuple(position), heading), times)
+    clip = get_motion(motion)
+    return smooth_targets(lambda t: animate(clip, t, start_s, params, dims, tuple(position), heading), times)
 
 
 def body_poses(dims: BodyDims, pose: Pose) -> tuple[np.ndarray, np.ndarray]:

@@ -7,11 +7,11 @@ import math
 
 import numpy as np
 
+from phav_generator.motion.rotations import yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat
 from phav_generator.physics.plan.people import body_poses
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan, StaticBox
-from phav_generator.rotations import yaw_matrix
-from phav_generator.skeleton import BONE_INDEX
 from phav_spec.motions import MOTIONS
 from phav_spec.vocab import OBJECTS
 

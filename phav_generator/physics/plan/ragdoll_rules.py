@@ -7,10 +7,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder, uniform
 from phav_generator.physics.plan.people import release
 from phav_generator.physics.plan.scene_plan import PersonPlan
-from phav_generator.skeleton import BONE_INDEX
 from phav_spec.seeding import stream
 
 

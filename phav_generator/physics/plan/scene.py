@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from phav_generator.motion.skeleton import forward_kinematics
 from phav_generator.physics.plan.background import background_people
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.camera import clear_camera_start
@@ -27,7 +28,6 @@ from phav_generator.physics.plan.supporting import arm_pose_for_tie, loosen_tied
 from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ, choose_substeps
 from phav_generator.physics.plan.variations import apply_variation
 from phav_generator.physics.traffic import footprint_points, plan_traffic
-from phav_generator.skeleton import forward_kinematics
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES
 from phav_spec.seeding import stream

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from phav_generator.animation import MotionParams, Pose
+from phav_generator.motion.animation import MotionParams, Pose
+from phav_generator.motion.skeleton import BodyDims
 from phav_generator.physics.traffic import Vehicle
-from phav_generator.skeleton import BodyDims
 from phav_spec.recipe import Recipe
 
 

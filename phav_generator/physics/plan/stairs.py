@@ -6,13 +6,14 @@ import math
 
 import numpy as np
 
-from phav_generator.animation import get_motion, placement
-from phav_generator.motion_library import STAIR_RISE, STAIR_RUN, STAIR_START, stair_height
+from phav_generator.motion.animation import placement
+from phav_generator.motion.gait import STAIR_RISE, STAIR_RUN, STAIR_START, stair_height
+from phav_generator.motion.library import get_motion
+from phav_generator.motion.rotations import yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, capsule_points
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.people import body_poses
 from phav_generator.physics.plan.scene_plan import PersonPlan, StaticBox
-from phav_generator.rotations import yaw_matrix
-from phav_generator.skeleton import BONE_INDEX, BONES, capsule_points
 
 #: Half width of a built flight of stairs (m).
 STAIRS_HALF_WIDTH_M = 0.6
@@ -21,18 +22,19 @@ STAIRS_HALF_WIDTH_M = 0.6
 def build_stairs(b: PlanBuilder, probe: PersonPlan, start: np.ndarray) -> np.ndarray:
     """Build the flight a climb_stairs clip walks on; return where to stand the protagonist.
 
-    A catalogue stairs motion plants its feet on its own treads (``motion_library.STAIR_*``,
+    A catalogue stairs motion plants its feet on its own treads (``motion.gait.STAIR_*``,
     in the motion frame): those treads are built in the world through the clip's
     ``Placement``, so every plant lands on a tread whatever the person's height, the
     clip's start in the flight or the handedness. Going up, the tread under the feet at
     the clip's start is the waypoint's floor; going down, the lowest tread the clip reaches
     is, and the person starts on the tread (or landing) above it: ``stand_offset_z``.
     """
-    direction = get_motion(probe.motion).stairs
+    motion = get_motion(probe.motion)
+    direction = motion.stairs
     if direction == 0:
         return _stairs_from_rise(b, probe, start)
     r = b.recipe
-    pl = placement(probe.motion, r.motion.start_s, probe.params, probe.dims, tuple(start), r.protagonist.heading_deg)
+    pl = placement(motion, r.motion.start_s, probe.params, probe.dims, tuple(start), r.protagonist.heading_deg)
     pos, rot = body_poses(probe.dims, probe.targets.take(slice(None, None, b.substeps)))
     feet = [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]]
     ends = np.concatenate(capsule_points(probe.dims, pos, rot), axis=-2)[:, feet + [f + len(BONES) for f in feet]]

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from phav_generator.animation import Pose
+from phav_generator.motion.animation import Pose
+from phav_generator.motion.skeleton import BONE_INDEX, DOF_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.people import plan_person
 from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, PersonPlan
-from phav_generator.skeleton import BONE_INDEX, DOF_INDEX
 
 #: Servo strength of an arm whose hand is tied to someone else's body.
 TIED_ARM_STRENGTH = 0.4

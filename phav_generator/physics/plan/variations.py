@@ -8,11 +8,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from phav_generator.animation import Pose, blend, gaussian_smooth, motion_params
+from phav_generator.motion.animation import Pose, blend, gaussian_smooth, motion_params
+from phav_generator.motion.skeleton import BONE_INDEX, lowest_point
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.people import animate_person, body_poses
 from phav_generator.physics.plan.scene_plan import PersonPlan
-from phav_generator.skeleton import BONE_INDEX, lowest_point
 
 
 def apply_variation(b: PlanBuilder, p: PersonPlan) -> PersonPlan:

@@ -9,10 +9,10 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.motion.skeleton import JOINT_BODIES
 from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.sampling import sample_recipes
-from phav_generator.skeleton import JOINT_BODIES
 from phav_spec.recipe import Recipe
 from phav_spec.theta import load_preset, load_theta, parse_theta
 from phav_spec.vocab import ACTIONS, ENVIRONMENTS

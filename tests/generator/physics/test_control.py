@@ -8,11 +8,10 @@ import dataclasses
 import numpy as np
 
 from phav_app.bench.generator import REFERENCE_HZ
+from phav_generator.motion.skeleton import BONE_INDEX, JOINT_BODIES
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate, simulate_plan
-from phav_generator.rotations import axis_angle_matrix, matrix_to_quat, quat_to_matrix, relative_rotation_vectors
 from phav_generator.sampling import sample_recipes
-from phav_generator.skeleton import BONE_INDEX, JOINT_BODIES
 from phav_spec.theta import load_preset
 from phav_spec.vocab import MUSCLES
 from tests.generator.physics.support import assert_healthy, recipe_for
@@ -73,15 +72,3 @@ def test_zero_strength_muscles_do_not_explode() -> None:
     tr = simulate(weak, keep_state=False)
     assert_healthy(tr)
     assert tr.people[0].strengths.max() == 0.0
-
-
-def test_relative_rotation_vectors_recover_known_turns() -> None:
-    rng = np.random.default_rng(3)
-    qa = rng.normal(size=(6, 4))
-    qa /= np.linalg.norm(qa, axis=1, keepdims=True)
-    axis = np.array([0.0, 0.6, 0.8])
-    angles = np.array([0.3, 1e-9, 3.0, -0.5, 0.0, 2.5])
-    qb = matrix_to_quat(quat_to_matrix(qa) @ axis_angle_matrix(axis, angles))
-    expected = angles[:, None] * axis
-    np.testing.assert_allclose(relative_rotation_vectors(qa, qb), expected, atol=1e-9)
-    np.testing.assert_allclose(relative_rotation_vectors(qa, -qb), expected, atol=1e-9)  # q and −q: one turn

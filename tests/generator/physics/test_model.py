@@ -5,9 +5,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from phav_generator.motion.skeleton import LOWER, UPPER, forward_kinematics
 from phav_generator.physics.model import build_model
 from phav_generator.physics.plan.scene import plan_scene
-from phav_generator.skeleton import LOWER, UPPER, forward_kinematics
 from tests.generator.physics.support import recipe_for
 
 

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 
+from phav_generator.motion.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.physics.probe import (
     LogisticProbe,
     confusion_matrix,
@@ -18,7 +19,6 @@ from phav_generator.physics.probe import (
     single_action_theta,
 )
 from phav_generator.physics.simulate import simulate
-from phav_generator.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.sampling import sample_recipes
 from phav_spec.theta import load_preset
 from phav_spec.vocab import ACTIONS

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from phav_app.bench.generator import REFERENCE_HZ, bench_physics
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.plan.scene_plan import StaticBox
 from phav_generator.physics.simulate import simulate, simulate_plan
-from phav_generator.skeleton import BONE_INDEX
 from tests.generator.physics.support import assert_healthy, possible_pairs, recipe_for
 
 PELVIS = BONE_INDEX["pelvis"]

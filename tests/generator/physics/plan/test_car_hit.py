@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics import Trajectory
 from phav_generator.physics.simulate import simulate
-from phav_generator.skeleton import BONE_INDEX
 from tests.generator.physics.support import assert_healthy, recipe_for
 
 PELVIS = BONE_INDEX["pelvis"]

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from phav_generator.motion.skeleton import forward_kinematics
 from phav_generator.physics.plan.furniture import box_meets_bones
 from phav_generator.physics.plan.scene import plan_scene
-from phav_generator.skeleton import forward_kinematics
 from tests.generator.physics.support import recipe_for
 
 

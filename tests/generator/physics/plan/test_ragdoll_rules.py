@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from phav_generator.motion.skeleton import DOF_INDEX
 from phav_generator.physics.simulate import simulate
-from phav_generator.skeleton import DOF_INDEX
 from tests.generator.physics.support import recipe_for
 
 

@@ -7,10 +7,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from phav_generator.animation import MOTION_LIBRARY, get_motion, register_motion
+from phav_generator.motion.library import get_motion, register_motion, unregister_motion
+from phav_generator.motion.skeleton import BONE_INDEX, capsule_points, forward_kinematics, lowest_point
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.sampling import sample_recipes
-from phav_generator.skeleton import BONE_INDEX, capsule_points, forward_kinematics, lowest_point
 from phav_spec.theta import load_theta
 from tests.generator.physics.support import recipe_for
 
@@ -75,7 +75,7 @@ def test_a_stairs_motion_without_its_own_flight_gets_steps_from_its_rise() -> No
         motion = base.motion.model_copy(update={"base_motion": imported.name, "start_s": 6.0})
         plan = plan_scene(base.model_copy(update={"motion": motion}))
     finally:
-        del MOTION_LIBRARY[imported.name]
+        unregister_motion(imported.name)
     steps = [box for box in plan.boxes if box.pixel_class == "stairs"]
     assert len(steps) >= 3 and plan.stand_offset_z == 0.0
     tops = [box.center[2] + box.half_size[2] - base.protagonist.position[2] for box in steps]

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.simulate import simulate
-from phav_generator.rotations import quat_to_matrix
-from phav_generator.skeleton import BONE_INDEX
 from tests.generator.physics.support import assert_healthy, recipe_for
 
 

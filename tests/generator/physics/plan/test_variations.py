@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from phav_generator.animation import blend, muscle_dof_mask
+from phav_generator.motion.animation import blend, muscle_dof_mask
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate
 from phav_spec.scene import ACTION_SCENES

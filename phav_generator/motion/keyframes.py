@@ -1,4 +1,4 @@
-"""Keyframe curves and small rotation helpers for the procedural motion library.
+"""Keyframe curves for the procedural motion library.
 
 Motions are written as keyframes (time, value) and periodic cycles; these helpers turn them
 into smooth curves. Interpolation is a monotone cubic (Fritsch–Carlson, the PCHIP scheme):
@@ -16,6 +16,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+
+#: Keys of a scalar curve: (time s, value) pairs, times increasing.
+Keys = tuple[tuple[float, float], ...]
 
 
 def ease(u: np.ndarray | float) -> np.ndarray:
@@ -107,49 +110,14 @@ def periodic_cubic(xk: Sequence[float], yk: np.ndarray, x: np.ndarray) -> np.nda
     return hermite(knots, ext_y[1:-1], m, u)
 
 
-def _axis_rot(angle: np.ndarray, i: int, j: int) -> np.ndarray:
-    a = np.asarray(angle, dtype=np.float64)
-    out = np.zeros((*a.shape, 3, 3))
-    c, s = np.cos(a), np.sin(a)
-    k = 3 - i - j
-    out[..., k, k] = 1.0
-    out[..., i, i] = c
-    out[..., j, j] = c
-    out[..., i, j] = -s
-    out[..., j, i] = s
-    return out
+def track(keys: float | Keys, t: np.ndarray) -> np.ndarray:
+    """A constant, or keys (time, value) through a monotone cubic, sampled at ``t`` (T,) → (T,)."""
+    if isinstance(keys, (int, float)):
+        return np.full(t.shape, float(keys))
+    ks = np.array(keys, dtype=np.float64)
+    return monotone_cubic(ks[:, 0], ks[:, 1], t)[:, 0]
 
 
-def rot_x(a: np.ndarray) -> np.ndarray:
-    """Rotations about +X by angles a (…) → (…, 3, 3)."""
-    return _axis_rot(a, 1, 2)
-
-
-def rot_y(a: np.ndarray) -> np.ndarray:
-    """Rotations about +Y by angles a (…) → (…, 3, 3)."""
-    return _axis_rot(a, 2, 0)
-
-
-def rot_z(a: np.ndarray) -> np.ndarray:
-    """Rotations about +Z by angles a (…) → (…, 3, 3)."""
-    return _axis_rot(a, 0, 1)
-
-
-def euler_quat(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:
-    """Quaternions (w, x, y, z) of Rz(yaw)·Ry(pitch)·Rx(roll), continuous in the angles."""
-    hy, hp, hr = 0.5 * np.asarray(yaw), 0.5 * np.asarray(pitch), 0.5 * np.asarray(roll)
-    cy, sy, cp, sp, cr, sr = np.cos(hy), np.sin(hy), np.cos(hp), np.sin(hp), np.cos(hr), np.sin(hr)
-    return np.stack(
-        [
-            cy * cp * cr + sy * sp * sr,
-            cy * cp * sr - sy * sp * cr,
-            cy * sp * cr + sy * cp * sr,
-            sy * cp * cr - cy * sp * sr,
-        ],
-        axis=-1,
-    )
-
-
-def euler_matrix(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:
-    """Rz(yaw)·Ry(pitch)·Rx(roll) (…, 3, 3)."""
-    return rot_z(yaw) @ rot_y(pitch) @ rot_x(roll)
+def fit_period(period: float, length: float) -> float:
+    """``period`` rounded so a whole number of cycles (at least one) fills ``length``: seamless loops."""
+    return length / max(1, round(length / period))

@@ -1,7 +1,7 @@
-"""The built-in motion library: every catalogue motion is registered, stays inside the
-skeleton's limits, stands on the ground, does not slide its feet, moves smoothly, loops
-where it is a cycle, does what its description says, and the actions it serves can be told
-apart from their motions alone (a nearest-centroid classifier on pose features)."""
+"""The built-in motion catalogue: every motion stays inside the skeleton's limits, stands
+on the ground, does not slide its feet, moves smoothly, loops where it is a cycle, does what
+its description says, and the actions it serves can be told apart from their motions alone
+(a nearest-centroid classifier on pose features)."""
 
 from __future__ import annotations
 
@@ -12,28 +12,18 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-import phav_generator.motion_library as ml
-from phav_generator.animation import (
-    MOTION_LIBRARY,
-    REFERENCE_HEIGHT_M,
-    MotionParams,
-    Pose,
-    animate,
-    gaussian_smooth,
-    get_motion,
-    mirror,
-    play,
-    smooth_targets,
-)
-from phav_generator.rotations import quat_to_matrix
-from phav_generator.skeleton import (
+from phav_generator.motion.animation import MotionParams, mirror, play
+from phav_generator.motion.catalogue import SPECS
+from phav_generator.motion.gait import stair_height
+from phav_generator.motion.library import get_motion
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import (
     BONE_INDEX,
     DOF_INDEX,
     LOWER,
     UPPER,
     body_dims,
     capsule_points,
-    clamp_to_limits,
     forward_kinematics,
 )
 from phav_spec.motions import MOTIONS, theta_ab
@@ -51,13 +41,13 @@ PARAMS = (
 HZ = 240
 REGEX = load_preset("phav-v1").theta_ab.regex
 THETA_AB = theta_ab(REGEX)
-STAIRS = {n: ml.SPECS[n].gait.stairs for n in NAMES if ml.SPECS[n].gait is not None and ml.SPECS[n].gait.stairs}
+STAIRS = {n: SPECS[n].gait.stairs for n in NAMES if SPECS[n].gait is not None and SPECS[n].gait.stairs}
 HANGING = {n for n in NAMES if re.search(REGEX["pull_up"], MOTIONS[n].description)}
 #: Motions matched by the hop and jump regexes: both feet leave the ground together.
 FLIGHT = {n for n in NAMES if any(re.search(REGEX[a], MOTIONS[n].description) for a in ("hop", "jump"))}
 #: Running gaits (stance shorter than half the cycle) have flight phases too.
-RUNS = {n for n in NAMES if (g := ml.SPECS[n].gait) is not None and (g.duty is None or g.duty < 0.5)}
-GAITS = {n for n in NAMES if (s := ml.SPECS[n]).gait is not None and s.gait.feet == "alt"}
+RUNS = {n for n in NAMES if (g := SPECS[n].gait) is not None and (g.duty is None or g.duty < 0.5)}
+GAITS = {n for n in NAMES if (s := SPECS[n]).gait is not None and s.gait.feet == "alt"}
 RADII = np.array([c.radius for c in REF.capsules])
 
 
@@ -89,7 +79,7 @@ def ground_clearance(name: str, k: int) -> np.ndarray:
     d = STAIRS[name]
     # each capsule's two end spheres and its middle, against the step height under them
     pts = np.stack([wa, wb, 0.5 * (wa + wb)], axis=2)  # (T, 15, 3, 3)
-    h = ml.stair_height(pts[..., 0], d)
+    h = stair_height(pts[..., 0], d)
     return (pts[..., 2] - RADII[None, :, None] - h).min(axis=(1, 2))
 
 
@@ -104,7 +94,7 @@ def foot_stance_speeds(name: str, k: int) -> list[np.ndarray]:
     for foot in ("left_foot", "right_foot"):
         b = BONE_INDEX[foot]
         ends = np.stack([wa[:, b], wb[:, b]], axis=1)  # (T, 2, 3) sphere centres
-        floor = ml.stair_height(ends[..., 0], STAIRS[name]) if name in STAIRS else 0.0
+        floor = stair_height(ends[..., 0], STAIRS[name]) if name in STAIRS else 0.0
         clearance = ends[..., 2] - RADII[b] - floor
         low_end = (clearance[:, 1] < clearance[:, 0] - 0.005).astype(int)  # the heel unless the toe is lower
         on = clearance.min(axis=1) <= 0.02
@@ -164,15 +154,6 @@ def summary(name: str, k: int) -> Summary:
     )
 
 
-def test_every_catalogue_motion_is_registered_with_its_length_and_description():
-    get_motion(NAMES[0])
-    assert set(NAMES) <= set(MOTION_LIBRARY) and len(ml.SPECS) == len(NAMES) == 128
-    for name in NAMES:
-        m = MOTION_LIBRARY[name]
-        assert m.length_s == MOTIONS[name].length_s and m.description == MOTIONS[name].description
-        assert callable(m.fn)
-
-
 @pytest.mark.parametrize("name", NAMES)
 def test_shapes_finite_and_deterministic(name):
     m = get_motion(name)
@@ -219,7 +200,7 @@ def test_moonwalk_slides_backwards():
         assert min(summary("moonwalk_artist_01", k).slide_mean) > 0.15
 
 
-@pytest.mark.parametrize("name", [n for n in NAMES if ml.SPECS[n].cyclic])
+@pytest.mark.parametrize("name", [n for n in NAMES if SPECS[n].cyclic])
 def test_cycles_loop_seamlessly(name):
     for k in range(len(PARAMS)):
         s = summary(name, k)
@@ -280,9 +261,9 @@ def test_stairs_rise_one_step_per_stride():
         _, pos, _, wa, wb = bodies(name, 0)
         feet = [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]]
         ends = np.stack([wa[:, feet], wb[:, feet]], axis=2)  # heel and toe spheres (T, 2, 2, 3)
-        above = ends[..., 2] - RADII[feet[0]] - ml.stair_height(ends[..., 0], sign)
+        above = ends[..., 2] - RADII[feet[0]] - stair_height(ends[..., 0], sign)
         assert np.mean(np.abs(above).min(axis=(1, 2)) < 0.02) > 0.8  # a foot stands on a tread
-        assert sign * ml.stair_height(pos[-1, feet, 0], sign).min() > 1.0  # metres up (down) the stairs
+        assert sign * stair_height(pos[-1, feet, 0], sign).min() > 1.0  # metres up (down) the stairs
 
 
 def test_sitting_lowers_the_pelvis_onto_a_chair_seat():
@@ -374,15 +355,15 @@ def test_more_gestures_and_postures():
     assert np.all(p[[b["left_hand"], b["right_hand"]], 2] > p[b["head"], 2]) and p[b["pelvis"], 2] < 0.6
     # golf: the torso turns through the swing
     _, pose = sampled("golf_full_swing_01", 0)
-    twist = pose.q[:, ml.DOF_INDEX["waist_twist"]]
+    twist = pose.q[:, DOF_INDEX["waist_twist"]]
     assert np.ptp(twist) > np.radians(60)
 
 
 def test_kicks_swing_a_leg_and_limps_are_asymmetric():
     for name in ("kick_soccer_ball_01", "penalty_kick_01", "martial_front_kick_01", "dribble_kick_ball_01"):
         _, pose = sampled(name, 0)
-        assert pose.q[:, ml.DOF_INDEX["right_hip_flex"]].max() > np.radians(60), name
-    knees = [ml.DOF_INDEX["left_knee_flex"], ml.DOF_INDEX["right_knee_flex"]]
+        assert pose.q[:, DOF_INDEX["right_hip_flex"]].max() > np.radians(60), name
+    knees = [DOF_INDEX["left_knee_flex"], DOF_INDEX["right_knee_flex"]]
     for name in ("walk_injured_knee_01", "walk_with_limp_01", "limp_right_leg_01"):
         _, pose = sampled(name, 0)
         swing = np.ptp(pose.q[:, knees], axis=0)
@@ -460,81 +441,3 @@ def test_actions_are_distinguishable_by_a_nearest_centroid_classifier():
     )
     print(summary)
     assert acc >= 0.6, summary
-
-
-@pytest.mark.parametrize("name", ["walk_forward_01", "run_away_panic_01", "walk_circle_01"])
-def test_a_clip_starting_part_way_into_a_motion_starts_where_the_recipe_puts_it(name):
-    """Started seconds into a travelling motion, the clip's first frame still stands on the
-    recipe's position facing its heading, and then moves as the motion does from there."""
-    motion = get_motion(name)
-    dims = REF
-    times = np.arange(31) / 30.0
-    params = MotionParams(speed=1.0, amplitude=1.0, phase=0.0, style=0.0, mirror=False)
-    start = 0.6 * motion.length_s
-    placed = animate(name, times, start, params, dims, (4.0, -2.0, 0.5), 30.0)
-    np.testing.assert_allclose(placed.root_pos[0, :2], (4.0, -2.0), atol=1e-9)
-    m = quat_to_matrix(placed.root_quat[0])
-    assert np.degrees(np.arctan2(m[1, 0], m[0, 0])) == pytest.approx(30.0, abs=1e-6)
-    # The path from there is the motion's own, rigidly moved: distances along it are kept.
-    raw = play(motion, times, start, params).root_pos * (1.75 / REFERENCE_HEIGHT_M)
-    np.testing.assert_allclose(np.linalg.norm(np.diff(placed.root_pos[:, :2], axis=0), axis=1),
-                               np.linalg.norm(np.diff(raw[:, :2], axis=0), axis=1), atol=1e-9)  # fmt: skip
-    assert np.linalg.norm(raw[0, :2]) > 0.5  # the motion had travelled: the anchoring mattered
-
-
-KNEE = DOF_INDEX["right_knee_flex"]
-
-
-def _kinked_pose(t: np.ndarray) -> Pose:
-    """A knee that stops dead at t = 0.3125 s (the corner of a running foot strike) on a root
-    walking at a constant 1.4 m/s, turning at a constant rate."""
-    q = np.zeros((len(t), 30))
-    q[:, KNEE] = 0.3 + 6.0 * np.minimum(t, 0.3125)
-    root = np.stack([1.4 * t, 0.2 * t, np.full_like(t, 0.95)], axis=1)
-    half = 0.25 * t  # yaw 0.5 rad/s
-    quat = np.stack([np.cos(half), 0 * t, 0 * t, np.sin(half)], axis=1)
-    return Pose(root, quat, clamp_to_limits(q))
-
-
-def test_smoothed_targets_are_one_function_of_time_whatever_the_timestep() -> None:
-    """The physics targets at 1/240 s are the 1/1920 s targets at the shared instants, so the
-    rates integrate the same motion; the corner becomes a continuous velocity."""
-    coarse_t = np.arange(241) / 240.0
-    fine_t = np.arange(1921) / 1920.0
-    coarse = smooth_targets(_kinked_pose, coarse_t)
-    fine = smooth_targets(_kinked_pose, fine_t)
-    np.testing.assert_allclose(coarse.q, fine.q[::8], atol=1e-12)
-    np.testing.assert_allclose(coarse.root_pos, fine.root_pos[::8], atol=1e-12)
-    velocity = np.diff(fine.q[:, KNEE]) * 1920.0
-    raw = np.diff(_kinked_pose(fine_t).q[:, KNEE]) * 1920.0
-    assert np.abs(np.diff(raw)).max() > 5.0  # the raw knee stops within one step
-    # Smoothed: the 6 rad/s stop spreads over the Gaussian, whose steepest step is
-    # 6 / (σ √(2π)) / 1920 = 0.25 rad/s (0.31 through the C1 cubics on the 240 Hz grid).
-    assert np.abs(np.diff(velocity)).max() < 0.35
-    far = np.abs(fine_t[1:] - 0.3125) > 0.03  # the 4σ kernel plus the cubics' neighbours
-    np.testing.assert_allclose(velocity[far], raw[far], atol=1e-6)  # away from the corner: unchanged
-
-
-def test_smoothing_keeps_a_steady_root_steady_up_to_the_clip_ends() -> None:
-    """Point reflection at the ends continues a constant velocity, so a walking root is not
-    slowed in its first or last frames, and its heading stays a unit quaternion."""
-    t = np.arange(31) / 30.0
-    pose = smooth_targets(_kinked_pose, t)
-    np.testing.assert_allclose(pose.root_pos, _kinked_pose(t).root_pos, atol=1e-9)
-    np.testing.assert_allclose(np.linalg.norm(pose.root_quat, axis=1), 1.0, atol=1e-12)
-    np.testing.assert_allclose(np.abs(pose.root_quat), np.abs(_kinked_pose(t).root_quat), atol=1e-5)
-    assert np.all(pose.q >= LOWER - 1e-12) and np.all(pose.q <= UPPER + 1e-12)
-
-
-def test_smoothing_a_series_shorter_than_its_kernel_keeps_its_length_and_values() -> None:
-    """Series shorter than the kernel (a one-frame clip is 9 samples of the 240 Hz grid, the
-    kernel 11) are smoothed too: the length is kept, a constant stays constant, values stay
-    within their range; from the kernel's half width (4σ) plus one sample on, a line survives."""
-    for n in (1, 2, 3, 6, 11):
-        y = np.column_stack([np.full(n, 0.4), np.linspace(0.0, 1.0, n)])
-        out = gaussian_smooth(y, 2.4)
-        assert out.shape == y.shape
-        np.testing.assert_allclose(out[:, 0], 0.4, atol=1e-12)
-        assert np.all((out[:, 1] >= -1e-12) & (out[:, 1] <= 1.0 + 1e-12))
-        if n >= 11:
-            np.testing.assert_allclose(out[:, 1], y[:, 1], atol=1e-12)  # point reflection continues a line

@@ -17,7 +17,7 @@ the door for users who own BVH files (the CMU BVH conversions or any other expor
   bone *directions* (position-based, so a T-pose or A-pose rest skeleton retargets as well as
   ours), and are solved into our hinge angles body by body, each against its parent's
   achieved frame, clipped to the joint limits.
-* ``bvh_motion`` wraps a clip as a ``MotionDef`` for ``animation.register_motion``.
+* ``bvh_motion`` wraps a clip as a ``MotionDef`` for ``library.register_motion``.
 * ``export_bvh`` writes our skeleton and a Pose as BVH (Y up) to inspect motions in Blender.
 
 Retargeting, body by body (P: joint positions, G: joint rotations carried from the BVH rest
@@ -50,9 +50,18 @@ from pathlib import Path
 
 import numpy as np
 
-from phav_generator.animation import REFERENCE_HEIGHT_M, MotionDef, MotionParams, Pose
-from phav_generator.rotations import axis_angle_matrix, matrix_to_quat, quat_to_matrix
-from phav_generator.skeleton import (
+from phav_generator.motion.animation import MotionDef, MotionParams, Pose
+from phav_generator.motion.reference import LEG, PELVIS_H
+from phav_generator.motion.rotations import (
+    axis_angle_matrix,
+    continuous_quats,
+    euler_angles,
+    matrix_to_quat,
+    quat_to_matrix,
+    slerp,
+)
+from phav_generator.motion.skeleton import (
+    BODY_DOFS,
     BONE_INDEX,
     BONES,
     DOFS,
@@ -61,7 +70,6 @@ from phav_generator.skeleton import (
     PARENTS,
     UPPER,
     BodyDims,
-    body_dims,
     local_rotations,
 )
 from phav_spec.errors import PhavUserError
@@ -117,6 +125,7 @@ class BvhClip:
 
     @property
     def n_frames(self) -> int:
+        """Number of frames (rows of ``frames``)."""
         return int(self.frames.shape[0])
 
     @property
@@ -141,7 +150,7 @@ class BvhClip:
 class _Tokens:
     """Whitespace tokens of the HIERARCHY section with their line numbers."""
 
-    def __init__(self, lines: list[str], stop: int, source: str):
+    def __init__(self, lines: list[str], stop: int, source: str) -> None:
         self.items: list[tuple[str, int]] = []
         for i in range(stop):
             line = lines[i].replace("{", " { ").replace("}", " } ")
@@ -151,9 +160,11 @@ class _Tokens:
         self.last_line = stop if stop > 0 else 1
 
     def peek(self) -> tuple[str, int] | None:
+        """The next token and its line, not consumed; None at the end."""
         return self.items[self.pos] if self.pos < len(self.items) else None
 
     def next(self, what: str) -> tuple[str, int]:
+        """Consume the next token; at the end, an error saying ``what`` was expected."""
         item = self.peek()
         if item is None:
             raise _err(self.source, f"unexpected end of HIERARCHY at line {self.last_line}: expected {what}")
@@ -161,6 +172,7 @@ class _Tokens:
         return item
 
     def rest_of_line(self, line: int) -> list[str]:
+        """Consume the tokens left on ``line`` up to a brace (a joint's name may hold spaces)."""
         out = []
         while (item := self.peek()) is not None and item[1] == line and item[0] not in ("{", "}"):
             out.append(item[0])
@@ -182,126 +194,146 @@ def _number(tok: str, line: int, what: str, source: str) -> float:
     return value
 
 
-def parse_bvh(text: str, *, source: str) -> BvhClip:
-    """Parse BVH text into a ``BvhClip``; any malformed input is a one-line PhavUserError.
+class _Hierarchy:
+    """The joint tree of the HIERARCHY section, read by recursive descent over its tokens.
 
-    ``source`` names the file in error messages. Channel names are matched case-insensitively.
+    Joints are numbered in file order (parents before children); End Sites are joints
+    without channels named "<parent>/End Site".
     """
-    lines = text.removeprefix("\ufeff").splitlines()
-    motion_at = next((i for i, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
-    if motion_at is None:  # tolerate other spellings of the keyword only where the exact one is absent
-        motion_at = next((i for i, line in enumerate(lines) if line.upper().split()[:1] == ["MOTION"]), None)
-    stop = len(lines) if motion_at is None else motion_at
-    toks = _Tokens(lines, stop, source)
 
-    first = toks.peek()
-    if first is None:
-        raise _err(source, "empty file: expected HIERARCHY")
-    if first[0].upper() != "HIERARCHY":
-        raise _err(source, f"line {first[1]}: expected HIERARCHY, got {first[0]!r}")
-    toks.next("HIERARCHY")
+    def __init__(self, toks: _Tokens, source: str) -> None:
+        self.toks = toks
+        self.source = source
+        self.names: list[str] = []
+        self.parents: list[int] = []
+        self.offsets: list[tuple[float, float, float]] = []
+        self.channels: list[tuple[str, ...]] = []
+        self.is_end: list[bool] = []
 
-    names: list[str] = []
-    parents: list[int] = []
-    offsets: list[tuple[float, float, float]] = []
-    channels: list[tuple[str, ...]] = []
-    is_end: list[bool] = []
+    def parse(self) -> None:
+        """Read ``HIERARCHY`` and every ROOT tree after it."""
+        toks, source = self.toks, self.source
+        first = toks.peek()
+        if first is None:
+            raise _err(source, "empty file: expected HIERARCHY")
+        if first[0].upper() != "HIERARCHY":
+            raise _err(source, f"line {first[1]}: expected HIERARCHY, got {first[0]!r}")
+        toks.next("HIERARCHY")
+        while toks.peek() is not None:
+            tok, line = toks.next("ROOT")
+            if tok.upper() != "ROOT":
+                raise _err(source, f"line {line}: expected ROOT, got {tok!r}")
+            parts = toks.rest_of_line(line)
+            if not parts:
+                raise _err(source, f"line {line}: ROOT without a name")
+            self._joint(" ".join(parts), -1, False, line)
+        if not self.names:
+            raise _err(source, "HIERARCHY has no ROOT joint")
 
-    def joint_body(index: int, name: str) -> None:
+    def _joint(self, name: str, parent: int, end: bool, line: int) -> None:
+        """Add a joint (or End Site) and read its body."""
+        if not end and name in self.names:
+            raise _err(self.source, f"line {line}: duplicate joint name {name!r}")
+        self.names.append(name)
+        self.parents.append(parent)
+        self.offsets.append((0.0, 0.0, 0.0))
+        self.channels.append(())
+        self.is_end.append(end)
+        self._body(len(self.names) - 1, name)
+
+    def _body(self, index: int, name: str) -> None:
         """Parse ``{ OFFSET … CHANNELS … children }`` of the joint at ``index``."""
-        tok, line = toks.next("'{'")
+        source = self.source
+        tok, line = self.toks.next("'{'")
         if tok != "{":
             raise _err(source, f"line {line}: expected '{{' after {name!r}, got {tok!r}")
         has_offset = False
         while True:
-            tok, line = toks.next(f"'}}' closing {name!r}")
+            tok, line = self.toks.next(f"'}}' closing {name!r}")
             key = tok.upper()
             if tok == "}":
                 break
             if key == "OFFSET":
-                vals = [toks.next("an OFFSET value") for _ in range(3)]
-                offsets[index] = tuple(_number(v, ln, "OFFSET value", source) for v, ln in vals)  # type: ignore[assignment]
+                vals = [self.toks.next("an OFFSET value") for _ in range(3)]
+                self.offsets[index] = tuple(_number(v, ln, "OFFSET value", source) for v, ln in vals)  # type: ignore[assignment]
                 has_offset = True
             elif key == "CHANNELS":
-                if is_end[index]:
+                if self.is_end[index]:
                     raise _err(source, f"line {line}: an End Site has no CHANNELS")
-                count_tok, count_line = toks.next("a channel count")
-                try:
-                    count = int(count_tok)
-                except ValueError:
-                    raise _err(
-                        source, f"line {count_line}: CHANNELS count must be an integer, got {count_tok!r}"
-                    ) from None
-                if not 0 <= count <= 6:
-                    raise _err(source, f"line {count_line}: CHANNELS count must be 0 to 6, got {count}")
-                found: list[str] = []
-                for _ in range(count):
-                    item = toks.peek()
-                    if item is None or item[0].lower() in _KEYWORDS:
-                        raise _err(
-                            source, f"line {count_line}: CHANNELS declares {count} channels but names only {len(found)}"
-                        )
-                    ch_tok, ch_line = toks.next("a channel name")
-                    canonical = _CHANNEL_LOWER.get(ch_tok.lower())
-                    if canonical is None:
-                        raise _err(
-                            source,
-                            f"line {ch_line}: unknown channel name {ch_tok!r} "
-                            "(expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)",
-                        )
-                    if canonical in found:
-                        raise _err(source, f"line {ch_line}: channel {canonical} repeated for joint {name!r}")
-                    found.append(canonical)
-                extra = toks.peek()
-                if extra is not None and extra[1] == count_line and extra[0].lower() not in _KEYWORDS:
-                    raise _err(source, f"line {count_line}: CHANNELS declares {count} channels but names more")
-                channels[index] = tuple(found)
+                self.channels[index] = self._channel_list(name)
             elif key in ("JOINT", "END"):
-                if is_end[index]:
-                    raise _err(source, f"line {line}: an End Site cannot have children")
-                if key == "END":
-                    site, site_line = toks.next("'Site'")
-                    if site.upper() != "SITE":
-                        raise _err(source, f"line {site_line}: expected 'End Site', got 'End {site}'")
-                    child_name, child_end = f"{name}/End Site", True
-                else:
-                    parts = toks.rest_of_line(line)
-                    if not parts:
-                        raise _err(source, f"line {line}: JOINT without a name")
-                    child_name, child_end = " ".join(parts), False
-                new_joint(child_name, index, child_end, line)
+                self._child(index, name, key, line)
             else:
                 raise _err(source, f"line {line}: unexpected {tok!r} in joint {name!r}")
         if not has_offset:
             raise _err(source, f"joint {name!r} has no OFFSET")
 
-    def new_joint(name: str, parent: int, end: bool, line: int) -> None:
-        if not end and name in names:
-            raise _err(source, f"line {line}: duplicate joint name {name!r}")
-        names.append(name)
-        parents.append(parent)
-        offsets.append((0.0, 0.0, 0.0))
-        channels.append(())
-        is_end.append(end)
-        joint_body(len(names) - 1, name)
+    def _channel_count(self) -> tuple[int, int]:
+        """The count after CHANNELS (0 to 6) and its line."""
+        count_tok, count_line = self.toks.next("a channel count")
+        try:
+            count = int(count_tok)
+        except ValueError:
+            raise _err(
+                self.source, f"line {count_line}: CHANNELS count must be an integer, got {count_tok!r}"
+            ) from None
+        if not 0 <= count <= 6:
+            raise _err(self.source, f"line {count_line}: CHANNELS count must be 0 to 6, got {count}")
+        return count, count_line
 
-    while toks.peek() is not None:
-        tok, line = toks.next("ROOT")
-        if tok.upper() != "ROOT":
-            raise _err(source, f"line {line}: expected ROOT, got {tok!r}")
-        parts = toks.rest_of_line(line)
-        if not parts:
-            raise _err(source, f"line {line}: ROOT without a name")
-        new_joint(" ".join(parts), -1, False, line)
-    if not names:
-        raise _err(source, "HIERARCHY has no ROOT joint")
-    if motion_at is None:
-        raise _err(source, "no MOTION section after the HIERARCHY")
+    def _channel_list(self, name: str) -> tuple[str, ...]:
+        """The canonical channel names after CHANNELS, exactly as many as its count says."""
+        toks, source = self.toks, self.source
+        count, count_line = self._channel_count()
+        found: list[str] = []
+        for _ in range(count):
+            item = toks.peek()
+            if item is None or item[0].lower() in _KEYWORDS:
+                raise _err(source, f"line {count_line}: CHANNELS declares {count} channels but names only {len(found)}")
+            ch_tok, ch_line = toks.next("a channel name")
+            canonical = _CHANNEL_LOWER.get(ch_tok.lower())
+            if canonical is None:
+                raise _err(
+                    source,
+                    f"line {ch_line}: unknown channel name {ch_tok!r} "
+                    "(expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)",
+                )
+            if canonical in found:
+                raise _err(source, f"line {ch_line}: channel {canonical} repeated for joint {name!r}")
+            found.append(canonical)
+        extra = toks.peek()
+        if extra is not None and extra[1] == count_line and extra[0].lower() not in _KEYWORDS:
+            raise _err(source, f"line {count_line}: CHANNELS declares {count} channels but names more")
+        return tuple(found)
 
-    n_channels = sum(len(c) for c in channels)
-    if n_channels == 0:
-        raise _err(source, "the HIERARCHY declares no CHANNELS")
-    frames_count, frame_time, data_start = _motion_header(lines, motion_at, source)
+    def _child(self, index: int, name: str, key: str, line: int) -> None:
+        """A ``JOINT name`` or ``End Site`` inside the joint at ``index``."""
+        source = self.source
+        if self.is_end[index]:
+            raise _err(source, f"line {line}: an End Site cannot have children")
+        if key == "END":
+            site, site_line = self.toks.next("'Site'")
+            if site.upper() != "SITE":
+                raise _err(source, f"line {site_line}: expected 'End Site', got 'End {site}'")
+            child_name, child_end = f"{name}/End Site", True
+        else:
+            parts = self.toks.rest_of_line(line)
+            if not parts:
+                raise _err(source, f"line {line}: JOINT without a name")
+            child_name, child_end = " ".join(parts), False
+        self._joint(child_name, index, child_end, line)
+
+
+def _motion_line(lines: list[str]) -> int | None:
+    """Index of the MOTION keyword's line, or None."""
+    motion_at = next((i for i, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
+    if motion_at is None:  # tolerate other spellings of the keyword only where the exact one is absent
+        motion_at = next((i for i, line in enumerate(lines) if line.upper().split()[:1] == ["MOTION"]), None)
+    return motion_at
+
+
+def _frame_rows(lines: list[str], data_start: int, n_channels: int, frames_count: int, source: str) -> np.ndarray:
+    """The frame lines after the MOTION header as an (F, C) array, each checked."""
     rows: list[np.ndarray] = []
     for i in range(data_start, len(lines)):
         parts = lines[i].split()
@@ -322,15 +354,34 @@ def parse_bvh(text: str, *, source: str) -> BvhClip:
         rows.append(row)
     if len(rows) != frames_count:
         raise _err(source, f"'Frames: {frames_count}' but the file has {len(rows)} frame lines")
+    return np.vstack(rows)
+
+
+def parse_bvh(text: str, *, source: str) -> BvhClip:
+    """Parse BVH text into a ``BvhClip``; any malformed input is a one-line PhavUserError.
+
+    ``source`` names the file in error messages. Channel names are matched case-insensitively.
+    """
+    lines = text.removeprefix("\ufeff").splitlines()
+    motion_at = _motion_line(lines)
+    stop = len(lines) if motion_at is None else motion_at
+    tree = _Hierarchy(_Tokens(lines, stop, source), source)
+    tree.parse()
+    if motion_at is None:
+        raise _err(source, "no MOTION section after the HIERARCHY")
+    n_channels = sum(len(c) for c in tree.channels)
+    if n_channels == 0:
+        raise _err(source, "the HIERARCHY declares no CHANNELS")
+    frames_count, frame_time, data_start = _motion_header(lines, motion_at, source)
     return BvhClip(
         source=source,
-        names=tuple(names),
-        parents=tuple(parents),
-        offsets=np.array(offsets, dtype=np.float64),
-        channels=tuple(channels),
-        is_end=tuple(is_end),
+        names=tuple(tree.names),
+        parents=tuple(tree.parents),
+        offsets=np.array(tree.offsets, dtype=np.float64),
+        channels=tuple(tree.channels),
+        is_end=tuple(tree.is_end),
         frame_time=frame_time,
-        frames=np.vstack(rows),
+        frames=_frame_rows(lines, data_start, n_channels, frames_count, source),
     )
 
 
@@ -570,33 +621,11 @@ def _swing(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return axis_angle_matrix(axis / sin, np.array(math.atan2(sin, cos)))
 
 
-def _euler(r: np.ndarray, order: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Angles (a, b, c) with ``r = R_i(a) · R_j(b) · R_k(c)``, (i, j, k) = ``order``.
-
-    The principal solution, |b| ≤ π/2; at gimbal lock c = 0. The axes are permuted onto
-    X, Y, Z (with the last flipped for an odd order, keeping the permutation proper).
-    """
-    i, j, k = order
-    eps = 1.0 if (j - i) % 3 == 1 else -1.0
-    p = np.zeros((3, 3))
-    p[0, i], p[1, j], p[2, k] = 1.0, 1.0, eps
-    m = p @ r @ p.T  # = Rx(a) · Ry(b) · Rz(eps · c)
-    cb = np.hypot(m[..., 0, 0], m[..., 0, 1])
-    b = np.arctan2(m[..., 0, 2], cb)
-    ok = cb > 1e-9
-    a = np.where(ok, np.arctan2(-m[..., 1, 2], m[..., 2, 2]), np.arctan2(m[..., 2, 1], m[..., 1, 1]))
-    c = np.where(ok, np.arctan2(-m[..., 0, 1], m[..., 0, 0]), 0.0)
-    return a, b, eps * c
-
-
-# Our hinge sequences are all prefixes of Y, X, Z (flex, lateral/abduction, twist): the axis
-# signs of each body's DOFs, and the DOF indices.
-_BODY_DOFS: tuple[tuple[int, ...], ...] = tuple(tuple(i for i, d in enumerate(DOFS) if d.body == b.name) for b in BONES)
-
-
 def _hinge_signs() -> tuple[tuple[float, ...], ...]:
+    """The axis signs of each body's DOFs: our hinge sequences are all prefixes of Y, X, Z
+    (flex, lateral/abduction, twist)."""
     out = []
-    for dofs in _BODY_DOFS:
+    for dofs in BODY_DOFS:
         signs = []
         for n, i in enumerate(dofs):
             axis = np.array(DOFS[i].axis)
@@ -614,7 +643,7 @@ _BODY_SIGNS = _hinge_signs()
 def _hinge_rotation(angles: np.ndarray, body: int) -> np.ndarray:
     """The local rotation (T, 3, 3) of ``body`` at its hinge angles (T, n), as the skeleton composes it."""
     out = np.broadcast_to(_UNIT, (angles.shape[0], 3, 3)).copy()
-    for m, i in enumerate(_BODY_DOFS[body]):
+    for m, i in enumerate(BODY_DOFS[body]):
         out = out @ axis_angle_matrix(np.array(DOFS[i].axis), angles[:, m])
     return out
 
@@ -640,11 +669,11 @@ def _solve_hinges(local: np.ndarray, body: int) -> tuple[np.ndarray, np.ndarray]
     body's Z axis, the hand's length and the sole's normal); one: the bend of the Z axis in
     the X-Z plane. Of the two Euler solutions, the one nearer the limits wins; then clipped.
     """
-    dofs = _BODY_DOFS[body]
+    dofs = BODY_DOFS[body]
     signs = np.array(_BODY_SIGNS[body])
     lo, hi = LOWER[list(dofs)], UPPER[list(dofs)]
     n = len(dofs)
-    y, x, z = _euler(local, (1, 0, 2))
+    y, x, z = euler_angles(local, (1, 0, 2))
     candidates = [np.stack([y, x, z], axis=-1)[..., :n]]
     if n > 1:
         candidates.append(np.stack([y + math.pi, math.pi - x, z + math.pi], axis=-1)[..., :n])
@@ -822,6 +851,37 @@ def _body_targets(
     return w, consts
 
 
+def _scale(clip: BvhClip, rest: np.ndarray, idx: dict[str, int]) -> float:
+    """Metres of the reference person per BVH unit: the ratio of leg lengths (hip, knee, ankle)."""
+    legs = []
+    for side in ("left", "right"):
+        hip, knee, ankle = (rest[idx[f"{side}_{b}"]] for b in ("upper_leg", "lower_leg", "foot"))
+        legs.append(np.linalg.norm(knee - hip) + np.linalg.norm(ankle - knee))
+    leg = float(np.mean(legs))
+    if not leg > 1e-9:
+        raise _err(clip.source, "the legs have zero length in the rest pose", "mapping")
+    return LEG / leg
+
+
+def _joint_angles(targets: np.ndarray) -> tuple[np.ndarray, int]:
+    """Our joint angles (T, 30) reproducing target body orientations (T, 15, 3, 3), each body
+    solved against its parent's achieved frame; and how many (frame, body) samples the
+    limits moved by more than 1°."""
+    n = targets.shape[0]
+    q = np.zeros((n, N_DOFS))
+    achieved = np.empty_like(targets)
+    achieved[:, 0] = targets[:, 0]
+    clipped = 0
+    for b in range(1, len(BONES)):
+        p = PARENTS[b]
+        local = np.swapaxes(achieved[:, p], -1, -2) @ targets[:, b]
+        dofs = list(BODY_DOFS[b])
+        q[:, dofs], excess = _solve_hinges(local, b)
+        achieved[:, b] = achieved[:, p] @ _hinge_rotation(q[:, dofs], b)
+        clipped += int(np.count_nonzero(excess > math.radians(1.0)))
+    return q, clipped
+
+
 def retarget(
     clip: BvhClip,
     *,
@@ -843,17 +903,7 @@ def retarget(
     lh, rh = idx["left_upper_leg"], idx["right_upper_leg"]
     a_rest = _facing(up_m, rest[lh] - rest[rh], clip.source, "in the rest pose")
     a_now = _facing(up_m, pos[0, lh] - pos[0, rh], clip.source, "at frame 0")
-
-    legs = []
-    for side in ("left", "right"):
-        hip, knee, ankle = (rest[idx[f"{side}_{b}"]] for b in ("upper_leg", "lower_leg", "foot"))
-        legs.append(np.linalg.norm(knee - hip) + np.linalg.norm(ankle - knee))
-    leg = float(np.mean(legs))
-    if not leg > 1e-9:
-        raise _err(clip.source, "the legs have zero length in the rest pose", "mapping")
-    ref = body_dims(REFERENCE_HEIGHT_M, 70.0, 0.40, 0.30, 1.0)
-    ref_leg = float(-ref.offsets[BONE_INDEX["left_lower_leg"], 2] - ref.offsets[BONE_INDEX["left_foot"], 2])
-    scale = ref_leg / leg
+    scale = _scale(clip, rest, idx)
 
     world = scale * np.einsum("ij,tkj->tki", a_now, pos)
     up_k = "xyz".index(str(up).lower())
@@ -866,25 +916,14 @@ def retarget(
 
     _, consts = _body_targets(rest_world[None], np.broadcast_to(_UNIT, (1, len(clip.names), 3, 3)), lm, None)
     targets, _ = _body_targets(world, carried, lm, consts)
+    q, clipped = _joint_angles(targets)
 
-    n = clip.n_frames
-    q = np.zeros((n, N_DOFS))
-    achieved = np.empty_like(targets)
-    achieved[:, 0] = targets[:, 0]
-    clipped = 0
-    for b in range(1, len(BONES)):
-        p = PARENTS[b]
-        local = np.swapaxes(achieved[:, p], -1, -2) @ targets[:, b]
-        dofs = list(_BODY_DOFS[b])
-        q[:, dofs], excess = _solve_hinges(local, b)
-        achieved[:, b] = achieved[:, p] @ _hinge_rotation(q[:, dofs], b)
-        clipped += int(np.count_nonzero(excess > math.radians(1.0)))
     hip_c = 0.5 * (world[:, lh] + world[:, rh])
     root_pos = hip_c.copy()
     root_pos[:, :2] -= hip_c[0, :2]
-    root_pos[:, 2] -= ref.standing_pelvis_height
-    root_quat = _continuous(matrix_to_quat(targets[:, 0]))
-    pose = Pose(root_pos, root_quat, q)
+    root_pos[:, 2] -= PELVIS_H
+    pose = Pose(root_pos, continuous_quats(matrix_to_quat(targets[:, 0])), q)
+    n = clip.n_frames
     times = np.arange(n) * clip.frame_time
     times_30 = np.arange(0.0, clip.length_s - 1e-9, 1.0 / RESAMPLE_FPS)  # the motion's [0, length)
     return RetargetedClip(
@@ -897,30 +936,6 @@ def retarget(
         scale=scale,
         clipped_fraction=clipped / float(n * (len(BONES) - 1)),
     )
-
-
-def _continuous(quat: np.ndarray) -> np.ndarray:
-    """Quaternions with signs flipped so consecutive ones lie in the same hemisphere."""
-    out = quat.copy()
-    for t in range(1, len(out)):
-        if np.dot(out[t], out[t - 1]) < 0:
-            out[t] = -out[t]
-    return out
-
-
-def _slerp(q0: np.ndarray, q1: np.ndarray, u: np.ndarray) -> np.ndarray:
-    dot = np.sum(q0 * q1, axis=-1, keepdims=True)
-    q1 = np.where(dot < 0, -q1, q1)
-    dot = np.abs(dot)
-    theta = np.arccos(np.clip(dot, -1.0, 1.0))
-    sin = np.sin(theta)
-    small = sin < 1e-6
-    safe = np.where(small, 1.0, sin)
-    w0 = np.where(small, 1.0 - u, np.sin((1.0 - u) * theta) / safe)
-    w1 = np.where(small, u, np.sin(u * theta) / safe)
-    out = w0 * q0 + w1 * q1
-    out /= np.linalg.norm(out, axis=-1, keepdims=True)
-    return np.where(out[..., :1] < 0, -out, out)
 
 
 def sample_pose(pose: Pose, times: np.ndarray, tau: np.ndarray) -> Pose:
@@ -936,7 +951,7 @@ def sample_pose(pose: Pose, times: np.ndarray, tau: np.ndarray) -> Pose:
     i = np.clip(np.searchsorted(times, tau, side="right") - 1, 0, len(times) - 2)
     u = ((tau - times[i]) / (times[i + 1] - times[i]))[:, None]
     lerp = lambda x: (1.0 - u) * x[i] + u * x[i + 1]  # noqa: E731
-    return Pose(lerp(pose.root_pos), _slerp(pose.root_quat[i], pose.root_quat[i + 1], u), lerp(pose.q))
+    return Pose(lerp(pose.root_pos), slerp(pose.root_quat[i], pose.root_quat[i + 1], u), lerp(pose.q))
 
 
 # --------------------------------------------------------------------------------------
@@ -1009,7 +1024,7 @@ def export_bvh(pose: Pose, dims: BodyDims, fps: float) -> str:
     local = local_rotations(pose.q)
     local[:, 0] = quat_to_matrix(pose.root_quat) @ local[:, 0]
     local_bvh = _TO_BVH @ local @ _TO_BVH.T
-    z, y, x = _euler(local_bvh, (2, 1, 0))
+    z, y, x = euler_angles(local_bvh, (2, 1, 0))
     angles = np.rad2deg(np.stack([z, y, x], axis=-1))  # (T, 15, 3)
     root = pose.root_pos @ _TO_BVH.T
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from phav_generator.rotations import axis_angle_matrix, quat_to_matrix
+from phav_generator.motion.rotations import axis_angle_matrix, quat_to_matrix
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.vocab import MUSCLES
 
@@ -169,6 +169,7 @@ class BodyDims:
 
     @property
     def standing_pelvis_height(self) -> float:
+        """Pelvis height (m) of this body standing upright on flat ground."""
         return float(self.offsets[0, 2])
 
 
@@ -242,7 +243,8 @@ def dims_for(human: object) -> BodyDims:
 
 
 _AXES = tuple(np.array(d.axis) for d in DOFS)
-_BODY_DOFS: tuple[tuple[int, ...], ...] = tuple(tuple(i for i, d in enumerate(DOFS) if d.body == b.name) for b in BONES)
+#: The DOF indices of each body, in composition order (a prefix of flex, lateral/abd, twist).
+BODY_DOFS: tuple[tuple[int, ...], ...] = tuple(tuple(i for i, d in enumerate(DOFS) if d.body == b.name) for b in BONES)
 
 
 def local_rotations(q: np.ndarray) -> np.ndarray:
@@ -250,7 +252,7 @@ def local_rotations(q: np.ndarray) -> np.ndarray:
     q = np.asarray(q, dtype=np.float64)
     n = q.shape[0]
     out = np.broadcast_to(np.eye(3), (n, len(BONES), 3, 3)).copy()
-    for b, dofs in enumerate(_BODY_DOFS):
+    for b, dofs in enumerate(BODY_DOFS):
         for i in dofs:
             out[:, b] = out[:, b] @ axis_angle_matrix(_AXES[i], q[:, i])
     return out

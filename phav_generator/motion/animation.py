@@ -6,6 +6,7 @@ from its standing height, and lengths are those of a 1.75 m person (``REFERENCE_
 ``animate`` plays a motion back for a recipe: from ``start_s`` at ``speed``, wrapping to the
 start when it runs out (MotionSpec's contract) while carrying the root's displacement and
 heading over, so a walk keeps walking; then mirrored for handedness and scaled to the human.
+Playback takes the ``MotionDef`` itself; ``library.get_motion`` finds one by name.
 """
 
 from __future__ import annotations
@@ -16,13 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from phav_generator.keyframes import hermite
-from phav_generator.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
-from phav_generator.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
+from phav_generator.motion.keyframes import hermite
+from phav_generator.motion.reference import REFERENCE_HEIGHT_M
+from phav_generator.motion.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
+from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
 from phav_spec.seeding import stream
-
-#: Height of the person the motion library is written for; motions scale with height.
-REFERENCE_HEIGHT_M = 1.75
 
 
 @dataclass(frozen=True)
@@ -45,6 +44,7 @@ class Pose:
         return self.root_pos.shape[0]
 
     def take(self, index: np.ndarray | slice) -> Pose:
+        """The samples at ``index`` (an index array, mask or slice)."""
         return Pose(self.root_pos[index], self.root_quat[index], self.q[index])
 
 
@@ -81,34 +81,9 @@ class MotionDef:
     #: Friction of the feet on the floor: 1 for shoes; a gait whose stance foot slides
     #: (the moonwalk) needs smooth soles, or friction holds the foot back.
     sole_friction: float = 1.0
-    #: A stairs motion's own flight (``motion_library.STAIR_*`` geometry): +1 up, −1 down,
+    #: A stairs motion's own flight (``gait.STAIR_*`` geometry): +1 up, −1 down,
     #: 0 for none. The physics builds exactly those treads under the feet.
     stairs: int = 0
-
-
-#: Every playable motion, by name; filled by ``phav_generator.motion_library`` and by
-#: users' imported clips (``register_motion``).
-MOTION_LIBRARY: dict[str, MotionDef] = {}
-
-
-def register_motion(motion: MotionDef, *, replace: bool = False) -> MotionDef:
-    """Add a motion to the library; refuses to overwrite a name unless ``replace``."""
-    if motion.name in MOTION_LIBRARY and not replace:
-        raise ValueError(f"motion {motion.name!r} is already registered")
-    if not (np.isfinite(motion.length_s) and motion.length_s > 0):
-        raise ValueError(f"motion {motion.name!r}: length must be finite and > 0")
-    MOTION_LIBRARY[motion.name] = motion
-    return motion
-
-
-def get_motion(name: str) -> MotionDef:
-    """The library entry for ``name`` (loads the built-in library on first use)."""
-    if not MOTION_LIBRARY or name not in MOTION_LIBRARY:
-        import phav_generator.motion_library  # noqa: F401  (registers the built-in motions)
-    try:
-        return MOTION_LIBRARY[name]
-    except KeyError:
-        raise KeyError(f"unknown motion {name!r}") from None
 
 
 def _yaw_of(quat: np.ndarray) -> np.ndarray:
@@ -224,7 +199,7 @@ class Placement:
 
 
 def placement(
-    name: str,
+    motion: MotionDef,
     start_s: float,
     params: MotionParams,
     dims: BodyDims,
@@ -232,7 +207,7 @@ def placement(
     heading_deg: float,
 ) -> Placement:
     """The motion-frame → world map of the clip ``animate`` makes with the same arguments."""
-    pose = play(get_motion(name), np.zeros(1), start_s, params)
+    pose = play(motion, np.zeros(1), start_s, params)
     if params.mirror:
         pose = mirror(pose)
     origin = pose.root_pos[0] * np.array([1.0, 1.0, 0.0])
@@ -251,7 +226,7 @@ def motion_params(speed: float, mirror_motion: bool, seed: int, role: str = "pro
 
 
 def animate(
-    name: str,
+    motion: MotionDef,
     clip_times: np.ndarray,
     start_s: float,
     params: MotionParams,
@@ -263,7 +238,6 @@ def animate(
 
     The clip's first frame stands on ``position`` facing ``heading_deg`` (``anchor``),
     wherever in the motion ``start_s`` falls."""
-    motion = get_motion(name)
     pose = play(motion, clip_times, start_s, params)
     if params.mirror:
         pose = mirror(pose)

@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from phav_generator import bvh
-from phav_generator.animation import MOTION_LIBRARY, MotionParams, Pose, place, play, register_motion
-from phav_generator.rotations import euler_zyx_matrix, matrix_to_quat, quat_to_matrix
-from phav_generator.skeleton import (
+from phav_generator.motion import bvh
+from phav_generator.motion.animation import MotionParams, Pose, place, play
+from phav_generator.motion.library import get_motion, register_motion, unregister_motion, user_motions
+from phav_generator.motion.rotations import euler_zyx_matrix, matrix_to_quat, quat_to_matrix
+from phav_generator.motion.skeleton import (
     BONE_INDEX,
     DOF_INDEX,
     DOFS,
@@ -460,9 +461,9 @@ def test_bvh_motion_registers_and_plays(tmp_path):
     path.write_text(_cmu_take(ARM, KNEE), encoding="utf-8")
     motion = bvh.bvh_motion(path, name="bvh_raise_arm_test", description="raise right arm forward, bend left knee")
     assert motion.length_s == pytest.approx(5 * 0.0083333)
+    register_motion(motion)
     try:
-        register_motion(motion)
-        assert MOTION_LIBRARY["bvh_raise_arm_test"] is motion
+        assert get_motion("bvh_raise_arm_test") is motion
         times = np.linspace(0.0, 0.1, 13)  # past the end: playback wraps with root carry-over
         pose = play(motion, times, 0.0, MotionParams())
         assert len(pose) == 13 and np.all(np.isfinite(pose.q)) and np.all(np.isfinite(pose.root_quat))
@@ -480,7 +481,8 @@ def test_bvh_motion_registers_and_plays(tmp_path):
         mean = bvh.retarget(bvh.load_bvh(path)).pose.q.mean(axis=0)
         np.testing.assert_allclose(half - mean, np.clip(0.5 * (full - mean) + mean, LOWER, UPPER) - mean, atol=1e-9)
     finally:
-        MOTION_LIBRARY.pop("bvh_raise_arm_test", None)
+        unregister_motion("bvh_raise_arm_test")
+    assert "bvh_raise_arm_test" not in user_motions()
 
 
 def test_bvh_motion_validates_name_and_description():
