@@ -164,7 +164,7 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
     from phav_generator.io.png import encode_png
     from phav_generator.io.shards import open_shard
     from phav_generator.physics.simulate import simulate
-    from phav_generator.render.gl import gl_context
+    from phav_generator.render.context import gl_context
     from phav_generator.render.modalities import encode_frame
     from phav_generator.render.video import scene_renderer
     from phav_spec.encoding import MODALITIES, VideoHashes
@@ -294,7 +294,7 @@ def machine_lines(gl: str = "llvmpipe") -> list[str]:
     import platform
 
     from phav_generator.dataset import renderer_fingerprint
-    from phav_generator.render.gl import gl_context, gl_strings
+    from phav_generator.render.context import gl_context, gl_strings
 
     ctx = gl_context(gl)
     try:

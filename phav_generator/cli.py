@@ -267,7 +267,7 @@ def sheets(
 ) -> None:
     """Contact sheets, one per environment, weather, day phase and action: RGB at three frames
     above the middle frame's labels, depth and flow, with an index page."""
-    from phav_generator.render.gl import gl_context
+    from phav_generator.render.context import gl_context
     from phav_generator.sheets import render_sheet, sheet_specs, write_index
 
     chosen = tuple(k.strip() for k in kinds.split(",") if k.strip())
@@ -565,7 +565,7 @@ def bench(
         choices = ", ".join(BENCH_SECTIONS)
         raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
     if gl != "llvmpipe":
-        from phav_generator.render.gl import require_gl
+        from phav_generator.render.context import require_gl
 
         require_gl(gl)  # now, not after an hour of other sections
     theta = load_theta("phav-v1")

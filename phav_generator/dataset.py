@@ -110,7 +110,7 @@ class VideoTask:
     shard: str
     video_id: str
     recipe: str
-    #: The renderer (``render.gl.GL_KINDS``): llvmpipe, the renderer of record, or egl-gpu.
+    #: The renderer (``render.context.GL_KINDS``): llvmpipe, the renderer of record, or egl-gpu.
     gl: str = "llvmpipe"
 
 
@@ -128,7 +128,7 @@ def _init_worker(events: Any) -> None:
 def _context(kind: str) -> Any:
     """This process's GL context of ``kind``, made on first use (one per worker process)."""
     if kind not in _worker_ctx:
-        from phav_generator.render.gl import gl_context
+        from phav_generator.render.context import gl_context
 
         _worker_ctx[kind] = gl_context(kind)
     return _worker_ctx[kind]
@@ -145,7 +145,7 @@ def render_part(task: VideoTask, out: Path, report: Progress | None = None) -> d
     import pyarrow.parquet as pq
 
     from phav_generator.io.shards import open_part
-    from phav_generator.render.gl import gl_strings
+    from phav_generator.render.context import gl_strings
     from phav_generator.render.video import render_video
     from phav_spec.encoding import VideoHashes
 
@@ -397,7 +397,7 @@ def write_dataset(
     Work already journalled in ``out`` for the same run is kept, not redone. Writes
     ``theta.yaml`` (when θ is given), ``recipes.parquet``, ``cameras.parquet``,
     ``people.parquet`` and, last, ``manifest.json``. ``gl`` picks the renderer
-    (``render.gl.gl_context``); the manifest's fingerprint records the one that rendered.
+    (``render.context.gl_context``); the manifest's fingerprint records the one that rendered.
     """
     out = Path(out)
     if engine not in ENGINES:
@@ -408,7 +408,7 @@ def write_dataset(
     if len(names) != len(shards) or len(set(names)) != len(names):
         raise ValueError("shard_names must name every shard once")
     if gl != "llvmpipe":
-        from phav_generator.render.gl import check_gl_kind, require_gl
+        from phav_generator.render.context import check_gl_kind, require_gl
 
         check_gl_kind(gl)
         if engine == "local":  # a Ray cluster's workers may have GPUs this driver lacks

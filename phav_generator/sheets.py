@@ -100,7 +100,7 @@ def render_sheet(spec: SheetSpec, ctx: moderngl.Context | None = None) -> Image.
     tr = simulate(r, keep_state=False)
     own = ctx is None
     if own:
-        from phav_generator.render.gl import gl_context
+        from phav_generator.render.context import gl_context
 
         ctx = gl_context()
     renderer = scene_renderer(r, tr, ctx)

@@ -112,7 +112,7 @@ def check_reproducibility(
     chosen = sorted(pool[i] for i in rng.permutation(len(pool))[: min(count, len(pool))])
     try:
         from phav_generator.dataset import renderer_fingerprint
-        from phav_generator.render.gl import gl_context, gl_strings
+        from phav_generator.render.context import gl_context, gl_strings
         from phav_generator.render.video import render_video
         from phav_spec.encoding import VideoHashes
 

@@ -28,7 +28,6 @@ import numpy as np
 from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
 from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
-from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
@@ -503,67 +502,6 @@ class PostSettings:
         return cls(0.0, 0.0, 0.0, 0.0, (1.0, 1.0, 1.0), 0.0, 1.0)
 
 
-#: ``--gl`` choices: Mesa's llvmpipe (the renderer of record: the same pixels on any CPU
-#: machine with the same fingerprint) or the first EGL device that is a real GPU.
-GL_KINDS = ("llvmpipe", "egl-gpu")
-#: EGL devices tried at most (a machine has its GPUs plus Mesa's software device).
-MAX_EGL_DEVICES = 16
-_SOFTWARE = ("llvmpipe", "softpipe", "swrast", "software")
-
-
-def is_software_renderer(gl_renderer: str) -> bool:
-    """True for Mesa's CPU rasterisers (llvmpipe, softpipe, swrast)."""
-    return any(word in gl_renderer.lower() for word in _SOFTWARE)
-
-
-def check_gl_kind(kind: str) -> None:
-    """Refuse a ``--gl`` value that names no renderer."""
-    if kind not in GL_KINDS:
-        raise PhavUserError(f"unknown renderer {kind!r}; choose one of {', '.join(GL_KINDS)}", field="--gl")
-
-
-def gl_context(kind: str = "llvmpipe") -> moderngl.Context:
-    """A headless OpenGL 3.3+ context through EGL on the first EGL device of ``kind``.
-
-    EGL lists its devices (GPUs, then Mesa's software device); each is tried in order, so
-    ``llvmpipe`` renders on the CPU even on a GPU machine, and ``egl-gpu`` never silently
-    falls back to the CPU: without a GPU device it is a user error naming what EGL offers.
-    """
-    check_gl_kind(kind)
-    seen: list[str] = []
-    for index in range(MAX_EGL_DEVICES):
-        try:
-            ctx = moderngl.create_standalone_context(backend="egl", device_index=index)
-        except Exception as e:
-            if "but found" in str(e):
-                break  # past the last device
-            seen.append(f"device {index} fails ({e})")  # a broken driver: try the next device
-            continue
-        renderer = str(ctx.info["GL_RENDERER"])
-        if is_software_renderer(renderer) == (kind == "llvmpipe"):
-            return ctx
-        seen.append(renderer)
-        ctx.release()
-    offered = "; ".join(seen) or "no device"
-    want = "a GPU" if kind == "egl-gpu" else "Mesa's llvmpipe"
-    raise PhavUserError(f"no EGL device is {want} (EGL offers: {offered})", field="--gl")
-
-
-def require_gl(kind: str) -> dict[str, str]:
-    """The GL strings of the renderer ``kind`` here, or the user error ``gl_context`` gives:
-    asked before long work starts, so that a missing GPU is said at once."""
-    ctx = gl_context(kind)
-    try:
-        return gl_strings(ctx)
-    finally:
-        ctx.release()
-
-
-def gl_strings(ctx: moderngl.Context) -> dict[str, str]:
-    """The GL vendor, renderer and version: part of the pixels' fingerprint."""
-    return {k: str(ctx.info[k]) for k in ("GL_VENDOR", "GL_RENDERER", "GL_VERSION")}
-
-
 def _default_lighting() -> Lighting:
     grey = np.array([0.55, 0.75, 0.95])
     return Lighting(
@@ -1022,6 +960,4 @@ __all__ = [
     "Frame",
     "FrameRenderer",
     "PostSettings",
-    "gl_context",
-    "gl_strings",
 ]

@@ -19,7 +19,8 @@ import numpy as np
 from phav_generator.io.metadata import MetadataBuilder
 from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import Trajectory
-from phav_generator.render.gl import FrameRenderer, PostSettings, gl_context
+from phav_generator.render.context import gl_context
+from phav_generator.render.gl import FrameRenderer, PostSettings
 from phav_generator.render.lighting import lighting_for
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.scene import build_drawables, class_id, lamp_positions

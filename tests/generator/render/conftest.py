@@ -7,7 +7,7 @@ from collections.abc import Iterator
 import moderngl
 import pytest
 
-from phav_generator.render.gl import gl_context
+from phav_generator.render.context import gl_context
 
 
 @pytest.fixture(scope="module")

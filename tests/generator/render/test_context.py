@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from phav_generator.render.gl import is_software_renderer, require_gl
+from phav_generator.render.context import is_software_renderer, require_gl
 from phav_spec.errors import PhavUserError
 from tests.helpers import run_cli
 

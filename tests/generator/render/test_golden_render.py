@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from phav_generator.dataset import renderer_fingerprint
-from phav_generator.render.gl import gl_context, gl_strings
+from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import VideoHashes
 from tests.generator.physics_support import recipe_for
 from tests.generator.render.support import render_recipe

@@ -18,7 +18,7 @@ from tests.generator.render.support import render_recipe
 
 _HASH_SCRIPT = """
 import json
-from phav_generator.render.gl import gl_context
+from phav_generator.render.context import gl_context
 from phav_spec.encoding import VideoHashes
 from tests.generator.physics_support import recipe_for
 from tests.generator.render.support import render_recipe
