@@ -14,7 +14,7 @@ rain streaks into colour only, then ``supersample`` fully shaded colour samples 
 (SSAA: one jittered colour-only pass per sample, side by side in one wide target, averaged
 by a resolve pass), and a full-screen post pass (motion blur along the flow, screen-space
 reflections on water and wet ground, ambient occlusion from depth, bloom, colour grading,
-vignette).
+vignette). The GLSL lives in ``render/shaders`` as package data.
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ import numpy as np
 from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
 from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
+from phav_generator.render.shaders import shader_source, with_features
 from phav_spec.seeding import seeded_rng
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
@@ -53,407 +54,6 @@ RAIN_BOX_M = 12.0
 RAIN_SPEED_MPS = 9.0
 #: Exposure of the tone curve (1 − exp(−exposure·c)): fixed, so night stays darker than day.
 EXPOSURE = 1.6
-
-#: The five targets, in attachment order, shared by the scene and sky shaders.
-_OUTPUTS = """
-layout(location = 0) out vec4 out_colour;
-layout(location = 1) out uint out_class;
-layout(location = 2) out uint out_instance;
-layout(location = 3) out float out_depth;
-layout(location = 4) out vec4 out_flow;
-"""
-
-_TONE = """
-uniform float exposure;
-vec3 tone(vec3 c) { return pow(vec3(1.0) - exp(-exposure * c), vec3(1.0 / 2.2)); }
-"""
-
-_SKY_FUNCTION = """
-uniform vec3 sky_zenith;
-uniform vec3 sky_horizon;
-uniform vec3 sun_dir;
-uniform vec3 sun_colour;
-uniform vec3 fog_colour;
-uniform float fog_per_m;
-vec3 sky(vec3 dir) {
-    float up = clamp(dir.z, -0.2, 1.0);
-    vec3 c = mix(sky_horizon, sky_zenith, smoothstep(0.0, 0.6, up));
-    if (up < 0.0) c = sky_horizon * 0.8;
-    float sd = dot(dir, sun_dir);
-    c += sun_colour * (smoothstep(0.9994, 0.9997, sd) * 8.0 + pow(max(sd, 0.0), 64.0) * 0.25);
-    float fogged = 1.0 - exp(-fog_per_m * 180.0);  // the sky is seen through the fog
-    return mix(c, fog_colour, fogged);
-}
-"""
-
-#: Every drawable's model matrices at t and t + 1, one texture row per drawable: texels
-#: 0–3 are the columns at t, 4–7 at t + 1 (written once per frame; one draw per pass).
-_MODELS = """
-uniform sampler2D models;
-mat4 model(uint object, int at) {
-    ivec2 c = ivec2(4 * at, int(object));
-    return mat4(texelFetch(models, c, 0), texelFetch(models, c + ivec2(1, 0), 0),
-                texelFetch(models, c + ivec2(2, 0), 0), texelFetch(models, c + ivec2(3, 0), 0));
-}
-"""
-
-_VERTEX = (
-    """
-#version 330
-uniform mat4 view_t;
-uniform mat4 view_t1;
-uniform mat4 proj;
-uniform mat4 light_vp;
-uniform int with_flow;
-in vec3 in_pos;
-in vec3 in_normal;
-in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
-in vec3 in_colour;
-in vec3 in_pattern_colour;
-in vec3 in_emission;
-out vec3 v_normal;
-out vec3 v_world;
-out vec3 v_local;
-out float v_depth;
-out vec4 v_clip1;
-out vec4 v_light;
-flat out uint v_class;
-flat out uint v_instance;
-flat out int v_material;
-flat out int v_pattern;
-flat out vec3 v_colour;
-flat out vec3 v_pattern_colour;
-flat out vec3 v_emission;
-"""
-    + _MODELS
-    + """
-void main() {
-    mat4 model_t = model(in_ids.x, 0);
-    vec4 world = model_t * vec4(in_pos, 1.0);
-    vec4 cam = view_t * world;
-    v_depth = -cam.z;
-    v_world = world.xyz;
-    v_local = in_pos;
-    v_normal = mat3(model_t) * in_normal;
-    v_light = light_vp * world;
-    v_clip1 = with_flow == 1 ? proj * (view_t1 * (model(in_ids.x, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
-    v_class = in_ids.y;
-    v_instance = in_ids.z;
-    v_material = int(in_ids.w / 16u);
-    v_pattern = int(in_ids.w % 16u);
-    v_colour = in_colour;
-    v_pattern_colour = in_pattern_colour;
-    v_emission = in_emission;
-    gl_Position = proj * cam;
-}
-"""
-)
-
-#: The scene's fragment shader. ``SHADOWS``, ``LAMPS`` and ``WET`` are defined per renderer
-#: (``_features``): llvmpipe runs both sides of a branch, so work the scene lacks is compiled
-#: out rather than skipped at run time.
-_FRAGMENT = (
-    """
-uniform vec3 sky_ambient;
-uniform vec3 ground_ambient;
-uniform float wetness;
-uniform vec3 eye;
-uniform vec2 size;
-uniform sampler2DShadow shadow_map;
-uniform int lamp_count;
-uniform vec3 lamp_pos[16];
-uniform vec3 lamp_colour;
-in vec3 v_normal;
-in vec3 v_world;
-in vec3 v_local;
-in float v_depth;
-in vec4 v_clip1;
-in vec4 v_light;
-flat in uint v_class;
-flat in uint v_instance;
-flat in int v_material;
-flat in int v_pattern;
-flat in vec3 v_colour;          // linear (display colour to the power 2.2, done once on the CPU)
-flat in vec3 v_pattern_colour;  // linear
-flat in vec3 v_emission;
-"""
-    + _SKY_FUNCTION
-    + _TONE
-    + _OUTPUTS
-    + """
-float sunlit(vec3 n) {
-#if !SHADOWS
-    return 1.0;
-#endif
-    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
-    if (p.x <= 0.0 || p.x >= 1.0 || p.y <= 0.0 || p.y >= 1.0 || p.z >= 1.0) return 1.0;
-    float bias = 0.0015 + 0.004 * (1.0 - abs(dot(n, sun_dir)));
-    return texture(shadow_map, vec3(p.xy, p.z - bias));  // 2×2 percentage-closer (linear filter)
-}
-
-vec3 albedo() {
-    vec3 c = v_colour;
-    if (v_pattern == 1) {  // horizontal stripes around the body part
-        c = mix(c, v_pattern_colour, step(0.5, fract(v_local.z * 14.0)));
-    } else if (v_pattern == 2) {  // checks
-        vec3 q = floor(v_local * 12.0);
-        c = mix(c, v_pattern_colour, mod(q.x + q.y + q.z, 2.0));
-    } else if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
-        vec2 cell = floor(v_world.xy * 2.0);
-        float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
-        c *= 0.88 + 0.24 * h;
-    }
-    return c;
-}
-
-void main() {
-    vec3 n = normalize(v_normal);
-    if (!gl_FrontFacing) n = -n;
-    vec3 a = albedo();
-    float reflectivity = 0.0;
-#if WET
-    float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
-    if (v_material == 2) wet = 1.0;
-    a *= 1.0 - 0.45 * wet;
-#else
-    float wet = 0.0;
-#endif
-    float hemi = 0.5 + 0.5 * n.z;
-    vec3 light = mix(ground_ambient, sky_ambient, hemi);
-    float facing = max(dot(n, sun_dir), 0.0);
-    float shade = (facing > 0.0 || wet > 0.0) ? sunlit(n) : 0.0;  // the shadow map only where it matters
-    light += sun_colour * facing * shade;
-#if LAMPS
-    for (int i = 0; i < lamp_count; ++i) {
-        vec3 d = lamp_pos[i] - v_world;
-        float r2 = dot(d, d);
-        light += lamp_colour * max(dot(n, d * inversesqrt(r2)), 0.0) * 5.0 / (1.0 + r2);
-    }
-#endif
-    vec3 c = a * light + v_emission;
-#if WET
-    if (wet > 0.0) {
-        vec3 to_eye = normalize(eye - v_world);
-        float cosv = max(dot(n, to_eye), 0.0);
-        float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
-        reflectivity = wet * mix(0.25, 1.0, fresnel);
-        vec3 mirrored = reflect(-to_eye, n);
-        c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
-        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * shade;
-    }
-#endif
-    c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));
-    out_colour = vec4(tone(c), reflectivity);
-    out_class = v_class;
-    out_instance = v_instance;
-    out_depth = v_depth;
-    if (v_clip1.w > 1e-6) {
-        vec2 window1 = (v_clip1.xy / v_clip1.w * 0.5 + 0.5) * size;
-        vec2 d = window1 - gl_FragCoord.xy;
-        out_flow = vec4(d.x, -d.y, 1.0, 0.0);  // image rows grow downwards
-    } else {
-        out_flow = vec4(0.0);  // behind the camera at t + 1: invalid
-    }
-}
-"""
-)
-
-# The background: a full-screen triangle that writes the sky into every target.
-_SKY_VERTEX = """
-#version 330
-in vec2 in_xy;
-void main() { gl_Position = vec4(in_xy, 1.0, 1.0); }
-"""
-
-_SKY_FRAGMENT = (
-    """
-#version 330
-uniform uint sky_class;
-uniform vec4 intrinsics;  // fx, fy, cx, cy (image convention)
-uniform vec2 size;
-uniform vec2 origin;  // the viewport's lower-left corner in the target
-uniform mat3 cam_rot;  // camera → world
-"""
-    + _SKY_FUNCTION
-    + _TONE
-    + _OUTPUTS
-    + """
-void main() {
-    vec2 xy = gl_FragCoord.xy - origin;  // GL window coordinates, y up: image row v = size.y − y
-    vec3 dir_cam = vec3((xy.x - intrinsics.z) / intrinsics.x, (xy.y - size.y + intrinsics.w) / intrinsics.y, -1.0);
-    out_colour = vec4(tone(sky(normalize(cam_rot * dir_cam))), 0.0);
-    out_class = sky_class;
-    out_instance = 0u;
-    out_depth = 1.0 / 0.0;
-    out_flow = vec4(0.0);
-}
-"""
-)
-
-_SHADOW_VERTEX = (
-    """
-#version 330
-uniform mat4 light_vp;
-in vec3 in_pos;
-in uvec4 in_ids;
-"""
-    + _MODELS
-    + """
-void main() { gl_Position = light_vp * (model(in_ids.x, 0) * vec4(in_pos, 1.0)); }
-"""
-)
-
-_SHADOW_FRAGMENT = """
-#version 330
-void main() {}
-"""
-
-_RAIN_VERTEX = """
-#version 330
-uniform mat4 view_t;
-uniform mat4 proj;
-in vec3 in_pos;
-out float v_depth;
-void main() {
-    vec4 cam = view_t * vec4(in_pos, 1.0);
-    v_depth = -cam.z;
-    gl_Position = proj * cam;
-}
-"""
-
-_RAIN_FRAGMENT = """
-#version 330
-uniform vec3 rain_colour;
-uniform float rain_alpha;
-in float v_depth;
-layout(location = 0) out vec4 out_colour;
-void main() { out_colour = vec4(rain_colour, rain_alpha * clamp(2.0 / max(v_depth, 0.5), 0.15, 1.0)); }
-"""
-
-_RESOLVE_FRAGMENT = """
-#version 330
-uniform sampler2D samples;  // the samples' images side by side, each one frame wide
-uniform int count;
-uniform int width;
-out vec4 out_colour;
-void main() {
-    ivec2 px = ivec2(gl_FragCoord.xy);
-    vec4 acc = vec4(0.0);
-    for (int i = 0; i < count; ++i) acc += texelFetch(samples, px + ivec2(i * width, 0), 0);
-    out_colour = acc / float(count);
-}
-"""
-
-#: The post-processing shader; ``MOTION_BLUR``, ``SSR``, ``AO`` and ``BLOOM`` are defined per
-#: renderer like the scene shader's switches.
-_POST_FRAGMENT = """
-uniform sampler2D colour_ss;   // supersampled (resolved) colour, linear filtering
-uniform sampler2D colour_1x;   // raw colour; alpha = reflectivity
-uniform sampler2D depth_1x;    // metres along the axis, inf = sky
-uniform sampler2D flow_1x;     // image-convention pixels, z = valid
-uniform vec4 intrinsics;
-uniform vec2 size;
-uniform mat3 cam_rot;
-uniform vec3 up_cam;          // world +Z in camera coordinates
-uniform float motion_blur;    // shutter fraction of a frame
-uniform float ao_strength;
-uniform float bloom;
-uniform float vignette;
-uniform vec3 grade_gain;
-uniform float grade_lift;
-uniform float saturation;
-out vec4 out_colour;
-
-// Ambient-occlusion tap directions (4 unit vectors, each used with its opposite) and bloom
-// taps (6 on a 5 px ring, each a bilinear 2 × 2 average): constants, no per-pixel trigonometry.
-const vec2 AO_TAPS[4] = vec2[4](vec2(0.92388, 0.38268), vec2(0.38268, 0.92388), vec2(-0.38268, 0.92388),
-    vec2(-0.92388, 0.38268));
-const vec2 BLOOM_TAPS[6] = vec2[6](vec2(4.33013, 2.5), vec2(0.0, 5.0), vec2(-4.33013, 2.5), vec2(-4.33013, -2.5),
-    vec2(0.0, -5.0), vec2(4.33013, -2.5));
-
-float depth_at(vec2 px) { return texture(depth_1x, px / size).r; }
-
-vec3 cam_point(vec2 px, float d) {  // px: GL window coordinates (y up), pixel centres at +0.5
-    float v_img = size.y - px.y;
-    return vec3((px.x - intrinsics.z) * d / intrinsics.x, -(v_img - intrinsics.w) * d / intrinsics.y, -d);
-}
-
-vec2 to_window(vec3 p) {
-    float z = -p.z;
-    return vec2(intrinsics.z + intrinsics.x * p.x / z, size.y - (intrinsics.w - intrinsics.y * p.y / z));
-}
-
-void main() {
-    vec2 px = gl_FragCoord.xy;
-    vec2 uv = px / size;
-    vec3 c = texture(colour_ss, uv).rgb;
-    vec4 fl = texture(flow_1x, uv);
-#if MOTION_BLUR
-    vec2 step = vec2(fl.x, -fl.y) * motion_blur;
-    // Only where the shutter smears a quarter pixel or more; a loop no pixel of a block
-    // enters costs nothing (llvmpipe runs both sides of an if, but exits idle loops).
-    int taps = (fl.z > 0.5 && dot(step, step) > 0.0625) ? 4 : 0;
-    vec3 acc = vec3(0.0);
-    for (int i = 0; i < taps; ++i) acc += texture(colour_ss, (px + step * (float(i) / 3.0 - 0.5)) / size).rgb;
-    if (taps > 0) c = acc / 4.0;
-#endif
-    float d = depth_at(px);
-#if SSR
-    float reflectivity = texture(colour_1x, uv).a;
-    if (reflectivity > 0.01 && d < 1e30) {
-        vec3 p = cam_point(px, d);
-        vec3 r = reflect(normalize(p), normalize(up_cam));
-        float t = 0.15;
-        for (int i = 0; i < 24; ++i) {
-            vec3 q = p + r * t;
-            if (-q.z < 0.05) break;
-            vec2 w = to_window(q);
-            if (w.x < 0.0 || w.y < 0.0 || w.x >= size.x || w.y >= size.y) break;
-            float seen = depth_at(w);
-            if (seen < -q.z - 0.03 && seen > -q.z - 1.5) {
-                vec3 hit = texture(colour_ss, w / size).rgb;
-                float fade = 1.0 - smoothstep(0.8, 1.0, max(abs(w.x / size.x - 0.5), abs(w.y / size.y - 0.5)) * 2.0);
-                c = mix(c, hit, reflectivity * 0.7 * fade);
-                break;
-            }
-            t *= 1.22;
-        }
-    }
-#endif
-#if AO
-    if (d < 1e30) {
-        // Pairs of opposite taps: where both come nearer than the surface through this
-        // pixel (a crease, a foot on the floor, a wall's corner) light is occluded. Comparing
-        // against the line through the pair (linear in inverse depth for planes) rather than
-        // against this pixel's depth keeps slanted ground from darkening itself, and a much
-        // nearer object (> 0.8 m) occludes nothing, so silhouettes get no halo.
-        float radius = clamp(0.45 * intrinsics.x / d, 2.0, 10.0);
-        float occluded = 0.0;
-        for (int i = 0; i < 4; ++i) {
-            float a = depth_at(px + radius * AO_TAPS[i]);
-            float b = depth_at(px - radius * AO_TAPS[i]);
-            float crease = d - 2.0 / (1.0 / a + 1.0 / b);
-            occluded += (d - min(a, b) < 0.8) ? smoothstep(0.02, 0.25, crease) : 0.0;
-        }
-        c *= 1.0 - ao_strength * occluded / 4.0;
-    }
-#endif
-#if BLOOM
-    {
-        vec3 glow = vec3(0.0);
-        for (int i = 0; i < 6; ++i) glow += max(texture(colour_ss, (px + BLOOM_TAPS[i]) / size).rgb - 0.75, 0.0);
-        c += bloom * glow / 6.0;
-    }
-#endif
-    c = c * grade_gain + grade_lift;
-    float luma = dot(c, vec3(0.2126, 0.7152, 0.0722));
-    c = mix(vec3(luma), c, saturation);
-    c = c + 0.06 * (c - 0.5) * (1.0 - abs(2.0 * c - 1.0));  // gentle S-curve
-    vec2 q = uv - 0.5;
-    c *= 1.0 - vignette * dot(q, q) * 2.0;
-    out_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
-}
-"""
 
 
 @dataclass(frozen=True)
@@ -512,12 +112,6 @@ def _default_lighting() -> Lighting:
     )  # fmt: skip
 
 
-def _features(source: str, flags: dict[str, bool]) -> str:
-    """A shader's source with its feature switches defined (sorted: the text is deterministic)."""
-    defines = "".join(f"#define {name} {int(on)}\n" for name, on in sorted(flags.items()))
-    return "#version 330\n" + defines + source
-
-
 def _set(prog: moderngl.Program, name: str, value) -> None:
     """Set a uniform if the program uses it (GLSL drops unused ones)."""
     if name in prog:
@@ -561,16 +155,24 @@ class FrameRenderer:
         self.use_shadow = self.lighting.shadows and any(d.casts_shadow for d in drawables)
         wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in drawables)
         features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
-        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_features(_FRAGMENT, features))
-        self.sky = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_SKY_FRAGMENT)
+        self.program = ctx.program(
+            vertex_shader=shader_source("scene_vertex.glsl"),
+            fragment_shader=with_features(shader_source("scene_fragment.glsl"), features),
+        )
+        fullscreen = shader_source("fullscreen_vertex.glsl")
+        self.sky = ctx.program(vertex_shader=fullscreen, fragment_shader=shader_source("sky_fragment.glsl"))
         self.sky_class = sky_class
-        self.shadow_prog = ctx.program(vertex_shader=_SHADOW_VERTEX, fragment_shader=_SHADOW_FRAGMENT)
-        self.rain_prog = ctx.program(vertex_shader=_RAIN_VERTEX, fragment_shader=_RAIN_FRAGMENT)
+        self.shadow_prog = ctx.program(
+            vertex_shader=shader_source("shadow_vertex.glsl"), fragment_shader=shader_source("shadow_fragment.glsl")
+        )
+        self.rain_prog = ctx.program(
+            vertex_shader=shader_source("rain_vertex.glsl"), fragment_shader=shader_source("rain_fragment.glsl")
+        )
         ps = self.post_settings
         post_features = {"MOTION_BLUR": ps.motion_blur > 0.0, "SSR": wet, "AO": ps.ambient_occlusion > 0.0,
                          "BLOOM": ps.bloom > 0.0}  # fmt: skip
         self.post_prog = ctx.program(
-            vertex_shader=_SKY_VERTEX, fragment_shader=_features(_POST_FRAGMENT, post_features)
+            vertex_shader=fullscreen, fragment_shader=with_features(shader_source("post_fragment.glsl"), post_features)
         )
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
         self._tri = ctx.buffer(tri.tobytes())
@@ -603,7 +205,10 @@ class FrameRenderer:
             self.fbo_ss = ctx.framebuffer(color_attachments=[self.samples_tex], depth_attachment=self.zbuffer_ss)
             self.colour_ss = ctx.texture((width, height), 4, dtype="f1")
             self.resolve_fbo = ctx.framebuffer(color_attachments=[self.colour_ss])
-            self.resolve_prog = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_RESOLVE_FRAGMENT)
+            self.resolve_prog = ctx.program(
+                vertex_shader=shader_source("fullscreen_vertex.glsl"),
+                fragment_shader=shader_source("resolve_fragment.glsl"),
+            )
             self.resolve_vao = ctx.vertex_array(self.resolve_prog, [(self._tri, "2f", "in_xy")])
             _set(self.resolve_prog, "samples", 5)
             _set(self.resolve_prog, "count", s)
