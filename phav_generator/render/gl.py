@@ -14,13 +14,14 @@ rain streaks into colour only, then ``supersample`` fully shaded colour samples 
 (SSAA: one jittered colour-only pass per sample, side by side in one wide target, averaged
 by a resolve pass), and a full-screen post pass (motion blur along the flow, screen-space
 reflections on water and wet ground, ambient occlusion from depth, bloom, colour grading,
-vignette). The GLSL lives in ``render/shaders`` as package data.
+vignette). ``FrameRenderer.render`` is ``render_labels`` (everything up to the labelled
+targets' read-back) then ``render_rgb`` (supersampling and post): ``phav bench`` times them
+apart. The GLSL lives in ``render/shaders``; the GL context comes from ``render.context``.
 """
 
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -29,6 +30,7 @@ from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
 from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
 from phav_generator.render.shaders import shader_source, with_features
+from phav_generator.rotations import look_at
 from phav_spec.seeding import seeded_rng
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
@@ -103,6 +105,7 @@ class PostSettings:
 
 
 def _default_lighting() -> Lighting:
+    """A plain grey day without fog, rain or lamps, for drawables rendered without a recipe."""
     grey = np.array([0.55, 0.75, 0.95])
     return Lighting(
         sun_dir=np.array([0.3, -0.4, 0.87]) / np.linalg.norm([0.3, -0.4, 0.87]),
@@ -121,8 +124,23 @@ def _set(prog: moderngl.Program, name: str, value) -> None:
         member.value = value
 
 
+@dataclass(frozen=True)
+class _LabelledPass:
+    """What the RGB passes need of the labelled pass they finish (``render_labels``)."""
+
+    labels: Frame
+    n_indices: int  # the frame's visible triangles' indices, in the index buffer
+    intrinsics: tuple[float, float, float, float]
+    cam_to_world: np.ndarray
+    rain: np.ndarray | None  # streak end points (2N, 3), or None without rain
+
+
 class FrameRenderer:
-    """Draws a set of drawables frame by frame: labelled targets, raw and post-processed RGB."""
+    """Draws a set of drawables frame by frame: labelled targets, raw and post-processed RGB.
+
+    Use it as a context manager (``with FrameRenderer(...) as r:``) or call ``release``: its
+    GL objects are freed on exit, the context stays.
+    """
 
     def __init__(
         self,
@@ -151,9 +169,36 @@ class FrameRenderer:
         lamps = np.zeros((0, 3)) if lamps is None else np.asarray(lamps, dtype=np.float64).reshape(-1, 3)
         self.lamps = lamps[:MAX_LAMPS] if self.lighting.lamp_intensity > 0.01 else np.zeros((0, 3))
         self.focus = np.zeros(3) if focus is None else np.asarray(focus, dtype=np.float64)
-
+        self.sky_class = sky_class
         self.use_shadow = self.lighting.shadows and any(d.casts_shadow for d in drawables)
-        wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in drawables)
+        #: The GL objects this renderer made, and its programs: ``release`` frees both.
+        self._objects: list = []
+        self._programs: list[moderngl.Program] = []
+        self._labelled: _LabelledPass | None = None
+        try:  # GL objects are made in this order: programs, targets, geometry, rain
+            self._build_programs()
+            self._build_label_targets()
+            self._build_colour_targets()
+            self._build_shadow_map()
+            self._build_geometry()
+            self._build_bounds()
+            self._build_rain(rain_seed)
+            self._set_static_uniforms()
+        except BaseException:
+            self.release()  # what was made so far: a failed renderer leaks nothing
+            raise
+
+    def __enter__(self) -> FrameRenderer:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.release()
+
+    def _build_programs(self) -> None:
+        """The shader programs, each compiled with only the features this scene uses, and
+        the full-screen triangle the sky and post passes draw."""
+        ctx, ps = self.ctx, self.post_settings
+        wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in self.drawables)
         features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
         self.program = ctx.program(
             vertex_shader=shader_source("scene_vertex.glsl"),
@@ -161,26 +206,27 @@ class FrameRenderer:
         )
         fullscreen = shader_source("fullscreen_vertex.glsl")
         self.sky = ctx.program(vertex_shader=fullscreen, fragment_shader=shader_source("sky_fragment.glsl"))
-        self.sky_class = sky_class
         self.shadow_prog = ctx.program(
             vertex_shader=shader_source("shadow_vertex.glsl"), fragment_shader=shader_source("shadow_fragment.glsl")
         )
         self.rain_prog = ctx.program(
             vertex_shader=shader_source("rain_vertex.glsl"), fragment_shader=shader_source("rain_fragment.glsl")
         )
-        ps = self.post_settings
         post_features = {"MOTION_BLUR": ps.motion_blur > 0.0, "SSR": wet, "AO": ps.ambient_occlusion > 0.0,
                          "BLOOM": ps.bloom > 0.0}  # fmt: skip
         self.post_prog = ctx.program(
             vertex_shader=fullscreen, fragment_shader=with_features(shader_source("post_fragment.glsl"), post_features)
         )
+        self._programs += [self.program, self.sky, self.shadow_prog, self.rain_prog, self.post_prog]
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
         self._tri = ctx.buffer(tri.tobytes())
         self.sky_vao = ctx.vertex_array(self.sky, [(self._tri, "2f", "in_xy")])
         self.post_vao = ctx.vertex_array(self.post_prog, [(self._tri, "2f", "in_xy")])
-        self._objects: list = [self._tri, self.sky_vao, self.post_vao]
+        self._objects += [self._tri, self.sky_vao, self.post_vao]
 
-        # Labelled 1× pass: textures so the post pass can read them.
+    def _build_label_targets(self) -> None:
+        """The labelled 1× pass's five targets: textures where the post pass reads them."""
+        ctx, (width, height) = self.ctx, self.size
         self.colour_1x = ctx.texture((width, height), 4, dtype="f1")
         self.class_rb = ctx.renderbuffer((width, height), 1, dtype="u2")
         self.instance_rb = ctx.renderbuffer((width, height), 1, dtype="u2")
@@ -197,8 +243,11 @@ class FrameRenderer:
         self.colour_fbo = ctx.framebuffer(color_attachments=[self.colour_1x], depth_attachment=self.zbuffer)
         self._objects += [self.colour_1x, self.class_rb, self.instance_rb, self.depth_tex, self.flow_tex,
                           self.zbuffer, self.fbo, self.colour_fbo]  # fmt: skip
-        # Supersampled colour: the samples side by side (their own depth buffer), resolved to 1×.
-        s = supersample
+
+    def _build_colour_targets(self) -> None:
+        """Supersampled colour (the samples side by side with their own depth buffer, resolved
+        to 1×; the 1× colour itself without supersampling) and the post pass's output."""
+        ctx, (width, height), s = self.ctx, self.size, self.supersample
         if s > 1:
             self.samples_tex = ctx.texture((width * s, height), 4, dtype="f1")
             self.zbuffer_ss = ctx.depth_renderbuffer((width * s, height))
@@ -214,7 +263,8 @@ class FrameRenderer:
             _set(self.resolve_prog, "count", s)
             _set(self.resolve_prog, "width", width)
             self._objects += [self.samples_tex, self.zbuffer_ss, self.fbo_ss, self.colour_ss, self.resolve_fbo,
-                              self.resolve_vao, self.resolve_prog]  # fmt: skip
+                              self.resolve_vao]  # fmt: skip
+            self._programs.append(self.resolve_prog)
         else:
             self.colour_ss, self.fbo_ss = self.colour_1x, None
         # Read at pixel centres and, for blur, bloom and reflections, between them.
@@ -223,8 +273,11 @@ class FrameRenderer:
         self.out_rb = ctx.renderbuffer((width, height), 4, dtype="f1")
         self.out_fbo = ctx.framebuffer(color_attachments=[self.out_rb])
         self._objects += [self.out_rb, self.out_fbo]
-        # Sun shadow map.
+
+    def _build_shadow_map(self) -> None:
+        """The sun's depth map around the focus, where the scene casts shadows."""
         if self.use_shadow:
+            ctx = self.ctx
             self.shadow_tex = ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE))
             self.shadow_tex.compare_func = "<="
             self.shadow_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
@@ -233,8 +286,11 @@ class FrameRenderer:
             self.light_vp = _sun_matrix(self.lighting.sun_dir, self.focus)
         else:
             self.light_vp = np.eye(4)
-        # Geometry: every drawable in one vertex buffer, drawn with one call per pass through
-        # a per-frame index buffer (the visible drawables, nearest first).
+
+    def _build_geometry(self) -> None:
+        """Every drawable in one vertex buffer, drawn with one call per pass through a
+        per-frame index buffer (the visible drawables, nearest first); the models texture."""
+        ctx, drawables = self.ctx, self.drawables
         vertices, self._indices = _pack(drawables)
         self._world = _stack_transforms(drawables)  # (L, N, 4, 4) world transforms per frame
         n = len(drawables)
@@ -261,7 +317,11 @@ class FrameRenderer:
                 index_element_size=4,
             )  # fmt: skip
             self._objects += [self.shadow_ibo, self.shadow_vao]
-        # Bounding spheres (local centre, radius) for frustum culling of the camera passes.
+
+    def _build_bounds(self) -> None:
+        """Bounding spheres (local centre, radius) for frustum culling of the camera passes,
+        and the triangle counts the bench reports."""
+        drawables, n = self.drawables, len(self.drawables)
         self._centres = np.zeros((n, 3))
         self._radii = np.zeros(n)
         for i, d in enumerate(drawables):
@@ -275,7 +335,10 @@ class FrameRenderer:
         self._n_triangles = np.array([d.mesh.n_triangles for d in drawables], dtype=np.int64)
         self.triangles_built = int(self._n_triangles.sum())
         self.triangles_drawn = 0  # summed over the labelled passes of every frame
-        # Rain: streak origins in a box around the camera, from the recipe's render seed.
+
+    def _build_rain(self, rain_seed: int) -> None:
+        """Rain: streak origins in a box around the camera, from the recipe's render seed."""
+        ctx = self.ctx
         n_rain = round(RAIN_STREAKS * self.lighting.rain)
         rng = seeded_rng(rain_seed)
         self.rain_origin = rng.random((n_rain, 3)) * 2.0 * RAIN_BOX_M - RAIN_BOX_M
@@ -285,9 +348,6 @@ class FrameRenderer:
         )
         if self.rain_vao is not None:
             self._objects += [self.rain_buffer, self.rain_vao]
-        self._set_static_uniforms()
-        #: Seconds spent per stage over every frame rendered (for ``phav bench``).
-        self.seconds = {"render": 0.0, "post": 0.0}
 
     def _set_static_uniforms(self) -> None:
         lt, w, h = self.lighting, *self.size
@@ -335,20 +395,24 @@ class FrameRenderer:
         intrinsics: tuple[float, float, float, float],
     ) -> Frame:
         """Frame ``frame`` seen from ``cam_to_world``, with flow towards frame + 1."""
+        return self.render_rgb(self.render_labels(frame, cam_to_world, cam_to_world_next, intrinsics))
+
+    def render_labels(
+        self,
+        frame: int,
+        cam_to_world: np.ndarray,
+        cam_to_world_next: np.ndarray,
+        intrinsics: tuple[float, float, float, float],
+    ) -> Frame:
+        """The labelled 1× pass of a frame, read back: raw RGB, classes, instances, depth and
+        flow (``rgb`` is None until ``render_rgb`` adds it)."""
         ctx, p = self.ctx, self.program
-        start = time.perf_counter()
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         last = len(self._columns) - 1
         at, nxt = min(frame, last), min(frame + 1, last)
         self.models_tex.write(np.concatenate([self._columns[at], self._columns[nxt]], axis=1).tobytes())
         self.models_tex.use(location=6)
-        if self.shadow_vao is not None:
-            self.shadow_fbo.use()
-            ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
-            self.shadow_fbo.clear(depth=1.0)
-            ctx.enable(moderngl.DEPTH_TEST)
-            self.shadow_vao.render(moderngl.TRIANGLES)
-            self.shadow_tex.use(location=0)
+        self._shadow_pass()
         world_to_cam = view(cam_to_world)
         order = self._draw_order(at, world_to_cam, intrinsics)  # the same at every supersampling
         indices = np.concatenate([self._indices[i] for i in order]) if len(order) else np.zeros(0, np.uint32)
@@ -372,21 +436,38 @@ class FrameRenderer:
         instance = self._read(self.fbo, 2, 1, "u2", np.uint16)[..., 0]
         depth = self._read(self.fbo, 3, 1, "f4", np.float32)[..., 0]
         flow = self._read(self.fbo, 4, 4, "f4", np.float32)
-        middle = time.perf_counter()
-        if self.fbo_ss is not None:
-            self._supersample(len(indices), intrinsics, rain)
-        rgb = self._post(intrinsics, cam_to_world)
-        self.seconds["render"] += middle - start
-        self.seconds["post"] += time.perf_counter() - middle
-        return Frame(
+        labels = Frame(
             colour=np.ascontiguousarray(raw[..., :3]),
             class_id=class_id,
             instance=instance,
             depth_m=depth,
             flow=np.ascontiguousarray(flow[..., :2]),
             flow_valid=flow[..., 2] > 0.5,
-            rgb=rgb,
         )
+        self._labelled = _LabelledPass(labels, len(indices), intrinsics, cam_to_world, rain)
+        return labels
+
+    def render_rgb(self, labels: Frame) -> Frame:
+        """``labels`` (what ``render_labels`` returned last) with its RGB modality: the frame's
+        supersampled colour, post-processed (motion blur, reflections, occlusion, grading)."""
+        done = self._labelled
+        if done is None or done.labels is not labels:
+            raise ValueError("render_rgb finishes the frame render_labels returned last")
+        if self.fbo_ss is not None:
+            self._supersample(done.n_indices, done.intrinsics, done.rain)
+        return replace(labels, rgb=self._post(done.intrinsics, done.cam_to_world))
+
+    def _shadow_pass(self) -> None:
+        """The sun's depth map of this frame's shadow casters."""
+        if self.shadow_vao is None:
+            return
+        ctx = self.ctx
+        self.shadow_fbo.use()
+        ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
+        self.shadow_fbo.clear(depth=1.0)
+        ctx.enable(moderngl.DEPTH_TEST)
+        self.shadow_vao.render(moderngl.TRIANGLES)
+        self.shadow_tex.use(location=0)
 
     def _scene_pass(self, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
         """Draw the scene (the first ``n_indices`` of the frame's index buffer) into the bound
@@ -496,17 +577,16 @@ class FrameRenderer:
         return np.ascontiguousarray(np.frombuffer(raw, dtype=np_dtype).reshape(h, w, components)[::-1])
 
     def release(self) -> None:
-        """Free the GL objects (the context stays)."""
+        """Free the GL objects (the context stays); calling it again does nothing."""
         for obj in self._objects:
             obj.release()
-        for prog in (self.program, self.sky, self.shadow_prog, self.rain_prog, self.post_prog):
+        for prog in self._programs:
             prog.release()
+        self._objects, self._programs = [], []
 
 
 def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
     """Orthographic view-projection of the sun around ``focus`` (shadow map coordinates)."""
-    from phav_generator.rotations import look_at
-
     eye = focus + sun_dir * 150.0
     c2w = np.eye(4)
     c2w[:3, :3] = look_at(eye, focus)

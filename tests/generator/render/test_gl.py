@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import math
 
+import moderngl
 import numpy as np
+import pytest
 
 from phav_generator.render.camera import project
 from phav_generator.render.gl import Drawable, FrameRenderer
@@ -35,11 +37,8 @@ def _look(eye, target) -> np.ndarray:
 
 
 def _render(ctx, drawables, cam0, cam1, frame=0):
-    r = FrameRenderer(ctx, W, H, drawables, sky_class=SKY)
-    try:
+    with FrameRenderer(ctx, W, H, drawables, sky_class=SKY) as r:
         return r.render(frame, cam0, cam1, INTRINSICS)
-    finally:
-        r.release()
 
 
 def _pixel_points(depth: np.ndarray, cam: np.ndarray) -> np.ndarray:
@@ -167,3 +166,53 @@ def test_rendering_is_deterministic(ctx):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
     # Nearer surfaces win: the box hides the capsule's lower part only where it is in front.
     assert set(np.unique(a.class_id)) == {2, 47, SKY}
+
+
+def _scene() -> list[Drawable]:
+    """A box on a slab: shadows, two drawables, one of them a person."""
+    ground = _pose(translation=(0.0, 0.0, -0.05))
+    body = _pose(translation=(0.0, 0.0, 0.5))
+    return [Drawable(box((10, 10, 0.1)), np.stack([ground, ground]), 2),
+            Drawable(box((0.4, 0.4, 1.0)), np.stack([body, body]), 22, 1)]  # fmt: skip
+
+
+def _gl_objects(renderer: FrameRenderer) -> list:
+    """The GL objects a renderer holds: programs, buffers, vertex arrays, targets."""
+    kinds = (moderngl.Buffer, moderngl.Framebuffer, moderngl.Program, moderngl.Renderbuffer, moderngl.Texture,
+             moderngl.VertexArray)  # fmt: skip
+    return [v for v in vars(renderer).values() if isinstance(v, kinds)]
+
+
+def _released(obj) -> bool:
+    return isinstance(obj.mglo, moderngl.InvalidObject)
+
+
+def test_render_is_the_labelled_pass_then_the_rgb_passes(ctx):
+    cam0, cam1 = _look((2.0, -5.0, 2.0), (0.0, 0.0, 0.5)), _look((2.1, -5.0, 2.0), (0.0, 0.0, 0.5))
+    with FrameRenderer(ctx, W, H, _scene(), sky_class=SKY) as r:
+        whole = r.render(0, cam0, cam1, INTRINSICS)
+        labels = r.render_labels(0, cam0, cam1, INTRINSICS)
+        assert labels.rgb is None
+        split = r.render_rgb(labels)
+        with pytest.raises(ValueError, match="render_labels returned last"):
+            r.render_rgb(whole)
+    for name in ("colour", "class_id", "instance", "depth_m", "flow", "flow_valid", "rgb"):
+        np.testing.assert_array_equal(getattr(whole, name), getattr(split, name))
+
+
+def test_the_context_manager_releases_every_gl_object_on_exit(ctx):
+    cam = _look((2.0, -5.0, 2.0), (0.0, 0.0, 0.5))
+    with FrameRenderer(ctx, W, H, _scene(), sky_class=SKY, supersample=4) as r:
+        r.render(0, cam, cam, INTRINSICS)
+        held = _gl_objects(r)
+        assert len(held) > 20 and not any(_released(o) for o in held)
+    assert all(_released(o) for o in held)
+    r.release()  # idempotent
+    ctx.buffer(reserve=4).release()  # the context stays usable
+
+
+def test_the_context_manager_releases_every_gl_object_on_an_exception(ctx):
+    with pytest.raises(RuntimeError, match="mid-frame"), FrameRenderer(ctx, W, H, _scene(), sky_class=SKY) as r:
+        held = _gl_objects(r)
+        raise RuntimeError("mid-frame")
+    assert held and all(_released(o) for o in held)

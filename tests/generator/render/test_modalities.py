@@ -18,13 +18,9 @@ from tests.generator.physics_support import recipe_for
 def test_encoded_modalities_follow_the_spec(ctx):
     recipe = recipe_for("walk_holding_hands", "simple", seconds=0.5, variation="none")
     tr = simulate(recipe, keep_state=False)
-    renderer = FrameRenderer(
-        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, tr), sky_class=class_id("sky")
-    )
-    try:
-        frame = renderer.render(3, tr.cam_to_world[3], tr.cam_to_world[4], tr.intrinsics)
-    finally:
-        renderer.release()
+    drawables = build_drawables(recipe, tr)
+    with FrameRenderer(ctx, recipe.video.width, recipe.video.height, drawables, sky_class=class_id("sky")) as r:
+        frame = r.render(3, tr.cam_to_world[3], tr.cam_to_world[4], tr.intrinsics)
     out = encode_frame(frame)
     assert list(out) == [m.name for m in MODALITIES]
     for m in MODALITIES:
