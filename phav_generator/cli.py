@@ -235,12 +235,19 @@ def preview(
     if source.is_dir() or _is_manifest(source):
         vid, fps, all_frames = frames_from_dataset(source, video)
     else:
+        from phav_generator.physics.simulate import simulate
+        from phav_generator.render.context import gl_context
         from phav_generator.render.video import render_video
         from phav_spec.recipe import load_recipe
 
         r = load_recipe(source)
         vid, fps = r.video_id, r.video.fps
-        all_frames = [rf.modalities for rf in render_video(r)]
+        trajectory = simulate(r, keep_state=False)
+        ctx = gl_context()
+        try:
+            all_frames = [rf.modalities for rf in render_video(r, trajectory, ctx=ctx)]
+        finally:
+            ctx.release()
     picks = sorted({round(i * (len(all_frames) - 1) / max(frames - 1, 1)) for i in range(frames)})
     sheet = modality_sheet([(f, all_frames[f]) for f in picks], f"{vid}  rgb")
     target = out if out is not None else Path(f"{vid}-preview.png")

@@ -145,6 +145,7 @@ def render_part(task: VideoTask, out: Path, report: Progress | None = None) -> d
     import pyarrow.parquet as pq
 
     from phav_generator.io.shards import open_part
+    from phav_generator.physics.simulate import simulate
     from phav_generator.render.context import gl_strings
     from phav_generator.render.video import render_video
     from phav_spec.encoding import VideoHashes
@@ -157,7 +158,8 @@ def render_part(task: VideoTask, out: Path, report: Progress | None = None) -> d
     cameras: list[dict[str, Any]] = []
     people: list[dict[str, Any]] = []
     with open_part(_part_path(work, recipe.video_id, "tar.part")) as part:
-        for rf in render_video(recipe, ctx=ctx):
+        trajectory = simulate(recipe, keep_state=False)
+        for rf in render_video(recipe, trajectory, ctx=ctx):
             hashes.add(rf.index, rf.modalities)
             part.add_frame(recipe.video_id, rf.index, rf.modalities, frame_json(rf.camera, rf.people))
             cameras.append(rf.camera)

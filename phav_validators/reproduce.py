@@ -112,6 +112,7 @@ def check_reproducibility(
     chosen = sorted(pool[i] for i in rng.permutation(len(pool))[: min(count, len(pool))])
     try:
         from phav_generator.dataset import renderer_fingerprint
+        from phav_generator.physics.simulate import simulate
         from phav_generator.render.context import gl_context, gl_strings
         from phav_generator.render.video import render_video
         from phav_spec.encoding import VideoHashes
@@ -134,7 +135,7 @@ def check_reproducibility(
             stored = shard_video_frames(shard, vid, size) if shard is not None and shard.exists() else iter(())
             hashes = VideoHashes(recipe.n_frames)
             first_bad: dict[str, int] = {}
-            for rf in render_video(recipe, ctx=ctx):
+            for rf in render_video(recipe, simulate(recipe, keep_state=False), ctx=ctx):
                 hashes.add(rf.index, rf.modalities)
                 got = next(stored, None)
                 if got is None or got[0] != rf.index:
