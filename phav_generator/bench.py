@@ -160,10 +160,10 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
                  max_frames: int | None = None, gl: str = "llvmpipe") -> tuple[list[RenderRun], float]:  # fmt: skip
     """Each supersampling factor over the recipes, stage by stage, with the edge error of its
     RGB against ``reference``× supersampling; also the encode-only rate (six PNGs, frames/s)."""
-    from phav_generator.io.metadata import MetadataBuilder
     from phav_generator.io.png import encode_png
     from phav_generator.io.shards import open_shard
     from phav_generator.physics.simulate import simulate
+    from phav_generator.render.annotations import MetadataBuilder
     from phav_generator.render.context import gl_context
     from phav_generator.render.modalities import encode_frame
     from phav_generator.render.video import scene_renderer

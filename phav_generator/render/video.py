@@ -17,8 +17,8 @@ from typing import Any
 import moderngl
 import numpy as np
 
-from phav_generator.io.metadata import MetadataBuilder
 from phav_generator.physics.trajectory import Trajectory
+from phav_generator.render.annotations import MetadataBuilder
 from phav_generator.render.gl import FrameRenderer, PostSettings
 from phav_generator.render.lighting import lighting_for
 from phav_generator.render.modalities import encode_frame
