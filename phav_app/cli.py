@@ -47,9 +47,9 @@ from phav_generator.dataset.write import chunk, write_dataset
 from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ
 from phav_generator.physics.probe import evaluate_probe, format_confusion
 from phav_generator.physics.simulate import simulate
+from phav_generator.pipeline import video_frames
 from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration
-from phav_generator.render.gl import gl_context, require_gl
-from phav_generator.render.video import render_video
+from phav_generator.render.context import gl_context, require_gl
 from phav_generator.sampling import RecipeSampler, sample_recipes
 from phav_generator.vary import parse_settings
 from phav_generator.vary import vary as vary_recipe
@@ -277,7 +277,11 @@ def preview(
     else:
         r = load_recipe(source)
         vid, fps = r.video_id, r.video.fps
-        all_frames = [rf.modalities for rf in render_video(r)]
+        ctx = gl_context()
+        try:
+            all_frames = [rf.modalities for rf in video_frames(r, ctx)]
+        finally:
+            ctx.release()
     picks = sorted({round(i * (len(all_frames) - 1) / max(frames - 1, 1)) for i in range(frames)})
     sheet = modality_sheet([(f, all_frames[f]) for f in picks], f"{vid}  rgb")
     target = out if out is not None else Path(f"{vid}-preview.png")

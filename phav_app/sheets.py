@@ -19,7 +19,7 @@ from PIL import Image, ImageDraw
 
 from phav_app.preview import depth_image, flow_image
 from phav_generator.physics.simulate import simulate
-from phav_generator.render.gl import gl_context
+from phav_generator.render.context import gl_context
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.video import scene_renderer
 from phav_generator.sampling import RecipeSampler

@@ -30,7 +30,7 @@ from phav_generator.faults import crash_point, task_delay
 from phav_generator.io.shards import open_part
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
-from phav_generator.render.gl import gl_context, gl_strings
+from phav_generator.render.context import gl_context, gl_strings
 from phav_generator.render.video import RenderedFrame, render_video
 from phav_spec.encoding import VideoHashes
 from phav_spec.files import atomic_write

@@ -32,7 +32,7 @@ from phav_generator.engines import check_engine, run_tasks
 from phav_generator.faults import crash_point
 from phav_generator.io.shards import assemble_shard
 from phav_generator.pipeline import PART_TABLES, Progress, VideoTask, part_path, run_task
-from phav_generator.render.gl import check_gl_kind, require_gl
+from phav_generator.render.context import check_gl_kind, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write

@@ -1,1 +1,4 @@
-"""Files: PNG encoding of the modalities, and (later) shards, Parquet metadata, manifests."""
+"""Bytes on disk: PNG encoding of the modality arrays and reproducible tar shards.
+
+Nothing here renders or measures: per-frame annotations come from ``render.annotations``.
+"""

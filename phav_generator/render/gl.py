@@ -14,13 +14,14 @@ rain streaks into colour only, then ``supersample`` fully shaded colour samples 
 (SSAA: one jittered colour-only pass per sample, side by side in one wide target, averaged
 by a resolve pass), and a full-screen post pass (motion blur along the flow, screen-space
 reflections on water and wet ground, ambient occlusion from depth, bloom, colour grading,
-vignette).
+vignette). ``FrameRenderer.render`` is ``render_labels`` (everything up to the labelled
+targets' read-back) then ``render_rgb`` (supersampling and post): ``phav bench`` times them
+apart. The GLSL lives in ``render/shaders``; the GL context comes from ``render.context``.
 """
 
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -29,7 +30,7 @@ from phav_generator.motion.rotations import look_at
 from phav_generator.render.camera import FAR_M, NEAR_M, projection, view
 from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
-from phav_spec.errors import PhavUserError
+from phav_generator.render.shaders import shader_source, with_features
 from phav_spec.seeding import seeded_rng
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
@@ -55,407 +56,6 @@ RAIN_BOX_M = 12.0
 RAIN_SPEED_MPS = 9.0
 #: Exposure of the tone curve (1 − exp(−exposure·c)): fixed, so night stays darker than day.
 EXPOSURE = 1.6
-
-#: The five targets, in attachment order, shared by the scene and sky shaders.
-_OUTPUTS = """
-layout(location = 0) out vec4 out_colour;
-layout(location = 1) out uint out_class;
-layout(location = 2) out uint out_instance;
-layout(location = 3) out float out_depth;
-layout(location = 4) out vec4 out_flow;
-"""
-
-_TONE = """
-uniform float exposure;
-vec3 tone(vec3 c) { return pow(vec3(1.0) - exp(-exposure * c), vec3(1.0 / 2.2)); }
-"""
-
-_SKY_FUNCTION = """
-uniform vec3 sky_zenith;
-uniform vec3 sky_horizon;
-uniform vec3 sun_dir;
-uniform vec3 sun_colour;
-uniform vec3 fog_colour;
-uniform float fog_per_m;
-vec3 sky(vec3 dir) {
-    float up = clamp(dir.z, -0.2, 1.0);
-    vec3 c = mix(sky_horizon, sky_zenith, smoothstep(0.0, 0.6, up));
-    if (up < 0.0) c = sky_horizon * 0.8;
-    float sd = dot(dir, sun_dir);
-    c += sun_colour * (smoothstep(0.9994, 0.9997, sd) * 8.0 + pow(max(sd, 0.0), 64.0) * 0.25);
-    float fogged = 1.0 - exp(-fog_per_m * 180.0);  // the sky is seen through the fog
-    return mix(c, fog_colour, fogged);
-}
-"""
-
-#: Every drawable's model matrices at t and t + 1, one texture row per drawable: texels
-#: 0–3 are the columns at t, 4–7 at t + 1 (written once per frame; one draw per pass).
-_MODELS = """
-uniform sampler2D models;
-mat4 model(uint object, int at) {
-    ivec2 c = ivec2(4 * at, int(object));
-    return mat4(texelFetch(models, c, 0), texelFetch(models, c + ivec2(1, 0), 0),
-                texelFetch(models, c + ivec2(2, 0), 0), texelFetch(models, c + ivec2(3, 0), 0));
-}
-"""
-
-_VERTEX = (
-    """
-#version 330
-uniform mat4 view_t;
-uniform mat4 view_t1;
-uniform mat4 proj;
-uniform mat4 light_vp;
-uniform int with_flow;
-in vec3 in_pos;
-in vec3 in_normal;
-in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
-in vec3 in_colour;
-in vec3 in_pattern_colour;
-in vec3 in_emission;
-out vec3 v_normal;
-out vec3 v_world;
-out vec3 v_local;
-out float v_depth;
-out vec4 v_clip1;
-out vec4 v_light;
-flat out uint v_class;
-flat out uint v_instance;
-flat out int v_material;
-flat out int v_pattern;
-flat out vec3 v_colour;
-flat out vec3 v_pattern_colour;
-flat out vec3 v_emission;
-"""
-    + _MODELS
-    + """
-void main() {
-    mat4 model_t = model(in_ids.x, 0);
-    vec4 world = model_t * vec4(in_pos, 1.0);
-    vec4 cam = view_t * world;
-    v_depth = -cam.z;
-    v_world = world.xyz;
-    v_local = in_pos;
-    v_normal = mat3(model_t) * in_normal;
-    v_light = light_vp * world;
-    v_clip1 = with_flow == 1 ? proj * (view_t1 * (model(in_ids.x, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
-    v_class = in_ids.y;
-    v_instance = in_ids.z;
-    v_material = int(in_ids.w / 16u);
-    v_pattern = int(in_ids.w % 16u);
-    v_colour = in_colour;
-    v_pattern_colour = in_pattern_colour;
-    v_emission = in_emission;
-    gl_Position = proj * cam;
-}
-"""
-)
-
-#: The scene's fragment shader. ``SHADOWS``, ``LAMPS`` and ``WET`` are defined per renderer
-#: (``_features``): llvmpipe runs both sides of a branch, so work the scene lacks is compiled
-#: out rather than skipped at run time.
-_FRAGMENT = (
-    """
-uniform vec3 sky_ambient;
-uniform vec3 ground_ambient;
-uniform float wetness;
-uniform vec3 eye;
-uniform vec2 size;
-uniform sampler2DShadow shadow_map;
-uniform int lamp_count;
-uniform vec3 lamp_pos[16];
-uniform vec3 lamp_colour;
-in vec3 v_normal;
-in vec3 v_world;
-in vec3 v_local;
-in float v_depth;
-in vec4 v_clip1;
-in vec4 v_light;
-flat in uint v_class;
-flat in uint v_instance;
-flat in int v_material;
-flat in int v_pattern;
-flat in vec3 v_colour;          // linear (display colour to the power 2.2, done once on the CPU)
-flat in vec3 v_pattern_colour;  // linear
-flat in vec3 v_emission;
-"""
-    + _SKY_FUNCTION
-    + _TONE
-    + _OUTPUTS
-    + """
-float sunlit(vec3 n) {
-#if !SHADOWS
-    return 1.0;
-#endif
-    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
-    if (p.x <= 0.0 || p.x >= 1.0 || p.y <= 0.0 || p.y >= 1.0 || p.z >= 1.0) return 1.0;
-    float bias = 0.0015 + 0.004 * (1.0 - abs(dot(n, sun_dir)));
-    return texture(shadow_map, vec3(p.xy, p.z - bias));  // 2×2 percentage-closer (linear filter)
-}
-
-vec3 albedo() {
-    vec3 c = v_colour;
-    if (v_pattern == 1) {  // horizontal stripes around the body part
-        c = mix(c, v_pattern_colour, step(0.5, fract(v_local.z * 14.0)));
-    } else if (v_pattern == 2) {  // checks
-        vec3 q = floor(v_local * 12.0);
-        c = mix(c, v_pattern_colour, mod(q.x + q.y + q.z, 2.0));
-    } else if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
-        vec2 cell = floor(v_world.xy * 2.0);
-        float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
-        c *= 0.88 + 0.24 * h;
-    }
-    return c;
-}
-
-void main() {
-    vec3 n = normalize(v_normal);
-    if (!gl_FrontFacing) n = -n;
-    vec3 a = albedo();
-    float reflectivity = 0.0;
-#if WET
-    float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
-    if (v_material == 2) wet = 1.0;
-    a *= 1.0 - 0.45 * wet;
-#else
-    float wet = 0.0;
-#endif
-    float hemi = 0.5 + 0.5 * n.z;
-    vec3 light = mix(ground_ambient, sky_ambient, hemi);
-    float facing = max(dot(n, sun_dir), 0.0);
-    float shade = (facing > 0.0 || wet > 0.0) ? sunlit(n) : 0.0;  // the shadow map only where it matters
-    light += sun_colour * facing * shade;
-#if LAMPS
-    for (int i = 0; i < lamp_count; ++i) {
-        vec3 d = lamp_pos[i] - v_world;
-        float r2 = dot(d, d);
-        light += lamp_colour * max(dot(n, d * inversesqrt(r2)), 0.0) * 5.0 / (1.0 + r2);
-    }
-#endif
-    vec3 c = a * light + v_emission;
-#if WET
-    if (wet > 0.0) {
-        vec3 to_eye = normalize(eye - v_world);
-        float cosv = max(dot(n, to_eye), 0.0);
-        float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
-        reflectivity = wet * mix(0.25, 1.0, fresnel);
-        vec3 mirrored = reflect(-to_eye, n);
-        c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
-        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * shade;
-    }
-#endif
-    c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));
-    out_colour = vec4(tone(c), reflectivity);
-    out_class = v_class;
-    out_instance = v_instance;
-    out_depth = v_depth;
-    if (v_clip1.w > 1e-6) {
-        vec2 window1 = (v_clip1.xy / v_clip1.w * 0.5 + 0.5) * size;
-        vec2 d = window1 - gl_FragCoord.xy;
-        out_flow = vec4(d.x, -d.y, 1.0, 0.0);  // image rows grow downwards
-    } else {
-        out_flow = vec4(0.0);  // behind the camera at t + 1: invalid
-    }
-}
-"""
-)
-
-# The background: a full-screen triangle that writes the sky into every target.
-_SKY_VERTEX = """
-#version 330
-in vec2 in_xy;
-void main() { gl_Position = vec4(in_xy, 1.0, 1.0); }
-"""
-
-_SKY_FRAGMENT = (
-    """
-#version 330
-uniform uint sky_class;
-uniform vec4 intrinsics;  // fx, fy, cx, cy (image convention)
-uniform vec2 size;
-uniform vec2 origin;  // the viewport's lower-left corner in the target
-uniform mat3 cam_rot;  // camera → world
-"""
-    + _SKY_FUNCTION
-    + _TONE
-    + _OUTPUTS
-    + """
-void main() {
-    vec2 xy = gl_FragCoord.xy - origin;  // GL window coordinates, y up: image row v = size.y − y
-    vec3 dir_cam = vec3((xy.x - intrinsics.z) / intrinsics.x, (xy.y - size.y + intrinsics.w) / intrinsics.y, -1.0);
-    out_colour = vec4(tone(sky(normalize(cam_rot * dir_cam))), 0.0);
-    out_class = sky_class;
-    out_instance = 0u;
-    out_depth = 1.0 / 0.0;
-    out_flow = vec4(0.0);
-}
-"""
-)
-
-_SHADOW_VERTEX = (
-    """
-#version 330
-uniform mat4 light_vp;
-in vec3 in_pos;
-in uvec4 in_ids;
-"""
-    + _MODELS
-    + """
-void main() { gl_Position = light_vp * (model(in_ids.x, 0) * vec4(in_pos, 1.0)); }
-"""
-)
-
-_SHADOW_FRAGMENT = """
-#version 330
-void main() {}
-"""
-
-_RAIN_VERTEX = """
-#version 330
-uniform mat4 view_t;
-uniform mat4 proj;
-in vec3 in_pos;
-out float v_depth;
-void main() {
-    vec4 cam = view_t * vec4(in_pos, 1.0);
-    v_depth = -cam.z;
-    gl_Position = proj * cam;
-}
-"""
-
-_RAIN_FRAGMENT = """
-#version 330
-uniform vec3 rain_colour;
-uniform float rain_alpha;
-in float v_depth;
-layout(location = 0) out vec4 out_colour;
-void main() { out_colour = vec4(rain_colour, rain_alpha * clamp(2.0 / max(v_depth, 0.5), 0.15, 1.0)); }
-"""
-
-_RESOLVE_FRAGMENT = """
-#version 330
-uniform sampler2D samples;  // the samples' images side by side, each one frame wide
-uniform int count;
-uniform int width;
-out vec4 out_colour;
-void main() {
-    ivec2 px = ivec2(gl_FragCoord.xy);
-    vec4 acc = vec4(0.0);
-    for (int i = 0; i < count; ++i) acc += texelFetch(samples, px + ivec2(i * width, 0), 0);
-    out_colour = acc / float(count);
-}
-"""
-
-#: The post-processing shader; ``MOTION_BLUR``, ``SSR``, ``AO`` and ``BLOOM`` are defined per
-#: renderer like the scene shader's switches.
-_POST_FRAGMENT = """
-uniform sampler2D colour_ss;   // supersampled (resolved) colour, linear filtering
-uniform sampler2D colour_1x;   // raw colour; alpha = reflectivity
-uniform sampler2D depth_1x;    // metres along the axis, inf = sky
-uniform sampler2D flow_1x;     // image-convention pixels, z = valid
-uniform vec4 intrinsics;
-uniform vec2 size;
-uniform mat3 cam_rot;
-uniform vec3 up_cam;          // world +Z in camera coordinates
-uniform float motion_blur;    // shutter fraction of a frame
-uniform float ao_strength;
-uniform float bloom;
-uniform float vignette;
-uniform vec3 grade_gain;
-uniform float grade_lift;
-uniform float saturation;
-out vec4 out_colour;
-
-// Ambient-occlusion tap directions (4 unit vectors, each used with its opposite) and bloom
-// taps (6 on a 5 px ring, each a bilinear 2 × 2 average): constants, no per-pixel trigonometry.
-const vec2 AO_TAPS[4] = vec2[4](vec2(0.92388, 0.38268), vec2(0.38268, 0.92388), vec2(-0.38268, 0.92388),
-    vec2(-0.92388, 0.38268));
-const vec2 BLOOM_TAPS[6] = vec2[6](vec2(4.33013, 2.5), vec2(0.0, 5.0), vec2(-4.33013, 2.5), vec2(-4.33013, -2.5),
-    vec2(0.0, -5.0), vec2(4.33013, -2.5));
-
-float depth_at(vec2 px) { return texture(depth_1x, px / size).r; }
-
-vec3 cam_point(vec2 px, float d) {  // px: GL window coordinates (y up), pixel centres at +0.5
-    float v_img = size.y - px.y;
-    return vec3((px.x - intrinsics.z) * d / intrinsics.x, -(v_img - intrinsics.w) * d / intrinsics.y, -d);
-}
-
-vec2 to_window(vec3 p) {
-    float z = -p.z;
-    return vec2(intrinsics.z + intrinsics.x * p.x / z, size.y - (intrinsics.w - intrinsics.y * p.y / z));
-}
-
-void main() {
-    vec2 px = gl_FragCoord.xy;
-    vec2 uv = px / size;
-    vec3 c = texture(colour_ss, uv).rgb;
-    vec4 fl = texture(flow_1x, uv);
-#if MOTION_BLUR
-    vec2 step = vec2(fl.x, -fl.y) * motion_blur;
-    // Only where the shutter smears a quarter pixel or more; a loop no pixel of a block
-    // enters costs nothing (llvmpipe runs both sides of an if, but exits idle loops).
-    int taps = (fl.z > 0.5 && dot(step, step) > 0.0625) ? 4 : 0;
-    vec3 acc = vec3(0.0);
-    for (int i = 0; i < taps; ++i) acc += texture(colour_ss, (px + step * (float(i) / 3.0 - 0.5)) / size).rgb;
-    if (taps > 0) c = acc / 4.0;
-#endif
-    float d = depth_at(px);
-#if SSR
-    float reflectivity = texture(colour_1x, uv).a;
-    if (reflectivity > 0.01 && d < 1e30) {
-        vec3 p = cam_point(px, d);
-        vec3 r = reflect(normalize(p), normalize(up_cam));
-        float t = 0.15;
-        for (int i = 0; i < 24; ++i) {
-            vec3 q = p + r * t;
-            if (-q.z < 0.05) break;
-            vec2 w = to_window(q);
-            if (w.x < 0.0 || w.y < 0.0 || w.x >= size.x || w.y >= size.y) break;
-            float seen = depth_at(w);
-            if (seen < -q.z - 0.03 && seen > -q.z - 1.5) {
-                vec3 hit = texture(colour_ss, w / size).rgb;
-                float fade = 1.0 - smoothstep(0.8, 1.0, max(abs(w.x / size.x - 0.5), abs(w.y / size.y - 0.5)) * 2.0);
-                c = mix(c, hit, reflectivity * 0.7 * fade);
-                break;
-            }
-            t *= 1.22;
-        }
-    }
-#endif
-#if AO
-    if (d < 1e30) {
-        // Pairs of opposite taps: where both come nearer than the surface through this
-        // pixel (a crease, a foot on the floor, a wall's corner) light is occluded. Comparing
-        // against the line through the pair (linear in inverse depth for planes) rather than
-        // against this pixel's depth keeps slanted ground from darkening itself, and a much
-        // nearer object (> 0.8 m) occludes nothing, so silhouettes get no halo.
-        float radius = clamp(0.45 * intrinsics.x / d, 2.0, 10.0);
-        float occluded = 0.0;
-        for (int i = 0; i < 4; ++i) {
-            float a = depth_at(px + radius * AO_TAPS[i]);
-            float b = depth_at(px - radius * AO_TAPS[i]);
-            float crease = d - 2.0 / (1.0 / a + 1.0 / b);
-            occluded += (d - min(a, b) < 0.8) ? smoothstep(0.02, 0.25, crease) : 0.0;
-        }
-        c *= 1.0 - ao_strength * occluded / 4.0;
-    }
-#endif
-#if BLOOM
-    {
-        vec3 glow = vec3(0.0);
-        for (int i = 0; i < 6; ++i) glow += max(texture(colour_ss, (px + BLOOM_TAPS[i]) / size).rgb - 0.75, 0.0);
-        c += bloom * glow / 6.0;
-    }
-#endif
-    c = c * grade_gain + grade_lift;
-    float luma = dot(c, vec3(0.2126, 0.7152, 0.0722));
-    c = mix(vec3(luma), c, saturation);
-    c = c + 0.06 * (c - 0.5) * (1.0 - abs(2.0 * c - 1.0));  // gentle S-curve
-    vec2 q = uv - 0.5;
-    c *= 1.0 - vignette * dot(q, q) * 2.0;
-    out_colour = vec4(clamp(c, 0.0, 1.0), 1.0);
-}
-"""
 
 
 @dataclass(frozen=True)
@@ -504,68 +104,8 @@ class PostSettings:
         return cls(0.0, 0.0, 0.0, 0.0, (1.0, 1.0, 1.0), 0.0, 1.0)
 
 
-#: ``--gl`` choices: Mesa's llvmpipe (the renderer of record: the same pixels on any CPU
-#: machine with the same fingerprint) or the first EGL device that is a real GPU.
-GL_KINDS = ("llvmpipe", "egl-gpu")
-#: EGL devices tried at most (a machine has its GPUs plus Mesa's software device).
-MAX_EGL_DEVICES = 16
-_SOFTWARE = ("llvmpipe", "softpipe", "swrast", "software")
-
-
-def is_software_renderer(gl_renderer: str) -> bool:
-    """True for Mesa's CPU rasterisers (llvmpipe, softpipe, swrast)."""
-    return any(word in gl_renderer.lower() for word in _SOFTWARE)
-
-
-def check_gl_kind(kind: str) -> None:
-    """Refuse a ``--gl`` value that names no renderer."""
-    if kind not in GL_KINDS:
-        raise PhavUserError(f"unknown renderer {kind!r}; choose one of {', '.join(GL_KINDS)}", field="--gl")
-
-
-def gl_context(kind: str = "llvmpipe") -> moderngl.Context:
-    """A headless OpenGL 3.3+ context through EGL on the first EGL device of ``kind``.
-
-    EGL lists its devices (GPUs, then Mesa's software device); each is tried in order, so
-    ``llvmpipe`` renders on the CPU even on a GPU machine, and ``egl-gpu`` never silently
-    falls back to the CPU: without a GPU device it is a user error naming what EGL offers.
-    """
-    check_gl_kind(kind)
-    seen: list[str] = []
-    for index in range(MAX_EGL_DEVICES):
-        try:
-            ctx = moderngl.create_standalone_context(backend="egl", device_index=index)
-        except Exception as e:
-            if "but found" in str(e):
-                break  # past the last device
-            seen.append(f"device {index} fails ({e})")  # a broken driver: try the next device
-            continue
-        renderer = str(ctx.info["GL_RENDERER"])
-        if is_software_renderer(renderer) == (kind == "llvmpipe"):
-            return ctx
-        seen.append(renderer)
-        ctx.release()
-    offered = "; ".join(seen) or "no device"
-    want = "a GPU" if kind == "egl-gpu" else "Mesa's llvmpipe"
-    raise PhavUserError(f"no EGL device is {want} (EGL offers: {offered})", field="--gl")
-
-
-def require_gl(kind: str) -> dict[str, str]:
-    """The GL strings of the renderer ``kind`` here, or the user error ``gl_context`` gives:
-    asked before long work starts, so that a missing GPU is said at once."""
-    ctx = gl_context(kind)
-    try:
-        return gl_strings(ctx)
-    finally:
-        ctx.release()
-
-
-def gl_strings(ctx: moderngl.Context) -> dict[str, str]:
-    """The GL vendor, renderer and version: part of the pixels' fingerprint."""
-    return {k: str(ctx.info[k]) for k in ("GL_VENDOR", "GL_RENDERER", "GL_VERSION")}
-
-
 def _default_lighting() -> Lighting:
+    """A plain grey day without fog, rain or lamps, for drawables rendered without a recipe."""
     grey = np.array([0.55, 0.75, 0.95])
     return Lighting(
         sun_dir=np.array([0.3, -0.4, 0.87]) / np.linalg.norm([0.3, -0.4, 0.87]),
@@ -573,12 +113,6 @@ def _default_lighting() -> Lighting:
         sky_zenith=grey, sky_horizon=grey, fog_colour=grey, fog_per_m=0.0, wetness=0.0, rain=0.0,
         lamp_intensity=0.0, daylight=1.0,
     )  # fmt: skip
-
-
-def _features(source: str, flags: dict[str, bool]) -> str:
-    """A shader's source with its feature switches defined (sorted: the text is deterministic)."""
-    defines = "".join(f"#define {name} {int(on)}\n" for name, on in sorted(flags.items()))
-    return "#version 330\n" + defines + source
 
 
 def _set(prog: moderngl.Program, name: str, value) -> None:
@@ -590,8 +124,23 @@ def _set(prog: moderngl.Program, name: str, value) -> None:
         member.value = value
 
 
+@dataclass(frozen=True)
+class _LabelledPass:
+    """What the RGB passes need of the labelled pass they finish (``render_labels``)."""
+
+    labels: Frame
+    n_indices: int  # the frame's visible triangles' indices, in the index buffer
+    intrinsics: tuple[float, float, float, float]
+    cam_to_world: np.ndarray
+    rain: np.ndarray | None  # streak end points (2N, 3), or None without rain
+
+
 class FrameRenderer:
-    """Draws a set of drawables frame by frame: labelled targets, raw and post-processed RGB."""
+    """Draws a set of drawables frame by frame: labelled targets, raw and post-processed RGB.
+
+    Use it as a context manager (``with FrameRenderer(...) as r:``) or call ``release``: its
+    GL objects are freed on exit, the context stays.
+    """
 
     def __init__(
         self,
@@ -620,28 +169,64 @@ class FrameRenderer:
         lamps = np.zeros((0, 3)) if lamps is None else np.asarray(lamps, dtype=np.float64).reshape(-1, 3)
         self.lamps = lamps[:MAX_LAMPS] if self.lighting.lamp_intensity > 0.01 else np.zeros((0, 3))
         self.focus = np.zeros(3) if focus is None else np.asarray(focus, dtype=np.float64)
-
-        self.use_shadow = self.lighting.shadows and any(d.casts_shadow for d in drawables)
-        wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in drawables)
-        features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
-        self.program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_features(_FRAGMENT, features))
-        self.sky = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_SKY_FRAGMENT)
         self.sky_class = sky_class
-        self.shadow_prog = ctx.program(vertex_shader=_SHADOW_VERTEX, fragment_shader=_SHADOW_FRAGMENT)
-        self.rain_prog = ctx.program(vertex_shader=_RAIN_VERTEX, fragment_shader=_RAIN_FRAGMENT)
-        ps = self.post_settings
+        self.use_shadow = self.lighting.shadows and any(d.casts_shadow for d in drawables)
+        #: The GL objects this renderer made, and its programs: ``release`` frees both.
+        self._objects: list = []
+        self._programs: list[moderngl.Program] = []
+        self._labelled: _LabelledPass | None = None
+        try:  # GL objects are made in this order: programs, targets, geometry, rain
+            self._build_programs()
+            self._build_label_targets()
+            self._build_colour_targets()
+            self._build_shadow_map()
+            self._build_geometry()
+            self._build_bounds()
+            self._build_rain(rain_seed)
+            self._set_static_uniforms()
+        except BaseException:
+            self.release()  # what was made so far: a failed renderer leaks nothing
+            raise
+
+    def __enter__(self) -> FrameRenderer:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.release()
+
+    def _build_programs(self) -> None:
+        """The shader programs, each compiled with only the features this scene uses, and
+        the full-screen triangle the sky and post passes draw."""
+        ctx, ps = self.ctx, self.post_settings
+        wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in self.drawables)
+        features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
+        self.program = ctx.program(
+            vertex_shader=shader_source("scene_vertex.glsl"),
+            fragment_shader=with_features(shader_source("scene_fragment.glsl"), features),
+        )
+        fullscreen = shader_source("fullscreen_vertex.glsl")
+        self.sky = ctx.program(vertex_shader=fullscreen, fragment_shader=shader_source("sky_fragment.glsl"))
+        self.shadow_prog = ctx.program(
+            vertex_shader=shader_source("shadow_vertex.glsl"), fragment_shader=shader_source("shadow_fragment.glsl")
+        )
+        self.rain_prog = ctx.program(
+            vertex_shader=shader_source("rain_vertex.glsl"), fragment_shader=shader_source("rain_fragment.glsl")
+        )
         post_features = {"MOTION_BLUR": ps.motion_blur > 0.0, "SSR": wet, "AO": ps.ambient_occlusion > 0.0,
                          "BLOOM": ps.bloom > 0.0}  # fmt: skip
         self.post_prog = ctx.program(
-            vertex_shader=_SKY_VERTEX, fragment_shader=_features(_POST_FRAGMENT, post_features)
+            vertex_shader=fullscreen, fragment_shader=with_features(shader_source("post_fragment.glsl"), post_features)
         )
+        self._programs += [self.program, self.sky, self.shadow_prog, self.rain_prog, self.post_prog]
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
         self._tri = ctx.buffer(tri.tobytes())
         self.sky_vao = ctx.vertex_array(self.sky, [(self._tri, "2f", "in_xy")])
         self.post_vao = ctx.vertex_array(self.post_prog, [(self._tri, "2f", "in_xy")])
-        self._objects: list = [self._tri, self.sky_vao, self.post_vao]
+        self._objects += [self._tri, self.sky_vao, self.post_vao]
 
-        # Labelled 1× pass: textures so the post pass can read them.
+    def _build_label_targets(self) -> None:
+        """The labelled 1× pass's five targets: textures where the post pass reads them."""
+        ctx, (width, height) = self.ctx, self.size
         self.colour_1x = ctx.texture((width, height), 4, dtype="f1")
         self.class_rb = ctx.renderbuffer((width, height), 1, dtype="u2")
         self.instance_rb = ctx.renderbuffer((width, height), 1, dtype="u2")
@@ -658,21 +243,28 @@ class FrameRenderer:
         self.colour_fbo = ctx.framebuffer(color_attachments=[self.colour_1x], depth_attachment=self.zbuffer)
         self._objects += [self.colour_1x, self.class_rb, self.instance_rb, self.depth_tex, self.flow_tex,
                           self.zbuffer, self.fbo, self.colour_fbo]  # fmt: skip
-        # Supersampled colour: the samples side by side (their own depth buffer), resolved to 1×.
-        s = supersample
+
+    def _build_colour_targets(self) -> None:
+        """Supersampled colour (the samples side by side with their own depth buffer, resolved
+        to 1×; the 1× colour itself without supersampling) and the post pass's output."""
+        ctx, (width, height), s = self.ctx, self.size, self.supersample
         if s > 1:
             self.samples_tex = ctx.texture((width * s, height), 4, dtype="f1")
             self.zbuffer_ss = ctx.depth_renderbuffer((width * s, height))
             self.fbo_ss = ctx.framebuffer(color_attachments=[self.samples_tex], depth_attachment=self.zbuffer_ss)
             self.colour_ss = ctx.texture((width, height), 4, dtype="f1")
             self.resolve_fbo = ctx.framebuffer(color_attachments=[self.colour_ss])
-            self.resolve_prog = ctx.program(vertex_shader=_SKY_VERTEX, fragment_shader=_RESOLVE_FRAGMENT)
+            self.resolve_prog = ctx.program(
+                vertex_shader=shader_source("fullscreen_vertex.glsl"),
+                fragment_shader=shader_source("resolve_fragment.glsl"),
+            )
             self.resolve_vao = ctx.vertex_array(self.resolve_prog, [(self._tri, "2f", "in_xy")])
             _set(self.resolve_prog, "samples", 5)
             _set(self.resolve_prog, "count", s)
             _set(self.resolve_prog, "width", width)
             self._objects += [self.samples_tex, self.zbuffer_ss, self.fbo_ss, self.colour_ss, self.resolve_fbo,
-                              self.resolve_vao, self.resolve_prog]  # fmt: skip
+                              self.resolve_vao]  # fmt: skip
+            self._programs.append(self.resolve_prog)
         else:
             self.colour_ss, self.fbo_ss = self.colour_1x, None
         # Read at pixel centres and, for blur, bloom and reflections, between them.
@@ -681,8 +273,11 @@ class FrameRenderer:
         self.out_rb = ctx.renderbuffer((width, height), 4, dtype="f1")
         self.out_fbo = ctx.framebuffer(color_attachments=[self.out_rb])
         self._objects += [self.out_rb, self.out_fbo]
-        # Sun shadow map.
+
+    def _build_shadow_map(self) -> None:
+        """The sun's depth map around the focus, where the scene casts shadows."""
         if self.use_shadow:
+            ctx = self.ctx
             self.shadow_tex = ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE))
             self.shadow_tex.compare_func = "<="
             self.shadow_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
@@ -691,8 +286,11 @@ class FrameRenderer:
             self.light_vp = _sun_matrix(self.lighting.sun_dir, self.focus)
         else:
             self.light_vp = np.eye(4)
-        # Geometry: every drawable in one vertex buffer, drawn with one call per pass through
-        # a per-frame index buffer (the visible drawables, nearest first).
+
+    def _build_geometry(self) -> None:
+        """Every drawable in one vertex buffer, drawn with one call per pass through a
+        per-frame index buffer (the visible drawables, nearest first); the models texture."""
+        ctx, drawables = self.ctx, self.drawables
         vertices, self._indices = _pack(drawables)
         self._world = _stack_transforms(drawables)  # (L, N, 4, 4) world transforms per frame
         n = len(drawables)
@@ -719,7 +317,11 @@ class FrameRenderer:
                 index_element_size=4,
             )  # fmt: skip
             self._objects += [self.shadow_ibo, self.shadow_vao]
-        # Bounding spheres (local centre, radius) for frustum culling of the camera passes.
+
+    def _build_bounds(self) -> None:
+        """Bounding spheres (local centre, radius) for frustum culling of the camera passes,
+        and the triangle counts the bench reports."""
+        drawables, n = self.drawables, len(self.drawables)
         self._centres = np.zeros((n, 3))
         self._radii = np.zeros(n)
         for i, d in enumerate(drawables):
@@ -733,7 +335,10 @@ class FrameRenderer:
         self._n_triangles = np.array([d.mesh.n_triangles for d in drawables], dtype=np.int64)
         self.triangles_built = int(self._n_triangles.sum())
         self.triangles_drawn = 0  # summed over the labelled passes of every frame
-        # Rain: streak origins in a box around the camera, from the recipe's render seed.
+
+    def _build_rain(self, rain_seed: int) -> None:
+        """Rain: streak origins in a box around the camera, from the recipe's render seed."""
+        ctx = self.ctx
         n_rain = round(RAIN_STREAKS * self.lighting.rain)
         rng = seeded_rng(rain_seed)
         self.rain_origin = rng.random((n_rain, 3)) * 2.0 * RAIN_BOX_M - RAIN_BOX_M
@@ -743,9 +348,6 @@ class FrameRenderer:
         )
         if self.rain_vao is not None:
             self._objects += [self.rain_buffer, self.rain_vao]
-        self._set_static_uniforms()
-        #: Seconds spent per stage over every frame rendered (for ``phav bench``).
-        self.seconds = {"render": 0.0, "post": 0.0}
 
     def _set_static_uniforms(self) -> None:
         lt, w, h = self.lighting, *self.size
@@ -793,20 +395,24 @@ class FrameRenderer:
         intrinsics: tuple[float, float, float, float],
     ) -> Frame:
         """Frame ``frame`` seen from ``cam_to_world``, with flow towards frame + 1."""
+        return self.render_rgb(self.render_labels(frame, cam_to_world, cam_to_world_next, intrinsics))
+
+    def render_labels(
+        self,
+        frame: int,
+        cam_to_world: np.ndarray,
+        cam_to_world_next: np.ndarray,
+        intrinsics: tuple[float, float, float, float],
+    ) -> Frame:
+        """The labelled 1× pass of a frame, read back: raw RGB, classes, instances, depth and
+        flow (``rgb`` is None until ``render_rgb`` adds it)."""
         ctx, p = self.ctx, self.program
-        start = time.perf_counter()
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         last = len(self._columns) - 1
         at, nxt = min(frame, last), min(frame + 1, last)
         self.models_tex.write(np.concatenate([self._columns[at], self._columns[nxt]], axis=1).tobytes())
         self.models_tex.use(location=6)
-        if self.shadow_vao is not None:
-            self.shadow_fbo.use()
-            ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
-            self.shadow_fbo.clear(depth=1.0)
-            ctx.enable(moderngl.DEPTH_TEST)
-            self.shadow_vao.render(moderngl.TRIANGLES)
-            self.shadow_tex.use(location=0)
+        self._shadow_pass()
         world_to_cam = view(cam_to_world)
         order = self._draw_order(at, world_to_cam, intrinsics)  # the same at every supersampling
         indices = np.concatenate([self._indices[i] for i in order]) if len(order) else np.zeros(0, np.uint32)
@@ -830,21 +436,38 @@ class FrameRenderer:
         instance = self._read(self.fbo, 2, 1, "u2", np.uint16)[..., 0]
         depth = self._read(self.fbo, 3, 1, "f4", np.float32)[..., 0]
         flow = self._read(self.fbo, 4, 4, "f4", np.float32)
-        middle = time.perf_counter()
-        if self.fbo_ss is not None:
-            self._supersample(len(indices), intrinsics, rain)
-        rgb = self._post(intrinsics, cam_to_world)
-        self.seconds["render"] += middle - start
-        self.seconds["post"] += time.perf_counter() - middle
-        return Frame(
+        labels = Frame(
             colour=np.ascontiguousarray(raw[..., :3]),
             class_id=class_id,
             instance=instance,
             depth_m=depth,
             flow=np.ascontiguousarray(flow[..., :2]),
             flow_valid=flow[..., 2] > 0.5,
-            rgb=rgb,
         )
+        self._labelled = _LabelledPass(labels, len(indices), intrinsics, cam_to_world, rain)
+        return labels
+
+    def render_rgb(self, labels: Frame) -> Frame:
+        """``labels`` (what ``render_labels`` returned last) with its RGB modality: the frame's
+        supersampled colour, post-processed (motion blur, reflections, occlusion, grading)."""
+        done = self._labelled
+        if done is None or done.labels is not labels:
+            raise ValueError("render_rgb finishes the frame render_labels returned last")
+        if self.fbo_ss is not None:
+            self._supersample(done.n_indices, done.intrinsics, done.rain)
+        return replace(labels, rgb=self._post(done.intrinsics, done.cam_to_world))
+
+    def _shadow_pass(self) -> None:
+        """The sun's depth map of this frame's shadow casters."""
+        if self.shadow_vao is None:
+            return
+        ctx = self.ctx
+        self.shadow_fbo.use()
+        ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
+        self.shadow_fbo.clear(depth=1.0)
+        ctx.enable(moderngl.DEPTH_TEST)
+        self.shadow_vao.render(moderngl.TRIANGLES)
+        self.shadow_tex.use(location=0)
 
     def _scene_pass(self, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
         """Draw the scene (the first ``n_indices`` of the frame's index buffer) into the bound
@@ -954,11 +577,12 @@ class FrameRenderer:
         return np.ascontiguousarray(np.frombuffer(raw, dtype=np_dtype).reshape(h, w, components)[::-1])
 
     def release(self) -> None:
-        """Free the GL objects (the context stays)."""
+        """Free the GL objects (the context stays); calling it again does nothing."""
         for obj in self._objects:
             obj.release()
-        for prog in (self.program, self.sky, self.shadow_prog, self.rain_prog, self.post_prog):
+        for prog in self._programs:
             prog.release()
+        self._objects, self._programs = [], []
 
 
 def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
@@ -1021,6 +645,4 @@ __all__ = [
     "Frame",
     "FrameRenderer",
     "PostSettings",
-    "gl_context",
-    "gl_strings",
 ]

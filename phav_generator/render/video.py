@@ -1,8 +1,9 @@
 """Recipe → trajectory → every frame's six modalities and metadata, with content hashes.
 
-``render_video`` is the pure core of ``phav generate`` and ``phav regenerate``: it simulates
-(unless given a trajectory), builds the scene once, renders each frame with its flow
-towards the next and yields the encoded arrays with the frame's camera and people rows;
+``render_video`` is the pure core of ``phav generate`` and ``phav regenerate``: given the
+recipe's trajectory (physics is the stage before: ``physics.simulate.simulate``) and a GL
+context (``render.context.gl_context``), it builds the scene once, renders each frame with
+its flow towards the next and yields the encoded arrays with the frame's camera and people rows;
 ``phav_spec.encoding.VideoHashes`` accumulates one content hash per modality over the frames
 (arrays named by zero-padded frame number). Nothing here touches files.
 """
@@ -16,10 +17,9 @@ from typing import Any
 import moderngl
 import numpy as np
 
-from phav_generator.io.metadata import MetadataBuilder
-from phav_generator.physics.simulate import simulate
 from phav_generator.physics.trajectory import Trajectory
-from phav_generator.render.gl import FrameRenderer, PostSettings, gl_context
+from phav_generator.render.annotations import MetadataBuilder
+from phav_generator.render.gl import FrameRenderer, PostSettings
 from phav_generator.render.lighting import lighting_for
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.scene import build_drawables, class_id, lamp_positions
@@ -65,23 +65,17 @@ def scene_renderer(
 
 def render_video(
     recipe: Recipe,
-    trajectory: Trajectory | None = None,
+    trajectory: Trajectory,
     *,
-    ctx: moderngl.Context | None = None,
+    ctx: moderngl.Context,
     supersample: int = DEFAULT_SUPERSAMPLE,
     post: PostSettings | None = None,
 ) -> Iterator[RenderedFrame]:
-    """Frames 0 … n_frames − 1 of a recipe, rendered and measured."""
-    tr = simulate(recipe, keep_state=False) if trajectory is None else trajectory
-    own = ctx is None
-    ctx = gl_context() if ctx is None else ctx
-    renderer = scene_renderer(recipe, tr, ctx, supersample=supersample, post=post)
-    meta = MetadataBuilder(recipe, tr)
-    try:
+    """Frames 0 … n_frames − 1 of a recipe's simulated ``trajectory``, rendered and measured
+    in ``ctx`` (the caller's: it stays open)."""
+    tr = trajectory
+    with scene_renderer(recipe, tr, ctx, supersample=supersample, post=post) as renderer:
+        meta = MetadataBuilder(recipe, tr)
         for f in range(tr.n_frames):
             frame = renderer.render(f, tr.cam_to_world[f], tr.cam_to_world[f + 1], tr.intrinsics)
             yield RenderedFrame(f, encode_frame(frame), meta.camera_row(f), meta.people_rows(f, frame))
-    finally:
-        renderer.release()
-        if own:
-            ctx.release()

@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 
 from phav_generator.dataset.fingerprint import renderer_fingerprint
-from phav_generator.render.gl import gl_context, gl_strings
-from phav_generator.render.video import render_video
+from phav_generator.pipeline import video_frames
+from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import MODALITIES, VideoHashes, decode_flow
 from phav_spec.manifest import DatasetManifest
 from phav_spec.recipe import Recipe
@@ -132,7 +132,7 @@ def check_reproducibility(
             stored = shard_video_frames(shard, vid, size) if shard is not None and shard.exists() else iter(())
             hashes = VideoHashes(recipe.n_frames)
             first_bad: dict[str, int] = {}
-            for rf in render_video(recipe, ctx=ctx):
+            for rf in video_frames(recipe, ctx):
                 hashes.add(rf.index, rf.modalities)
                 got = next(stored, None)
                 if got is None or got[0] != rf.index:

@@ -3,7 +3,7 @@
 Pixels are promised identical only for the same renderer fingerprint (DESIGN.md), so the
 stored hashes carry the fingerprint digest they were made with; on another machine or
 stack the comparison is skipped and says why. Regenerate after an intended change with
-PHAV_UPDATE_GOLDEN=1 pytest tests/generator/test_golden_render.py.
+PHAV_UPDATE_GOLDEN=1 pytest tests/generator/render/test_golden_render.py.
 """
 
 from __future__ import annotations
@@ -15,12 +15,12 @@ from pathlib import Path
 import pytest
 
 from phav_generator.dataset.fingerprint import renderer_fingerprint
-from phav_generator.render.gl import gl_context, gl_strings
-from phav_generator.render.video import render_video
+from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import VideoHashes
 from tests.generator.physics.support import recipe_for
+from tests.generator.render.support import render_recipe
 
-GOLDEN = Path(__file__).parents[1] / "golden" / "render-hashes.json"
+GOLDEN = Path(__file__).parents[2] / "golden" / "render-hashes.json"
 CASES = {"walk-urban": ("walk", "urban"), "wave-lake": ("wave", "lake")}
 
 
@@ -29,7 +29,7 @@ def _hashes(ctx) -> dict[str, dict[str, str]]:
     for name, (action, env) in CASES.items():
         recipe = recipe_for(action, env, seconds=0.2, variation="none")
         h = VideoHashes(recipe.n_frames)
-        for rf in render_video(recipe, ctx=ctx):
+        for rf in render_recipe(recipe, ctx):
             h.add(rf.index, rf.modalities)
         out[name] = h.hexdigests()
     return out

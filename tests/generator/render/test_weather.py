@@ -7,25 +7,19 @@ import numpy as np
 import pytest
 
 from phav_generator.motion.rotations import look_at
-from phav_generator.render.gl import EXPOSURE, FrameRenderer, gl_context
+from phav_generator.physics.simulate import simulate
+from phav_generator.render.gl import EXPOSURE, FrameRenderer
 from phav_generator.render.lighting import lighting_for, sun_direction
 from phav_generator.render.scene import build_drawables, class_id
-from phav_generator.render.video import render_video
 from phav_generator.vary import parse_settings, vary
 from phav_spec.errors import PhavUserError
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.vocab import OBJECTS, PIXEL_CLASSES
 from tests.generator.physics.support import recipe_for, theta_for
+from tests.generator.render.support import render_recipe
 
 SECONDS = 0.2
 LABELS = ("semantic", "instance", "depth", "flow")
-
-
-@pytest.fixture(scope="module")
-def ctx():
-    c = gl_context()
-    yield c
-    c.release()
 
 
 def _pair(action: str, env: str, base: dict, changed: dict):
@@ -35,7 +29,7 @@ def _pair(action: str, env: str, base: dict, changed: dict):
 
 
 def _frames(recipe, ctx) -> list[dict[str, np.ndarray]]:
-    return [rf.modalities for rf in render_video(recipe, ctx=ctx)]
+    return [rf.modalities for rf in render_recipe(recipe, ctx)]
 
 
 def _luma(rgb: np.ndarray) -> np.ndarray:
@@ -120,8 +114,6 @@ def test_each_environment_shows_its_declared_classes(ctx, env):
     """Looking around from the protagonist's waypoint (and down on it) shows every class
     the environment declares, and nothing outside its classes and props."""
     recipe = recipe_for("walk", env, seconds=SECONDS, variation="none")
-    from phav_generator.physics.simulate import simulate
-
     tr = simulate(recipe, keep_state=False)
     scene = ENVIRONMENT_SCENES[env]
     lighting = lighting_for(recipe.world, indoor=scene.indoor)

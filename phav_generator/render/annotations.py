@@ -1,7 +1,9 @@
-"""A rendered frame + its trajectory → the camera row and people rows of the metadata contract.
+"""Per-frame annotations: a rendered frame + its trajectory → the camera row and people rows
+of the metadata contract.
 
 Column meanings are ``phav_spec.metadata``'s. Boxes and visibility are measured on the
-rendered frame itself (instance mask, linear depth), so metadata and pixels always agree.
+rendered frame itself (instance mask, linear depth), so metadata and pixels always agree:
+that is why they belong to the render stage (``io`` only turns the rows into bytes).
 """
 
 from __future__ import annotations
@@ -64,7 +66,7 @@ def _muscle_limits(track: PersonTrack) -> list[list[float]]:
 class MetadataBuilder:
     """Per-frame metadata rows of one video (person shapes resolved once)."""
 
-    def __init__(self, recipe: Recipe, trajectory: Trajectory):
+    def __init__(self, recipe: Recipe, trajectory: Trajectory) -> None:
         self.recipe = recipe
         self.trajectory = trajectory
         humans = humans_by_id(recipe)
@@ -75,6 +77,7 @@ class MetadataBuilder:
         self._limits = {track.person_id: _muscle_limits(track) for track, _, _ in self._people}
 
     def camera_row(self, f: int) -> dict[str, Any]:
+        """Frame ``f``'s camera: time, intrinsics and pose."""
         tr = self.trajectory
         fx, fy, cx, cy = tr.intrinsics
         return {
@@ -86,6 +89,7 @@ class MetadataBuilder:
         }  # fmt: skip
 
     def people_rows(self, f: int, frame: Frame) -> list[dict[str, Any]]:
+        """One row per person of frame ``f``: boxes, joints and visibility measured on ``frame``."""
         tr = self.trajectory
         height, width = frame.depth_m.shape
         world_to_cam = view(tr.cam_to_world[f])

@@ -1,0 +1,104 @@
+
+uniform vec3 sky_ambient;
+uniform vec3 ground_ambient;
+uniform float wetness;
+uniform vec3 eye;
+uniform vec2 size;
+uniform sampler2DShadow shadow_map;
+uniform int lamp_count;
+uniform vec3 lamp_pos[16];
+uniform vec3 lamp_colour;
+in vec3 v_normal;
+in vec3 v_world;
+in vec3 v_local;
+in float v_depth;
+in vec4 v_clip1;
+in vec4 v_light;
+flat in uint v_class;
+flat in uint v_instance;
+flat in int v_material;
+flat in int v_pattern;
+flat in vec3 v_colour;          // linear (display colour to the power 2.2, done once on the CPU)
+flat in vec3 v_pattern_colour;  // linear
+flat in vec3 v_emission;
+
+#include "sky.glsl"
+
+#include "tone.glsl"
+
+#include "outputs.glsl"
+
+float sunlit(vec3 n) {
+#if !SHADOWS
+    return 1.0;
+#endif
+    vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
+    if (p.x <= 0.0 || p.x >= 1.0 || p.y <= 0.0 || p.y >= 1.0 || p.z >= 1.0) return 1.0;
+    float bias = 0.0015 + 0.004 * (1.0 - abs(dot(n, sun_dir)));
+    return texture(shadow_map, vec3(p.xy, p.z - bias));  // 2×2 percentage-closer (linear filter)
+}
+
+vec3 albedo() {
+    vec3 c = v_colour;
+    if (v_pattern == 1) {  // horizontal stripes around the body part
+        c = mix(c, v_pattern_colour, step(0.5, fract(v_local.z * 14.0)));
+    } else if (v_pattern == 2) {  // checks
+        vec3 q = floor(v_local * 12.0);
+        c = mix(c, v_pattern_colour, mod(q.x + q.y + q.z, 2.0));
+    } else if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
+        vec2 cell = floor(v_world.xy * 2.0);
+        float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
+        c *= 0.88 + 0.24 * h;
+    }
+    return c;
+}
+
+void main() {
+    vec3 n = normalize(v_normal);
+    if (!gl_FrontFacing) n = -n;
+    vec3 a = albedo();
+    float reflectivity = 0.0;
+#if WET
+    float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
+    if (v_material == 2) wet = 1.0;
+    a *= 1.0 - 0.45 * wet;
+#else
+    float wet = 0.0;
+#endif
+    float hemi = 0.5 + 0.5 * n.z;
+    vec3 light = mix(ground_ambient, sky_ambient, hemi);
+    float facing = max(dot(n, sun_dir), 0.0);
+    float shade = (facing > 0.0 || wet > 0.0) ? sunlit(n) : 0.0;  // the shadow map only where it matters
+    light += sun_colour * facing * shade;
+#if LAMPS
+    for (int i = 0; i < lamp_count; ++i) {
+        vec3 d = lamp_pos[i] - v_world;
+        float r2 = dot(d, d);
+        light += lamp_colour * max(dot(n, d * inversesqrt(r2)), 0.0) * 5.0 / (1.0 + r2);
+    }
+#endif
+    vec3 c = a * light + v_emission;
+#if WET
+    if (wet > 0.0) {
+        vec3 to_eye = normalize(eye - v_world);
+        float cosv = max(dot(n, to_eye), 0.0);
+        float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
+        reflectivity = wet * mix(0.25, 1.0, fresnel);
+        vec3 mirrored = reflect(-to_eye, n);
+        c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
+        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * shade;
+    }
+#endif
+    c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));
+    out_colour = vec4(tone(c), reflectivity);
+    out_class = v_class;
+    out_instance = v_instance;
+    out_depth = v_depth;
+    if (v_clip1.w > 1e-6) {
+        vec2 window1 = (v_clip1.xy / v_clip1.w * 0.5 + 0.5) * size;
+        vec2 d = window1 - gl_FragCoord.xy;
+        out_flow = vec4(d.x, -d.y, 1.0, 0.0);  // image rows grow downwards
+    } else {
+        out_flow = vec4(0.0);  // behind the camera at t + 1: invalid
+    }
+}

@@ -1,0 +1,48 @@
+
+#version 330
+uniform mat4 view_t;
+uniform mat4 view_t1;
+uniform mat4 proj;
+uniform mat4 light_vp;
+uniform int with_flow;
+in vec3 in_pos;
+in vec3 in_normal;
+in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
+in vec3 in_colour;
+in vec3 in_pattern_colour;
+in vec3 in_emission;
+out vec3 v_normal;
+out vec3 v_world;
+out vec3 v_local;
+out float v_depth;
+out vec4 v_clip1;
+out vec4 v_light;
+flat out uint v_class;
+flat out uint v_instance;
+flat out int v_material;
+flat out int v_pattern;
+flat out vec3 v_colour;
+flat out vec3 v_pattern_colour;
+flat out vec3 v_emission;
+
+#include "models.glsl"
+
+void main() {
+    mat4 model_t = model(in_ids.x, 0);
+    vec4 world = model_t * vec4(in_pos, 1.0);
+    vec4 cam = view_t * world;
+    v_depth = -cam.z;
+    v_world = world.xyz;
+    v_local = in_pos;
+    v_normal = mat3(model_t) * in_normal;
+    v_light = light_vp * world;
+    v_clip1 = with_flow == 1 ? proj * (view_t1 * (model(in_ids.x, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
+    v_class = in_ids.y;
+    v_instance = in_ids.z;
+    v_material = int(in_ids.w / 16u);
+    v_pattern = int(in_ids.w % 16u);
+    v_colour = in_colour;
+    v_pattern_colour = in_pattern_colour;
+    v_emission = in_emission;
+    gl_Position = proj * cam;
+}

@@ -1,0 +1,40 @@
+"""Recipe + trajectory → drawables → frames: labels come from the palette, people keep their
+instance ids, the environment's surfaces carry their classes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_generator.physics.simulate import simulate
+from phav_generator.render.gl import FrameRenderer
+from phav_generator.render.scene import build_drawables, class_id
+from phav_spec.vocab import PIXEL_CLASSES
+from tests.generator.physics.support import recipe_for
+
+PALETTE_IDS = {PIXEL_CLASSES[n].class_id for n in PIXEL_CLASSES.names}
+PERSON_CLASSES = {
+    PIXEL_CLASSES[n].class_id for n in PIXEL_CLASSES.names if PIXEL_CLASSES[n].group.name.startswith("HUMAN")
+}
+
+
+@pytest.mark.parametrize(("action", "environment"), [("walk", "urban"), ("walk_holding_hands", "simple")])
+def test_frames_of_a_simulated_video(ctx, action: str, environment: str):
+    recipe = recipe_for(action, environment, seconds=1.0, variation="none")
+    tr = simulate(recipe, keep_state=False)
+    renderer = FrameRenderer(
+        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, tr), sky_class=class_id("sky")
+    )
+    people = {p.person_id + 1 for p in tr.people}
+    try:
+        for f in (0, tr.n_frames // 2, tr.n_frames - 1):
+            frame = renderer.render(f, tr.cam_to_world[f], tr.cam_to_world[f + 1], tr.intrinsics)
+            assert set(np.unique(frame.class_id).tolist()) <= PALETTE_IDS
+            assert set(np.unique(frame.instance).tolist()) <= people | {0}
+            assert (frame.instance == 1).sum() > 50, "the protagonist is on screen"
+            # Person pixels are exactly the pixels with a body-part or joint class.
+            assert np.array_equal(frame.instance > 0, np.isin(frame.class_id, list(PERSON_CLASSES)))
+            ground = frame.class_id == class_id("terrain")
+            assert ground.any() and np.all(np.isfinite(frame.depth_m[ground]))
+    finally:
+        renderer.release()
