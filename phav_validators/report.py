@@ -11,13 +11,13 @@ import base64
 import html
 import json
 from collections.abc import Sequence
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 import cv2
 import numpy as np
 
+from phav_generator.dataset.fingerprint import package_version
 from phav_spec.files import atomic_write
 from phav_validators.checks.reproduce import shard_video_frames
 from phav_validators.learn.learnability import confusion_png
@@ -29,19 +29,12 @@ REPORT_VERSION = 1
 MAX_FRAMES = 6
 
 
-def _phav_version() -> str:
-    try:
-        return version("phav")
-    except PackageNotFoundError:
-        return "unknown"
-
-
 def report_json(reports: Sequence[DatasetReport]) -> dict[str, Any]:
     """The whole run as one JSON document."""
     failed = any(r.status.value == "fail" for r in reports)
     return {
         "report_version": REPORT_VERSION,
-        "phav_version": _phav_version(),
+        "phav_version": package_version("phav"),
         "status": "fail" if failed else "warn" if any(r.status.value == "warn" for r in reports) else "pass",
         "exit_code": 1 if failed else 0,
         "datasets": [r.to_json() for r in reports],
@@ -116,7 +109,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
         "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left;vertical-align:top}",
         ".pass{color:#1a7f37}.warn{color:#b58100}.fail{color:#c00;font-weight:bold}.skip{color:#888}",
         "figure{display:inline-block;margin:6px}</style></head><body>",
-        f"<h1>phav-validate report</h1><p>phav {esc(_phav_version())}. Legend: "
+        f"<h1>phav-validate report</h1><p>phav {esc(package_version('phav'))}. Legend: "
         "<span style='color:#3b6fb6'>■ observed</span> <span style='color:#e39b2d'>■ expected from θ</span></p>",
     ]
     for r in reports:
