@@ -274,7 +274,7 @@ class RecipeSampler:
         params = self.theta.variations
         if kind == "random_perturbation":
             spec = params.random_perturbation
-            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(scene.complementary_muscles), rng)
+            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(scene.complementary_muscles), rng=rng)
             return {
                 "kind": kind,
                 "muscles": sample_subset(scene.complementary_muscles, k, rng=rng),
@@ -283,7 +283,7 @@ class RecipeSampler:
             }
         if kind == "muscle_weakening":
             spec = params.muscle_weakening
-            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(MUSCLES), rng)
+            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(MUSCLES), rng=rng)
             muscles = sample_subset(MUSCLES.names, k, rng=rng)
             return {
                 "kind": kind,
@@ -292,7 +292,7 @@ class RecipeSampler:
             }
         if kind == "action_blending":
             spec = params.action_blending
-            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(scene.complementary_muscles), rng)
+            k = _subset_size(spec.n_muscles.min, spec.n_muscles.max, len(scene.complementary_muscles), rng=rng)
             muscles = sample_subset(scene.complementary_muscles, k, rng=rng)
             other = sample_integer(0, len(MOTIONS) - 2, rng=rng)
             other += other >= b  # a different motion sequence, from any action
@@ -390,7 +390,7 @@ class RecipeSampler:
         }]  # fmt: skip
 
 
-def _subset_size(lo: int, hi: int, available: int, rng: np.random.Generator) -> int:
+def _subset_size(lo: int, hi: int, available: int, *, rng: np.random.Generator) -> int:
     """Uniform size in [lo, hi] capped by how many muscles are available (at least one)."""
     hi = min(hi, available)
     lo = max(1, min(lo, hi))

@@ -56,7 +56,7 @@ class TSN(nn.Module):
         self.backbone = Backbone(channels, arch)
         self.dropout = arch.dropout
         self.heads = nn.ModuleDict({name: nn.Linear(self.backbone.out_features, n) for name, n in heads.items()})
-        init_weights(self, generator)
+        init_weights(self, generator=generator)
 
     def forward(self, snippets: Tensor, *, generator: torch.Generator | None = None) -> dict[str, Tensor]:
         """(B, K, C, H, W) → per head the consensus scores ``G`` (B, classes).
@@ -67,17 +67,17 @@ class TSN(nn.Module):
         if self.training and self.dropout > 0:
             if generator is None:
                 raise ValueError("training-mode forward needs a generator (dropout)")
-            features = dropout(features, self.dropout, generator)
+            features = dropout(features, self.dropout, generator=generator)
         return {name: head(features).view(b, k, -1).mean(dim=1) for name, head in self.heads.items()}
 
 
-def dropout(x: Tensor, p: float, generator: torch.Generator) -> Tensor:
+def dropout(x: Tensor, p: float, *, generator: torch.Generator) -> Tensor:
     """Inverted dropout with masks drawn from ``generator`` (``F.dropout`` uses global state)."""
     keep = torch.rand(x.shape, generator=generator, dtype=x.dtype).to(x.device) >= p
     return x * keep / (1.0 - p)
 
 
-def init_weights(module: nn.Module, generator: torch.Generator) -> None:
+def init_weights(module: nn.Module, *, generator: torch.Generator) -> None:
     """Kaiming-normal convolutions, small normal classifiers, BN at (1, 0): all from ``generator``."""
     for m in module.modules():
         if isinstance(m, nn.Conv2d):

@@ -28,7 +28,7 @@ class PlanBuilder:
         self.stand_offset_z = 0.0
 
 
-def uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
+def uniform(lo: float, hi: float, *, rng: np.random.Generator) -> float:
     """A uniform draw in [lo, hi) from one ``rng.random()`` (STYLE: our own inverse CDFs)."""
     return lo + (hi - lo) * rng.random()
 

@@ -17,10 +17,10 @@ from phav_spec.vocab import OBJECTS
 def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins."""
     rng = stream(b.recipe.seeds.physics, "car_hit")
-    speed = uniform(rng, 5.0, 12.0)
+    speed = uniform(5.0, 12.0, rng=rng)
     n = len(b.times)
     duration = b.times[-1]
-    t_hit = uniform(rng, 0.35, 0.6) * duration
+    t_hit = uniform(0.35, 0.6, rng=rng) * duration
     side = 1.0 if rng.random() < 0.5 else -1.0
     i_hit = int(np.searchsorted(b.times, t_hit))
     pelvis = p.targets.root_pos[min(i_hit, n - 1)]

@@ -112,7 +112,7 @@ def catch(b: PlanBuilder, p: PersonPlan, body: str) -> None:
     lo, hi = n // 4, max(n // 4 + 1, (3 * n) // 4)
     i = lo + int(np.argmax(hand[lo:hi] @ forward))
     t_catch = float(b.times[i])
-    distance = uniform(b.rng, 4.0, 6.0)
+    distance = uniform(4.0, 6.0, rng=b.rng)
     target = hand[i] + rot[i, BONE_INDEX[body]] @ np.array([0.0, 0.0, -0.15])
     start = target + distance * forward + np.array([0.0, 0.0, 0.3])
     g = np.array([0.0, 0.0, -9.81])

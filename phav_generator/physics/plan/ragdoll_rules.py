@@ -19,7 +19,7 @@ def dive_floor(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     z = p.targets.root_pos[:, 2] - b.recipe.protagonist.position[2]
     low = np.flatnonzero(z < 0.75 * p.dims.standing_pelvis_height)
     rng = stream(b.recipe.seeds.physics, "dive")
-    t0 = float(b.times[low[0]]) if low.size else uniform(rng, 0.3, 0.6) * b.times[-1]
+    t0 = float(b.times[low[0]]) if low.size else uniform(0.3, 0.6, rng=rng) * b.times[-1]
     return release(p, b.times, t0, strength=0.5)
 
 
@@ -30,14 +30,14 @@ def stagger(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     duration = b.times[-1]
     for _ in range(2 + int(rng.random() * 2)):
         t0 = rng.random() * duration
-        length = uniform(rng, 0.3, 0.8)
-        weight = uniform(rng, 0.02, 0.15)
+        length = uniform(0.3, 0.8, rng=rng)
+        weight = uniform(0.02, 0.15, rng=rng)
         window = (b.times >= t0) & (b.times < t0 + length)
         pin[window] = np.minimum(pin[window], weight)
     return replace(p, pin=pin)
 
 
-def limp(p: PersonPlan, rng: np.random.Generator) -> PersonPlan:
+def limp(p: PersonPlan, *, rng: np.random.Generator) -> PersonPlan:
     """Limp: one leg's knee and ankle muscles disabled (paper: synthetic limp)."""
     side = "right" if rng.random() < 0.5 else "left"
     s = p.strengths.copy()

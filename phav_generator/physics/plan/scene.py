@@ -88,7 +88,7 @@ def _protagonist_rules(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     elif action == "stagger":
         p = stagger(b, p)
     elif action == "limp":
-        p = limp(p, stream(b.recipe.seeds.physics, "rules"))
+        p = limp(p, rng=stream(b.recipe.seeds.physics, "rules"))
     return p
 
 

@@ -86,9 +86,9 @@ def test_loss_and_gradients_stay_finite(case):
 
 def test_dropout_draws_from_the_given_generator_only():
     x = torch.ones(4, 100)
-    a = dropout(x, 0.5, torch.Generator().manual_seed(7))
+    a = dropout(x, 0.5, generator=torch.Generator().manual_seed(7))
     torch.manual_seed(0)
-    b = dropout(x, 0.5, torch.Generator().manual_seed(7))
+    b = dropout(x, 0.5, generator=torch.Generator().manual_seed(7))
     assert torch.equal(a, b)
     assert set(np.unique(a.numpy())) == {0.0, 2.0}
 
