@@ -9,6 +9,7 @@ answer) and interpolated in joint space, so the arms never flip.
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -218,13 +219,41 @@ def fit_arm(side: str, target: np.ndarray, pole: np.ndarray, seed: np.ndarray) -
     return x
 
 
-def posed_arms(keys: tuple[tuple[float, Posture], ...]) -> tuple[tuple[float, Posture], ...]:
+class PosedArms(Sequence[tuple[float, Posture]]):
     """Keyframes whose hand targets (chest frame, ``arm`` weight 1) are replaced by joint angles.
 
     Each key's arms are fitted from the previous key's angles (``fit_arm``), so the motion
     interpolates in joint space between solved keys: hands meet at every key and the arms
-    never flip configuration between them.
+    never flip configuration between them. The fits are solved on first use (a few hundred
+    milliseconds for a golf swing), not when the catalogue is read.
     """
+
+    def __init__(self, keys: tuple[tuple[float, Posture], ...]):
+        self._keys = keys
+        self._solved: tuple[tuple[float, Posture], ...] | None = None
+
+    def _solve(self) -> tuple[tuple[float, Posture], ...]:
+        if self._solved is None:
+            self._solved = _fit_keys(self._keys)
+        return self._solved
+
+    def __len__(self) -> int:
+        return len(self._keys)
+
+    def __getitem__(self, index):  # type: ignore[override]
+        return self._solve()[index]
+
+    def __iter__(self) -> Iterator[tuple[float, Posture]]:
+        return iter(self._solve())
+
+
+def posed_arms(keys: tuple[tuple[float, Posture], ...]) -> PosedArms:
+    """``keys`` with their hand targets solved into arm joint angles (``PosedArms``)."""
+    return PosedArms(keys)
+
+
+def _fit_keys(keys: tuple[tuple[float, Posture], ...]) -> tuple[tuple[float, Posture], ...]:
+    """Each key's arms fitted to its hand targets, starting from the previous key's angles."""
     seeds = {side: np.array([0.5, 0.2, 0.0, 0.5]) for side in ("left", "right")}
     out = []
     for t, post in keys:
