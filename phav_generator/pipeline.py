@@ -17,7 +17,7 @@ comes back and joins parts into shards.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,6 +26,7 @@ import moderngl
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from phav_generator.engines import Progress
 from phav_generator.faults import crash_point, task_delay
 from phav_generator.io.shards import open_part
 from phav_generator.physics.plan.scene import plan_scene
@@ -37,8 +38,6 @@ from phav_spec.files import atomic_write
 from phav_spec.metadata import CAMERA_COLUMNS, PEOPLE_COLUMNS, arrow_schema, frame_json
 from phav_spec.recipe import Recipe, parse_recipe
 
-#: Called with (videos finished, frames finished) increments as work completes.
-Progress = Callable[[int, int], None]
 #: The metadata tables a video's part carries beside its tar members, with their columns.
 PART_TABLES = (("cameras", CAMERA_COLUMNS), ("people", PEOPLE_COLUMNS))
 

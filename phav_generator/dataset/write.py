@@ -28,10 +28,10 @@ import pyarrow.parquet as pq
 from phav_generator.dataset.fingerprint import package_version, renderer_fingerprint
 from phav_generator.dataset.journal import JOURNAL_FILE, Journal, check_run
 from phav_generator.dataset.lock import exclusive, remove_stale_temporaries
-from phav_generator.engines import check_engine, run_tasks
+from phav_generator.engines import Progress, check_engine, run_tasks
 from phav_generator.faults import crash_point
 from phav_generator.io.shards import assemble_shard
-from phav_generator.pipeline import PART_TABLES, Progress, VideoTask, part_path, run_task
+from phav_generator.pipeline import PART_TABLES, VideoTask, part_path, run_task
 from phav_generator.render.context import check_gl_kind, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
