@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from phav_generator.engines import check_engine
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 from phav_validators.checks.failures import DEFAULT_BUDGET
@@ -63,8 +64,7 @@ class Options:
             raise PhavUserError(f"must be at least 0, got {self.regenerate}", field="--regenerate")
         if not 0.0 <= self.budget <= 1.0:
             raise PhavUserError(f"must be in [0, 1], got {self.budget}", field="--failure-budget")
-        if self.engine not in ("local", "ray"):
-            raise PhavUserError(f"unknown engine {self.engine!r}; choose local or ray", field="--engine")
+        check_engine(self.engine)
 
 
 @dataclass
