@@ -140,14 +140,26 @@ def dataset_card(
 ) -> str:
     """The release's README.md: what the data is, how to get and check its pixels, statistics,
     histograms against θ, the θ itself, the files with their hashes, and how to cite."""
-    columns, fit = recipes.columns, recipes.result
+    lines = [
+        *_card_summary(manifest, theta, index),
+        *(_card_recipe_only(index) if index.recipes_only else _card_check()),
+        *_card_modalities(manifest),
+        *_card_statistics(manifest, recipes, index, figures),
+        *_card_renderer(manifest),
+        *_card_files(index),
+        *_card_theta(theta),
+        *_card_citation(index),
+    ]
+    return "\n".join(lines)
+
+
+def _card_summary(manifest: DatasetManifest, theta: Theta, index: ReleaseIndex) -> list[str]:
+    """Title, version and license, and one paragraph saying what the videos are."""
     n_frames = sum(v.n_frames for v in manifest.videos)
     fps = theta.video.fps
-    rejected = sum(t.rejected for t in fit.tests)
-    r = manifest.renderer
     published = f", published {index.date_published}" if index.date_published else ""
     where = f" at <{index.url}>" if index.url else ""
-    lines = [
+    return [
         f"# {manifest.name}: procedural human action videos",
         "",
         f"Version {index.dataset_version}{published}{where}; license {index.license}.",
@@ -159,27 +171,37 @@ def dataset_card(
         "and per-frame metadata.",
         "",
     ]
-    if index.recipes_only:
-        lines += [
-            "## This is a recipe-only release",
-            "",
-            f"It carries the recipes, θ and the manifest ({_bytes(index.included_bytes)}), not the pixels "
-            f"({_bytes(index.full_bytes)} in the full release). Rebuild them and check every hash:",
-            "",
-            "```",
-            "pip install phav",
-            "phav regenerate manifest.json --out DIR --workers N",
-            "phav-validate .            # regenerates what its checks need, then validates",
-            "```",
-            "",
-            "Pixels are bit-identical where the renderer fingerprint (below) is equal; elsewhere they may differ "
-            "in the last bits, and `phav regenerate` says which videos do.",
-            "",
-        ]
-    else:
-        lines += ["Check it: `phav-validate .` (integrity, encoding, distribution, failure cases, consistency, "
-                  "reproducibility).", ""]  # fmt: skip
-    lines += [
+
+
+def _card_recipe_only(index: ReleaseIndex) -> list[str]:
+    """How to rebuild the pixels of a recipe-only release and check them."""
+    return [
+        "## This is a recipe-only release",
+        "",
+        f"It carries the recipes, θ and the manifest ({_bytes(index.included_bytes)}), not the pixels "
+        f"({_bytes(index.full_bytes)} in the full release). Rebuild them and check every hash:",
+        "",
+        "```",
+        "pip install phav",
+        "phav regenerate manifest.json --out DIR --workers N",
+        "phav-validate .            # regenerates what its checks need, then validates",
+        "```",
+        "",
+        "Pixels are bit-identical where the renderer fingerprint (below) is equal; elsewhere they may differ "
+        "in the last bits, and `phav regenerate` says which videos do.",
+        "",
+    ]
+
+
+def _card_check() -> list[str]:
+    """How to check a full release."""
+    return ["Check it: `phav-validate .` (integrity, encoding, distribution, failure cases, consistency, "
+            "reproducibility).", ""]  # fmt: skip
+
+
+def _card_modalities(manifest: DatasetManifest) -> list[str]:
+    """The modalities' table and how a sample is laid out in the shards."""
+    return [
         "## Modalities",
         "",
         "| name | file in each sample | type | description |",
@@ -192,6 +214,16 @@ def dataset_card(
         "Shards are WebDataset tars; a sample is one frame keyed `{video_id}/{frame:05d}` with the files above and "
         "its metadata (`.json`). `cameras.parquet` and `people.parquet` hold the per-frame cameras and people.",
         "",
+    ]
+
+
+def _card_statistics(
+    manifest: DatasetManifest, recipes: RecipeFit, index: ReleaseIndex, figures: list[str]
+) -> list[str]:
+    """Clip lengths and the fit to θ, videos and frames per action, and the histograms."""
+    columns, fit = recipes.columns, recipes.result
+    rejected = sum(t.rejected for t in fit.tests)
+    lines = [
         "## Statistics",
         "",
         f"- mean clip length {fit.mean_duration:.2f} s (θ expects {fit.expected_mean_duration:.2f} s)",
@@ -210,16 +242,27 @@ def dataset_card(
         lines.append(f"| {action} | {count} | {frames_by_action[action]:,} |")
     lines += ["", "### Histograms: observed (blue) against θ's expectation (orange)", ""]
     lines += [f"![{name.removesuffix('.svg')}](histograms/{name})" for name in figures]
-    if r is not None:
-        lines += [
-            "",
-            "## Renderer of record",
-            "",
-            f"{r.gl_renderer} ({r.gl_vendor}, OpenGL {r.gl_version}) on {r.cpu_model}; "
-            + ", ".join(f"{k} {v}" for k, v in sorted(r.versions.items()))
-            + f". Fingerprint digest `{r.digest()}`.",
-        ]
-    lines += [
+    return lines
+
+
+def _card_renderer(manifest: DatasetManifest) -> list[str]:
+    """The renderer of record, whose fingerprint decides whether pixels must match bit for bit."""
+    r = manifest.renderer
+    if r is None:
+        return []
+    return [
+        "",
+        "## Renderer of record",
+        "",
+        f"{r.gl_renderer} ({r.gl_vendor}, OpenGL {r.gl_version}) on {r.cpu_model}; "
+        + ", ".join(f"{k} {v}" for k, v in sorted(r.versions.items()))
+        + f". Fingerprint digest `{r.digest()}`.",
+    ]
+
+
+def _card_files(index: ReleaseIndex) -> list[str]:
+    """Every file of the full release with its size and sha256, and whether this release carries it."""
+    return [
         "",
         "## Files",
         "",
@@ -232,12 +275,17 @@ def dataset_card(
             f"| {f.path} | {f.bytes:,} | `{f.sha256}` | {'yes' if f.included else 'no (regenerate)'} |"
             for f in index.files
         ),
-        "",
-        "## θ",
-        "",
-        "```yaml",
-        theta.to_yaml().rstrip(),
-        "```",
+    ]
+
+
+def _card_theta(theta: Theta) -> list[str]:
+    """θ as YAML: the generative model's parameters the data were sampled from."""
+    return ["", "## θ", "", "```yaml", theta.to_yaml().rstrip(), "```"]
+
+
+def _card_citation(index: ReleaseIndex) -> list[str]:
+    """The data's license and the paper to cite."""
+    return [
         "",
         "## License and citation",
         "",
@@ -248,7 +296,6 @@ def dataset_card(
         "```",
         "",
     ]
-    return "\n".join(lines)
 
 
 def _span(seconds: float) -> str:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.markup import escape
@@ -18,11 +18,12 @@ from phav_app.console import console
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
 from phav_validators.learn.config import require_torch
-from phav_validators.learn.data import FLOW_SOURCES, load_phav, load_real, real_split
-from phav_validators.learn.experiment import MODES, phav_runs, real_runs, summarise
+from phav_validators.learn.data import FLOW_SOURCES, ClipSet, load_phav, load_real, real_split
+from phav_validators.learn.experiment import MODES, RunResult, phav_runs, real_runs, summarise
 from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 from phav_validators.learn.splits import check_split_kind
 from phav_validators.learn.train import TrainConfig, default_threads, torch_device
+from phav_validators.options import ProgressFactory
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -95,24 +96,15 @@ def train_command(
 
     require_torch()
     # Every option is checked before any data is read.
-    stream_list = tuple(s.strip() for s in streams.split(",") if s.strip())
-    if not stream_list:
-        raise PhavUserError("name at least one stream", field="--streams")
+    stream_list = _streams(streams)
     check_split_kind(split)
     torch_device(device)
     fractions = _fractions(real_fraction)
     real_source = _real(real) if real is not None else None
-    if mode not in MODES:
-        raise PhavUserError(f"choose from {', '.join(MODES)}, got {mode!r}", field="--mode")
-    if real_source is not None and mode == "cool" and dataset is None:
-        raise PhavUserError("Cool-TSN mixes PHAV clips into every batch: give a PHAV dataset", field="--mode")
-    if real_source is not None and mode == "ft" and init is None:
-        raise PhavUserError("TSN-FT starts from a PHAV run: give --init (a phav train output folder)", field="--init")
+    _check_mode(mode, real_source, dataset, init)
     if flow not in FLOW_SOURCES:
         raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
-    n_virtual, _, n_real = mix.partition(":")
-    if not (n_virtual.isdigit() and n_real.isdigit()) or int(n_virtual) < 1 or int(n_real) < 1:
-        raise PhavUserError(f"expected VIRTUAL:REAL clip counts, e.g. 10:22, got {mix!r}", field="--mix")
+    clips_per_batch = _mix(mix)
     stored = _size(size)
     base = TrainConfig(stream=stream_list[0], widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
                        optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool, dropout=dropout,
@@ -125,6 +117,7 @@ def train_command(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise PhavUserError(f"cannot create the output folder: {e.strerror}", source=str(out)) from None
+
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as bar:  # fmt: skip
 
@@ -135,26 +128,82 @@ def train_command(
         virtual = None
         if dataset is not None:
             virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0))
-        classes: dict[str, list[str]] = {}  # run name → its test classes
         if real_source is None:
             runs = phav_runs(virtual, base, stream_list, out, split_kind=split, splits=splits, device=device,
                              progress=progress)  # fmt: skip
-            classes = {r.name: virtual.classes for r in runs}
+            classes = {r.name: virtual.classes for r in runs}  # run name → its test classes
         else:
-            layout, root = real_source
-            runs = []
-            for k in range(1, splits + 1):
-                official = real_split(layout, root, k)
-                load = progress(f"decoding {layout} split {k}", len(official.train) + len(official.test))
-                train_clips = load_real(official.train, size=stored, flow=flow, progress=load)
-                test_clips = load_real(official.test, size=stored, flow=flow, progress=load)
-                done = real_runs(mode, train_clips, test_clips, len(official.classes), base, stream_list, out,
-                                 virtual=virtual, mix=(int(n_virtual), int(n_real)), fractions=fractions, split=k,
-                                 init=init, device=device, progress=progress)  # fmt: skip
-                runs += done
-                classes |= {r.name: official.classes for r in done}
+            runs, classes = _real_runs(real_source, virtual, base, stream_list, out, splits=splits, size=stored,
+                                       flow=flow, mode=mode, mix=clips_per_batch, fractions=fractions, init=init,
+                                       device=device, progress=progress)  # fmt: skip
     rows = summarise(runs)
-    table = Table(title=f"test accuracy ({'PHAV ' + split if real is None else real + ' ' + mode})")
+    _print_accuracies(rows, f"test accuracy ({'PHAV ' + split if real is None else real + ' ' + mode})")
+    _write_results(out, runs, classes, rows, base)
+
+
+def _streams(text: str) -> tuple[str, ...]:
+    """The comma-separated streams, at least one."""
+    stream_list = tuple(s.strip() for s in text.split(",") if s.strip())
+    if not stream_list:
+        raise PhavUserError("name at least one stream", field="--streams")
+    return stream_list
+
+
+def _check_mode(mode: str, real_source: tuple[str, Path] | None, dataset: Path | None, init: Path | None) -> None:
+    """A known mode, with what it needs: Cool-TSN a PHAV dataset, TSN-FT a PHAV run to start from."""
+    if mode not in MODES:
+        raise PhavUserError(f"choose from {', '.join(MODES)}, got {mode!r}", field="--mode")
+    if real_source is not None and mode == "cool" and dataset is None:
+        raise PhavUserError("Cool-TSN mixes PHAV clips into every batch: give a PHAV dataset", field="--mode")
+    if real_source is not None and mode == "ft" and init is None:
+        raise PhavUserError("TSN-FT starts from a PHAV run: give --init (a phav train output folder)", field="--init")
+
+
+def _mix(text: str) -> tuple[int, int]:
+    """Cool-TSN's VIRTUAL:REAL clips per batch."""
+    n_virtual, _, n_real = text.partition(":")
+    if not (n_virtual.isdigit() and n_real.isdigit()) or int(n_virtual) < 1 or int(n_real) < 1:
+        raise PhavUserError(f"expected VIRTUAL:REAL clip counts, e.g. 10:22, got {text!r}", field="--mix")
+    return int(n_virtual), int(n_real)
+
+
+def _real_runs(
+    real_source: tuple[str, Path],
+    virtual: ClipSet | None,
+    base: TrainConfig,
+    streams: tuple[str, ...],
+    out: Path,
+    *,
+    splits: int,
+    size: tuple[int, int],
+    flow: str,
+    mode: str,
+    mix: tuple[int, int],
+    fractions: tuple[float, ...],
+    init: Path | None,
+    device: str,
+    progress: ProgressFactory,
+) -> tuple[list[RunResult], dict[str, list[str]]]:
+    """Train and test on each official split of the real dataset; the runs and each run's classes."""
+    layout, root = real_source
+    runs: list[RunResult] = []
+    classes: dict[str, list[str]] = {}
+    for k in range(1, splits + 1):
+        official = real_split(layout, root, k)
+        load = progress(f"decoding {layout} split {k}", len(official.train) + len(official.test))
+        train_clips = load_real(official.train, size=size, flow=flow, progress=load)
+        test_clips = load_real(official.test, size=size, flow=flow, progress=load)
+        done = real_runs(mode, train_clips, test_clips, len(official.classes), base, streams, out,
+                         virtual=virtual, mix=mix, fractions=fractions, split=k,
+                         init=init, device=device, progress=progress)  # fmt: skip
+        runs += done
+        classes |= {r.name: official.classes for r in done}
+    return runs, classes
+
+
+def _print_accuracies(rows: list[dict[str, Any]], title: str) -> None:
+    """The test accuracies per fraction and stream, as a table."""
+    table = Table(title=title)
     for col in ("fraction", "stream", "splits", "mean", "min", "max"):
         table.add_column(col, justify="right")
     for row in rows:
@@ -162,7 +211,12 @@ def train_command(
                       f"{row['min']:.1%}", f"{row['max']:.1%}")  # fmt: skip
     console.print(table)
 
-    for run in runs:  # the fused predictions (or the only stream's)
+
+def _write_results(
+    out: Path, runs: list[RunResult], classes: dict[str, list[str]], rows: list[dict[str, Any]], base: TrainConfig
+) -> None:
+    """Each run's confusion image (of the fused predictions, or the only stream's) and results.json."""
+    for run in runs:
         names = classes[run.name]
         write_confusion_png(confusion_matrix(run.labels, run.predicted, len(names)), names,
                             out / f"{run.name}-confusion.png")  # fmt: skip

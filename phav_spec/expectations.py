@@ -116,97 +116,164 @@ class ModelProbabilities:
 
 
 def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
-    """Every checked categorical variable's exact conditional table, keyed by column name."""
+    """Every checked categorical variable's exact conditional table, keyed by column name.
+
+    In order: the roots (D, W, H, A), what the action conditions (E, V, B), the camera given
+    both, the weather elements and spring dead zones, the supporting character, the objects
+    variation's prop and action blending's motion, the mirror flag, the varied muscles, then
+    what the environment conditions (background actors, the protagonist's waypoint).
+    """
     p = ModelProbabilities.of(theta)
-    A, E, C = ACTIONS.names, ENVIRONMENTS.names, CAMERAS.names
-    reach_a = [i for i in range(len(A)) if p.a[i] > 0]
-    tables: list[ExactTable] = []
+    tables = [
+        *_root_tables(p),
+        *_given_action_tables(p),
+        _camera_table(p),
+        *_weather_tables(theta, p),
+        *_dead_zone_tables(theta, p),
+        *_supporting_human_table(theta, p),
+        *_variation_object_table(p),
+        *_blend_motion_table(p),
+        _mirror_table(theta),
+        *_muscle_count_table(theta, p),
+        *_environment_tables(theta, p),
+    ]
+    return {t.variable: t for t in tables}
 
-    def root(variable: str, values: tuple[Any, ...], probs: np.ndarray) -> None:
-        tables.append(ExactTable(variable, (), values, {(): probs}, {(): 1.0}))
 
-    root("day_phase", DAY_PHASES.names, p.d)
-    root("weather", WEATHERS.names, p.w)
-    root("human_model", HUMAN_MODELS.names, p.h)
-    root("action", A, p.a)
+def _root(variable: str, values: tuple[Any, ...], probs: np.ndarray, applies_to: str = "every video") -> ExactTable:
+    """A variable without parents: one row, its probabilities."""
+    return ExactTable(variable, (), values, {(): probs}, {(): 1.0}, applies_to)
+
+
+def _reachable_actions(p: ModelProbabilities) -> list[int]:
+    """Indices of the actions with weight in θ_A."""
+    return [i for i in range(len(ACTIONS)) if p.a[i] > 0]
+
+
+def _root_tables(p: ModelProbabilities) -> list[ExactTable]:
+    """The day phase, weather, human model and action: drawn from θ alone."""
+    return [
+        _root("day_phase", DAY_PHASES.names, p.d),
+        _root("weather", WEATHERS.names, p.w),
+        _root("human_model", HUMAN_MODELS.names, p.h),
+        _root("action", ACTIONS.names, p.a),
+    ]
+
+
+def _given_action_tables(p: ModelProbabilities) -> list[ExactTable]:
+    """The environment, variation and base motion, each given the action."""
+    A = ACTIONS.names
+    reach_a = _reachable_actions(p)
+    tables = []
     for variable, values, given_a in (
-        ("environment", E, p.e_a),
+        ("environment", ENVIRONMENTS.names, p.e_a),
         ("variation", VARIATIONS.names, p.v_a),
         ("base_motion", MOTIONS.names, p.b_a),
     ):
         rows = {(A[i],): given_a[i] for i in reach_a}
         tables.append(ExactTable(variable, ("action",), values, rows, _positive(A, p.a)))
+    return tables
 
+
+def _camera_table(p: ModelProbabilities) -> ExactTable:
+    """The camera given the action and the environment."""
+    A, E = ACTIONS.names, ENVIRONMENTS.names
+    reach_a = _reachable_actions(p)
     ae = p.ae
     cam_rows = {(A[i], E[j]): p.c_ae[i, j] for i in reach_a for j in range(len(E)) if ae[i, j] > 0}
     cam_parents = {(A[i], E[j]): float(ae[i, j]) for i in reach_a for j in range(len(E)) if ae[i, j] > 0}
-    tables.append(ExactTable("camera", ("action", "environment"), C, cam_rows, cam_parents))
+    return ExactTable("camera", ("action", "environment"), CAMERAS.names, cam_rows, cam_parents)
 
-    tables.extend(_weather_tables(theta, p))
-    tables.extend(_dead_zone_tables(theta, p))
 
-    # Supporting character: H without the protagonist's, in two-people actions (H ⟂ A).
-    if any(ACTIONS[A[i]].n_people > 1 for i in reach_a):
-        h_w = theta.arrays.h
-        rows = {}
-        for k, name in enumerate(HUMAN_MODELS.names):
-            if p.h[k] > 0:
-                rows[(name,)] = _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
-        tables.append(ExactTable(
-            "supporting_human_model", ("human_model",), HUMAN_MODELS.names, rows,
-            _positive(HUMAN_MODELS.names, p.h), "two-people actions",
-        ))  # fmt: skip
+def _supporting_human_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
+    """Supporting character: H without the protagonist's, in two-people actions (H ⟂ A)."""
+    A = ACTIONS.names
+    if not any(ACTIONS[A[i]].n_people > 1 for i in _reachable_actions(p)):
+        return []
+    h_w = theta.arrays.h
+    rows = {}
+    for k, name in enumerate(HUMAN_MODELS.names):
+        if p.h[k] > 0:
+            rows[(name,)] = _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
+    return [ExactTable(
+        "supporting_human_model", ("human_model",), HUMAN_MODELS.names, rows,
+        _positive(HUMAN_MODELS.names, p.h), "two-people actions",
+    )]  # fmt: skip
 
-    # The objects variation's prop, uniform over what the action declares.
+
+def _variation_object_table(p: ModelProbabilities) -> list[ExactTable]:
+    """The objects variation's prop, uniform over what the action declares."""
+    A = ACTIONS.names
     v_obj = VARIATIONS.index("objects")
     a_given_obj = _normalise(p.a * p.v_a[:, v_obj])
-    if a_given_obj.sum() > 0:
-        rows = {}
-        for i in np.flatnonzero(a_given_obj):
-            options = ACTION_SCENES[A[i]].variation_objects
-            rows[(A[i],)] = np.array([1.0 / len(options) if o in options else 0.0 for o in OBJECTS.names])
-        tables.append(ExactTable(
-            "variation_object", ("action",), OBJECTS.names, rows, _positive(A, a_given_obj),
-            "videos with the objects variation",
-        ))  # fmt: skip
+    if not a_given_obj.sum() > 0:
+        return []
+    rows = {}
+    for i in np.flatnonzero(a_given_obj):
+        options = ACTION_SCENES[A[i]].variation_objects
+        rows[(A[i],)] = np.array([1.0 / len(options) if o in options else 0.0 for o in OBJECTS.names])
+    return [ExactTable(
+        "variation_object", ("action",), OBJECTS.names, rows, _positive(A, a_given_obj),
+        "videos with the objects variation",
+    )]  # fmt: skip
 
-    # Action blending's second motion: uniform over every motion but the base one.
+
+def _blend_motion_table(p: ModelProbabilities) -> list[ExactTable]:
+    """Action blending's second motion: uniform over every motion but the base one."""
     v_blend = VARIATIONS.index("action_blending")
     b_given_blend = _normalise((p.a * p.v_a[:, v_blend]) @ p.b_a)
-    if b_given_blend.sum() > 0:
-        n = len(MOTIONS)
-        blend = (1.0 - b_given_blend) / (n - 1)
-        root_table = ExactTable(
-            "blend_motion", (), MOTIONS.names, {(): blend}, {(): 1.0}, "videos with action blending"
-        )
-        tables.append(root_table)
+    if not b_given_blend.sum() > 0:
+        return []
+    n = len(MOTIONS)
+    blend = (1.0 - b_given_blend) / (n - 1)
+    return [_root("blend_motion", MOTIONS.names, blend, "videos with action blending")]
 
+
+def _mirror_table(theta: Theta) -> ExactTable:
+    """Whether the base motion is mirrored: a Bernoulli of θ."""
     p_mirror = theta.motion.p_mirror
-    root("mirror", (False, True), np.array([1.0 - p_mirror, p_mirror]))
-    tables.extend(_muscle_count_table(theta, p))
+    return _root("mirror", (False, True), np.array([1.0 - p_mirror, p_mirror]))
 
+
+def _environment_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
+    """What the environment conditions: the background actors and the protagonist's waypoint."""
     e_marg = p.a @ p.e_a
+    env_parents = _positive(ENVIRONMENTS.names, e_marg)
+    return [
+        _background_count_table(theta, e_marg, env_parents),
+        *_background_tables(theta, p, e_marg),
+        _waypoint_table(e_marg, env_parents),
+    ]
+
+
+def _background_count_table(theta: Theta, e_marg: np.ndarray, env_parents: dict[tuple[Any, ...], float]) -> ExactTable:
+    """How many background actors: uniform on θ's count where the environment has a waypoint
+    graph for them, none where it has not."""
     spec = theta.background_actors
     max_n = max(spec.count.max, 0)
-    bg_rows, wp_rows = {}, {}
-    max_wp = max(len(ENVIRONMENT_SCENES[e].protagonist_waypoints) for e in E)
-    for j, env in enumerate(E):
+    rows = {}
+    for j, env in enumerate(ENVIRONMENTS.names):
         if e_marg[j] <= 0:
             continue
-        scene = ENVIRONMENT_SCENES[env]
         counts = np.zeros(max_n + 1)
-        if scene.background_waypoints:
+        if ENVIRONMENT_SCENES[env].background_waypoints:
             counts[spec.count.min : spec.count.max + 1] = 1.0 / (spec.count.max - spec.count.min + 1)
         else:
             counts[0] = 1.0
-        bg_rows[(env,)] = counts
-        k = len(scene.protagonist_waypoints)
-        wp_rows[(env,)] = np.array([1.0 / k if i < k else 0.0 for i in range(max_wp)])
-    env_parents = _positive(E, e_marg)
-    tables.append(ExactTable("n_background_actors", ("environment",), tuple(range(max_n + 1)), bg_rows, env_parents))
-    tables.extend(_background_tables(theta, p, e_marg))
-    tables.append(ExactTable("waypoint_index", ("environment",), tuple(range(max_wp)), wp_rows, env_parents))
-    return {t.variable: t for t in tables}
+        rows[(env,)] = counts
+    return ExactTable("n_background_actors", ("environment",), tuple(range(max_n + 1)), rows, env_parents)
+
+
+def _waypoint_table(e_marg: np.ndarray, env_parents: dict[tuple[Any, ...], float]) -> ExactTable:
+    """The protagonist's waypoint, uniform over the environment's."""
+    max_wp = max(len(ENVIRONMENT_SCENES[e].protagonist_waypoints) for e in ENVIRONMENTS.names)
+    rows = {}
+    for j, env in enumerate(ENVIRONMENTS.names):
+        if e_marg[j] <= 0:
+            continue
+        k = len(ENVIRONMENT_SCENES[env].protagonist_waypoints)
+        rows[(env,)] = np.array([1.0 / k if i < k else 0.0 for i in range(max_wp)])
+    return ExactTable("waypoint_index", ("environment",), tuple(range(max_wp)), rows, env_parents)
 
 
 def _muscle_count_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
@@ -409,8 +476,19 @@ _PLACEMENT_FIELD = {"side_by_side": "side_distance_m", "behind": "behind_distanc
 
 
 def _continuous_parameters() -> tuple[ContinuousParameter, ...]:
+    """Every continuous θ distribution, by the part of the recipe its draws land in."""
+    return (
+        *_people_parameters(),
+        *_camera_parameters(),
+        *_weather_parameters(),
+        *_variation_parameters(),
+    )
+
+
+def _people_parameters() -> list[ContinuousParameter]:
+    """The motion's speed, the protagonist's heading, background and supporting people."""
     cp = ContinuousParameter
-    params = [
+    return [
         cp("motion.speed", "motion.speed", "motion.speed", None, lambda t, g: t.motion.speed),
         cp(
             "protagonist.heading_deg",
@@ -434,6 +512,12 @@ def _continuous_parameters() -> tuple[ContinuousParameter, ...]:
             lambda t, g: getattr(t.supporting_characters, _PLACEMENT_FIELD[g]),
         ),
     ]
+
+
+def _camera_parameters() -> list[ContinuousParameter]:
+    """Per camera kind: its placement, then its springs and impulse (spring cameras)."""
+    cp = ContinuousParameter
+    params = []
     for field in ("fov_deg", "distance_m", "height_m", "azimuth_deg"):
         params.append(
             cp(f"camera.{field}", f"cameras.*.{field}", f"camera.{field}", "camera.kind", _camera_dist(field))
@@ -448,39 +532,47 @@ def _continuous_parameters() -> tuple[ContinuousParameter, ...]:
         for field in fields:
             name = f"camera.{sub}.{field}"
             params.append(cp(name, f"cameras.*.{sub}.{field}", name, "camera.kind", _camera_dist(field, sub)))
-    for field, element in (
-        ("sun_brightness", None),
-        ("ambient_luminosity", None),
-        ("cloud_intensity", "clouds"),
-        ("fog_intensity", "fog"),
-        ("rain_intensity", "rain"),
-    ):
-        params.append(
-            cp(
-                f"world.{field}",
-                f"weather_elements.*.{field}",
-                f"world.{field}",
-                "world.weather",
-                lambda t, g, field=field: getattr(t.weather_elements[g], field),
-                when=f"world.{element}" if element else None,
-            )
+    return params
+
+
+def _weather_parameters() -> list[ContinuousParameter]:
+    """Per weather: light levels, and each element's intensity while the element is on."""
+    return [
+        ContinuousParameter(
+            f"world.{field}",
+            f"weather_elements.*.{field}",
+            f"world.{field}",
+            "world.weather",
+            lambda t, g, field=field: getattr(t.weather_elements[g], field),
+            when=f"world.{element}" if element else None,
         )
-    for kind, path, theta_field in (
-        ("random_perturbation", "variation.radius_m", "radius_m"),
-        ("random_perturbation", "variation.period_s", "period_s"),
-        ("muscle_weakening", "variation.strengths[]", "strength"),
-        ("action_blending", "variation.weight", "weight"),
-    ):
-        params.append(
-            cp(
-                path.removesuffix("[]"),
-                f"variations.{kind}.{theta_field}",
-                path,
-                "variation.kind",
-                lambda t, g, theta_field=theta_field: getattr(getattr(t.variations, g), theta_field),
-            )
+        for field, element in (
+            ("sun_brightness", None),
+            ("ambient_luminosity", None),
+            ("cloud_intensity", "clouds"),
+            ("fog_intensity", "fog"),
+            ("rain_intensity", "rain"),
         )
-    return tuple(params)
+    ]
+
+
+def _variation_parameters() -> list[ContinuousParameter]:
+    """Per variation kind, the continuous parameters it draws."""
+    return [
+        ContinuousParameter(
+            path.removesuffix("[]"),
+            f"variations.{kind}.{theta_field}",
+            path,
+            "variation.kind",
+            lambda t, g, theta_field=theta_field: getattr(getattr(t.variations, g), theta_field),
+        )
+        for kind, path, theta_field in (
+            ("random_perturbation", "variation.radius_m", "radius_m"),
+            ("random_perturbation", "variation.period_s", "period_s"),
+            ("muscle_weakening", "variation.strengths[]", "strength"),
+            ("action_blending", "variation.weight", "weight"),
+        )
+    ]
 
 
 #: Every continuous θ distribution the sampler draws from, with where its draws land.

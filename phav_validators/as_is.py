@@ -17,6 +17,7 @@ import multiprocessing
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -83,6 +84,11 @@ class _Loaded:
     integrity: Report = field(default_factory=Report)
     schema: Report = field(default_factory=Report)
     distribution: Report = field(default_factory=Report)
+
+    @property
+    def n_recipes(self) -> int:
+        """Rows of the recipes table, valid or not (0 without one)."""
+        return self.table.table.num_rows if self.table is not None else 0
 
 
 def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -> _Loaded:
@@ -426,72 +432,99 @@ def _validate(
     scanning: bool,
     pool: ProcessPoolExecutor | None,
 ) -> DatasetReport:
+    """Read the sidecar files, start the shard pass, run the checks beside it and after it."""
     timings: dict[str, float] = {}
     loaded = _load(inp, theta, timings)
-    results: dict[str, CheckResult] = {}
     want = set(opts.checks)
-    m = loaded.manifest
 
     # The shard pass (integrity, encoding, consistency) starts first: with workers it runs
     # beside schema, distribution and failures, which need no pixels until failures asks.
-    jobs: list[ShardJob] = []
-    scan_report = Report()
     scan_start = time.perf_counter()
-    if scanning:
-        jobs, scan_report = _jobs(inp, loaded, opts)
+    jobs, scan_report = _jobs(inp, loaded, opts) if scanning else ([], Report())
     advance = progress("scanning shards", len(jobs)) if progress is not None and jobs else None
     scans = _Scans(jobs, pool if len(jobs) > 1 else None, advance)
     try:
-        start = time.perf_counter()
-        _schema_links(loaded, inp)
-        n_recipes = loaded.table.table.num_rows if loaded.table is not None else 0
-        results["schema"] = CheckResult.from_report(
-            "schema", loaded.schema,
-            f"{len(loaded.recipes)}/{n_recipes} recipes valid (schema ≤ {RECIPE_SCHEMA_VERSION})",
-            {"recipes": n_recipes, "valid": len(loaded.recipes)},
-        )  # fmt: skip
-        timings["schema"] += time.perf_counter() - start
-
-        start = time.perf_counter()
-        results["distribution"], dist_result = _distribution(loaded, opts)
-        timings["distribution"] = time.perf_counter() - start
-
         selected = _selected_videos(inp, loaded, scans)
-        if not inp.recipes_only and "failures" in want:
-            start = time.perf_counter()
-            waited = scans.waited
-            results["failures"] = _failures(inp, loaded, selected, _InstancePixels(scans), opts, progress)
-            timings["failures"] = time.perf_counter() - start - (scans.waited - waited)
-
+        results, dist_result = _checks_beside_the_scan(inp, loaded, selected, scans, opts, progress, timings)
         shard_scans = scans.all()
         timings["scan"] = time.perf_counter() - scan_start
     except BaseException:
         scans.cancel()
         raise
-    videos = {vid: v for s in shard_scans for vid, v in s.videos.items()}
     shard_of = {vid: Path(s.path).name for s in shard_scans for vid in s.videos}
     if inp.recipes_only:
         for name in ("integrity", "encoding", "failures", "consistency", "reproducibility"):
             results[name] = CheckResult.skipped(name, "a recipes table alone: no shards or metadata to read")
     else:
-        results.update(_scan_results(shard_scans, videos, shard_of, loaded.integrity, scan_report, opts))
+        results.update(_scan_results(shard_scans, shard_of, loaded.integrity, scan_report, opts))
 
     fingerprint_match = None
     if not inp.recipes_only and "reproducibility" in want:
-        start = time.perf_counter()
-
-        results["reproducibility"], fingerprint_match = check_reproducibility(
-            inp.root, m, loaded.recipes, sorted(selected), count=opts.regenerate, seed=opts.seed, progress=progress
-        )
-        timings["reproducibility"] = time.perf_counter() - start
-
+        with _timed(timings, "reproducibility"):
+            results["reproducibility"], fingerprint_match = check_reproducibility(
+                inp.root, loaded.manifest, loaded.recipes, sorted(selected), count=opts.regenerate, seed=opts.seed,
+                progress=progress,
+            )  # fmt: skip
     learn_result = None
     if "learnability" in want:
-        start = time.perf_counter()
-        results["learnability"], learn_result = _learnability(inp, loaded, opts, progress)
-        timings["learnability"] = time.perf_counter() - start
+        with _timed(timings, "learnability"):
+            results["learnability"], learn_result = _learnability(inp, loaded, opts, progress)
 
-    # The pass's time is shared by the checks that read it (it overlaps the others).
+    m = loaded.manifest
+    report = DatasetReport(
+        source=inp.label,
+        checks=_timed_checks(results, want, timings),
+        n_videos=len(m.videos) if m is not None else loaded.n_recipes,
+        n_frames=sum(v.n_frames for v in m.videos) if m is not None else 0,
+        theta={"name": loaded.theta.name, "hash": loaded.theta.hash} if loaded.theta is not None else None,
+        fingerprint_match=fingerprint_match,
+        distribution=dist_result,
+        learnability=learn_result,
+    )
+    _flag_frames(report, shard_of, inp.root)
+    return report
+
+
+@contextmanager
+def _timed(timings: dict[str, float], name: str) -> Iterator[None]:
+    """Add the seconds the block takes to ``timings[name]``."""
+    start = time.perf_counter()
+    yield
+    timings[name] = timings.get(name, 0.0) + time.perf_counter() - start
+
+
+def _checks_beside_the_scan(
+    inp: DatasetInput,
+    loaded: _Loaded,
+    selected: set[str],
+    scans: _Scans,
+    opts: Options,
+    progress: ProgressFactory | None,
+    timings: dict[str, float],
+) -> tuple[dict[str, CheckResult], DistributionResult | None]:
+    """Schema, distribution and failures, while the shard pass runs; failures waits for a
+    video's instance pixels only when it reaches that video (its waits are not its time)."""
+    results: dict[str, CheckResult] = {}
+    with _timed(timings, "schema"):
+        _schema_links(loaded, inp)
+        results["schema"] = CheckResult.from_report(
+            "schema", loaded.schema,
+            f"{len(loaded.recipes)}/{loaded.n_recipes} recipes valid (schema ≤ {RECIPE_SCHEMA_VERSION})",
+            {"recipes": loaded.n_recipes, "valid": len(loaded.recipes)},
+        )  # fmt: skip
+    with _timed(timings, "distribution"):
+        results["distribution"], dist_result = _distribution(loaded, opts)
+    if not inp.recipes_only and "failures" in opts.checks:
+        start = time.perf_counter()
+        waited = scans.waited
+        results["failures"] = _failures(inp, loaded, selected, _InstancePixels(scans), opts, progress)
+        timings["failures"] = time.perf_counter() - start - (scans.waited - waited)
+    return results, dist_result
+
+
+def _timed_checks(results: Mapping[str, CheckResult], want: set[str], timings: dict[str, float]) -> list[CheckResult]:
+    """The chosen checks in report order, each with its seconds (a check that did not apply
+    says so). The shard pass's time is shared by the checks that read it (it overlaps the others)."""
     share = timings.pop("scan", 0.0) / max(len(want & set(_SCAN_CHECKS)), 1)
     for name in _SCAN_CHECKS:
         timings[name] = timings.get(name, 0.0) + share
@@ -502,33 +535,27 @@ def _validate(
         result = results.get(name) or CheckResult.skipped(name, "not applicable")
         result.seconds = timings.get(name, 0.0)
         checks.append(result)
-    report = DatasetReport(
-        source=inp.label,
-        checks=checks,
-        n_videos=len(m.videos) if m is not None else n_recipes,
-        n_frames=sum(v.n_frames for v in m.videos) if m is not None else 0,
-        theta={"name": loaded.theta.name, "hash": loaded.theta.hash} if loaded.theta is not None else None,
-        fingerprint_match=fingerprint_match,
-        distribution=dist_result,
-        learnability=learn_result,
-    )
-    for check in checks:
+    return checks
+
+
+def _flag_frames(report: DatasetReport, shard_of: Mapping[str, str], root: Path) -> None:
+    """Per video a finding names, its shard and the finding's frame (the first finding's)."""
+    for check in report.checks:
         for f in check.report.findings:
             if f.video_id is not None and f.video_id in shard_of and f.video_id not in report.flagged_frames:
                 frame = f.numbers.get("frame", 0) if isinstance(f.numbers.get("frame"), int) else 0
-                report.flagged_frames[f.video_id] = (str(inp.root / shard_of[f.video_id]), frame)
-    return report
+                report.flagged_frames[f.video_id] = (str(root / shard_of[f.video_id]), frame)
 
 
 def _scan_results(
     scans: list[ShardScan],
-    videos: Mapping[str, VideoScan],
     shard_of: Mapping[str, str],
     integrity: Report,
     scan_report: Report,
     opts: Options,
 ) -> dict[str, CheckResult]:
     """integrity, encoding and consistency from the shard pass."""
+    videos = {vid: v for s in scans for vid, v in s.videos.items()}
     for f in scan_report.findings:
         integrity.add(f)
     for s in scans:

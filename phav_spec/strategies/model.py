@@ -264,12 +264,38 @@ def _action_rows(
 
 @st.composite
 def _thetas(draw: st.DrawFn) -> Theta:
+    """θ drawn part by part onto the phav-v1 preset, each part valid given those before it.
+
+    The order of the steps is the order of the draws: changing it changes every example a
+    seed gives.
+    """
     data = _preset_dict()
     data["name"] = "hypothesis-theta"
     data["description"] = "drawn by phav_spec.strategies.thetas()"
+    reach, zero_rows = _draw_actions(draw, data)
+    _draw_human_models(draw, data, reach)
+    phases = _draw_weather_and_day_phases(draw, data)
+    data["clock_hours"] = {d: draw(_clock_hour(d, d in phases)) for d in DAY_PHASES.names}
+    _draw_base_motions(draw, data, reach)
+    envs = _draw_environments(draw, data, reach, zero_rows)
+    _draw_variations(draw, data, reach, zero_rows)
+    _draw_cameras(draw, data, reach, envs, zero_rows)
+    _draw_exposed_parameters(draw, data)
+    _draw_continuous_parameters(draw, data)
+    data["video"] = {
+        "width": draw(st.sampled_from((340, 16, 640))),
+        "height": draw(st.sampled_from((256, 16, 480))),
+        "fps": draw(st.sampled_from((30, 1, 24, 60, 240))),
+    }
+    return parse_theta(data, source="<phav_spec.strategies.thetas>")
 
-    # A: which actions have weight. Unreachable actions may keep their preset rows or get
-    # all-zero rows everywhere, which validation allows because nothing reaches them.
+
+def _draw_actions(draw: st.DrawFn, data: dict[str, Any]) -> tuple[tuple[str, ...], bool]:
+    """θ_A; returns the actions it reaches and whether unreachable actions get all-zero rows.
+
+    Unreachable actions may keep their preset rows or get all-zero rows everywhere, which
+    validation allows because nothing reaches them.
+    """
     theta_a, reach = draw(_actions())
     data["theta_a"] = "uniform" if len(theta_a) == len(ACTIONS) and set(theta_a.values()) == {1.0} else theta_a
     _label_vector("action", reach, ACTIONS.names)
@@ -277,14 +303,19 @@ def _thetas(draw: st.DrawFn) -> Theta:
     zero_rows = bool(unreachable) and draw(st.integers(0, 2)) > 0
     if zero_rows:
         event("theta: unreachable actions with all-zero θ_AE/θ_AV/θ_AC rows")
+    return reach, zero_rows
 
-    # H: two-people actions need a second human model with weight.
+
+def _draw_human_models(draw: st.DrawFn, data: dict[str, Any], reach: Sequence[str]) -> None:
+    """θ_H: two-people actions need a second human model with weight."""
     two_people = any(ACTIONS[a].n_people > 1 for a in reach)
     humans = _support(draw, HUMAN_MODELS.names, min_size=2 if two_people else 1)
     data["theta_h"] = _vector(draw, humans)
     _label_vector("human model", humans, HUMAN_MODELS.names)
 
-    # W, D.
+
+def _draw_weather_and_day_phases(draw: st.DrawFn, data: dict[str, Any]) -> tuple[str, ...]:
+    """θ_W and θ_D; returns the day phases with weight (night among them on purpose)."""
     weathers = _support(draw, WEATHERS.names)
     data["theta_w"] = _vector(draw, weathers)
     _label_vector("weather", weathers, WEATHERS.names)
@@ -297,10 +328,15 @@ def _thetas(draw: st.DrawFn) -> Theta:
             phases = tuple(d for d in DAY_PHASES.names if d in phases or d == "night")
     data["theta_d"] = _vector(draw, phases)
     _label_vector("day phase", phases, DAY_PHASES.names)
-    data["clock_hours"] = {d: draw(_clock_hour(d, d in phases)) for d in DAY_PHASES.names}
+    return phases
 
-    # θ_AB: the preset regexes; some reachable actions narrowed to one motion; unreachable
-    # ones may lose their regex or match nothing at all.
+
+def _draw_base_motions(draw: st.DrawFn, data: dict[str, Any], reach: Sequence[str]) -> None:
+    """θ_AB and the clip durations that every reachable action's motions allow.
+
+    The preset regexes; some reachable actions narrowed to one motion; unreachable ones may
+    lose their regex or match nothing at all.
+    """
     regex = dict(data["theta_ab"]["regex"])
     ab = theta_ab(regex)
     for a in reach:
@@ -309,7 +345,7 @@ def _thetas(draw: st.DrawFn) -> Theta:
             motion = draw(st.sampled_from(hits))
             regex[a] = "^" + re.escape(MOTIONS[motion].description) + "$"
             event("theta: reachable action with a single base motion")
-    for a in unreachable:
+    for a in [a for a in ACTIONS.names if a not in reach]:
         fate = draw(st.sampled_from(("keep", "drop", "match_nothing")))
         if fate == "drop":
             del regex[a]
@@ -322,8 +358,13 @@ def _thetas(draw: st.DrawFn) -> Theta:
     if any(x < data["durations"]["t_min"] for lengths in hits.values() for x in lengths):
         event("durations: T_min masks some motions of a reachable action")
 
-    # E and θ_AE: every reachable action needs an environment with weight that has the pixel
-    # classes it requires (car_hit: a road, climb_stairs: stairs).
+
+def _draw_environments(draw: st.DrawFn, data: dict[str, Any], reach: Sequence[str], zero_rows: bool) -> set[str]:
+    """θ_E and θ_AE; returns the environments with weight.
+
+    Every reachable action needs an environment with weight that has the pixel classes it
+    requires (car_hit: a road, climb_stairs: stairs).
+    """
     envs = set(_support(draw, ENVIRONMENTS.names))
     for a in reach:
         allowed = _allowed_environments(a)
@@ -335,8 +376,11 @@ def _thetas(draw: st.DrawFn) -> Theta:
     data["theta_ae"] = _action_rows(
         draw, data["theta_ae"], ENVIRONMENTS.names, envs_t, _allowed_environments, reach, zero_rows
     )
+    return envs
 
-    # V and θ_AV: objects only where the action declares props.
+
+def _draw_variations(draw: st.DrawFn, data: dict[str, Any], reach: Sequence[str], zero_rows: bool) -> None:
+    """θ_V and θ_AV: objects only where the action declares props."""
     variations = set(_support(draw, VARIATIONS.names))
     for a in reach:
         if not variations.intersection(_allowed_variations(a)):
@@ -348,16 +392,14 @@ def _thetas(draw: st.DrawFn) -> Theta:
         draw, data["theta_av"], VARIATIONS.names, variations_t, _allowed_variations, reach, zero_rows
     )
 
-    # C, θ_AC, θ_EC: one outdoor-capable camera f with weight everywhere guarantees a camera
-    # for every reachable (action, environment); the indoors camera only in indoor scenes.
-    if draw(st.integers(0, 4)) == 0:
-        cameras: tuple[str, ...] = ("kite",)
-        event("theta: only the kite camera")
-    else:
-        cameras = _subset(draw, CAMERAS.names)
-        if not set(cameras).intersection(_OUTDOOR_CAMERAS):
-            cameras = tuple(c for c in CAMERAS.names if c in cameras or c == "kite")
-        _label_vector("camera", cameras, CAMERAS.names)
+
+def _draw_cameras(draw: st.DrawFn, data: dict[str, Any], reach: Sequence[str], envs: set[str], zero_rows: bool) -> None:
+    """θ_C, θ_AC, θ_EC.
+
+    One outdoor-capable camera (the fallback) with weight everywhere guarantees a camera for
+    every reachable (action, environment); the indoors camera only in indoor scenes.
+    """
+    cameras = _camera_support(draw)
     data["theta_c"] = _vector(draw, cameras)
     fallback = draw(st.sampled_from([c for c in cameras if c in _OUTDOOR_CAMERAS]))
     ac_rows = {}
@@ -384,7 +426,22 @@ def _thetas(draw: st.DrawFn) -> Theta:
             ec_rows[e] = _row(draw, CAMERAS.names, forbidden=forbidden, force_one_of=[fallback])
     data["theta_ec"] = {"rows": ec_rows}
 
-    # Continuous and Bernoulli parameters the recipes expose as categorical columns.
+
+def _camera_support(draw: st.DrawFn) -> tuple[str, ...]:
+    """The cameras with weight: only the kite, or a subset with an outdoor-capable camera."""
+    if draw(st.integers(0, 4)) == 0:
+        event("theta: only the kite camera")
+        return ("kite",)
+    cameras = _subset(draw, CAMERAS.names)
+    if not set(cameras).intersection(_OUTDOOR_CAMERAS):
+        cameras = tuple(c for c in CAMERAS.names if c in cameras or c == "kite")
+    _label_vector("camera", cameras, CAMERAS.names)
+    return cameras
+
+
+def _draw_exposed_parameters(draw: st.DrawFn, data: dict[str, Any]) -> None:
+    """Continuous and Bernoulli parameters the recipes expose as categorical columns: weather
+    elements, the background actors' count, spring dead zones, the mirror probability."""
     for w in WEATHERS.names:
         spec = data["weather_elements"][w]
         for element in ("rain", "fog"):
@@ -397,7 +454,11 @@ def _thetas(draw: st.DrawFn) -> Theta:
         dead = _support(draw, [str(d) for d in SPRING_MIN_DISTANCES_M])
         data["cameras"][cam]["springs"]["min_distance_weights"] = {int(d): draw(_POSITIVE) for d in dead}
     data["motion"]["p_mirror"] = draw(_PROBABILITY)
-    # Continuous parameters: uniform or triangular (degenerate ones included) inside bounds.
+
+
+def _draw_continuous_parameters(draw: st.DrawFn, data: dict[str, Any]) -> None:
+    """Continuous parameters, uniform or triangular (degenerate ones included) inside their
+    bounds, and the muscle counts of the muscle variations."""
     for path, key in _BOUNDED_PARAMETERS:
         node = data
         for part in path[:-1]:
@@ -409,12 +470,6 @@ def _thetas(draw: st.DrawFn) -> Theta:
     for kind in ("random_perturbation", "muscle_weakening", "action_blending"):
         lo = draw(st.integers(1, len(MUSCLES)))
         data["variations"][kind]["n_muscles"] = {"min": lo, "max": draw(st.integers(lo, len(MUSCLES)))}
-    data["video"] = {
-        "width": draw(st.sampled_from((340, 16, 640))),
-        "height": draw(st.sampled_from((256, 16, 480))),
-        "fps": draw(st.sampled_from((30, 1, 24, 60, 240))),
-    }
-    return parse_theta(data, source="<phav_spec.strategies.thetas>")
 
 
 #: θ leaves drawn by ``_continuous`` in ``thetas()``, with their PARAMETER_BOUNDS key.
@@ -575,22 +630,12 @@ def _camera(draw: st.DrawFn, indoor: bool, position: tuple[float, float, float])
 
 @st.composite
 def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
+    """A recipe drawn field by field, not by the sampler (the draw order is what a seed gives)."""
     if index is None:
         index = draw(st.one_of(st.integers(0, 999), st.integers(0, 10**9)))
-    if theta is not None:
-        theta_hash, video, render = theta.hash, theta.video.model_dump(), theta.render
-    else:
-        theta_hash = draw(_HASH)
-        video = {
-            "width": draw(st.integers(16, 4096)),
-            "height": draw(st.integers(16, 4096)),
-            "fps": draw(st.one_of(st.sampled_from((30, 1, 24, 60)), st.integers(1, 240))),
-        }
-        render = RenderSettings(supersampling=draw(st.integers(1, 4)), png_compression=draw(st.integers(0, 9)))
-
+    theta_hash, video, render = _recipe_format(draw, theta)
     # Two-people actions are 4 of 35: draw them on purpose too, for supporting characters.
     action = draw(st.one_of(st.sampled_from(ACTIONS.names), st.sampled_from(_TWO_PEOPLE)))
-    scene = ACTION_SCENES[action]
     duration = draw(_duration(video["fps"]))
     base = draw(st.sampled_from(MOTIONS.names))
     env_name = draw(st.sampled_from(ENVIRONMENTS.names))
@@ -598,55 +643,10 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
     wp = draw(st.integers(0, len(env.protagonist_waypoints) - 1))
     position = env.protagonist_waypoints[wp]
     heading = draw(st.one_of(st.floats(0.0, 360.0), _ANY_FINITE))
-
-    supporting = []
-    if scene.supporting_placement is not None:
-        event("recipe: supporting character")
-        supporting.append({
-            "person_id": 1,
-            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
-            "placement": scene.supporting_placement,
-            "distance_m": draw(st.floats(0.0, 10.0)),
-            "position": draw(_vec3()),
-            "heading_deg": draw(st.floats(-360.0, 360.0)),
-        })  # fmt: skip
+    supporting = _supporting_characters(draw, action)
     n_people = 1 + len(supporting)
-
-    background = []
-    graph = env.background_waypoints
-    n_background = draw(st.integers(0, 4)) if graph else 0
-    for k in range(n_background):
-        start = draw(st.integers(0, len(graph) - 1))
-        dest = draw(st.integers(0, len(graph) - 2))
-        dest += dest >= start
-        background.append({
-            "person_id": n_people + k,
-            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
-            "start_waypoint": start,
-            "destination_waypoint": dest,
-            "start": graph[start],
-            "destination": graph[dest],
-            "speed_mps": draw(st.floats(0.0, 3.0)),
-        })  # fmt: skip
-    event("recipe: no background actors" if not background else "recipe: background actors")
-    if len(background) >= 2:
-        event("recipe: several background actors")
-
-    rain, fog = draw(st.booleans()), draw(st.booleans())
-    world = {
-        "day_phase": draw(st.sampled_from(DAY_PHASES.names)),
-        "clock_hour": draw(_clock_hour_value()),
-        "weather": draw(st.sampled_from(WEATHERS.names)),
-        "sun_brightness": draw(st.floats(0.0, 2.0)),
-        "ambient_luminosity": draw(st.floats(0.0, 2.0)),
-        "rain": rain,
-        "fog": fog,
-        "clouds": draw(st.booleans()),
-        "wet_ground": draw(st.booleans()),
-        "cloud_intensity": draw(_UNIT),
-        "fog_intensity": draw(_UNIT) if fog else 0.0,
-        "rain_intensity": draw(_UNIT) if rain else 0.0,
-    }
+    background = _background_actors(draw, env_name, first_person_id=n_people)
+    world = _world(draw)
     data = {
         "video_id": video_id(index),
         "index": index,
@@ -679,6 +679,79 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
         "seeds": {name: draw(_SEED) for name in ("physics", "perturbation", "render", "background")},
     }
     return Recipe.model_validate(data)
+
+
+def _recipe_format(draw: st.DrawFn, theta: Theta | None) -> tuple[str, dict[str, Any], RenderSettings]:
+    """θ's hash, video format and render settings: ``theta``'s, or drawn when there is none."""
+    if theta is not None:
+        return theta.hash, theta.video.model_dump(), theta.render
+    theta_hash = draw(_HASH)
+    video = {
+        "width": draw(st.integers(16, 4096)),
+        "height": draw(st.integers(16, 4096)),
+        "fps": draw(st.one_of(st.sampled_from((30, 1, 24, 60)), st.integers(1, 240))),
+    }
+    render = RenderSettings(supersampling=draw(st.integers(1, 4)), png_compression=draw(st.integers(0, 9)))
+    return theta_hash, video, render
+
+
+def _supporting_characters(draw: st.DrawFn, action: str) -> list[dict[str, Any]]:
+    """The supporting character of a two-people action (person 1), none otherwise."""
+    placement = ACTION_SCENES[action].supporting_placement
+    if placement is None:
+        return []
+    event("recipe: supporting character")
+    return [{
+        "person_id": 1,
+        "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
+        "placement": placement,
+        "distance_m": draw(st.floats(0.0, 10.0)),
+        "position": draw(_vec3()),
+        "heading_deg": draw(st.floats(-360.0, 360.0)),
+    }]  # fmt: skip
+
+
+def _background_actors(draw: st.DrawFn, environment: str, *, first_person_id: int) -> list[dict[str, Any]]:
+    """Up to four background actors walking between distinct waypoints of the environment's graph."""
+    graph = ENVIRONMENT_SCENES[environment].background_waypoints
+    background = []
+    n_background = draw(st.integers(0, 4)) if graph else 0
+    for k in range(n_background):
+        start = draw(st.integers(0, len(graph) - 1))
+        dest = draw(st.integers(0, len(graph) - 2))
+        dest += dest >= start
+        background.append({
+            "person_id": first_person_id + k,
+            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
+            "start_waypoint": start,
+            "destination_waypoint": dest,
+            "start": graph[start],
+            "destination": graph[dest],
+            "speed_mps": draw(st.floats(0.0, 3.0)),
+        })  # fmt: skip
+    event("recipe: no background actors" if not background else "recipe: background actors")
+    if len(background) >= 2:
+        event("recipe: several background actors")
+    return background
+
+
+def _world(draw: st.DrawFn) -> dict[str, Any]:
+    """Day phase, clock, weather and its elements; an intensity is drawn only while its element is on."""
+    rain, fog = draw(st.booleans()), draw(st.booleans())
+    return {
+        "day_phase": draw(st.sampled_from(DAY_PHASES.names)),
+        "clock_hour": draw(_clock_hour_value()),
+        "weather": draw(st.sampled_from(WEATHERS.names)),
+        "sun_brightness": draw(st.floats(0.0, 2.0)),
+        "ambient_luminosity": draw(st.floats(0.0, 2.0)),
+        "rain": rain,
+        "fog": fog,
+        "clouds": draw(st.booleans()),
+        "wet_ground": draw(st.booleans()),
+        "cloud_intensity": draw(_UNIT),
+        "fog_intensity": draw(_UNIT) if fog else 0.0,
+        "rain_intensity": draw(_UNIT) if rain else 0.0,
+    }
 
 
 def recipes(theta: Theta | None = None) -> st.SearchStrategy[Recipe]:

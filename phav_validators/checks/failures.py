@@ -13,7 +13,7 @@ A non-finite pose is a broken file rather than a failure case and always fails.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -47,6 +47,9 @@ RIGID_PAIRS: tuple[tuple[int, int], ...] = tuple(
 #: Limbs whose midpoints are tested against the geometry along with the joints.
 _LIMBS = RIGID_PAIRS[3:7] + RIGID_PAIRS[8:] + ((_J["neck"], _J["left_hip"]), (_J["neck"], _J["right_hip"]))
 
+
+#: How a measure reports a failure: its reason and a message saying what crossed which threshold.
+_Fail = Callable[[Reason, str], None]
 
 #: An ankle this close (m) above its support is planted; a neck this far above the hips, upright.
 PLANTED_M = 0.15
@@ -244,55 +247,20 @@ def video_failures(
     instance_pixels: Mapping[int, Sequence[int]] | None = None,
     thresholds: Thresholds = Thresholds(),
 ) -> VideoFailures:
-    """Every failure measure of one video; ``failures`` lists those over their threshold."""
+    """Every failure measure of one video; ``failures`` lists those over their threshold.
+
+    Each person's pose first, then the protagonist's: in view, the camera outside geometry,
+    the perturbation and the feet.
+    """
     th = thresholds
     out = VideoFailures(recipe.video_id)
-    env = recipe.environment.name
-    box = boxes(env)
-    ground = ENVIRONMENT_SCENES[env].ground_z
-    fps = recipe.video.fps
     m = out.measures
 
     def fail(reason: Reason, message: str) -> None:
         out.failures.append((reason, message))
 
     for person in people:
-        j = person.joints
-        who = f"{person.role} {person.person_id}"
-        if not np.isfinite(j).all():
-            bad = np.flatnonzero(~np.isfinite(j).all(axis=(1, 2)))
-            fail(Reason.NAN_POSE, f"{who}: non-finite joints in {len(bad)} frames (first {int(person.frames[bad[0]])})")
-            continue
-        if len(j) > 1:
-            speed = float(np.linalg.norm(np.diff(j, axis=0), axis=-1).max() * fps)
-            m[f"max_joint_speed_m_s/{person.person_id}"] = speed
-            if speed > th.max_speed_m_s:
-                fail(Reason.ENERGY_EXPLOSION, f"{who}: a joint moves at {speed:.1f} m/s (> {th.max_speed_m_s:g})")
-        lengths = np.stack([np.linalg.norm(j[:, a] - j[:, b], axis=-1) for a, b in RIGID_PAIRS], axis=1)
-        stretch = float(np.abs(lengths - np.median(lengths, axis=0)).max())
-        m[f"max_limb_stretch_m/{person.person_id}"] = stretch
-        if stretch > th.max_stretch_m:
-            fail(Reason.ENERGY_EXPLOSION, f"{who}: a limb changes length by {stretch * 100:.1f} cm")
-        points = np.concatenate([j, 0.5 * (j[:, [a for a, _ in _LIMBS]] + j[:, [b for _, b in _LIMBS]])], axis=1)
-        depth, which = box.depth_inside(points)
-        below = ground - points[..., 2]
-        deepest = float(max(depth.max(), below.max()))
-        m[f"penetration_m/{person.person_id}"] = deepest
-        if deepest > th.penetration_m:
-            t, k = np.unravel_index(int(np.argmax(np.maximum(depth, below))), depth.shape)
-            where = f"a {box.colliders[which[t, k]].pixel_class} box" if depth[t, k] >= below[t, k] else "the ground"
-            fail(Reason.INTERPENETRATION,
-                 f"{who}: {deepest * 100:.0f} cm inside {where} at frame {int(person.frames[t])}")  # fmt: skip
-        else:
-            hips = 0.5 * (j[:, _J["left_hip"]] + j[:, _J["right_hip"]])
-            crossed = box.crossed(hips[:-1], hips[1:])
-            if (crossed >= 0).any():
-                t = int(np.flatnonzero(crossed >= 0)[0])
-                fail(Reason.INTERPENETRATION, f"{who}: passes through a {box.colliders[crossed[t]].pixel_class} "
-                     f"box between frames {int(person.frames[t])} and {int(person.frames[t + 1])}")  # fmt: skip
-        if person.role != "background":
-            _knees(j, person.pinned, who, th, m, fail, person.person_id)
-
+        _pose(recipe, person, th, m, fail)
     protagonist = next((p for p in people if p.person_id == recipe.protagonist.person_id), None)
     if protagonist is None:
         fail(Reason.OFF_SCREEN, "no protagonist rows in people.parquet")
@@ -300,33 +268,111 @@ def video_failures(
     if not np.isfinite(protagonist.joints).all():
         return out
     if cams is not None:
-        index = np.searchsorted(cams.frames, protagonist.frames)
-        index = np.clip(index, 0, len(cams.frames) - 1)
-        uv, z = _project(protagonist.joints, cams, index)
-        w, h = recipe.video.width, recipe.video.height
-        inside = (z > 0.05) & (uv[..., 0] >= 0) & (uv[..., 0] < w) & (uv[..., 1] >= 0) & (uv[..., 1] < h)
-        seen = inside.sum(axis=1) >= 4
-        if instance_pixels is not None and recipe.protagonist.person_id in instance_pixels:
-            pixels = np.asarray(instance_pixels[recipe.protagonist.person_id])[protagonist.frames]
-            seen &= pixels >= th.min_instance_pixels
-        share = float(seen.mean())
-        m["protagonist_on_screen"] = share
-        if share < th.on_screen_fraction:
-            fail(Reason.OFF_SCREEN, f"the protagonist is in view in {share:.0%} of frames")
-        cam_pos = cams.poses[:, :3, 3]
-        depth, which = box.depth_inside(cam_pos)
-        inside_m = float(max(depth.max(), (ground - cam_pos[:, 2]).max()))
-        m["camera_inside_m"] = inside_m
-        if inside_m > th.camera_inside_m:
-            t = int(np.argmax(np.maximum(depth, ground - cam_pos[:, 2])))
-            fail(Reason.CAMERA_IN_GEOMETRY, f"the camera is {inside_m * 100:.0f} cm inside geometry at frame {t}")
+        _off_screen(recipe, protagonist, cams, instance_pixels, th, m, fail)
+        _camera_in_geometry(recipe, cams, th, m, fail)
     _perturbation(recipe, protagonist, th, m, fail)
     _sliding(recipe, protagonist, th, m, fail)
     return out
 
 
+def _pose(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
+    """One person's joints: finite, no explosion, no interpenetration, knees (not for the
+    background actors, who only walk)."""
+    j = person.joints
+    who = f"{person.role} {person.person_id}"
+    if not np.isfinite(j).all():
+        bad = np.flatnonzero(~np.isfinite(j).all(axis=(1, 2)))
+        fail(Reason.NAN_POSE, f"{who}: non-finite joints in {len(bad)} frames (first {int(person.frames[bad[0]])})")
+        return
+    _explosion(person, recipe.video.fps, who, th, m, fail)
+    _interpenetration(person, recipe.environment.name, who, th, m, fail)
+    if person.role != "background":
+        _knees(j, person.pinned, who, th, m, fail, person.person_id)
+
+
+def _explosion(person: PersonSeries, fps: int, who: str, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
+    """A joint faster than any body moves, or a rigid pair of joints changing its distance."""
+    j = person.joints
+    if len(j) > 1:
+        speed = float(np.linalg.norm(np.diff(j, axis=0), axis=-1).max() * fps)
+        m[f"max_joint_speed_m_s/{person.person_id}"] = speed
+        if speed > th.max_speed_m_s:
+            fail(Reason.ENERGY_EXPLOSION, f"{who}: a joint moves at {speed:.1f} m/s (> {th.max_speed_m_s:g})")
+    lengths = np.stack([np.linalg.norm(j[:, a] - j[:, b], axis=-1) for a, b in RIGID_PAIRS], axis=1)
+    stretch = float(np.abs(lengths - np.median(lengths, axis=0)).max())
+    m[f"max_limb_stretch_m/{person.person_id}"] = stretch
+    if stretch > th.max_stretch_m:
+        fail(Reason.ENERGY_EXPLOSION, f"{who}: a limb changes length by {stretch * 100:.1f} cm")
+
+
+def _interpenetration(
+    person: PersonSeries, environment: str, who: str, th: Thresholds, m: dict[str, float], fail: _Fail
+) -> None:
+    """Joints and limb midpoints deep inside a box or the ground; else hips passing through a box."""
+    j = person.joints
+    box = boxes(environment)
+    ground = ENVIRONMENT_SCENES[environment].ground_z
+    points = np.concatenate([j, 0.5 * (j[:, [a for a, _ in _LIMBS]] + j[:, [b for _, b in _LIMBS]])], axis=1)
+    depth, which = box.depth_inside(points)
+    below = ground - points[..., 2]
+    deepest = float(max(depth.max(), below.max()))
+    m[f"penetration_m/{person.person_id}"] = deepest
+    if deepest > th.penetration_m:
+        t, k = np.unravel_index(int(np.argmax(np.maximum(depth, below))), depth.shape)
+        where = f"a {box.colliders[which[t, k]].pixel_class} box" if depth[t, k] >= below[t, k] else "the ground"
+        fail(Reason.INTERPENETRATION,
+             f"{who}: {deepest * 100:.0f} cm inside {where} at frame {int(person.frames[t])}")  # fmt: skip
+        return
+    hips = 0.5 * (j[:, _J["left_hip"]] + j[:, _J["right_hip"]])
+    crossed = box.crossed(hips[:-1], hips[1:])
+    if (crossed >= 0).any():
+        t = int(np.flatnonzero(crossed >= 0)[0])
+        fail(Reason.INTERPENETRATION, f"{who}: passes through a {box.colliders[crossed[t]].pixel_class} "
+             f"box between frames {int(person.frames[t])} and {int(person.frames[t + 1])}")  # fmt: skip
+
+
+def _off_screen(
+    recipe: Recipe,
+    protagonist: PersonSeries,
+    cams: CameraSeries,
+    instance_pixels: Mapping[int, Sequence[int]] | None,
+    th: Thresholds,
+    m: dict[str, float],
+    fail: _Fail,
+) -> None:
+    """The protagonist in view (four joints in the frame, and enough instance pixels when
+    they are known) in too few frames."""
+    index = np.searchsorted(cams.frames, protagonist.frames)
+    index = np.clip(index, 0, len(cams.frames) - 1)
+    uv, z = _project(protagonist.joints, cams, index)
+    w, h = recipe.video.width, recipe.video.height
+    inside = (z > 0.05) & (uv[..., 0] >= 0) & (uv[..., 0] < w) & (uv[..., 1] >= 0) & (uv[..., 1] < h)
+    seen = inside.sum(axis=1) >= 4
+    if instance_pixels is not None and recipe.protagonist.person_id in instance_pixels:
+        pixels = np.asarray(instance_pixels[recipe.protagonist.person_id])[protagonist.frames]
+        seen &= pixels >= th.min_instance_pixels
+    share = float(seen.mean())
+    m["protagonist_on_screen"] = share
+    if share < th.on_screen_fraction:
+        fail(Reason.OFF_SCREEN, f"the protagonist is in view in {share:.0%} of frames")
+
+
+def _camera_in_geometry(recipe: Recipe, cams: CameraSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
+    """The camera inside a box or below the ground."""
+    env = recipe.environment.name
+    box = boxes(env)
+    ground = ENVIRONMENT_SCENES[env].ground_z
+    cam_pos = cams.poses[:, :3, 3]
+    depth, _ = box.depth_inside(cam_pos)
+    inside_m = float(max(depth.max(), (ground - cam_pos[:, 2]).max()))
+    m["camera_inside_m"] = inside_m
+    if inside_m > th.camera_inside_m:
+        t = int(np.argmax(np.maximum(depth, ground - cam_pos[:, 2])))
+        fail(Reason.CAMERA_IN_GEOMETRY, f"the camera is {inside_m * 100:.0f} cm inside geometry at frame {t}")
+
+
 def _knees(
-    j: np.ndarray, pinned: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: Any, pid: int
+    j: np.ndarray, pinned: np.ndarray, who: str, th: Thresholds, m: dict[str, float], fail: _Fail, pid: int
 ) -> None:
     """Knees bent backwards: the knee behind the hip–ankle line, 'behind' from the torso.
 
@@ -358,7 +404,7 @@ def _knees(
         fail(Reason.JOINT_LIMIT, f"{who}: a knee bends backwards ({worst * 100:.0f} cm behind the hip–ankle line)")
 
 
-def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: Any) -> None:
+def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
     """A random perturbation that moves the action's necessary muscles far from the motion."""
     if recipe.variation.kind != "random_perturbation":
         return
@@ -386,7 +432,7 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
              f"the necessary muscles are {distance * 100:.0f} cm from the base motion on average")  # fmt: skip
 
 
-def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: Any) -> None:
+def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
     """Feet on the ground that move: mean horizontal speed of the slowest planted ankle
     (not for an action whose feet slide on purpose: the moonwalk)."""
     if len(person.frames) < 3 or ACTION_SCENES[recipe.action].slides_feet:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -19,12 +19,15 @@ from phav_generator.dataset.fingerprint import renderer_fingerprint
 from phav_generator.pipeline import video_frames
 from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import MODALITIES, VideoHashes, decode_flow
-from phav_spec.manifest import DatasetManifest
+from phav_spec.manifest import DatasetManifest, VideoEntry
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import seeded_rng
 from phav_validators.checks.scan import FRAME_KEYS, decode_image, png_header
 from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import CheckResult, Finding, Reason, Report
+
+if TYPE_CHECKING:
+    import moderngl
 
 #: Per modality, the largest difference tolerated when fingerprints differ: mean absolute
 #: level difference (colour), share of differing pixels (labels, depth > 1 %, flow validity),
@@ -126,41 +129,10 @@ def check_reproducibility(
     worst: dict[str, float] = {m.name: 0.0 for m in MODALITIES}
     try:
         for vid in chosen:
-            recipe, entry = recipes[vid], entries.get(vid)
-            shard = root / entry.shard if entry is not None else None
-            size = (recipe.video.width, recipe.video.height)
-            stored = shard_video_frames(shard, vid, size) if shard is not None and shard.exists() else iter(())
-            hashes = VideoHashes(recipe.n_frames)
-            first_bad: dict[str, int] = {}
-            for rf in video_frames(recipe, ctx):
-                hashes.add(rf.index, rf.modalities)
-                got = next(stored, None)
-                if got is None or got[0] != rf.index:
-                    first_bad.setdefault("frames", rf.index)
-                    continue
-                for m in MODALITIES:
-                    a, b = rf.modalities[m.name], got[1][m.name]
-                    if exact:
-                        same = a.shape == b.shape and np.array_equal(a, b)
-                        if not same:
-                            first_bad.setdefault(m.name, rf.index)
-                    else:
-                        diff = frame_difference(m.name, a, b)
-                        worst[m.name] = max(worst[m.name], diff)
-                        if diff > TOLERANCES[m.name]:
-                            first_bad.setdefault(m.name, rf.index)
-            hash_ok = entry is not None and entry.content_hash == hashes.video_hash()
-            if exact and not hash_ok:
-                first_bad.setdefault("content hash", -1)
+            entry = entries.get(vid)
+            first_bad = _regenerate_and_compare(ctx, vid, recipes[vid], entry, root, exact, worst)
             if first_bad:
-                where = ", ".join(f"{k} (frame {f:05d})" if f >= 0 else k for k, f in first_bad.items())
-                basis = "bit-exact (same renderer fingerprint)" if exact else "within tolerances (other renderer)"
-                report.add(Finding(
-                    Reason.REGENERATION_MISMATCH,
-                    f"regenerated from its recipe, the video differs from the shard: {where}; expected {basis}",
-                    file=entry.shard if entry is not None else None, video_id=vid,
-                    numbers={"first_frames": first_bad, "exact": exact},
-                ))  # fmt: skip
+                report.add(_mismatch(vid, entry, first_bad, exact))
             else:
                 matched += 1
             if advance is not None:
@@ -174,3 +146,67 @@ def check_reproducibility(
         numbers["tolerances"] = TOLERANCES
     summary = f"{matched}/{len(chosen)} regenerated videos match ({basis})"
     return CheckResult.from_report(name, report, summary, numbers), exact
+
+
+def _regenerate_and_compare(
+    ctx: moderngl.Context,
+    video_id: str,
+    recipe: Recipe,
+    entry: VideoEntry | None,
+    root: Path,
+    exact: bool,
+    worst: dict[str, float],
+) -> dict[str, int]:
+    """Render the video from its recipe beside its frames in the shard; returns, per thing that
+    differs (a modality, missing ``frames``, the ``content hash``), the first frame it does
+    (−1 for the hash). ``worst`` keeps the largest difference per modality."""
+    shard = root / entry.shard if entry is not None else None
+    size = (recipe.video.width, recipe.video.height)
+    stored = shard_video_frames(shard, video_id, size) if shard is not None and shard.exists() else iter(())
+    hashes = VideoHashes(recipe.n_frames)
+    first_bad: dict[str, int] = {}
+    for rf in video_frames(recipe, ctx):
+        hashes.add(rf.index, rf.modalities)
+        got = next(stored, None)
+        if got is None or got[0] != rf.index:
+            first_bad.setdefault("frames", rf.index)
+            continue
+        _compare_frame(rf.index, rf.modalities, got[1], exact, worst, first_bad)
+    hash_ok = entry is not None and entry.content_hash == hashes.video_hash()
+    if exact and not hash_ok:
+        first_bad.setdefault("content hash", -1)
+    return first_bad
+
+
+def _compare_frame(
+    index: int,
+    regenerated: Mapping[str, np.ndarray],
+    stored: Mapping[str, np.ndarray],
+    exact: bool,
+    worst: dict[str, float],
+    first_bad: dict[str, int],
+) -> None:
+    """Each modality of one frame: equal bit for bit, or within ``TOLERANCES`` (kept in ``worst``)."""
+    for m in MODALITIES:
+        a, b = regenerated[m.name], stored[m.name]
+        if exact:
+            same = a.shape == b.shape and np.array_equal(a, b)
+            if not same:
+                first_bad.setdefault(m.name, index)
+        else:
+            diff = frame_difference(m.name, a, b)
+            worst[m.name] = max(worst[m.name], diff)
+            if diff > TOLERANCES[m.name]:
+                first_bad.setdefault(m.name, index)
+
+
+def _mismatch(video_id: str, entry: VideoEntry | None, first_bad: dict[str, int], exact: bool) -> Finding:
+    """The finding of a regenerated video that differs from its shard, naming where."""
+    where = ", ".join(f"{k} (frame {f:05d})" if f >= 0 else k for k, f in first_bad.items())
+    basis = "bit-exact (same renderer fingerprint)" if exact else "within tolerances (other renderer)"
+    return Finding(
+        Reason.REGENERATION_MISMATCH,
+        f"regenerated from its recipe, the video differs from the shard: {where}; expected {basis}",
+        file=entry.shard if entry is not None else None, video_id=video_id,
+        numbers={"first_frames": first_bad, "exact": exact},
+    )  # fmt: skip

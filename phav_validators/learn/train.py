@@ -281,8 +281,6 @@ def train(
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
 
-    from phav_validators.learn.model import TSN, multitask_loss  # imports torch: optional extra phav[train]
-
     for name in config.sources:
         if name not in heads:
             raise PhavUserError(f"no classes given for source {name!r}", field="--mix")
@@ -291,85 +289,28 @@ def train(
     torch.set_num_threads(config.threads)
     try:
         gen = torch.Generator().manual_seed(config.seed)
-        model = TSN(in_channels(config.stream, config.flow_frames), heads, config.arch, generator=gen)
-        if init is not None:
-            _init_backbone(model, load_checkpoint(init), init)
-        model.to(dev)  # before the optimiser, whose state must live beside the parameters
-        if config.optimizer == "adamw":
-            opt = torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
-        else:
-            opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
-                                  weight_decay=config.weight_decay)  # fmt: skip
+        model = _model(config, heads, init, gen, dev)
+        opt = _optimizer(model, config)
         rng = seeded_rng(config.seed)
         fingerprint = _fingerprint(config, data, heads, init)
-        result = TrainResult(model, config)
         ckpt = Path(checkpoint) if checkpoint is not None else None
-        resumed: dict[str, Any] | None = None
-        if ckpt is not None and ckpt.exists():
-            resumed = load_checkpoint(ckpt)
-            if resumed["fingerprint"] != fingerprint:
-                raise PhavUserError("made with other settings or data; delete it or choose another output",
-                                    source=str(ckpt))  # fmt: skip
-            model.load_state_dict(resumed["model"])
-            opt.load_state_dict(resumed["optimizer"])
-            rng.bit_generator.state = resumed["numpy_rng"]
-            gen.set_state(resumed["torch_rng"])
-            result.history = [Epoch(**e) for e in resumed["history"]]
-            result.seconds = resumed["seconds"]
-            result.resumed_from = len(result.history)
-        pools = {name: list(range(len(data[name]))) for name in config.sources}
-        batches = MixedBatches(pools, config.mix, rng)
+        resumed = _resumable(ckpt, fingerprint)
+        batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng)
+        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev)
+        result = TrainResult(model, config)
         if resumed is not None:
-            batches.load_state(resumed["batches"])
-        names = config.sources
-        n_train = sum(len(data[name]) for name in names)
-        steps_per_epoch = max(1, math.ceil(n_train / config.batch))
-        total_steps = steps_per_epoch * config.epochs
+            run.restore(resumed, result)
         model.train()
         for epoch in range(len(result.history), config.epochs):
             last = result.history[-1].seconds if result.history else 0.0
             if max_seconds is not None and result.seconds + last > max_seconds:
                 result.stopped_on_time = True
                 break
-            start = time.perf_counter()
-            sums = {name: [0.0, 0] for name in names}
-            correct = seen = 0
-            for step in range(steps_per_epoch):
-                lr = config.lr * 0.5 * (1.0 + math.cos(math.pi * (epoch * steps_per_epoch + step) / total_steps))
-                for group in opt.param_groups:
-                    group["lr"] = lr
-                batch = batches.next()
-                x = torch.from_numpy(np.stack([snippets(data[s][i], config, rng=rng) for s, i in batch])).to(dev)
-                labels = torch.tensor([data[s][i].label for s, i in batch], device=dev)
-                sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
-                scores = model(x, generator=gen)
-                loss, parts = multitask_loss(scores, labels, sources, names)
-                if not torch.isfinite(loss):
-                    raise PhavUserError(f"training diverged at epoch {epoch + 1}, step {step + 1} "
-                                        f"(loss {loss.item()}); lower the learning rate", field="--lr")  # fmt: skip
-                opt.zero_grad(set_to_none=True)
-                loss.backward()
-                torch.nn.utils.clip_grad_norm_(model.parameters(), CLIP_GRAD[config.stream])
-                opt.step()
-                for name, part in parts.items():
-                    k = int((sources == names.index(name)).sum())
-                    sums[name][0] += part.item() * k
-                    sums[name][1] += k
-                for z, name in enumerate(names):
-                    mine = sources == z
-                    correct += int((scores[name][mine].argmax(1) == labels[mine]).sum())
-                seen += len(batch)
-            record = Epoch(epoch + 1, {n: s / max(k, 1) for n, (s, k) in sums.items()}, correct / max(seen, 1),
-                           time.perf_counter() - start)  # fmt: skip
+            record = run.epoch(epoch)
             result.history.append(record)
             result.seconds += record.seconds
             if ckpt is not None:
-                _save(ckpt, {
-                    "format": "phav-tsn-1", "fingerprint": fingerprint, "config": config.to_json(),
-                    "heads": dict(heads), "model": model.state_dict(), "optimizer": opt.state_dict(),
-                    "numpy_rng": rng.bit_generator.state, "torch_rng": gen.get_state(), "batches": batches.state(),
-                    "history": [asdict(e) for e in result.history], "seconds": result.seconds,
-                })  # fmt: skip
+                _save(ckpt, run.checkpoint(result))
             if progress is not None:
                 progress(record, config.epochs)
             if after_epoch is not None:
@@ -379,6 +320,127 @@ def train(
         return result
     finally:
         torch.set_num_threads(threads)
+
+
+def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | None, gen: Any, dev: Any) -> Any:
+    """The TSN, initialised from ``gen`` (its backbone from ``init`` for TSN-FT), on ``dev``."""
+    from phav_validators.learn.model import TSN  # imports torch: optional extra phav[train]
+
+    model = TSN(in_channels(config.stream, config.flow_frames), heads, config.arch, generator=gen)
+    if init is not None:
+        _init_backbone(model, load_checkpoint(init), init)
+    model.to(dev)  # before the optimiser, whose state must live beside the parameters
+    return model
+
+
+def _optimizer(model: Any, config: TrainConfig) -> Any:
+    """SGD with momentum (TSN's) or AdamW, with the config's weight decay."""
+    import torch  # optional extra phav[train]: only training needs torch
+
+    if config.optimizer == "adamw":
+        return torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
+    return torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
+                           weight_decay=config.weight_decay)  # fmt: skip
+
+
+def _resumable(ckpt: Path | None, fingerprint: str) -> dict[str, Any] | None:
+    """The checkpoint to resume, None to start afresh; one made for other settings or data is an error."""
+    if ckpt is None or not ckpt.exists():
+        return None
+    state = load_checkpoint(ckpt)
+    if state["fingerprint"] != fingerprint:
+        raise PhavUserError("made with other settings or data; delete it or choose another output",
+                            source=str(ckpt))  # fmt: skip
+    return state
+
+
+@dataclass
+class _Run:
+    """One training run's moving parts: what a step updates and what a checkpoint keeps."""
+
+    data: Mapping[str, Sequence[Clip]]
+    heads: Mapping[str, int]
+    config: TrainConfig
+    fingerprint: str
+    model: Any  # phav_validators.learn.model.TSN
+    opt: Any  # torch.optim.Optimizer
+    rng: np.random.Generator
+    gen: Any  # torch.Generator
+    batches: MixedBatches
+    device: Any  # torch.device
+
+    @property
+    def steps_per_epoch(self) -> int:
+        """Steps that show the model about as many clips as the sources hold."""
+        n_train = sum(len(self.data[name]) for name in self.config.sources)
+        return max(1, math.ceil(n_train / self.config.batch))
+
+    def restore(self, state: Mapping[str, Any], result: TrainResult) -> None:
+        """Continue from a checkpoint: weights, optimiser, random states, batches and history."""
+        self.model.load_state_dict(state["model"])
+        self.opt.load_state_dict(state["optimizer"])
+        self.rng.bit_generator.state = state["numpy_rng"]
+        self.gen.set_state(state["torch_rng"])
+        result.history = [Epoch(**e) for e in state["history"]]
+        result.seconds = state["seconds"]
+        result.resumed_from = len(result.history)
+        self.batches.load_state(state["batches"])
+
+    def checkpoint(self, result: TrainResult) -> dict[str, Any]:
+        """Everything ``restore`` needs to reach the weights an uninterrupted run reaches."""
+        return {
+            "format": "phav-tsn-1", "fingerprint": self.fingerprint, "config": self.config.to_json(),
+            "heads": dict(self.heads), "model": self.model.state_dict(), "optimizer": self.opt.state_dict(),
+            "numpy_rng": self.rng.bit_generator.state, "torch_rng": self.gen.get_state(),
+            "batches": self.batches.state(), "history": [asdict(e) for e in result.history],
+            "seconds": result.seconds,
+        }  # fmt: skip
+
+    def epoch(self, epoch: int) -> Epoch:
+        """One epoch's steps; its record holds the mean loss per source and the training accuracy."""
+        names = self.config.sources
+        start = time.perf_counter()
+        sums = {name: [0.0, 0] for name in names}
+        correct = seen = 0
+        for step in range(self.steps_per_epoch):
+            batch, scores, labels, sources, parts = self._step(epoch, step)
+            for name, part in parts.items():
+                k = int((sources == names.index(name)).sum())
+                sums[name][0] += part.item() * k
+                sums[name][1] += k
+            for z, name in enumerate(names):
+                mine = sources == z
+                correct += int((scores[name][mine].argmax(1) == labels[mine]).sum())
+            seen += len(batch)
+        return Epoch(epoch + 1, {n: s / max(k, 1) for n, (s, k) in sums.items()}, correct / max(seen, 1),
+                     time.perf_counter() - start)  # fmt: skip
+
+    def _step(self, epoch: int, step: int) -> tuple[list[tuple[str, int]], Any, Any, Any, dict[str, Any]]:
+        """One mini-batch at the cosine-decayed learning rate: the batch, the scores per head,
+        the labels, each clip's source index and the loss per source."""
+        import torch  # optional extra phav[train]: only training needs torch
+
+        from phav_validators.learn.model import multitask_loss  # imports torch: optional extra phav[train]
+
+        config, names, dev = self.config, self.config.sources, self.device
+        total_steps = self.steps_per_epoch * config.epochs
+        lr = config.lr * 0.5 * (1.0 + math.cos(math.pi * (epoch * self.steps_per_epoch + step) / total_steps))
+        for group in self.opt.param_groups:
+            group["lr"] = lr
+        batch = self.batches.next()
+        x = torch.from_numpy(np.stack([snippets(self.data[s][i], config, rng=self.rng) for s, i in batch])).to(dev)
+        labels = torch.tensor([self.data[s][i].label for s, i in batch], device=dev)
+        sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
+        scores = self.model(x, generator=self.gen)
+        loss, parts = multitask_loss(scores, labels, sources, names)
+        if not torch.isfinite(loss):
+            raise PhavUserError(f"training diverged at epoch {epoch + 1}, step {step + 1} "
+                                f"(loss {loss.item()}); lower the learning rate", field="--lr")  # fmt: skip
+        self.opt.zero_grad(set_to_none=True)
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(self.model.parameters(), CLIP_GRAD[self.config.stream])
+        self.opt.step()
+        return batch, scores, labels, sources, parts
 
 
 def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> None:
