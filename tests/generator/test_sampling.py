@@ -18,16 +18,20 @@ from phav_spec.seeding import part_rng, runtime_seeds, video_key
 from phav_spec.theta import load_preset
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
-from tests.helpers import PRESET_PATH, run_cli
+from tests.app.in_process import run_in_process
+from tests.helpers import PRESET_PATH
 
 GOLDEN = Path(__file__).parents[1] / "golden" / "phav-v1-seed0-first5.json"
 
 
 @pytest.fixture(scope="module")
 def table_40k(tmp_path_factory):
-    """`phav sample --theta recipes/phav-v1.yaml --n 40000 --seed 0`, run as a user would."""
+    """`phav sample --theta recipes/phav-v1.yaml --n 40000 --seed 0`, as a user would run it
+    (in this process: a subprocess would add only its start). 40,000 is PHAV's size: the
+    distribution check must not raise a false alarm on a dataset that large, where it can see
+    the smallest systematic difference."""
     out = tmp_path_factory.mktemp("sample") / "recipes.parquet"
-    result = run_cli("sample", "--theta", str(PRESET_PATH), "--n", "40000", "--seed", "0", "--out", str(out))
+    result = run_in_process("sample", "--theta", str(PRESET_PATH), "--n", "40000", "--seed", "0", "--out", str(out))
     assert result.returncode == 0, result.stderr
     return read_recipe_table(out)
 
@@ -82,9 +86,15 @@ class IgnoresThetaEC(RecipeSampler):
 
 
 def test_a_sampler_that_ignores_theta_ec_fails_the_checks():
+    """1,000 recipes are plenty. The bug puts an indoors camera outdoors in 44 % of recipes,
+    8 % of them in an urban row: 1,000 recipes hold none with probability 0.56^1000 < 1e-250,
+    none in an urban row with 0.92^1000 < 1e-36. It moves the camera marginal from (0.932,
+    0.054, 0.014) to (0.495, 0.495, 0.010): a χ² noncentrality of 3,800 on 2 degrees of
+    freedom, which misses even α/m = 1e-103 with probability below 1e-100. Holm keeps the
+    correct sampler's false-alarm rate below α = 0.001 at any size."""
     theta = load_preset()
     buggy = IgnoresThetaEC(theta)
-    rows = RecipeRows().extend(buggy.sample(0, i) for i in range(4000))
+    rows = RecipeRows().extend(buggy.sample(0, i) for i in range(1000))
     result = check_distributions(rows.columns, theta)
     assert not result.ok
     reasons = {f.reason for f in result.report.findings}
@@ -93,7 +103,8 @@ def test_a_sampler_that_ignores_theta_ec_fails_the_checks():
     assert any(t.condition == "marginal" for t in camera_failures)
     assert any("environment=urban" in t.condition for t in camera_failures)
     # The correct sampler on the same indices passes.
-    good = RecipeRows().extend(RecipeSampler(theta).sample(0, i) for i in range(4000))
+    sampler = RecipeSampler(theta)
+    good = RecipeRows().extend(sampler.sample(0, i) for i in range(1000))
     assert check_distributions(good.columns, theta).ok
 
 
@@ -138,8 +149,9 @@ def test_parts_do_not_share_draws():
     data["background_actors"]["count"] = {"min": 6, "max": 6}
     other = parse_theta(data)
     changed_variation = changed_background = 0
+    sampler, other_sampler = RecipeSampler(theta), RecipeSampler(other)
     for i in range(60):
-        a, b = RecipeSampler(theta).sample(3, i), RecipeSampler(other).sample(3, i)
+        a, b = sampler.sample(3, i), other_sampler.sample(3, i)
         same = ("action", "motion", "world", "environment", "protagonist", "duration_s", "camera", "seeds")
         for part in (*same, "supporting_characters"):
             assert getattr(a, part) == getattr(b, part), (i, part)

@@ -36,7 +36,8 @@ def _all_cameras_theta() -> Theta:
 @pytest.fixture(scope="module")
 def sampled():
     theta = _all_cameras_theta()
-    rows = RecipeRows().extend(RecipeSampler(theta).sample(11, i) for i in range(N))
+    sampler = RecipeSampler(theta)
+    rows = RecipeRows().extend(sampler.sample(11, i) for i in range(N))
     return theta, rows.columns
 
 
@@ -55,42 +56,72 @@ def _matches(pattern: str, path: tuple[str, ...]) -> bool:
     return len(parts) <= len(path) and all(p in ("*", q) for p, q in zip(parts, path, strict=False))
 
 
+def _put(data: dict, leaf: tuple[str, ...], value) -> None:
+    node = data
+    for key in leaf[:-1]:
+        node = node[key]
+    node[leaf[-1]] = value
+
+
+def _moved_out(data: dict, leaf: tuple[str, ...]) -> tuple[dict, Theta]:
+    """A point just above the leaf's range (below, where above leaves the physical bounds),
+    and θ with the leaf's distribution replaced by that point alone."""
+    node = data
+    for key in leaf:
+        node = node[key]
+    high, low = (node["high"], node["low"]) if node["kind"] == "uniform" else (node["max"], node["min"])
+    step = 0.5 if leaf[-1].endswith("deg") else 0.01
+    for point in (high + step, low - step):
+        changed = copy.deepcopy(data)
+        moved = {"kind": "uniform", "low": point, "high": point}
+        _put(changed, leaf, moved)
+        try:
+            return moved, parse_theta(changed)
+        except Exception:  # the point leaves the physical bounds: try the other side
+            continue
+    raise AssertionError(f"no point just outside {'.'.join(leaf)} parses")
+
+
 def test_every_continuous_leaf_is_sampled_and_checked(sampled):
+    """Each continuous θ leaf moved to a point just outside its range: the check of its
+    parameter finds the draws sampled from θ outside, in the group that leaf belongs to.
+
+    One θ with every leaf moved is checked once: ``check_continuous`` judges each (parameter,
+    group) against that group's own distribution alone, and no two leaves share one (asserted),
+    so what it finds for a leaf's (parameter, group) is that leaf's move. Which (parameter,
+    group) a leaf is comes from θ with that leaf alone moved.
+    """
     theta, columns = sampled
     data = theta.model_dump(mode="json")
     parsed = parse_recipes_arrow(columns["recipe"])
     leaves = list(_leaves(data))
     assert len(leaves) > 60
-    verified = 0
+    drawn = {p.name: set(parameter_draws(parsed, p)[0].tolist()) for p in CONTINUOUS_PARAMETERS}  # groups
+    every_leaf_moved = copy.deepcopy(data)
+    expected: dict[tuple[str, ...], set[tuple[str, str]]] = {}  # leaf → the drawn (parameter, group) it moves
     for leaf in leaves:
         params = [p for p in CONTINUOUS_PARAMETERS if _matches(p.theta_path, leaf)]
         assert params, f"θ parameter {'.'.join(leaf)} has no validator check"
-        changed = copy.deepcopy(data)
-        node = changed
-        for key in leaf[:-1]:
-            node = node[key]
-        old = node[leaf[-1]]
-        high = old["high"] if old["kind"] == "uniform" else old["max"]
-        point = high + 0.01 if not leaf[-1].endswith("deg") else high + 0.5
-        node[leaf[-1]] = {"kind": "uniform", "low": point, "high": point}
-        try:
-            other = parse_theta(changed)
-        except Exception:  # the shifted point leaves the physical bounds: shift down instead
-            low = old["low"] if old["kind"] == "uniform" else old["min"]
-            node[leaf[-1]] = {"kind": "uniform", "low": low - 0.01, "high": low - 0.01}
-            other = parse_theta(changed)
-        for param in params:
-            groups, _ = parameter_draws(parsed, param)
-            drawn = [g for g in set(groups.tolist()) if param.distribution(theta, g) != param.distribution(other, g)]
-            if not drawn:
-                continue
-            _, outside = check_continuous(columns["recipe"], other)
-            if any(name == param.name for name, _, _ in outside):
-                verified += 1
-                break
-        else:
+        moved, other = _moved_out(data, leaf)
+        _put(every_leaf_moved, leaf, moved)
+        expected[leaf] = {
+            (param.name, group)
+            for param in params
+            for group in drawn[param.name]
+            if param.distribution(theta, group) != param.distribution(other, group)
+        }
+    pairs = [pair for own in expected.values() for pair in own]
+    assert len(pairs) == len(set(pairs)), "two θ leaves feed one (parameter, group)"
+    _, outside = check_continuous(columns["recipe"], parse_theta(every_leaf_moved))
+    found = {(name, group) for name, group, _ in outside}
+    verified = 0
+    for leaf, own in expected.items():
+        if not own:
             # Only parameters θ never draws may go unverified (an element that is never on).
             assert leaf[0] == "weather_elements" and leaf[-1].endswith("_intensity"), leaf
+            continue
+        assert own <= found, f"{'.'.join(leaf)}: no draws found outside for {sorted(own - found)}"
+        verified += 1
     assert verified >= 55
 
 

@@ -78,9 +78,25 @@ def test_single_action_theta_makes_only_that_action() -> None:
     assert all(abs(r.duration_s - 1.5) < 1 / 30 for r in recipes)
 
 
+#: Five actions of unlike body patterns: a gait forwards and backwards, a posture, a cycle on
+#: all fours and a two-person action (the partner features).
+FEW_ACTIONS = ("walk", "moonwalk", "sit", "crawl", "walking_hug")
+
+
+def test_a_few_actions_are_recognisable_from_simulated_motion() -> None:
+    """The probe's protocol in small (the 35 actions below are marked slow): 3 one-second
+    clips per action of seed 0 train it, 2 of seed 1 test it. Chance is 20 %; 8 or more of
+    the 10 right by chance has probability below 1e-4."""
+    result = evaluate_probe(load_preset("phav-v1"), FEW_ACTIONS, n_train=3, n_test=2, seed=0, seconds=1.0)
+    assert result.classes == FEW_ACTIONS and result.confusion.sum() == 2 * len(FEW_ACTIONS)
+    assert result.simulate_s > 0 and result.fit_s > 0
+    assert result.accuracy >= 0.8, format_confusion(result.confusion, result.classes)
+
+
 @pytest.mark.slow
 def test_the_35_actions_are_recognisable_from_simulated_motion() -> None:
-    """Train on seed 0, test on seed 1: 12 + 4 two-second clips per action (~80 s)."""
+    """Train on seed 0, test on seed 1: 12 + 4 two-second clips per action (~80 s; the
+    protocol of docs/physics.md). Slow: the test above runs it on five actions."""
     result = evaluate_probe(load_preset("phav-v1"), ACTIONS.names, n_train=12, n_test=4, seed=0)
     print(f"\naction probe: {result.accuracy:.1%} of {result.confusion.sum()} held-out clips")
     print(format_confusion(result.confusion, result.classes))

@@ -1,0 +1,97 @@
+"""``phav train`` as a user runs it: results, resuming, TSN / Cool-TSN / TSN-FT on a real
+dataset's folder, and user errors as one line with exit code 2.
+
+The commands run in this process (``tests.app.in_process``); one test runs a real ``phav``
+process for the one-line, exit-code-2 contract of the console script itself.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cv2
+import pytest
+
+from tests.app.in_process import run_in_process
+from tests.helpers import run_cli
+from tests.validators.learn.helpers import tiny_phav, ucf101_folder
+
+FAST = ("--epochs", "1", "--widths", "8,16", "--threads", "1")
+
+
+@pytest.fixture(scope="session")
+def phav(tmp_path_factory) -> Path:
+    return tiny_phav(tmp_path_factory)
+
+
+def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
+    out = tmp_path / "run"
+    args = ("train", str(phav), "--out", str(out), "--split", "random", *FAST)
+    result = run_in_process(*args)
+    assert result.returncode == 0, result.stderr
+    assert "test accuracy" in result.stdout and "fused" in result.stdout
+    data = json.loads((out / "results.json").read_text())
+    run = data["runs"][0]
+    assert run["train_clips"] == 2 and run["test_clips"] == 1
+    assert set(run["accuracy"]) == {"rgb", "flow", "fused"}
+    assert (out / "split1-rgb.pt").exists() and (out / "split1-flow.pt").exists()
+    assert cv2.imread(str(out / "split1-confusion.png")) is not None
+    again = run_in_process(*args)  # every checkpoint is finished: nothing retrained, same numbers
+    assert again.returncode == 0, again.stderr
+    assert json.loads((out / "results.json").read_text())["runs"] == data["runs"]
+
+
+def test_cool_tsn_and_fine_tuning_on_a_ucf101_folder(phav, tmp_path):
+    ucf = ucf101_folder(tmp_path / "ucf", groups=2, clips=1)
+    synthetic = tmp_path / "synthetic"
+    assert run_in_process("train", str(phav), "--out", str(synthetic), "--streams", "flow", *FAST).returncode == 0
+    for mode, extra in (("tsn", ()), ("cool", ("--mix", "1:2")), ("ft", ("--init", str(synthetic)))):
+        out = tmp_path / mode
+        result = run_in_process("train", str(phav), "--real", f"ucf101={ucf}", "--mode", mode, "--streams", "flow",
+                                "--real-fraction", "0.5,1", "--out", str(out), *FAST, *extra)  # fmt: skip
+        assert result.returncode == 0, (mode, result.stderr)
+        runs = json.loads((out / "results.json").read_text())["runs"]
+        assert [r["fraction"] for r in runs] == [0.5, 1.0]
+        assert runs[0]["test_clips"] == 3
+        virtual = 3 if mode == "cool" else 0
+        assert [r["train_clips"] for r in runs] == [3 + virtual, 3 + virtual]  # half of 1 per class rounds up
+
+
+def _one_error_line(stderr: str) -> str:
+    lines = [line for line in stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error:") and "Traceback" not in stderr, stderr
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "field"),
+    [
+        pytest.param(("--size", "tiny"), "--size", id="size"),
+        pytest.param(("--real", "kinetics=/x"), "--real", id="real"),
+        pytest.param(("--split", "weather"), "--split", id="split"),
+        pytest.param(("--real-fraction", "0"), "--real-fraction", id="real-fraction"),
+        pytest.param(("--streams", "depth"), "--streams", id="streams"),
+        pytest.param(("--device", "cuda:7"), "--device", id="device"),
+        pytest.param(("--mode", "ft", "--real", "ucf101=REAL"), "--init", id="ft-without-init"),
+        # read after the options are checked: the official split files are missing
+        pytest.param(("--real", "ucf101=REAL"), "ucfTrainTestlist", id="no-split-files"),
+    ],
+)
+def test_train_user_errors_are_one_line(phav, tmp_path, args, field):
+    args = tuple(a.replace("REAL", str(tmp_path)) for a in args)
+    result = run_in_process("train", str(phav), "--out", str(tmp_path / "x"), *FAST, *args)
+    assert result.returncode == 2, (args, result.stdout, result.stderr)
+    assert field in _one_error_line(result.stderr)
+
+
+def test_cool_tsn_without_a_phav_dataset_is_a_user_error(tmp_path):
+    result = run_in_process("train", "--real", f"ucf101={tmp_path}", "--mode", "cool", *FAST)
+    assert result.returncode == 2 and "PHAV dataset" in _one_error_line(result.stderr)
+
+
+def test_the_phav_script_turns_a_user_error_into_one_line_and_exit_code_2(tmp_path):
+    """The console script itself, in its own process: no traceback, one line, exit code 2."""
+    result = run_cli("train", str(tmp_path), "--out", str(tmp_path / "x"), "--size", "tiny")
+    assert result.returncode == 2, (result.stdout, result.stderr)
+    assert "--size" in _one_error_line(result.stderr)
