@@ -1,0 +1,28 @@
+"""Validating a dataset as it is: shards split into parts scanned by a pool of workers, the
+checks that need no pixels running meanwhile, give the report one process gives."""
+
+from __future__ import annotations
+
+from phav_validators.findings import Reason
+from phav_validators.options import CHECKS
+from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
+
+
+def test_worker_count_does_not_change_the_report(small_dataset_copy):
+    """Shards split into parts scanned by a pool, with failures overlapping the scan, give the
+    report one process gives, findings in the same order (here in a secondary part's video)."""
+    data = small_dataset_copy
+
+    def paint(image):
+        image[10:12, 20:22] = (1, 2, 3)
+        return image
+
+    rewrite_tar(shard_of(data, "v000001"), png_edit("v000001/00004.seg.png", paint))
+    checks = tuple(c for c in CHECKS if c != "reproducibility")
+    one, two = (validate(data, *checks, workers=w) for w in (1, 2))
+    assert_fails(two, "encoding", Reason.FOREIGN_COLOUR, video="v000001")
+    one_json, two_json = one.to_json(), two.to_json()
+    for report in (one_json, two_json):
+        for c in report["checks"]:
+            c.pop("seconds")
+    assert one_json == two_json
