@@ -172,7 +172,7 @@ def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset
     people = next(f for f in index["files"] if f["path"] == "people.parquet")
     people["sha256"] = "0" * 64
     (bad / RELEASE_FILE).write_text(json.dumps(index), encoding="utf-8")
-    result = invoke_cli("regenerate", str(bad / "manifest.json"), "--out", str(tmp_path / "rebuilt2"), "--workers", "2")
+    result = invoke_cli("regenerate", str(bad / "manifest.json"), "--out", str(tmp_path / "rebuilt2"))
     assert result.returncode == 1
     assert "mismatch people.parquet: sha256" in result.stdout and "files: 3/4 sha256 match" in result.stdout
 

@@ -8,7 +8,7 @@ import shutil
 
 from phav_spec.encoding import video_content_hash
 from phav_spec.manifest import load_manifest
-from tests.helpers import run_cli
+from tests.helpers import invoke_cli, run_cli
 
 
 def test_a_fresh_process_renders_the_same_manifest(small_dataset, tmp_path):
@@ -24,7 +24,7 @@ def test_recipes_parquet_alone_regenerates_every_hash(small_dataset, tmp_path):
     alone = tmp_path / "alone"
     alone.mkdir()
     shutil.copy(small_dataset / "recipes.parquet", alone / "recipes.parquet")
-    result = run_cli("regenerate", str(alone / "recipes.parquet"), "--out", str(tmp_path / "re"))
+    result = invoke_cli("regenerate", str(alone / "recipes.parquet"), "--out", str(tmp_path / "re"))
     assert result.returncode == 0, result.stderr
     again = load_manifest(tmp_path / "re" / "manifest.json")
     expected = load_manifest(small_dataset / "manifest.json")
@@ -39,6 +39,6 @@ def test_regenerate_names_a_tampered_video(small_dataset_copy, tmp_path):
     video["modality_hashes"]["depth"] = "0" * 64
     video["content_hash"] = video_content_hash(video["modality_hashes"])
     (small_dataset_copy / "manifest.json").write_text(json.dumps(data))
-    result = run_cli("regenerate", str(small_dataset_copy), "--video", "v000001", "--out", str(tmp_path / "re"))
+    result = invoke_cli("regenerate", str(small_dataset_copy), "--video", "v000001", "--out", str(tmp_path / "re"))
     assert result.returncode == 1
     assert "0/1 videos match" in result.stdout and "v000001: depth" in result.stdout

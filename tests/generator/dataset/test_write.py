@@ -110,26 +110,29 @@ class _Stop(Exception):
     pass
 
 
-def test_an_interrupted_run_resumes_without_redoing_finished_shards(small_recipes, small_theta, tmp_path):
+def test_an_interrupted_run_resumes_without_redoing_finished_shards(small_dataset, small_recipes, small_theta,
+                                                                   tmp_path):  # fmt: skip
+    """The shared dataset's run stopped in its second shard, then run again: the first shard
+    is kept, the second rendered, and every file is the uninterrupted run's."""
     out = tmp_path / "ds"
-    shards = chunk(small_recipes, 1)
+    shards = chunk(small_recipes, SMALL_SHARD_SIZE)
     done = []
 
     def stop_in_the_second_shard(videos: int, frames: int) -> None:
         done.append(videos)
-        if sum(done) == 2:  # the second video is rendered, its shard's tar still open
+        if sum(done) == 3:  # the third video is rendered, its shard's tar not joined yet
             raise _Stop
 
     with pytest.raises(_Stop):
-        write_dataset(shards, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED,
+        write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED,
                       progress=stop_in_the_second_shard)  # fmt: skip
-    assert not (out / "manifest.json").exists()
-    leftovers = [p.name for p in out.iterdir() if p.name.startswith(".demo") and p.name.endswith(".tmp")]
+    assert not (out / "manifest.json").exists() and (out / "phav-000000.tar").exists()
+    leftovers = [p.name for p in out.iterdir() if p.name.startswith(".phav") and p.name.endswith(".tmp")]
     assert leftovers == []  # the interrupted tar left no temporary behind
-    resumed = write_dataset(shards, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
-    assert (resumed.rendered_shards, resumed.resumed_shards) == (2, 1)
-    clean = write_dataset(shards, tmp_path / "clean", name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
-    assert resumed.manifest == clean.manifest
+    resumed = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert (resumed.rendered_shards, resumed.resumed_shards) == (1, 1)
+    assert (resumed.rendered_videos, resumed.resumed_videos) == (1, 2)
+    assert file_bytes(out) == file_bytes(small_dataset)
     assert not (out / WORK_DIR).exists()
 
 
