@@ -3,18 +3,29 @@ and the one small rendered dataset the whole run shares."""
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import shutil
 from collections.abc import Iterator
 from pathlib import Path
+from unittest import mock
 
 import pytest
 from hypothesis import HealthCheck, settings
 
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
-from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, SMALL_VIDEOS, run_cli, theta_variant, tiny, tiny_theta
+from tests.helpers import (
+    RAY_DELAY_S,
+    SMALL_SEED,
+    SMALL_SHARD_SIZE,
+    SMALL_VIDEOS,
+    run_cli,
+    theta_variant,
+    tiny,
+    tiny_theta,
+)
 
 settings.register_profile(
     "ci",
@@ -75,3 +86,18 @@ def small_dataset_copy(small_dataset: Path, tmp_path: Path) -> Path:
     dst = tmp_path / "data"
     shutil.copytree(small_dataset, dst)
     return dst
+
+
+@pytest.fixture(scope="session")
+def ray_with_delays() -> Iterator[None]:
+    """A local Ray of two CPUs for the rest of the run (started once: it takes seconds), whose
+    workers sleep up to RAY_DELAY_S before rendering each video, fixed by its id, so that later
+    videos finish first. Every `--engine ray` run in this process uses it while it lives."""
+    pytest.importorskip("ray")
+    from phav_generator.engines import ray_session  # generator floor: only the Ray tests need it
+    from phav_generator.faults import DELAY_ENV
+
+    with contextlib.ExitStack() as stack:
+        with mock.patch.dict(os.environ, {DELAY_ENV: str(RAY_DELAY_S)}):  # read by Ray's start only
+            stack.enter_context(ray_session(2, None))
+        yield

@@ -24,6 +24,8 @@ SMALL_VIDEOS = 3
 SMALL_SHARD_SIZE = 2
 #: Clip length of phav-v1-tiny: 6 frames, enough for every per-frame test here.
 TINY_SECONDS = 0.2
+#: Most seconds a rendering task sleeps on the tests' Ray (``ray_with_delays``), fixed per video.
+RAY_DELAY_S = 3.0
 
 
 def preset_dict() -> dict[str, Any]:

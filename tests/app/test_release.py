@@ -263,8 +263,8 @@ def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_relea
 
 
 @pytest.mark.slow
-def test_phav_validate_on_ray_reports_what_the_local_pool_reports(recipe_release, local_validation, tmp_path):
-    pytest.importorskip("ray")
+def test_phav_validate_on_ray_reports_what_the_local_pool_reports(ray_with_delays, recipe_release, local_validation,
+                                                                  tmp_path):  # fmt: skip
     local, px = local_validation
     ray = _validate(recipe_release, "--workers", "2", "--engine", "ray", "--regenerate-into", str(tmp_path / "ray"))
     assert local["_rc"] == 0, local["_stdout"]

@@ -6,20 +6,18 @@ from __future__ import annotations
 import pytest
 
 from phav_generator.dataset.write import chunk, write_dataset
-from phav_generator.faults import DELAY_ENV, delay_for
+from phav_generator.faults import delay_for
 from phav_spec.errors import PhavUserError
-from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, file_bytes
+from tests.helpers import RAY_DELAY_S, SMALL_SEED, SMALL_SHARD_SIZE, file_bytes
 
 
-def test_ray_and_the_local_pool_give_identical_datasets(small_dataset, small_recipes, small_theta, tmp_path,
-                                                        monkeypatch):  # fmt: skip
+def test_ray_and_the_local_pool_give_identical_datasets(ray_with_delays, small_dataset, small_recipes, small_theta,
+                                                        tmp_path):  # fmt: skip
     """The shared dataset (`phav generate`, a local pool of two workers) made again on Ray."""
-    pytest.importorskip("ray")
     shards = chunk(small_recipes, SMALL_SHARD_SIZE)
     # Up to 3 s per task, fixed by the video id: later videos finish first.
-    delays = [delay_for(r.video_id, 3.0) for recipes in shards for r in recipes]
+    delays = [delay_for(r.video_id, RAY_DELAY_S) for recipes in shards for r in recipes]
     assert delays != sorted(delays)
-    monkeypatch.setenv(DELAY_ENV, "3")
     ray = write_dataset(shards, tmp_path / "ray", name="phav", theta=small_theta, dataset_seed=SMALL_SEED, workers=2,
                         engine="ray")  # fmt: skip
     assert file_bytes(tmp_path / "ray") == file_bytes(small_dataset)

@@ -1,10 +1,12 @@
-"""Validating a dataset as it is: shards split into parts scanned by a pool of workers, the
-checks that need no pixels running meanwhile, give the report one process gives."""
+"""Validating a dataset as it is: shards split into parts scanned by a pool of workers (or Ray
+tasks), the checks that need no pixels running meanwhile, give the report one process gives."""
 
 from __future__ import annotations
 
 from phav_validators.findings import Reason
-from phav_validators.options import CHECKS
+from phav_validators.options import CHECKS, Options
+from phav_validators.source import resolve
+from phav_validators.validate import validate_dataset
 from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
 
 
@@ -26,3 +28,16 @@ def test_worker_count_does_not_change_the_report(small_dataset_copy):
         for c in report["checks"]:
             c.pop("seconds")
     assert one_json == two_json
+
+
+def test_ray_scans_give_the_report_one_process_gives(ray_with_delays, small_dataset):
+    """`--engine ray`: the shard parts scanned as Ray tasks (``RayPool``), same report."""
+    checks = ("integrity", "encoding", "consistency")
+    here = validate_dataset(resolve([small_dataset])[0], options=Options(checks=checks))
+    ray = validate_dataset(resolve([small_dataset])[0], options=Options(checks=checks, workers=2, engine="ray"))
+    reports = [here.to_json(), ray.to_json()]
+    for report in reports:
+        for c in report["checks"]:
+            c.pop("seconds")
+    assert reports[0] == reports[1]
+    assert reports[1]["checks"][0]["numbers"]["hashed"] == 3
