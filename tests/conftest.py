@@ -1,5 +1,5 @@
 """Hypothesis profiles: `ci` (default, bounded and deterministic) and `dev` (more examples);
-and the one small rendered dataset the whole run shares."""
+the one small rendered dataset the whole run shares, and the one Ray its Ray tests share."""
 
 from __future__ import annotations
 

@@ -3,12 +3,15 @@ settings of the shared small dataset (tests/conftest.py ``small_dataset``)."""
 
 from __future__ import annotations
 
+import contextlib
 import copy
+import io
 import subprocess
 import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+from unittest import mock
 
 import yaml
 
@@ -86,10 +89,6 @@ def invoke_cli(*args: str) -> subprocess.CompletedProcess[str]:
     output, without a fresh interpreter importing every floor again (~2 s of CPU each).
     For what a command answers; tests of the process itself (entry point, signals, a clean
     environment, determinism across processes) use ``run_cli``."""
-    import contextlib
-    import io
-    from unittest import mock
-
     # The application floor, imported on first use: phav_spec tests need none of it.
     from phav_app.cli import app as phav_app
     from phav_app.console import run_app
