@@ -1,19 +1,34 @@
-"""Small shared test helpers: θ variants written to files, and running the CLIs."""
+"""Small shared test helpers: θ variants written to files, running the CLIs, and the
+settings of the shared small dataset (tests/conftest.py ``small_dataset``)."""
 
 from __future__ import annotations
 
+import contextlib
 import copy
+import io
 import subprocess
 import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+from unittest import mock
 
 import yaml
 
-from phav_spec.theta import PRESETS_DIR
+from phav_spec.theta import PRESETS_DIR, Theta, parse_theta
 
 PRESET_PATH = PRESETS_DIR / "phav-v1.yaml"
+
+#: The shared small dataset: SMALL_VIDEOS phav-v1-tiny recipes of SMALL_SEED (shoot_bow in
+#: urban, shoot_ball in the stadium, golf in simple: the same scenes as phav-v1-short's seed 3),
+#: SMALL_SHARD_SIZE videos per shard (two shards: 2 + 1 videos), the default name ``phav``.
+SMALL_SEED = 3
+SMALL_VIDEOS = 3
+SMALL_SHARD_SIZE = 2
+#: Clip length of phav-v1-tiny: 6 frames, enough for every per-frame test here.
+TINY_SECONDS = 0.2
+#: Most seconds a rendering task sleeps on the tests' Ray (``ray_with_delays``), fixed per video.
+RAY_DELAY_S = 3.0
 
 
 def preset_dict() -> dict[str, Any]:
@@ -28,6 +43,20 @@ def theta_variant(tmp_path: Path, edit: Callable[[dict[str, Any]], None], name: 
     path = tmp_path / name
     path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
     return path
+
+
+def tiny(data: dict[str, Any]) -> None:
+    """Edit phav-v1 into phav-v1-tiny, clips of TINY_SECONDS: what the dataset tests check
+    (layout, encodings, hashes, resumption, validation) does not need longer ones."""
+    data["name"] = "phav-v1-tiny"
+    data["durations"] = {"t_min": TINY_SECONDS, "t_max": TINY_SECONDS, "t_mod": TINY_SECONDS}
+
+
+def tiny_theta() -> Theta:
+    """phav-v1-tiny as a θ (the one ``theta_variant(path, tiny)`` writes)."""
+    data = copy.deepcopy(preset_dict())
+    tiny(data)
+    return parse_theta(data, source="<phav-v1-tiny>")
 
 
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
@@ -48,3 +77,33 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[
 def file_bytes(folder: Path) -> dict[str, bytes]:
     """Every file directly in ``folder``, by name: two datasets compare byte for byte."""
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+def tree_bytes(root: Path) -> dict[str, bytes]:
+    """Every file under ``root``, by relative path."""
+    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def invoke_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    """``run_cli`` in this process: the same Typer app, ``run_app`` wrapper, exit code and
+    output, without a fresh interpreter importing every floor again (~2 s of CPU each).
+    For what a command answers; tests of the process itself (entry point, signals, a clean
+    environment, determinism across processes) use ``run_cli``."""
+    # The application floor, imported on first use: phav_spec tests need none of it.
+    from phav_app.cli import app as phav_app
+    from phav_app.console import run_app
+    from phav_app.validate_cli import app as validate_app
+
+    app, rest = (validate_app, args[1:]) if args and args[0] == "validate!" else (phav_app, args)
+    out, err = io.StringIO(), io.StringIO()
+    code: int | str | None = 0
+    width = mock.patch.dict("os.environ", {"COLUMNS": "200"})  # as run_cli's environment: Typer's error boxes
+    with width, contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            run_app(lambda: app(args=list(rest), prog_name="phav-validate" if app is validate_app else "phav"))
+        except SystemExit as e:
+            code = e.code
+    if isinstance(code, str):  # sys.exit("message"): printed to stderr, status 1
+        err.write(code)
+        code = 1
+    return subprocess.CompletedProcess(list(args), code or 0, out.getvalue(), err.getvalue())

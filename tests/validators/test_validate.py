@@ -12,22 +12,18 @@ from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import load_preset
-from tests.helpers import PRESET_PATH, run_cli, theta_variant
+from tests.helpers import PRESET_PATH, invoke_cli, run_cli, theta_variant
+
+#: Recipes in the good table: enough for every distribution test to run, and for the wrong θ
+#: below to be rejected by far.
+N = 500
 
 
 @pytest.fixture(scope="module")
 def good(tmp_path_factory):
     folder = tmp_path_factory.mktemp("dataset")
-    result = run_cli(
-        "sample",
-        "--theta",
-        "phav-v1",
-        "--n",
-        "1500",
-        "--seed",
-        "4",
-        "--out",
-        str(folder / "recipes.parquet"),
+    result = invoke_cli(
+        "sample", "--theta", "phav-v1", "--n", str(N), "--seed", "4", "--out", str(folder / "recipes.parquet")
     )
     assert result.returncode == 0, result.stderr
     return folder / "recipes.parquet"
@@ -46,17 +42,17 @@ def _replace_column(table: pa.Table, name: str, values) -> pa.Table:
 
 
 def test_good_table_passes(good):
-    result = run_cli("validate!", str(good))
+    result = run_cli("validate!", str(good))  # the installed entry point, in a fresh process
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "1500 recipes" in result.stdout and "1500/1500 recipes valid" in result.stdout
+    assert f"{N} recipes" in result.stdout and f"{N}/{N} recipes valid" in result.stdout
     assert "all checks passed" in result.stdout
-    stats = run_cli("stats", str(good))
+    stats = invoke_cli("stats", str(good))
     assert stats.returncode == 0 and "goodness of fit" in stats.stdout and "camera" in stats.stdout
 
 
 def test_dataset_directory_with_theta_yaml(good):
     (good.parent / "theta.yaml").write_text(PRESET_PATH.read_text(encoding="utf-8"), encoding="utf-8")
-    result = run_cli("validate!", str(good.parent), "--details")
+    result = invoke_cli("validate!", str(good.parent), "--details")
     assert result.returncode == 0 and "environment" in result.stdout
 
 
@@ -67,7 +63,7 @@ def test_column_disagreeing_with_recipe_is_found(good, tmp_path):
         return _replace_column(t, "camera", cams)
 
     bad = _rewrite(good, tmp_path / "r.parquet", edit)
-    result = run_cli("validate!", str(bad), "--theta", "phav-v1")
+    result = invoke_cli("validate!", str(bad), "--theta", "phav-v1")
     assert result.returncode == 1
     assert "COLUMN_MISMATCH" in result.stdout and "v000007" in result.stdout
 
@@ -82,15 +78,15 @@ def test_invalid_recipe_json_is_found_and_the_rest_still_checked(good, tmp_path)
         return _replace_column(t, "recipe", texts)
 
     bad = _rewrite(good, tmp_path / "r.parquet", edit)
-    result = run_cli("validate!", str(bad), "--theta", "phav-v1")
+    result = invoke_cli("validate!", str(bad), "--theta", "phav-v1")
     assert result.returncode == 1
     assert result.stdout.count("schema RECIPE_INVALID") == 2
-    assert "world.weather" in result.stdout and "1498/1500 recipes valid" in result.stdout
+    assert "world.weather" in result.stdout and f"{N - 2}/{N} recipes valid" in result.stdout
 
 
 def test_wrong_theta_is_reported(good, tmp_path):
     other = theta_variant(tmp_path, lambda d: d.update(theta_w={"clear": 3, "overcast": 1, "rain": 1, "fog": 1}))
-    result = run_cli("validate!", str(good), "--theta", str(other))
+    result = invoke_cli("validate!", str(good), "--theta", str(other))
     assert result.returncode == 1
     assert "THETA_MISMATCH" in result.stdout and "DISTRIBUTION_MISMATCH" in result.stdout
     assert "weather" in result.stdout
@@ -100,14 +96,14 @@ def test_truncated_and_foreign_files_are_user_errors(good, tmp_path):
     truncated = tmp_path / "truncated.parquet"
     truncated.write_bytes(good.read_bytes()[: good.stat().st_size // 2])
     for args in (("validate!", str(truncated)), ("stats", str(truncated))):
-        result = run_cli(*args)
+        result = invoke_cli(*args)
         assert result.returncode == 2 and "Traceback" not in result.stderr
         assert "truncated.parquet: not a readable Parquet file" in result.stderr
     foreign = tmp_path / "foreign.parquet"
     pq.write_table(pa.table({"x": [1, 2]}), foreign)
     with pytest.raises(PhavUserError, match=r"foreign\.parquet: video_id: missing column"):
         read_recipe_table(foreign)
-    missing = run_cli("validate!", str(tmp_path / "nope.parquet"))
+    missing = invoke_cli("validate!", str(tmp_path / "nope.parquet"))
     assert missing.returncode == 2 and "no such file" in missing.stderr
 
 
@@ -122,17 +118,9 @@ def test_corrupt_table_metadata_is_a_user_error(good, tmp_path):
     for key, (value, words) in cases.items():
         path = tmp_path / f"{key}.parquet"
         pq.write_table(table.replace_schema_metadata({**meta, key.encode(): value}), path)
-        result = run_cli("stats", str(path))
+        result = invoke_cli("stats", str(path))
         assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
         assert words in result.stderr
-
-
-def test_output_paths_that_cannot_be_written(tmp_path):
-    result = run_cli("sample", "--n", "2", "--out", str(tmp_path))
-    assert result.returncode == 2 and "Is a directory" in result.stderr and "Traceback" not in result.stderr
-    odd = tmp_path / "a[bold]b.yaml"
-    result = run_cli("theta", "check", str(odd))
-    assert result.returncode == 2 and "a[bold]b.yaml" in result.stderr
 
 
 def test_empty_dataset(tmp_path):
@@ -141,7 +129,7 @@ def test_empty_dataset(tmp_path):
     write_recipe_table(RecipeRows().to_arrow(theta=theta, dataset_seed=0), path)
     rt = read_recipe_table(path)
     assert rt.table.num_rows == 0 and rt.theta == theta
-    result = run_cli("validate!", str(path))
+    result = invoke_cli("validate!", str(path))
     assert result.returncode == 0 and "0 recipes" in result.stdout
 
 

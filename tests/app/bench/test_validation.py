@@ -1,0 +1,54 @@
+"""`phav bench --sections validation`: each check's speed, and how often `--sample` finds a
+corrupted video against the exact hypergeometric probability (phav_app/bench/validation.py)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import pytest
+
+from phav_app import cli
+from phav_app.bench.validation import bench_validation, flip_depth_pixel, hypergeometric_hit
+from phav_validators.findings import Reason
+from tests.helpers import invoke_cli
+from tests.validators.checks.support import assert_fails, shard_of, validate
+
+
+def test_bench_validation_reports_speed_and_detection_against_sample(small_theta, monkeypatch):
+    """The section as printed, on phav-v1-tiny clips checked in one process: the bench's θ and
+    pool size change its numbers, not what the tables say about them."""
+
+    def small_bench(theta, work, **kwargs):
+        return bench_validation(small_theta, work, **{**kwargs, "workers": 1})
+
+    monkeypatch.setattr(cli, "bench_validation", small_bench)
+    result = invoke_cli("bench", "--sections", "validation", "--validation-videos", "2", "--validation-trials", "1")
+    assert result.returncode == 0, result.stderr
+    out = result.stdout
+    rows = {
+        cells[0]: cells
+        for cells in ([c.strip() for c in line.strip("│ ").split("│")] for line in out.splitlines())
+        if len(cells) >= 5
+    }
+    for check in ("integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility"):
+        assert float(rows[check][1]) > 0 and rows[check][5] == "0", rows[check]  # no false alarm on clean data
+    assert "all but reproducibility" in rows and "faster than generation" in out
+    # One of two videos corrupted: at --sample 1 integrity always finds it, as expected.
+    assert rows["1"][3].startswith("1/1") and rows["1"][4] == "100%"
+    assert rows["0.1"][4] == "50%"  # one of two videos drawn
+
+
+def test_hypergeometric_detection_probability_matches_enumeration():
+    for n, bad, drawn in ((5, 1, 2), (6, 2, 3), (7, 3, 1), (4, 1, 4), (4, 0, 2)):
+        draws = list(itertools.combinations(range(n), drawn))
+        hit = sum(any(i < bad for i in d) for d in draws) / len(draws)
+        assert math.isclose(hypergeometric_hit(n, bad, drawn), hit), (n, bad, drawn)
+
+
+def test_bench_corruption_is_caught_by_integrity(small_dataset_copy):
+    data = small_dataset_copy
+    flip_depth_pixel(shard_of(data, "v000002"), "v000002/00003.depth.png")
+    assert_fails(validate(data, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000002")
+    with pytest.raises(ValueError, match="no member"):
+        flip_depth_pixel(shard_of(data, "v000002"), "v000002/99999.depth.png")

@@ -1,0 +1,104 @@
+"""The phav command as a user meets it: help, θ, sample, recipes, errors as one line."""
+
+from __future__ import annotations
+
+import json
+
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.theta import load_preset
+from tests.helpers import invoke_cli, run_cli
+
+
+def test_help_lists_the_commands():
+    result = run_cli("--help")  # the installed entry point, in a fresh process
+    assert result.returncode == 0
+    for command in ("sample", "stats", "theta", "spec", "bench"):
+        assert command in result.stdout
+
+
+def test_theta_check_prints_the_hash():
+    result = invoke_cli("theta", "check", "phav-v1")
+    assert result.returncode == 0 and load_preset().hash in result.stdout
+
+
+def test_sample_is_deterministic_and_prefix_stable(tmp_path):
+    """The same table from a fresh process and from this one; a shorter run is its prefix."""
+    a, b, c = tmp_path / "a.parquet", tmp_path / "b.parquet", tmp_path / "c.parquet"
+    assert run_cli("sample", "--n", "30", "--seed", "9", "--out", str(a)).returncode == 0
+    assert invoke_cli("sample", "--n", "30", "--seed", "9", "--out", str(b)).returncode == 0
+    assert invoke_cli("sample", "--n", "12", "--seed", "9", "--out", str(c)).returncode == 0
+    ra, rb, rc = (read_recipe_table(p).column("recipe") for p in (a, b, c))
+    assert ra == rb and ra[:12] == rc
+    cols = read_recipe_table(a).table.column_names
+    for required in ("video_id", "action", "human_model", "environment", "weather", "day_phase", "variation",
+                     "camera", "base_motion", "duration_s", "n_frames", "clock_hour", "recipe"):  # fmt: skip
+        assert required in cols
+
+
+def test_usage_errors_exit_2_without_traceback(tmp_path):
+    for args in (
+        ("sample", "--n", "-3"),
+        ("sample", "--theta", "nope-v9", "--n", "2", "--out", str(tmp_path / "x.parquet")),
+        ("frobnicate",),
+    ):
+        result = invoke_cli(*args)
+        assert result.returncode == 2, args
+        assert "Traceback" not in result.stderr + result.stdout
+    assert not (tmp_path / "x.parquet").exists()
+
+
+def test_output_paths_that_cannot_be_written(tmp_path):
+    result = invoke_cli("sample", "--n", "2", "--out", str(tmp_path))
+    assert result.returncode == 2 and "Is a directory" in result.stderr and "Traceback" not in result.stderr
+    odd = tmp_path / "a[bold]b.yaml"
+    result = invoke_cli("theta", "check", str(odd))
+    assert result.returncode == 2 and "a[bold]b.yaml" in result.stderr
+
+
+def test_recipe_show_and_check_round_trip(tmp_path):
+    table = tmp_path / "r.parquet"
+    assert invoke_cli("sample", "--n", "5", "--seed", "2", "--out", str(table)).returncode == 0
+    shown = invoke_cli("recipe", "show", str(table), "--video", "v000003")
+    assert shown.returncode == 0
+    path = tmp_path / "v000003.json"
+    path.write_text(shown.stdout, encoding="utf-8")
+    checked = invoke_cli("recipe", "check", str(path))
+    assert checked.returncode == 0 and "valid recipe v000003" in checked.stdout
+    missing = invoke_cli("recipe", "show", str(table), "--video", "v000099")
+    assert missing.returncode == 2 and "no video 'v000099'" in missing.stderr
+
+
+def test_bad_recipes_on_the_command_line(tmp_path):
+    table = tmp_path / "r.parquet"
+    assert invoke_cli("sample", "--n", "1", "--out", str(table)).returncode == 0
+    data = json.loads(invoke_cli("recipe", "show", str(table), "--video", "v000000").stdout)
+    cases = {
+        "missing.json": (lambda d: d["camera"].pop("fov_deg"), "camera.fov_deg: missing required field"),
+        "future.json": (lambda d: d.update(schema_version=7), "schema_version: version 7 is newer"),
+    }
+    for name, (edit, words) in cases.items():
+        broken = json.loads(json.dumps(data))
+        edit(broken)
+        path = tmp_path / name
+        path.write_text(json.dumps(broken), encoding="utf-8")
+        result = invoke_cli("recipe", "check", str(path))
+        assert result.returncode == 2 and "Traceback" not in result.stderr
+        lines = [line for line in result.stderr.splitlines() if line.strip()]
+        assert len(lines) == 1 and f"{path}: {words}" in lines[0], result.stderr
+
+
+def test_spec_vocab_lists_the_registries():
+    result = invoke_cli("spec", "vocab", "pixel_class")
+    assert result.returncode == 0 and "guard_rail" in result.stdout and "(64)" in result.stdout
+    assert invoke_cli("spec", "vocab", "colours").returncode == 2
+
+
+def test_generate_errors_are_one_line(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    result = invoke_cli("generate", "--videos", "1", "--out", str(blocker))
+    assert result.returncode == 2 and "Traceback" not in result.stderr and "not a directory" in result.stderr
+    result = invoke_cli("generate", "--videos", "1", "--out", str(tmp_path / "d"), "--name", "a.b")
+    assert result.returncode == 2 and "--name" in result.stderr
+    result = invoke_cli("regenerate", str(tmp_path / "missing"), "--out", str(tmp_path / "o"))
+    assert result.returncode == 2 and "missing" in result.stderr

@@ -1,0 +1,19 @@
+"""`phav preview`: a contact sheet of every modality and a GIF of one video."""
+
+from __future__ import annotations
+
+from PIL import Image
+
+from tests.helpers import invoke_cli
+
+
+def test_preview_sheets_all_modalities_and_a_gif(small_dataset, small_recipes, tmp_path):
+    out = tmp_path / "sheet.png"
+    result = invoke_cli("preview", str(small_dataset), "--video", "v000001", "--frames", "3", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    sheet = Image.open(out)
+    assert sheet.size == (6 * 340, 18 + 3 * 256)
+    gif = Image.open(out.with_suffix(".gif"))
+    assert gif.n_frames == small_recipes[1].n_frames
+    result = invoke_cli("preview", str(small_dataset), "--video", "v009999", "--out", str(out))
+    assert result.returncode == 2 and "v009999" in result.stderr

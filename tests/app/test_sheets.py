@@ -1,0 +1,28 @@
+"""`phav sheets`: one image per value of a variable over one base scene, and an index."""
+
+from __future__ import annotations
+
+import numpy as np
+from PIL import Image
+
+from phav_spec.vocab import WEATHERS
+from tests.helpers import invoke_cli
+
+
+def test_sheets_make_one_image_per_value_and_an_index(tmp_path):
+    """Weather sheets: one JPEG per weather of one base scene, listed by the index page, and
+    different from each other only where the weather shows (the labels row is shared)."""
+    out = tmp_path / "sheets"
+    result = invoke_cli("sheets", "--by", "weather", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    images = {w: np.asarray(Image.open(out / f"weather-{w}.jpg")) for w in WEATHERS.names}
+    index = (out / "README.md").read_text()
+    assert all(f"weather-{w}.jpg" in index for w in WEATHERS.names)
+    shapes = {im.shape for im in images.values()}
+    assert shapes == {(18 + 2 * 256, 3 * 340, 3)}
+    rgb = {w: im[18 : 18 + 256].astype(float) for w, im in images.items()}  # the RGB row
+    labels = {w: im[18 + 256 + 20 :, :340].astype(float) for w, im in images.items()}  # semantic tile
+    assert np.abs(rgb["fog"] - rgb["clear"]).mean() > 5.0
+    assert max(np.abs(labels[w] - labels["clear"]).mean() for w in WEATHERS.names) < 1.0
+    bad = invoke_cli("sheets", "--by", "mood", "--out", str(out))
+    assert bad.returncode == 2 and "mood" in bad.stderr and "Traceback" not in bad.stderr

@@ -1,0 +1,44 @@
+"""`phav-validate` on a whole dataset: a clean `phav generate` output passes every check with
+JSON and HTML reports; user errors exit 2; one shard can be checked alone."""
+
+from __future__ import annotations
+
+import json
+
+from phav_validators.options import CHECKS
+from tests.helpers import invoke_cli, run_cli
+
+
+def test_clean_dataset_passes_with_reports(small_dataset, tmp_path):
+    report, html = tmp_path / "report.json", tmp_path / "report.html"
+    result = run_cli("validate!", str(small_dataset), "--workers", "2", "--json", str(report), "--html", str(html))
+    assert result.returncode == 0, result.stdout + result.stderr
+    data = json.loads(report.read_text(encoding="utf-8"))
+    assert data["report_version"] == 1 and data["exit_code"] == 0 and data["status"] in ("pass", "warn")
+    (ds,) = data["datasets"]
+    assert [c["name"] for c in ds["checks"]] == list(CHECKS)
+    statuses = {c["name"]: c["status"] for c in ds["checks"]}
+    assert statuses["integrity"] == statuses["encoding"] == statuses["consistency"] == "pass", statuses
+    assert statuses["reproducibility"] == "pass" and statuses["distribution"] == "pass", statuses
+    repro = next(c for c in ds["checks"] if c["name"] == "reproducibility")
+    assert repro["numbers"]["exact"] is True and repro["numbers"]["matched"] == 2
+    consistency = next(c for c in ds["checks"] if c["name"] == "consistency")
+    assert consistency["numbers"]["worst_flow_mean_epe_px"] < 0.1
+    page = html.read_text(encoding="utf-8")
+    assert "<svg" in page and "weather" in page and "integrity" in page
+
+
+def test_exit_codes_and_single_shard_input(small_dataset, tmp_path):
+    missing = invoke_cli("validate!", str(tmp_path / "nope"))
+    assert missing.returncode == 2 and "no such file" in missing.stderr and "Traceback" not in missing.stderr
+    bad = invoke_cli("validate!", str(small_dataset), "--checks", "integrity,bogus")
+    assert bad.returncode == 2 and "--checks" in bad.stderr and "bogus" in bad.stderr
+    sample = invoke_cli("validate!", str(small_dataset), "--sample", "0")
+    assert sample.returncode == 2 and "--sample" in sample.stderr
+    one = invoke_cli("validate!", str(small_dataset / "phav-000001.tar"), "--checks", "integrity,encoding,failures",
+                     "--json", str(tmp_path / "one.json"))  # fmt: skip
+    assert one.returncode == 0, one.stdout + one.stderr
+    (ds,) = json.loads((tmp_path / "one.json").read_text(encoding="utf-8"))["datasets"]
+    integrity = ds["checks"][0]
+    assert integrity["numbers"]["shards"] == 1 and integrity["numbers"]["videos"] == 1
+    assert ds["checks"][2]["numbers"]["videos"] == 1

@@ -1,0 +1,126 @@
+"""Crash safety of `phav generate`: SIGKILL at any point, a full disk, a dead worker — then a
+rerun gives exactly the dataset an uninterrupted run gives (issue: scale-out, crash safety).
+The uninterrupted run is the shared `small_dataset`: these runs ask `phav generate` for it again."""
+
+from __future__ import annotations
+
+import errno
+import os
+import resource
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from phav_generator.dataset import write as write_module
+from phav_generator.dataset.journal import JOURNAL_FILE, Journal
+from phav_generator.dataset.write import WORK_DIR, chunk, write_dataset
+from phav_generator.faults import KILL_AT_ENV
+from phav_spec.errors import PhavUserError
+from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, SMALL_VIDEOS, file_bytes
+
+
+@pytest.fixture(scope="module")
+def reference(small_dataset) -> dict[str, bytes]:
+    """Every file of an uninterrupted run (the shared dataset, made with two workers)."""
+    return file_bytes(small_dataset)
+
+
+@pytest.fixture(scope="module")
+def generate(small_dataset):
+    """``generate(out, *extra, kill_at=, fsize=)``: the shared dataset's `phav generate` into ``out``."""
+    args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
+            "--shard-size", str(SMALL_SHARD_SIZE))  # fmt: skip
+
+    def run(out: Path, *extra: str, kill_at: str | None = None, fsize: int | None = None):
+        env = {"PATH": "", "COLUMNS": "200"}
+        if kill_at is not None:
+            env[KILL_AT_ENV] = kill_at
+
+        def limit() -> None:  # runs in the child: a file size limit, as `ulimit -f` sets
+            if fsize is not None:
+                resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+
+        return subprocess.run(
+            [sys.executable, "-m", "phav_app.cli", "generate", *args, "--out", str(out), *extra],
+            capture_output=True, text=True, env=env, preexec_fn=limit,
+        )  # fmt: skip
+
+    return run
+
+
+def test_sigkill_anywhere_then_resume_gives_the_uninterrupted_dataset(generate, reference, tmp_path):
+    """One directory killed again and again: inside a video's tar part, between a part and
+    its journal line, half-way through a journal line, inside a shard's tar — each rerun
+    gets further, and the last gives the same bytes as a run never interrupted."""
+    out = tmp_path / "data"
+    points = ("part:v000000:3", "part-done:v000000", "journal:2", "shard:phav-000000.tar:0", "journal:3",
+              "part:v000002:3")  # fmt: skip
+    for point in points:
+        result = generate(out, kill_at=point)
+        assert result.returncode == -signal.SIGKILL, (point, result.returncode, result.stderr[-500:])
+        assert not (out / "manifest.json").exists()
+        journal = Journal(out / WORK_DIR / JOURNAL_FILE)  # a torn line is cut off here
+        for shard in journal.shards:
+            assert (out / shard).exists()
+    finished = generate(out)
+    assert finished.returncode == 0, finished.stderr
+    assert file_bytes(out) == reference
+    assert not (out / WORK_DIR).exists()
+
+
+def test_a_killed_worker_is_a_one_line_error_and_the_rerun_resumes(generate, reference, tmp_path):
+    out = tmp_path / "data"
+    result = generate(out, "--workers", "2", kill_at="part:v000002:2")
+    assert result.returncode == 2
+    assert "worker process died" in result.stderr and "Traceback" not in result.stderr
+    assert generate(out, "--workers", "2").returncode == 0
+    assert file_bytes(out) == reference
+
+
+def test_a_file_size_limit_is_a_clear_error_that_keeps_finished_videos(generate, reference, tmp_path):
+    """RLIMIT_FSIZE below a shard's size: the videos' parts fit, joining them does not."""
+    out = tmp_path / "data"
+    shard = len(reference["phav-000000.tar"])
+    result = generate(out, fsize=shard - 20_000)
+    assert result.returncode == 2, result.stderr
+    assert "file size limit" in result.stderr and "Traceback" not in result.stderr
+    kept = Journal(out / WORK_DIR / JOURNAL_FILE)
+    assert set(kept.videos) >= {"v000000", "v000001"} and not kept.shards
+    assert generate(out).returncode == 0
+    assert file_bytes(out) == reference
+
+
+def test_a_full_disk_is_a_clear_error_that_keeps_finished_videos(monkeypatch, small_recipes, small_theta, tmp_path):
+    shards = chunk(small_recipes[:2], 1)
+    render = write_module.run_task
+
+    def full_after_one(task, report=None, *, parts):
+        if task.video_id == "v000001":
+            raise OSError(errno.ENOSPC, "No space left on device", str(parts / "x"))
+        return render(task, report, parts=parts)
+
+    monkeypatch.setattr(write_module, "run_task", full_after_one)
+    out = tmp_path / "data"
+    with pytest.raises(PhavUserError, match="disk is full"):
+        write_dataset(shards, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert (out / "demo-000000.tar").exists()
+    monkeypatch.setattr(write_module, "run_task", render)
+    resumed = write_dataset(shards, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert (resumed.resumed_videos, resumed.rendered_videos) == (1, 1)
+    clean = write_dataset(shards, tmp_path / "clean", name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert resumed.manifest == clean.manifest
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only directories")
+def test_an_unwritable_output_directory_is_a_clear_error(generate, tmp_path):
+    out = tmp_path / "ro"
+    out.mkdir()
+    out.chmod(0o555)
+    try:
+        result = generate(out)
+    finally:
+        out.chmod(0o755)
+    assert result.returncode == 2 and "not writable" in result.stderr and "Traceback" not in result.stderr

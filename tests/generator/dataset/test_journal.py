@@ -1,0 +1,18 @@
+"""The run journal: one JSON line per finished video or shard; a torn last line is cut off."""
+
+from __future__ import annotations
+
+from phav_generator.dataset.journal import Journal
+
+
+def test_a_torn_journal_line_is_cut_off(tmp_path):
+    path = tmp_path / "journal.jsonl"
+    j = Journal(path)
+    j.append("video", {"video_id": "v000000", "shard": "a.tar", "part_bytes": 1})
+    with open(path, "ab") as fh:
+        fh.write(b'{"kind": "video", "rec')
+    again = Journal(path)
+    assert list(again.videos) == ["v000000"]
+    assert path.read_bytes().endswith(b"}\n")
+    again.append("shard", {"name": "a.tar"})
+    assert list(Journal(path).shards) == ["a.tar"]

@@ -1,0 +1,154 @@
+"""Recipes → dataset directory: layout, bit-exactness across workers, resume, and a real
+WebDataset client reading the shards with the documented meanings. The dataset read here is
+the run's shared `small_dataset` (tests/conftest.py)."""
+
+from __future__ import annotations
+
+import json
+import tarfile
+
+import cv2
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from phav_generator.dataset.write import WORK_DIR, chunk, write_dataset
+from phav_spec.encoding import DEPTH_MAX_CODE, MODALITIES, decode_depth, decode_flow
+from phav_spec.errors import PhavUserError
+from phav_spec.manifest import load_manifest
+from phav_spec.metadata import CAMERA_COLUMNS, PEOPLE_COLUMNS
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.vocab import PIXEL_CLASSES
+from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, file_bytes
+
+
+def test_layout_is_designs(small_dataset, small_recipes, small_theta):
+    names = sorted(p.name for p in small_dataset.iterdir())
+    assert names == ["cameras.parquet", "manifest.json", "people.parquet", "phav-000000.tar", "phav-000001.tar",
+                     "recipes.parquet", "theta.yaml"]  # fmt: skip
+    m = load_manifest(small_dataset / "manifest.json")
+    assert [s.video_ids for s in m.shards] == [["v000000", "v000001"], ["v000002"]]
+    assert [v.n_frames for v in m.videos] == [r.n_frames for r in small_recipes]
+    assert m.renderer is not None and m.renderer.gl_renderer and m.theta_hash == small_theta.hash
+    for shard in m.shards:
+        assert (small_dataset / shard.name).stat().st_size == shard.bytes
+    with tarfile.open(small_dataset / "phav-000000.tar") as tar:
+        members = tar.getmembers()
+    assert all(t.mtime == 0 and t.uid == 0 and t.gid == 0 and t.isfile() for t in members)
+    first = [t.name for t in members[:7]]
+    assert first == [f"v000000/00000.{m.key}" for m in MODALITIES] + ["v000000/00000.json"]
+    assert len(members) == 7 * (small_recipes[0].n_frames + small_recipes[1].n_frames)
+
+
+def test_metadata_tables_follow_the_contract(small_dataset, small_recipes):
+    cams = pq.read_table(small_dataset / "cameras.parquet")
+    people = pq.read_table(small_dataset / "people.parquet")
+    assert cams.column_names == [c.name for c in CAMERA_COLUMNS]
+    assert people.column_names == [c.name for c in PEOPLE_COLUMNS]
+    assert cams.num_rows == sum(r.n_frames for r in small_recipes)
+    roles = set(people.column("role").to_pylist())
+    assert "protagonist" in roles and roles <= {"protagonist", "supporting", "background"}
+    row = people.slice(0, 1).to_pylist()[0]
+    assert len(row["joints3d"]) == 39 and len(row["joints2d"]) == 26 and len(row["visible"]) == 13
+    assert len(row["bbox3d"]) == 24 and len(row["muscle_strength"]) == 15 and len(row["pin_weight"]) == 15
+    assert row["muscle_limits"][0] == [] and len(row["muscle_limits"][1]) == 6
+
+
+def test_a_webdataset_client_reads_every_sample(small_dataset, small_recipes):
+    """The webdataset package iterates every sample; our decoder keeps 16-bit data."""
+    wds = pytest.importorskip("webdataset")
+    from phav_spec.webdataset import phav_decoder
+
+    urls = [str(p) for p in sorted(small_dataset.glob("phav-*.tar"))]
+    keys = []
+    for sample in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder):
+        keys.append(sample["__key__"])
+        assert sample["depth.png"].dtype == np.uint16 and sample["depth.png"].shape == (256, 340)
+        assert sample["flow.png"].dtype == np.uint16 and sample["flow.png"].shape == (256, 340, 3)
+        assert sample["json"]["camera"]["frame"] == int(sample["__key__"].split("/")[1])
+    expected = [f"{r.video_id}/{f:05d}" for r in small_recipes for f in range(r.n_frames)]
+    assert keys == expected
+
+
+def test_opencv_reads_depth_and_flow_with_the_documented_meaning(small_dataset, small_recipes):
+    """Depth PNG read by OpenCV as uint16: ground pixels unprojected through the camera row
+    land on the ground plane (within the 1 cm quantum); flow is KITTI (B = valid)."""
+    recipe = small_recipes[0]
+    ground = ENVIRONMENT_SCENES[recipe.environment.name]
+    cls = PIXEL_CLASSES[ground.ground_pixel_class].rgb
+    with tarfile.open(small_dataset / "phav-000000.tar") as tar:
+        depth = cv2.imdecode(np.frombuffer(tar.extractfile("v000000/00004.depth.png").read(), np.uint8), -1)
+        flow = cv2.imdecode(np.frombuffer(tar.extractfile("v000000/00004.flow.png").read(), np.uint8), -1)
+        seg = cv2.imdecode(np.frombuffer(tar.extractfile("v000000/00004.seg.png").read(), np.uint8), -1)[..., ::-1]
+        meta = json.loads(tar.extractfile("v000000/00004.json").read())
+    assert depth.dtype == np.uint16 and flow.dtype == np.uint16 and flow.shape[2] == 3
+    assert depth.min() >= 1 and depth.max() <= DEPTH_MAX_CODE
+    cam = meta["camera"]
+    d = decode_depth(depth)
+    v, u = np.nonzero(np.all(seg == cls, axis=-1) & np.isfinite(d))
+    assert len(u) > 100
+    pts = np.stack([(u + 0.5 - cam["cx"]) * d[v, u] / cam["fx"], -(v + 0.5 - cam["cy"]) * d[v, u] / cam["fy"],
+                    -d[v, u], np.ones(len(u))], axis=1)  # fmt: skip
+    world = pts @ np.array(cam["cam_to_world"]).reshape(4, 4).T
+    # The ground is drawn 1 cm below its height; depth is quantised to 1 cm along the axis.
+    assert np.percentile(np.abs(world[:, 2] - (ground.ground_z - 0.01)), 95) < 0.02
+    uv, valid = decode_flow(flow[..., ::-1])  # OpenCV gives BGR: B, G, R = valid, v, u
+    assert np.array_equal(valid, flow[..., 0] == 1) and np.all(flow[~valid] == 0)
+    assert np.array_equal(np.isfinite(uv[..., 0]), valid) and valid.mean() > 0.3
+    assert np.all(np.abs(uv[valid]) < 512)
+
+
+def test_one_worker_here_gives_the_bytes_of_two_spawned_workers(small_dataset, small_recipes, small_theta, tmp_path):
+    """One worker in this process against the CLI's two spawned workers: every file equal."""
+    one = write_dataset(chunk(small_recipes, SMALL_SHARD_SIZE), tmp_path / "one", name="phav", theta=small_theta,
+                        dataset_seed=SMALL_SEED, workers=1)  # fmt: skip
+    assert one.manifest == load_manifest(small_dataset / "manifest.json")
+    assert file_bytes(tmp_path / "one") == file_bytes(small_dataset)
+
+
+class _Stop(Exception):
+    pass
+
+
+def test_an_interrupted_run_resumes_without_redoing_finished_shards(small_dataset, small_recipes, small_theta,
+                                                                   tmp_path):  # fmt: skip
+    """The shared dataset's run stopped in its second shard, then run again: the first shard
+    is kept, the second rendered, and every file is the uninterrupted run's."""
+    out = tmp_path / "ds"
+    shards = chunk(small_recipes, SMALL_SHARD_SIZE)
+    done = []
+
+    def stop_in_the_second_shard(videos: int, frames: int) -> None:
+        done.append(videos)
+        if sum(done) == 3:  # the third video is rendered, its shard's tar not joined yet
+            raise _Stop
+
+    with pytest.raises(_Stop):
+        write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED,
+                      progress=stop_in_the_second_shard)  # fmt: skip
+    assert not (out / "manifest.json").exists() and (out / "phav-000000.tar").exists()
+    leftovers = [p.name for p in out.iterdir() if p.name.startswith(".phav") and p.name.endswith(".tmp")]
+    assert leftovers == []  # the interrupted tar left no temporary behind
+    resumed = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert (resumed.rendered_shards, resumed.resumed_shards) == (1, 1)
+    assert (resumed.rendered_videos, resumed.resumed_videos) == (1, 2)
+    assert file_bytes(out) == file_bytes(small_dataset)
+    assert not (out / WORK_DIR).exists()
+
+
+def test_a_directory_holding_another_run_is_refused(small_recipes, small_theta, tmp_path):
+    out = tmp_path / "ds"
+    first = chunk(small_recipes[:1], 1)
+
+    def stop(videos: int, frames: int) -> None:
+        raise _Stop
+
+    with pytest.raises(_Stop):
+        write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED, progress=stop)
+    with pytest.raises(PhavUserError, match="dataset_seed"):
+        write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED + 1)
+    # Another renderer never finishes a run: its pixels would differ (the Ray engine skips the
+    # driver's own GPU probe, so the journalled run is what refuses here).
+    with pytest.raises(PhavUserError, match=r"\(gl differ\)"):
+        write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED, engine="ray",
+                      gl="egl-gpu")  # fmt: skip

@@ -1,0 +1,34 @@
+"""The distribution check: a dataset's recipes against θ's exact expectations: an impossible
+value is named, a skewed marginal rejected."""
+
+from __future__ import annotations
+
+from phav_generator.sampling import RecipeSampler
+from phav_spec.recipe_table import RecipeRows, write_recipe_table
+from phav_spec.theta import load_theta
+from phav_validators.findings import Reason
+from tests.helpers import theta_variant
+from tests.validators.checks.support import assert_fails, edit_recipes, validate
+
+
+def test_night_video_in_a_phav_v1_dataset_fails_distribution(data):
+    edit_recipes(data, "v000001", lambda d: d["world"].update(day_phase="night", clock_hour=23.0),
+                 day_phase="night", clock_hour=23.0)  # fmt: skip
+    report = validate(data, "distribution")
+    hits = assert_fails(report, "distribution", Reason.IMPOSSIBLE_VALUE, video="v000001")
+    assert "night" in hits[0].message and "recipes.parquet" in hits[0].file
+
+
+def test_skewed_weather_fails_distribution_against_phav_v1(tmp_path):
+    """500 recipes with 40 % clear weather, checked against phav-v1's uniform weather (its χ²
+    is about 60 on 3 degrees of freedom: far past Holm's threshold)."""
+    skewed = load_theta(str(theta_variant(tmp_path, lambda d: d.update(
+        theta_w={"clear": 40, "overcast": 20, "rain": 20, "fog": 20}))))  # fmt: skip
+    folder = tmp_path / "recipes"
+    folder.mkdir()
+    sampler = RecipeSampler(skewed)
+    rows = RecipeRows().extend(sampler.sample(5, i) for i in range(500))
+    write_recipe_table(rows.to_arrow(theta=skewed, dataset_seed=5), folder / "recipes.parquet")
+    report = validate(folder, "distribution", theta="phav-v1")
+    hits = assert_fails(report, "distribution", Reason.DISTRIBUTION_MISMATCH)
+    assert any(f.message.startswith("weather") for f in hits), [f.message for f in hits]

@@ -1,0 +1,35 @@
+"""The encoding check: every PNG in the documented format, label images holding only the
+contract's colours, instance colours only where a person is."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from phav_validators.findings import Reason
+from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
+
+
+def test_eight_bit_depth_fails_encoding(data):
+    eight_bit = png_edit("v000002/00004.depth.png", lambda a: (a // 256).astype(np.uint8))
+    rewrite_tar(shard_of(data, "v000002"), eight_bit)
+    hits = assert_fails(validate(data, "encoding"), "encoding", Reason.PNG_FORMAT, video="v000002")
+    assert "8-bit" in hits[0].message and "00004.depth.png" in hits[0].message
+
+
+def test_foreign_segmentation_colour_fails_encoding(data):
+    def paint(image):
+        image[10:12, 20:22] = (3, 2, 1)  # BGR of (1, 2, 3)
+        return image
+
+    rewrite_tar(shard_of(data, "v000000"), png_edit("v000000/00002.seg.png", paint))
+    hits = assert_fails(validate(data, "encoding"), "encoding", Reason.FOREIGN_COLOUR, video="v000000")
+    assert "(1, 2, 3)" in hits[0].message and "4 semantic pixels" in hits[0].message
+
+
+def test_instance_colour_without_a_person_fails_encoding(data):
+    def paint(image):
+        image[0:3, 0:3] = (7, 7, 7)
+        return image
+
+    rewrite_tar(shard_of(data, "v000002"), png_edit("v000002/00001.inst.png", paint))
+    assert_fails(validate(data, "encoding"), "encoding", Reason.INSTANCE_MISMATCH, video="v000002")

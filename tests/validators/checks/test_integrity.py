@@ -1,0 +1,66 @@
+"""The integrity check: every shard listed and whole, every video's pixels hashing to the
+manifest's content hashes; a PNG re-encoded with other settings is only a warning."""
+
+from __future__ import annotations
+
+import shutil
+
+import cv2
+import numpy as np
+
+from phav_validators.checks.tarsafe import TarScan, iter_members
+from phav_validators.findings import Reason, Status
+from tests.validators.checks.support import assert_fails, check, png_edit, rewrite_tar, shard_of, validate
+
+
+def test_png_reencoded_at_another_level_passes(data):
+    shard = shard_of(data, "v000000")
+    member = "v000000/00003.depth.png"
+
+    def recompress(name: str, png: bytes) -> bytes:
+        if not name.endswith(".png") or not name.startswith("v000000/0000"):
+            return png
+        image = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_UNCHANGED)
+        return cv2.imencode(".png", image, [cv2.IMWRITE_PNG_COMPRESSION, 9])[1].tobytes()
+
+    before = dict(iter_members(shard, TarScan()))[member]
+    rewrite_tar(shard, recompress)
+    assert dict(iter_members(shard, TarScan()))[member] != before
+    report = validate(data, "integrity", "encoding")
+    integrity = check(report, "integrity")
+    assert integrity.status == Status.WARN, [f.message for f in integrity.report.findings]
+    assert [f.reason for f in integrity.report.findings] == [Reason.SHARD_BYTES_CHANGED]
+    assert check(report, "encoding").status == Status.PASS
+
+
+def test_flipped_depth_pixel_fails_integrity(data):
+    def flip(image):
+        image[100, 100] ^= 1
+        return image
+
+    rewrite_tar(shard_of(data, "v000001"), png_edit("v000001/00004.depth.png", flip))
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000001")
+    assert "depth" in hits[0].message
+
+
+def test_dropped_frame_fails_integrity_and_encoding(data):
+    rewrite_tar(shard_of(data, "v000000"), lambda n, d: None if n.startswith("v000000/00003.") else d)
+    report = validate(data, "integrity", "encoding")
+    assert_fails(report, "encoding", Reason.FRAME_COUNT, video="v000000")
+    assert_fails(report, "integrity", Reason.HASH_MISMATCH, video="v000000")
+
+
+def test_truncated_tar_fails_integrity(data):
+    shard = shard_of(data, "v000000")
+    shard.write_bytes(shard.read_bytes()[: shard.stat().st_size // 2 + 777])
+    report = validate(data, "integrity", "encoding")
+    assert_fails(report, "integrity", Reason.TRUNCATED_SHARD, file=shard.name)
+    assert_fails(report, "encoding", Reason.FRAME_COUNT, video="v000001")
+
+
+def test_unlisted_and_missing_shards(data):
+    shutil.copy(shard_of(data, "v000000"), data / "phav-000099.tar")
+    shard_of(data, "v000002").unlink()
+    report = validate(data, "integrity")
+    assert_fails(report, "integrity", Reason.UNLISTED_FILE, file="phav-000099.tar")
+    assert_fails(report, "integrity", Reason.MISSING_FILE, file="phav-000001.tar")

@@ -1,0 +1,39 @@
+"""The reproducibility check: videos regenerated from their recipes against the shards,
+frame by frame; the only check that catches a frame changed together with its manifest."""
+
+from __future__ import annotations
+
+import cv2
+
+from phav_validators.checks.reproduce import shard_video_frames
+from phav_validators.findings import Reason, Status
+from tests.validators.checks.support import (
+    assert_fails,
+    check,
+    png_edit,
+    refresh_manifest,
+    rewrite_tar,
+    shard_of,
+    validate,
+)
+
+
+def test_changed_frame_with_updated_manifest_is_caught_by_reproducibility(data):
+    def paint(image):
+        image[50:60, 50:60] = 255 - image[50:60, 50:60]
+        return image
+
+    rewrite_tar(shard_of(data, "v000002"), png_edit("v000002/00003.rgb.png", paint))
+    refresh_manifest(data)
+    report = validate(data, "integrity", "reproducibility", regenerate=3)
+    assert check(report, "integrity").status != Status.FAIL
+    hits = assert_fails(report, "reproducibility", Reason.REGENERATION_MISMATCH, video="v000002")
+    assert "rgb (frame 00003)" in hits[0].message and "bit-exact" in hits[0].message
+
+
+def test_frame_reader_skips_images_of_another_size(data):
+    """The reproducibility / HTML reader never decodes an image whose header is off-size."""
+    shard = shard_of(data, "v000000")
+    rewrite_tar(shard, png_edit("v000000/00001.rgb.png", lambda a: cv2.resize(a, (4000, 4000))))
+    frames = [f for f, _ in shard_video_frames(shard, "v000000")]
+    assert 1 not in frames and frames[:2] == [0, 2]

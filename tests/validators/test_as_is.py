@@ -1,0 +1,43 @@
+"""Validating a dataset as it is: shards split into parts scanned by a pool of workers (or Ray
+tasks), the checks that need no pixels running meanwhile, give the report one process gives."""
+
+from __future__ import annotations
+
+from phav_validators.findings import Reason
+from phav_validators.options import CHECKS, Options
+from phav_validators.source import resolve
+from phav_validators.validate import validate_dataset
+from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
+
+
+def test_worker_count_does_not_change_the_report(small_dataset_copy):
+    """Shards split into parts scanned by a pool, with failures overlapping the scan, give the
+    report one process gives, findings in the same order (here in a secondary part's video)."""
+    data = small_dataset_copy
+
+    def paint(image):
+        image[10:12, 20:22] = (1, 2, 3)
+        return image
+
+    rewrite_tar(shard_of(data, "v000001"), png_edit("v000001/00004.seg.png", paint))
+    checks = tuple(c for c in CHECKS if c != "reproducibility")
+    one, two = (validate(data, *checks, workers=w) for w in (1, 2))
+    assert_fails(two, "encoding", Reason.FOREIGN_COLOUR, video="v000001")
+    one_json, two_json = one.to_json(), two.to_json()
+    for report in (one_json, two_json):
+        for c in report["checks"]:
+            c.pop("seconds")
+    assert one_json == two_json
+
+
+def test_ray_scans_give_the_report_one_process_gives(ray_with_delays, small_dataset):
+    """`--engine ray`: the shard parts scanned as Ray tasks (``RayPool``), same report."""
+    checks = ("integrity", "encoding", "consistency")
+    here = validate_dataset(resolve([small_dataset])[0], options=Options(checks=checks))
+    ray = validate_dataset(resolve([small_dataset])[0], options=Options(checks=checks, workers=2, engine="ray"))
+    reports = [here.to_json(), ray.to_json()]
+    for report in reports:
+        for c in report["checks"]:
+            c.pop("seconds")
+    assert reports[0] == reports[1]
+    assert reports[1]["checks"][0]["numbers"]["hashed"] == 3
