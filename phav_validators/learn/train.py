@@ -124,7 +124,7 @@ class TrainResult:
 # --- snippets ------------------------------------------------------------------------------
 
 
-def snippet_starts(n_frames: int, segments: int, length: int, rng: np.random.Generator | None) -> list[int]:
+def snippet_starts(n_frames: int, segments: int, length: int, *, rng: np.random.Generator | None) -> list[int]:
     """First frame of each segment's snippet of ``length`` frames: a random offset in the
     segment with ``rng``, its centre without. Clips shorter than a snippet start at 0."""
     span = max(n_frames - length + 1, 1)
@@ -146,7 +146,7 @@ def snippets(
     a random crop and horizontal flip (flow's u negated), else the centre crop."""
     k = segments if segments is not None else config.segments
     length = 1 if config.stream == "rgb" else config.flow_frames
-    starts = snippet_starts(clip.n_frames, k, length, rng)
+    starts = snippet_starts(clip.n_frames, k, length, rng=rng)
     frames = np.minimum(np.add.outer(np.asarray(starts), np.arange(length)), clip.n_frames - 1)
     h, w = clip.rgb.shape[1:3]
     ch, cw = crop_box((h, w), config.crop)
@@ -183,7 +183,7 @@ class MixedBatches:
     Each source is drawn without replacement from its own shuffled order, reshuffled when
     used up, so every batch holds every source in the configured ratio."""
 
-    def __init__(self, pools: Mapping[str, Sequence[int]], mix: Sequence[tuple[str, int]], rng: np.random.Generator):
+    def __init__(self, pools: Mapping[str, Sequence[int]], mix: Sequence[tuple[str, int]], *, rng: np.random.Generator):
         for name, _ in mix:
             if not pools.get(name):
                 raise PhavUserError(f"source {name!r} has no training clips", field="--mix")
@@ -295,7 +295,7 @@ def train(
         fingerprint = _fingerprint(config, data, heads, init)
         ckpt = Path(checkpoint) if checkpoint is not None else None
         resumed = _resumable(ckpt, fingerprint)
-        batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng)
+        batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
         run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev)
         result = TrainResult(model, config)
         if resumed is not None:

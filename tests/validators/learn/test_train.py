@@ -23,12 +23,12 @@ def _weights(model) -> dict[str, torch.Tensor]:
 
 
 def test_snippet_starts_cover_every_segment():
-    assert snippet_starts(30, 3, 1, None) == [5, 15, 25]
+    assert snippet_starts(30, 3, 1, rng=None) == [5, 15, 25]
     rng = np.random.Generator(np.random.PCG64(0))
     for _ in range(50):
-        starts = snippet_starts(30, 3, 5, rng)
+        starts = snippet_starts(30, 3, 5, rng=rng)
         assert all(int(k * 26 / 3) <= s < (k + 1) * 26 / 3 for k, s in enumerate(starts))
-    assert snippet_starts(2, 3, 5, None) == [0, 0, 0]  # shorter than a snippet
+    assert snippet_starts(2, 3, 5, rng=None) == [0, 0, 0]  # shorter than a snippet
 
 
 def test_flow_snippets_stack_five_frames_and_flip_negates_u():
@@ -101,7 +101,7 @@ def test_a_damaged_checkpoint_is_a_user_error(tmp_path):
 
 def test_mixed_batches_hold_every_source_in_the_ratio():
     rng = np.random.Generator(np.random.PCG64(0))
-    batches = MixedBatches({"virtual": range(7), "real": range(100, 130)}, [("virtual", 10), ("real", 22)], rng)
+    batches = MixedBatches({"virtual": range(7), "real": range(100, 130)}, [("virtual", 10), ("real", 22)], rng=rng)
     seen_virtual = []
     for _ in range(20):
         batch = batches.next()
