@@ -5,7 +5,7 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.phav-installed
 DEMO := demo
 
-.PHONY: demo test install lint clean
+.PHONY: demo test test-all install lint clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -28,13 +28,17 @@ demo: $(STAMP)
 	$(VENV)/bin/phav preview $(DEMO)/videos --video v000000 --out $(DEMO)/v000000-preview.png
 
 # Lint, the import contracts (pyproject: [tool.importlinter]), then the suite with branch
-# coverage of the package; the wall time is the last line.
+# coverage of the package; the wall time is the last line. Tests marked slow repeat what a
+# default test covers at a larger scale: `make test-all` runs them too.
 test: $(STAMP)
 	@start=$$(date +%s); \
 	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && \
-	$(PY) -m pytest -q --cov=phav_spec --cov=phav_generator --cov=phav_validators --cov=phav_app \
+	$(PY) -m pytest -q -m "not slow" --cov=phav_spec --cov=phav_generator --cov=phav_validators --cov=phav_app \
 		--cov-branch --cov-report=term:skip-covered; \
 	status=$$?; echo "make test: $$(( $$(date +%s) - start )) s wall"; exit $$status
+
+test-all: $(STAMP)
+	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && $(PY) -m pytest -q
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
