@@ -1,7 +1,7 @@
 """``phav train`` as a user runs it: results, resuming, TSN / Cool-TSN / TSN-FT on a real
 dataset's folder, and user errors as one line with exit code 2.
 
-The commands run in this process (``tests.app.in_process``); one test runs a real ``phav``
+The commands run in this process (``tests.helpers.invoke_cli``); one test runs a real ``phav``
 process for the one-line, exit-code-2 contract of the console script itself.
 """
 
@@ -13,8 +13,7 @@ from pathlib import Path
 import cv2
 import pytest
 
-from tests.app.in_process import run_in_process
-from tests.helpers import run_cli
+from tests.helpers import invoke_cli, run_cli
 from tests.validators.learn.helpers import tiny_phav, ucf101_folder
 
 FAST = ("--epochs", "1", "--widths", "8,16", "--threads", "1")
@@ -28,7 +27,7 @@ def phav(tmp_path_factory) -> Path:
 def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     out = tmp_path / "run"
     args = ("train", str(phav), "--out", str(out), "--split", "random", *FAST)
-    result = run_in_process(*args)
+    result = invoke_cli(*args)
     assert result.returncode == 0, result.stderr
     assert "test accuracy" in result.stdout and "fused" in result.stdout
     data = json.loads((out / "results.json").read_text())
@@ -37,7 +36,7 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     assert set(run["accuracy"]) == {"rgb", "flow", "fused"}
     assert (out / "split1-rgb.pt").exists() and (out / "split1-flow.pt").exists()
     assert cv2.imread(str(out / "split1-confusion.png")) is not None
-    again = run_in_process(*args)  # every checkpoint is finished: nothing retrained, same numbers
+    again = invoke_cli(*args)  # every checkpoint is finished: nothing retrained, same numbers
     assert again.returncode == 0, again.stderr
     assert json.loads((out / "results.json").read_text())["runs"] == data["runs"]
 
@@ -45,10 +44,10 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
 def test_cool_tsn_and_fine_tuning_on_a_ucf101_folder(phav, tmp_path):
     ucf = ucf101_folder(tmp_path / "ucf", groups=2, clips=1)
     synthetic = tmp_path / "synthetic"
-    assert run_in_process("train", str(phav), "--out", str(synthetic), "--streams", "flow", *FAST).returncode == 0
+    assert invoke_cli("train", str(phav), "--out", str(synthetic), "--streams", "flow", *FAST).returncode == 0
     for mode, extra in (("tsn", ()), ("cool", ("--mix", "1:2")), ("ft", ("--init", str(synthetic)))):
         out = tmp_path / mode
-        result = run_in_process("train", str(phav), "--real", f"ucf101={ucf}", "--mode", mode, "--streams", "flow",
+        result = invoke_cli("train", str(phav), "--real", f"ucf101={ucf}", "--mode", mode, "--streams", "flow",
                                 "--real-fraction", "0.5,1", "--out", str(out), *FAST, *extra)  # fmt: skip
         assert result.returncode == 0, (mode, result.stderr)
         runs = json.loads((out / "results.json").read_text())["runs"]
@@ -80,13 +79,13 @@ def _one_error_line(stderr: str) -> str:
 )
 def test_train_user_errors_are_one_line(phav, tmp_path, args, field):
     args = tuple(a.replace("REAL", str(tmp_path)) for a in args)
-    result = run_in_process("train", str(phav), "--out", str(tmp_path / "x"), *FAST, *args)
+    result = invoke_cli("train", str(phav), "--out", str(tmp_path / "x"), *FAST, *args)
     assert result.returncode == 2, (args, result.stdout, result.stderr)
     assert field in _one_error_line(result.stderr)
 
 
 def test_cool_tsn_without_a_phav_dataset_is_a_user_error(tmp_path):
-    result = run_in_process("train", "--real", f"ucf101={tmp_path}", "--mode", "cool", *FAST)
+    result = invoke_cli("train", "--real", f"ucf101={tmp_path}", "--mode", "cool", *FAST)
     assert result.returncode == 2 and "PHAV dataset" in _one_error_line(result.stderr)
 
 

@@ -18,8 +18,7 @@ from phav_spec.seeding import part_rng, runtime_seeds, video_key
 from phav_spec.theta import load_preset
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
-from tests.app.in_process import run_in_process
-from tests.helpers import PRESET_PATH
+from tests.helpers import PRESET_PATH, invoke_cli
 
 GOLDEN = Path(__file__).parents[1] / "golden" / "phav-v1-seed0-first5.json"
 
@@ -31,7 +30,7 @@ def table_40k(tmp_path_factory):
     distribution check must not raise a false alarm on a dataset that large, where it can see
     the smallest systematic difference."""
     out = tmp_path_factory.mktemp("sample") / "recipes.parquet"
-    result = run_in_process("sample", "--theta", str(PRESET_PATH), "--n", "40000", "--seed", "0", "--out", str(out))
+    result = invoke_cli("sample", "--theta", str(PRESET_PATH), "--n", "40000", "--seed", "0", "--out", str(out))
     assert result.returncode == 0, result.stderr
     return read_recipe_table(out)
 

@@ -16,7 +16,7 @@ from phav_validators.learn.config import in_channels
 from phav_validators.learn.model import TSN
 from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import TrainConfig
-from tests.app.in_process import run_in_process
+from tests.helpers import invoke_cli
 from tests.validators.learn.helpers import motion_clips, tiny_phav
 
 #: The bench's code paths on a small network (the bench's own is ~840k parameters).
@@ -60,7 +60,7 @@ def test_bench_training_section_prints_speed_and_accuracy_against_minutes(phav, 
     monkeypatch.setattr(phav_app.cli, "TrainConfig", functools.partial(TrainConfig, widths=(8, 16),
                                                                        mix=(("virtual", 4),)))  # fmt: skip
     monkeypatch.setattr(phav_app.cli, "default_threads", lambda: 1)
-    result = run_in_process("bench", "--sections", "training", "--training-data", str(phav), "--training-epochs", "2")
+    result = invoke_cli("bench", "--sections", "training", "--training-data", str(phav), "--training-epochs", "2")
     assert result.returncode == 0, result.stderr
     out = result.stdout
     assert "training speed" in out and "training clips/s" in out

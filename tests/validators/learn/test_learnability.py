@@ -7,13 +7,13 @@ import json
 
 import cv2
 
-from tests.app.in_process import run_in_process
+from tests.helpers import invoke_cli
 
 
 def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_path):
     report = tmp_path / "report.json"
     learn = tmp_path / "learn"
-    result = run_in_process("validate!", str(phav), "--checks", "learnability", "--learn-epochs", "1",
+    result = invoke_cli("validate!", str(phav), "--checks", "learnability", "--learn-epochs", "1",
                             "--threads", "1", "--learn-dir", str(learn), "--json", str(report),
                             "--html", str(tmp_path / "r.html"))  # fmt: skip
     # three clips cannot show learning: the check runs and fails with its numbers
