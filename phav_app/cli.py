@@ -373,12 +373,8 @@ class _RenderProgress:
         self._bar.update(self._task, advance=videos, frames=self._frames, rate=rate)
 
 
-def _register_train() -> None:
-
-    app.command("train")(train_command)
-
-
-_register_train()
+# `phav train` lives in its own module (train_cli.py); torch is imported only when it trains.
+app.command("train")(train_command)
 
 
 @app.command()
