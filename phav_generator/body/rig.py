@@ -139,6 +139,16 @@ def _blob_capsule(local: np.ndarray, axis: int) -> Capsule:
     return Capsule(tuple(float(x) for x in a), tuple(float(x) for x in b), radius)
 
 
+def _head_capsule(local: np.ndarray) -> Capsule:
+    """The skull, from the top half of the head's vertices (the neck and the eyes and mouth
+    inside it would make a median radius too small): as wide as the head, crown to chin."""
+    upper = local[local[:, 2] > np.median(local[:, 2])]
+    lo, hi = np.percentile(upper[:, 1], [2, 98])
+    radius = float(hi - lo) / 2.0
+    x, top = float(np.median(upper[:, 0])), float(local[:, 2].max())
+    return Capsule((x, 0.0, top - 1.2 * radius), (x, 0.0, top - radius), radius)
+
+
 def fit_dims(vertices: np.ndarray, faces: np.ndarray, weights: np.ndarray, bind: Bind) -> BodyDims:
     """The ragdoll of one body: offsets from the joints, capsules from the vertices each body
     carries most, masses from the mesh volume (``BODY_DENSITY``) shared by capsule volume."""
@@ -156,8 +166,10 @@ def fit_dims(vertices: np.ndarray, faces: np.ndarray, weights: np.ndarray, bind:
             capsules.append(_foot_capsule(local))
         elif kind in ("pelvis",):
             capsules.append(_blob_capsule(local, axis=1))
-        elif kind in ("chest", "head"):
+        elif kind == "chest":
             capsules.append(_blob_capsule(local, axis=2))
+        elif kind == "head":
+            capsules.append(_head_capsule(local))
         else:
             child = next((c for c in range(len(BONES)) if PARENTS[c] == k), None)
             length = float(np.linalg.norm(bind.heads[child] - bind.heads[k])) if child is not None else 0.0

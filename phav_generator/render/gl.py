@@ -50,6 +50,9 @@ SAMPLE_PATTERNS: dict[int, tuple[tuple[float, float], ...]] = {
 }
 #: Drawables with a bounding radius beyond this (m) are drawn after the rest of the scene.
 LARGE_M = 15.0
+#: A skinned mesh's rest bounding sphere, followed by its root bone, is widened this much
+#: so that limbs swinging away from the rest pose stay inside it (frustum culling).
+SKINNED_REACH = 1.6
 #: Rain streaks at rain intensity 1, and how far around the camera they fall (m).
 RAIN_STREAKS = 1800
 RAIN_BOX_M = 12.0
@@ -59,8 +62,20 @@ EXPOSURE = 1.6
 
 
 @dataclass(frozen=True)
+class VertexLook:
+    """Labels and look that vary over a mesh (a person's parts and clothes), per vertex;
+    they override the drawable's. Triangles take their first vertex's values (flat)."""
+
+    class_ids: np.ndarray  # (N,) pixel classes
+    colours: np.ndarray  # (N, 3) display colours 0–1
+    patterns: np.ndarray  # (N,) pattern ids
+    pattern_colours: np.ndarray  # (N, 3)
+
+
+@dataclass(frozen=True)
 class Drawable:
-    """A rigid mesh with its labels, look and world transforms per frame (F, 4, 4)."""
+    """A mesh with its labels, look and world transforms per frame: (F, 4, 4) for a rigid
+    mesh, (F, K, 4, 4) for a mesh skinned to K bones (``mesh.bones`` index them)."""
 
     mesh: Mesh
     transforms: np.ndarray
@@ -72,6 +87,12 @@ class Drawable:
     pattern: int = 0  # 0 plain, 1 stripes, 2 checks, 3 speckle
     pattern_colour: tuple[float, float, float] = (0.0, 0.0, 0.0)
     casts_shadow: bool = True
+    vertex_look: VertexLook | None = None
+
+    @property
+    def n_bones(self) -> int:
+        """Rows of the models texture this drawable uses: 1 when rigid."""
+        return 1 if self.transforms.ndim == 3 else self.transforms.shape[1]
 
 
 @dataclass(frozen=True)
@@ -292,19 +313,21 @@ class FrameRenderer:
         per-frame index buffer (the visible drawables, nearest first); the models texture."""
         ctx, drawables = self.ctx, self.drawables
         vertices, self._indices = _pack(drawables)
-        self._world = _stack_transforms(drawables)  # (L, N, 4, 4) world transforms per frame
-        n = len(drawables)
-        # The models texture's rows: each drawable's matrix columns (column-major, as GLSL).
-        self._columns = np.ascontiguousarray(self._world.transpose(0, 1, 3, 2).reshape(-1, n, 16), dtype=np.float32)
-        self.models_tex = ctx.texture((8, max(n, 1)), 4, dtype="f4")
+        self._world = _stack_transforms(drawables)  # (L, rows, 4, 4) world transforms per frame
+        rows = self._world.shape[1]
+        #: Each drawable's first row: a rigid drawable's transform, a skinned one's root bone.
+        self._rows = np.cumsum([0] + [d.n_bones for d in drawables])[:-1].astype(np.int64)
+        # The models texture's rows: each bone's matrix columns (column-major, as GLSL).
+        self._columns = np.ascontiguousarray(self._world.transpose(0, 1, 3, 2).reshape(-1, rows, 16), dtype=np.float32)
+        self.models_tex = ctx.texture((8, max(rows, 1)), 4, dtype="f4")
         self.models_tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self.vbo = ctx.buffer(vertices.tobytes() if n else bytes(_VERTEX_DTYPE.itemsize))
+        self.vbo = ctx.buffer(vertices.tobytes() if drawables else bytes(_VERTEX_DTYPE.itemsize))
         total = sum(len(i) for i in self._indices)
         self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
         self.vao = ctx.vertex_array(
             self.program,
-            [(self.vbo, "3f 3f 4u 3f 3f 3f", "in_pos", "in_normal", "in_ids", "in_colour", "in_pattern_colour",
-              "in_emission")],
+            [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
+              "in_colour", "in_pattern_colour", "in_emission")],
             self.index_buffer, index_element_size=4,
         )  # fmt: skip
         self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao]
@@ -313,7 +336,8 @@ class FrameRenderer:
         if self.use_shadow:
             self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
             self.shadow_vao = ctx.vertex_array(
-                self.shadow_prog, [(self.vbo, "3f 12x 4u 36x", "in_pos", "in_ids")], self.shadow_ibo,
+                self.shadow_prog, [(self.vbo, "3f 12x 16x 4u 4f 36x", "in_pos", "in_bones", "in_weights")],
+                self.shadow_ibo,
                 index_element_size=4,
             )  # fmt: skip
             self._objects += [self.shadow_ibo, self.shadow_vao]
@@ -329,8 +353,11 @@ class FrameRenderer:
             centre = (lo + hi) / 2.0
             radius = float(np.linalg.norm(d.mesh.positions - centre, axis=1).max())
             # Transforms are rigid up to a fixed scale (static slabs may be stretched).
-            scale = float(np.linalg.svd(d.transforms[0][:3, :3], compute_uv=False).max())
-            self._centres[i], self._radii[i] = centre, radius * scale
+            first = d.transforms[0] if d.n_bones == 1 else d.transforms[0, 0]
+            scale = float(np.linalg.svd(first[:3, :3], compute_uv=False).max())
+            # A skinned mesh is followed by its root bone; its limbs may reach further.
+            reach = 1.0 if d.n_bones == 1 else SKINNED_REACH
+            self._centres[i], self._radii[i] = centre, radius * scale * reach
         self._large = self._radii > LARGE_M
         self._n_triangles = np.array([d.mesh.n_triangles for d in drawables], dtype=np.int64)
         self.triangles_built = int(self._n_triangles.sum())
@@ -499,7 +526,7 @@ class FrameRenderer:
         # Side planes through the camera centre, as unit normals pointing into the frustum.
         planes = np.array([[fx, 0.0, -cx], [-fx, 0.0, -(w - cx)], [0.0, -fy, -cy], [0.0, fy, -(h - cy)]])
         planes /= np.linalg.norm(planes, axis=1, keepdims=True)
-        t = self._world[at]
+        t = self._world[at][self._rows]
         world = np.einsum("nij,nj->ni", t[:, :3, :3], self._centres) + t[:, :3, 3]
         c = world @ world_to_cam[:3, :3].T + world_to_cam[:3, 3]
         r = self._radii
@@ -597,35 +624,55 @@ def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
     return ortho @ view(c2w)
 
 
-#: One vertex of the shared buffer: geometry, then its drawable's labels and look.
-_VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4", 4), ("colour", "<f4", 3),
-                          ("pattern_colour", "<f4", 3), ("emission", "<f4", 3)])  # fmt: skip
+#: One vertex of the shared buffer: geometry, its bones (rows of the models texture) and
+#: weights, then its labels and look.
+_VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4", 4), ("bones", "<u4", 4),
+                          ("weights", "<f4", 4), ("colour", "<f4", 3), ("pattern_colour", "<f4", 3),
+                          ("emission", "<f4", 3)])  # fmt: skip
+
+
+def _linear(colour) -> np.ndarray:
+    """Display colours (0–1) made linear for shading."""
+    return np.power(np.asarray(colour, dtype=np.float64), 2.2)
 
 
 def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray]]:
     """Every drawable's vertices in one array (labels and look per vertex; colours made
     linear here, once) and each drawable's triangle indices into it."""
-    parts, indices, offset = [], [], 0
+    parts, indices, offset, row = [], [], 0, 0
     for i, d in enumerate(drawables):
-        v = np.zeros(len(d.mesh.positions), dtype=_VERTEX_DTYPE)
-        v["pos"], v["normal"] = d.mesh.positions, d.mesh.normals
+        m, look = d.mesh, d.vertex_look
+        v = np.zeros(len(m.positions), dtype=_VERTEX_DTYPE)
+        v["pos"], v["normal"] = m.positions, m.normals
         v["ids"] = (i, d.class_id, d.instance_id, d.material * 16 + d.pattern)
-        v["colour"] = np.power(np.asarray(d.colour, dtype=np.float64), 2.2)
-        v["pattern_colour"] = np.power(np.asarray(d.pattern_colour, dtype=np.float64), 2.2)
+        if m.bones is not None and m.weights is not None:
+            v["bones"], v["weights"] = row + m.bones, m.weights
+        else:
+            v["bones"], v["weights"] = row, (1.0, 0.0, 0.0, 0.0)
+        v["colour"] = _linear(d.colour)
+        v["pattern_colour"] = _linear(d.pattern_colour)
+        if look is not None:
+            v["ids"][:, 1] = look.class_ids
+            v["ids"][:, 3] = d.material * 16 + look.patterns
+            v["colour"], v["pattern_colour"] = _linear(look.colours), _linear(look.pattern_colours)
         v["emission"] = d.emission
         parts.append(v)
-        indices.append((d.mesh.triangles.reshape(-1) + offset).astype(np.uint32))
+        indices.append((m.triangles.reshape(-1) + offset).astype(np.uint32))
         offset += len(v)
+        row += d.n_bones
     return (np.concatenate(parts) if parts else np.zeros(0, _VERTEX_DTYPE)), indices
 
 
 def _stack_transforms(drawables: list[Drawable]) -> np.ndarray:
-    """World transforms (L, N, 4, 4) of N drawables over L frames (a shorter track holds its
-    last pose)."""
+    """World transforms (L, R, 4, 4) of the R bones of all drawables over L frames (a
+    shorter track holds its last pose); a rigid drawable is one bone."""
     frames = max((len(d.transforms) for d in drawables), default=1)
-    out = np.tile(np.eye(4), (frames, len(drawables), 1, 1))
-    for i, d in enumerate(drawables):
-        out[:, i] = d.transforms[np.minimum(np.arange(frames), len(d.transforms) - 1)]
+    out = np.tile(np.eye(4), (frames, sum(d.n_bones for d in drawables), 1, 1))
+    row = 0
+    for d in drawables:
+        held = d.transforms[np.minimum(np.arange(frames), len(d.transforms) - 1)]
+        out[:, row : row + d.n_bones] = held.reshape(frames, d.n_bones, 4, 4)
+        row += d.n_bones
     return out
 
 
@@ -645,4 +692,5 @@ __all__ = [
     "Frame",
     "FrameRenderer",
     "PostSettings",
+    "VertexLook",
 ]

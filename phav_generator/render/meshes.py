@@ -19,9 +19,14 @@ RINGS = 3
 
 @dataclass(frozen=True)
 class Mesh:
+    """Triangles in the shape's own frame. A skinned mesh also carries, per vertex, up to
+    four of its drawable's bones and their weights (linear blend skinning, in the shader)."""
+
     positions: np.ndarray  # (N, 3) float32
     normals: np.ndarray  # (N, 3) float32
     triangles: np.ndarray  # (M, 3) uint32
+    bones: np.ndarray | None = None  # (N, 4) uint32: indices into the drawable's transforms
+    weights: np.ndarray | None = None  # (N, 4) float32, rows summing to 1
 
     @property
     def n_triangles(self) -> int:

