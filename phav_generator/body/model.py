@@ -39,6 +39,16 @@ class RestBody:
         return world @ np.linalg.inv(self.bind.matrices())
 
 
+def skin(positions: np.ndarray, bones: np.ndarray, weights: np.ndarray, matrices: np.ndarray) -> np.ndarray:
+    """Linear blend skinning in numpy, the shader's sum: vertices (N, 3) with ``bones`` and
+    ``weights`` (N, J) under bone matrices (K, 4, 4) → posed vertices (N, 3)."""
+    out = np.zeros((len(positions), 3))
+    for j in range(bones.shape[1]):
+        m = matrices[bones[:, j]]
+        out += weights[:, j, None] * (np.einsum("nij,nj->ni", m[:, :3, :3], positions) + m[:, :3, 3])
+    return out
+
+
 def _key(phenotype: Phenotype) -> tuple[float, ...]:
     values = phenotype.as_dict()
     return tuple(values[k] for k in PHENOTYPE_LABELS)
@@ -73,4 +83,4 @@ def stature(phenotype: Phenotype) -> float:
     return rest_body(phenotype).dims.height_m
 
 
-__all__ = ["RestBody", "rest_body", "stature"]
+__all__ = ["RestBody", "rest_body", "skin", "stature"]

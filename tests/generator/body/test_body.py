@@ -1,0 +1,146 @@
+"""The body model against anny itself: rest shapes, skinning of random poses, rigid parts,
+the ragdoll fitted to the mesh, and the per-machine body data file."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+
+from phav_generator.body.data import anny_reference_path, body_data_path, load_body_data
+from phav_generator.body.model import rest_body, skin
+from phav_generator.body.rig import BODY_DENSITY, _volume
+from phav_generator.body.shape import ANNY_TO_PERSON, phenotype_coefficients, rest_bone_heads, rest_vertices
+from phav_generator.motion.skeleton import BONE_INDEX, LOWER, N_DOFS, UPPER, forward_kinematics
+from phav_generator.render.people import SKIN_BONES, _top_bones
+from phav_spec.errors import PhavUserError
+from phav_spec.people import Phenotype
+
+torch = pytest.importorskip("torch")
+anny = pytest.importorskip("anny")
+
+PHENOTYPES = (
+    Phenotype(gender=0.0, age=0.7, muscle=0.5, weight=0.5, height=0.3, proportions=0.5),
+    Phenotype(gender=1.0, age=0.9, muscle=0.2, weight=0.9, height=0.2, proportions=0.3),
+    Phenotype(gender=0.6, age=0.45, muscle=0.6, weight=0.3, height=0.6, proportions=0.8),
+)
+
+
+@pytest.fixture(scope="module")
+def anny_model():
+    """anny's own model, from the compact data the body build saved (no 40 s rebuild)."""
+    from anny.models.model_data import ModelData
+
+    torch.set_num_threads(1)
+    data = ModelData.load_safetensors(anny_reference_path())
+    return anny.Anny.from_model_data(data, skinning_method="lbs", bone_orientation="cached")
+
+
+def _phenotype_kwargs(p: Phenotype) -> dict:
+    return {k: torch.tensor([v], dtype=torch.float64) for k, v in p.as_dict().items()}
+
+
+@pytest.mark.parametrize("phenotype", PHENOTYPES)
+def test_the_rest_mesh_and_bone_heads_are_annys(anny_model, phenotype):
+    data = load_body_data()
+    c = phenotype_coefficients(data, phenotype.as_dict())
+    out = anny_model(phenotype_kwargs=_phenotype_kwargs(phenotype))
+    assert np.abs(rest_vertices(data, c) - out["rest_vertices"][0].numpy()).max() < 1e-6
+    assert np.abs(rest_bone_heads(data, c) - out["rest_bone_heads"][0].numpy()).max() < 1e-6
+
+
+def _random_pose(body, rng):
+    q = rng.uniform(LOWER, UPPER)[None]
+    yaw = rng.uniform(-np.pi, np.pi)
+    quat = np.array([[np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]])
+    root = np.array([[0.3, -0.2, body.dims.standing_pelvis_height]])
+    pos, rot = forward_kinematics(body.dims, root, quat, q)
+    return pos[0], rot[0]
+
+
+@pytest.mark.parametrize("phenotype", PHENOTYPES)
+def test_skinning_matches_annys_posed_vertices_for_random_poses(anny_model, phenotype):
+    """The group's bones all follow their ragdoll body: anny's skinning of that pose and
+    phav's four-bone skinning agree within a millimetre (every vertex, 5 random poses)."""
+    body = rest_body(phenotype)
+    data = load_body_data()
+    from phav_generator.body.rig import bone_groups
+
+    groups = bone_groups(data)
+    out = anny_model(phenotype_kwargs=_phenotype_kwargs(phenotype))
+    rest_poses = out["rest_bone_poses"][0].numpy()  # (B, 4, 4), anny frame
+    a = np.eye(4)
+    a[:3, :3] = ANNY_TO_PERSON
+    bones, weights = _top_bones(body.weights)
+    assert bones.shape[1] == SKIN_BONES
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        pos, rot = _random_pose(body, rng)
+        matrices = body.skinning_matrices(pos, rot)  # person frame
+        ours = skin(body.vertices, bones, weights, matrices)
+        in_anny = a.T @ matrices @ a  # the same motion in anny's frame
+        world = torch.from_numpy(in_anny[groups] @ rest_poses)[None]
+        posed = anny_model(pose_parameters=world, phenotype_kwargs=_phenotype_kwargs(phenotype),
+                           pose_parameterization="world")["vertices"][0].numpy()  # fmt: skip
+        err = np.linalg.norm(ours - posed @ ANNY_TO_PERSON.T, axis=1)
+        assert err.max() < 1e-3, f"max {err.max() * 1000:.2f} mm"
+
+
+def test_a_vertex_bound_to_one_body_keeps_its_distance_to_it_across_a_clip():
+    body = rest_body(PHENOTYPES[0])
+    bones, weights = _top_bones(body.weights)
+    rigid = np.flatnonzero(weights[:, 0] > 1.0 - 1e-6)
+    assert len(rigid) > 1000
+    rng = np.random.default_rng(3)
+    rest_distance = np.linalg.norm(body.vertices[rigid] - body.bind.heads[bones[rigid, 0]], axis=1)
+    for _ in range(4):
+        pos, rot = _random_pose(body, rng)
+        posed = skin(body.vertices, bones, weights, body.skinning_matrices(pos, rot))
+        distance = np.linalg.norm(posed[rigid] - pos[bones[rigid, 0]], axis=1)
+        np.testing.assert_allclose(distance, rest_distance, atol=1e-9)
+
+
+@pytest.mark.parametrize("phenotype", PHENOTYPES)
+def test_the_ragdoll_is_the_mesh(phenotype):
+    """Standing straight, the mesh's soles are on the floor where the foot capsules are,
+    its height is the mesh's, its mass the mesh volume at tissue density, and every vertex
+    lies near the capsule of the body that carries it."""
+    body = rest_body(phenotype)
+    dims = body.dims
+    root = np.array([[0.0, 0.0, dims.standing_pelvis_height]])
+    pos, rot = forward_kinematics(dims, root, np.array([[1.0, 0, 0, 0]]), np.zeros((1, N_DOFS)))
+    bones, weights = _top_bones(body.weights)
+    posed = skin(body.vertices, bones, weights, body.skinning_matrices(pos[0], rot[0]))
+    foot = BONE_INDEX["left_foot"]
+    cap = dims.capsules[foot]
+    capsule_bottom = (pos[0, foot] + rot[0, foot] @ np.array(cap.a))[2] - cap.radius
+    assert abs(capsule_bottom) < 1e-9
+    assert abs(posed[:, 2].min()) < 0.02, "soles within 2 cm of the floor"
+    assert 1.0 < dims.height_m < 2.1
+    assert dims.masses.sum() == pytest.approx(_volume(body.vertices, body.faces) * BODY_DENSITY)
+    owner = np.argmax(body.weights, axis=1)
+    for k, c in enumerate(dims.capsules):
+        a = pos[0, k] + rot[0, k] @ np.array(c.a)
+        b = pos[0, k] + rot[0, k] @ np.array(c.b)
+        p = posed[owner == k]
+        t = np.clip((p - a) @ (b - a) / max(np.dot(b - a, b - a), 1e-12), 0.0, 1.0)
+        gap = np.linalg.norm(p - (a + t[:, None] * (b - a)), axis=1) - c.radius
+        assert np.percentile(gap, 95) < 0.12, f"body {k}: 95 % of its vertices within 12 cm of its capsule"
+
+
+def test_the_body_data_file_is_checked_against_its_hash(tmp_path, monkeypatch):
+    source = body_data_path()
+    directory = tmp_path / "body" / source.parent.name
+    directory.mkdir(parents=True)
+    copy = directory / source.name
+    shutil.copyfile(source, copy)
+    (directory / "CURRENT").write_text(copy.name + "\n")
+    assert load_body_data(tmp_path).sha256 == source.stem
+    corrupt = directory / ("0" * 64 + ".npz")
+    raw = bytearray(source.read_bytes())
+    raw[len(raw) // 2] ^= 0xFF
+    corrupt.write_bytes(bytes(raw))
+    (directory / "CURRENT").write_text(corrupt.name + "\n")
+    with pytest.raises(PhavUserError, match="corrupt"):
+        load_body_data(tmp_path)
