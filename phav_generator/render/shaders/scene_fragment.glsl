@@ -49,6 +49,14 @@ vec3 albedo() {
         vec2 cell = floor(v_world.xy * 2.0);
         float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
         c *= 0.88 + 0.24 * h;
+    } else if (v_pattern == 4) {  // denim: a fine diagonal twill and a mottled fade
+        float twill = step(0.5, fract((v_local.x + v_local.y + v_local.z) * 160.0));
+        vec3 cell = floor(v_local * 40.0);
+        float h = fract(sin(dot(cell, vec3(12.9898, 78.233, 37.719))) * 43758.5453);
+        c = mix(c, v_pattern_colour, 0.35 * twill + 0.3 * h);
+    } else if (v_pattern == 5) {  // print: dots on a 6 cm lattice
+        vec3 q = fract(v_local * 16.0) - 0.5;
+        c = mix(c, v_pattern_colour, step(length(q), 0.28));
     }
     return c;
 }
