@@ -146,19 +146,127 @@ def person_mesh(phenotype: Phenotype, outfit: Outfit) -> PersonMesh:
     return PersonMesh(mesh, corner_class, corner_region)
 
 
+#: Hair: shell thickness over the scalp (m) per style; long hair's curtain and a tied
+#: tail's length, in head radii.
+HAIR_THICKNESS = {"short": 0.010, "long": 0.018, "tied": 0.012}
+LONG_HAIR_DROP = 2.6
+TAIL_LENGTH = 2.2
+_AROUND = 16
+
+
+def _scalp(body: RestBody, owner: np.ndarray) -> np.ndarray:
+    """Faces of the scalp: the head's skin above the brow, and lower at the back."""
+    head = BONE_INDEX["head"]
+    cap = body.dims.capsules[head]
+    local = (body.vertices - body.bind.heads[head]) @ body.bind.rotations[head]
+    centre = np.array(cap.b)
+    rel = local - centre
+    r = cap.radius
+    scalp = (owner == head) & ((rel[:, 2] > 0.25 * r) | ((rel[:, 0] < -0.35 * r) & (rel[:, 2] > -0.9 * r)))
+    return np.flatnonzero(scalp[body.faces].all(axis=1))
+
+
+def _tube(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A closed-ended tube through ``points`` (n, 3) with ``radii`` (n,): positions, normals
+    and triangles, rings of ``_AROUND`` vertices about the local direction."""
+    positions, normals = [], []
+    for i, (p, r) in enumerate(zip(points, radii, strict=True)):
+        d = points[min(i + 1, len(points) - 1)] - points[max(i - 1, 0)]
+        d /= np.linalg.norm(d)
+        u = np.cross(d, [0.0, 1.0, 0.0]) if abs(d[1]) < 0.9 else np.cross(d, [1.0, 0.0, 0.0])
+        u /= np.linalg.norm(u)
+        v = np.cross(d, u)
+        for k in range(_AROUND):
+            a = 2.0 * np.pi * k / _AROUND
+            n = np.cos(a) * u + np.sin(a) * v
+            positions.append(p + r * n)
+            normals.append(n)
+    tris = []
+    for i in range(len(points) - 1):
+        for k in range(_AROUND):
+            a, b = i * _AROUND + k, i * _AROUND + (k + 1) % _AROUND
+            tris += [(a, b, b + _AROUND), (a, b + _AROUND, a + _AROUND)]
+    return np.array(positions), np.array(normals), np.array(tris)
+
+
+def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Long hair: a half cylinder behind the head from the crown's level down to ``bottom``."""
+    heights = np.linspace(centre[2], bottom, 6)
+    angles = np.linspace(0.55 * np.pi, 1.45 * np.pi, _AROUND)
+    positions, normals = [], []
+    for z in heights:
+        for a in angles:
+            n = np.array([np.cos(a), np.sin(a), 0.0])
+            positions.append(centre + 1.08 * r * n * np.array([1.0, 1.0, 0.0]) + np.array([0.0, 0.0, z - centre[2]]))
+            normals.append(n)
+    tris = []
+    for i in range(len(heights) - 1):
+        for k in range(_AROUND - 1):
+            a, b = i * _AROUND + k, i * _AROUND + k + 1
+            tris += [(a, b + _AROUND, b), (a, a + _AROUND, b + _AROUND)]
+    return np.array(positions), np.array(normals), np.array(tris)
+
+
+@functools.lru_cache(maxsize=32)
+def hair_mesh(phenotype: Phenotype, style: str) -> Mesh | None:
+    """Hair fitted to a body's scalp, skinned to its head (long hair's curtain also to the
+    chest at its bottom); None for bald."""
+    if style == "bald":
+        return None
+    body = rest_body(phenotype)
+    owner = np.argmax(body.weights, axis=1)
+    head, chest = BONE_INDEX["head"], BONE_INDEX["chest"]
+    faces = body.faces[_scalp(body, owner)]
+    used, inverse = np.unique(faces, return_inverse=True)
+    normals = _vertex_normals(body.vertices, body.faces)[used]
+    positions = [body.vertices[used] + HAIR_THICKNESS[style] * normals]
+    normal_parts, tri_parts, weight_parts = [normals], [inverse.reshape(-1, 3)], [np.zeros(len(used))]
+    cap = body.dims.capsules[head]
+    rot, origin = body.bind.rotations[head], body.bind.heads[head]
+    centre = origin + rot @ np.array(cap.b)
+    r = cap.radius
+    if style == "long":
+        p, n, t = _curtain(centre, r, centre[2] - LONG_HAIR_DROP * r)
+        weight_parts.append(np.clip((centre[2] - p[:, 2]) / (LONG_HAIR_DROP * r), 0.0, 1.0) ** 2)
+    else:  # tied: a tail from the back of the head, tapering
+        start = centre + rot @ np.array([-0.95 * r, 0.0, 0.1 * r])
+        path = start + np.linspace(0.0, 1.0, 6)[:, None] * (rot @ np.array([-0.35 * r, 0.0, -TAIL_LENGTH * r]))
+        p, n, t = _tube(path, np.linspace(0.3, 0.12, 6) * r)
+        weight_parts.append(np.zeros(len(p)))
+    offset = sum(len(x) for x in positions)
+    positions.append(p)
+    normal_parts.append(n)
+    tri_parts.append(t + offset)
+    to_chest = np.concatenate(weight_parts)
+    bones = np.zeros((len(to_chest), SKIN_BONES), dtype=np.uint32)
+    bones[:, 0], bones[:, 1] = head, chest
+    weights = np.zeros((len(to_chest), SKIN_BONES), dtype=np.float32)
+    weights[:, 0], weights[:, 1] = 1.0 - to_chest, to_chest
+    return Mesh(
+        positions=np.ascontiguousarray(np.concatenate(positions), dtype=np.float32),
+        normals=np.ascontiguousarray(np.concatenate(normal_parts), dtype=np.float32),
+        triangles=np.ascontiguousarray(np.concatenate(tri_parts), dtype=np.uint32),
+        bones=bones,
+        weights=weights,
+    )
+
+
 def _rgb(c) -> np.ndarray:
     return np.asarray(c, dtype=np.float64) / 255.0
 
 
-def person_drawable(
+def person_drawables(
     phenotype: Phenotype,
     skin_rgb,
     outfit: Outfit,
+    hair_style: str,
+    hair_rgb,
     body_pos: np.ndarray,
     body_rot: np.ndarray,
     instance: int,
-) -> Drawable:
-    """One person posed every frame by its ragdoll's bodies (F, 15, 3) and (F, 15, 3, 3)."""
+) -> list[Drawable]:
+    """One person posed every frame by its ragdoll's bodies (F, 15, 3) and (F, 15, 3, 3):
+    the dressed body, and its hair."""
     pm = person_mesh(phenotype, outfit)
     top, bottom = outfit.top, outfit.bottom
     colours = np.array([_rgb(skin_rgb), _rgb(top.rgb), _rgb(bottom.rgb), _rgb(outfit.shoes_rgb)])  # REGIONS order
@@ -171,7 +279,11 @@ def person_drawable(
         pattern_colours=pattern_colours[pm.regions],
     )
     transforms = rest_body(phenotype).skinning_matrices(body_pos, body_rot)
-    return Drawable(pm.mesh, transforms, int(pm.class_ids[0]), instance, vertex_look=look)
+    out = [Drawable(pm.mesh, transforms, int(pm.class_ids[0]), instance, vertex_look=look)]
+    hair = hair_mesh(phenotype, hair_style)
+    if hair is not None:
+        out.append(Drawable(hair, transforms, PIXEL_CLASSES["head"].class_id, instance, tuple(_rgb(hair_rgb))))
+    return out
 
 
-__all__ = ["REGIONS", "PersonMesh", "person_drawable", "person_mesh"]
+__all__ = ["REGIONS", "PersonMesh", "hair_mesh", "person_drawables", "person_mesh"]
