@@ -5,7 +5,8 @@ frame*: the person starts at the origin facing +X, the root position is the pelv
 from its standing height, and lengths are those of a 1.75 m person (``REFERENCE_HEIGHT_M``).
 ``animate`` plays a motion back for a recipe: from ``start_s`` at ``speed``, wrapping to the
 start when it runs out (MotionSpec's contract) while carrying the root's displacement and
-heading over, so a walk keeps walking; then mirrored for handedness and scaled to the human.
+heading over, so a walk keeps walking; then mirrored for handedness and scaled to the human
+by leg length (``motion_scale``).
 Playback takes the ``MotionDef`` itself; ``library.get_motion`` finds one by name.
 """
 
@@ -18,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.motion.keyframes import hermite
-from phav_generator.motion.reference import REFERENCE_HEIGHT_M
+from phav_generator.motion.reference import PELVIS_H
 from phav_generator.motion.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
 from phav_spec.seeding import stream
@@ -163,9 +164,15 @@ def anchor(pose: Pose) -> Pose:
     return Pose(root_pos, matrix_to_quat(root_rot), pose.q)
 
 
+def motion_scale(dims: BodyDims) -> float:
+    """How much a motion's root travel scales for a body: by leg length (standing pelvis
+    height), so that feet keep their steps on a child or a long-legged adult alike."""
+    return dims.standing_pelvis_height / PELVIS_H
+
+
 def place(pose: Pose, dims: BodyDims, position: tuple[float, float, float], heading_deg: float) -> Pose:
     """Motion frame → world: scale to the human, stand on ``position``, face ``heading_deg``."""
-    scale = dims.height_m / REFERENCE_HEIGHT_M
+    scale = motion_scale(dims)
     r = yaw_matrix(np.deg2rad(heading_deg))
     local = pose.root_pos * scale + np.array([0.0, 0.0, dims.standing_pelvis_height])
     root_pos = local @ r.T + np.asarray(position, dtype=np.float64)
@@ -211,7 +218,7 @@ def placement(
     if params.mirror:
         pose = mirror(pose)
     origin = pose.root_pos[0] * np.array([1.0, 1.0, 0.0])
-    scale = dims.height_m / REFERENCE_HEIGHT_M
+    scale = motion_scale(dims)
     heading = float(np.deg2rad(heading_deg))
     return Placement(origin, float(_yaw_of(pose.root_quat[0])), scale, heading, np.asarray(position, dtype=np.float64))
 

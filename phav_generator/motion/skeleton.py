@@ -159,7 +159,7 @@ class Capsule:
 
 @dataclass(frozen=True)
 class BodyDims:
-    """Proportions of one human model: body origins relative to parents, primitives, masses."""
+    """Proportions of one body: body origins relative to parents, primitives, masses."""
 
     height_m: float
     offsets: np.ndarray  # (15, 3) body origin in the parent frame at rest; pelvis: standing height
@@ -176,7 +176,8 @@ class BodyDims:
 def body_dims(
     height_m: float, mass_kg: float, shoulder_width_m: float, hip_width_m: float, limb_girth: float
 ) -> BodyDims:
-    """Proportions from a human model's shape parameters (HumanSpec in the recipe)."""
+    """Proportions from shape parameters by anthropometric ratios: the motion library's
+    reference body (people's bodies are measured on their meshes, ``phav_generator.body``)."""
     h = float(height_m)
     g = float(limb_girth)
     upper_leg, lower_leg, ankle = 0.245 * h, 0.246 * h, 0.039 * h
@@ -228,17 +229,6 @@ def body_dims(
         capsules=tuple(capsules),
         masses=np.array(masses),
         sole_height=ankle,
-    )
-
-
-def dims_for(human: object) -> BodyDims:
-    """``body_dims`` from anything with HumanSpec's shape fields (a recipe's HumanSpec)."""
-    return body_dims(
-        human.height_m,  # type: ignore[attr-defined]
-        human.mass_kg,  # type: ignore[attr-defined]
-        human.shoulder_width_m,  # type: ignore[attr-defined]
-        human.hip_width_m,  # type: ignore[attr-defined]
-        human.limb_girth,  # type: ignore[attr-defined]
     )
 
 

@@ -12,23 +12,20 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.body.model import rest_body
 from phav_generator.motion.rotations import quat_to_matrix
-from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points, dims_for
+from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.camera import project, view
 from phav_generator.render.gl import Frame
-from phav_generator.render.scene import humans_by_id, joint_radius
+from phav_generator.render.people import joint_reach
+from phav_generator.render.scene import humans_by_id
 from phav_spec.encoding import instance_rgb
 from phav_spec.recipe import Recipe
 
-#: A joint counts as visible when the surface seen at its pixel is no nearer than its own
-#: sphere's front by more than this (m): tessellation and off-centre rays stay within it.
+#: A joint counts as visible when the surface seen at its pixel is no nearer than the front
+#: of its class's region (the joint's reach, ``render.people``) by more than this (m).
 VISIBILITY_SLACK_M = 0.003
-
-
-def _joint_radii(dims: BodyDims) -> np.ndarray:
-    """Radius of each metadata joint's rendered sphere (the renderer's rule)."""
-    return np.array([joint_radius(dims, b) for b in JOINT_BODIES])
 
 
 def _box3d(dims: BodyDims, pos: np.ndarray, quat: np.ndarray) -> np.ndarray:
@@ -71,9 +68,10 @@ class MetadataBuilder:
         self.trajectory = trajectory
         humans = humans_by_id(recipe)
         self._people = [
-            (track, humans[track.person_id], dims_for(humans[track.person_id])) for track in trajectory.people
+            (track, humans[track.person_id], rest_body(humans[track.person_id].phenotype).dims)
+            for track in trajectory.people
         ]
-        self._radii = {track.person_id: _joint_radii(dims) for track, _, dims in self._people}
+        self._radii = {track.person_id: joint_reach(dims) for track, _, dims in self._people}
         self._limits = {track.person_id: _muscle_limits(track) for track, _, _ in self._people}
 
     def camera_row(self, f: int) -> dict[str, Any]:

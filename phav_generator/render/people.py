@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.body.model import RestBody, rest_body
-from phav_generator.motion.skeleton import BONE_INDEX, BONES, JOINT_BODIES, JOINT_NAMES, PARENTS
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, BodyDims
 from phav_generator.render.gl import Drawable, VertexLook
 from phav_generator.render.meshes import Mesh
 from phav_spec.people import Outfit, Phenotype
@@ -79,15 +79,21 @@ def _along(body: RestBody, owner: np.ndarray) -> np.ndarray:
     return -local[:, 2] / np.where(lengths > 1e-6, lengths, 1.0)[owner]
 
 
+def joint_reach(dims: BodyDims) -> np.ndarray:
+    """How far (m) each of the 13 joints' class reaches from the joint centre."""
+    radii = np.array([c.radius for c in dims.capsules])
+    return np.array([
+        JOINT_REACH * (radii[k] if PARENTS[k] in _TRUNK else max(radii[k], radii[PARENTS[k]])) for k in JOINT_BODIES
+    ])  # fmt: skip
+
+
 def _classes(body: RestBody, owner: np.ndarray) -> np.ndarray:
     """Pixel class per vertex: body part, hip halves on the pelvis, joints near their centre."""
     names = np.array([b.name for b in BONES], dtype=object)[owner]
     pelvis = owner == BONE_INDEX["pelvis"]
     names[pelvis & (body.vertices[:, 1] >= body.bind.heads[0, 1])] = "left_hip"
     names[pelvis & (body.vertices[:, 1] < body.bind.heads[0, 1])] = "right_hip"
-    radii = np.array([c.radius for c in body.dims.capsules])
-    for joint, k in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
-        reach = JOINT_REACH * (radii[k] if PARENTS[k] in _TRUNK else max(radii[k], radii[PARENTS[k]]))
+    for joint, k, reach in zip(JOINT_NAMES, JOINT_BODIES, joint_reach(body.dims), strict=True):
         near = np.linalg.norm(body.vertices - body.bind.heads[k], axis=1) < reach
         near &= (owner == k) | (owner == PARENTS[k])
         names[near] = joint
@@ -286,4 +292,4 @@ def person_drawables(
     return out
 
 
-__all__ = ["REGIONS", "PersonMesh", "hair_mesh", "person_drawables", "person_mesh"]
+__all__ = ["REGIONS", "PersonMesh", "hair_mesh", "joint_reach", "person_drawables", "person_mesh"]

@@ -1,9 +1,9 @@
 """Recipe + trajectory → drawables: the sampled environment, the action's boxes, props,
 traffic and every person's body parts, each with its pixel class, instance id and colour.
 
-Only the sampled environment is built. People are rigid capsules per body (the pelvis split
-into left and right hip halves, as DESIGN.md labels it) plus a sphere per joint carrying the
-joint's class; their instance id is person id + 1 (0 is "no person").
+Only the sampled environment is built. People are anny bodies skinned to their ragdolls
+(``render.people``: classes per part and joint, clothes, hair); their instance id is person
+id + 1 (0 is "no person").
 """
 
 from __future__ import annotations
@@ -11,11 +11,11 @@ from __future__ import annotations
 import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
-from phav_generator.motion.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.gl import EMISSIVE, GROUND, WATER, Drawable
 from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
+from phav_generator.render.people import person_drawables
 from phav_spec.recipe import HumanSpec, Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, EnvironmentScene
 from phav_spec.vocab import PIXEL_CLASSES
@@ -25,8 +25,6 @@ GROUND_HALF_M = 400.0
 #: The ground plane is drawn this far (m) below its height so roads and paths flush with it
 #: (slabs whose top is the ground) win the depth test instead of flickering with it.
 GROUND_DROP_M = 0.01
-#: A joint's sphere is this much wider than the thickest capsule meeting there.
-JOINT_SCALE = 1.12
 
 # Base colours of static classes (linear RGB, 0–1); anything unlisted is mid grey.
 _CLASS_COLOURS: dict[str, tuple[float, float, float]] = {
@@ -51,15 +49,6 @@ _LAMP_EMISSION = (2.2, 1.7, 1.1)
 _UPPER_STOREY_M = 2.6
 #: Street lamps sit this far above their pole's top.
 _LAMP_ABOVE_M = 0.25
-_SKIN_PARTS = {"head", "left_hand", "right_hand", "left_lower_arm", "right_lower_arm"}
-_TOP_PARTS = {"chest", "left_upper_arm", "right_upper_arm"}
-_SHOE_PARTS = {"left_foot", "right_foot"}
-
-
-def joint_radius(dims, body: int) -> float:
-    """Radius of the sphere drawn at the joint at ``body``'s origin: a little wider than the
-    thickest capsule meeting there, so the joint's class shows where it is not hidden."""
-    return JOINT_SCALE * max(dims.capsules[body].radius, dims.capsules[PARENTS[body]].radius)
 
 
 def class_id(name: str) -> int:
@@ -91,10 +80,6 @@ def _pose(rotation: np.ndarray, translation) -> np.ndarray:
     return out
 
 
-def _rgb(c) -> tuple[float, float, float]:
-    return tuple(float(x) / 255.0 for x in c)  # type: ignore[return-value]
-
-
 def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
     """Every person's human model in the recipe, by person id."""
     out = {recipe.protagonist.person_id: recipe.protagonist.human}
@@ -103,58 +88,12 @@ def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
     return out
 
 
-def _person(track: PersonTrack, human) -> list[Drawable]:
-    dims = dims_for(human)
-    transforms = _pose(quat_to_matrix(track.body_quat), track.body_pos)  # (F, 15, 4, 4)
-    instance = track.person_id + 1
-    colours = {
-        "skin": _rgb(human.skin_rgb),
-        "top": _rgb(human.top_rgb),
-        "bottom": _rgb(human.bottom_rgb),
-        "shoes": _rgb(human.shoes_rgb),
-    }
-    style = int(human.model.rsplit("_", 1)[-1]) % 3  # plain, striped or checked tops
-    darker = tuple(0.55 * c for c in colours["top"])
-    out = []
-    for k, bone in enumerate(BONES):
-        cap = dims.capsules[k]
-        if bone.name == "pelvis":
-            mid = tuple((np.array(cap.a) + np.array(cap.b)) / 2)
-            left, right = (cap.a, cap.b) if cap.a[1] > cap.b[1] else (cap.b, cap.a)
-            halves = (("left_hip", left), ("right_hip", right))
-            for cls, end in halves:
-                mesh = capsule(mid, end, cap.radius)
-                out.append(Drawable(mesh, transforms[:, k], class_id(cls), instance, colours["bottom"]))
-            continue
-        part = "skin" if bone.name in _SKIN_PARTS else "top" if bone.name in _TOP_PARTS else "bottom"
-        if bone.name in _SHOE_PARTS:
-            part = "shoes"
-        mesh = capsule(cap.a, cap.b, cap.radius)
-        pattern = style if part == "top" else 0
-        out.append(Drawable(mesh, transforms[:, k], class_id(bone.name), instance, colours[part],
-                            pattern=pattern, pattern_colour=darker))  # fmt: skip
-        if bone.name == "head" and human.hair_style != "bald":
-            out += _hair(cap, human, transforms[:, k], instance)
-    for name, body in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
-        radius = joint_radius(dims, body)
-        colour = colours["skin"] if name == "neck" else colours["top"] if "hip" not in name else colours["bottom"]
-        out.append(Drawable(sphere(radius), transforms[:, body], class_id(name), instance, colour))
-    return out
-
-
-def _hair(head, human, transforms: np.ndarray, instance: int) -> list[Drawable]:
-    """A hair cap over the back and top of the head (class head), and a tail or long hair."""
-    r = head.radius
-    centre = np.array(head.b) + np.array([-0.25 * r, 0.0, 0.1 * r])
-    colour = _rgb(human.hair_rgb)
-    cls = class_id("head")
-    out = [Drawable(capsule(tuple(centre), tuple(centre), 1.04 * r), transforms, cls, instance, colour)]
-    if human.hair_style in ("long", "ponytail"):
-        top = centre + np.array([-0.75 * r, 0.0, 0.0])
-        length, width = (1.6 * r, 0.55 * r) if human.hair_style == "long" else (1.3 * r, 0.25 * r)
-        tail = capsule(tuple(top), tuple(top + np.array([-0.15 * r, 0.0, -length])), width)
-        out.append(Drawable(tail, transforms, cls, instance, colour))
-    return out
+def _person(track: PersonTrack, human: HumanSpec) -> list[Drawable]:
+    """A person's dressed body and hair, skinned to its ragdoll's bodies every frame."""
+    return person_drawables(
+        human.phenotype, human.skin_rgb, human.outfit, human.hair.style, human.hair.rgb,
+        track.body_pos, quat_to_matrix(track.body_quat), track.person_id + 1,
+    )  # fmt: skip
 
 
 def _upper_storey(env: EnvironmentScene, n: int) -> list[Drawable]:
