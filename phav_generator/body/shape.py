@@ -7,6 +7,7 @@ fixed summation order, so a phenotype gives the same rest mesh on every machine.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -46,7 +47,8 @@ def phenotype_coefficients(data: BodyData, phenotype: Mapping[str, float]) -> np
     phens = np.concatenate([weights[f] for f in VARIATIONS])  # (26,) in the mask's column order
     mask = data.stacked_mask
     targets = np.prod(phens[None, :] * mask + (1.0 - mask), axis=1)  # (K,)
-    return np.array([np.dot(targets, data.projection[:, c]) for c in range(data.projection.shape[1])])
+    # math.fsum: correctly rounded, so the same bits whatever BLAS the machine has.
+    return np.array([math.fsum(targets * data.projection[:, c]) for c in range(data.projection.shape[1])])
 
 
 def _blend(template: np.ndarray, shapes: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
