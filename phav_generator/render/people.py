@@ -27,7 +27,7 @@ from phav_spec.vocab import PIXEL_CLASSES
 SKIN_BONES = 4
 #: A joint's class covers vertices this close to its centre, in units of the thicker limb
 #: meeting there (of the limb it moves where it meets the trunk: the trunk is wider).
-JOINT_REACH = 1.12
+JOINT_REACH = 1.3
 _TRUNK = (BONE_INDEX["pelvis"], BONE_INDEX["chest"])
 #: How far (0 at the proximal joint, 1 at the distal one) each cut covers its limb.
 #: A value ≥ 1 covers the whole body, past its distal joint.
