@@ -127,7 +127,7 @@ def _split_corners(faces, uv_faces, face_keys) -> tuple[np.ndarray, np.ndarray]:
 
 #: Levels of detail by the tallest a person appears in a video (px): the full mesh from
 #: the first, then anny's decimated meshes (docs/rendering.md measures what each changes).
-LOD_MIN_HEIGHT_PX = (64.0, 28.0, 12.0)
+LOD_MIN_HEIGHT_PX = (160.0, 48.0, 20.0)
 
 
 def level_of_detail(height_px: float) -> int:
@@ -225,12 +225,12 @@ def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, n
 
 
 @functools.lru_cache(maxsize=32)
-def hair_mesh(phenotype: Phenotype, style: str) -> Mesh | None:
-    """Hair fitted to a body's scalp, skinned to its head (long hair's curtain also to the
-    chest at its bottom); None for bald."""
+def hair_mesh(phenotype: Phenotype, style: str, level: int = 0) -> Mesh | None:
+    """Hair fitted to a body's scalp at a level of detail, skinned to its head (long hair's
+    curtain also to the chest at its bottom); None for bald."""
     if style == "bald":
         return None
-    body = rest_body(phenotype)
+    body = lod_body(phenotype, level)
     owner = np.argmax(body.weights, axis=1)
     head, chest = BONE_INDEX["head"], BONE_INDEX["chest"]
     faces = body.faces[_scalp(body, owner)]
@@ -298,7 +298,7 @@ def person_drawables(
     )
     transforms = rest_body(phenotype).skinning_matrices(body_pos, body_rot)
     out = [Drawable(pm.mesh, transforms, int(pm.class_ids[0]), instance, vertex_look=look)]
-    hair = hair_mesh(phenotype, hair_style)
+    hair = hair_mesh(phenotype, hair_style, level)
     if hair is not None:
         out.append(Drawable(hair, transforms, PIXEL_CLASSES["head"].class_id, instance, tuple(_rgb(hair_rgb))))
     return out
