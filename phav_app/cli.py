@@ -754,7 +754,7 @@ def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int
                                         "n_frames": min(r.n_frames, frames_for(max_frames / r.video.fps, r.video.fps))})
                    for r in recipes]  # fmt: skip
     with console.status("render bench: 4× reference, 1× and 2× (one process)"):
-        runs, encode_only = bench_render(recipes, gl=gl)
+        runs, encode_only, bodies = bench_render(recipes, gl=gl)
     frames = runs[0].frames
     with tempfile.TemporaryDirectory() as tmp, console.status("phav generate with 2 workers"):
         start = time.perf_counter()
@@ -779,6 +779,10 @@ def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int
                   f"phav generate, 2 workers, 2×: {two_workers:.1f} frames/s "
                   f"({two_workers / encode_only:.2f}× the one-process floor); "
                   f"its content hashes {'equal' if same else 'DIFFER from'} the bench's 2× run")  # fmt: skip
+    console.print(f"people (anny bodies), 2×: {1000 * (bodies.render_s - bodies.render_without_s) / bodies.frames:.1f} "
+                  f"of {1000 * bodies.render_s / bodies.frames:.1f} ms of render + post per frame "
+                  f"({100 * bodies.share:.0f} %); building the scenes: {bodies.build_s:.2f} s with them, "
+                  f"{bodies.build_without_s:.2f} s without ({len(recipes)} videos)")  # fmt: skip
     tri = Table(title="triangles per environment", title_justify="left")
     for col in ("environment", "built (scene, mean per video)", "drawn / frame (after culling)"):
         tri.add_column(col, justify="right")

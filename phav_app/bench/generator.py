@@ -169,10 +169,53 @@ def _edges(semantic: np.ndarray, depth: np.ndarray) -> np.ndarray:
     return edge
 
 
-def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference: int = 4,
-                 max_frames: int | None = None, gl: str = "llvmpipe") -> tuple[list[RenderRun], float]:  # fmt: skip
+@dataclass(frozen=True)
+class BodyShare:
+    """What the people cost per frame: the same frames rendered with and without them."""
+
+    frames: int
+    render_s: float  # render_labels + render_rgb, with the people
+    render_without_s: float  # the same without them
+    build_s: float  # the scenes' drawables, with the people (meshes cached per process)
+    build_without_s: float
+
+    @property
+    def share(self) -> float:
+        """The people's share of the frame's render time."""
+        return (self.render_s - self.render_without_s) / max(self.render_s, 1e-9)
+
+
+def bench_bodies(recipes: list, trajectories: list, ctx, *, supersample: int = 2,
+                 max_frames: int | None = None) -> BodyShare:  # fmt: skip
+    """Render every recipe's frames twice, with and without its people, in one context."""
+    times = {"render": 0.0, "render_without": 0.0, "build": 0.0, "build_without": 0.0}
+    frames = 0
+    for r, tr in zip(recipes, trajectories, strict=True):
+        n = min(r.n_frames, max_frames or r.n_frames)
+        frames += n
+        for people, key in ((True, ""), (False, "_without")):
+            t0 = time.perf_counter()
+            renderer = scene_renderer(r, tr, ctx, supersample=supersample, people=people)
+            times["build" + key] += time.perf_counter() - t0
+            with renderer:
+                t0 = time.perf_counter()
+                for f in range(n):
+                    renderer.render(f, tr.cam_to_world[f], tr.cam_to_world[f + 1], tr.intrinsics)
+                times["render" + key] += time.perf_counter() - t0
+    return BodyShare(frames, times["render"], times["render_without"], times["build"], times["build_without"])
+
+
+def bench_render(
+    recipes: list,
+    *,
+    factors: tuple[int, ...] = (1, 2),
+    reference: int = 4,
+    max_frames: int | None = None,
+    gl: str = "llvmpipe",
+) -> tuple[list[RenderRun], float, BodyShare]:
     """Each supersampling factor over the recipes, stage by stage, with the edge error of its
-    RGB against ``reference``× supersampling; also the encode-only rate (six PNGs, frames/s)."""
+    RGB against ``reference``× supersampling; the encode-only rate (six PNGs, frames/s); and
+    the people's share of a 2× frame."""
 
     ctx = gl_context(gl)
     trajectories, physics_s = [], 0.0
@@ -232,12 +275,13 @@ def bench_render(recipes: list, *, factors: tuple[int, ...] = (1, 2), reference:
             runs.append(RenderRun(factor, sum(n_frames), seconds, float(np.mean(errors)) if errors else None,
                                   {e: float(np.mean(v)) for e, v in built.items()},
                                   {e: float(np.mean(v)) for e, v in drawn.items()}, hashes))  # fmt: skip
+        bodies = bench_bodies(recipes, trajectories, ctx, supersample=2, max_frames=max_frames)
     finally:
         ctx.release()
         for p in tmp.glob("*"):
             p.unlink()
         tmp.rmdir()
-    return runs, encode_only
+    return runs, encode_only, bodies
 
 
 #: A PHAV-sized run: the paper's 39,982 videos (about 6 million frames).

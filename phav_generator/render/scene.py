@@ -126,9 +126,12 @@ def _upper_storey(env: EnvironmentScene, n: int) -> list[Drawable]:
     return [_static(box(h), _pose(np.eye(3), c), cls, n) for cls, c, h in parts]
 
 
-def build_drawables(recipe: Recipe, trajectory: Trajectory, lighting: Lighting | None = None) -> list[Drawable]:
+def build_drawables(
+    recipe: Recipe, trajectory: Trajectory, lighting: Lighting | None = None, *, people: bool = True
+) -> list[Drawable]:
     """Everything the camera may see in this video, static world first (lamps glow when
-    ``lighting`` switches them on; windows show its sky, through the fog when there is fog)."""
+    ``lighting`` switches them on; windows show its sky, through the fog when there is fog);
+    ``people=False`` leaves the people out (the bench measures what they cost)."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     n = len(trajectory.times)
     eye = np.eye(4)
@@ -169,6 +172,6 @@ def build_drawables(recipe: Recipe, trajectory: Trajectory, lighting: Lighting |
             Drawable(mesh, transforms, class_id(prop.pixel_class), 0, _CLASS_COLOURS.get(prop.pixel_class, (0.5,) * 3))
         )
     humans = humans_by_id(recipe)
-    for track in trajectory.people:
+    for track in trajectory.people if people else ():
         out += _person(track, humans[track.person_id], trajectory)
     return out

@@ -47,8 +47,10 @@ def scene_renderer(
     *,
     supersample: int = DEFAULT_SUPERSAMPLE,
     post: PostSettings | None = None,
+    people: bool = True,
 ) -> FrameRenderer:
-    """A renderer for one video: its world, light and weather, focused on the protagonist."""
+    """A renderer for one video: its world, light and weather, focused on the protagonist
+    (``people=False``: without the people, for the bench)."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     lighting = lighting_for(recipe.world, indoor=env.indoor)
     protagonist = trajectory.person(recipe.protagonist.person_id)
@@ -57,7 +59,7 @@ def scene_renderer(
     if len(lamps):  # the lamps nearest the action light it
         lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]
     return FrameRenderer(
-        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting),
+        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting, people=people),
         sky_class=class_id("sky"), lighting=lighting, lamps=lamps, focus=focus, supersample=supersample,
         post=post, rain_seed=recipe.seeds.render,
     )  # fmt: skip
