@@ -3,6 +3,8 @@ against the error or the bytes it must keep (phav_app/bench/generator.py)."""
 
 from __future__ import annotations
 
+import re
+
 from phav_app.bench.generator import bench_generation
 from tests.helpers import SMALL_SEED, invoke_cli
 
@@ -50,6 +52,8 @@ def test_bench_render_reports_stages_error_and_the_floor():
     assert [r[0] for r in rows[:2]] == ["1×", "2×"]
     assert all(float(r[1]) > 0 for r in rows[:2])
     assert "encode-only floor" in out and "content hashes equal the bench's 2× run" in out
+    share = re.search(r"people \(anny bodies\), 2×: ([\d.]+) of ([\d.]+) ms of render \+ post per frame", out)
+    assert share and 0.0 < float(share.group(1)) < float(share.group(2)), out
 
 
 def test_generation_bench_times_each_worker_count_on_identical_bytes(small_recipes, small_theta):
