@@ -153,14 +153,67 @@ def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonM
     corner_region = np.zeros(len(source), dtype=np.int64)
     corner_class[triangles.reshape(-1)] = np.repeat(face_class, 3)
     corner_region[triangles.reshape(-1)] = np.repeat(face_region, 3)
-    mesh = Mesh(
-        positions=np.ascontiguousarray(body.vertices[source], dtype=np.float32),
-        normals=np.ascontiguousarray(normals[source], dtype=np.float32),
-        triangles=triangles,
-        bones=np.ascontiguousarray(bones[source]),
-        weights=np.ascontiguousarray(weights[source]),
-    )
-    return PersonMesh(mesh, corner_class, corner_region)
+    parts = [(body.vertices[source], normals[source], triangles, bones[source], weights[source], corner_class,
+              corner_region)]  # fmt: skip
+    if outfit.bottom.kind == "skirt":
+        parts.append(_skirt(body, owner))
+    offset, tris = 0, []
+    for part in parts:
+        tris.append(part[2] + offset)
+        offset += len(part[0])
+
+    def cat(i: int, dtype) -> np.ndarray:
+        return np.ascontiguousarray(np.concatenate([part[i] for part in parts]), dtype=dtype)
+
+    mesh = Mesh(cat(0, np.float32), cat(1, np.float32), np.concatenate(tris).astype(np.uint32), cat(3, np.uint32),
+                cat(4, np.float32))  # fmt: skip
+    return PersonMesh(mesh, cat(5, np.uint16), cat(6, np.int64))
+
+
+#: A skirt: rings from the waist to this share of the way down the thigh, flaring out by
+#: this much at the hem; how much of the hem the thighs carry (the rest follows the pelvis).
+SKIRT_LENGTH = 0.6
+SKIRT_FLARE = 0.3
+SKIRT_THIGH = 0.4
+_SKIRT_RINGS, _SKIRT_AROUND = 6, 24
+
+
+def _skirt(body: RestBody, owner: np.ndarray):
+    """A skirt's tube around the hips and thighs: each ring the body's cross-section there,
+    widened; skinned to the pelvis and, towards the hem, to the thigh on its side. Returns
+    positions, normals, triangles, bones, weights, classes and regions (all ``bottom``)."""
+    heads, h = body.bind.heads, body.dims.height_m
+    left, right = BONE_INDEX["left_upper_leg"], BONE_INDEX["right_upper_leg"]
+    waist = heads[0, 2] + 0.05 * h
+    hem = heads[left, 2] - SKIRT_LENGTH * (heads[left, 2] - heads[BONE_INDEX["left_lower_leg"], 2])
+    trunk = body.vertices[np.isin(owner, (BONE_INDEX["pelvis"], BONE_INDEX["chest"], left, right))]
+    angles = 2.0 * np.pi * np.arange(_SKIRT_AROUND) / _SKIRT_AROUND
+    positions, normals, weights, sides = [], [], [], []
+    for t in np.linspace(0.0, 1.0, _SKIRT_RINGS):
+        z = waist + t * (hem - waist)
+        band = trunk[np.abs(trunk[:, 2] - z) < 0.015 + 0.01 * t]
+        lo, hi = band[:, :2].min(axis=0), band[:, :2].max(axis=0)
+        centre, axes = (lo + hi) / 2.0, (hi - lo) / 2.0 * (1.04 + SKIRT_FLARE * t)
+        for a in angles:
+            c, s = np.cos(a), np.sin(a)
+            positions.append((centre[0] + axes[0] * c, centre[1] + axes[1] * s, z))
+            n = np.array([c / axes[0], s / axes[1], 0.0])
+            normals.append(n / np.linalg.norm(n))
+            thigh = SKIRT_THIGH * t
+            weights.append((1.0 - thigh, thigh * (1.0 + s) / 2.0, thigh * (1.0 - s) / 2.0, 0.0))
+            sides.append((s >= 0.0, t))
+    tris = []
+    for i in range(_SKIRT_RINGS - 1):
+        for k in range(_SKIRT_AROUND):
+            a, b = i * _SKIRT_AROUND + k, i * _SKIRT_AROUND + (k + 1) % _SKIRT_AROUND
+            tris += [(a, b, b + _SKIRT_AROUND), (a, b + _SKIRT_AROUND, a + _SKIRT_AROUND)]
+    tris_a = np.array(tris)
+    names = [("left" if is_left else "right") + ("_hip" if t < 0.5 else "_upper_leg") for is_left, t in sides]
+    classes = np.array([PIXEL_CLASSES[n].class_id for n in names], dtype=np.uint16)
+    n = len(positions)
+    bones = np.tile(np.array([BONE_INDEX["pelvis"], left, right, BONE_INDEX["pelvis"]], dtype=np.uint32), (n, 1))
+    return (np.array(positions), np.array(normals), tris_a, bones, np.array(weights), classes,
+            np.full(n, REGIONS.index("bottom")))  # fmt: skip
 
 
 #: Hair: shell thickness over the scalp (m) per style; long hair's curtain and a tied

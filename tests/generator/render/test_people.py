@@ -101,3 +101,23 @@ def test_hair_styles_cover_the_head_with_the_hair_colour(ctx, style):
     frame = _render(ctx, person, _camera(head_top + np.array([-1.0, 0.0, 0.4]), head_top))
     red = (frame.colour[..., 0] > 1.6 * frame.colour[..., 1]) & (frame.instance == 1)
     assert (red.sum() > 200) == (style != "bald")
+
+
+def test_a_skirt_is_a_flared_tube_from_the_waist_over_the_thighs():
+    shorts = person_mesh(
+        PHENOTYPE, OUTFIT.model_copy(update={"bottom": OUTFIT.bottom.model_copy(update={"kind": "shorts"})})
+    )
+    skirt = person_mesh(
+        PHENOTYPE, OUTFIT.model_copy(update={"bottom": OUTFIT.bottom.model_copy(update={"kind": "skirt"})})
+    )
+    extra = len(skirt.mesh.positions) - len(shorts.mesh.positions)
+    assert extra > 100 and skirt.mesh.n_triangles > shorts.mesh.n_triangles
+    tube = skirt.mesh.positions[-extra:]
+    assert np.all(skirt.regions[-extra:] == 2)  # the bottom garment's look
+    body = rest_body(PHENOTYPE)
+    trunk = body.vertices[np.argmax(body.weights, axis=1) <= 1]  # pelvis and chest (the arms hang beside)
+    hips = trunk[np.abs(trunk[:, 2] - tube[:, 2].max()) < 0.01]
+    width = np.ptp(tube[tube[:, 2] > tube[:, 2].max() - 1e-6][:, 1])
+    assert width >= np.ptp(hips[:, 1]) * 0.95, "the waist ring wraps the hips"
+    hem = tube[tube[:, 2] < tube[:, 2].min() + 1e-6]
+    assert np.ptp(hem[:, 1]) > width, "flared at the hem"
