@@ -43,7 +43,7 @@ FABRIC_PATTERNS = {"solid": 0, "stripes": 1, "checks": 2, "denim": 4, "print": 5
 
 @dataclass(frozen=True)
 class PersonMesh:
-    """A body's render mesh: corners split by uv, class and region; the look comes later."""
+    """A body's render mesh: corners split by class and region; the look comes later."""
 
     mesh: Mesh  # rest positions and normals (person frame), bones and weights
     class_ids: np.ndarray  # (N,) pixel class per corner
@@ -118,9 +118,10 @@ def _regions(body: RestBody, owner: np.ndarray, outfit: Outfit) -> np.ndarray:
     return out
 
 
-def _split_corners(faces, uv_faces, face_keys) -> tuple[np.ndarray, np.ndarray]:
-    """Unique (vertex, uv, key) corners: their source vertex and the faces re-indexed."""
-    corners = np.stack([faces.reshape(-1), uv_faces.reshape(-1), np.repeat(face_keys, 3)], axis=1)
+def _split_corners(faces, face_keys) -> tuple[np.ndarray, np.ndarray]:
+    """Unique (vertex, key) corners: their source vertex and the faces re-indexed. (The
+    fabrics are solid textures of the rest position, so texture seams need no split.)"""
+    corners = np.stack([faces.reshape(-1), np.repeat(face_keys, 3)], axis=1)
     unique, inverse = np.unique(corners, axis=0, return_inverse=True)
     return unique[:, 0], inverse.reshape(-1, 3).astype(np.uint32)
 
@@ -146,7 +147,7 @@ def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonM
     faces = body.faces
     # A triangle's class and region: those of its first corner (the shader's flat value).
     face_class, face_region = vertex_class[faces[:, 0]], vertex_region[faces[:, 0]]
-    source, triangles = _split_corners(faces, body.face_uv_indices, face_class.astype(np.int64) * 8 + face_region)
+    source, triangles = _split_corners(faces, face_class.astype(np.int64) * 8 + face_region)
     bones, weights = _top_bones(body.weights)
     normals = _vertex_normals(body.vertices, faces)
     corner_class = np.zeros(len(source), dtype=np.uint16)
