@@ -115,9 +115,12 @@ def print_framing(result: FramingResult, console: Console, *, source: str = "peo
     if not result.groups:
         console.print(f"protagonist framing: no video of {escape(source)} has a recipe")
         return
-    table = Table(
-        title=f"protagonist framing ({source}): height of its visible box / frame height", title_justify="left"
+    console.print(
+        f"protagonist framing ({escape(source)}): in view = any pixel in the instance modality; height = "
+        "the box of those pixels / the frame height, over the frames in view",
+        soft_wrap=True,
     )
+    table = Table(title="protagonist framing per camera", title_justify="left")
     for col in ("camera", "videos", "frames", "in view", "Q1", "median", "Q3", "median px"):
         table.add_column(col, justify="left" if col == "camera" else "right")
     for name, g in result.groups.items():
@@ -127,7 +130,7 @@ def print_framing(result: FramingResult, console: Console, *, source: str = "peo
             f"{q1:.1%}", f"{q2:.1%}", f"{q3:.1%}", f"{g.median_px:.0f}", style="bold" if name == "all" else None,
         )  # fmt: skip
     console.print(table)
-    hist = Table(title="protagonist height histogram (share of frames; out of view not counted)", title_justify="left")
+    hist = Table(title="protagonist height histogram (share of frames)", title_justify="left")
     hist.add_column("height", justify="left")
     for name in result.groups:
         hist.add_column(name, justify="right")

@@ -149,9 +149,11 @@ def print_summary(report: DatasetReport, *, details: bool = False, per_reason_li
         if details:
             print_framing(report.framing, console)
         else:
+            groups = report.framing.groups
+            shown = [n for n in groups if n != "all" or len(groups) > 2]  # "all" only over several cameras
             console.print("protagonist framing (visible box height / frame height; --details: histogram): " + "; ".join(
-                f"{name} median {g.median:.0%}, in view {g.in_view_share:.1%} of {g.n_frames:,} frames"
-                for name, g in report.framing.groups.items()
+                f"{name} median {groups[name].median:.0%}, in view {groups[name].in_view_share:.1%} of "
+                f"{groups[name].n_frames:,} frames" for name in shown
             ), soft_wrap=True)  # fmt: skip
     worst = report.worst_videos()
     if worst:
