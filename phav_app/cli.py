@@ -38,7 +38,15 @@ from phav_app.bench.generator import (
 from phav_app.bench.training import learning_curve, throughput
 from phav_app.bench.validation import bench_validation
 from phav_app.card import check_croissant
-from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, print_report, run_app
+from phav_app.console import (
+    EXIT_FINDINGS,
+    bar_tasks,
+    console,
+    print_distribution,
+    print_framing,
+    print_report,
+    run_app,
+)
 from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet, write_gif
 from phav_app.release import make_release
 from phav_app.sheets import render_sheet, sheet_specs, write_index
@@ -63,6 +71,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import PRESETS_DIR, Theta, load_theta
 from phav_spec.vocab import ACTIONS, VOCABULARIES
 from phav_validators.checks.distribution import check_distributions
+from phav_validators.framing import read_framing
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
 from phav_validators.learn.train import TrainConfig, default_threads
@@ -144,15 +153,21 @@ def sample(
 
 @app.command()
 def stats(
-    recipes: Annotated[Path, typer.Argument(help="recipes.parquet written by `phav sample`.")],
+    recipes: Annotated[
+        Path, typer.Argument(help="recipes.parquet (`phav sample`, `phav generate`), or a dataset directory.")
+    ],
     theta: Annotated[
         str | None,
         typer.Option("--theta", help="θ to test against (default: the θ stored in the table)."),
     ] = None,
     alpha: Annotated[float, typer.Option(help="Family-wise significance level (Holm).")] = 1e-3,
 ) -> None:
-    """Observed recipes against θ's exact expectations, per variable and conditional table."""
+    """Observed recipes against θ's exact expectations, per variable and conditional table; with
+    a generated dataset's people.parquet beside the table, how large and how often in view the
+    camera films the protagonist."""
 
+    if recipes.is_dir():
+        recipes = recipes / "recipes.parquet"
     rt = read_recipe_table(recipes)
     th = _theta_for(rt, theta)
     result = check_distributions(
@@ -166,6 +181,14 @@ def stats(
             f"the table was sampled from θ {rt.theta.hash[:12]}…, tested against {th.hash[:12]}…"
         )
     print_distribution(result, console)
+    people = recipes.parent / "people.parquet"
+    if people.exists():
+        try:
+            print_framing(read_framing(people, rt.recipes()), console, source=str(people))
+        except PhavUserError as e:  # an older or damaged table: the recipes' statistics still count
+            console.print(f"[yellow]protagonist framing not measured:[/] {escape(str(e))}", soft_wrap=True)
+    else:
+        console.print("protagonist framing: no people.parquet beside the table (sampled recipes have no pixels)")
     print_report(result.report, console)
     if not result.ok:
         raise typer.Exit(EXIT_FINDINGS)

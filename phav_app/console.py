@@ -1,5 +1,6 @@
 """What every phav command shares: user errors as one line and exit code 2, rich consoles,
-progress bars, and validator results as rich tables (histograms against θ, tests, findings)."""
+progress bars, and validator results as rich tables (histograms against θ, tests, findings,
+the protagonist's framing)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from rich.text import Text
 from phav_spec.errors import PhavUserError
 from phav_validators.checks.distribution import DistributionResult
 from phav_validators.findings import Report
+from phav_validators.framing import FRAMING_BINS, FramingResult
 
 # Piped output (CI logs, files) gets wide lines instead of rich's 80-column default, so
 # tables of numbers are never cut off.
@@ -105,3 +107,39 @@ def print_report(report: Report, console: Console, *, limit: int = 40) -> None:
         )
     if len(report.findings) > limit:
         console.print(f"  … {len(report.findings) - limit} more")
+
+
+def print_framing(result: FramingResult, console: Console, *, source: str = "people.parquet") -> None:
+    """Per camera: frames with the protagonist in view and its height's quartiles, then the
+    height histogram (share of each camera's frames per 10 % of the frame height)."""
+    if not result.groups:
+        console.print(f"protagonist framing: no video of {escape(source)} has a recipe")
+        return
+    console.print(
+        f"protagonist framing ({escape(source)}): in view = any pixel in the instance modality; height = "
+        "the box of those pixels / the frame height, over the frames in view",
+        soft_wrap=True,
+    )
+    table = Table(title="protagonist framing per camera", title_justify="left")
+    for col in ("camera", "videos", "frames", "in view", "Q1", "median", "Q3", "median px"):
+        table.add_column(col, justify="left" if col == "camera" else "right")
+    for name, g in result.groups.items():
+        q1, q2, q3 = g.quantiles()
+        table.add_row(
+            name, str(g.n_videos), f"{g.n_frames:,}", f"{g.in_view_share:.1%}",
+            f"{q1:.1%}", f"{q2:.1%}", f"{q3:.1%}", f"{g.median_px:.0f}", style="bold" if name == "all" else None,
+        )  # fmt: skip
+    console.print(table)
+    hist = Table(title="protagonist height histogram (share of frames)", title_justify="left")
+    hist.add_column("height", justify="left")
+    for name in result.groups:
+        hist.add_column(name, justify="right")
+    hist.add_column("", justify="left")
+    shares = {name: g.histogram() for name, g in result.groups.items()}
+    top = max(max(float(s.max()) for s in shares.values()), 1e-9)
+    overall = shares["all"]
+    for b in range(len(FRAMING_BINS) - 1):
+        label = f"{FRAMING_BINS[b]:.0%}–{FRAMING_BINS[b + 1]:.0%}"
+        bar = "█" * round(30 * overall[b] / top)
+        hist.add_row(label, *(f"{s[b]:.1%}" for s in shares.values()), bar)
+    console.print(hist)

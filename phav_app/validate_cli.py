@@ -14,7 +14,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, run_app
+from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, print_framing, run_app
 from phav_spec.errors import PhavUserError
 from phav_validators.checks.scan import tune_allocator
 from phav_validators.findings import Reason
@@ -66,7 +66,9 @@ def validate(
     seed: Annotated[int, typer.Option(help="Seed of the --sample and --regenerate draws.")] = 0,
     alpha: Annotated[float, typer.Option(help="Family-wise significance level of the distribution tests.")] = 1e-3,
     failure_budget: Annotated[float, typer.Option(help="Largest share of videos with failure cases.")] = 0.10,
-    details: Annotated[bool, typer.Option("--details", help="Print per-variable histograms.")] = False,
+    details: Annotated[
+        bool, typer.Option("--details", help="Print per-variable histograms and the protagonist-size histogram.")
+    ] = False,
     learn_minutes: Annotated[
         float, typer.Option(help="learnability: minutes of CPU training, all streams together.")
     ] = 10.0,
@@ -143,6 +145,16 @@ def print_summary(report: DatasetReport, *, details: bool = False, per_reason_li
     console.print(table)
     if details and report.distribution is not None:
         print_distribution(report.distribution, console)
+    if report.framing is not None and report.framing.groups:
+        if details:
+            print_framing(report.framing, console)
+        else:
+            groups = report.framing.groups
+            shown = [n for n in groups if n != "all" or len(groups) > 2]  # "all" only over several cameras
+            console.print("protagonist framing (visible box height / frame height; --details: histogram): " + "; ".join(
+                f"{name} median {groups[name].median:.0%}, in view {groups[name].in_view_share:.1%} of "
+                f"{groups[name].n_frames:,} frames" for name in shown
+            ), soft_wrap=True)  # fmt: skip
     worst = report.worst_videos()
     if worst:
         console.print("worst videos: " + "; ".join(

@@ -329,8 +329,9 @@ class RecipeSampler:
         azimuth = spec.azimuth_deg.sample(rng=rng)
         dx, dy = _rotate(distance, 0.0, heading + azimuth)
         x, y, z = position
-        # The target starts on the protagonist: the head for the close-up, else the pelvis.
-        target_height = 0.93 * human.height_m if kind == "closeup" else 0.53 * human.height_m
+        # The target starts on the standing protagonist's anchor (physics.plan.camera): the
+        # pelvis, or for the close-up two thirds of the way from the chest's origin to the neck.
+        target_height = 0.77 * human.height_m if kind == "closeup" else 0.53 * human.height_m
         springs = impulse = None
         if CAMERA_INFO[kind].tracking == "springs":
             s = spec.springs

@@ -41,6 +41,7 @@ from phav_validators.checks.reproduce import check_reproducibility
 from phav_validators.checks.scan import ShardJob, ShardScan, VideoExpect, VideoScan, scan_shard, tune_allocator
 from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import CheckResult, Finding, Reason, Report
+from phav_validators.framing import FramingResult, read_framing
 from phav_validators.learn.learnability import LearnOptions, check_learnability
 from phav_validators.options import (
     ALL_CHECKS,
@@ -470,6 +471,7 @@ def _validate(
         with _timed(timings, "learnability"):
             results["learnability"], learn_result = _learnability(inp, loaded, opts, progress)
 
+    framing = None if inp.recipes_only else _framing(inp, loaded, selected)
     m = loaded.manifest
     report = DatasetReport(
         source=inp.label,
@@ -480,6 +482,7 @@ def _validate(
         fingerprint_match=fingerprint_match,
         distribution=dist_result,
         learnability=learn_result,
+        framing=framing,
     )
     _flag_frames(report, shard_of, inp.root)
     return report
@@ -633,6 +636,19 @@ def _failures(
     advance = progress("failure cases", len(chosen)) if progress is not None and chosen else None
     result, _ = check_failures(chosen, people, cameras, instance_pixels=pixels, budget=opts.budget, progress=advance)
     return result
+
+
+def _framing(inp: DatasetInput, loaded: _Loaded, selected: set[str]) -> FramingResult | None:
+    """The protagonist's framing in the selected videos, from people.parquet; None when it is
+    missing or unreadable (the schema check says why) or no video has a valid recipe."""
+    path = inp.root / PEOPLE
+    recipes = [loaded.recipes[vid] for vid in sorted(selected) if vid in loaded.recipes]
+    if not recipes or not path.exists():
+        return None
+    try:
+        return read_framing(path, recipes)
+    except PhavUserError:
+        return None
 
 
 def _selected_videos(inp: DatasetInput, loaded: _Loaded, scans: _Scans) -> set[str]:

@@ -17,6 +17,7 @@ from phav_validators.findings import CheckResult, Status
 
 if TYPE_CHECKING:
     from phav_validators.checks.distribution import DistributionResult
+    from phav_validators.framing import FramingResult
     from phav_validators.learn.learnability import LearnOptions, LearnResult
 
 #: The checks in the order they run and print.
@@ -79,6 +80,8 @@ class DatasetReport:
     fingerprint_match: bool | None = None
     distribution: DistributionResult | None = None
     learnability: LearnResult | None = None
+    #: How the camera frames the protagonist, from people.parquet (None without one).
+    framing: FramingResult | None = None
     #: Per flagged video, one representative (shard path, frame) for the HTML report.
     flagged_frames: dict[str, tuple[str, int]] = field(default_factory=dict)
 
@@ -115,6 +118,7 @@ class DatasetReport:
             "worst_videos": [
                 {"video_id": v, "failures": a, "warnings": b, "reasons": r} for v, a, b, r in self.worst_videos()
             ],
+            "protagonist_framing": self.framing.to_json() if self.framing is not None else None,
         }
 
 

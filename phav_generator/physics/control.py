@@ -19,6 +19,7 @@ import numpy as np
 from phav_generator.motion.rotations import relative_rotation_vectors
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel
+from phav_generator.physics.plan.camera import anchor_point
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_spec.seeding import stream
@@ -289,8 +290,8 @@ class SimulationRun:
                 d.qvel[h.qvel : h.qvel + 3] = (self._car_position(prop, k) - start) / self.plan.timestep
         cam = self.scene.camera
         if cam is not None:
-            body = "head" if self.plan.recipe.camera.kind == "closeup" else "pelvis"
-            d.mocap_pos[cam.anchor_mocap] = d.xpos[self.scene.people[0].bodies[BONE_INDEX[body]]]
+            kind = self.plan.recipe.camera.kind
+            d.mocap_pos[cam.anchor_mocap] = anchor_point(kind, d.xpos[self.scene.people[0].bodies])
 
     def _pin_pose(self, h, ref: _Reference, j: int, weight: float) -> None:
         """Put the pin body on the animated pelvis at plan step j, moving and accelerating

@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 
 from phav_generator.motion.rotations import matrix_to_quat, yaw_matrix
-from phav_generator.motion.skeleton import BONE_INDEX, BONES, DOFS, forward_kinematics
+from phav_generator.motion.skeleton import BONES, DOFS
 from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan
 from phav_spec.scene import ENVIRONMENT_SCENES
 
@@ -288,11 +288,12 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
     cam = plan.recipe.camera
     springs = cam.springs
     assert springs is not None
-    anchor_point = _camera_anchor_point(plan)
+    # The target starts on its anchor (the plan put the rig on the protagonist's first pose).
+    target = np.array(plan.camera_target if plan.camera_target is not None else cam.target, dtype=np.float64)
     start = plan.camera_start or cam.position
     for name, pos, mass, drag, collide in (
         ("camera", start, springs.camera_mass, springs.camera_drag, True),
-        ("camera_target", cam.target, springs.target_mass, springs.target_drag, False),
+        ("camera_target", tuple(target), springs.target_mass, springs.target_drag, False),
     ):
         body = spec.worldbody.add_body()
         body.name = name
@@ -320,11 +321,11 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
     anchor = spec.worldbody.add_body()
     anchor.name = "camera_anchor"
     anchor.mocap = True
-    anchor.pos = list(anchor_point)
+    anchor.pos = list(target)
     s = anchor.add_site()
     s.name = "camera_anchor"
-    d_ct = float(np.linalg.norm(np.array(start) - np.array(cam.target)))
-    d_tp = float(np.linalg.norm(np.array(cam.target) - anchor_point))
+    d_ct = float(np.linalg.norm(np.array(start) - target))
+    d_tp = 0.0  # the target rests on its anchor
     for name, a, b, k, rest, slack in (
         ("ct_spring", "camera", "camera_target", springs.ct_spring_strength, d_ct, springs.ct_min_distance_m),
         ("tp_spring", "camera_target", "camera_anchor", springs.tp_spring_strength, d_tp, springs.tp_min_distance_m),
@@ -338,14 +339,6 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
         t.stiffness = stiffness
         # The paper's minimum-distance tolerance zone: no force within ±slack of the rest length.
         t.springlength = [max(0.0, rest - slack), rest + slack]
-
-
-def _camera_anchor_point(plan: ScenePlan) -> np.ndarray:
-    """Where the target spring holds on to the protagonist: pelvis, or head for close-ups."""
-    p = plan.people[0]
-    pos, _ = forward_kinematics(p.dims, p.targets.root_pos[:1], p.targets.root_quat[:1], p.targets.q[:1])
-    body = "head" if plan.recipe.camera.kind == "closeup" else "pelvis"
-    return pos[0, BONE_INDEX[body]]
 
 
 def build_model(plan: ScenePlan) -> SceneModel:

@@ -26,6 +26,9 @@ def test_clean_dataset_passes_with_reports(small_dataset, tmp_path):
     assert consistency["numbers"]["worst_flow_mean_epe_px"] < 0.1
     page = html.read_text(encoding="utf-8")
     assert "<svg" in page and "weather" in page and "integrity" in page
+    framing = ds["protagonist_framing"]["all"]
+    assert framing["frames"] == ds["frames"] and framing["in_view_frames"] > 0
+    assert "Protagonist framing" in page and "protagonist framing" in result.stdout
 
 
 def test_exit_codes_and_single_shard_input(small_dataset, tmp_path):

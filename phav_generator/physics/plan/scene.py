@@ -15,7 +15,7 @@ import numpy as np
 from phav_generator.motion.skeleton import forward_kinematics
 from phav_generator.physics.plan.background import background_people
 from phav_generator.physics.plan.builder import PlanBuilder
-from phav_generator.physics.plan.camera import clear_camera_start
+from phav_generator.physics.plan.camera import anchor_point, clear_camera_start
 from phav_generator.physics.plan.car_hit import car_hit
 from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
 from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
@@ -41,6 +41,8 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     _action_props(b, protagonist)
     people = loosen_tied_arms([protagonist, *supporting_people(b, protagonist)], b.ties)
     people = (*people, *background_people(b))
+    camera_target = _camera_target(recipe, people[0])
+    shift = None if camera_target is None else np.array(camera_target) - np.array(recipe.camera.target)
     return ScenePlan(
         recipe=recipe,
         fps=recipe.video.fps,
@@ -52,9 +54,20 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         ties=tuple(b.ties),
         manipulations=tuple(b.manipulations),
         stand_offset_z=b.stand_offset_z,
-        camera_start=clear_camera_start(recipe),
+        camera_start=clear_camera_start(recipe, shift=shift),
+        camera_target=camera_target,
         traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, substeps)),
     )
+
+
+def _camera_target(recipe: Recipe, protagonist: PersonPlan) -> tuple[float, float, float] | None:
+    """A spring camera's target start: its anchor on the protagonist's first animated pose
+    (the sampler's T_xyz assumes a standing body; a seated or raised one moves the rig)."""
+    if recipe.camera.springs is None:
+        return None
+    t = protagonist.targets
+    pos, _ = forward_kinematics(protagonist.dims, t.root_pos[:1], t.root_quat[:1], t.q[:1])
+    return tuple(float(v) for v in anchor_point(recipe.camera.kind, pos[0]))  # type: ignore[return-value]
 
 
 def _protagonist(b: PlanBuilder) -> PersonPlan:

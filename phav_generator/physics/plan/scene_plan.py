@@ -108,6 +108,9 @@ class ScenePlan:
     manipulations: tuple[Manipulation, ...]
     stand_offset_z: float = 0.0  # protagonist raised onto a landing (going down stairs)
     camera_start: tuple[float, float, float] | None = None  # recipe's C_xyz moved out of walls
+    #: A spring camera's target start: its anchor on the protagonist (the recipe's C_xyz and
+    #: T_xyz are moved together by the same offset), None for other cameras.
+    camera_target: tuple[float, float, float] | None = None
     traffic: tuple[Vehicle, ...] = ()  # background vehicles on the environment's lanes
 
     @property

@@ -144,3 +144,10 @@ def test_the_body_data_file_is_checked_against_its_hash(tmp_path, monkeypatch):
     (directory / "CURRENT").write_text(corrupt.name + "\n")
     with pytest.raises(PhavUserError, match="corrupt"):
         load_body_data(tmp_path)
+
+
+def test_the_body_data_hash_is_in_the_renderer_fingerprint():
+    from phav_generator.dataset.fingerprint import BODY_DATA_KEY, renderer_fingerprint
+
+    gl = {"GL_VENDOR": "v", "GL_RENDERER": "r", "GL_VERSION": "1"}
+    assert renderer_fingerprint(gl).versions[BODY_DATA_KEY] == load_body_data().sha256

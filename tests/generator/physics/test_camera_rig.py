@@ -1,0 +1,57 @@
+"""Spring cameras start on the protagonist's actual first pose: the kite's target on the
+pelvis, the close-up's on the upper chest, so that a seated brush_hair keeps its head and
+hands in the frame (docs/framing.md)."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import BONE_INDEX, capsule_points, dims_for, forward_kinematics
+from phav_generator.physics.plan.camera import anchor_point
+from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.physics.simulate import simulate_plan
+from phav_generator.render.camera import project
+from phav_generator.sampling import RecipeSampler
+from tests.generator.physics.support import recipe_for, theta_for
+from tests.helpers import preset_dict
+
+
+def _first_pose(plan):
+    p = plan.people[0]
+    pos, _ = forward_kinematics(p.dims, p.targets.root_pos[:1], p.targets.root_quat[:1], p.targets.q[:1])
+    return pos[0]
+
+
+def test_kite_rig_starts_on_the_pelvis() -> None:
+    recipe = recipe_for("sit", "simple", seconds=0.5)
+    assert recipe.camera.kind == "kite"
+    plan = plan_scene(recipe)
+    pelvis = _first_pose(plan)[BONE_INDEX["pelvis"]]
+    np.testing.assert_allclose(plan.camera_target, pelvis, atol=1e-12)
+    # Camera and target move together: the sampled placement relative to the target is kept.
+    offset = np.subtract(recipe.camera.position, recipe.camera.target)
+    np.testing.assert_allclose(np.subtract(plan.camera_start, plan.camera_target), offset, atol=1e-9)
+
+
+def test_closeup_frames_head_and_hands_of_seated_brush_hair() -> None:
+    regex = copy.deepcopy(preset_dict()["theta_ab"])
+    regex["regex"]["brush_hair"] = r"brushing long hair while seated"
+    theta = theta_for("brush_hair", "simple", seconds=1.5, theta_ab=regex)
+    recipe = RecipeSampler(theta).sample(0, 0, force={"camera": "closeup"})
+    assert recipe.camera.kind == "closeup" and recipe.motion.base_motion == "brush_long_hair_seated_01"
+    plan = plan_scene(recipe)
+    np.testing.assert_allclose(plan.camera_target, anchor_point("closeup", _first_pose(plan)), atol=1e-12)
+    tr = simulate_plan(plan, keep_state=False)
+    p = tr.people[0]
+    dims = dims_for(recipe.protagonist.human)
+    a, b = capsule_points(dims, p.body_pos, quat_to_matrix(p.body_quat))
+    parts = [BONE_INDEX[n] for n in ("head", "left_hand", "right_hand")]
+    points = (a[:, parts] + b[:, parts]) / 2  # (F, 3, 3) capsule centres
+    for f in range(recipe.n_frames):
+        uv = project(points[f], tr.cam_to_world[f], tr.intrinsics)
+        inside = np.isfinite(uv).all(axis=1) & (uv >= 0).all(axis=1)
+        inside &= (uv[:, 0] < recipe.video.width) & (uv[:, 1] < recipe.video.height)
+        assert inside.all(), f"frame {f}: head, left and right hand at {np.round(uv, 1)}"

@@ -1,0 +1,118 @@
+"""The protagonist's framing (phav_validators.framing): measured from people.parquet, equal to
+what the instance pixels show, and printed by `phav stats` and the phav-validate reports."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from phav_spec.encoding import instance_rgb
+from phav_spec.errors import PhavUserError
+from phav_spec.recipe_table import read_recipe_table
+from phav_validators.checks.reproduce import shard_video_frames
+from phav_validators.findings import CheckResult
+from phav_validators.framing import FRAMING_BINS, VideoFrame, measure_framing, read_framing
+from phav_validators.options import DatasetReport
+from phav_validators.report import report_html
+from tests.helpers import invoke_cli
+
+NAN = float("nan")
+
+
+def _people(rows: list[tuple[str, int, int, float, float]]) -> pa.Table:
+    """A people table of (video, person, pixels, y0, y1) rows (x0, x1 fixed)."""
+    return pa.table({
+        "video_id": [r[0] for r in rows],
+        "frame": list(range(len(rows))),
+        "person_id": [r[1] for r in rows],
+        "pixels": [r[2] for r in rows],
+        "bbox2d": [[10.0, r[3], 20.0, r[4]] for r in rows],
+    })  # fmt: skip
+
+
+def test_heights_in_view_and_groups_from_protagonist_rows() -> None:
+    rows = [
+        ("v1", 0, 50, 100.0, 200.0),  # 100 px of 256
+        ("v1", 1, 999, 0.0, 256.0),  # not the protagonist
+        ("v1", 0, 0, NAN, NAN),  # out of view
+        ("v1", 0, 10, 0.0, 256.0),  # the whole height
+        ("v2", 0, 40, 10.0, 74.0),  # 64 px of 128 (a smaller frame)
+        ("v3", 0, 40, 0.0, 10.0),  # no recipe: ignored
+    ]
+    videos = {"v1": VideoFrame("kite", 256), "v2": VideoFrame("closeup", 128)}
+    result = measure_framing(_people(rows), videos)
+    assert list(result.groups) == ["closeup", "kite", "all"]
+    kite, closeup, both = result.groups["kite"], result.groups["closeup"], result.groups["all"]
+    assert (kite.n_videos, kite.n_frames, kite.in_view_frames) == (1, 3, 2)
+    assert kite.in_view_share == pytest.approx(2 / 3)
+    assert sorted(kite.heights_px) == [100.0, 256.0]
+    assert closeup.median == 0.5 and closeup.median_px == 64.0
+    assert (both.n_videos, both.n_frames) == (2, 4)
+    assert both.median == pytest.approx(np.median([100 / 256, 1.0, 0.5]))
+    hist = both.histogram()
+    assert len(hist) == len(FRAMING_BINS) - 1 and hist.sum() == pytest.approx(both.in_view_share)
+    assert hist[3] == hist[5] == hist[9] == 0.25  # 39 %, 50 % and 100 % of the frame, of 4 frames
+    data = result.to_json()
+    assert data["kite"]["in_view_frames"] == 2 and data["all"]["height_quartiles_px"][1] == 100.0
+
+
+def test_never_in_view_and_missing_columns() -> None:
+    result = measure_framing(_people([("v1", 0, 0, NAN, NAN)]), {"v1": VideoFrame("kite", 256)})
+    g = result.groups["kite"]
+    assert g.in_view_share == 0.0 and math.isnan(g.median) and np.isnan(g.video_medians).all()
+    assert measure_framing(_people([]), {}).groups == {}
+    with pytest.raises(PhavUserError, match="bbox2d"):
+        measure_framing(_people([("v1", 0, 1, 0.0, 1.0)]).drop_columns(["bbox2d"]), {})
+
+
+def test_metadata_agrees_with_the_instance_pixels(small_dataset) -> None:
+    """The heights and in-view frames read from people.parquet are those of the protagonist's
+    colour in every decoded instance frame of the shards."""
+    recipes = list(read_recipe_table(small_dataset / "recipes.parquet").recipes())
+    result = read_framing(small_dataset / "people.parquet", recipes)
+    colour = np.array(instance_rgb(0), dtype=np.uint8)
+    heights, frames = [], 0
+    for r in recipes:
+        shard = next(
+            p for p in sorted(small_dataset.glob("*.tar")) if any(True for _ in shard_video_frames(p, r.video_id))
+        )
+        for _, arrays in shard_video_frames(shard, r.video_id):
+            frames += 1
+            rows = np.flatnonzero((arrays["instance"] == colour).all(axis=-1).any(axis=1))
+            if rows.size:
+                heights.append((rows[-1] + 1 - rows[0]) / r.video.height)
+    g = result.groups["all"]
+    assert g.n_frames == frames == sum(r.n_frames for r in recipes)
+    assert heights and sorted(g.heights) == pytest.approx(sorted(heights))
+    assert set(result.groups) == {r.camera.kind for r in recipes} | {"all"}
+
+
+def test_stats_prints_the_framing_of_a_dataset(small_dataset, tmp_path) -> None:
+    result = invoke_cli("stats", str(small_dataset))
+    assert result.returncode in (0, 1), result.stderr  # 1: 3 videos may fail a distribution test
+    assert "protagonist framing" in result.stdout and "protagonist height histogram" in result.stdout
+    assert "90%–100%" in result.stdout
+    sampled = tmp_path / "recipes.parquet"
+    sampled.write_bytes((small_dataset / "recipes.parquet").read_bytes())
+    alone = invoke_cli("stats", str(sampled))
+    assert "no people.parquet beside the table" in alone.stdout
+    broken = tmp_path / "people.parquet"
+    pq.write_table(pq.read_table(small_dataset / "people.parquet").drop_columns(["bbox2d"]), broken)
+    old = invoke_cli("stats", str(sampled))  # the recipes' statistics still print
+    assert old.returncode in (0, 1) and "goodness of fit" in old.stdout, old.stderr
+    assert "protagonist framing not measured" in old.stdout and "bbox2d" in old.stdout
+
+
+def test_html_and_json_reports_show_the_framing() -> None:
+    rows = [("v1", 0, 50, 100.0, 200.0), ("v1", 0, 0, NAN, NAN)]
+    framing = measure_framing(_people(rows), {"v1": VideoFrame("kite", 256)})
+    report = DatasetReport("data", [CheckResult.skipped("integrity", "test")], n_videos=1, n_frames=2,
+                           framing=framing)  # fmt: skip
+    page = report_html([report])
+    assert "Protagonist framing" in page and "protagonist height, kite" in page and "50.0%" in page
+    assert report.to_json()["protagonist_framing"]["kite"]["in_view_share"] == 0.5
+    assert DatasetReport("data", []).to_json()["protagonist_framing"] is None
