@@ -16,6 +16,7 @@ import numpy as np
 
 from phav_spec.distributions import Triangular
 from phav_spec.motions import MOTIONS
+from phav_spec.recipe import SAMPLED_PERSON
 from phav_spec.scene import (
     ACTION_SCENES,
     CAMERA_INFO,
@@ -76,6 +77,10 @@ def _positive(names: tuple[Any, ...], p: np.ndarray) -> dict[tuple[Any, ...], fl
     return {(n,): float(x) for n, x in zip(names, p, strict=True) if x > 0}
 
 
+#: The values of the human-model columns: the 20 models of H, then ``sampled``.
+PERSON_MODELS: tuple[str, ...] = (*HUMAN_MODELS.names, SAMPLED_PERSON)
+
+
 @dataclass(frozen=True)
 class ModelProbabilities:
     """The normalised categorical pieces of θ every expectation is built from."""
@@ -83,7 +88,7 @@ class ModelProbabilities:
     a: np.ndarray  # P(A)
     d: np.ndarray
     w: np.ndarray
-    h: np.ndarray
+    h: np.ndarray  # P(person model) over PERSON_MODELS: θ_H, or all mass on ``sampled``
     e_a: np.ndarray  # P(E | A), rows of unreachable actions are zero
     v_a: np.ndarray
     b_a: np.ndarray
@@ -93,8 +98,9 @@ class ModelProbabilities:
     def of(cls, theta: Theta) -> ModelProbabilities:
         """Normalise θ's weights and tables (unreachable rows stay zero)."""
         arr = theta.arrays
+        h = np.append(arr.h, 0.0) if theta.people is None else np.append(np.zeros(len(arr.h)), 1.0)
         return cls(
-            a=_normalise(arr.a), d=_normalise(arr.d), w=_normalise(arr.w), h=_normalise(arr.h),
+            a=_normalise(arr.a), d=_normalise(arr.d), w=_normalise(arr.w), h=_normalise(h),
             e_a=_normalise(arr.p_e_given_a()), v_a=_normalise(arr.p_v_given_a()),
             b_a=_normalise(arr.p_b_given_a()), c_ae=_normalise(arr.p_c_given_ae()),
         )  # fmt: skip
@@ -155,7 +161,7 @@ def _root_tables(p: ModelProbabilities) -> list[ExactTable]:
     return [
         _root("day_phase", DAY_PHASES.names, p.d),
         _root("weather", WEATHERS.names, p.w),
-        _root("human_model", HUMAN_MODELS.names, p.h),
+        _root("human_model", PERSON_MODELS, p.h),
         _root("action", ACTIONS.names, p.a),
     ]
 
@@ -186,18 +192,21 @@ def _camera_table(p: ModelProbabilities) -> ExactTable:
 
 
 def _supporting_human_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
-    """Supporting character: H without the protagonist's, in two-people actions (H ⟂ A)."""
+    """Supporting character: H without the protagonist's, in two-people actions (H ⟂ A);
+    with sampled people, a sampled person."""
     A = ACTIONS.names
     if not any(ACTIONS[A[i]].n_people > 1 for i in _reachable_actions(p)):
         return []
-    h_w = theta.arrays.h
+    h_w = np.append(theta.arrays.h, 0.0) if theta.people is None else p.h
     rows = {}
-    for k, name in enumerate(HUMAN_MODELS.names):
+    for k, name in enumerate(PERSON_MODELS):
         if p.h[k] > 0:
-            rows[(name,)] = _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
+            rows[(name,)] = (
+                h_w / h_w.sum() if name == SAMPLED_PERSON else _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
+            )
     return [ExactTable(
-        "supporting_human_model", ("human_model",), HUMAN_MODELS.names, rows,
-        _positive(HUMAN_MODELS.names, p.h), "two-people actions",
+        "supporting_human_model", ("human_model",), PERSON_MODELS, rows,
+        _positive(PERSON_MODELS, p.h), "two-people actions",
     )]  # fmt: skip
 
 
@@ -343,7 +352,7 @@ def _background_tables(theta: Theta, p: ModelProbabilities, e_marg: np.ndarray) 
     applies = "background actors"
     values = tuple(range(size))
     return [
-        ExactTable("background_human_models", (), HUMAN_MODELS.names, {(): p.h}, {(): 1.0}, applies, multi=True),
+        ExactTable("background_human_models", (), PERSON_MODELS, {(): p.h}, {(): 1.0}, applies, multi=True),
         ExactTable("background_start_waypoints", ("environment",), values, rows, parents, applies, multi=True),
         ExactTable("background_destination_waypoints", ("environment",), values, rows, parents, applies, multi=True),
     ]
