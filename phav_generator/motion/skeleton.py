@@ -231,17 +231,6 @@ def body_dims(
     )
 
 
-def dims_for(human: object) -> BodyDims:
-    """``body_dims`` from anything with HumanSpec's shape fields (a recipe's HumanSpec)."""
-    return body_dims(
-        human.height_m,  # type: ignore[attr-defined]
-        human.mass_kg,  # type: ignore[attr-defined]
-        human.shoulder_width_m,  # type: ignore[attr-defined]
-        human.hip_width_m,  # type: ignore[attr-defined]
-        human.limb_girth,  # type: ignore[attr-defined]
-    )
-
-
 _AXES = tuple(np.array(d.axis) for d in DOFS)
 #: The DOF indices of each body, in composition order (a prefix of flex, lateral/abd, twist).
 BODY_DOFS: tuple[tuple[int, ...], ...] = tuple(tuple(i for i, d in enumerate(DOFS) if d.body == b.name) for b in BONES)

@@ -12,8 +12,9 @@ from typing import Any
 
 import numpy as np
 
+from phav_generator.body.model import rest_body
 from phav_generator.motion.rotations import quat_to_matrix
-from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points, dims_for
+from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, BodyDims, capsule_points
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.camera import project, view
 from phav_generator.render.gl import Frame
@@ -71,7 +72,8 @@ class MetadataBuilder:
         self.trajectory = trajectory
         humans = humans_by_id(recipe)
         self._people = [
-            (track, humans[track.person_id], dims_for(humans[track.person_id])) for track in trajectory.people
+            (track, humans[track.person_id], rest_body(humans[track.person_id].phenotype).dims)
+            for track in trajectory.people
         ]
         self._radii = {track.person_id: _joint_radii(dims) for track, _, dims in self._people}
         self._limits = {track.person_id: _muscle_limits(track) for track, _, _ in self._people}

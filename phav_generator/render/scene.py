@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from phav_generator.body.model import rest_body
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
-from phav_generator.motion.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, dims_for
+from phav_generator.motion.skeleton import BONES, JOINT_BODIES, JOINT_NAMES, PARENTS
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.gl import EMISSIVE, GROUND, WATER, Drawable
 from phav_generator.render.lighting import Lighting
@@ -104,17 +105,17 @@ def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
 
 
 def _person(track: PersonTrack, human) -> list[Drawable]:
-    dims = dims_for(human)
+    dims = rest_body(human.phenotype).dims
     transforms = _pose(quat_to_matrix(track.body_quat), track.body_pos)  # (F, 15, 4, 4)
     instance = track.person_id + 1
     colours = {
         "skin": _rgb(human.skin_rgb),
-        "top": _rgb(human.top_rgb),
-        "bottom": _rgb(human.bottom_rgb),
-        "shoes": _rgb(human.shoes_rgb),
+        "top": _rgb(human.outfit.top.rgb),
+        "bottom": _rgb(human.outfit.bottom.rgb),
+        "shoes": _rgb(human.outfit.shoes_rgb),
     }
-    style = int(human.model.rsplit("_", 1)[-1]) % 3  # plain, striped or checked tops
-    darker = tuple(0.55 * c for c in colours["top"])
+    style = {"stripes": 1, "checks": 2}.get(human.outfit.top.fabric, 0)  # plain, striped or checked tops
+    darker = _rgb(human.outfit.top.pattern_rgb)
     out = []
     for k, bone in enumerate(BONES):
         cap = dims.capsules[k]
@@ -133,7 +134,7 @@ def _person(track: PersonTrack, human) -> list[Drawable]:
         pattern = style if part == "top" else 0
         out.append(Drawable(mesh, transforms[:, k], class_id(bone.name), instance, colours[part],
                             pattern=pattern, pattern_colour=darker))  # fmt: skip
-        if bone.name == "head" and human.hair_style != "bald":
+        if bone.name == "head" and human.hair.style != "bald":
             out += _hair(cap, human, transforms[:, k], instance)
     for name, body in zip(JOINT_NAMES, JOINT_BODIES, strict=True):
         radius = joint_radius(dims, body)
@@ -146,12 +147,12 @@ def _hair(head, human, transforms: np.ndarray, instance: int) -> list[Drawable]:
     """A hair cap over the back and top of the head (class head), and a tail or long hair."""
     r = head.radius
     centre = np.array(head.b) + np.array([-0.25 * r, 0.0, 0.1 * r])
-    colour = _rgb(human.hair_rgb)
+    colour = _rgb(human.hair.rgb)
     cls = class_id("head")
     out = [Drawable(capsule(tuple(centre), tuple(centre), 1.04 * r), transforms, cls, instance, colour)]
-    if human.hair_style in ("long", "ponytail"):
+    if human.hair.style in ("long", "tied"):
         top = centre + np.array([-0.75 * r, 0.0, 0.0])
-        length, width = (1.6 * r, 0.55 * r) if human.hair_style == "long" else (1.3 * r, 0.25 * r)
+        length, width = (1.6 * r, 0.55 * r) if human.hair.style == "long" else (1.3 * r, 0.25 * r)
         tail = capsule(tuple(top), tuple(top + np.array([-0.15 * r, 0.0, -length])), width)
         out.append(Drawable(tail, transforms, cls, instance, colour))
     return out

@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 
+from phav_generator.body.model import rest_body
 from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params
 from phav_generator.motion.library import get_motion
-from phav_generator.motion.skeleton import dims_for
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.scene_plan import PersonPlan
 from phav_spec.scene import MAX_STEP_M, walkable_heights
@@ -27,7 +27,7 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
     nominal = float(np.linalg.norm(ends.root_pos[1, :2] - ends.root_pos[0, :2])) / walk.length_s
     out = []
     for actor in r.background_actors:
-        dims = dims_for(actor.human)
+        dims = rest_body(actor.human.phenotype).dims
         start = np.array(actor.start)
         dest = np.array(actor.destination)
         delta = dest - start

@@ -7,9 +7,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from phav_generator.body.model import rest_body
 from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params, smooth_targets
 from phav_generator.motion.library import get_motion
-from phav_generator.motion.skeleton import BodyDims, dims_for, forward_kinematics
+from phav_generator.motion.skeleton import BodyDims, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.scene_plan import PersonPlan
 from phav_spec.recipe import HumanSpec
@@ -55,7 +56,7 @@ def plan_person(
 ) -> PersonPlan:
     """A simulated person doing ``motion`` from ``position``: targets at every physics step,
     full strength, pinned; the motion's parameters drawn from the physics seed per role and id."""
-    dims = dims_for(human)
+    dims = rest_body(human.phenotype).dims
     params = motion_params(speed, mirror, b.recipe.seeds.physics, f"{role}/{person_id}")
     targets = animate_person(motion, start_s, params, dims, position, heading, b.times)
     n = len(b.times)
