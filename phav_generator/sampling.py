@@ -7,6 +7,11 @@ recipe i and adding a draw to one part never moves the draws of another.
 Every draw is one ``rng.random()`` double turned into a value by phav_spec.distributions;
 a part's draw order is part of the dataset's definition (changing it bumps the recipe
 schema version).
+
+People are the paper's H (a human model per person from θ_H) or, with θ's ``people.mode:
+sampled``, drawn continuously: each person from its own stream ``person/<person id>``, a
+fixed number of draws per person, so a person's look depends only on (θ, seed, video,
+person id) and on whether the action allows a child.
 """
 
 from __future__ import annotations
@@ -24,7 +29,18 @@ from phav_spec.distributions import (
     triangular_inverse_cdf,
 )
 from phav_spec.motions import MOTIONS
-from phav_spec.recipe import Recipe, frames_for, video_id
+from phav_spec.people import BOTTOMS, FABRICS, HAIR_STYLES, TOPS, Phenotype
+from phav_spec.population import (
+    HAIR_COLOURS,
+    estimated_stature,
+    hair_rgb,
+    hsv_rgb,
+    p_grey,
+    phenotype_for,
+    reference_stature,
+    skin_rgb,
+)
+from phav_spec.recipe import SAMPLED_PERSON, Recipe, frames_for, video_id
 from phav_spec.scene import (
     ACTION_SCENES,
     CAMERA_INFO,
@@ -33,11 +49,10 @@ from phav_spec.scene import (
     SPRING_MIN_DISTANCES_M,
     WEATHER_ELEMENTS,
     EnvironmentScene,
-    HumanModel,
     Vec3,
 )
 from phav_spec.seeding import PartStreams, runtime_seeds
-from phav_spec.theta import Theta
+from phav_spec.theta import SEXES, PeopleTheta, Theta
 from phav_spec.vocab import (
     ACTIONS,
     CAMERAS,
@@ -48,7 +63,8 @@ from phav_spec.vocab import (
     WEATHERS,
 )
 
-#: The named parts of the model, each with its own random stream.
+#: The named parts of the model, each with its own random stream (and, with sampled
+#: people, one stream per person: ``person_stream(person_id)``).
 PARTS: tuple[str, ...] = (
     "world", "human", "action", "environment", "background", "variation", "camera", "supporting",
 )  # fmt: skip
@@ -65,7 +81,105 @@ def _rotate(dx: float, dy: float, heading_deg: float) -> tuple[float, float]:
 
 
 def _human(name: str) -> dict:
-    return {"model": name, **HUMAN_MODELS[name].__dict__}
+    return HUMAN_MODELS[name].human(name)
+
+
+def person_stream(person_id: int) -> str:
+    """The name of a sampled person's random stream."""
+    return f"person/{person_id}"
+
+
+def _stature(human: Mapping[str, Any]) -> float:
+    """Standing height (m) of a recipe person (``HumanSpec`` data), from its phenotype."""
+    return estimated_stature(Phenotype(**human["phenotype"]))
+
+
+class PeopleSampler:
+    """Draws people from θ's ``people`` section (categoricals compiled once).
+
+    One person is a fixed sequence of uniform doubles from its stream: sex, child, age,
+    stature z, gender offset, weight, muscle, proportions, skin tone and undertone, hair
+    style, grey, hair colour, shade, then top (kind, fabric, two HSV colours, pattern
+    scale), bottom (the same) and shoes (HSV).
+    """
+
+    def __init__(self, spec: PeopleTheta):
+        self.spec = spec
+        self._styles = {sex: Categorical(list(spec.hair.styles[sex].values())) for sex in _supported(spec)}
+        self._bottoms = {sex: Categorical(list(spec.outfit.bottoms[sex].values())) for sex in _supported(spec)}
+        self._colours = Categorical(list(spec.hair.colours.values()))
+        self._tops = Categorical(list(spec.outfit.tops.values()))
+        self._top_fabrics = Categorical(list(spec.outfit.top_fabrics.values()))
+        self._bottom_fabrics = Categorical(list(spec.outfit.bottom_fabrics.values()))
+
+    def _hsv(self, rng: np.random.Generator, saturation: Any, value: Any) -> dict[str, float]:
+        hue = math.fmod(360.0 * rng.random(), 360.0)
+        return {"hue_deg": hue, "saturation": saturation.sample(rng=rng), "value": value.sample(rng=rng)}
+
+    def _garment(
+        self, rng: np.random.Generator, kinds: tuple[str, ...], kind: Categorical, fabric: Categorical
+    ) -> tuple[dict, list[dict]]:
+        """A garment's kind, fabric, ground and pattern colours and pattern scale."""
+        o = self.spec.outfit
+        k, f = kinds[kind.sample(rng=rng)], FABRICS[fabric.sample(rng=rng)]
+        ground, pattern = self._hsv(rng, o.saturation, o.value), self._hsv(rng, o.saturation, o.value)
+        garment = {
+            "kind": k, "fabric": f, "rgb": hsv_rgb(**ground), "pattern_rgb": hsv_rgb(**pattern),
+            "scale": o.pattern_scale.sample(rng=rng),
+        }  # fmt: skip
+        return garment, [ground, pattern]
+
+    def sample(self, rng: np.random.Generator, *, child_allowed: bool) -> dict[str, Any]:
+        """One person as ``HumanSpec`` data (model ``sampled``, with its draws)."""
+        spec = self.spec
+        female = rng.random() < spec.p_female
+        child = rng.random() < spec.p_child and child_allowed
+        age = (spec.child_age_years if child else spec.adult_age_years).sample(rng=rng)
+        z = spec.stature_z.sample(rng=rng)
+        offset = spec.gender_offset.sample(rng=rng)
+        weight, muscle, proportions = (spec.weight.sample(rng=rng), spec.muscle.sample(rng=rng),
+                                       spec.proportions.sample(rng=rng))  # fmt: skip
+        tone, undertone = spec.skin_tone.sample(rng=rng), spec.skin_undertone.sample(rng=rng)
+        sex = "female" if female else "male"
+        style = HAIR_STYLES[self._styles[sex].sample(rng=rng)]
+        g = spec.hair.grey
+        grey = rng.random() < p_grey(age, start_years=g.start_years, full_years=g.full_years, p_full=g.p_full)
+        colour = HAIR_COLOURS[self._colours.sample(rng=rng)]
+        colour = "grey" if grey else colour
+        shade = rng.random()
+        top, top_colours = self._garment(rng, TOPS, self._tops, self._top_fabrics)
+        bottom, bottom_colours = self._garment(rng, BOTTOMS, self._bottoms[sex], self._bottom_fabrics)
+        shoes = self._hsv(rng, spec.outfit.shoes_saturation, spec.outfit.shoes_value)
+        median, sd = reference_stature(female, age)
+        stature = median + z * sd
+        phenotype = phenotype_for(female=female, age=age, stature_m=stature, gender_offset=offset, muscle=muscle,
+                                  weight=weight, proportions=proportions)  # fmt: skip
+        return {
+            "model": SAMPLED_PERSON,
+            "phenotype": phenotype.model_dump(),
+            "skin_rgb": skin_rgb(tone, undertone),
+            "hair": {"style": style, "rgb": hair_rgb(colour, shade)},
+            "outfit": {"top": top, "bottom": bottom, "shoes_rgb": hsv_rgb(**shoes)},
+            "sampled": {
+                "female": female,
+                "adult_age_years": None if child else age,
+                "child_age_years": age if child else None,
+                "stature_z": z,
+                "stature_m": stature,
+                "gender_offset": offset,
+                "skin_tone": tone,
+                "skin_undertone": undertone,
+                "hair_colour": colour,
+                "hair_shade": shade,
+                "garment_colours": [*top_colours, *bottom_colours],
+                "shoes_colour": shoes,
+            },
+        }
+
+
+def _supported(spec: PeopleTheta) -> list[str]:
+    """The sexes θ draws (P > 0)."""
+    return [sex for sex in SEXES.names if spec.p_sex()[sex] > 0]
 
 
 class RecipeSampler:
@@ -77,11 +191,13 @@ class RecipeSampler:
         self._a = Categorical(arr.a)
         self._w = Categorical(arr.w)
         self._d = Categorical(arr.d)
-        self._h = Categorical(arr.h)
-        self._h_without = [
-            Categorical(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None
-            for i in range(len(arr.h))
-        ]
+        self._people = PeopleSampler(theta.people) if theta.people is not None else None
+        if self._people is None:
+            self._h = Categorical(arr.h)
+            self._h_without = [
+                Categorical(np.where(np.arange(len(arr.h)) == i, 0.0, arr.h)) if np.count_nonzero(arr.h) > 1 else None
+                for i in range(len(arr.h))
+            ]
         pe, pv, pb, pc = (
             arr.p_e_given_a(),
             arr.p_v_given_a(),
@@ -126,17 +242,18 @@ class RecipeSampler:
         theta = self.theta
 
         world = self._world(force)
-        h = self._h.sample(rng=self._streams["human"])  # P2(H): the protagonist's human model
-        human_name = HUMAN_MODELS.names[h]
+        # P2(H): the protagonist's human model, or a person drawn once the action is known.
+        h = self._h.sample(rng=self._streams["human"]) if self._people is None else -1
         a, b, duration, motion = self._motion()
         action = ACTIONS.names[a]
+        protagonist = self._person(0, action) if h < 0 else _human(HUMAN_MODELS.names[h])
         e, wp, position, heading = self._place(a)
         env_name = ENVIRONMENTS.names[e]
         env = ENVIRONMENT_SCENES[env_name]
 
         background = self._background(env, first_id=ACTIONS[action].n_people)
         variation = self._variation(a, b, duration)
-        camera = self._camera(a, e, position, heading, HUMAN_MODELS[human_name], force.get("camera"))
+        camera = self._camera(a, e, position, heading, _stature(protagonist), force.get("camera"))
         supporting = self._supporting(action, h, position, heading)
 
         return Recipe.model_validate(
@@ -153,7 +270,7 @@ class RecipeSampler:
                 "motion": motion,
                 "variation": variation,
                 "protagonist": {
-                    "human": _human(human_name),
+                    "human": protagonist,
                     "position": position,
                     "heading_deg": heading,
                 },
@@ -171,6 +288,12 @@ class RecipeSampler:
                 "seeds": runtime_seeds(self._streams.key),
             }
         )
+
+    def _person(self, person_id: int, action: str | None) -> dict[str, Any]:
+        """A sampled person from its own stream; a child only where ``action`` allows one
+        (``None``: a background pedestrian, who always may be)."""
+        allowed = action is None or ACTION_SCENES[action].children
+        return self._people.sample(self._streams[person_stream(person_id)], child_allowed=allowed)  # type: ignore[union-attr]
 
     def _world(self, force: Mapping[str, Any]) -> dict[str, Any]:
         """P1(D, W): day phase, clock time given the phase, weather and its elements."""
@@ -251,13 +374,17 @@ class RecipeSampler:
         n = sample_integer(spec.count.min, spec.count.max, rng=rng)
         actors = []
         for k in range(n):
-            model = HUMAN_MODELS.names[self._h.sample(rng=rng)]
+            human = (
+                self._person(first_id + k, None)
+                if self._people
+                else _human(HUMAN_MODELS.names[self._h.sample(rng=rng)])
+            )
             start = sample_integer(0, len(graph) - 1, rng=rng)
             dest = sample_integer(0, len(graph) - 2, rng=rng)
             dest += dest >= start  # any waypoint but the start
             actors.append({
                 "person_id": first_id + k,
-                "human": _human(model),
+                "human": human,
                 "start_waypoint": start,
                 "destination_waypoint": dest,
                 "start": graph[start],
@@ -315,7 +442,7 @@ class RecipeSampler:
         e: int,
         position: Vec3,
         heading: float,
-        human: HumanModel,
+        stature_m: float,
         forced_kind: str | None = None,
     ) -> dict:
         """C | A, E, its placement C_xyz / T_xyz around P_xyz and its parameters Θ_c."""
@@ -331,7 +458,7 @@ class RecipeSampler:
         x, y, z = position
         # The target starts on the standing protagonist's anchor (physics.plan.camera): the
         # pelvis, or for the close-up two thirds of the way from the chest's origin to the neck.
-        target_height = 0.77 * human.height_m if kind == "closeup" else 0.53 * human.height_m
+        target_height = 0.77 * stature_m if kind == "closeup" else 0.53 * stature_m
         springs = impulse = None
         if CAMERA_INFO[kind].tracking == "springs":
             s = spec.springs
@@ -363,12 +490,13 @@ class RecipeSampler:
         }
 
     def _supporting(self, action: str, h: int, position: Vec3, heading: float) -> list[dict]:
-        """Supporting characters: a human model from H without the protagonist's, placed by S_xyz."""
+        """Supporting characters: a human model from H without the protagonist's (or a person
+        drawn from θ's people), placed by S_xyz."""
         placement = ACTION_SCENES[action].supporting_placement
         if placement is None:
             return []
         rng = self._streams["supporting"]
-        model = HUMAN_MODELS.names[self._h_without[h].sample(rng=rng)]
+        human = _human(HUMAN_MODELS.names[self._h_without[h].sample(rng=rng)]) if h >= 0 else self._person(1, action)
         spec = self.theta.supporting_characters
         if placement == "side_by_side":
             distance = spec.side_distance_m.sample(rng=rng)
@@ -383,7 +511,7 @@ class RecipeSampler:
         x, y, z = position
         return [{
             "person_id": 1,
-            "human": _human(model),
+            "human": human,
             "placement": placement,
             "distance_m": distance,
             "position": (x + rx, y + ry, z),

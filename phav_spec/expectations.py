@@ -16,6 +16,8 @@ import numpy as np
 
 from phav_spec.distributions import Triangular
 from phav_spec.motions import MOTIONS
+from phav_spec.population import HAIR_COLOURS
+from phav_spec.recipe import SAMPLED_PERSON
 from phav_spec.scene import (
     ACTION_SCENES,
     CAMERA_INFO,
@@ -24,7 +26,14 @@ from phav_spec.scene import (
     SPRING_MIN_DISTANCES_M,
     WEATHER_ELEMENTS,
 )
-from phav_spec.theta import Theta
+from phav_spec.theta import (
+    BOTTOM_KINDS,
+    FABRIC_KINDS,
+    HAIR_STYLE_KINDS,
+    SEXES,
+    TOP_KINDS,
+    Theta,
+)
 from phav_spec.vocab import (
     ACTIONS,
     CAMERAS,
@@ -76,6 +85,10 @@ def _positive(names: tuple[Any, ...], p: np.ndarray) -> dict[tuple[Any, ...], fl
     return {(n,): float(x) for n, x in zip(names, p, strict=True) if x > 0}
 
 
+#: The values of the human-model columns: the 20 models of H, then ``sampled``.
+PERSON_MODELS: tuple[str, ...] = (*HUMAN_MODELS.names, SAMPLED_PERSON)
+
+
 @dataclass(frozen=True)
 class ModelProbabilities:
     """The normalised categorical pieces of θ every expectation is built from."""
@@ -83,7 +96,7 @@ class ModelProbabilities:
     a: np.ndarray  # P(A)
     d: np.ndarray
     w: np.ndarray
-    h: np.ndarray
+    h: np.ndarray  # P(person model) over PERSON_MODELS: θ_H, or all mass on ``sampled``
     e_a: np.ndarray  # P(E | A), rows of unreachable actions are zero
     v_a: np.ndarray
     b_a: np.ndarray
@@ -93,8 +106,9 @@ class ModelProbabilities:
     def of(cls, theta: Theta) -> ModelProbabilities:
         """Normalise θ's weights and tables (unreachable rows stay zero)."""
         arr = theta.arrays
+        h = np.append(arr.h, 0.0) if theta.people is None else np.append(np.zeros(len(arr.h)), 1.0)
         return cls(
-            a=_normalise(arr.a), d=_normalise(arr.d), w=_normalise(arr.w), h=_normalise(arr.h),
+            a=_normalise(arr.a), d=_normalise(arr.d), w=_normalise(arr.w), h=_normalise(h),
             e_a=_normalise(arr.p_e_given_a()), v_a=_normalise(arr.p_v_given_a()),
             b_a=_normalise(arr.p_b_given_a()), c_ae=_normalise(arr.p_c_given_ae()),
         )  # fmt: skip
@@ -121,7 +135,8 @@ def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
     In order: the roots (D, W, H, A), what the action conditions (E, V, B), the camera given
     both, the weather elements and spring dead zones, the supporting character, the objects
     variation's prop and action blending's motion, the mirror flag, the varied muscles, then
-    what the environment conditions (background actors, the protagonist's waypoint).
+    what the environment conditions (background actors, the protagonist's waypoint), and
+    with sampled people the protagonist's sex, child, hair and clothes.
     """
     p = ModelProbabilities.of(theta)
     tables = [
@@ -136,6 +151,7 @@ def exact_expectations(theta: Theta) -> dict[str, ExactTable]:
         _mirror_table(theta),
         *_muscle_count_table(theta, p),
         *_environment_tables(theta, p),
+        *_people_tables(theta, p),
     ]
     return {t.variable: t for t in tables}
 
@@ -155,7 +171,7 @@ def _root_tables(p: ModelProbabilities) -> list[ExactTable]:
     return [
         _root("day_phase", DAY_PHASES.names, p.d),
         _root("weather", WEATHERS.names, p.w),
-        _root("human_model", HUMAN_MODELS.names, p.h),
+        _root("human_model", PERSON_MODELS, p.h),
         _root("action", ACTIONS.names, p.a),
     ]
 
@@ -186,18 +202,21 @@ def _camera_table(p: ModelProbabilities) -> ExactTable:
 
 
 def _supporting_human_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
-    """Supporting character: H without the protagonist's, in two-people actions (H ⟂ A)."""
+    """Supporting character: H without the protagonist's, in two-people actions (H ⟂ A);
+    with sampled people, a sampled person."""
     A = ACTIONS.names
     if not any(ACTIONS[A[i]].n_people > 1 for i in _reachable_actions(p)):
         return []
-    h_w = theta.arrays.h
+    h_w = np.append(theta.arrays.h, 0.0) if theta.people is None else p.h
     rows = {}
-    for k, name in enumerate(HUMAN_MODELS.names):
+    for k, name in enumerate(PERSON_MODELS):
         if p.h[k] > 0:
-            rows[(name,)] = _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
+            rows[(name,)] = (
+                h_w / h_w.sum() if name == SAMPLED_PERSON else _normalise(np.where(np.arange(len(h_w)) == k, 0.0, h_w))
+            )
     return [ExactTable(
-        "supporting_human_model", ("human_model",), HUMAN_MODELS.names, rows,
-        _positive(HUMAN_MODELS.names, p.h), "two-people actions",
+        "supporting_human_model", ("human_model",), PERSON_MODELS, rows,
+        _positive(PERSON_MODELS, p.h), "two-people actions",
     )]  # fmt: skip
 
 
@@ -343,10 +362,70 @@ def _background_tables(theta: Theta, p: ModelProbabilities, e_marg: np.ndarray) 
     applies = "background actors"
     values = tuple(range(size))
     return [
-        ExactTable("background_human_models", (), HUMAN_MODELS.names, {(): p.h}, {(): 1.0}, applies, multi=True),
+        ExactTable("background_human_models", (), PERSON_MODELS, {(): p.h}, {(): 1.0}, applies, multi=True),
         ExactTable("background_start_waypoints", ("environment",), values, rows, parents, applies, multi=True),
         ExactTable("background_destination_waypoints", ("environment",), values, rows, parents, applies, multi=True),
     ]
+
+
+def _people_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
+    """The protagonist drawn from θ's people section: sex; child given the action (never
+    where the action does not allow one); hair style and bottom given the sex; the named hair
+    colour (grey with age, so a mixture over the age distribution); top and fabrics."""
+    people = theta.people
+    if people is None:
+        return []
+    applies = "sampled protagonists"
+    p_sex = np.array([people.p_sex()[s] for s in SEXES.names])
+    sexes = _positive(SEXES.names, p_sex)
+    A = ACTIONS.names
+    child_rows = {}
+    for i in _reachable_actions(p):
+        c = people.p_child if ACTION_SCENES[A[i]].children else 0.0
+        child_rows[(A[i],)] = np.array([1.0 - c, c])
+
+    def given_sex(weights: dict[str, dict[str, float]]) -> dict[tuple[Any, ...], np.ndarray]:
+        return {(s,): _normalise(np.array(list(weights[s].values()))) for (s,) in sexes}
+
+    def root(variable: str, values: tuple[Any, ...], weights: dict[str, float]) -> ExactTable:
+        return _root(variable, values, _normalise(np.array(list(weights.values()))), applies)
+
+    o = people.outfit
+    return [
+        _root("sex", SEXES.names, p_sex, applies),
+        ExactTable("child", ("action",), (False, True), child_rows, _positive(A, p.a), applies),
+        ExactTable("hair_style", ("sex",), HAIR_STYLE_KINDS.names, given_sex(people.hair.styles), sexes, applies),
+        _root("hair_colour", (*HAIR_COLOURS, "grey"), _hair_colour(theta, p), applies),
+        root("top", TOP_KINDS.names, o.tops),
+        root("top_fabric", FABRIC_KINDS.names, o.top_fabrics),
+        ExactTable("bottom", ("sex",), BOTTOM_KINDS.names, given_sex(o.bottoms), sexes, applies),
+        root("bottom_fabric", FABRIC_KINDS.names, o.bottom_fabrics),
+    ]
+
+
+def _hair_colour(theta: Theta, p: ModelProbabilities) -> np.ndarray:
+    """P(hair colour) of sampled protagonists: grey with probability E[P(grey | age)] over
+    the age mixture (children where actions allow them), else θ's colours."""
+    people = theta.people
+    g = people.hair.grey
+    p_child = sum(
+        float(p.a[i]) * people.p_child for i in _reachable_actions(p) if ACTION_SCENES[ACTIONS.names[i]].children
+    )
+    grey = (1.0 - p_child) * _mean_grey(people.adult_age_years, g) + p_child * _mean_grey(people.child_age_years, g)
+    colours = _normalise(np.array(list(people.hair.colours.values())))
+    return np.append((1.0 - grey) * colours, grey)
+
+
+def _mean_grey(age: Any, grey: Any) -> float:
+    """E[P(grey | age)] for an age distribution: p_full · E[clip((age − start) / (full − start), 0, 1)],
+    i.e. p_full / (full − start) · ∫ P(age > x) dx over [start, full] (a point step if equal)."""
+    start, full = grey.start_years, grey.full_years
+    if full <= start:
+        return grey.p_full * float(1.0 - age.cdf(start))
+    x = np.linspace(start, full, 20001)
+    survival = 1.0 - np.asarray(age.cdf(x), dtype=float)
+    integral = float(np.sum((survival[1:] + survival[:-1]) * np.diff(x)) / 2.0)
+    return grey.p_full * integral / (full - start)
 
 
 def _weather_tables(theta: Theta, p: ModelProbabilities) -> list[ExactTable]:
@@ -453,7 +532,8 @@ class ContinuousParameter:
     ``group`` the recipe path that selects which of θ's distributions applies (the camera
     kind, the weather; None = one distribution), ``when`` an optional boolean path that must
     be true (an intensity is drawn only while its element is on), and ``distribution``
-    returns θ's distribution for a group.
+    returns θ's distribution for a group, or None where θ draws nothing there (people's
+    parameters under a θ whose people are the 20 models of H).
     """
 
     name: str
@@ -482,6 +562,7 @@ def _continuous_parameters() -> tuple[ContinuousParameter, ...]:
         *_camera_parameters(),
         *_weather_parameters(),
         *_variation_parameters(),
+        *_sampled_people_parameters(),
     )
 
 
@@ -572,6 +653,52 @@ def _variation_parameters() -> list[ContinuousParameter]:
             ("muscle_weakening", "variation.strengths[]", "strength"),
             ("action_blending", "variation.weight", "weight"),
         )
+    ]
+
+
+#: Where each role's people sit in a recipe.
+PERSON_PATHS: dict[str, str] = {
+    "protagonist": "protagonist.human",
+    "supporting": "supporting_characters[].human",
+    "background": "background_actors[].human",
+}
+
+
+def _people_dist(*fields: str) -> Callable[[Theta, str], Any]:
+    def dist(theta: Theta, group: str) -> Any:
+        node: Any = theta.people
+        for field in fields:
+            if node is None:
+                return None
+            node = getattr(node, field)
+        return node
+
+    return dist
+
+
+def _sampled_people_parameters() -> list[ContinuousParameter]:
+    """θ's people distributions, per role: the draws kept in each person's ``sampled``
+    (ages, stature z, gender offset, skin, garment and shoe colours), the phenotype's weight,
+    muscle and proportions, and the garments' pattern scale."""
+    leaves = [
+        (leaf, f"sampled.{leaf}", ("people", leaf))
+        for leaf in ("adult_age_years", "child_age_years", "stature_z", "gender_offset", "skin_tone", "skin_undertone")
+    ]
+    leaves += [(leaf, f"phenotype.{leaf}", ("people", leaf)) for leaf in ("weight", "muscle", "proportions")]
+    leaves += [
+        ("outfit.saturation", "sampled.garment_colours[].saturation", ("people", "outfit", "saturation")),
+        ("outfit.value", "sampled.garment_colours[].value", ("people", "outfit", "value")),
+        ("outfit.shoes_saturation", "sampled.shoes_colour.saturation", ("people", "outfit", "shoes_saturation")),
+        ("outfit.shoes_value", "sampled.shoes_colour.value", ("people", "outfit", "shoes_value")),
+        ("outfit.top_scale", "outfit.top.scale", ("people", "outfit", "pattern_scale")),
+        ("outfit.bottom_scale", "outfit.bottom.scale", ("people", "outfit", "pattern_scale")),
+    ]
+    return [
+        ContinuousParameter(
+            f"{role}.{name}", ".".join(theta_path), f"{base}.{value}", None, _people_dist(*theta_path[1:])
+        )
+        for role, base in PERSON_PATHS.items()
+        for name, value, theta_path in leaves
     ]
 
 

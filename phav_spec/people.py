@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 _FROZEN = ConfigDict(extra="forbid", frozen=True)
 Unit = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
@@ -76,20 +76,75 @@ class Outfit(BaseModel):
 
 
 class Hair(BaseModel):
+    """A hair style (drawn as a mesh fitted to the scalp; ``bald`` draws none) and its colour."""
+
     model_config = _FROZEN
     style: HairStyle
     rgb: RGB
+
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+HairColour = Literal["black", "brown", "blond", "red", "grey"]
+
+
+class HSV(BaseModel):
+    """A colour as drawn from θ: hue in degrees, saturation and value in [0, 1]."""
+
+    model_config = _FROZEN
+    hue_deg: Annotated[float, Field(ge=0.0, lt=360.0, allow_inf_nan=False)]
+    saturation: Unit
+    value: Unit
+
+
+class PersonDraws(BaseModel):
+    """What θ's ``people`` section drew for one sampled person, in θ's own units.
+
+    The body and look (phenotype, skin, hair, outfit) are made from these; the recipe keeps
+    them so that the validators can test every draw against θ and a reader can see who the
+    person is (a 7-year-old girl, a 1.84 m man). Exactly one of the two ages is set: a
+    child's age comes from θ's ``child_age_years``, an adult's from ``adult_age_years``.
+    """
+
+    model_config = _FROZEN
+    female: bool
+    adult_age_years: Finite | None
+    child_age_years: Finite | None
+    stature_z: Finite
+    stature_m: Annotated[float, Field(gt=0.0, allow_inf_nan=False)]  # the target the height was solved for
+    gender_offset: Unit
+    skin_tone: Unit
+    skin_undertone: Annotated[float, Field(ge=-1.0, le=1.0, allow_inf_nan=False)]
+    hair_colour: HairColour
+    hair_shade: Unit
+    garment_colours: tuple[HSV, HSV, HSV, HSV]  # top, top pattern, bottom, bottom pattern
+    shoes_colour: HSV
+
+    @model_validator(mode="after")
+    def _one_age(self) -> PersonDraws:
+        if (self.adult_age_years is None) == (self.child_age_years is None):
+            raise ValueError("exactly one of adult_age_years and child_age_years is set")
+        return self
+
+    @property
+    def child(self) -> bool:
+        return self.child_age_years is not None
+
+    @property
+    def age_years(self) -> float:
+        return self.child_age_years if self.child_age_years is not None else self.adult_age_years  # type: ignore[return-value]
 
 
 __all__ = [
     "BOTTOMS",
     "FABRICS",
     "HAIR_STYLES",
+    "HSV",
     "TOPS",
     "Bottom",
     "Garment",
     "Hair",
     "Outfit",
+    "PersonDraws",
     "Phenotype",
     "Top",
 ]

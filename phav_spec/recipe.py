@@ -1,9 +1,11 @@
 """The recipe: everything one video depends on, frozen before any physics or pixels.
 
-Schema version 1. A recipe names every variable of the paper's model and every parameter a
-later stage needs, including integer seeds for anything decided at run time, so a renderer
-given the recipe alone reproduces the video. Older schema versions are upgraded by the
-migration registry; a newer one is refused with a clear message.
+Schema version 2: people are anny phenotypes with skin, hair and outfit (version 1 gave
+them metric shapes and flat colours; its recipes upgrade to version 2). A recipe names
+every variable of the paper's model and every parameter a later stage needs, including
+integer seeds for anything decided at run time, so a renderer given the recipe alone
+reproduces the video. Older schema versions are upgraded by the migration registry; a
+newer one is refused with a clear message.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validat
 from phav_spec.errors import PhavUserError, validate_user_data
 from phav_spec.files import parse_json_object, read_text
 from phav_spec.motions import MOTIONS
+from phav_spec.people import Hair, Outfit, PersonDraws, Phenotype
 from phav_spec.scene import HUMAN_MODELS
 from phav_spec.theta import RenderSettings
 from phav_spec.vocab import (
@@ -30,7 +33,7 @@ from phav_spec.vocab import (
     Registry,
 )
 
-RECIPE_SCHEMA_VERSION = 1
+RECIPE_SCHEMA_VERSION = 2
 _FROZEN = ConfigDict(extra="forbid", frozen=True)
 Vec3 = tuple[float, float, float]
 RGB = tuple[
@@ -51,7 +54,9 @@ ActionName = _one_of(ACTIONS)
 CameraName = _one_of(CAMERAS)
 DayPhaseName = _one_of(DAY_PHASES)
 EnvironmentName = _one_of(ENVIRONMENTS)
-HumanModelName = _one_of(HUMAN_MODELS)
+#: A person is one of the 20 fixed models of H, or drawn from θ's ``people`` section.
+SAMPLED_PERSON = "sampled"
+HumanModelName = Literal[(*HUMAN_MODELS.names, SAMPLED_PERSON)]
 MotionName = _one_of(MOTIONS)
 MuscleName = _one_of(MUSCLES)
 ObjectName = _one_of(OBJECTS)
@@ -68,21 +73,27 @@ Muscles = Annotated[tuple[MuscleName, ...], Field(min_length=1), AfterValidator(
 
 
 class HumanSpec(BaseModel):
-    """A human model with its shape and appearance copied in, so the recipe is complete."""
+    """A person's body and look, realised: everything the body model and the renderer need.
+
+    ``model`` names the fixed human model of H the person is (its phenotype and appearance
+    copied in, so the recipe is complete), or is ``"sampled"`` for a person θ drew
+    continuously; then ``sampled`` holds the draws in θ's units. The metric shape (stature,
+    limb lengths, masses) comes from the phenotype through the body model.
+    """
 
     model_config = _FROZEN
     model: HumanModelName
-    height_m: Finite
-    mass_kg: Finite
-    shoulder_width_m: Finite
-    hip_width_m: Finite
-    limb_girth: Finite
+    phenotype: Phenotype
     skin_rgb: RGB
-    hair_rgb: RGB
-    hair_style: str
-    top_rgb: RGB
-    bottom_rgb: RGB
-    shoes_rgb: RGB
+    hair: Hair
+    outfit: Outfit
+    sampled: PersonDraws | None = None
+
+    @model_validator(mode="after")
+    def _draws_iff_sampled(self) -> HumanSpec:
+        if (self.model == SAMPLED_PERSON) != (self.sampled is not None):
+            raise ValueError(f"sampled: set exactly when model is {SAMPLED_PERSON!r}")
+        return self
 
 
 class Protagonist(BaseModel):
@@ -272,10 +283,10 @@ class VideoSpec(BaseModel):
 
 
 class Recipe(BaseModel):
-    """A procedural recipe for one video (schema version 1)."""
+    """A procedural recipe for one video (schema version 2)."""
 
     model_config = _FROZEN
-    schema_version: Literal[1] = RECIPE_SCHEMA_VERSION
+    schema_version: Literal[2] = RECIPE_SCHEMA_VERSION
     video_id: str = Field(pattern=r"^v\d{6,}$")
     index: int = Field(ge=0)
     dataset_seed: int = Field(ge=0)
@@ -322,8 +333,32 @@ def video_id(index: int) -> str:
     return f"v{index:06d}"
 
 
+def _human_v1_to_v2(human: Any) -> Any:
+    """A version-1 person (a model name with metric shape and flat colours) as the same
+    model in version 2; anything malformed is left for validation to report."""
+    if isinstance(human, Mapping) and human.get("model") in HUMAN_MODELS:
+        return HUMAN_MODELS[human["model"]].human(human["model"])
+    return human
+
+
+def _people_v1_to_v2(data: dict[str, Any]) -> dict[str, Any]:
+    """Schema 1 → 2: every person becomes the version-2 fixed model of the same name (its
+    phenotype, skin, hair and outfit); everything else is kept as it was."""
+    out = dict(data)
+    if isinstance(out.get("protagonist"), Mapping):
+        out["protagonist"] = {**out["protagonist"], "human": _human_v1_to_v2(out["protagonist"].get("human"))}
+    for role in ("supporting_characters", "background_actors"):
+        people = out.get(role)
+        if isinstance(people, list | tuple):
+            out[role] = [
+                {**p, "human": _human_v1_to_v2(p.get("human"))} if isinstance(p, Mapping) else p for p in people
+            ]
+    out["schema_version"] = 2
+    return out
+
+
 #: Upgrades from schema version v to v + 1, keyed by v. Version 1 is the first release.
-RECIPE_MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {}
+RECIPE_MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _people_v1_to_v2}
 
 
 def upgrade_recipe(

@@ -1,5 +1,8 @@
 """All recipes of a dataset in one Parquet table: stable columns plus the full recipe JSON.
 
+A table of an older recipe schema is read upgraded: its recipes through the migrations,
+its stable columns recomputed (``RecipeTable.schema_version`` says what the file holds).
+
 The stable columns are a documented contract (README): one row per video, categorical
 variables as strings/booleans/integers, and ``recipe`` holding the recipe's JSON, which is
 the source of truth. The table's key-value metadata carries θ (canonical JSON), its hash,
@@ -17,7 +20,8 @@ from typing import TYPE_CHECKING, Any
 from phav_spec.canonical import canonical_json
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, parse_json_object
-from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe, parse_recipe
+from phav_spec.population import age_years, estimated_stature
+from phav_spec.recipe import RECIPE_SCHEMA_VERSION, HumanSpec, Recipe, parse_recipe
 from phav_spec.theta import Theta, parse_theta
 
 if TYPE_CHECKING:
@@ -44,6 +48,16 @@ def _variation_attr(r: Recipe, kind: str, attr: str) -> Any:
         return None
     value = getattr(r.variation, attr, None)
     return list(value) if isinstance(value, tuple) else value
+
+
+def _sex(human: HumanSpec) -> str:
+    """``female`` or ``male``: the end of anny's gender scale the phenotype is nearer."""
+    return "female" if human.phenotype.gender > 0.5 else "male"
+
+
+def _draw(human: HumanSpec, attr: str) -> Any:
+    """A θ draw of a sampled person (None for a fixed model of H)."""
+    return getattr(human.sampled, attr) if human.sampled is not None else None
 
 
 #: The stable columns, in table order (the ``recipe`` JSON column follows them).
@@ -83,9 +97,23 @@ COLUMNS: tuple[Column, ...] = (
     Column("background_destination_waypoints", "list<int64>",
            lambda r: [a.destination_waypoint for a in r.background_actors], "destinations on B_WG"),
     Column("n_varied_muscles", "int64", lambda r: len(getattr(r.variation, "muscles", ())) or None, "how many"),
+    Column("sex", "string", lambda r: _sex(r.protagonist.human), "protagonist: female or male (anny's gender)"),
+    Column("age_years", "float64", lambda r: age_years(r.protagonist.human.phenotype.age), "protagonist's age"),
+    Column("stature_m", "float64", lambda r: estimated_stature(r.protagonist.human.phenotype),
+           "protagonist's standing height"),
+    Column("child", "bool_", lambda r: _draw(r.protagonist.human, "child"), "protagonist drawn as a child (sampled)"),
+    Column("skin_tone", "float64", lambda r: _draw(r.protagonist.human, "skin_tone"), "0 lightest … 1 (sampled)"),
+    Column("hair_style", "string", lambda r: r.protagonist.human.hair.style, "protagonist's hair"),
+    Column("hair_colour", "string", lambda r: _draw(r.protagonist.human, "hair_colour"), "named colour (sampled)"),
+    Column("top", "string", lambda r: r.protagonist.human.outfit.top.kind, "protagonist's top"),
+    Column("top_fabric", "string", lambda r: r.protagonist.human.outfit.top.fabric, "its fabric"),
+    Column("bottom", "string", lambda r: r.protagonist.human.outfit.bottom.kind, "protagonist's bottom"),
+    Column("bottom_fabric", "string", lambda r: r.protagonist.human.outfit.bottom.fabric, "its fabric"),
 )  # fmt: skip
 COLUMN_NAMES: tuple[str, ...] = tuple(c.name for c in COLUMNS)
 RECIPE_COLUMN = "recipe"
+#: Schema-1 tables end their stable columns after ``n_varied_muscles``.
+_COLUMNS_OF_VERSION_1 = COLUMN_NAMES.index("n_varied_muscles") + 1
 
 
 class RecipeRows:
@@ -172,6 +200,25 @@ def _metadata_int(meta: dict[str, str], key: str, path: Path, *, default: int | 
     return value
 
 
+def _upgraded(table: pa.Table, path: Path) -> pa.Table:
+    """An older table in the current schema: every recipe upgraded (migrations) and the
+    stable columns recomputed from it, the metadata kept. If a row does not parse, the
+    table is kept as it is and the columns it lacks are null (the checks report the row)."""
+    import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
+
+    rows = RecipeRows()
+    try:
+        ids, texts = table.column("video_id").to_pylist(), table.column(RECIPE_COLUMN).to_pylist()
+        for vid, text in zip(ids, texts, strict=True):
+            rows.add(parse_recipe(text, source=f"{path}[{vid}]"))
+    except PhavUserError:
+        for name in COLUMN_NAMES:
+            if name not in table.column_names:
+                table = table.append_column(name, pa.nulls(table.num_rows))
+        return table
+    return rows.to_arrow().replace_schema_metadata(table.schema.metadata)
+
+
 def read_recipe_table(path: str | Path) -> RecipeTable:
     """Read recipes.parquet; a missing, truncated or foreign file raises PhavUserError."""
     import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
@@ -185,9 +232,6 @@ def read_recipe_table(path: str | Path) -> RecipeTable:
     except (pa.ArrowException, OSError) as e:
         first = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise PhavUserError(f"not a readable Parquet file ({first})", source=str(path)) from None
-    missing = [name for name in (*COLUMN_NAMES, RECIPE_COLUMN) if name not in table.column_names]
-    if missing:
-        raise PhavUserError("missing column (not a phav recipes table?)", source=str(path), field=missing[0])
     meta = {k.decode(errors="replace"): v.decode(errors="replace") for k, v in (table.schema.metadata or {}).items()}
     version = _metadata_int(meta, "phav.recipe_schema_version", path, default=RECIPE_SCHEMA_VERSION)
     if version > RECIPE_SCHEMA_VERSION:
@@ -196,6 +240,12 @@ def read_recipe_table(path: str | Path) -> RecipeTable:
             source=str(path),
             field="phav.recipe_schema_version",
         )
+    required = COLUMN_NAMES[:_COLUMNS_OF_VERSION_1] if version < 2 else COLUMN_NAMES
+    missing = [name for name in (*required, RECIPE_COLUMN) if name not in table.column_names]
+    if missing:
+        raise PhavUserError("missing column (not a phav recipes table?)", source=str(path), field=missing[0])
+    if version < RECIPE_SCHEMA_VERSION:
+        table = _upgraded(table, path)
     theta = None
     if "phav.theta" in meta:
         source = f"{path} (metadata phav.theta)"

@@ -1,11 +1,11 @@
 """Scene data the later stages must honour, declared as data.
 
 Per action: necessary and complementary muscles, the props it needs, the props the
-``objects`` variation may add, the pixel classes its environment must contain. Per
+``objects`` variation may add, the pixel classes its environment must contain, whether a child may play it. Per
 environment: indoor or not, its static pixel classes, the protagonist's waypoints and the
 background actors' waypoints (indoor scenes have none, as in the paper), its ground plane
 height and its static collision geometry (oriented boxes, each with its pixel class). The
-20 human models.
+20 human models of H (anny phenotypes with skin, hair and outfit).
 The weather elements and their Bernoulli dependencies. The kite camera's spring variables
 with their physical bounds. θ chooses distributions inside these declarations; it cannot
 change them.
@@ -15,9 +15,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from phav_spec.people import Bottom, Hair, Outfit, Phenotype, Top
 from phav_spec.vocab import (
     ACTIONS,
     CAMERAS,
@@ -61,6 +63,10 @@ class ActionScene:
     #: The feet slide on the floor on purpose (the moonwalk's gliding stance foot): planted
     #: feet that move are the action, not a glitch.
     slides_feet: bool = False
+    #: Whether θ may cast a child (``people.p_child``) in it. Not where sizes are fixed by
+    #: an adult partner or prop (the two-people actions, the pull-up bar at adult reach),
+    #: not in a car accident, with a gun or staggering drunk.
+    children: bool = True
     complementary_muscles: tuple[str, ...] = field(init=False)
 
     def __post_init__(self) -> None:
@@ -96,18 +102,18 @@ def _action_scenes() -> tuple[tuple[str, ActionScene], ...]:
         "push": s(_ARMS + _CORE + _LEGS),
         "pick": s(_RIGHT_ARM + _CORE + _LEGS, objects=("bottle",), variation_objects=("cup", "ball")),
         "pour": s(_ARMS + ("chest",), objects=("bottle", "cup")),
-        "pull_up": s(_ARMS + ("chest",), objects=("pull_up_bar",)),
+        "pull_up": s(_ARMS + ("chest",), objects=("pull_up_bar",), children=False),
         "run": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD),
         "shoot_ball": s(_ARMS + _LEGS + ("chest",), objects=("ball",)),
         "shoot_bow": s(_ARMS + _HEAD + ("chest",), objects=("bow",)),
-        "shoot_gun": s(_ARMS + _HEAD + ("chest",), objects=("gun",)),
+        "shoot_gun": s(_ARMS + _HEAD + ("chest",), objects=("gun",), children=False),
         "sit": s(_LEGS + _CORE, objects=("chair",), variation_objects=("cup", "bottle")),
         "stand": s(_LEGS + _CORE, objects=("chair",), variation_objects=("cup", "bottle")),
         "swing_baseball": s(_ARMS + _CORE, objects=("baseball_bat",)),
         "throw": s(_RIGHT_ARM + _CORE, objects=("ball",)),
         "walk": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD),
         "wave": s(_RIGHT_ARM, variation_objects=("cup", "bottle")),
-        "car_hit": s(_LEGS + _CORE, objects=("car",), variation_objects=_HANDHELD, requires_classes=("road",)),
+        "car_hit": s(_LEGS + _CORE, objects=("car",), variation_objects=_HANDHELD, requires_classes=("road",), children=False),
         "crawl": s(_ARMS + _LEGS + _CORE),
         "dive_floor": s(_ARMS + _CORE, variation_objects=("ball",)),
         "flee": s(_LEGS + _CORE + _HEAD, variation_objects=_HANDHELD),
@@ -115,16 +121,18 @@ def _action_scenes() -> tuple[tuple[str, ActionScene], ...]:
         "leg_split": s(_LEGS + ("pelvis",), variation_objects=("cup", "bottle")),
         "limp": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD),
         "moonwalk": s(_LEGS + ("pelvis",), variation_objects=("cup", "bottle"), slides_feet=True),
-        "stagger": s(_LEGS + _CORE + _HEAD, variation_objects=("bottle",)),
+        "stagger": s(_LEGS + _CORE + _HEAD, variation_objects=("bottle",), children=False),
         "surrender": s(_ARMS + ("chest",), variation_objects=("bottle",)),
-        "walking_hug": s(_ARMS + _LEGS + _CORE, supporting_placement="side_by_side"),
-        "walk_holding_hands": s(_RIGHT_ARM + _LEGS + ("pelvis",), variation_objects=("cup", "bottle"), supporting_placement="side_by_side"),
-        "walk_the_line": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD, supporting_placement="behind"),
-        "bump_into_each_other": s(_LEGS + _CORE, variation_objects=_HANDHELD, supporting_placement="facing"),
+        "walking_hug": s(_ARMS + _LEGS + _CORE, supporting_placement="side_by_side", children=False),
+        "walk_holding_hands": s(_RIGHT_ARM + _LEGS + ("pelvis",), variation_objects=("cup", "bottle"), supporting_placement="side_by_side", children=False),
+        "walk_the_line": s(_LEGS + ("pelvis",), variation_objects=_HANDHELD, supporting_placement="behind", children=False),
+        "bump_into_each_other": s(_LEGS + _CORE, variation_objects=_HANDHELD, supporting_placement="facing", children=False),
     }  # fmt: skip
     for name, scene in scenes.items():
         if (ACTIONS[name].n_people > 1) != (scene.supporting_placement is not None):
             raise ValueError(f"{name}: a supporting placement is declared exactly for two-people actions")
+        if scene.supporting_placement is not None and scene.children:
+            raise ValueError(f"{name}: a two-people action is sized for two adults (children=False)")
     return tuple((name, scenes[name]) for name in ACTIONS.names)
 
 
@@ -870,44 +878,103 @@ def walkable_heights(env_name: str, x: np.ndarray, y: np.ndarray, ceiling: np.nd
 
 @dataclass(frozen=True)
 class HumanModel:
-    """A protagonist / actor body: shape (ragdoll proportions, mass) and appearance."""
+    """One of the 20 fixed people of H: anny's phenotype, skin, hair and outfit.
 
-    height_m: float
-    mass_kg: float
-    shoulder_width_m: float
-    hip_width_m: float
-    limb_girth: float  # scale on the default capsule radii
+    The paper's 20 artist-made models become 20 anny bodies, chosen as a varied set (table
+    in ``_human_models``): ages 14 to 78, ten men and ten women, adults from 1.50 m to
+    1.95 m (men 1.78 m and women 1.63 m on average, the WHO reference being 1.77 m and
+    1.63 m), light to heavy builds, skin tones across the Monk scale and every top,
+    bottom, fabric and hair style.
+    """
+
+    phenotype: Phenotype
     skin_rgb: RGB
-    hair_rgb: RGB
-    hair_style: str  # short, long, bald, ponytail
-    top_rgb: RGB
-    bottom_rgb: RGB
-    shoes_rgb: RGB
+    hair: Hair
+    outfit: Outfit
+
+    def human(self, name: str) -> dict[str, Any]:
+        """The recipe's ``HumanSpec`` of this model, as JSON-ready data."""
+        return {
+            "model": name,
+            "phenotype": self.phenotype.model_dump(),
+            "skin_rgb": self.skin_rgb,
+            "hair": self.hair.model_dump(),
+            "outfit": self.outfit.model_dump(),
+            "sampled": None,
+        }
+
+
+def _model(phenotype: tuple[float, ...], skin: RGB, hair: tuple, top: tuple, bottom: tuple, shoes: RGB) -> HumanModel:
+    """A model from one row: phenotype (gender, age, muscle, weight, height, proportions),
+    skin, hair (style, colour), top and bottom (kind, fabric, colour, pattern colour[, scale]), shoes."""
+
+    def garment(kind: str, fabric: str, rgb: RGB, pattern_rgb: RGB, scale: float = 1.0) -> dict[str, Any]:
+        return {"kind": kind, "fabric": fabric, "rgb": rgb, "pattern_rgb": pattern_rgb, "scale": scale}
+
+    keys = ("gender", "age", "muscle", "weight", "height", "proportions")
+    return HumanModel(
+        phenotype=Phenotype(**dict(zip(keys, phenotype, strict=True))),
+        skin_rgb=skin,
+        hair=Hair(style=hair[0], rgb=hair[1]),
+        outfit=Outfit(top=Top(**garment(*top)), bottom=Bottom(**garment(*bottom)), shoes_rgb=shoes),
+    )
 
 
 def _human_models() -> tuple[tuple[str, HumanModel], ...]:
-    h = HumanModel
+    """The 20 models. Statures are anny's (``population.estimated_stature``, within 2 mm of
+    the body model); skin tone t is the position on the Monk scale (0 lightest, 1 darkest).
+
+    ========  ===  ====  =========  ======  ======  ====  ====================  ===========
+    model     sex  age   stature m  muscle  weight  t     top                   bottom
+    ========  ===  ====  =========  ======  ======  ====  ====================  ===========
+    model_01  M    24    1.77       0.55    0.45    0.30  short sleeves, solid  trousers, denim
+    model_02  F    21    1.61       0.35    0.40    0.12  sleeveless, print     skirt, solid
+    model_03  M    34    1.72       0.70    0.60    0.72  long sleeves, checks  trousers, solid
+    model_04  F    14    1.58       0.40    0.35    0.05  short, stripes        shorts, denim
+    model_05  M    55    1.95       0.60    0.80    0.45  long, solid           trousers, solid
+    model_06  F    26    1.72       0.45    0.45    0.92  short, solid          trousers, print
+    model_07  M    15    1.70       0.40    0.40    0.58  sleeveless, solid     shorts, checks
+    model_08  F    37    1.67       0.50    0.65    0.35  long, stripes         skirt, denim
+    model_09  M    29    1.85       0.80    0.55    0.85  short, print          shorts, solid
+    model_10  F    52    1.76       0.50    0.75    0.22  long, checks          trousers, solid
+    model_11  M    41    1.79       0.55    0.90    0.64  short, stripes        trousers, denim
+    model_12  F    31    1.55       0.30    0.25    0.78  sleeveless, solid     shorts, solid
+    model_13  M    66    1.75       0.40    0.70    0.08  long, solid           trousers, checks
+    model_14  F    17    1.66       0.45    0.30    0.50  short, print          skirt, stripes
+    model_15  M    47    1.68       0.30    0.85    0.97  short, checks         trousers, solid
+    model_16  F    61    1.57       0.30    0.80    0.40  long, print           trousers, solid
+    model_17  M    19    1.81       0.65    0.35    0.15  sleeveless, stripes   shorts, denim
+    model_18  F    44    1.63       0.55    0.55    0.68  short, solid          skirt, checks
+    model_19  M    78    1.66       0.20    0.45    0.27  long, stripes         trousers, solid
+    model_20  F    72    1.50       0.25    0.60    0.88  long, solid           skirt, print
+    ========  ===  ====  =========  ======  ======  ====  ====================  ===========
+
+    Hair: bald (05, 15, 19), short, long and tied; black, brown, blond, red and grey (the
+    four oldest and model_05). Each row was made with ``population.phenotype_for`` from the
+    sex, age, stature, build, proportions and gender offset, then rounded.
+    """
+    h = _model
     rows = [
-        h(1.78, 76.0, 0.41, 0.33, 1.00, (224, 172, 105), (60, 40, 20), "short", (30, 60, 140), (40, 40, 50), (20, 20, 20)),
-        h(1.65, 58.0, 0.36, 0.35, 0.92, (241, 194, 125), (170, 120, 60), "long", (200, 40, 60), (30, 30, 90), (240, 240, 240)),
-        h(1.83, 88.0, 0.45, 0.35, 1.12, (141, 85, 36), (20, 15, 10), "short", (240, 240, 240), (60, 70, 60), (80, 50, 30)),
-        h(1.58, 52.0, 0.35, 0.34, 0.88, (255, 219, 172), (230, 200, 120), "ponytail", (120, 200, 120), (90, 60, 40), (200, 30, 30)),
-        h(1.90, 95.0, 0.47, 0.36, 1.15, (198, 134, 66), (40, 30, 25), "bald", (90, 90, 90), (20, 30, 60), (30, 30, 30)),
-        h(1.72, 66.0, 0.39, 0.34, 0.97, (92, 51, 23), (10, 10, 10), "short", (250, 200, 40), (50, 50, 50), (250, 250, 250)),
-        h(1.69, 62.0, 0.37, 0.36, 0.95, (224, 172, 105), (120, 60, 30), "long", (60, 20, 80), (20, 20, 20), (120, 80, 40)),
-        h(1.76, 80.0, 0.42, 0.35, 1.05, (255, 224, 189), (200, 170, 100), "short", (180, 30, 30), (200, 190, 150), (60, 40, 20)),
-        h(1.62, 70.0, 0.37, 0.38, 1.08, (141, 85, 36), (30, 20, 15), "ponytail", (30, 140, 140), (70, 70, 110), (30, 30, 30)),
-        h(1.86, 84.0, 0.44, 0.35, 1.06, (241, 194, 125), (90, 60, 30), "short", (20, 20, 20), (20, 20, 20), (220, 220, 220)),
-        h(1.55, 49.0, 0.34, 0.33, 0.85, (198, 134, 66), (15, 10, 5), "long", (255, 150, 180), (240, 240, 240), (200, 160, 120)),
-        h(1.80, 73.0, 0.42, 0.33, 0.98, (92, 51, 23), (5, 5, 5), "bald", (0, 90, 160), (150, 120, 80), (40, 40, 40)),
-        h(1.70, 90.0, 0.43, 0.39, 1.20, (255, 219, 172), (140, 140, 140), "short", (100, 120, 60), (40, 40, 60), (90, 60, 30)),
-        h(1.67, 60.0, 0.36, 0.35, 0.93, (224, 172, 105), (60, 30, 10), "ponytail", (240, 120, 20), (30, 50, 100), (250, 250, 250)),
-        h(1.93, 100.0, 0.48, 0.37, 1.18, (141, 85, 36), (25, 20, 15), "short", (160, 0, 40), (50, 50, 50), (20, 20, 20)),
-        h(1.60, 55.0, 0.35, 0.34, 0.90, (255, 224, 189), (210, 180, 110), "long", (170, 210, 240), (60, 40, 30), (140, 30, 30)),
-        h(1.74, 71.0, 0.40, 0.34, 0.99, (198, 134, 66), (50, 35, 20), "short", (70, 70, 70), (120, 100, 70), (50, 50, 50)),
-        h(1.82, 82.0, 0.44, 0.35, 1.04, (255, 219, 172), (180, 80, 30), "short", (40, 110, 40), (30, 30, 40), (200, 200, 200)),
-        h(1.64, 64.0, 0.37, 0.37, 1.00, (92, 51, 23), (15, 10, 10), "long", (230, 230, 200), (110, 30, 60), (30, 30, 30)),
-        h(1.77, 78.0, 0.42, 0.34, 1.02, (241, 194, 125), (100, 100, 100), "bald", (20, 40, 80), (80, 80, 80), (120, 90, 60)),
+        h((0.0, 0.7057, 0.55, 0.45, 0.3759, 0.5), (238, 224, 193), ('short', (92, 62, 39)), ('short_sleeves', 'solid', (30, 60, 140), (20, 40, 90)), ('trousers', 'denim', (50, 70, 110), (150, 170, 200)), (20, 20, 20)),  # M 24 y, 1.77 m
+        h((0.95, 0.6923, 0.35, 0.4, 0.3494, 0.55), (243, 230, 218), ('long', (212, 180, 124)), ('sleeveless', 'print', (200, 40, 60), (250, 220, 120)), ('skirt', 'solid', (30, 30, 90), (20, 20, 60)), (240, 240, 240)),  # F 21 y, 1.61 m
+        h((0.1, 0.7503, 0.7, 0.6, 0.3417, 0.45), (115, 81, 60), ('short', (28, 24, 22)), ('long_sleeves', 'checks', (240, 240, 240), (160, 40, 40), 1.2), ('trousers', 'solid', (60, 70, 60), (40, 45, 40)), (80, 50, 30)),  # M 34 y, 1.72 m
+        h((1.0, 0.568, 0.4, 0.35, 0.4328, 0.5), (245, 235, 224), ('tied', (218, 187, 129)), ('short_sleeves', 'stripes', (120, 200, 120), (250, 250, 250), 0.8), ('shorts', 'denim', (70, 100, 150), (170, 190, 220)), (200, 30, 30)),  # F 14 y, 1.58 m
+        h((0.05, 0.8439, 0.6, 0.8, 0.5491, 0.55), (213, 191, 148), ('bald', (178, 176, 173)), ('long_sleeves', 'solid', (90, 90, 90), (60, 60, 60)), ('trousers', 'solid', (20, 30, 60), (15, 20, 40)), (30, 30, 30)),  # M 55 y, 1.95 m
+        h((0.9, 0.7146, 0.45, 0.45, 0.4457, 0.6), (54, 45, 39), ('short', (24, 20, 19)), ('short_sleeves', 'solid', (250, 200, 40), (200, 150, 20)), ('trousers', 'print', (50, 50, 50), (200, 200, 200), 1.5), (250, 250, 250)),  # F 26 y, 1.72 m
+        h((0.0, 0.619, 0.4, 0.4, 0.3643, 0.45), (154, 123, 82), ('short', (35, 29, 27)), ('sleeveless', 'solid', (200, 30, 30), (150, 20, 20)), ('shorts', 'checks', (40, 80, 40), (200, 200, 160), 0.7), (240, 240, 240)),  # M 15 y, 1.70 m
+        h((0.9, 0.7636, 0.5, 0.65, 0.4005, 0.5), (231, 210, 181), ('long', (157, 75, 35)), ('long_sleeves', 'stripes', (30, 140, 140), (240, 240, 230)), ('skirt', 'denim', (60, 80, 120), (160, 180, 210)), (120, 80, 40)),  # F 37 y, 1.67 m
+        h((0.0, 0.728, 0.8, 0.55, 0.4492, 0.6), (74, 55, 46), ('short', (32, 27, 24)), ('short_sleeves', 'print', (20, 20, 20), (230, 60, 40), 1.3), ('shorts', 'solid', (200, 190, 150), (160, 150, 120)), (220, 220, 220)),  # M 29 y, 1.85 m
+        h((0.85, 0.8305, 0.5, 0.75, 0.4805, 0.55), (247, 237, 208), ('tied', (106, 72, 46)), ('long_sleeves', 'checks', (170, 210, 240), (40, 60, 120)), ('trousers', 'solid', (60, 40, 30), (40, 25, 20)), (140, 30, 30)),  # F 52 y, 1.76 m
+        h((0.1, 0.7815, 0.55, 0.9, 0.4074, 0.5), (138, 99, 72), ('short', (75, 50, 32)), ('short_sleeves', 'stripes', (0, 90, 160), (255, 255, 255), 1.1), ('trousers', 'denim', (40, 55, 90), (130, 150, 185)), (40, 40, 40)),  # M 41 y, 1.79 m
+        h((1.0, 0.7369, 0.3, 0.25, 0.3006, 0.45), (95, 66, 52), ('long', (28, 24, 22)), ('sleeveless', 'solid', (255, 150, 180), (220, 100, 140)), ('shorts', 'solid', (240, 240, 240), (200, 200, 200)), (200, 160, 120)),  # F 31 y, 1.55 m
+        h((0.15, 0.893, 0.4, 0.7, 0.3908, 0.5), (244, 231, 222), ('short', (193, 191, 188)), ('long_sleeves', 'solid', (100, 120, 60), (70, 85, 40)), ('trousers', 'checks', (40, 40, 60), (90, 90, 110), 0.6), (90, 60, 30)),  # M 66 y, 1.75 m
+        h((1.0, 0.6745, 0.45, 0.3, 0.4011, 0.55), (190, 168, 123), ('tied', (32, 27, 24)), ('short_sleeves', 'print', (240, 120, 20), (30, 50, 100), 0.9), ('skirt', 'stripes', (30, 50, 100), (240, 240, 240)), (250, 250, 250)),  # F 17 y, 1.66 m
+        h((0.1, 0.8082, 0.3, 0.85, 0.3138, 0.4), (46, 40, 35), ('bald', (20, 17, 16)), ('short_sleeves', 'checks', (160, 0, 40), (30, 30, 30), 1.4), ('trousers', 'solid', (50, 50, 50), (35, 35, 35)), (20, 20, 20)),  # M 47 y, 1.68 m
+        h((0.85, 0.8707, 0.3, 0.8, 0.3066, 0.45), (223, 200, 166), ('short', (186, 184, 180)), ('long_sleeves', 'print', (110, 30, 60), (230, 200, 120), 1.2), ('trousers', 'solid', (60, 40, 30), (40, 25, 20)), (60, 40, 30)),  # F 61 y, 1.57 m
+        h((0.0, 0.6834, 0.65, 0.35, 0.4108, 0.6), (244, 234, 215), ('long', (164, 80, 38)), ('sleeveless', 'stripes', (70, 70, 70), (230, 230, 230), 0.8), ('shorts', 'denim', (50, 70, 110), (150, 170, 200)), (50, 50, 50)),  # M 19 y, 1.81 m
+        h((0.95, 0.7949, 0.55, 0.55, 0.3704, 0.5), (127, 93, 65), ('long', (84, 57, 36)), ('short_sleeves', 'solid', (40, 110, 40), (30, 80, 30)), ('skirt', 'checks', (110, 30, 60), (230, 230, 200), 1.1), (200, 200, 200)),  # F 44 y, 1.63 m
+        h((0.2, 0.9465, 0.2, 0.45, 0.3179, 0.45), (242, 226, 199), ('bald', (201, 199, 195)), ('long_sleeves', 'stripes', (230, 230, 200), (110, 30, 60)), ('trousers', 'solid', (80, 80, 80), (60, 60, 60)), (30, 30, 30)),  # M 78 y, 1.66 m
+        h((0.8, 0.9197, 0.25, 0.6, 0.2381, 0.4), (62, 51, 43), ('tied', (178, 176, 173)), ('long_sleeves', 'solid', (20, 40, 80), (15, 30, 60)), ('skirt', 'print', (80, 80, 80), (200, 160, 80)), (120, 90, 60)),  # F 72 y, 1.50 m
     ]  # fmt: skip
     return tuple((f"model_{i + 1:02d}", row) for i, row in enumerate(rows))
 

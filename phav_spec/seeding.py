@@ -60,7 +60,11 @@ class PartStreams:
         self.key = video_key(dataset_seed, index)
 
     def __getitem__(self, part: str) -> np.random.Generator:
-        """The part's stream, rewound to its first draw for the current video."""
+        """The part's stream, rewound to its first draw for the current video. A name not
+        given at construction gets its own stream on first use (``person/3``)."""
+        if part not in self._bits:
+            self._bits[part] = np.random.PCG64(0)
+            self._gens[part] = np.random.Generator(self._bits[part])
         self._bits[part].state = _part_state(self.key, part)
         return self._gens[part]
 

@@ -1,6 +1,9 @@
 """θ: every parameter of the paper's generative model (Section "Generative models for world
 control"), as a frozen pydantic model loaded from YAML and validated for support.
 
+People are the paper's H (``theta_h`` over the 20 fixed human models) unless a ``people``
+section with ``mode: sampled`` draws every person continuously (``PeopleTheta``).
+
 Categorical weights are written either as ``uniform`` or as a mapping value → weight
 (unlisted values weigh 0); they are normalised on load to a full mapping in registry order,
 so the canonical hash identifies the distribution, not its spelling. Conditional tables
@@ -16,7 +19,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
@@ -35,6 +38,8 @@ from phav_spec.distributions import Bernoulli, Continuous, Triangular, Uniform
 from phav_spec.errors import PhavUserError, validate_user_data
 from phav_spec.files import read_text
 from phav_spec.motions import MOTIONS, theta_ab
+from phav_spec.people import BOTTOMS, FABRICS, HAIR_STYLES, TOPS
+from phav_spec.population import HAIR_COLOURS, MAX_AGE_YEARS, PEOPLE_PARAMETER_BOUNDS
 from phav_spec.scene import (
     ACTION_SCENES,
     CAMERA_INFO,
@@ -139,6 +144,19 @@ VariationWeights = _weights_field(VARIATIONS)
 CameraWeights = _weights_field(CAMERAS)
 
 
+def _choices(kind: str, names: tuple[str, ...]) -> Registry:
+    return Registry(kind, tuple((n, None) for n in names))
+
+
+#: The categorical values of θ's people section, as registries (weights like θ_H's).
+SEXES: Registry[None] = _choices("sex", ("female", "male"))
+TOP_KINDS: Registry[None] = _choices("top", TOPS)
+BOTTOM_KINDS: Registry[None] = _choices("bottom", BOTTOMS)
+FABRIC_KINDS: Registry[None] = _choices("fabric", FABRICS)
+HAIR_STYLE_KINDS: Registry[None] = _choices("hair style", HAIR_STYLES)
+HAIR_COLOUR_KINDS: Registry[None] = _choices("hair colour", HAIR_COLOURS)
+
+
 class VideoFormat(BaseModel):
     """Resolution and frame rate (paper: 340×256 at 30 fps)."""
 
@@ -240,9 +258,9 @@ class WeatherElementsTheta(BaseModel):
         return spec.p_if_parent if parent_on else spec.p_otherwise
 
 
-def bounded(key: str) -> Any:
-    """A θ distribution whose support must stay inside scene.PARAMETER_BOUNDS[key]."""
-    unit, lo, hi = PARAMETER_BOUNDS[key]
+def bounded(key: str, bounds: Mapping[str, tuple[str, float, float]] = PARAMETER_BOUNDS) -> Any:
+    """A θ distribution whose support must stay inside ``bounds[key]`` (scene.PARAMETER_BOUNDS)."""
+    unit, lo, hi = bounds[key]
 
     def check(dist: Uniform | Triangular) -> Uniform | Triangular:
         _check_support(dist, lo, hi, unit=unit)
@@ -401,6 +419,135 @@ class VariationsTheta(BaseModel):
     action_blending: Blending
 
 
+def _per_sex_field(cols: Registry) -> Any:
+    """Weights per sex: ``{female: …, male: …}``, or one set of weights for both."""
+
+    def normalise(value: Any) -> dict[str, dict[str, float]]:
+        if isinstance(value, Mapping) and value and set(value) <= set(SEXES.names):
+            missing = [s for s in SEXES.names if s not in value]
+            if missing:
+                raise ValueError(f"{missing[0]}: missing (give weights for both sexes, or one set for both)")
+            out = {}
+            for sex in SEXES.names:
+                try:
+                    out[sex] = _weights(cols, value[sex])
+                except ValueError as e:
+                    raise ValueError(f"{sex}: {e}") from None
+            return out
+        shared = _weights(cols, value)
+        return {sex: dict(shared) for sex in SEXES.names}
+
+    return Annotated[dict[str, dict[str, float]], BeforeValidator(normalise)]
+
+
+def people_bounded(key: str) -> Any:
+    """A θ people distribution whose support must stay inside PEOPLE_PARAMETER_BOUNDS[key]."""
+    return bounded(key, PEOPLE_PARAMETER_BOUNDS)
+
+
+def _has_support(name: str, weights: Mapping[str, float]) -> None:
+    if sum(weights.values()) <= 0:
+        raise ValueError(f"{name}: all weights are zero, no value has support")
+
+
+Probability = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
+
+
+class GreyHair(BaseModel):
+    """Hair turns grey with age: P(grey) is 0 before ``start_years``, rises linearly to
+    ``p_full`` at ``full_years`` and stays there."""
+
+    model_config = _FROZEN
+    start_years: float = Field(ge=0.0, le=MAX_AGE_YEARS, allow_inf_nan=False)
+    full_years: float = Field(ge=0.0, le=MAX_AGE_YEARS, allow_inf_nan=False)
+    p_full: Probability
+
+    @model_validator(mode="after")
+    def _ordered(self) -> GreyHair:
+        if self.start_years > self.full_years:
+            raise ValueError(f"start_years ({self.start_years}) must not exceed full_years ({self.full_years})")
+        return self
+
+
+class HairTheta(BaseModel):
+    """Hair style per sex, colour (black, brown, blond, red) and greying with age."""
+
+    model_config = _FROZEN
+    styles: _per_sex_field(HAIR_STYLE_KINDS)
+    colours: _weights_field(HAIR_COLOUR_KINDS)
+    grey: GreyHair
+
+    @model_validator(mode="after")
+    def _support(self) -> HairTheta:
+        _has_support("colours", self.colours)
+        return self
+
+
+class OutfitTheta(BaseModel):
+    """Clothes: top kinds, bottom kinds per sex, fabrics, and colours as HSV (the hue is
+    uniform on the circle; θ shapes saturation and value). Each garment draws a ground and
+    a pattern colour; shoes have their own saturation and value."""
+
+    model_config = _FROZEN
+    tops: _weights_field(TOP_KINDS)
+    bottoms: _per_sex_field(BOTTOM_KINDS)
+    top_fabrics: _weights_field(FABRIC_KINDS)
+    bottom_fabrics: _weights_field(FABRIC_KINDS)
+    saturation: people_bounded("saturation")
+    value: people_bounded("value")
+    shoes_saturation: people_bounded("saturation")
+    shoes_value: people_bounded("value")
+    pattern_scale: people_bounded("pattern_scale")
+
+    @model_validator(mode="after")
+    def _support(self) -> OutfitTheta:
+        for name in ("tops", "top_fabrics", "bottom_fabrics"):
+            _has_support(name, getattr(self, name))
+        return self
+
+
+class PeopleTheta(BaseModel):
+    """People drawn continuously (``mode: sampled``) instead of from the 20 models of H.
+
+    Each person: a sex (``p_female``), a child with probability ``p_child`` where the action
+    allows children (``ActionScene.children``; background pedestrians always may), an age in
+    years from the child or adult range, a stature of ``stature_z`` reference standard
+    deviations about the WHO median of that sex and age, anny's gender offset, weight,
+    muscle and proportions, a skin tone and undertone, hair and an outfit. How years,
+    metres and tones become anny's phenotype and sRGB: ``phav_spec.population``.
+    """
+
+    model_config = _FROZEN
+    mode: Literal["models", "sampled"]
+    p_female: Probability
+    p_child: Probability
+    adult_age_years: people_bounded("adult_age_years")
+    child_age_years: people_bounded("child_age_years")
+    stature_z: people_bounded("stature_z")
+    gender_offset: people_bounded("gender_offset")
+    weight: people_bounded("weight")
+    muscle: people_bounded("muscle")
+    proportions: people_bounded("proportions")
+    skin_tone: people_bounded("skin_tone")
+    skin_undertone: people_bounded("skin_undertone")
+    hair: HairTheta
+    outfit: OutfitTheta
+
+    @model_validator(mode="after")
+    def _support(self) -> PeopleTheta:
+        if self.mode != "sampled":  # pragma: no cover - Theta drops a "models" section before this
+            raise ValueError("mode: a people section with distributions needs mode 'sampled'")
+        for sex, p in (("female", self.p_female), ("male", 1.0 - self.p_female)):
+            if p > 0:
+                _has_support(f"hair.styles.{sex}", self.hair.styles[sex])
+                _has_support(f"outfit.bottoms.{sex}", self.outfit.bottoms[sex])
+        return self
+
+    def p_sex(self) -> dict[str, float]:
+        """P(female), P(male)."""
+        return {"female": self.p_female, "male": 1.0 - self.p_female}
+
+
 class RenderSettings(BaseModel):
     """Post-processing of the RGB stream (paper Section "Rendered RGB Frames")."""
 
@@ -463,7 +610,7 @@ class Theta(BaseModel):
     theta_e: EnvironmentWeights
     theta_w: WeatherWeights
     theta_d: DayPhaseWeights
-    theta_h: HumanWeights
+    theta_h: HumanWeights = Field(default_factory=lambda: {name: 1.0 for name in HUMAN_MODELS.names})
     theta_v: VariationWeights
     theta_c: CameraWeights
     theta_ae: _table_field(ACTIONS, ENVIRONMENTS)
@@ -479,6 +626,7 @@ class Theta(BaseModel):
     protagonist_heading_deg: bounded("heading_deg")
     cameras: dict[str, CameraTheta]
     variations: VariationsTheta
+    people: PeopleTheta | None = None
     render: RenderSettings = RenderSettings()
 
     @model_validator(mode="before")
@@ -490,6 +638,22 @@ class Theta(BaseModel):
                 raise ValueError(
                     f"format_version: {v} is newer than this phav reads ({THETA_FORMAT_VERSION}); upgrade phav"
                 )
+        return data
+
+    @model_validator(mode="before")
+    @classmethod
+    def _people_models(cls, data: Any) -> Any:
+        """``people: {mode: models}`` is the paper's H, the same θ as no people section."""
+        if isinstance(data, Mapping) and isinstance(data.get("people"), Mapping):
+            people = data["people"]
+            if people.get("mode") == "models":
+                extra = [key for key in people if key != "mode"]
+                if extra:
+                    raise ValueError(
+                        f"people.{extra[0]}: mode 'models' takes no distributions (H comes from theta_h); "
+                        "remove it or set mode: sampled"
+                    )
+                data = {k: v for k, v in data.items() if k != "people"}
         return data
 
     @model_validator(mode="after")
@@ -507,7 +671,7 @@ class Theta(BaseModel):
             "theta_a",
             "theta_w",
             "theta_d",
-            "theta_h",
+            *(("theta_h",) if self.people is None else ()),
             "theta_v",
             "theta_c",
             "theta_e",
@@ -542,7 +706,7 @@ class Theta(BaseModel):
                 raise ValueError(
                     f"durations.t_min: {t_min} s is longer than every motion of {action} (longest {longest} s)"
                 )
-            if ACTIONS[action].n_people > 1 and np.count_nonzero(arr.h) < 2:
+            if ACTIONS[action].n_people > 1 and self.people is None and np.count_nonzero(arr.h) < 2:
                 raise ValueError(f"theta_h: {action} needs a supporting character but only one human model has weight")
             for ei, env in enumerate(ENVIRONMENTS.names):
                 if pe[ei] <= 0:
@@ -586,7 +750,19 @@ class Theta(BaseModel):
         ``name`` and ``description`` are labels, not parameters: renaming a θ or editing its
         description leaves its hash, and every recipe sampled from it, unchanged.
         """
-        return sha256_hex(canonical_json(self.model_dump(mode="json", exclude={"name", "description"})))
+        return sha256_hex(
+            canonical_json(self.model_dump(mode="json", exclude={"name", "description"} | self._absent()))
+        )
+
+    def _absent(self) -> set[str]:
+        """Optional sections left out: a θ without ``people`` is written (and hashed) as
+        before the section existed."""
+        return {"people"} if self.people is None else set()
+
+    @property
+    def people_sampled(self) -> bool:
+        """Whether θ draws people continuously (``people.mode: sampled``) rather than from H."""
+        return self.people is not None
 
     def __eq__(self, other: object) -> bool:
         # Same canonical form, same θ; the cached arrays must not take part in comparison.
@@ -596,7 +772,7 @@ class Theta(BaseModel):
 
     def to_yaml(self) -> str:
         """YAML that loads back to an equal θ (the normalised, explicit form)."""
-        return yaml.safe_dump(self.model_dump(mode="json"), sort_keys=False, allow_unicode=True)
+        return yaml.safe_dump(self.model_dump(mode="json", exclude=self._absent()), sort_keys=False, allow_unicode=True)
 
 
 def _require_keys(fieldname: str, mapping: Mapping[str, Any], registry: Registry) -> None:
@@ -661,6 +837,7 @@ def load_preset(name: str = "phav-v1") -> Theta:
 
 __all__ = [
     "THETA_FORMAT_VERSION",
+    "PeopleTheta",
     "Theta",
     "ThetaArrays",
     "load_preset",

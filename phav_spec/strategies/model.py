@@ -23,7 +23,9 @@ from hypothesis import event
 from hypothesis import strategies as st
 
 from phav_spec.motions import MOTIONS, theta_ab
-from phav_spec.recipe import Recipe, frames_for, video_id
+from phav_spec.people import BOTTOMS, FABRICS, HAIR_STYLES, TOPS
+from phav_spec.population import ADULT_AGE_YEARS, HAIR_COLOURS, MIN_AGE_YEARS, PEOPLE_PARAMETER_BOUNDS
+from phav_spec.recipe import SAMPLED_PERSON, Recipe, frames_for, video_id
 from phav_spec.scene import (
     ACTION_SCENES,
     CAMERA_INFO,
@@ -274,6 +276,7 @@ def _thetas(draw: st.DrawFn) -> Theta:
     data["description"] = "drawn by phav_spec.strategies.thetas()"
     reach, zero_rows = _draw_actions(draw, data)
     _draw_human_models(draw, data, reach)
+    _draw_people(draw, data)
     phases = _draw_weather_and_day_phases(draw, data)
     data["clock_hours"] = {d: draw(_clock_hour(d, d in phases)) for d in DAY_PHASES.names}
     _draw_base_motions(draw, data, reach)
@@ -312,6 +315,50 @@ def _draw_human_models(draw: st.DrawFn, data: dict[str, Any], reach: Sequence[st
     humans = _support(draw, HUMAN_MODELS.names, min_size=2 if two_people else 1)
     data["theta_h"] = _vector(draw, humans)
     _label_vector("human model", humans, HUMAN_MODELS.names)
+
+
+def _draw_people(draw: st.DrawFn, data: dict[str, Any]) -> None:
+    """θ's people section: none (the 20 models of H), ``mode: models`` spelt out, or people
+    sampled continuously from drawn distributions (per-sex or shared weights, a sex that is
+    never drawn, no children, greying as a step)."""
+    case = draw(st.sampled_from(("none", "none", "models", "sampled", "sampled")))
+    event(f"theta: people {case}")
+    if case == "models":
+        data["people"] = {"mode": "models"}
+    if case != "sampled":
+        return
+    bounds = PEOPLE_PARAMETER_BOUNDS
+    p_female = draw(_PROBABILITY)
+    people: dict[str, Any] = {"mode": "sampled", "p_female": p_female, "p_child": draw(_PROBABILITY)}
+    for key in ("adult_age_years", "child_age_years", "stature_z", "gender_offset", "weight", "muscle",
+                "proportions", "skin_tone", "skin_undertone"):  # fmt: skip
+        people[key] = _continuous(draw, *bounds[key][1:], label=f"people.{key}")
+    start = draw(st.floats(0.0, 90.0))
+    people["hair"] = {
+        "styles": _per_sex(draw, HAIR_STYLES),
+        "colours": _vector(draw, _support(draw, HAIR_COLOURS)),
+        "grey": {"start_years": start, "full_years": draw(st.just(start) | st.floats(start, 90.0)),
+                 "p_full": draw(_PROBABILITY)},
+    }  # fmt: skip
+    people["outfit"] = {
+        "tops": _vector(draw, _support(draw, TOPS)),
+        "bottoms": _per_sex(draw, BOTTOMS),
+        "top_fabrics": _vector(draw, _support(draw, FABRICS)),
+        "bottom_fabrics": _vector(draw, _support(draw, FABRICS)),
+        **{key: _continuous(draw, *bounds[b][1:], label=f"people.outfit.{key}") for key, b in (
+            ("saturation", "saturation"), ("value", "value"), ("shoes_saturation", "saturation"),
+            ("shoes_value", "value"), ("pattern_scale", "pattern_scale"))},
+    }  # fmt: skip
+    if p_female in (0.0, 1.0):
+        event("theta: people of one sex only")
+    data["people"] = people
+
+
+def _per_sex(draw: st.DrawFn, names: Sequence[str]) -> Any:
+    """Weights per sex, or one set shared by both."""
+    if draw(st.booleans()):
+        return _vector(draw, _support(draw, names))
+    return {sex: _vector(draw, _support(draw, names)) for sex in ("female", "male")}
 
 
 def _draw_weather_and_day_phases(draw: st.DrawFn, data: dict[str, Any]) -> tuple[str, ...]:
@@ -507,9 +554,10 @@ def thetas() -> st.SearchStrategy[Theta]:
 
     Reaches single-value supports (one action, weather, day phase, only the kite camera),
     all-zero rows for unreachable actions, non-uniform weights with zeros, degenerate and
-    midnight-wrapping clock triangles (night with weight), degenerate duration triangles and
-    T_min close to the longest motion of a reachable action; each is labelled with
-    ``hypothesis.event``.
+    midnight-wrapping clock triangles (night with weight), degenerate duration triangles,
+    T_min close to the longest motion of a reachable action, and people from H or sampled
+    continuously (a ``people`` section, one sex only among its cases); each is labelled
+    with ``hypothesis.event``.
     """
     return _thetas()
 
@@ -528,8 +576,63 @@ def _vec3(coord: st.SearchStrategy[float] = _COORD) -> st.SearchStrategy[tuple[f
     return st.tuples(coord, coord, coord)
 
 
-def _human(name: str) -> dict[str, Any]:
-    return {"model": name, **HUMAN_MODELS[name].__dict__}
+_BYTE = st.integers(0, 255)
+_RGB = st.tuples(_BYTE, _BYTE, _BYTE)
+
+
+def _hsv() -> st.SearchStrategy[dict[str, float]]:
+    return st.fixed_dictionaries(
+        {"hue_deg": st.floats(0.0, 360.0, exclude_max=True), "saturation": _UNIT, "value": _UNIT}
+    )
+
+
+@st.composite
+def _garment(draw: st.DrawFn, kinds: Sequence[str]) -> dict[str, Any]:
+    return {
+        "kind": draw(st.sampled_from(tuple(kinds))),
+        "fabric": draw(st.sampled_from(FABRICS)),
+        "rgb": draw(_RGB),
+        "pattern_rgb": draw(_RGB),
+        "scale": draw(st.floats(0.1, 10.0)),
+    }
+
+
+@st.composite
+def _sampled_human(draw: st.DrawFn) -> dict[str, Any]:
+    """A person as θ's people section could draw one: any phenotype, look and draws."""
+    child = draw(st.booleans())
+    age = draw(st.floats(MIN_AGE_YEARS, ADULT_AGE_YEARS) if child else st.floats(ADULT_AGE_YEARS, 90.0))
+    event("recipe: sampled child" if child else "recipe: sampled adult")
+    keys = ("gender", "age", "muscle", "weight", "height", "proportions")
+    return {
+        "model": SAMPLED_PERSON,
+        "phenotype": {k: draw(_UNIT) for k in keys},
+        "skin_rgb": draw(_RGB),
+        "hair": {"style": draw(st.sampled_from(HAIR_STYLES)), "rgb": draw(_RGB)},
+        "outfit": {"top": draw(_garment(TOPS)), "bottom": draw(_garment(BOTTOMS)), "shoes_rgb": draw(_RGB)},
+        "sampled": {
+            "female": draw(st.booleans()),
+            "adult_age_years": None if child else age,
+            "child_age_years": age if child else None,
+            "stature_z": draw(st.floats(-3.0, 3.0)),
+            "stature_m": draw(st.floats(0.5, 2.5)),
+            "gender_offset": draw(st.floats(0.0, 0.45)),
+            "skin_tone": draw(_UNIT),
+            "skin_undertone": draw(st.floats(-1.0, 1.0)),
+            "hair_colour": draw(st.sampled_from((*HAIR_COLOURS, "grey"))),
+            "hair_shade": draw(_UNIT),
+            "garment_colours": draw(st.lists(_hsv(), min_size=4, max_size=4)),
+            "shoes_colour": draw(_hsv()),
+        },
+    }
+
+
+def _human(draw: st.DrawFn, people: str) -> dict[str, Any]:
+    """A person: one of the 20 models of H (``people`` "models"), sampled ("sampled"), or either ("any")."""
+    if people == "sampled" or (people == "any" and draw(st.integers(0, 2)) == 0):
+        return draw(_sampled_human())
+    name = draw(st.sampled_from(HUMAN_MODELS.names))
+    return HUMAN_MODELS[name].human(name)
 
 
 @st.composite
@@ -634,8 +737,10 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
     if index is None:
         index = draw(st.one_of(st.integers(0, 999), st.integers(0, 10**9)))
     theta_hash, video, render = _recipe_format(draw, theta)
+    people = "any" if theta is None else "sampled" if theta.people is not None else "models"
     # Two-people actions are 4 of 35: draw them on purpose too, for supporting characters.
     action = draw(st.one_of(st.sampled_from(ACTIONS.names), st.sampled_from(_TWO_PEOPLE)))
+    variation = draw(_variation(action))
     duration = draw(_duration(video["fps"]))
     base = draw(st.sampled_from(MOTIONS.names))
     env_name = draw(st.sampled_from(ENVIRONMENTS.names))
@@ -664,9 +769,8 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
             "speed": draw(st.floats(0.01, 4.0)),
             "mirror": draw(st.booleans()),
         },
-        "variation": draw(_variation(action)),
+        "variation": variation,
         "protagonist": {
-            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
             "position": position,
             "heading_deg": heading,
         },
@@ -678,6 +782,9 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
         "render": render,
         "seeds": {name: draw(_SEED) for name in ("physics", "perturbation", "render", "background")},
     }
+    # People last: a sampled person is many draws, and the structure above comes first.
+    for person in (data["protagonist"], *supporting, *background):
+        person["human"] = _human(draw, people)
     return Recipe.model_validate(data)
 
 
@@ -696,14 +803,14 @@ def _recipe_format(draw: st.DrawFn, theta: Theta | None) -> tuple[str, dict[str,
 
 
 def _supporting_characters(draw: st.DrawFn, action: str) -> list[dict[str, Any]]:
-    """The supporting character of a two-people action (person 1), none otherwise."""
+    """The supporting character of a two-people action (person 1), none otherwise (its
+    ``human`` is drawn by the caller)."""
     placement = ACTION_SCENES[action].supporting_placement
     if placement is None:
         return []
     event("recipe: supporting character")
     return [{
         "person_id": 1,
-        "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
         "placement": placement,
         "distance_m": draw(st.floats(0.0, 10.0)),
         "position": draw(_vec3()),
@@ -712,7 +819,8 @@ def _supporting_characters(draw: st.DrawFn, action: str) -> list[dict[str, Any]]
 
 
 def _background_actors(draw: st.DrawFn, environment: str, *, first_person_id: int) -> list[dict[str, Any]]:
-    """Up to four background actors walking between distinct waypoints of the environment's graph."""
+    """Up to four background actors walking between distinct waypoints of the environment's
+    graph (their ``human`` is drawn by the caller)."""
     graph = ENVIRONMENT_SCENES[environment].background_waypoints
     background = []
     n_background = draw(st.integers(0, 4)) if graph else 0
@@ -722,7 +830,6 @@ def _background_actors(draw: st.DrawFn, environment: str, *, first_person_id: in
         dest += dest >= start
         background.append({
             "person_id": first_person_id + k,
-            "human": _human(draw(st.sampled_from(HUMAN_MODELS.names))),
             "start_waypoint": start,
             "destination_waypoint": dest,
             "start": graph[start],
@@ -760,7 +867,8 @@ def recipes(theta: Theta | None = None) -> st.SearchStrategy[Recipe]:
     Names come from the vocabularies, ``n_frames`` = ``frames_for(duration_s, fps)``,
     ``video_id`` = ``video_id(index)``, ``n_people`` counts the protagonist and the
     supporting character of a two-people action, person ids are unique and spring
-    parameters appear exactly on spring cameras. With ``theta``, recipes carry its hash,
+    parameters appear exactly on spring cameras. People are fixed models of H or sampled
+    persons (with ``theta``: the kind θ draws). With ``theta``, recipes carry its hash,
     video format and render settings. Reaches one-frame clips, every variation kind, zero
     and several background actors, supporting characters, spring and non-spring cameras
     and clock hours next to 0 h and 24 h (each labelled with ``hypothesis.event``).

@@ -87,7 +87,7 @@ def chi_square(observed: np.ndarray, probs: np.ndarray) -> tuple[float, int, flo
     impossible = int(observed[probs <= 0].sum())
     support = probs > 0
     obs, exp = observed[support].astype(float), probs[support] * n
-    if n == 0 or len(obs) < 2:
+    if n == 0 or len(obs) < 2 or obs.sum() == 0:  # nothing on the support: only impossible values to report
         return 0.0, 0, 1.0, impossible
     small = exp < MIN_EXPECTED
     if small.any():
@@ -385,6 +385,8 @@ def check_continuous(recipes_json: Sequence[str], theta: Theta) -> tuple[list[Fi
                 dist = param.distribution(theta, group)
             except (KeyError, AttributeError):  # a group θ does not know (e.g. weather "snow")
                 outside.append((param.name, str(group), len(x)))
+                continue
+            if dist is None:  # θ draws nothing here (people of H: the human-model check covers them)
                 continue
             lo, hi = dist.support
             if getattr(dist, "wraps", False):

@@ -224,7 +224,8 @@ def load_phav(
     """A PHAV dataset directory's clips (or those in ``videos``), labelled by action.
 
     Shards are streamed in place, one per task, in ``workers`` processes. The label is the
-    recipe's action, the groups its protagonist's human model and base motion. A caller
+    recipe's action, the groups its protagonist's human model (a sampled person: the video)
+    and base motion. A caller
     that has already read the manifest or the recipes table passes them in."""
 
     root = Path(root)
@@ -240,7 +241,8 @@ def load_phav(
     actions = list(ACTIONS.names)
     rows = zip(table.column("video_id"), table.column("action"), table.column("human_model"),
                table.column("base_motion"), strict=True)  # fmt: skip
-    info = {vid: (actions.index(a), {"actor": h, "motion": b}) for vid, a, h, b in rows}
+    # A person drawn continuously (model "sampled") is nobody else: the video is its actor.
+    info = {vid: (actions.index(a), {"actor": vid if h == "sampled" else h, "motion": b}) for vid, a, h, b in rows}
     chosen = None if videos is None else set(videos)
     tasks = []
     for shard in manifest.shards:

@@ -31,6 +31,7 @@ from phav_generator.sampling import RecipeSampler, sample_recipes
 from phav_spec.distributions import Triangular, Uniform
 from phav_spec.expectations import exact_expectations
 from phav_spec.motions import MOTIONS
+from phav_spec.population import age_years
 from phav_spec.recipe import Recipe, frames_for, parse_recipe
 from phav_spec.recipe_table import (
     COLUMN_NAMES,
@@ -121,7 +122,8 @@ def _assert_parameters_in_support(theta: Theta, recipe: Recipe) -> None:
     for actor in recipe.background_actors:
         assert _within(theta.background_actors.speed_mps, actor.speed_mps)
         assert actor.start_waypoint != actor.destination_waypoint
-        assert theta.theta_h[actor.human.model] > 0
+        assert actor.human.model == "sampled" if theta.people else theta.theta_h[actor.human.model] > 0
+    _assert_people_in_support(theta, recipe)
     scene = ACTION_SCENES[recipe.action]
     v = recipe.variation
     if v.kind in ("random_perturbation", "action_blending"):
@@ -130,6 +132,44 @@ def _assert_parameters_in_support(theta: Theta, recipe: Recipe) -> None:
         assert v.blend_motion != recipe.motion.base_motion
     if v.kind == "objects":
         assert v.object in scene.variation_objects
+
+
+def _assert_people_in_support(theta: Theta, recipe: Recipe) -> None:
+    """Sampled people: every draw inside θ's support, a child only where the action allows
+    one (background pedestrians always may be), the phenotype made from the draws."""
+    people = theta.people
+    roles = [(recipe.protagonist, True), *((s, True) for s in recipe.supporting_characters)]
+    roles += [(a, False) for a in recipe.background_actors]
+    for person, in_action in roles:
+        human = person.human
+        if people is None:
+            assert human.model != "sampled" and human.sampled is None
+            continue
+        d = human.sampled
+        assert human.model == "sampled" and d is not None
+        if d.child:
+            assert people.p_child > 0 and (not in_action or ACTION_SCENES[recipe.action].children)
+            assert _within(people.child_age_years, d.child_age_years)
+        else:
+            assert _within(people.adult_age_years, d.adult_age_years)
+        for name in ("stature_z", "gender_offset", "skin_tone", "skin_undertone"):
+            assert _within(getattr(people, name), getattr(d, name)), name
+        for name in ("weight", "muscle", "proportions"):
+            assert _within(getattr(people, name), getattr(human.phenotype, name)), name
+        assert d.female == (human.phenotype.gender > 0.5)
+        assert people.p_sex()["female" if d.female else "male"] > 0
+        assert abs(age_years(human.phenotype.age) - d.age_years) < 1e-9
+        o = people.outfit
+        for c in d.garment_colours:
+            assert _within(o.saturation, c.saturation) and _within(o.value, c.value)
+        assert _within(o.shoes_saturation, d.shoes_colour.saturation) and _within(o.shoes_value, d.shoes_colour.value)
+        for garment in (human.outfit.top, human.outfit.bottom):
+            assert _within(o.pattern_scale, garment.scale)
+        sex = "female" if d.female else "male"
+        assert people.hair.styles[sex][human.hair.style] > 0
+        assert people.outfit.bottoms[sex][human.outfit.bottom.kind] > 0
+        assert people.outfit.tops[human.outfit.top.kind] > 0
+        assert d.hair_colour == "grey" or people.hair.colours[d.hair_colour] > 0
 
 
 # --------------------------------------------------------------------------- determinism

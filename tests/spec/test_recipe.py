@@ -1,14 +1,17 @@
-"""Recipe schema v1: validation, migrations from older versions, refusal of newer ones."""
+"""Recipe schema v2: validation, migrations from older versions (v1 files still load),
+refusal of newer ones."""
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
 from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe import (
+    RECIPE_MIGRATIONS,
     RECIPE_SCHEMA_VERSION,
     Recipe,
     load_recipe,
@@ -16,8 +19,11 @@ from phav_spec.recipe import (
     recipe_json_schema,
     upgrade_recipe,
 )
+from phav_spec.scene import HUMAN_MODELS
 from phav_spec.theta import load_preset
 from tests.helpers import run_cli
+
+V1_RECIPES = sorted((Path(__file__).parent / "data").glob("recipe-v1-*.json"))
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +37,7 @@ def test_json_round_trip_is_exact(recipe):
 
 
 def _v0_from_v1(data: dict) -> dict:
-    """A synthetic schema version 0: flat clip length, camera kind at the top level."""
+    """A synthetic schema version 0 (before 1): flat clip length, camera kind at the top level."""
     old = dict(data)
     old["schema_version"] = 0
     old["clip_seconds"] = old.pop("duration_s")
@@ -52,7 +58,7 @@ def test_migration_registry_upgrades_a_synthetic_older_version(recipe):
     old = _v0_from_v1(json.loads(recipe.model_dump_json()))
     with pytest.raises(PhavUserError, match="no migration from version 0"):
         upgrade_recipe(old)
-    upgraded = upgrade_recipe(old, migrations={0: _migrate_0_to_1})
+    upgraded = upgrade_recipe(old, migrations={**RECIPE_MIGRATIONS, 0: _migrate_0_to_1})
     assert Recipe.model_validate(upgraded) == recipe
 
 
@@ -69,7 +75,7 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
     path.write_text(json.dumps(data), encoding="utf-8")
     with pytest.raises(PhavUserError) as info:
         load_recipe(path)
-    assert str(info.value) == f"{path}: schema_version: version 2 is newer than this phav supports (1); upgrade phav"
+    assert str(info.value) == f"{path}: schema_version: version 3 is newer than this phav supports (2); upgrade phav"
 
 
 @pytest.mark.parametrize(
@@ -109,9 +115,85 @@ def test_non_json_is_a_user_error():
 
 def test_json_schema_lists_vocabularies_and_validates_structure():
     schema = recipe_json_schema()
-    assert schema["properties"]["schema_version"]["const"] == 1
+    assert schema["properties"]["schema_version"]["const"] == 2
     text = json.dumps(schema)
     assert "walk_holding_hands" in text and "house_interior" in text and "muscle_weakening" in text
     cli = run_cli("spec", "schema")
     assert cli.returncode == 0
     assert json.loads(cli.stdout) == json.loads(json.dumps(schema))
+
+
+@pytest.mark.parametrize("path", V1_RECIPES, ids=lambda p: p.stem)
+def test_a_version_1_recipe_upgrades_to_the_same_fixed_models(path):
+    """v1 recipes (the phav-v1 golden recipes of seed 0 as released before v2) still load:
+    each person becomes the v2 fixed model of the same name, everything else unchanged."""
+    old = json.loads(path.read_text(encoding="utf-8"))
+    assert old["schema_version"] == 1 and "height_m" in old["protagonist"]["human"]
+    recipe = load_recipe(path)
+    assert recipe.schema_version == RECIPE_SCHEMA_VERSION
+    people = [(old["protagonist"], recipe.protagonist)]
+    people += list(zip(old["supporting_characters"], recipe.supporting_characters, strict=True))
+    people += list(zip(old["background_actors"], recipe.background_actors, strict=True))
+    assert len(people) >= 2
+    for before, after in people:
+        name = before["human"]["model"]
+        model = HUMAN_MODELS[name]
+        assert after.human.model == name and after.human.sampled is None
+        assert after.human.phenotype == model.phenotype and after.human.skin_rgb == model.skin_rgb
+        assert after.human.hair == model.hair and after.human.outfit == model.outfit
+        assert {k: v for k, v in before.items() if k != "human"} == {
+            k: v for k, v in json.loads(after.model_dump_json()).items() if k != "human"
+        }
+    new = json.loads(recipe.model_dump_json())
+    for key in old:
+        if key not in ("schema_version", "protagonist", "supporting_characters", "background_actors"):
+            assert new[key] == old[key], key
+    cli = run_cli("recipe", "check", str(path))
+    assert cli.returncode == 0, cli.stderr
+
+
+def test_a_version_1_person_with_an_unknown_model_is_reported_after_the_upgrade():
+    old = json.loads(V1_RECIPES[0].read_text(encoding="utf-8"))
+    old["protagonist"]["human"]["model"] = "model_99"
+    with pytest.raises(PhavUserError) as info:
+        parse_recipe(old, source="old.json")
+    assert str(info.value).startswith("old.json: protagonist.human.")
+
+
+def test_model_and_draws_agree(recipe):
+    data = json.loads(recipe.model_dump_json())
+    data["protagonist"]["human"]["model"] = "sampled"
+    with pytest.raises(PhavUserError, match="sampled: set exactly when model is 'sampled'"):
+        parse_recipe(data, source="r.json")
+
+
+def test_a_version_1_recipes_table_reads_upgraded(tmp_path):
+    """A recipes.parquet written by schema 1 (its columns, v1 JSON): read with the current
+    columns, computed from the upgraded recipes."""
+    import pyarrow as pa
+
+    from phav_spec.population import estimated_stature
+    from phav_spec.recipe_table import (
+        COLUMN_NAMES,
+        COLUMNS,
+        RECIPE_COLUMN,
+        RecipeRows,
+        read_recipe_table,
+        write_recipe_table,
+    )
+
+    texts = [p.read_text(encoding="utf-8") for p in V1_RECIPES]
+    upgraded = [parse_recipe(t) for t in texts]
+    old_columns = COLUMN_NAMES[: COLUMN_NAMES.index("n_varied_muscles") + 1]
+    rows = RecipeRows().extend(upgraded)
+    arrays = {c.name: rows.to_arrow().column(c.name) for c in COLUMNS if c.name in old_columns}
+    arrays[RECIPE_COLUMN] = pa.array(texts)
+    table = pa.table(arrays).replace_schema_metadata({"phav.recipe_schema_version": "1"})
+    path = tmp_path / "recipes.parquet"
+    write_recipe_table(table, path)
+    back = read_recipe_table(path)
+    assert back.schema_version == 1
+    assert back.table.column_names == [*COLUMN_NAMES, RECIPE_COLUMN]
+    assert list(back.recipes()) == upgraded
+    assert back.column("human_model") == [r.protagonist.human.model for r in upgraded]
+    assert back.column("stature_m") == [estimated_stature(r.protagonist.human.phenotype) for r in upgraded]

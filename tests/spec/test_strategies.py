@@ -71,7 +71,10 @@ def _recipe_invariants(recipe) -> None:
     assert not (env.indoor and recipe.background_actors)
     assert not (CAMERA_INFO[recipe.camera.kind].indoor_only and not env.indoor)
     for person in (recipe.protagonist, *recipe.supporting_characters, *recipe.background_actors):
-        assert person.human.height_m == HUMAN_MODELS[person.human.model].height_m
+        if person.human.model == "sampled":
+            assert person.human.sampled is not None
+        else:
+            assert person.human.phenotype == HUMAN_MODELS[person.human.model].phenotype
     for actor in recipe.background_actors:
         assert actor.start_waypoint != actor.destination_waypoint
     for character in recipe.supporting_characters:

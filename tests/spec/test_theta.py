@@ -8,7 +8,7 @@ import pytest
 import yaml
 
 from phav_spec.errors import PhavUserError
-from phav_spec.theta import Theta, load_preset, load_theta, parse_theta
+from phav_spec.theta import PRESETS_DIR, Theta, load_preset, load_theta, parse_theta
 from phav_spec.vocab import ACTIONS
 from tests.helpers import PRESET_PATH, preset_dict, run_cli, theta_variant
 
@@ -180,3 +180,77 @@ def test_unreachable_rows_may_be_zero():
     theta = parse_theta(data)
     assert isinstance(theta, Theta)
     assert theta.arrays.ae[ACTIONS.index("clap")].sum() == 0
+
+
+# --------------------------------------------------------------------------- people
+
+PEOPLE_PATH = PRESETS_DIR / "phav-people.yaml"
+
+
+def _people_variant(tmp_path, edit):
+    data = yaml.safe_load(PEOPLE_PATH.read_text(encoding="utf-8"))
+    edit(data)
+    path = tmp_path / "people.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    return path
+
+
+_UNIFORM = lambda lo, hi: {"kind": "uniform", "low": lo, "high": hi}  # noqa: E731
+
+BAD_PEOPLE = {
+    "adults younger than 16": (_set("people.adult_age_years", _UNIFORM(10, 40)), "people.adult_age_years", "allowed range [16.0, 90.0] years"),
+    "children older than 16": (_set("people.child_age_years", _UNIFORM(5, 18)), "people.child_age_years", "allowed range"),
+    "statures beyond 3 sd": (_set("people.stature_z", _UNIFORM(-4, 4)), "people.stature_z", "allowed range"),
+    "gender offset crossing the sexes": (_set("people.gender_offset", _UNIFORM(0, 0.6)), "people.gender_offset", "allowed range"),
+    "anny weight above one": (_set("people.weight", _UNIFORM(0.5, 1.2)), "people.weight", "allowed range"),
+    "misspelt people key": (_set("people.skin_tones", _UNIFORM(0, 1)), "people.skin_tones", "unknown key"),
+    "unknown hair style": (_set("people.hair.styles", {"curly": 1}), "people.hair.styles", "unknown hair style 'curly'"),
+    "all-zero tops": (_set("people.outfit.tops", {}), "people.outfit.tops", "all weights are zero"),
+    "no bottoms for men": (_set("people.outfit.bottoms.male", {"skirt": 0}), "people.outfit.bottoms.male", "all weights are zero"),
+    "bottoms for one sex only": (lambda d: d["people"]["outfit"]["bottoms"].pop("male"), "people.outfit.bottoms.male", "missing"),
+    "greying backwards": (_set("people.hair.grey", {"start_years": 70, "full_years": 40, "p_full": 0.5}), "people.hair.grey", "start_years (70.0) must not exceed"),
+    "p_child above one": (_set("people.p_child", 1.5), "people.p_child", "less than or equal to 1"),
+    "unknown mode": (_set("people.mode", "crowd"), "people.mode", "Input should be 'models' or 'sampled'"),
+    "models mode with distributions": (_set("people.mode", "models"), "people.p_female", "mode 'models' takes no distributions"),
+    "missing distribution": (lambda d: d["people"].pop("skin_tone"), "people.skin_tone", "missing"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("case", sorted(BAD_PEOPLE))
+def test_bad_people_section_names_file_and_field(tmp_path, case):
+    edit, field, words = BAD_PEOPLE[case]
+    path = _people_variant(tmp_path, edit)
+    with pytest.raises(PhavUserError) as info:
+        load_theta(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: {field}"), message
+    assert words in message and "\n" not in message
+
+
+def test_people_of_h_are_the_same_theta_with_or_without_the_section():
+    data = preset_dict()
+    data["people"] = {"mode": "models"}
+    theta = parse_theta(data)
+    assert theta.people is None and theta.hash == load_preset().hash
+    assert "people" not in yaml.safe_load(theta.to_yaml())
+
+
+def test_the_people_preset_draws_people_and_round_trips():
+    theta = load_theta("phav-people")
+    assert theta.people is not None and theta.people_sampled
+    again = parse_theta(yaml.safe_load(theta.to_yaml()))
+    assert again == theta and again.people == theta.people
+    # Per-sex weights may be one shared set: the same θ as writing it out for both sexes.
+    data = yaml.safe_load(PEOPLE_PATH.read_text(encoding="utf-8"))
+    data["people"]["outfit"]["tops"] = {"sleeveless": 1, "short_sleeves": 3, "long_sleeves": 3}
+    data["people"]["hair"]["colours"] = {"black": 5, "brown": 4, "blond": 1.5, "red": 0.5}
+    styles = data["people"]["hair"]["styles"]["male"]
+    data["people"]["hair"]["styles"] = styles
+    shared = parse_theta(data)
+    expected = {k: float(v) for k, v in styles.items()}
+    assert shared.people.hair.styles["female"] == shared.people.hair.styles["male"] == expected
+    # θ_H is unused when people are sampled: it may be left out, or weigh nothing.
+    data["theta_h"] = {}
+    assert parse_theta(data).people is not None
+    result = run_cli("theta", "show", "phav-people")
+    assert result.returncode == 0 and "mode: sampled" in result.stdout

@@ -11,7 +11,7 @@ import pytest
 from phav_generator.sampling import RecipeSampler
 from phav_spec.expectations import CONTINUOUS_PARAMETERS
 from phav_spec.recipe_table import RecipeRows
-from phav_spec.theta import Theta, parse_theta
+from phav_spec.theta import Theta, load_theta, parse_theta
 from phav_validators.checks.distribution import (
     check_continuous,
     check_distributions,
@@ -31,6 +31,19 @@ def _all_cameras_theta() -> Theta:
     data["theta_ec"]["default"] = {"kite": 1, "closeup": 1, "static": 1}
     data["theta_ec"]["rows"]["house_interior"] = "uniform"
     return parse_theta(data)
+
+
+@pytest.fixture(scope="module")
+def sampled_people():
+    """phav-people recipes: every person drawn from θ's people section (skin tone and
+    undertone narrowed off their bounds, so that a point just outside still parses)."""
+    data = load_theta("phav-people").model_dump(mode="json")
+    data["people"]["skin_tone"] = {"kind": "uniform", "low": 0.02, "high": 0.98}
+    data["people"]["skin_undertone"] = {"kind": "triangular", "min": -0.9, "max": 0.9, "mode": 0.0}
+    theta = parse_theta(data)
+    sampler = RecipeSampler(theta)
+    rows = RecipeRows().extend(sampler.sample(11, i) for i in range(N))
+    return theta, rows.columns
 
 
 @pytest.fixture(scope="module")
@@ -92,10 +105,24 @@ def test_every_continuous_leaf_is_sampled_and_checked(sampled):
     group) a leaf is comes from θ with that leaf alone moved.
     """
     theta, columns = sampled
+    verified = _every_leaf_is_checked(theta, columns)
+    assert verified >= 55
+
+
+def test_every_people_leaf_is_sampled_and_checked(sampled_people):
+    """The same for θ's people section (phav-people): ages, stature, build, skin, colours."""
+    theta, columns = sampled_people
+    verified = _every_leaf_is_checked(theta, columns, only="people")
+    assert verified == 14
+
+
+def _every_leaf_is_checked(theta: Theta, columns: dict, only: str | None = None) -> int:
+    """Move every continuous leaf (under ``only`` if given) out of its range; returns how many
+    leaves were verified to be found outside."""
     data = theta.model_dump(mode="json")
     parsed = parse_recipes_arrow(columns["recipe"])
-    leaves = list(_leaves(data))
-    assert len(leaves) > 60
+    leaves = [leaf for leaf in _leaves(data) if only is None or leaf[0] == only]
+    assert len(leaves) > (60 if only is None else 10)
     drawn = {p.name: set(parameter_draws(parsed, p)[0].tolist()) for p in CONTINUOUS_PARAMETERS}  # groups
     every_leaf_moved = copy.deepcopy(data)
     expected: dict[tuple[str, ...], set[tuple[str, str]]] = {}  # leaf → the drawn (parameter, group) it moves
@@ -122,7 +149,7 @@ def test_every_continuous_leaf_is_sampled_and_checked(sampled):
             continue
         assert own <= found, f"{'.'.join(leaf)}: no draws found outside for {sorted(own - found)}"
         verified += 1
-    assert verified >= 55
+    return verified
 
 
 def _set(path: str, value):
@@ -158,6 +185,41 @@ CATEGORICAL = {
     "muscle count": (_set("variations.muscle_weakening.n_muscles", {"min": 1, "max": 2}), "n_varied_muscles"),
     "dead zone": (_set("cameras.kite.springs.min_distance_weights", {0: 1}), "ct_min_distance_m"),
 }
+
+
+PEOPLE_CATEGORICAL = {
+    "sex": (_set("people.p_female", 0.2), "sex"),
+    "children": (_set("people.p_child", 0.6), "child"),
+    "hair styles": (_set("people.hair.styles", {"short": 1}), "hair_style"),
+    "hair colours": (_set("people.hair.colours", {"black": 1, "red": 1}), "hair_colour"),
+    "greying": (_set("people.hair.grey", {"start_years": 20.0, "full_years": 30.0, "p_full": 1.0}), "hair_colour"),
+    "tops": (_set("people.outfit.tops", {"long_sleeves": 1}), "top"),
+    "bottoms": (_set("people.outfit.bottoms", {"trousers": 1}), "bottom"),
+    "top fabrics": (_set("people.outfit.top_fabrics", "uniform"), "top_fabric"),
+    "bottom fabrics": (_set("people.outfit.bottom_fabrics", "uniform"), "bottom_fabric"),
+    "people of H": (lambda d: d.pop("people"), "human_model"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(PEOPLE_CATEGORICAL))
+def test_every_categorical_people_parameter_is_checked(sampled_people, case):
+    theta, columns = sampled_people
+    edit, variable = PEOPLE_CATEGORICAL[case]
+    data = theta.model_dump(mode="json")
+    edit(data)
+    other = parse_theta(data)
+    result = check_distributions({k: v for k, v in columns.items() if k != "recipe"}, other)
+    assert not result.ok
+    assert any(variable in f.message for f in result.report.findings), [f.message for f in result.report.findings][:5]
+
+
+def test_people_recipes_pass_against_their_own_theta(sampled_people):
+    theta, columns = sampled_people
+    result = check_distributions(columns, theta)
+    assert result.ok, [f.message for f in result.report.findings][:5]
+    tested = {t.variable for t in result.tests}
+    assert {"sex", "child", "hair_style", "hair_colour", "top", "bottom", "protagonist.adult_age_years",
+            "background.skin_tone"} <= tested  # fmt: skip
 
 
 @pytest.mark.parametrize("case", sorted(CATEGORICAL))
