@@ -18,13 +18,14 @@ from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, Body
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.camera import project, view
 from phav_generator.render.gl import Frame
-from phav_generator.render.people import joint_reach
+from phav_generator.render.people import JOINT_SURFACES, joint_reach
 from phav_generator.render.scene import humans_by_id
 from phav_spec.encoding import instance_rgb
 from phav_spec.recipe import Recipe
 
-#: A joint counts as visible when the surface seen at its pixel is no nearer than the front
-#: of its class's region (the joint's reach, ``render.people``) by more than this (m).
+#: A joint counts as visible when its pixel shows this person's surface around the joint
+#: (its class or a part meeting there, ``render.people.JOINT_SURFACES``), no nearer than
+#: the front of the joint's class region (its reach) by more than this (m).
 VISIBILITY_SLACK_M = 0.003
 
 
@@ -100,8 +101,10 @@ class MetadataBuilder:
             inside = np.isfinite(uv).all(axis=1) & (uv[:, 0] >= 0) & (uv[:, 0] < width)
             inside &= (uv[:, 1] >= 0) & (uv[:, 1] < height)
             for j in np.flatnonzero(inside):
-                seen = frame.depth_m[int(uv[j, 1]), int(uv[j, 0])]
-                visible[j] = seen >= z[j] - self._radii[track.person_id][j] - VISIBILITY_SLACK_M
+                v, u = int(uv[j, 1]), int(uv[j, 0])
+                on_it = frame.instance[v, u] == track.person_id + 1 and frame.class_id[v, u] in JOINT_SURFACES[j]
+                near = frame.depth_m[v, u] >= z[j] - self._radii[track.person_id][j] - VISIBILITY_SLACK_M
+                visible[j] = on_it and near
             bbox, pixels = _bbox2d(frame.instance == track.person_id + 1)
             pin = [0.0] * len(PARENTS)
             pin[0] = float(track.pin[f])

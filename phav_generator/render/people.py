@@ -87,6 +87,21 @@ def joint_reach(dims: BodyDims) -> np.ndarray:
     ])  # fmt: skip
 
 
+def _part_class(body: int, side: str) -> str:
+    """The part class of a ragdoll body: the pelvis shows as the hip half on ``side``."""
+    name = BONES[body].name
+    return f"{side}_hip" if name == "pelvis" else name
+
+
+#: For each of the 13 joints, the pixel classes of the surface around it: its own class and
+#: the parts of the two bodies meeting there (a joint is visible only where one of them is).
+JOINT_SURFACES: tuple[frozenset[int], ...] = tuple(
+    frozenset(PIXEL_CLASSES[n].class_id for n in (joint, _part_class(k, joint.split("_")[0]),
+                                                  _part_class(PARENTS[k], joint.split("_")[0])))
+    for joint, k in zip(JOINT_NAMES, JOINT_BODIES, strict=True)
+)  # fmt: skip
+
+
 def _classes(body: RestBody, owner: np.ndarray) -> np.ndarray:
     """Pixel class per vertex: body part, hip halves on the pelvis, joints near their centre."""
     names = np.array([b.name for b in BONES], dtype=object)[owner]
@@ -358,5 +373,5 @@ def person_drawables(
     return out
 
 
-__all__ = ["LOD_MIN_HEIGHT_PX", "REGIONS", "PersonMesh", "hair_mesh", "joint_reach", "level_of_detail",
-           "person_drawables", "person_mesh"]  # fmt: skip
+__all__ = ["JOINT_SURFACES", "LOD_MIN_HEIGHT_PX", "REGIONS", "PersonMesh", "hair_mesh", "joint_reach",
+           "level_of_detail", "person_drawables", "person_mesh"]  # fmt: skip
