@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.motion.keyframes import hermite
-from phav_generator.motion.reference import PELVIS_H
+from phav_generator.motion.reference import ANKLE_H, PELVIS_H
 from phav_generator.motion.rotations import matrix_to_quat, quat_to_matrix, yaw_matrix
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, N_DOFS, BodyDims, clamp_to_limits, mirror_dofs
 from phav_spec.seeding import stream
@@ -167,7 +167,7 @@ def anchor(pose: Pose) -> Pose:
 def motion_scale(dims: BodyDims) -> float:
     """How much a motion's root travel scales for a body: by leg length (standing pelvis
     height), so that feet keep their steps on a child or a long-legged adult alike."""
-    return dims.standing_pelvis_height / PELVIS_H
+    return (dims.standing_pelvis_height - dims.sole_height) / (PELVIS_H - ANKLE_H)
 
 
 def place(pose: Pose, dims: BodyDims, position: tuple[float, float, float], heading_deg: float) -> Pose:

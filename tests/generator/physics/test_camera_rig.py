@@ -8,8 +8,9 @@ import copy
 
 import numpy as np
 
+from phav_generator.body.model import rest_body
 from phav_generator.motion.rotations import quat_to_matrix
-from phav_generator.motion.skeleton import BONE_INDEX, capsule_points, dims_for, forward_kinematics
+from phav_generator.motion.skeleton import BONE_INDEX, capsule_points, forward_kinematics
 from phav_generator.physics.plan.camera import anchor_point
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
@@ -46,7 +47,7 @@ def test_closeup_frames_head_and_hands_of_seated_brush_hair() -> None:
     np.testing.assert_allclose(plan.camera_target, anchor_point("closeup", _first_pose(plan)), atol=1e-12)
     tr = simulate_plan(plan, keep_state=False)
     p = tr.people[0]
-    dims = dims_for(recipe.protagonist.human)
+    dims = rest_body(recipe.protagonist.human.phenotype).dims
     a, b = capsule_points(dims, p.body_pos, quat_to_matrix(p.body_quat))
     parts = [BONE_INDEX[n] for n in ("head", "left_hand", "right_hand")]
     points = (a[:, parts] + b[:, parts]) / 2  # (F, 3, 3) capsule centres

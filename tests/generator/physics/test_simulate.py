@@ -59,7 +59,8 @@ def test_crawl_keeps_the_torso_near_the_ground() -> None:
     recipe = recipe_for("crawl", seconds=2.0)
     tr = simulate(recipe)
     chest = tr.people[0].body_pos[:, BONE_INDEX["chest"], 2] - recipe.protagonist.position[2]
-    assert np.median(chest) < 0.6
+    # The chest's origin (anny's spine03, at the navel) is ~0.6 of the stature up when standing.
+    assert np.median(chest) < 0.35 * tr.people[0].height_m
 
 
 def test_hop_leaves_the_ground_with_both_feet() -> None:
