@@ -207,7 +207,8 @@ def _skirt(body: RestBody, owner: np.ndarray):
     positions, normals, weights, sides = [], [], [], []
     for t in np.linspace(0.0, 1.0, _SKIRT_RINGS):
         z = waist + t * (hem - waist)
-        band = trunk[np.abs(trunk[:, 2] - z) < 0.015 + 0.01 * t]
+        # The trunk's vertices nearest this height (a band; enough of them on a coarse mesh).
+        band = trunk[np.argsort(np.abs(trunk[:, 2] - z), kind="stable")[: max(12, len(trunk) // 60)]]
         lo, hi = band[:, :2].min(axis=0), band[:, :2].max(axis=0)
         centre, axes = (lo + hi) / 2.0, (hi - lo) / 2.0 * (1.04 + SKIRT_FLARE * t)
         for a in angles:
