@@ -13,15 +13,16 @@ import numpy as np
 
 from phav_generator.body.model import lod_body, skin
 from phav_generator.motion.rotations import quat_to_matrix
-from phav_generator.motion.skeleton import BONE_INDEX
+from phav_generator.motion.skeleton import BONE_INDEX, capsule_points
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.people import _top_bones
 from phav_generator.render.scene import humans_by_id
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, walkable_heights
 
-#: A foot stands when its lowest mesh point is this close to the support and it barely moves.
-STANDING_GAP_M = 0.05
+#: A foot stands when its ragdoll capsule rests on the support (its lowest point within this
+#: of it) and it barely moves: then its mesh sole should be there too.
+STANDING_GAP_M = 0.01
 STANDING_SPEED_MPS = 0.1
 
 
@@ -34,13 +35,33 @@ class Contact:
     standing_sole_m: np.ndarray  # (n,) one value per standing foot and frame
 
 
+def _local(points: np.ndarray, centre, yaw_deg: float) -> np.ndarray:
+    c, s = np.cos(np.deg2rad(yaw_deg)), np.sin(np.deg2rad(yaw_deg))
+    d = points - np.asarray(centre)
+    return np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], d[:, 2]], axis=1)
+
+
+def _support(env: str, boxes, points: np.ndarray) -> np.ndarray:
+    """The walkable surface under each point: the environment's, or a stairs tread the
+    plan built (the highest top at most 0.3 m above the point)."""
+    out = walkable_heights(env, points[:, 0], points[:, 1], points[:, 2] + 0.3)
+    for cls, centre, half, yaw in boxes:
+        if cls != "stairs":
+            continue
+        local = _local(points, centre, yaw)
+        top = centre[2] + half[2]
+        over = (np.abs(local[:, 0]) <= half[0]) & (np.abs(local[:, 1]) <= half[1]) & (top <= points[:, 2] + 0.3)
+        out = np.where(over, np.maximum(out, top), out)
+    return out
+
+
 def _inside_boxes(points: np.ndarray, boxes) -> np.ndarray:
     """How deep each point (n, 3) is inside the nearest box face (0 outside)."""
     depth = np.zeros(len(points))
-    for _, centre, half, yaw in boxes:
-        c, s = np.cos(np.deg2rad(yaw)), np.sin(np.deg2rad(yaw))
-        d = points - np.asarray(centre)
-        local = np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], d[:, 2]], axis=1)
+    for cls, centre, half, yaw in boxes:
+        if cls == "stairs":  # a tread is support (a foot on it is ``_support``'s business)
+            continue
+        local = _local(points, centre, yaw)
         inside = np.min(np.asarray(half) - np.abs(local), axis=1)
         depth = np.maximum(depth, inside)
     return depth
@@ -61,18 +82,19 @@ def measure_contact(recipe: Recipe, trajectory: Trajectory, *, level: int = 1) -
         depth = np.zeros(len(track.body_pos))
         for f in range(len(track.body_pos)):
             v = skin(body.vertices, bones, weights, body.skinning_matrices(track.body_pos[f], rot[f]))
-            support = walkable_heights(env, v[:, 0], v[:, 1], v[:, 2] + 0.3)
-            support = np.maximum(support, ground)
+            support = np.maximum(_support(env, trajectory.boxes, v), ground)
             into_props = float(_inside_boxes(v, trajectory.boxes).max(initial=0.0))
             depth[f] = max(0.0, float(np.max(support - v[:, 2])), into_props)
+            caps = np.stack(capsule_points(body.dims, track.body_pos[f], rot[f]), axis=1)  # (15, 2, 3)
             for foot in ("left_foot", "right_foot"):
                 k = BONE_INDEX[foot]
-                sole = v[owner == k]
-                gap = float(np.min(sole[:, 2] - support[owner == k]))
+                low = caps[k, np.argmin(caps[k, :, 2])]
+                capsule_gap = low[2] - body.dims.capsules[k].radius - _support(env, trajectory.boxes, low[None])[0]
                 step = track.body_pos[min(f + 1, len(depth) - 1), k] - track.body_pos[f, k]
                 speed = float(np.linalg.norm(step)) * recipe.video.fps
-                if gap < STANDING_GAP_M and speed < STANDING_SPEED_MPS:
-                    soles.append(gap)
+                if abs(capsule_gap) < STANDING_GAP_M and speed < STANDING_SPEED_MPS:
+                    sole = owner == k
+                    soles.append(float(np.min(v[sole, 2] - support[sole])))
         depths.append(depth)
     return Contact(np.array(depths), np.array(soles))
 
