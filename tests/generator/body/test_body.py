@@ -126,7 +126,10 @@ def test_the_ragdoll_is_the_mesh(phenotype):
         p = posed[owner == k]
         t = np.clip((p - a) @ (b - a) / max(np.dot(b - a, b - a), 1e-12), 0.0, 1.0)
         gap = np.linalg.norm(p - (a + t[:, None] * (b - a)), axis=1) - c.radius
-        assert np.percentile(gap, 95) < 0.12, f"body {k}: 95 % of its vertices within 12 cm of its capsule"
+        # Measured on the 20 models: 95 % of a body's vertices within 1–9 cm outside its
+        # capsule, every vertex within 15 cm (the neck's, under the skull's capsule).
+        assert np.percentile(gap, 95) < 0.10, f"body {k}: 95 % of its vertices within 10 cm of its capsule"
+        assert gap.max() < 0.16, f"body {k}: every vertex within 16 cm of its capsule"
 
 
 def test_the_body_data_file_is_checked_against_its_hash(tmp_path, monkeypatch):
