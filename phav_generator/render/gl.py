@@ -70,6 +70,7 @@ class VertexLook:
     colours: np.ndarray  # (N, 3) display colours 0–1
     patterns: np.ndarray  # (N,) pattern ids
     pattern_colours: np.ndarray  # (N, 3)
+    pattern_scales: np.ndarray | None = None  # (N,) pattern size factors (1: the shader's own)
 
 
 @dataclass(frozen=True)
@@ -326,8 +327,8 @@ class FrameRenderer:
         self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
         self.vao = ctx.vertex_array(
             self.program,
-            [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
-              "in_colour", "in_pattern_colour", "in_emission")],
+            [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f 1f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
+              "in_colour", "in_pattern_colour", "in_emission", "in_pattern_scale")],
             self.index_buffer, index_element_size=4,
         )  # fmt: skip
         self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao]
@@ -336,7 +337,7 @@ class FrameRenderer:
         if self.use_shadow:
             self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
             self.shadow_vao = ctx.vertex_array(
-                self.shadow_prog, [(self.vbo, "3f 12x 16x 4u 4f 36x", "in_pos", "in_bones", "in_weights")],
+                self.shadow_prog, [(self.vbo, "3f 12x 16x 4u 4f 40x", "in_pos", "in_bones", "in_weights")],
                 self.shadow_ibo,
                 index_element_size=4,
             )  # fmt: skip
@@ -628,7 +629,7 @@ def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
 #: weights, then its labels and look.
 _VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4", 4), ("bones", "<u4", 4),
                           ("weights", "<f4", 4), ("colour", "<f4", 3), ("pattern_colour", "<f4", 3),
-                          ("emission", "<f4", 3)])  # fmt: skip
+                          ("emission", "<f4", 3), ("pattern_scale", "<f4")])  # fmt: skip
 
 
 def _linear(colour) -> np.ndarray:
@@ -655,7 +656,11 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray]]:
             v["ids"][:, 1] = look.class_ids
             v["ids"][:, 3] = d.material * 16 + look.patterns
             v["colour"], v["pattern_colour"] = _linear(look.colours), _linear(look.pattern_colours)
+            if look.pattern_scales is not None:
+                v["pattern_scale"] = look.pattern_scales
         v["emission"] = d.emission
+        if look is None or look.pattern_scales is None:
+            v["pattern_scale"] = 1.0
         parts.append(v)
         indices.append((m.triangles.reshape(-1) + offset).astype(np.uint32))
         offset += len(v)

@@ -365,6 +365,7 @@ def person_drawables(
         colours=colours[pm.regions],
         patterns=patterns[pm.regions],
         pattern_colours=pattern_colours[pm.regions],
+        pattern_scales=np.array([1.0, top.scale, bottom.scale, 1.0], dtype=np.float32)[pm.regions],
     )
     transforms = rest_body(phenotype).skinning_matrices(body_pos, body_rot)
     out = [Drawable(pm.mesh, transforms, int(pm.class_ids[0]), instance, vertex_look=look)]

@@ -13,6 +13,7 @@ in vec4 in_weights;
 in vec3 in_colour;
 in vec3 in_pattern_colour;
 in vec3 in_emission;
+in float in_pattern_scale;  // a fabric's pattern size factor
 out vec3 v_normal;
 out vec3 v_world;
 out vec3 v_local;
@@ -35,7 +36,7 @@ void main() {
     vec4 cam = view_t * world;
     v_depth = -cam.z;
     v_world = world.xyz;
-    v_local = in_pos;
+    v_local = in_pos / in_pattern_scale;
     v_normal = mat3(model_t) * in_normal;
     v_light = light_vp * world;
     v_clip1 = with_flow == 1 ? proj * (view_t1 * (skin(in_bones, in_weights, 1) * vec4(in_pos, 1.0))) : vec4(0.0);

@@ -121,3 +121,21 @@ def test_a_skirt_is_a_flared_tube_from_the_waist_over_the_thighs():
     assert width >= np.ptp(hips[:, 1]) * 0.95, "the waist ring wraps the hips"
     hem = tube[tube[:, 2] < tube[:, 2].min() + 1e-6]
     assert np.ptp(hem[:, 1]) > width, "flared at the hem"
+
+
+def test_a_garments_pattern_scale_sets_the_size_of_its_stripes(ctx):
+    """Stripes twice the size: fewer changes between ground and pattern down the chest."""
+    pos, rot = _pose(np.zeros((1, N_DOFS)))
+    chest = pos[0, 1] + np.array([0.0, 0.0, 0.15])
+    cam = _camera(chest + np.array([1.2, 0.0, 0.0]), chest)
+    changes = []
+    for scale in (1.0, 2.0):
+        top = OUTFIT.top.model_copy(update={"scale": scale, "rgb": (250, 250, 250), "pattern_rgb": (10, 10, 10)})
+        person = person_drawables(PHENOTYPE, (224, 172, 105), OUTFIT.model_copy(update={"top": top}), "bald",
+                                  (0, 0, 0), pos, rot, 1)  # fmt: skip
+        frame = _render(ctx, person, cam)
+        column = frame.colour[:, W // 2, 0].astype(int)
+        on_chest = frame.class_id[:, W // 2] == PIXEL_CLASSES["chest"].class_id
+        bright = column[on_chest] > 128
+        changes.append(int(np.count_nonzero(np.diff(bright))))
+    assert changes[0] >= 4 and changes[1] < changes[0], changes
