@@ -23,9 +23,9 @@ from phav_generator.render.scene import humans_by_id
 from phav_spec.encoding import instance_rgb
 from phav_spec.recipe import Recipe
 
-#: A joint counts as visible when its pixel shows this person's surface around the joint
-#: (its class or a part meeting there, ``render.people.JOINT_SURFACES``), no nearer than
-#: the front of the joint's class region (its reach) by more than this (m).
+#: A joint counts as visible when nothing at its pixel is in front of it, or when what is in
+#: front is this person's surface around the joint (its class or a part meeting there,
+#: ``render.people.JOINT_SURFACES``) no nearer than the joint's reach plus this (m).
 VISIBILITY_SLACK_M = 0.003
 
 
@@ -102,9 +102,12 @@ class MetadataBuilder:
             inside &= (uv[:, 1] >= 0) & (uv[:, 1] < height)
             for j in np.flatnonzero(inside):
                 v, u = int(uv[j, 1]), int(uv[j, 0])
+                seen = frame.depth_m[v, u]
+                if seen >= z[j]:  # nothing in front of the joint
+                    visible[j] = True
+                    continue
                 on_it = frame.instance[v, u] == track.person_id + 1 and frame.class_id[v, u] in JOINT_SURFACES[j]
-                near = frame.depth_m[v, u] >= z[j] - self._radii[track.person_id][j] - VISIBILITY_SLACK_M
-                visible[j] = on_it and near
+                visible[j] = on_it and seen >= z[j] - self._radii[track.person_id][j] - VISIBILITY_SLACK_M
             bbox, pixels = _bbox2d(frame.instance == track.person_id + 1)
             pin = [0.0] * len(PARENTS)
             pin[0] = float(track.pin[f])
