@@ -137,6 +137,12 @@ def _default_lighting() -> Lighting:
     )  # fmt: skip
 
 
+def _write(prog: moderngl.Program, name: str, data: bytes) -> None:
+    """Write a uniform's raw bytes if the program uses it."""
+    if name in prog:
+        prog[name].write(data)
+
+
 def _set(prog: moderngl.Program, name: str, value) -> None:
     """Set a uniform if the program uses it (GLSL drops unused ones)."""
     if name in prog:
@@ -222,10 +228,13 @@ class FrameRenderer:
         ctx, ps = self.ctx, self.post_settings
         wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in self.drawables)
         features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
-        self.program = ctx.program(
-            vertex_shader=shader_source("scene_vertex.glsl"),
-            fragment_shader=with_features(shader_source("scene_fragment.glsl"), features),
-        )
+        # Two builds of the scene program: the labelled pass places each vertex at t + 1 too
+        # (its flow); the colour passes skip that work (llvmpipe runs both sides of a branch).
+        vertex = shader_source("scene_vertex.glsl").replace("#version 330\n", "", 1)
+        fragment = with_features(shader_source("scene_fragment.glsl"), features)
+        self.program = ctx.program(vertex_shader=with_features(vertex, {"FLOW": True}), fragment_shader=fragment)
+        self.colour_program = ctx.program(vertex_shader=with_features(vertex, {"FLOW": False}),
+                                          fragment_shader=fragment)  # fmt: skip
         fullscreen = shader_source("fullscreen_vertex.glsl")
         self.sky = ctx.program(vertex_shader=fullscreen, fragment_shader=shader_source("sky_fragment.glsl"))
         self.shadow_prog = ctx.program(
@@ -239,7 +248,8 @@ class FrameRenderer:
         self.post_prog = ctx.program(
             vertex_shader=fullscreen, fragment_shader=with_features(shader_source("post_fragment.glsl"), post_features)
         )
-        self._programs += [self.program, self.sky, self.shadow_prog, self.rain_prog, self.post_prog]
+        self._programs += [self.program, self.colour_program, self.sky, self.shadow_prog, self.rain_prog,
+                           self.post_prog]  # fmt: skip
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
         self._tri = ctx.buffer(tri.tobytes())
         self.sky_vao = ctx.vertex_array(self.sky, [(self._tri, "2f", "in_xy")])
@@ -325,13 +335,11 @@ class FrameRenderer:
         self.vbo = ctx.buffer(vertices.tobytes() if drawables else bytes(_VERTEX_DTYPE.itemsize))
         total = sum(len(i) for i in self._indices)
         self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
-        self.vao = ctx.vertex_array(
-            self.program,
-            [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f 1f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
-              "in_colour", "in_pattern_colour", "in_emission", "in_pattern_scale")],
-            self.index_buffer, index_element_size=4,
-        )  # fmt: skip
-        self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao]
+        layout = [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f 1f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
+                   "in_colour", "in_pattern_colour", "in_emission", "in_pattern_scale")]  # fmt: skip
+        self.vao = ctx.vertex_array(self.program, layout, self.index_buffer, index_element_size=4)
+        self.colour_vao = ctx.vertex_array(self.colour_program, layout, self.index_buffer, index_element_size=4)
+        self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao, self.colour_vao]
         casters = [self._indices[i] for i, d in enumerate(drawables) if d.casts_shadow]
         self.shadow_vao = None
         if self.use_shadow:
@@ -379,27 +387,28 @@ class FrameRenderer:
 
     def _set_static_uniforms(self) -> None:
         lt, w, h = self.lighting, *self.size
-        for prog in (self.program, self.sky):
+        for prog in (self.program, self.colour_program, self.sky):
             for name in ("sky_zenith", "sky_horizon", "sun_dir", "sun_colour", "fog_colour"):
                 _set(prog, name, getattr(lt, name))
             _set(prog, "fog_per_m", float(lt.fog_per_m))
             _set(prog, "exposure", EXPOSURE)
-        p = self.program
-        _set(p, "sky_ambient", lt.sky_ambient)
-        _set(p, "ground_ambient", lt.ground_ambient)
-        _set(p, "wetness", float(lt.wetness))
-        _set(p, "lamp_count", len(self.lamps))
-        _set(p, "lamp_colour", tuple(float(x) * lt.lamp_intensity for x in (1.0, 0.78, 0.5)))
-        if len(self.lamps):
-            padded = np.zeros((MAX_LAMPS, 3), dtype=np.float32)
-            padded[: len(self.lamps)] = self.lamps
-            p["lamp_pos"].write(padded.tobytes())
-        _set(p, "models", 6)
+        for p in (self.program, self.colour_program):
+            _set(p, "sky_ambient", lt.sky_ambient)
+            _set(p, "ground_ambient", lt.ground_ambient)
+            _set(p, "wetness", float(lt.wetness))
+            _set(p, "lamp_count", len(self.lamps))
+            _set(p, "lamp_colour", tuple(float(x) * lt.lamp_intensity for x in (1.0, 0.78, 0.5)))
+            if len(self.lamps):
+                padded = np.zeros((MAX_LAMPS, 3), dtype=np.float32)
+                padded[: len(self.lamps)] = self.lamps
+                _write(p, "lamp_pos", padded.tobytes())
+            _set(p, "models", 6)
+            if self.use_shadow:
+                _set(p, "shadow_map", 0)
+                _write(p, "light_vp", _gl(self.light_vp))
         _set(self.shadow_prog, "models", 6)
         if self.use_shadow:
             self.shadow_tex.use(location=0)
-            _set(p, "shadow_map", 0)
-            p["light_vp"].write(_gl(self.light_vp))
             self.shadow_prog["light_vp"].write(_gl(self.light_vp))
         _set(self.rain_prog, "rain_colour", (0.78, 0.8, 0.84))
         _set(self.rain_prog, "rain_alpha", 0.35)
@@ -446,9 +455,10 @@ class FrameRenderer:
         indices = np.concatenate([self._indices[i] for i in order]) if len(order) else np.zeros(0, np.uint32)
         self.index_buffer.write(indices.tobytes())
         self.triangles_drawn += int(self._n_triangles[order].sum())
-        p["view_t"].write(_gl(world_to_cam))
+        for prog in (p, self.colour_program):
+            _write(prog, "view_t", _gl(world_to_cam))
+            _set(prog, "eye", tuple(float(x) for x in cam_to_world[:3, 3]))
         p["view_t1"].write(_gl(view(cam_to_world_next)))
-        _set(p, "eye", tuple(float(x) for x in cam_to_world[:3, 3]))
         self.rain_prog["view_t"].write(_gl(world_to_cam))
         rain = self._rain_lines(frame, cam_to_world[:3, 3]) if self.rain_vao is not None else None
         rot = tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9))  # column-major mat3
@@ -500,16 +510,16 @@ class FrameRenderer:
     def _scene_pass(self, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
         """Draw the scene (the first ``n_indices`` of the frame's index buffer) into the bound
         framebuffer's ``slot``-th frame-sized viewport."""
-        ctx, p = self.ctx, self.program
+        ctx = self.ctx
+        p, vao = (self.program, self.vao) if labelled else (self.colour_program, self.colour_vao)
         w, h = self.size
         ctx.viewport = (slot * w, 0, w, h)
         ctx.disable(moderngl.BLEND)
         ctx.enable(moderngl.DEPTH_TEST)
         p["proj"].write(_gl(projection(*intrinsics, w, h)))
         _set(p, "size", (float(w), float(h)))
-        _set(p, "with_flow", int(labelled))
         if n_indices:
-            self.vao.render(moderngl.TRIANGLES, vertices=n_indices)
+            vao.render(moderngl.TRIANGLES, vertices=n_indices)
         # The sky last, only where no surface was drawn (it sits on the far plane).
         _set(self.sky, "intrinsics", tuple(float(x) for x in intrinsics))
         _set(self.sky, "size", (float(w), float(h)))

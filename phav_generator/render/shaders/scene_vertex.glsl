@@ -4,7 +4,6 @@ uniform mat4 view_t;
 uniform mat4 view_t1;
 uniform mat4 proj;
 uniform mat4 light_vp;
-uniform int with_flow;
 in vec3 in_pos;
 in vec3 in_normal;
 in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
@@ -39,7 +38,11 @@ void main() {
     v_local = in_pos / in_pattern_scale;
     v_normal = mat3(model_t) * in_normal;
     v_light = light_vp * world;
-    v_clip1 = with_flow == 1 ? proj * (view_t1 * (skin(in_bones, in_weights, 1) * vec4(in_pos, 1.0))) : vec4(0.0);
+#if FLOW  // the labelled pass: where this point is at t + 1, for its forward flow
+    v_clip1 = proj * (view_t1 * (skin(in_bones, in_weights, 1) * vec4(in_pos, 1.0)));
+#else
+    v_clip1 = vec4(0.0);
+#endif
     v_class = in_ids.y;
     v_instance = in_ids.z;
     v_material = int(in_ids.w / 16u);
