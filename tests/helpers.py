@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import copy
 import io
+import os
 import subprocess
 import sys
 from collections.abc import Callable
@@ -59,6 +60,16 @@ def tiny_theta() -> Theta:
     return parse_theta(data, source="<phav-v1-tiny>")
 
 
+def _cli_env() -> dict[str, str]:
+    """A bare environment for a CLI run, keeping where phav's per-machine cache is (the body
+    data: HOME or PHAV_CACHE_DIR), so no subprocess builds it again."""
+    env = {"COLUMNS": "200", "PATH": ""}
+    for name in ("HOME", "PHAV_CACHE_DIR"):
+        if name in os.environ:
+            env[name] = os.environ[name]
+    return env
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
     """Run ``phav`` (or ``phav-validate`` when the first arg is 'validate!') as a user would."""
     if args and args[0] == "validate!":
@@ -70,7 +81,7 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[
         capture_output=True,
         text=True,
         cwd=cwd,
-        env={"COLUMNS": "200", "PATH": ""},
+        env=_cli_env(),
     )
 
 
