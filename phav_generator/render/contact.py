@@ -15,7 +15,7 @@ from phav_generator.body.model import lod_body, skin
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX, capsule_points
 from phav_generator.physics.trajectory import Trajectory
-from phav_generator.render.people import _top_bones
+from phav_generator.render.people import top_bones
 from phav_generator.render.scene import humans_by_id
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, walkable_heights
@@ -76,7 +76,7 @@ def measure_contact(recipe: Recipe, trajectory: Trajectory, *, level: int = 1) -
     depths, soles = [], []
     for track in trajectory.people:
         body = lod_body(humans[track.person_id].phenotype, level)
-        bones, weights = _top_bones(body.weights)
+        bones, weights = top_bones(body.weights)
         owner = np.argmax(body.weights, axis=1)
         rot = quat_to_matrix(track.body_quat)
         depth = np.zeros(len(track.body_pos))

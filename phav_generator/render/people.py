@@ -61,7 +61,7 @@ def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return out / np.where(length > 0.0, length, 1.0)
 
 
-def _top_bones(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def top_bones(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The ``SKIN_BONES`` heaviest bodies of every vertex (stable order) and their weights,
     renormalised."""
     order = np.argsort(-weights, axis=1, kind="stable")[:, :SKIN_BONES]
@@ -165,7 +165,7 @@ def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonM
     # A triangle's class and region: those of its first corner (the shader's flat value).
     face_class, face_region = vertex_class[faces[:, 0]], vertex_region[faces[:, 0]]
     source, triangles = _split_corners(faces, face_class.astype(np.int64) * 8 + face_region)
-    bones, weights = _top_bones(body.weights)
+    bones, weights = top_bones(body.weights)
     normals = _vertex_normals(body.vertices, faces)
     corner_class = np.zeros(len(source), dtype=np.uint16)
     corner_region = np.zeros(len(source), dtype=np.int64)
@@ -377,5 +377,15 @@ def person_drawables(
     return out
 
 
-__all__ = ["JOINT_SURFACES", "LOD_MIN_HEIGHT_PX", "REGIONS", "PersonMesh", "hair_mesh", "joint_reach",
-           "level_of_detail", "person_drawables", "person_mesh"]  # fmt: skip
+__all__ = [
+    "JOINT_SURFACES",
+    "LOD_MIN_HEIGHT_PX",
+    "REGIONS",
+    "PersonMesh",
+    "hair_mesh",
+    "joint_reach",
+    "level_of_detail",
+    "person_drawables",
+    "person_mesh",
+    "top_bones",
+]  # fmt: skip

@@ -13,7 +13,7 @@ from phav_generator.body.model import rest_body, skin
 from phav_generator.body.rig import BODY_DENSITY, _volume
 from phav_generator.body.shape import ANNY_TO_PERSON, phenotype_coefficients, rest_bone_heads, rest_vertices
 from phav_generator.motion.skeleton import BONE_INDEX, LOWER, N_DOFS, UPPER, forward_kinematics
-from phav_generator.render.people import SKIN_BONES, _top_bones
+from phav_generator.render.people import SKIN_BONES, top_bones
 from phav_spec.errors import PhavUserError
 from phav_spec.people import Phenotype
 
@@ -72,7 +72,7 @@ def test_skinning_matches_annys_posed_vertices_for_random_poses(anny_model, phen
     rest_poses = out["rest_bone_poses"][0].numpy()  # (B, 4, 4), anny frame
     a = np.eye(4)
     a[:3, :3] = ANNY_TO_PERSON
-    bones, weights = _top_bones(body.weights)
+    bones, weights = top_bones(body.weights)
     assert bones.shape[1] == SKIN_BONES
     rng = np.random.default_rng(7)
     for _ in range(5):
@@ -89,7 +89,7 @@ def test_skinning_matches_annys_posed_vertices_for_random_poses(anny_model, phen
 
 def test_a_vertex_bound_to_one_body_keeps_its_distance_to_it_across_a_clip():
     body = rest_body(PHENOTYPES[0])
-    bones, weights = _top_bones(body.weights)
+    bones, weights = top_bones(body.weights)
     rigid = np.flatnonzero(weights[:, 0] > 1.0 - 1e-6)
     assert len(rigid) > 1000
     rng = np.random.default_rng(3)
@@ -110,7 +110,7 @@ def test_the_ragdoll_is_the_mesh(phenotype):
     dims = body.dims
     root = np.array([[0.0, 0.0, dims.standing_pelvis_height]])
     pos, rot = forward_kinematics(dims, root, np.array([[1.0, 0, 0, 0]]), np.zeros((1, N_DOFS)))
-    bones, weights = _top_bones(body.weights)
+    bones, weights = top_bones(body.weights)
     posed = skin(body.vertices, bones, weights, body.skinning_matrices(pos[0], rot[0]))
     foot = BONE_INDEX["left_foot"]
     cap = dims.capsules[foot]
