@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.body.model import lod_body, skin
-from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
 from phav_generator.motion.skeleton import BONE_INDEX, capsule_points
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.people import top_bones
@@ -36,9 +36,8 @@ class Contact:
 
 
 def _local(points: np.ndarray, centre, yaw_deg: float) -> np.ndarray:
-    c, s = np.cos(np.deg2rad(yaw_deg)), np.sin(np.deg2rad(yaw_deg))
-    d = points - np.asarray(centre)
-    return np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], d[:, 2]], axis=1)
+    """Points (n, 3) in the frame of a box at ``centre`` turned by ``yaw_deg`` about +Z."""
+    return (points - np.asarray(centre)) @ yaw_matrix(np.deg2rad(yaw_deg))
 
 
 def _support(env: str, boxes, points: np.ndarray) -> np.ndarray:
@@ -80,8 +79,9 @@ def measure_contact(recipe: Recipe, trajectory: Trajectory, *, level: int = 1) -
         owner = np.argmax(body.weights, axis=1)
         rot = quat_to_matrix(track.body_quat)
         depth = np.zeros(len(track.body_pos))
+        matrices = body.skinning_matrices(track.body_pos, rot)  # (F, 15, 4, 4), all frames at once
         for f in range(len(track.body_pos)):
-            v = skin(body.vertices, bones, weights, body.skinning_matrices(track.body_pos[f], rot[f]))
+            v = skin(body.vertices, bones, weights, matrices[f])
             support = np.maximum(_support(env, trajectory.boxes, v), ground)
             into_props = float(_inside_boxes(v, trajectory.boxes).max(initial=0.0))
             depth[f] = max(0.0, float(np.max(support - v[:, 2])), into_props)

@@ -221,12 +221,7 @@ def _skirt(body: RestBody, owner: np.ndarray):
             thigh = SKIRT_THIGH * t
             weights.append((1.0 - thigh, thigh * (1.0 + s) / 2.0, thigh * (1.0 - s) / 2.0, 0.0))
             sides.append((s >= 0.0, t))
-    tris = []
-    for i in range(_SKIRT_RINGS - 1):
-        for k in range(_SKIRT_AROUND):
-            a, b = i * _SKIRT_AROUND + k, i * _SKIRT_AROUND + (k + 1) % _SKIRT_AROUND
-            tris += [(a, b, b + _SKIRT_AROUND), (a, b + _SKIRT_AROUND, a + _SKIRT_AROUND)]
-    tris_a = np.array(tris)
+    tris_a = _ring_triangles(_SKIRT_RINGS, _SKIRT_AROUND, closed=True)
     names = [("left" if is_left else "right") + ("_hip" if t < 0.5 else "_upper_leg") for is_left, t in sides]
     classes = np.array([PIXEL_CLASSES[n].class_id for n in names], dtype=np.uint16)
     n = len(positions)
@@ -255,6 +250,17 @@ def _scalp(body: RestBody, owner: np.ndarray) -> np.ndarray:
     return np.flatnonzero(scalp[body.faces].all(axis=1))
 
 
+def _ring_triangles(rings: int, around: int, *, closed: bool) -> np.ndarray:
+    """Triangles (n, 3) joining ``rings`` consecutive rings of ``around`` vertices each
+    (vertex ``i * around + k``), round the ring's end to its start when ``closed``."""
+    tris = []
+    for i in range(rings - 1):
+        for k in range(around if closed else around - 1):
+            a, b = i * around + k, i * around + (k + 1) % around
+            tris += [(a, b, b + around), (a, b + around, a + around)]
+    return np.array(tris)
+
+
 def _tube(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A closed-ended tube through ``points`` (n, 3) with ``radii`` (n,): positions, normals
     and triangles, rings of ``_AROUND`` vertices about the local direction."""
@@ -270,12 +276,7 @@ def _tube(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray
             n = np.cos(a) * u + np.sin(a) * v
             positions.append(p + r * n)
             normals.append(n)
-    tris = []
-    for i in range(len(points) - 1):
-        for k in range(_AROUND):
-            a, b = i * _AROUND + k, i * _AROUND + (k + 1) % _AROUND
-            tris += [(a, b, b + _AROUND), (a, b + _AROUND, a + _AROUND)]
-    return np.array(positions), np.array(normals), np.array(tris)
+    return np.array(positions), np.array(normals), _ring_triangles(len(points), _AROUND, closed=True)
 
 
 def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -288,12 +289,8 @@ def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, n
             n = np.array([np.cos(a), np.sin(a), 0.0])
             positions.append(centre + 1.08 * r * n * np.array([1.0, 1.0, 0.0]) + np.array([0.0, 0.0, z - centre[2]]))
             normals.append(n)
-    tris = []
-    for i in range(len(heights) - 1):
-        for k in range(_AROUND - 1):
-            a, b = i * _AROUND + k, i * _AROUND + k + 1
-            tris += [(a, b + _AROUND, b), (a, a + _AROUND, b + _AROUND)]
-    return np.array(positions), np.array(normals), np.array(tris)
+    # Wound the other way round: its front faces the head.
+    return np.array(positions), np.array(normals), _ring_triangles(len(heights), _AROUND, closed=False)[:, [0, 2, 1]]
 
 
 @functools.lru_cache(maxsize=32)
