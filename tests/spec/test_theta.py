@@ -103,7 +103,11 @@ BAD = {
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_bad_theta_names_file_and_field(tmp_path, case):
     edit, field, words = BAD[case]
-    path = theta_variant(tmp_path, edit)
+    _assert_one_line_error(theta_variant(tmp_path, edit), field, words)
+
+
+def _assert_one_line_error(path, field: str, words: str) -> None:
+    """Loading the θ at ``path`` fails with one line naming the file and ``field``."""
     with pytest.raises(PhavUserError) as info:
         load_theta(path)
     message = str(info.value)
@@ -219,12 +223,7 @@ BAD_PEOPLE = {
 @pytest.mark.parametrize("case", sorted(BAD_PEOPLE))
 def test_bad_people_section_names_file_and_field(tmp_path, case):
     edit, field, words = BAD_PEOPLE[case]
-    path = _people_variant(tmp_path, edit)
-    with pytest.raises(PhavUserError) as info:
-        load_theta(path)
-    message = str(info.value)
-    assert message.startswith(f"{path}: {field}"), message
-    assert words in message and "\n" not in message
+    _assert_one_line_error(_people_variant(tmp_path, edit), field, words)
 
 
 def test_people_of_h_are_the_same_theta_with_or_without_the_section():
