@@ -21,7 +21,7 @@ import numpy as np
 
 from phav_generator.body.data import BodyData
 from phav_generator.body.shape import ANNY_TO_PERSON
-from phav_generator.motion.skeleton import BONE_INDEX, BONES, PARENTS, BodyDims, Capsule
+from phav_generator.motion.skeleton import BONE_INDEX, BONES, FIRST_CHILD, PARENTS, BodyDims, Capsule
 
 #: Water-like tissue density (kg/m³): mass = mesh volume × density.
 BODY_DENSITY = 985.0
@@ -171,7 +171,7 @@ def fit_dims(vertices: np.ndarray, faces: np.ndarray, weights: np.ndarray, bind:
         elif kind == "head":
             capsules.append(_head_capsule(local))
         else:
-            child = next((c for c in range(len(BONES)) if PARENTS[c] == k), None)
+            child = FIRST_CHILD[k]
             length = float(np.linalg.norm(bind.heads[child] - bind.heads[k])) if child is not None else 0.0
             if child is None:  # the hand: to the fingertips
                 length = float(np.percentile(-local[:, 2], 98))

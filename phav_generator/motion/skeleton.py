@@ -69,6 +69,11 @@ BONES: tuple[Bone, ...] = (
 assert tuple(b.name for b in BONES) == MUSCLES.names
 BONE_INDEX: dict[str, int] = {b.name: i for i, b in enumerate(BONES)}
 PARENTS: tuple[int, ...] = tuple(-1 if b.parent is None else BONE_INDEX[b.parent] for b in BONES)
+#: Each body's first child in ``BONES`` order (the body its distal joint moves), None for a
+#: leaf (head, hands, feet).
+FIRST_CHILD: tuple[int | None, ...] = tuple(
+    next((c for c in range(len(BONES)) if PARENTS[c] == k), None) for k in range(len(BONES))
+)
 
 #: The 13 joints of the pixel-class table, in the metadata order (neck to right ankle).
 JOINT_NAMES: tuple[str, ...] = JOINT_ORDER

@@ -17,7 +17,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.body.model import RestBody, lod_body, rest_body
-from phav_generator.motion.skeleton import BONE_INDEX, BONES, JOINT_BODIES, JOINT_NAMES, PARENTS, BodyDims
+from phav_generator.motion.skeleton import (
+    BONE_INDEX,
+    BONES,
+    FIRST_CHILD,
+    JOINT_BODIES,
+    JOINT_NAMES,
+    PARENTS,
+    BodyDims,
+)
 from phav_generator.render.gl import Drawable, VertexLook
 from phav_generator.render.meshes import Mesh
 from phav_spec.people import Outfit, Phenotype
@@ -73,7 +81,7 @@ def _along(body: RestBody, owner: np.ndarray) -> np.ndarray:
     """Each vertex's place along its body (0 at the body's joint, 1 at its child's)."""
     local = np.einsum("vij,vi->vj", body.bind.rotations[owner], body.vertices - body.bind.heads[owner])
     lengths = np.array([
-        -body.dims.offsets[next((c for c in range(len(BONES)) if PARENTS[c] == k), k), 2] if k > 0 else 1.0
+        -body.dims.offsets[k if FIRST_CHILD[k] is None else FIRST_CHILD[k], 2] if k > 0 else 1.0
         for k in range(len(BONES))
     ])  # fmt: skip
     return -local[:, 2] / np.where(lengths > 1e-6, lengths, 1.0)[owner]
