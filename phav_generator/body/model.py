@@ -78,7 +78,7 @@ def rest_body(phenotype: Phenotype) -> RestBody:
     return _rest_body(_key(phenotype), load_body_data())
 
 
-def _at_points(values: np.ndarray, corners: np.ndarray, bary: np.ndarray) -> np.ndarray:
+def at_points(values: np.ndarray, corners: np.ndarray, bary: np.ndarray) -> np.ndarray:
     """Values (V, k) of the full mesh at points given by triangle corners and barycentrics."""
     return (
         bary[:, 0, None] * values[corners[:, 0]]
@@ -92,10 +92,10 @@ def _lod_body(key: tuple[float, ...], level: int, data: BodyData) -> RestBody:
     body = _rest_body(key, data)
     faces, triangle, bary = data.lod(level)
     corners = body.faces[triangle]
-    weights = _at_points(body.weights, corners, bary)
+    weights = at_points(body.weights, corners, bary)
     return replace(
         body,
-        vertices=_at_points(body.vertices, corners, bary),
+        vertices=at_points(body.vertices, corners, bary),
         faces=faces,
         texture_coordinates=np.zeros((len(triangle), 2), dtype=np.float32),
         face_uv_indices=faces,
@@ -119,4 +119,4 @@ def stature(phenotype: Phenotype) -> float:
     return rest_body(phenotype).dims.height_m
 
 
-__all__ = ["RestBody", "lod_body", "rest_body", "skin", "stature"]
+__all__ = ["RestBody", "at_points", "lod_body", "rest_body", "skin", "stature"]

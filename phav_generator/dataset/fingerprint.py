@@ -44,7 +44,7 @@ def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
     """Everything the pixels depend on: GL strings, CPU, the versions of the stack, and the
     sha256 of the body data the people's meshes come from."""
     model, flags = _cpu()
-    versions = {p: package_version(p) for p in ("phav", "numpy", "mujoco", "moderngl")}
+    versions = {p: package_version(p) for p in ("phav", "numpy", "scipy", "mujoco", "moderngl")}
     versions[BODY_DATA_KEY] = load_body_data().sha256
     return RendererFingerprint(
         gl_vendor=gl["GL_VENDOR"],

@@ -35,6 +35,11 @@ from phav_spec.seeding import seeded_rng
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
 MATTE, GROUND, WATER, EMISSIVE = 0, 1, 2, 3
+#: Patterns of the shader (``Drawable.pattern``): plain colour, speckled by world position
+#: (the ground's grain), and a texture image (a ``VertexLook``'s, set by it).
+PLAIN, SPECKLE, TEXTURED = 0, 3, 4
+#: The coarsest mip level of texture images (texels 2^level wide).
+MAX_MIP_LEVEL = 3
 #: Shadow map: texels per side and the half extent (m) of the square it covers.
 SHADOW_SIZE = 1024
 SHADOW_HALF_M = 30.0
@@ -63,14 +68,14 @@ EXPOSURE = 1.6
 
 @dataclass(frozen=True)
 class VertexLook:
-    """Labels and look that vary over a mesh (a person's parts and clothes), per vertex;
-    they override the drawable's. Triangles take their first vertex's values (flat)."""
+    """Labels and look that vary over a mesh (a person's parts and clothes): pixel classes
+    per vertex (triangles take their first vertex's, flat) and a texture image over it,
+    mipmapped; they override the drawable's class and colour."""
 
     class_ids: np.ndarray  # (N,) pixel classes
-    colours: np.ndarray  # (N, 3) display colours 0–1
-    patterns: np.ndarray  # (N,) pattern ids
-    pattern_colours: np.ndarray  # (N, 3)
-    pattern_scales: np.ndarray | None = None  # (N,) pattern size factors (1: the shader's own)
+    uvs: np.ndarray  # (N, 2) texture coordinates, (0, 0) the texture's first texel
+    texture: np.ndarray  # (H, W, 3) float16 linear colours, row 0 at v = 0; drawables
+    # sharing one array share its texture layer
 
 
 @dataclass(frozen=True)
@@ -85,8 +90,7 @@ class Drawable:
     colour: tuple[float, float, float] = (0.6, 0.6, 0.6)
     material: int = MATTE
     emission: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    pattern: int = 0  # 0 plain, 1 stripes, 2 checks, 3 speckle
-    pattern_colour: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    pattern: int = PLAIN  # PLAIN or SPECKLE (a vertex look is TEXTURED)
     casts_shadow: bool = True
     vertex_look: VertexLook | None = None
 
@@ -323,7 +327,7 @@ class FrameRenderer:
         """Every drawable in one vertex buffer, drawn with one call per pass through a
         per-frame index buffer (the visible drawables, nearest first); the models texture."""
         ctx, drawables = self.ctx, self.drawables
-        vertices, self._indices = _pack(drawables)
+        vertices, self._indices, textures = _pack(drawables)
         self._world = _stack_transforms(drawables)  # (L, rows, 4, 4) world transforms per frame
         rows = self._world.shape[1]
         #: Each drawable's first row: a rigid drawable's transform, a skinned one's root bone.
@@ -335,17 +339,19 @@ class FrameRenderer:
         self.vbo = ctx.buffer(vertices.tobytes() if drawables else bytes(_VERTEX_DTYPE.itemsize))
         total = sum(len(i) for i in self._indices)
         self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
-        layout = [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f 1f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
-                   "in_colour", "in_pattern_colour", "in_emission", "in_pattern_scale")]  # fmt: skip
+        layout = [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
+                   "in_colour", "in_emission", "in_uv")]  # fmt: skip
         self.vao = ctx.vertex_array(self.program, layout, self.index_buffer, index_element_size=4)
         self.colour_vao = ctx.vertex_array(self.colour_program, layout, self.index_buffer, index_element_size=4)
         self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao, self.colour_vao]
+        self.textures = _texture_array(ctx, textures)
+        self._objects.append(self.textures)
         casters = [self._indices[i] for i, d in enumerate(drawables) if d.casts_shadow]
         self.shadow_vao = None
         if self.use_shadow:
             self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
             self.shadow_vao = ctx.vertex_array(
-                self.shadow_prog, [(self.vbo, "3f 12x 16x 4u 4f 40x", "in_pos", "in_bones", "in_weights")],
+                self.shadow_prog, [(self.vbo, "3f 12x 16x 4u 4f 36x", "in_pos", "in_bones", "in_weights")],
                 self.shadow_ibo,
                 index_element_size=4,
             )  # fmt: skip
@@ -403,6 +409,7 @@ class FrameRenderer:
                 padded[: len(self.lamps)] = self.lamps
                 _write(p, "lamp_pos", padded.tobytes())
             _set(p, "models", 6)
+            _set(p, "textures", 7)
             if self.use_shadow:
                 _set(p, "shadow_map", 0)
                 _write(p, "light_vp", _gl(self.light_vp))
@@ -449,6 +456,7 @@ class FrameRenderer:
         at, nxt = min(frame, last), min(frame + 1, last)
         self.models_tex.write(np.concatenate([self._columns[at], self._columns[nxt]], axis=1).tobytes())
         self.models_tex.use(location=6)
+        self.textures.use(location=7)
         self._shadow_pass()
         world_to_cam = view(cam_to_world)
         order = self._draw_order(at, world_to_cam, intrinsics)  # the same at every supersampling
@@ -636,10 +644,10 @@ def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
 
 
 #: One vertex of the shared buffer: geometry, its bones (rows of the models texture) and
-#: weights, then its labels and look.
+#: weights, then its labels and look (texture coordinates and layer where textured).
 _VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4", 4), ("bones", "<u4", 4),
-                          ("weights", "<f4", 4), ("colour", "<f4", 3), ("pattern_colour", "<f4", 3),
-                          ("emission", "<f4", 3), ("pattern_scale", "<f4")])  # fmt: skip
+                          ("weights", "<f4", 4), ("colour", "<f4", 3), ("emission", "<f4", 3),
+                          ("uv", "<f4", 3)])  # fmt: skip
 
 
 def _linear(colour) -> np.ndarray:
@@ -647,10 +655,11 @@ def _linear(colour) -> np.ndarray:
     return np.power(np.asarray(colour, dtype=np.float64), 2.2)
 
 
-def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray]]:
+def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list[np.ndarray]]:
     """Every drawable's vertices in one array (labels and look per vertex; colours made
-    linear here, once) and each drawable's triangle indices into it."""
-    parts, indices, offset, row = [], [], 0, 0
+    linear here, once), each drawable's triangle indices into it and the texture images
+    (one layer per distinct array, in order of first use)."""
+    parts, indices, textures, offset, row = [], [], [], 0, 0
     for i, d in enumerate(drawables):
         m, look = d.mesh, d.vertex_look
         v = np.zeros(len(m.positions), dtype=_VERTEX_DTYPE)
@@ -661,21 +670,37 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray]]:
         else:
             v["bones"], v["weights"] = row, (1.0, 0.0, 0.0, 0.0)
         v["colour"] = _linear(d.colour)
-        v["pattern_colour"] = _linear(d.pattern_colour)
-        if look is not None:
-            v["ids"][:, 1] = look.class_ids
-            v["ids"][:, 3] = d.material * 16 + look.patterns
-            v["colour"], v["pattern_colour"] = _linear(look.colours), _linear(look.pattern_colours)
-            if look.pattern_scales is not None:
-                v["pattern_scale"] = look.pattern_scales
         v["emission"] = d.emission
-        if look is None or look.pattern_scales is None:
-            v["pattern_scale"] = 1.0
+        if look is not None:
+            layer = next((k for k, t in enumerate(textures) if t is look.texture), len(textures))
+            if layer == len(textures):
+                textures.append(look.texture)
+            v["ids"][:, 1] = look.class_ids
+            v["ids"][:, 3] = d.material * 16 + TEXTURED
+            v["uv"][:, :2], v["uv"][:, 2] = look.uvs, layer
         parts.append(v)
         indices.append((m.triangles.reshape(-1) + offset).astype(np.uint32))
         offset += len(v)
         row += d.n_bones
-    return (np.concatenate(parts) if parts else np.zeros(0, _VERTEX_DTYPE)), indices
+    return (np.concatenate(parts) if parts else np.zeros(0, _VERTEX_DTYPE)), indices, textures
+
+
+def _texture_array(ctx: moderngl.Context, textures: list[np.ndarray]) -> moderngl.TextureArray:
+    """The texture images as the layers of one mipmapped array (a texel of black without
+    any: the sampler must have one), trilinear, clamped at the edges."""
+    if not textures:
+        textures = [np.zeros((1, 1, 3), dtype=np.float16)]
+    shapes = {t.shape for t in textures}
+    if len(shapes) != 1:
+        raise ValueError(f"the texture images of one scene must share a size, got {sorted(shapes)}")
+    height, width, _ = textures[0].shape
+    array = ctx.texture_array((width, height, len(textures)), 3, np.stack(textures).astype(np.float16).tobytes(),
+                              dtype="f2")  # fmt: skip
+    array.repeat_x = array.repeat_y = False
+    # Mip levels up to 8 × 8 texels: coarser ones would average neighbouring islands of an atlas.
+    array.build_mipmaps(max_level=MAX_MIP_LEVEL)
+    array.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    return array
 
 
 def _stack_transforms(drawables: list[Drawable]) -> np.ndarray:
@@ -702,6 +727,9 @@ __all__ = [
     "GROUND",
     "MATTE",
     "NEAR_M",
+    "PLAIN",
+    "SPECKLE",
+    "TEXTURED",
     "WATER",
     "Drawable",
     "Frame",

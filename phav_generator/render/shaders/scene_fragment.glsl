@@ -5,12 +5,13 @@ uniform float wetness;
 uniform vec3 eye;
 uniform vec2 size;
 uniform sampler2DShadow shadow_map;
+uniform sampler2DArray textures;  // people's clothes, one layer per outfit
 uniform int lamp_count;
 uniform vec3 lamp_pos[16];
 uniform vec3 lamp_colour;
 in vec3 v_normal;
 in vec3 v_world;
-in vec3 v_local;
+in vec3 v_uv;
 in float v_depth;
 in vec4 v_clip1;
 in vec4 v_light;
@@ -19,7 +20,6 @@ flat in uint v_instance;
 flat in int v_material;
 flat in int v_pattern;
 flat in vec3 v_colour;          // linear (display colour to the power 2.2, done once on the CPU)
-flat in vec3 v_pattern_colour;  // linear
 flat in vec3 v_emission;
 
 #include "sky.glsl"
@@ -39,24 +39,14 @@ float sunlit(vec3 n) {
 }
 
 vec3 albedo() {
+    // A texture image (linear colours), its mip level from derivatives taken outside the branch.
+    vec2 du = dFdx(v_uv.xy), dv = dFdy(v_uv.xy);
+    if (v_pattern == 4) return textureGrad(textures, v_uv, du, dv).rgb;
     vec3 c = v_colour;
-    if (v_pattern == 1) {  // horizontal stripes around the body part
-        c = mix(c, v_pattern_colour, step(0.5, fract(v_local.z * 14.0)));
-    } else if (v_pattern == 2) {  // checks
-        vec3 q = floor(v_local * 12.0);
-        c = mix(c, v_pattern_colour, mod(q.x + q.y + q.z, 2.0));
-    } else if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
+    if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
         vec2 cell = floor(v_world.xy * 2.0);
         float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
         c *= 0.88 + 0.24 * h;
-    } else if (v_pattern == 4) {  // denim: a fine diagonal twill and a mottled fade
-        float twill = step(0.5, fract((v_local.x + v_local.y + v_local.z) * 160.0));
-        vec3 cell = floor(v_local * 40.0);
-        float h = fract(sin(dot(cell, vec3(12.9898, 78.233, 37.719))) * 43758.5453);
-        c = mix(c, v_pattern_colour, 0.35 * twill + 0.3 * h);
-    } else if (v_pattern == 5) {  // print: dots on a 6 cm lattice
-        vec3 q = fract(v_local * 16.0) - 0.5;
-        c = mix(c, v_pattern_colour, step(length(q), 0.28));
     }
     return c;
 }

@@ -10,12 +10,11 @@ in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
 in uvec4 in_bones;  // rows of the models texture
 in vec4 in_weights;
 in vec3 in_colour;
-in vec3 in_pattern_colour;
 in vec3 in_emission;
-in float in_pattern_scale;  // a fabric's pattern size factor
+in vec3 in_uv;  // texture coordinates and layer (textured surfaces)
 out vec3 v_normal;
 out vec3 v_world;
-out vec3 v_local;
+out vec3 v_uv;
 out float v_depth;
 out vec4 v_clip1;
 out vec4 v_light;
@@ -24,7 +23,6 @@ flat out uint v_instance;
 flat out int v_material;
 flat out int v_pattern;
 flat out vec3 v_colour;
-flat out vec3 v_pattern_colour;
 flat out vec3 v_emission;
 
 #include "models.glsl"
@@ -35,7 +33,7 @@ void main() {
     vec4 cam = view_t * world;
     v_depth = -cam.z;
     v_world = world.xyz;
-    v_local = in_pos / in_pattern_scale;
+    v_uv = in_uv;
     v_normal = mat3(model_t) * in_normal;
     v_light = light_vp * world;
 #if FLOW  // the labelled pass: where this point is at t + 1, for its forward flow
@@ -48,7 +46,6 @@ void main() {
     v_material = int(in_ids.w / 16u);
     v_pattern = int(in_ids.w % 16u);
     v_colour = in_colour;
-    v_pattern_colour = in_pattern_colour;
     v_emission = in_emission;
     gl_Position = proj * cam;
 }

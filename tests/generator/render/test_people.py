@@ -9,6 +9,7 @@ import pytest
 from phav_generator.body.model import rest_body
 from phav_generator.motion.rotations import look_at
 from phav_generator.motion.skeleton import DOF_INDEX, N_DOFS, forward_kinematics
+from phav_generator.render.clothes import ATLAS, STRIP
 from phav_generator.render.gl import Drawable, FrameRenderer
 from phav_generator.render.meshes import box
 from phav_generator.render.people import level_of_detail, person_drawables, person_mesh
@@ -113,7 +114,9 @@ def test_a_skirt_is_a_flared_tube_from_the_waist_over_the_thighs():
     extra = len(skirt.mesh.positions) - len(shorts.mesh.positions)
     assert extra > 100 and skirt.mesh.n_triangles > shorts.mesh.n_triangles
     tube = skirt.mesh.positions[-extra:]
-    assert np.all(skirt.regions[-extra:] == 2)  # the bottom garment's look
+    strip_top = STRIP / (ATLAS + STRIP)
+    assert np.all(skirt.uvs[-extra:, 1] < strip_top), "the skirt's texels: the strip below the atlas"
+    assert np.all(skirt.uvs[:-extra, 1] >= strip_top)
     body = rest_body(PHENOTYPE)
     trunk = body.vertices[np.argmax(body.weights, axis=1) <= 1]  # pelvis and chest (the arms hang beside)
     hips = trunk[np.abs(trunk[:, 2] - tube[:, 2].max()) < 0.01]
