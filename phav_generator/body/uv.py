@@ -105,7 +105,7 @@ def _texels(width: int, height: int, data: BodyData) -> tuple[np.ndarray, np.nda
 
 
 #: Rings of texels around the atlas's pieces that copy their edge: twice the widest mip
-#: level's footprint (8 texels), all that trilinear filtering reads beyond a piece.
+#: level's footprint (8 texels), all that mipmapped filtering reads beyond a piece.
 BLEED_TEXELS = 16
 
 

@@ -239,7 +239,10 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
                        out / "recipes.parquet")  # fmt: skip
 
     state = _Run(out, names, shards, progress)
-    todo = state.todo(tasks)
+    # Longest videos first: workers that pick the next task as they finish then end close
+    # together (no worker rendering one long video alone at the end). Which order the videos
+    # are rendered in cannot change a byte.
+    todo = sorted(state.todo(tasks), key=lambda t: -state.frames[t.video_id])
     stage = functools.partial(run_task, parts=state.parts)
     run_tasks(stage, todo, engine=engine, workers=workers, address=address, out=out, progress=progress,
               finished=state.finished)  # fmt: skip

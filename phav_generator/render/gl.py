@@ -687,7 +687,8 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
 
 def _texture_array(ctx: moderngl.Context, textures: list[np.ndarray]) -> moderngl.TextureArray:
     """The texture images as the layers of one mipmapped array (a texel of black without
-    any: the sampler must have one), trilinear, clamped at the edges."""
+    any: the sampler must have one), bilinear in the nearest mip level (half the texel reads
+    of trilinear filtering), clamped at the edges."""
     if not textures:
         textures = [np.zeros((1, 1, 3), dtype=np.float16)]
     shapes = {t.shape for t in textures}
@@ -699,7 +700,7 @@ def _texture_array(ctx: moderngl.Context, textures: list[np.ndarray]) -> moderng
     array.repeat_x = array.repeat_y = False
     # Mip levels up to 8 × 8 texels: coarser ones would average neighbouring islands of an atlas.
     array.build_mipmaps(max_level=MAX_MIP_LEVEL)
-    array.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    array.filter = (moderngl.LINEAR_MIPMAP_NEAREST, moderngl.LINEAR)  # bilinear in the nearest level
     return array
 
 

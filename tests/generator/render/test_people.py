@@ -63,7 +63,7 @@ def test_every_part_and_joint_class_is_on_the_mesh(level):
 
 
 def test_levels_of_detail_go_coarser_as_people_get_smaller():
-    levels = [level_of_detail(px) for px in (500, 400, 399, 48, 47, 20, 19, 0)]
+    levels = [level_of_detail(px) for px in (500, 400, 399, 120, 119, 40, 39, 0)]
     assert levels == [0, 0, 1, 1, 2, 2, 3, 3]
 
 
