@@ -477,17 +477,18 @@ class FrameRenderer:
         self._scene_pass(len(indices), intrinsics, 0, labelled=True)
         if rain is not None:
             self._rain_pass(self.colour_fbo, rain, intrinsics, 0)
-        raw = self._read(self.fbo, 0, 4, "f1", np.uint8)
+        # Read as the frame keeps them (RGB without alpha): a channel slice would cost a copy.
+        raw = self._read(self.fbo, 0, 3, "f1", np.uint8)
         class_id = self._read(self.fbo, 1, 1, "u2", np.uint16)[..., 0]
         instance = self._read(self.fbo, 2, 1, "u2", np.uint16)[..., 0]
         depth = self._read(self.fbo, 3, 1, "f4", np.float32)[..., 0]
         flow = self._read(self.fbo, 4, 4, "f4", np.float32)
         labels = Frame(
-            colour=np.ascontiguousarray(raw[..., :3]),
+            colour=raw,
             class_id=class_id,
             instance=instance,
             depth_m=depth,
-            flow=np.ascontiguousarray(flow[..., :2]),
+            flow=flow[..., :2],  # a view: its readers take strided arrays
             flow_valid=flow[..., 2] > 0.5,
         )
         self._labelled = _LabelledPass(labels, len(indices), intrinsics, cam_to_world, rain)
@@ -613,8 +614,7 @@ class FrameRenderer:
         _set(q, "cam_rot", tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9)))
         _set(q, "up_cam", tuple(float(x) for x in cam_to_world[:3, :3].T @ np.array([0.0, 0.0, 1.0])))
         self.post_vao.render(moderngl.TRIANGLES)
-        out = self._read(self.out_fbo, 0, 4, "f1", np.uint8)[..., :3]
-        return np.ascontiguousarray(out)
+        return self._read(self.out_fbo, 0, 3, "f1", np.uint8)
 
     def _read(self, fbo, attachment: int, components: int, dtype: str, np_dtype) -> np.ndarray:
         w, h = self.size
