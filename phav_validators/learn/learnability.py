@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Any
 
 import cv2
 import numpy as np
-from scipy.stats import binomtest
 
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
@@ -111,6 +110,8 @@ def binomial_p(correct: int, n: int, chance: float) -> float:
 
     if n == 0:
         return 1.0
+    from scipy.stats import binomtest  # 0.4 s to import: only this test needs it, not every phav process
+
     return float(binomtest(correct, n, chance, alternative="greater").pvalue)
 
 
