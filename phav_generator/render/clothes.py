@@ -139,8 +139,8 @@ def _canvas_texels() -> tuple[RestBody, np.ndarray, np.ndarray, np.ndarray, np.n
     owner = np.argmax(at(body.weights), axis=1)
     # The skirt strip: the tube's rest positions, bilinear between its rings and columns.
     tube = skirt(body, np.argmax(body.weights, axis=1))[0].reshape(SKIRT_RINGS, SKIRT_AROUND + 1, 3)
-    y = (np.arange(STRIP) + 0.5 - 0.5) / (STRIP - 1.0) * (SKIRT_RINGS - 1)
-    x = (np.arange(ATLAS) + 0.5) / ATLAS * SKIRT_AROUND
+    y = np.arange(STRIP) / (STRIP - 1.0) * (SKIRT_RINGS - 1)  # texel row r: ring r / (STRIP − 1), as skirt_uv
+    x = (np.arange(ATLAS) + 0.5) / ATLAS * SKIRT_AROUND  # texel centres: columns round the ring
     y0 = np.clip(np.floor(y).astype(int), 0, SKIRT_RINGS - 2)
     x0 = np.clip(np.floor(x).astype(int), 0, SKIRT_AROUND - 1)
     fy, fx = np.clip(y - y0, 0.0, 1.0)[:, None, None], (x - x0)[None, :, None]
