@@ -19,6 +19,7 @@ import numpy as np
 from phav_generator.body.model import RestBody, at_points, rest_body
 from phav_generator.body.uv import atlas_texels
 from phav_generator.motion.skeleton import BONE_INDEX, BONES, FIRST_CHILD
+from phav_generator.render.gl import linear_colour
 from phav_generator.render.meshes import ring_triangles
 from phav_spec.people import Garment, Outfit, Phenotype
 from phav_spec.vocab import PIXEL_CLASSES
@@ -176,7 +177,7 @@ def fabric(garment: Garment, points: np.ndarray) -> np.ndarray:
 
 def _linear(rgb) -> np.ndarray:
     """Display colours 0–255 as the shader's linear colours."""
-    return np.power(np.asarray(rgb, dtype=np.float64) / 255.0, 2.2)
+    return linear_colour(np.asarray(rgb, dtype=np.float64) / 255.0)
 
 
 @functools.lru_cache(maxsize=64)

@@ -650,8 +650,8 @@ _VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4"
                           ("uv", "<f4", 3)])  # fmt: skip
 
 
-def _linear(colour) -> np.ndarray:
-    """Display colours (0–1) made linear for shading."""
+def linear_colour(colour) -> np.ndarray:
+    """Display colours (0–1) made linear for shading (vertex colours, texture images)."""
     return np.power(np.asarray(colour, dtype=np.float64), 2.2)
 
 
@@ -669,7 +669,7 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
             v["bones"], v["weights"] = row + m.bones, m.weights
         else:
             v["bones"], v["weights"] = row, (1.0, 0.0, 0.0, 0.0)
-        v["colour"] = _linear(d.colour)
+        v["colour"] = linear_colour(d.colour)
         v["emission"] = d.emission
         if look is not None:
             layer = next((k for k, t in enumerate(textures) if t is look.texture), len(textures))
@@ -737,4 +737,5 @@ __all__ = [
     "FrameRenderer",
     "PostSettings",
     "VertexLook",
+    "linear_colour",
 ]
