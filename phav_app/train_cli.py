@@ -79,6 +79,17 @@ def train_command(
     widths: Annotated[str, typer.Option(help="Backbone widths, one stride-2 stage each.")] = "32,64,128,192",
     stem_pool: Annotated[bool, typer.Option(help="Max-pool after the stem (for frames of 170x128 and up).")] = False,
     dropout: Annotated[float, typer.Option(help="Dropout before the classifiers.")] = 0.3,
+    segments: Annotated[int, typer.Option(min=1, help="Snippets per clip while training (TSN's K).")] = 3,
+    temporal_shift: Annotated[
+        bool, typer.Option(help="TSM's temporal shift between the segments (testing then uses K segments too).")
+    ] = False,
+    rgb_frames: Annotated[int, typer.Option(min=1, help="RGB frames stacked per snippet (1: TSN's).")] = 1,
+    aux_flow: Annotated[
+        float, typer.Option(min=0.0, help="RGB stream: weight of predicting the flow between its frames (training).")
+    ] = 0.0,
+    aux_parts: Annotated[
+        float, typer.Option(min=0.0, help="Weight of segmenting the body parts (PHAV's semantic frames; training).")
+    ] = 0.0,
     flow: Annotated[str, typer.Option(help="Flow: gt (PHAV's ground truth), farneback or tvl1 (estimated).")] = "gt",
     real: Annotated[
         str | None, typer.Option(help="A real dataset: ucf101=PATH or hmdb51=PATH (official split files beside it).")
@@ -106,11 +117,16 @@ def train_command(
         raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
     clips_per_batch = _mix(mix)
     stored = _size(size)
-    base = TrainConfig(stream=stream_list[0], widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
-                       optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool, dropout=dropout,
+    base = TrainConfig(stream="rgb" if "rgb" in stream_list else stream_list[0], widths=_ints(widths, "--widths"),
+                       epochs=epochs, lr=lr, optimizer=optimizer, mix=(("virtual", batch),), seed=seed,
+                       stem_pool=stem_pool, dropout=dropout, segments=segments, temporal_shift=temporal_shift,
+                       rgb_frames=rgb_frames, aux_flow=aux_flow, aux_parts=aux_parts,
                        threads=threads if threads is not None else default_threads())  # fmt: skip
-    for stream in stream_list[1:]:
-        TrainConfig(stream=stream)
+    for stream in stream_list:
+        base.for_stream(stream)
+    if aux_parts > 0 and (real is not None or dataset is None):
+        raise PhavUserError("body-part targets come from PHAV's semantic frames: train on PHAV alone",
+                            field="--aux-parts")  # fmt: skip
     if dataset is None and real is None:
         raise PhavUserError("give a PHAV dataset directory, --real, or both", field="DATASET")
     try:
@@ -127,7 +143,8 @@ def train_command(
 
         virtual = None
         if dataset is not None:
-            virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0))
+            virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0),
+                                parts=aux_parts > 0)  # fmt: skip
         if real_source is None:
             runs = phav_runs(virtual, base, stream_list, out, split_kind=split, splits=splits, device=device,
                              progress=progress)  # fmt: skip

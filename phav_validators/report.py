@@ -18,10 +18,12 @@ import cv2
 import numpy as np
 
 from phav_generator.dataset.fingerprint import package_version
+from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
+from phav_spec.manifest import load_manifest
 from phav_validators.checks.reproduce import shard_video_frames
 from phav_validators.framing import FRAMING_BINS, FramingResult
-from phav_validators.learn.learnability import confusion_png
+from phav_validators.learn.learnability import LearnResult, confusion_png
 from phav_validators.options import DatasetReport
 
 #: Version of the JSON report's layout; bumped when a field changes meaning.
@@ -132,6 +134,44 @@ def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
     return "data:image/png;base64," + base64.b64encode(png.tobytes()).decode("ascii") if ok else None
 
 
+def learnability_html(learn: LearnResult, root: Path) -> list[str]:
+    """The confusion matrix, per-class accuracy (worst first) and, for the classes most
+    often answered for each other, a middle frame of a clip of each, side by side."""
+    esc = html.escape
+    png = confusion_png(learn.confusion(), learn.classes)
+    url = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+    out = [f"<h3>Learnability: confusion on held-out actors (fused)</h3><img src='{url}'>",
+           "<h4>Per class (fused, worst first)</h4><table><tr><th>class</th><th>test clips</th><th>accuracy</th>"
+           "<th>most often answered instead</th></tr>"]  # fmt: skip
+    for row in learn.per_class():
+        instead = f"{row['mistaken_for']} ({row['mistakes']})" if row["mistaken_for"] else ""
+        out.append(f"<tr><td>{esc(row['class'])}</td><td>{row['clips']}</td><td>{row['accuracy']:.0%}</td>"
+                   f"<td>{esc(instead)}</td></tr>")  # fmt: skip
+    out.append("</table>")
+    try:
+        videos = {v.video_id: v for v in load_manifest(root / "manifest.json").videos}
+    except (OSError, ValueError, PhavUserError):
+        videos = {}
+    figures = []
+    for a, b, n in learn.confused_pairs(3):
+        if learn.example(a, b) is None:
+            a, b = b, a  # show the direction that happened: a clip of a answered b …
+        pair = []
+        for true, answer in ((a, b), (b, b) if learn.example(b, b) is not None else (b, a)):  # … beside one of b
+            key = learn.example(true, answer)
+            entry = videos.get(key) if key is not None else None
+            image = _frame_png(str(root / entry.shard), key, entry.n_frames // 2) if entry is not None else None
+            if image is not None:
+                pair.append(f"<figure><img src='{image}' width='255'><figcaption>{esc(key)}: {esc(true)}, "
+                            f"answered {esc(answer)}</figcaption></figure>")  # fmt: skip
+        if pair:
+            figures.append(f"<div><b>{esc(a)} ↔ {esc(b)}</b>: {n} test clips answered as the other<br>"
+                           + "".join(pair) + "</div>")  # fmt: skip
+    if figures:
+        out.append("<h4>Most confused pairs</h4>" + "".join(figures))
+    return out
+
+
 def report_html(reports: Sequence[DatasetReport]) -> str:
     esc = html.escape
     out = [
@@ -182,9 +222,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
         if frames:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
         if r.learnability is not None:
-            png = confusion_png(r.learnability.confusion(), r.learnability.classes)
-            url = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
-            out.append(f"<h3>Learnability: confusion on held-out actors (fused)</h3><img src='{url}'>")
+            out += learnability_html(r.learnability, Path(r.source))
     out.append("</body></html>")
     return "\n".join(out)
 

@@ -75,7 +75,7 @@ def learning_curve(
     scores: dict[str, dict[int, np.ndarray]] = {s: {} for s in streams}
     minutes: dict[str, dict[int, float]] = {s: {} for s in streams}
     for stream in streams:
-        config = replace(base, stream=stream)
+        config = base.for_stream(stream)
 
         def record(result: TrainResult, stream: str = stream, config: TrainConfig = config) -> None:
             epoch = len(result.history)

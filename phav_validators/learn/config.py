@@ -20,23 +20,34 @@ STREAMS = ("rgb", "flow")
 class Architecture:
     """The backbone's shape: a 5×5 stride-2 stem (then a 3×3 stride-2 max-pool when
     ``stem_pool``, for large frames), one stride-2 block per width after the first (two
-    3×3 convolutions each), global average pooling and dropout."""
+    3×3 convolutions each), global average pooling and dropout. With ``temporal_shift``
+    the second convolution of each block is residual and sees an eighth of its channels
+    shifted one segment forward and an eighth one segment back (TSM, Lin et al. 2019), so
+    the segments of a clip exchange information at every depth for no extra arithmetic."""
 
     widths: tuple[int, ...] = (32, 64, 128, 192)
     dropout: float = 0.5
     stem_pool: bool = False
+    temporal_shift: bool = False
+    #: How the last feature map becomes one vector: ``avg`` (TSN's global average) or
+    #: ``max`` (the strongest response anywhere: a small actor is not averaged away by
+    #: the background around it).
+    pool: str = "avg"
 
     def __post_init__(self) -> None:
         if not self.widths or min(self.widths) < 1:
             raise PhavUserError(f"must be positive, got {self.widths}", field="--widths")
+        if self.pool not in ("avg", "max"):
+            raise PhavUserError(f"choose avg or max, got {self.pool!r}", field="--pool")
         if not 0.0 <= self.dropout < 1.0:
             raise PhavUserError(f"must be in [0, 1), got {self.dropout}", field="--dropout")
 
 
-def in_channels(stream: str, flow_frames: int) -> int:
-    """Channels of one snippet of ``stream``."""
+def in_channels(stream: str, flow_frames: int, rgb_frames: int = 1) -> int:
+    """Channels of one snippet of ``stream``: ``rgb_frames`` stacked RGB frames or
+    ``flow_frames`` stacked (u, v) flow frames."""
     if stream == "rgb":
-        return 3
+        return 3 * rgb_frames
     if stream == "flow":
         return 2 * flow_frames
     raise PhavUserError(f"unknown stream {stream!r}; expected one of {', '.join(STREAMS)}", field="--streams")

@@ -67,7 +67,7 @@ def train_and_test(
     scores: dict[str, np.ndarray] = {}
     minutes: dict[str, float] = {}
     for stream in streams:
-        config = replace(base, stream=stream)
+        config = base.for_stream(stream)
         advance = progress(f"{name}: {stream}", config.epochs) if progress is not None else None
         start = None
         if init is not None:

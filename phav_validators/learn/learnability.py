@@ -79,6 +79,7 @@ class LearnResult:
     minutes: float
     stopped_on_time: bool
     held_out: dict[str, list[str]] = field(default_factory=dict)
+    keys: list[str] = field(default_factory=list)  # the test clips' video ids, in ``labels`` order
 
     def accuracy(self, stream: str | None = None) -> float:
         probs = self.fused if stream is None else self.scores[stream]
@@ -86,6 +87,37 @@ class LearnResult:
 
     def confusion(self) -> np.ndarray:
         return confusion_matrix(self.labels, self.fused.argmax(1), len(self.classes))
+
+    def per_class(self) -> list[dict[str, Any]]:
+        """Per tested class: clips, fused accuracy and the commonest wrong answer, worst first."""
+        matrix = self.confusion()
+        rows = []
+        for c, name in enumerate(self.classes):
+            n = int(matrix[c].sum())
+            if n == 0:
+                continue
+            wrong = matrix[c].copy()
+            wrong[c] = 0
+            mistaken = self.classes[int(wrong.argmax())] if wrong.any() else None
+            rows.append({"class": name, "clips": n, "accuracy": float(matrix[c, c]) / n, "mistaken_for": mistaken,
+                         "mistakes": int(wrong.max())})  # fmt: skip
+        return sorted(rows, key=lambda r: (r["accuracy"], r["class"]))
+
+    def confused_pairs(self, limit: int = 5) -> list[tuple[str, str, int]]:
+        """The pairs of classes most often answered for each other (both directions summed),
+        most first: (a, b, clips)."""
+        matrix = self.confusion()
+        both = matrix + matrix.T
+        pairs = [(int(both[a, b]), a, b) for a in range(len(self.classes)) for b in range(a + 1, len(self.classes))]
+        pairs = sorted((p for p in pairs if p[0] > 0), key=lambda p: (-p[0], p[1], p[2]))[:limit]
+        return [(self.classes[a], self.classes[b], n) for n, a, b in pairs]
+
+    def example(self, true: str, predicted: str) -> str | None:
+        """A test clip of class ``true`` answered as ``predicted`` (the first by key), if any."""
+        t, p = self.classes.index(true), self.classes.index(predicted)
+        answers = self.fused.argmax(1)
+        hits = sorted(k for k, label, a in zip(self.keys, self.labels, answers, strict=True) if label == t and a == p)
+        return hits[0] if hits else None
 
 
 def confusion_matrix(labels: Sequence[int] | np.ndarray, predicted: Sequence[int] | np.ndarray, n: int) -> np.ndarray:
@@ -151,7 +183,7 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
     chance = chance_level(labels, fused.argmax(1), len(clips.classes))
     p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
     return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
-                       split.held_out)  # fmt: skip
+                       split.held_out, [c.key for c in test_clips])  # fmt: skip
 
 
 def check_learnability(
@@ -193,6 +225,8 @@ def check_learnability(
         "fused_accuracy": fused, "times_chance": ratio, "p_value": result.p_value,
         "training_minutes": result.minutes, "held_out": result.held_out,
         **{f"{s}_accuracy": result.accuracy(s) for s in result.scores},
+        "per_class": result.per_class(),
+        "confused_pairs": [{"classes": [a, b], "clips": n} for a, b, n in result.confused_pairs()],
     }  # fmt: skip
     if opts.out_dir is not None:
         image = opts.out_dir / "confusion.png"

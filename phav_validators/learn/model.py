@@ -26,22 +26,68 @@ def _conv(c_in: int, c_out: int, kernel: int, stride: int) -> list[nn.Module]:
     return [nn.Conv2d(c_in, c_out, kernel, stride, kernel // 2, bias=False), nn.BatchNorm2d(c_out), nn.ReLU()]
 
 
+def temporal_shift(x: Tensor, segments: int, fold_div: int = 8) -> Tensor:
+    """(B·K, C, H, W) with K = ``segments`` consecutive per clip: the first C/``fold_div``
+    channels moved one segment later, the next C/``fold_div`` one earlier, zeros at the ends."""
+    n, c = x.shape[:2]
+    x = x.view(n // segments, segments, c, *x.shape[2:])
+    fold = c // fold_div
+    out = torch.zeros_like(x)
+    out[:, 1:, :fold] = x[:, :-1, :fold]
+    out[:, :-1, fold : 2 * fold] = x[:, 1:, fold : 2 * fold]
+    out[:, :, 2 * fold :] = x[:, :, 2 * fold :]
+    return out.view(n, c, *x.shape[3:])
+
+
+class ShiftBlock(nn.Module):
+    """``x + conv(shift(x))``: a residual 3×3 convolution over temporally shifted channels."""
+
+    def __init__(self, channels: int):
+        super().__init__()
+        self.conv = nn.Sequential(*_conv(channels, channels, 3, 1))
+
+    def forward(self, x: Tensor, segments: int) -> Tensor:
+        return x + self.conv(temporal_shift(x, segments))
+
+
 class Backbone(nn.Module):
-    """Snippets (N, C, H, W) → features (N, widths[-1])."""
+    """Snippets (N, C, H, W) → features (N, widths[-1]); with a temporal shift, N is
+    clips × ``segments`` in clip order."""
 
     def __init__(self, channels: int, arch: Architecture):
         super().__init__()
         w = arch.widths
+        self.shift = arch.temporal_shift
+        self.pool = arch.pool
         layers = _conv(channels, w[0], 5, 2)
         if arch.stem_pool:
             layers.append(nn.MaxPool2d(3, 2, 1))
-        for c_in, c_out in itertools.pairwise(w):
-            layers += _conv(c_in, c_out, 3, 2) + _conv(c_out, c_out, 3, 1)
+        #: Where an auxiliary dense head reads: the end of the second stage (or the stem).
+        self.tap_index, self.tap_features = len(layers) - 1, w[0]
+        for stage, (c_in, c_out) in enumerate(itertools.pairwise(w)):
+            layers += _conv(c_in, c_out, 3, 2)
+            layers += [ShiftBlock(c_out)] if self.shift else _conv(c_out, c_out, 3, 1)
+            if stage == 0:
+                self.tap_index, self.tap_features = len(layers) - 1, c_out
         self.features = nn.Sequential(*layers)
         self.out_features = w[-1]
 
-    def forward(self, x: Tensor) -> Tensor:
-        return self.features(x).mean(dim=(2, 3))
+    def forward(self, x: Tensor, segments: int = 1) -> Tensor:
+        return self.pooled(self.feature_maps(x, segments)[0])
+
+    def pooled(self, x: Tensor) -> Tensor:
+        """(N, C, h, w) → (N, C) by the architecture's global pooling."""
+        return x.mean(dim=(2, 3)) if self.pool == "avg" else x.amax(dim=(2, 3))
+
+    def feature_maps(self, x: Tensor, segments: int = 1) -> tuple[Tensor, Tensor]:
+        """The last feature map and the one after the second stage (stride 4, or 8 with
+        ``stem_pool``), where an auxiliary dense head reads."""
+        tap = x
+        for i, layer in enumerate(self.features):
+            x = layer(x, segments) if isinstance(layer, ShiftBlock) else layer(x)
+            if i == self.tap_index:
+                tap = x
+        return x, tap
 
 
 class TSN(nn.Module):
@@ -49,26 +95,45 @@ class TSN(nn.Module):
 
     ``heads`` maps a source name to its number of classes (one entry: plain TSN)."""
 
-    def __init__(self, channels: int, heads: Mapping[str, int], arch: Architecture, *, generator: torch.Generator):
+    def __init__(
+        self,
+        channels: int,
+        heads: Mapping[str, int],
+        arch: Architecture,
+        *,
+        generator: torch.Generator,
+        aux_channels: int = 0,
+    ):
         super().__init__()
         if not heads:
             raise ValueError("TSN needs at least one head")
         self.backbone = Backbone(channels, arch)
         self.dropout = arch.dropout
         self.heads = nn.ModuleDict({name: nn.Linear(self.backbone.out_features, n) for name, n in heads.items()})
+        #: A dense auxiliary head (training only): e.g. the flow between an RGB snippet's frames.
+        self.aux = nn.Conv2d(self.backbone.tap_features, aux_channels, 3, 1, 1, bias=False) if aux_channels else None
         init_weights(self, generator=generator)
 
-    def forward(self, snippets: Tensor, *, generator: torch.Generator | None = None) -> dict[str, Tensor]:
-        """(B, K, C, H, W) → per head the consensus scores ``G`` (B, classes).
+    def forward(
+        self, snippets: Tensor, *, generator: torch.Generator | None = None, aux: bool = False
+    ) -> dict[str, Tensor] | tuple[dict[str, Tensor], Tensor]:
+        """(B, K, C, H, W) → per head the consensus scores ``G`` (B, classes), and with
+        ``aux`` the auxiliary head's map (B·K, aux channels, h, w).
 
         In training mode dropout needs ``generator``; in eval mode it is the identity."""
         b, k = snippets.shape[:2]
-        features = self.backbone(snippets.flatten(0, 1))
+        last, tap = self.backbone.feature_maps(snippets.flatten(0, 1), k)
+        features = self.backbone.pooled(last)
         if self.training and self.dropout > 0:
             if generator is None:
                 raise ValueError("training-mode forward needs a generator (dropout)")
             features = dropout(features, self.dropout, generator=generator)
-        return {name: head(features).view(b, k, -1).mean(dim=1) for name, head in self.heads.items()}
+        scores = {name: head(features).view(b, k, -1).mean(dim=1) for name, head in self.heads.items()}
+        if not aux:
+            return scores
+        if self.aux is None:
+            raise ValueError("this TSN has no auxiliary head")
+        return scores, self.aux(tap)
 
 
 def dropout(x: Tensor, p: float, *, generator: torch.Generator) -> Tensor:

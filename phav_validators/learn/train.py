@@ -17,7 +17,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -45,6 +45,8 @@ class TrainConfig:
     segments: int = 3
     test_segments: int = 5
     flow_frames: int = 5
+    #: RGB frames stacked per snippet (1: TSN's single frame; more let the stream see motion).
+    rgb_frames: int = 1
     #: Subtract each flow frame's median vector: a cheap camera-motion compensation (the
     #: median of a frame is mostly background), so a moving kite camera is not the signal.
     flow_centre: bool = True
@@ -52,6 +54,16 @@ class TrainConfig:
     widths: tuple[int, ...] = Architecture.widths
     dropout: float = 0.3
     stem_pool: bool = Architecture.stem_pool
+    #: TSM's temporal shift between the K segments (then testing uses K segments too).
+    temporal_shift: bool = Architecture.temporal_shift
+    #: RGB stream with ``rgb_frames`` ≥ 2: weight of an auxiliary loss that predicts the
+    #: (ground-truth) flow between its frames from its mid-level features. Training only:
+    #: the tested network still sees RGB alone.
+    aux_flow: float = 0.0
+    #: Weight of an auxiliary loss that segments the body parts (PHAV's semantic
+    #: segmentation, ``data.BODY_PARTS``) from the mid-level features. Training only.
+    aux_parts: float = 0.0
+    pool: str = Architecture.pool
     epochs: int = 80
     #: Clips per mini-batch from each source, e.g. {"virtual": 10, "real": 22}.
     mix: tuple[tuple[str, int], ...] = (("virtual", 32),)
@@ -69,6 +81,7 @@ class TrainConfig:
             ("segments", self.segments),
             ("test_segments", self.test_segments),
             ("flow_frames", self.flow_frames),
+            ("rgb_frames", self.rgb_frames),
             ("epochs", self.epochs),
             ("threads", self.threads),
         ):
@@ -82,10 +95,28 @@ class TrainConfig:
             raise PhavUserError(f"choose sgd or adamw, got {self.optimizer!r}", field="--optimizer")
         if not self.lr > 0:
             raise PhavUserError(f"must be positive, got {self.lr}", field="--lr")
+        if self.aux_parts < 0:
+            raise PhavUserError(f"must not be negative, got {self.aux_parts}", field="--aux-parts")
+        if self.aux_flow < 0 or (self.aux_flow > 0 and (self.stream != "rgb" or self.rgb_frames < 2)):
+            raise PhavUserError(f"needs the rgb stream with --rgb-frames of 2 or more, got {self.aux_flow}",
+                                field="--aux-flow")  # fmt: skip
+
+    def for_stream(self, stream: str) -> TrainConfig:
+        """This config for ``stream``: the RGB-only settings (stacked frames, auxiliary flow)
+        return to their defaults for the flow stream."""
+        if stream == "rgb":
+            return replace(self, stream=stream)
+        return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, aux_flow=TrainConfig.aux_flow)
 
     @property
     def arch(self) -> Architecture:
-        return Architecture(self.widths, self.dropout, self.stem_pool)
+        return Architecture(self.widths, self.dropout, self.stem_pool, self.temporal_shift, self.pool)
+
+    @property
+    def eval_segments(self) -> int:
+        """Snippets per clip when testing: ``test_segments``, or ``segments`` under a temporal
+        shift (its segments are a time axis the network was trained on)."""
+        return self.segments if self.temporal_shift else self.test_segments
 
     @property
     def batch(self) -> int:
@@ -144,8 +175,23 @@ def snippets(
 ) -> np.ndarray:
     """One clip's input (K, C, h, w) float32: K snippets, cropped and normalised; with ``rng``
     a random crop and horizontal flip (flow's u negated), else the centre crop."""
+    return snippets_and_targets(clip, config, rng=rng, segments=segments, targets=False)[0]
+
+
+def snippets_and_targets(
+    clip: Clip,
+    config: TrainConfig,
+    *,
+    rng: np.random.Generator | None,
+    segments: int | None = None,
+    targets: bool = True,
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """``snippets`` and the auxiliary targets the config trains with, under the same crop
+    and flip: ``flow`` (``aux_flow``, RGB stream) the flow between the stacked frames
+    (K, 2·(L − 1), h, w), scaled as the flow stream's input; ``parts`` (``aux_parts``) each
+    snippet's first frame's body parts (K, h, w) as BODY_PARTS indices."""
     k = segments if segments is not None else config.segments
-    length = 1 if config.stream == "rgb" else config.flow_frames
+    length = config.rgb_frames if config.stream == "rgb" else config.flow_frames
     starts = snippet_starts(clip.n_frames, k, length, rng=rng)
     frames = np.minimum(np.add.outer(np.asarray(starts), np.arange(length)), clip.n_frames - 1)
     h, w = clip.rgb.shape[1:3]
@@ -155,23 +201,46 @@ def snippets(
     else:
         y0, x0 = int(rng.integers(0, h - ch + 1)), int(rng.integers(0, w - cw + 1))
         flip = bool(rng.random() < 0.5)
+    window = np.s_[y0 : y0 + ch, x0 : x0 + cw]
+    out: dict[str, np.ndarray] = {}
     if config.stream == "rgb":
-        x = clip.rgb[frames[:, 0], y0 : y0 + ch, x0 : x0 + cw].astype(np.float32)
+        x = clip.rgb[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 3)
         x = (x / 255.0 - _RGB_MEAN) / _RGB_STD
-        x = x.transpose(0, 3, 1, 2)  # (K, 3, h, w)
+        x = x.transpose(0, 1, 4, 2, 3).reshape(k, 3 * length, ch, cw)  # r0, g0, b0, r1, …
+        if targets and config.aux_flow > 0:
+            out["flow"] = _flow_input(clip, frames[:, :-1], window, config)
     else:
-        bound = FLOW_BOUND_PX * w / 340.0
-        x = clip.flow[frames, y0 : y0 + ch, x0 : x0 + cw].astype(np.float32)  # (K, L, h, w, 2)
-        if config.flow_centre:
-            x -= np.median(x.reshape(k, length, -1, 2), axis=2)[:, :, None, None, :]
-        x = np.clip(x, -bound, bound) * (4.0 / bound)
-        x = x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
+        x = _flow_input(clip, frames, window, config)
+    if targets and config.aux_parts > 0:
+        if clip.parts is None:
+            raise PhavUserError(f"clip {clip.key} has no body-part frames (read with parts=True)", field="--aux-parts")
+        out["parts"] = clip.parts[frames[:, 0], window[0], window[1]]
     if flip:
-        x = x[..., ::-1]
-        if config.stream == "flow":
-            x = x.copy()
-            x[:, 0::2] *= -1.0
-    return np.ascontiguousarray(x)
+        x = _flip(x, flow=config.stream == "flow")
+        out = {name: _flip(t, flow=name == "flow") for name, t in out.items()}
+    return np.ascontiguousarray(x), {name: np.ascontiguousarray(t) for name, t in out.items()}
+
+
+def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice], config: TrainConfig) -> np.ndarray:
+    """Flow frames (K, L) of ``clip`` in ``window`` → (K, 2L, h, w): each frame's median
+    vector subtracted (``flow_centre``), clipped at TSN's bound and scaled to ±4."""
+    k, length = frames.shape
+    bound = FLOW_BOUND_PX * clip.flow.shape[2] / 340.0
+    x = clip.flow[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 2)
+    ch, cw = x.shape[2:4]
+    if config.flow_centre:
+        x -= np.median(x.reshape(k, length, -1, 2), axis=2)[:, :, None, None, :]
+    x = np.clip(x, -bound, bound) * (4.0 / bound)
+    return x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
+
+
+def _flip(x: np.ndarray, *, flow: bool) -> np.ndarray:
+    """Mirror snippets left–right; flow's u components (even channels) change sign."""
+    x = x[..., ::-1]
+    if flow:
+        x = x.copy()
+        x[:, 0::2] *= -1.0
+    return x
 
 
 # --- mini-batches ---------------------------------------------------------------------------
@@ -326,11 +395,52 @@ def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | Non
     """The TSN, initialised from ``gen`` (its backbone from ``init`` for TSN-FT), on ``dev``."""
     from phav_validators.learn.model import TSN  # imports torch: optional extra phav[train]
 
-    model = TSN(in_channels(config.stream, config.flow_frames), heads, config.arch, generator=gen)
+    aux = sum(aux_channels(config).values())
+    model = TSN(in_channels(config.stream, config.flow_frames, config.rgb_frames), heads, config.arch, generator=gen,
+                aux_channels=aux)  # fmt: skip
     if init is not None:
         _init_backbone(model, load_checkpoint(init), init)
     model.to(dev)  # before the optimiser, whose state must live beside the parameters
     return model
+
+
+def aux_channels(config: TrainConfig) -> dict[str, int]:
+    """The auxiliary head's channels per target, in the order they are stacked."""
+    from phav_validators.learn.data import BODY_PARTS
+
+    out = {}
+    if config.aux_flow > 0:
+        out["flow"] = 2 * (config.rgb_frames - 1)
+    if config.aux_parts > 0:
+        out["parts"] = len(BODY_PARTS)
+    return out
+
+
+#: The body-part loss's class weights: "other" (mostly background) counts a tenth.
+_PART_WEIGHTS = (0.1,) + (1.0,) * 8
+
+
+def aux_loss(config: TrainConfig, predicted: Any, targets: Sequence[Mapping[str, np.ndarray]]) -> Any:
+    """The weighted auxiliary losses of a batch: smooth L1 on flow, soft cross-entropy on
+    body parts, each target area-averaged down to the head's resolution."""
+    import torch  # optional extra phav[train]: only training needs torch
+    from torch.nn import functional as F
+
+    size = predicted.shape[-2:]
+    total = predicted.new_zeros(())
+    start = 0
+    for name, n in aux_channels(config).items():
+        out = predicted[:, start : start + n]
+        start += n
+        target = torch.from_numpy(np.stack([t[name] for t in targets])).to(predicted.device).flatten(0, 1)
+        if name == "flow":
+            total = total + config.aux_flow * F.smooth_l1_loss(out, F.adaptive_avg_pool2d(target, size))
+        else:
+            share = F.one_hot(target.long(), n).permute(0, 3, 1, 2).float()
+            weights = torch.tensor(_PART_WEIGHTS, device=predicted.device)
+            soft = F.adaptive_avg_pool2d(share, size)
+            total = total + config.aux_parts * F.cross_entropy(out, soft, weight=weights)
+    return total
 
 
 def _optimizer(model: Any, config: TrainConfig) -> Any:
@@ -428,11 +538,18 @@ class _Run:
         for group in self.opt.param_groups:
             group["lr"] = lr
         batch = self.batches.next()
-        x = torch.from_numpy(np.stack([snippets(self.data[s][i], config, rng=self.rng) for s, i in batch])).to(dev)
+        pairs = [snippets_and_targets(self.data[s][i], config, rng=self.rng) for s, i in batch]
+        x = torch.from_numpy(np.stack([p[0] for p in pairs])).to(dev)
         labels = torch.tensor([self.data[s][i].label for s, i in batch], device=dev)
         sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
-        scores = self.model(x, generator=self.gen)
+        if config.aux_flow > 0 or config.aux_parts > 0:
+            scores, predicted = self.model(x, generator=self.gen, aux=True)
+            extra = aux_loss(config, predicted, [p[1] for p in pairs])
+        else:
+            scores, extra = self.model(x, generator=self.gen), None
         loss, parts = multitask_loss(scores, labels, sources, names)
+        if extra is not None:
+            loss = loss + extra
         if not torch.isfinite(loss):
             raise PhavUserError(f"training diverged at epoch {epoch + 1}, step {step + 1} "
                                 f"(loss {loss.item()}); lower the learning rate", field="--lr")  # fmt: skip
@@ -456,7 +573,7 @@ def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> 
 def predict(
     model: Any, clips: Sequence[Clip], config: TrainConfig, head: str, *, batch: int = 32, device: str = "cpu"
 ) -> np.ndarray:
-    """Class probabilities (N, classes) of ``head``: ``test_segments`` centre snippets per clip."""
+    """Class probabilities (N, classes) of ``head``: ``eval_segments`` centre snippets per clip."""
     import torch  # optional extra phav[train]: only training needs torch
 
     dev = torch_device(device)
@@ -468,7 +585,7 @@ def predict(
     try:
         with torch.no_grad():
             for i in range(0, len(clips), batch):
-                x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.test_segments)
+                x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.eval_segments)
                                                for c in clips[i : i + batch]])).to(dev)  # fmt: skip
                 out.append(torch.softmax(model(x)[head], dim=1).cpu().numpy())
     finally:

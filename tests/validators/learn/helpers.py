@@ -117,3 +117,29 @@ def hmdb51_folder(root, clips: int = 3):
         for k in (1, 2, 3):
             (lists / f"{cls}_test_split{k}.txt").write_text(text)
     return videos
+
+
+def moving_square_clips(
+    n_classes: int = 3, per_class: int = 16, *, frames: int = 12, size=(32, 24), seed: int = 0
+) -> ClipSet:
+    """Clips whose class shows only in how their RGB changes over time: a bright square
+    crosses a noisy background at class c's angle π(c + ½)/n − π/2 (rightwards, as in
+    ``motion_clips``), from a random start. Any one frame is a square somewhere: alone it
+    says nothing of the class. The flow is zero (only the RGB stream can learn)."""
+    rng = np.random.Generator(np.random.PCG64(seed))
+    w, h = size
+    clips = []
+    for c in range(n_classes):
+        angle = math.pi * (c + 0.5) / n_classes - math.pi / 2
+        for k in range(per_class):
+            rgb = rng.integers(0, 80, (frames, h, w, 3), dtype=np.uint8)
+            x0, y0 = rng.uniform(0, w - 6), rng.uniform(0, h - 6)
+            for t in range(frames):
+                x = round(x0 + 1.5 * t * math.cos(angle)) % (w - 5)
+                y = round(y0 + 1.5 * t * math.sin(angle)) % (h - 5)
+                rgb[t, y : y + 5, x : x + 5] = 255
+            groups = {"actor": f"model_{k % 10:02d}", "motion": f"class{c}_motion{k % 3}"}
+            clips.append(
+                Clip(f"square{c:02d}{k:03d}", c, "virtual", rgb, np.zeros((frames, h, w, 2), np.float16), groups)
+            )
+    return ClipSet("virtual", [f"class{c}" for c in range(n_classes)], clips)

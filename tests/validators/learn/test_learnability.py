@@ -6,7 +6,11 @@ from __future__ import annotations
 import json
 
 import cv2
+import numpy as np
 
+from phav_spec.manifest import load_manifest
+from phav_validators.learn.learnability import LearnResult
+from phav_validators.report import learnability_html
 from tests.helpers import invoke_cli
 
 
@@ -27,4 +31,36 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     image = cv2.imread(numbers["confusion_png"])
     assert image is not None and image.shape[0] > 35 * 14
     assert (learn / "rgb.pt").exists() and (learn / "flow.pt").exists()
-    assert "Learnability: confusion" in (tmp_path / "r.html").read_text()
+    page = (tmp_path / "r.html").read_text()
+    assert "Learnability: confusion" in page and "Per class" in page
+    assert sum(row["clips"] for row in numbers["per_class"]) == numbers["test_clips"]
+
+
+def _result(labels, answers, keys, classes):
+    probs = np.zeros((len(answers), len(classes)))
+    probs[np.arange(len(answers)), answers] = 1.0
+    return LearnResult(classes, np.array(labels), {"flow": probs}, probs, 1 / len(classes), 0.5, 10, 1.0, False,
+                       keys=keys)  # fmt: skip
+
+
+def test_per_class_accuracy_and_the_pairs_most_answered_for_each_other():
+    classes = ["a", "b", "c", "d"]
+    #        a  a  a  b  b  b  c  c  d
+    labels = [0, 0, 0, 1, 1, 1, 2, 2, 3]
+    answer = [0, 1, 1, 1, 0, 1, 2, 3, 3]
+    result = _result(labels, answer, [f"v{i:06d}" for i in range(9)], classes)
+    rows = {r["class"]: r for r in result.per_class()}
+    assert rows["a"] == {"class": "a", "clips": 3, "accuracy": 1 / 3, "mistaken_for": "b", "mistakes": 2}
+    assert rows["d"]["accuracy"] == 1.0 and rows["d"]["mistaken_for"] is None
+    assert [r["class"] for r in result.per_class()] == ["a", "c", "b", "d"]  # worst first
+    assert result.confused_pairs() == [("a", "b", 3), ("c", "d", 1)]
+    assert result.example("a", "b") == "v000001" and result.example("b", "c") is None
+
+
+def test_the_report_shows_a_frame_of_each_class_of_a_confused_pair(phav):
+    keys = sorted(v.video_id for v in load_manifest(phav / "manifest.json").videos)
+    result = _result([0, 1, 1], [1, 1, 0], keys, ["walk", "run"])
+    page = "".join(learnability_html(result, phav))
+    assert "walk ↔ run" in page
+    assert page.count("<figure>") == 2 and f"{keys[0]}: walk, answered run" in page
+    assert f"{keys[1]}: run, answered run" in page  # beside it, a clip of the other class

@@ -11,7 +11,7 @@ from torch.nn import functional as F
 
 from phav_spec.errors import PhavUserError
 from phav_validators.learn.config import Architecture, in_channels
-from phav_validators.learn.model import TSN, dropout, multitask_loss
+from phav_validators.learn.model import TSN, dropout, multitask_loss, temporal_shift
 
 
 def _model(stream: str = "flow", heads=None, seed: int = 0) -> TSN:
@@ -112,3 +112,28 @@ def test_bad_architecture_is_a_user_error(widths, dropout_p, field):
     with pytest.raises(PhavUserError) as e:
         Architecture(widths, dropout_p)
     assert e.value.field == field
+
+
+def test_temporal_shift_moves_an_eighth_each_way_within_a_clip_only():
+    k, c = 4, 16
+    x = torch.arange(2 * k, dtype=torch.float32).view(2 * k, 1, 1, 1).expand(2 * k, c, 1, 1).contiguous()
+    out = temporal_shift(x, k).view(2, k, c)
+    t = torch.arange(2 * k, dtype=torch.float32).view(2, k)
+    assert torch.equal(out[:, 1:, :2], t[:, :-1, None].expand(2, k - 1, 2))  # one segment later
+    assert torch.equal(out[:, :-1, 2:4], t[:, 1:, None].expand(2, k - 1, 2))  # one segment earlier
+    assert torch.equal(out[:, 0, :2], torch.zeros(2, 2)) and torch.equal(out[:, -1, 2:4], torch.zeros(2, 2))
+    assert torch.equal(out[:, :, 4:], t[:, :, None].expand(2, k, c - 4))  # the rest untouched
+
+
+def test_shifted_segments_see_each_other_but_never_another_clip():
+    g = torch.Generator().manual_seed(0)
+    model = TSN(3, {"virtual": 4}, Architecture((8, 16, 16), temporal_shift=True), generator=g).eval()
+    x = torch.randn(2, 4, 3, 24, 32, generator=g)
+    base = model(x)["virtual"]
+    y = x.clone()
+    y[0, 3] = torch.randn(3, 24, 32, generator=g)  # clip 0's last segment only
+    moved = model(y)["virtual"]
+    assert torch.equal(moved[1], base[1])  # clip 1 is untouched
+    per_segment = model.heads["virtual"](model.backbone(y.flatten(0, 1), 4)).view(2, 4, 4)
+    changed = model.heads["virtual"](model.backbone(x.flatten(0, 1), 4)).view(2, 4, 4)
+    assert not torch.allclose(per_segment[0, 2], changed[0, 2])  # segment 2 saw segment 3 change

@@ -10,10 +10,18 @@ import pytest
 import torch
 
 from phav_spec.errors import PhavUserError
-from phav_validators.learn.data import load_phav, load_real, ucf101_split
+from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
 from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
-from phav_validators.learn.train import MixedBatches, TrainConfig, predict, snippet_starts, snippets, train
-from tests.validators.learn.helpers import motion_clips, ucf101_folder
+from phav_validators.learn.train import (
+    MixedBatches,
+    TrainConfig,
+    predict,
+    snippet_starts,
+    snippets,
+    snippets_and_targets,
+    train,
+)
+from tests.validators.learn.helpers import motion_clips, moving_square_clips, ucf101_folder
 
 SMALL = TrainConfig(stream="flow", widths=(8, 16), epochs=2, mix=(("virtual", 8),), threads=1, lr=0.05)
 
@@ -175,3 +183,86 @@ def test_a_checkpoint_that_would_run_code_is_refused(tmp_path):
     data = motion_clips(2, 2)
     with pytest.raises(PhavUserError, match="not a readable checkpoint"):
         train({"virtual": data.clips}, {"virtual": 2}, SMALL, checkpoint=ckpt)
+
+
+def test_rgb_snippets_stack_consecutive_frames():
+    clip = moving_square_clips(1, 1, frames=12).clips[0]
+    config = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, crop=1.0)
+    x = snippets(clip, config, rng=None)
+    assert x.shape == (3, 9, 24, 32)
+    starts = snippet_starts(12, 3, 3, rng=None)
+    for k, s in enumerate(starts):
+        for i in range(3):
+            expected = (clip.rgb[s + i].astype(np.float32) / 255.0 - 0.45) / 0.225
+            assert np.allclose(x[k, 3 * i : 3 * i + 3], expected.transpose(2, 0, 1), atol=1e-6)
+
+
+@pytest.mark.parametrize(("how", "learns"), [({}, False), ({"temporal_shift": True, "segments": 6}, True),
+                                             ({"rgb_frames": 3}, True)])  # fmt: skip
+def test_the_rgb_stream_learns_a_motion_no_single_frame_shows(how, learns):
+    """A square's direction of travel: TSN's single RGB frame cannot see it; a temporal
+    shift between segments, or stacked frames, can."""
+    data = moving_square_clips(3, 24, seed=1)
+    test = moving_square_clips(3, 8, seed=2)
+    config = dataclasses.replace(SMALL, stream="rgb", epochs=25, widths=(16, 32), dropout=0.0, **how)
+    result = train({"virtual": data.clips}, {"virtual": 3}, config)
+    probs = predict(result.model, test.clips, config, "virtual")
+    accuracy = float((probs.argmax(1) == np.array([c.label for c in test.clips])).mean())
+    assert (accuracy > 0.85) if learns else (accuracy < 0.5), accuracy
+
+
+def test_auxiliary_targets_follow_the_crop_and_the_flip():
+    rng = np.random.Generator(np.random.PCG64(3))
+    still = rng.integers(0, 256, (1, 24, 32, 3), dtype=np.uint8).repeat(10, axis=0)
+    flow = np.zeros((10, 24, 32, 2), np.float16)
+    flow[:, :, 20:, 0] = 0.5  # the right side moves right
+    parts = np.zeros((10, 24, 32), np.uint8)
+    parts[:, 4:8, 2:6] = 1  # a head on the left
+    clip = Clip("c", 0, "virtual", still, flow, {}, parts)
+    config = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, aux_flow=1.0, aux_parts=1.0, crop=1.0,
+                                 flow_centre=False)  # fmt: skip
+    x, targets = snippets_and_targets(clip, config, rng=None)
+    assert (
+        x.shape == (3, 9, 24, 32) and targets["flow"].shape == (3, 4, 24, 32) and targets["parts"].shape == (3, 24, 32)
+    )
+    seen = {}
+    for s in range(12):
+        xs, ts = snippets_and_targets(clip, config, rng=np.random.Generator(np.random.PCG64(s)))
+        seen[bool(np.array_equal(xs, x))] = (xs, ts)
+    xf, tf = seen[False]  # a flipped draw: everything mirrored, u negated
+    assert np.allclose(xf, x[..., ::-1]) and np.array_equal(tf["parts"], targets["parts"][..., ::-1])
+    assert np.allclose(tf["flow"][:, 0::2], -targets["flow"][:, 0::2, :, ::-1])
+    assert np.allclose(tf["flow"][:, 1::2], targets["flow"][:, 1::2, :, ::-1])
+
+
+def test_auxiliary_losses_fall_and_the_tested_network_sees_rgb_alone():
+    data = moving_square_clips(3, 12, seed=1)
+    clips = []
+    for c in data.clips:
+        parts = (c.rgb[..., 0] == 255).astype(np.uint8)  # the square is the "head"
+        flow = np.zeros(c.flow.shape, np.float16)
+        flow[..., 0] = 0.5
+        clips.append(dataclasses.replace(c, parts=parts, flow=flow))
+    config = dataclasses.replace(SMALL, stream="rgb", rgb_frames=2, aux_flow=1.0, aux_parts=1.0, epochs=6,
+                                 widths=(8, 16, 16))  # fmt: skip
+    result = train({"virtual": clips}, {"virtual": 3}, config)
+    losses = [e.losses["virtual"] for e in result.history]
+    assert losses[-1] < losses[0], losses
+    bare = [dataclasses.replace(c, parts=None, flow=np.zeros_like(c.flow)) for c in clips]
+    assert np.array_equal(
+        predict(result.model, bare, config, "virtual"), predict(result.model, clips, config, "virtual")
+    )
+
+
+def test_auxiliary_options_are_checked():
+    with pytest.raises(PhavUserError, match="rgb-frames") as e:
+        TrainConfig(stream="flow", aux_flow=1.0)
+    assert e.value.field == "--aux-flow"
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(stream="rgb", rgb_frames=1, aux_flow=1.0)
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(aux_parts=-1.0)
+    assert e.value.field == "--aux-parts"
+    clip = motion_clips(1, 1).clips[0]  # no parts read
+    with pytest.raises(PhavUserError, match="body-part"):
+        snippets_and_targets(clip, TrainConfig(aux_parts=1.0), rng=None)
