@@ -79,6 +79,11 @@ def train_command(
     widths: Annotated[str, typer.Option(help="Backbone widths, one stride-2 stage each.")] = "32,64,128,192",
     stem_pool: Annotated[bool, typer.Option(help="Max-pool after the stem (for frames of 170x128 and up).")] = False,
     dropout: Annotated[float, typer.Option(help="Dropout before the classifiers.")] = 0.3,
+    crop: Annotated[float, typer.Option(help="Side of the training crop, share of the stored frame.")] = 0.875,
+    focus: Annotated[
+        str, typer.Option(help="Where the crop sits: none (random / centre) or motion (most flow, from the flow).")
+    ] = "none",
+    pool: Annotated[str, typer.Option(help="Global pooling of the last feature map: avg or max.")] = "avg",
     segments: Annotated[int, typer.Option(min=1, help="Snippets per clip while training (TSN's K).")] = 3,
     temporal_shift: Annotated[
         bool, typer.Option(help="TSM's temporal shift between the segments (testing then uses K segments too).")
@@ -120,7 +125,8 @@ def train_command(
     base = TrainConfig(stream="rgb" if "rgb" in stream_list else stream_list[0], widths=_ints(widths, "--widths"),
                        epochs=epochs, lr=lr, optimizer=optimizer, mix=(("virtual", batch),), seed=seed,
                        stem_pool=stem_pool, dropout=dropout, segments=segments, temporal_shift=temporal_shift,
-                       rgb_frames=rgb_frames, aux_flow=aux_flow, aux_parts=aux_parts,
+                       rgb_frames=rgb_frames, aux_flow=aux_flow, aux_parts=aux_parts, crop=crop, focus=focus,
+                       pool=pool,
                        threads=threads if threads is not None else default_threads())  # fmt: skip
     for stream in stream_list:
         base.for_stream(stream)

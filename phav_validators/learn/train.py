@@ -51,6 +51,9 @@ class TrainConfig:
     #: median of a frame is mostly background), so a moving kite camera is not the signal.
     flow_centre: bool = True
     crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
+    #: Where the crop sits: ``none`` (random in training, centred in testing) or ``motion``
+    #: (the window of most motion in the clip's median-centred flow, jittered in training).
+    focus: str = "none"
     widths: tuple[int, ...] = Architecture.widths
     dropout: float = 0.3
     stem_pool: bool = Architecture.stem_pool
@@ -63,6 +66,7 @@ class TrainConfig:
     #: Weight of an auxiliary loss that segments the body parts (PHAV's semantic
     #: segmentation, ``data.BODY_PARTS``) from the mid-level features. Training only.
     aux_parts: float = 0.0
+    #: Global pooling of the last feature map (``Architecture.pool``).
     pool: str = Architecture.pool
     epochs: int = 80
     #: Clips per mini-batch from each source, e.g. {"virtual": 10, "real": 22}.
@@ -89,6 +93,8 @@ class TrainConfig:
                 raise PhavUserError(f"must be at least 1, got {value}", field=f"--{name.replace('_', '-')}")
         if not 0.2 <= self.crop <= 1.0:
             raise PhavUserError(f"must be in [0.2, 1], got {self.crop}", field="--crop")
+        if self.focus not in ("none", "motion"):
+            raise PhavUserError(f"choose none or motion, got {self.focus!r}", field="--focus")
         if not self.mix or any(n < 1 for _, n in self.mix):
             raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
         if self.optimizer not in ("sgd", "adamw"):
@@ -196,7 +202,14 @@ def snippets_and_targets(
     frames = np.minimum(np.add.outer(np.asarray(starts), np.arange(length)), clip.n_frames - 1)
     h, w = clip.rgb.shape[1:3]
     ch, cw = crop_box((h, w), config.crop)
-    if rng is None:
+    if config.focus == "motion":
+        y0, x0 = motion_window(clip, frames, (ch, cw))
+        if rng is not None:  # jitter by up to an eighth of the window
+            y0 += int(rng.integers(-(ch // 8), ch // 8 + 1))
+            x0 += int(rng.integers(-(cw // 8), cw // 8 + 1))
+            y0, x0 = min(max(y0, 0), h - ch), min(max(x0, 0), w - cw)
+        flip = rng is not None and bool(rng.random() < 0.5)
+    elif rng is None:
         y0, x0, flip = (h - ch) // 2, (w - cw) // 2, False
     else:
         y0, x0 = int(rng.integers(0, h - ch + 1)), int(rng.integers(0, w - cw + 1))
@@ -219,6 +232,25 @@ def snippets_and_targets(
         x = _flip(x, flow=config.stream == "flow")
         out = {name: _flip(t, flow=name == "flow") for name, t in out.items()}
     return np.ascontiguousarray(x), {name: np.ascontiguousarray(t) for name, t in out.items()}
+
+
+def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple[int, int]:
+    """Top-left (y, x) of the ``box`` (height, width) window holding the most motion in
+    ``frames`` of the clip: the flow's magnitude after each frame's median vector (the
+    camera's) is removed, summed over a box-filtered map. It looks at the flow only, as
+    a real video's estimated flow would allow; the centre window when nothing moves."""
+    h, w = clip.flow.shape[1:3]
+    ch, cw = box
+    flow = clip.flow[np.unique(frames)].astype(np.float32)
+    flow -= np.median(flow.reshape(len(flow), -1, 2), axis=1)[:, None, None, :]
+    magnitude = np.sqrt((flow**2).sum(-1)).sum(0)
+    # Sum over every window position: a summed-area table, exact and order-independent.
+    table = np.pad(magnitude.astype(np.float64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
+    sums = table[ch:, cw:] - table[:-ch, cw:] - table[ch:, :-cw] + table[:-ch, :-cw]
+    if not sums.max() > 0:
+        return (h - ch) // 2, (w - cw) // 2
+    y0, x0 = np.unravel_index(int(np.argmax(sums)), sums.shape)
+    return int(y0), int(x0)
 
 
 def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice], config: TrainConfig) -> np.ndarray:

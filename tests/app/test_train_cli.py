@@ -41,6 +41,19 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     assert json.loads((out / "results.json").read_text())["runs"] == data["runs"]
 
 
+def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
+    out = tmp_path / "run"
+    result = invoke_cli("train", str(phav), "--out", str(out), "--split", "random", "--segments", "4",
+                        "--temporal-shift", "--rgb-frames", "2", "--aux-flow", "1", "--aux-parts", "1",
+                        "--focus", "motion", "--crop", "0.6", "--pool", "max", *FAST)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    data = json.loads((out / "results.json").read_text())
+    assert (
+        data["config"]["rgb_frames"] == 2 and data["config"]["temporal_shift"] and data["config"]["focus"] == "motion"
+    )
+    assert set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
+
+
 def test_cool_tsn_and_fine_tuning_on_a_ucf101_folder(phav, tmp_path):
     ucf = ucf101_folder(tmp_path / "ucf", groups=2, clips=1)
     synthetic = tmp_path / "synthetic"
@@ -72,6 +85,10 @@ def _one_error_line(stderr: str) -> str:
         pytest.param(("--real-fraction", "0"), "--real-fraction", id="real-fraction"),
         pytest.param(("--streams", "depth"), "--streams", id="streams"),
         pytest.param(("--device", "cuda:7"), "--device", id="device"),
+        pytest.param(("--focus", "face"), "--focus", id="focus"),
+        pytest.param(("--pool", "median"), "--pool", id="pool"),
+        pytest.param(("--aux-flow", "1"), "--aux-flow", id="aux-flow-single-rgb-frame"),
+        pytest.param(("--aux-parts", "1", "--real", "ucf101=REAL"), "--aux-parts", id="aux-parts-real"),
         pytest.param(("--mode", "ft", "--real", "ucf101=REAL"), "--init", id="ft-without-init"),
         # read after the options are checked: the official split files are missing
         pytest.param(("--real", "ucf101=REAL"), "ucfTrainTestlist", id="no-split-files"),

@@ -15,6 +15,7 @@ from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_
 from phav_validators.learn.train import (
     MixedBatches,
     TrainConfig,
+    motion_window,
     predict,
     snippet_starts,
     snippets,
@@ -266,3 +267,20 @@ def test_auxiliary_options_are_checked():
     clip = motion_clips(1, 1).clips[0]  # no parts read
     with pytest.raises(PhavUserError, match="body-part"):
         snippets_and_targets(clip, TrainConfig(aux_parts=1.0), rng=None)
+
+
+def test_the_motion_window_finds_the_mover_not_the_panning_camera():
+    clip = motion_clips(1, 1, frames=8, size=(64, 48)).clips[0]
+    clip.flow[...] = (0.8, -0.4)  # the camera pans
+    clip.flow[:, 30:40, 44:52] = (2.5, -0.4)  # a mover right of centre, low
+    frames = np.arange(6).reshape(3, 2)
+    y0, x0 = motion_window(clip, frames, (16, 16))
+    assert y0 <= 30 and y0 + 16 >= 40 and x0 <= 44 and x0 + 16 >= 52
+    config = dataclasses.replace(SMALL, focus="motion", crop=0.5, flow_centre=True)
+    x = snippets(clip, config, rng=None)
+    assert x.shape == (3, 10, 24, 32)
+    moving = np.abs(x[:, 0::2]).mean(axis=(0, 1)) > 0.5
+    assert moving.any()
+    still = motion_clips(1, 1, frames=8, size=(64, 48)).clips[0]
+    still.flow[...] = 0.0
+    assert motion_window(still, frames, (16, 16)) == (16, 24)  # nothing moves: the centre
