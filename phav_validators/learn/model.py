@@ -115,25 +115,28 @@ class TSN(nn.Module):
         init_weights(self, generator=generator)
 
     def forward(
-        self, snippets: Tensor, *, generator: torch.Generator | None = None, aux: bool = False
-    ) -> dict[str, Tensor] | tuple[dict[str, Tensor], Tensor]:
-        """(B, K, C, H, W) → per head the consensus scores ``G`` (B, classes), and with
-        ``aux`` the auxiliary head's map (B·K, aux channels, h, w).
+        self, snippets: Tensor, *, generator: torch.Generator | None = None, extras: bool = False
+    ) -> dict[str, Tensor] | tuple[dict[str, Tensor], dict[str, Tensor]]:
+        """(B, K, C, H, W) → per head the consensus scores ``G`` (B, classes); with
+        ``extras`` also ``features``, each snippet's pooled features before dropout
+        (B·K, C), and ``aux``, the auxiliary head's map (B·K, channels, h, w) if it has one.
 
         In training mode dropout needs ``generator``; in eval mode it is the identity."""
         b, k = snippets.shape[:2]
         last, tap = self.backbone.feature_maps(snippets.flatten(0, 1), k)
-        features = self.backbone.pooled(last)
+        pooled = self.backbone.pooled(last)
+        features = pooled
         if self.training and self.dropout > 0:
             if generator is None:
                 raise ValueError("training-mode forward needs a generator (dropout)")
             features = dropout(features, self.dropout, generator=generator)
         scores = {name: head(features).view(b, k, -1).mean(dim=1) for name, head in self.heads.items()}
-        if not aux:
+        if not extras:
             return scores
-        if self.aux is None:
-            raise ValueError("this TSN has no auxiliary head")
-        return scores, self.aux(tap)
+        more = {"features": pooled}
+        if self.aux is not None:
+            more["aux"] = self.aux(tap)
+        return scores, more
 
 
 def dropout(x: Tensor, p: float, *, generator: torch.Generator) -> Tensor:

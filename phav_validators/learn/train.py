@@ -66,6 +66,10 @@ class TrainConfig:
     #: Weight of an auxiliary loss that segments the body parts (PHAV's semantic
     #: segmentation, ``data.BODY_PARTS``) from the mid-level features. Training only.
     aux_parts: float = 0.0
+    #: RGB stream with a flow teacher (``train(teacher=…)``): weight of matching the
+    #: teacher's pooled features on the same snippets (MARS, Crasto et al. 2019), so the
+    #: RGB stream learns the motion features flow has. Training only: it is tested alone.
+    distill: float = 0.0
     #: Global pooling of the last feature map (``Architecture.pool``).
     pool: str = Architecture.pool
     epochs: int = 80
@@ -101,6 +105,9 @@ class TrainConfig:
             raise PhavUserError(f"choose sgd or adamw, got {self.optimizer!r}", field="--optimizer")
         if not self.lr > 0:
             raise PhavUserError(f"must be positive, got {self.lr}", field="--lr")
+        if self.distill < 0 or (self.distill > 0 and self.stream != "rgb"):
+            raise PhavUserError(f"needs the rgb stream and a non-negative weight, got {self.distill}",
+                                field="--distill")  # fmt: skip
         if self.aux_parts < 0:
             raise PhavUserError(f"must not be negative, got {self.aux_parts}", field="--aux-parts")
         if self.aux_flow < 0 or (self.aux_flow > 0 and (self.stream != "rgb" or self.rgb_frames < 2)):
@@ -112,7 +119,8 @@ class TrainConfig:
         return to their defaults for the flow stream."""
         if stream == "rgb":
             return replace(self, stream=stream)
-        return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, aux_flow=TrainConfig.aux_flow)
+        return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, aux_flow=TrainConfig.aux_flow,
+                       distill=TrainConfig.distill)  # fmt: skip
 
     @property
     def arch(self) -> Architecture:
@@ -144,6 +152,33 @@ class Epoch:
     losses: dict[str, float]
     train_accuracy: float
     seconds: float
+
+
+@dataclass
+class Teacher:
+    """A trained flow stream whose pooled snippet features an RGB stream learns to match
+    (``TrainConfig.distill``); it sees the same clips, starts, crops and flips."""
+
+    model: Any  # phav_validators.learn.model.TSN of the flow stream
+    config: TrainConfig
+
+    def loss(self, features: Any, targets: Sequence[Mapping[str, np.ndarray]]) -> Any:
+        """Mean squared distance of the student's features to the teacher's (no gradient to the teacher)."""
+        import torch  # optional extra phav[train]: only training needs torch
+
+        x = torch.from_numpy(np.stack([t["teacher"] for t in targets])).to(features.device)
+        self.model.eval()
+        with torch.no_grad():
+            _, more = self.model(x, extras=True)
+        return torch.nn.functional.mse_loss(features, more["features"])
+
+    def digest(self) -> str:
+        """A hash of the teacher's weights (a checkpoint resumes only with the same teacher)."""
+        h = hashlib.sha256()
+        for name, tensor in sorted(self.model.state_dict().items()):
+            h.update(name.encode())
+            h.update(tensor.detach().cpu().numpy().tobytes())
+        return h.hexdigest()
 
 
 @dataclass
@@ -191,11 +226,13 @@ def snippets_and_targets(
     rng: np.random.Generator | None,
     segments: int | None = None,
     targets: bool = True,
+    teacher: TrainConfig | None = None,
 ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """``snippets`` and the auxiliary targets the config trains with, under the same crop
     and flip: ``flow`` (``aux_flow``, RGB stream) the flow between the stacked frames
     (K, 2·(L − 1), h, w), scaled as the flow stream's input; ``parts`` (``aux_parts``) each
-    snippet's first frame's body parts (K, h, w) as BODY_PARTS indices."""
+    snippet's first frame's body parts (K, h, w) as BODY_PARTS indices; ``teacher`` (given
+    a flow teacher's config) the flow snippets that teacher sees from the same starts."""
     k = segments if segments is not None else config.segments
     length = config.rgb_frames if config.stream == "rgb" else config.flow_frames
     starts = snippet_starts(clip.n_frames, k, length, rng=rng)
@@ -224,13 +261,16 @@ def snippets_and_targets(
             out["flow"] = _flow_input(clip, frames[:, :-1], window, config)
     else:
         x = _flow_input(clip, frames, window, config)
+    if targets and teacher is not None:
+        span = np.minimum(np.asarray(starts)[:, None] + np.arange(teacher.flow_frames), clip.n_frames - 1)
+        out["teacher"] = _flow_input(clip, span, window, teacher)
     if targets and config.aux_parts > 0:
         if clip.parts is None:
             raise PhavUserError(f"clip {clip.key} has no body-part frames (read with parts=True)", field="--aux-parts")
         out["parts"] = clip.parts[frames[:, 0], window[0], window[1]]
     if flip:
         x = _flip(x, flow=config.stream == "flow")
-        out = {name: _flip(t, flow=name == "flow") for name, t in out.items()}
+        out = {name: _flip(t, flow=name in ("flow", "teacher")) for name, t in out.items()}
     return np.ascontiguousarray(x), {name: np.ascontiguousarray(t) for name, t in out.items()}
 
 
@@ -365,6 +405,7 @@ def train(
     progress: Callable[[Epoch, int], None] | None = None,
     after_epoch: Callable[[TrainResult], None] | None = None,
     device: str = "cpu",
+    teacher: Teacher | None = None,
 ) -> TrainResult:
     """Train one stream on ``data`` (source → training clips) with a head per source.
 
@@ -378,6 +419,7 @@ def train(
         after_epoch: called after every epoch with the result so far (to test the model
             as it trains; it is put back in training mode afterwards).
         device: where the model runs (``cpu``, ``cuda``, ``cuda:1``); random draws stay on the CPU.
+        teacher: the flow stream an RGB stream with ``distill`` learns from.
     """
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
@@ -385,19 +427,27 @@ def train(
     for name in config.sources:
         if name not in heads:
             raise PhavUserError(f"no classes given for source {name!r}", field="--mix")
+    if (config.distill > 0) != (teacher is not None):
+        raise PhavUserError("distillation needs both a weight and a trained flow stream", field="--distill")
     dev = torch_device(device)
     threads = torch.get_num_threads()
     torch.set_num_threads(config.threads)
     try:
         gen = torch.Generator().manual_seed(config.seed)
         model = _model(config, heads, init, gen, dev)
+        if teacher is not None:
+            if teacher.model.backbone.out_features != model.backbone.out_features:
+                raise PhavUserError("the flow teacher's features are not as wide as this stream's", field="--widths")
+            teacher.model.to(dev)
         opt = _optimizer(model, config)
         rng = seeded_rng(config.seed)
         fingerprint = _fingerprint(config, data, heads, init)
+        if teacher is not None:
+            fingerprint = hashlib.sha256(f"{fingerprint}\0{teacher.digest()}".encode()).hexdigest()
         ckpt = Path(checkpoint) if checkpoint is not None else None
         resumed = _resumable(ckpt, fingerprint)
         batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
-        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev)
+        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev, teacher)
         result = TrainResult(model, config)
         if resumed is not None:
             run.restore(resumed, result)
@@ -510,6 +560,7 @@ class _Run:
     gen: Any  # torch.Generator
     batches: MixedBatches
     device: Any  # torch.device
+    teacher: Teacher | None = None
 
     @property
     def steps_per_epoch(self) -> int:
@@ -570,15 +621,21 @@ class _Run:
         for group in self.opt.param_groups:
             group["lr"] = lr
         batch = self.batches.next()
-        pairs = [snippets_and_targets(self.data[s][i], config, rng=self.rng) for s, i in batch]
+        teacher = self.teacher.config if self.teacher is not None else None
+        pairs = [snippets_and_targets(self.data[s][i], config, rng=self.rng, teacher=teacher) for s, i in batch]
         x = torch.from_numpy(np.stack([p[0] for p in pairs])).to(dev)
         labels = torch.tensor([self.data[s][i].label for s, i in batch], device=dev)
         sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
-        if config.aux_flow > 0 or config.aux_parts > 0:
-            scores, predicted = self.model(x, generator=self.gen, aux=True)
-            extra = aux_loss(config, predicted, [p[1] for p in pairs])
+        extra = None
+        if config.aux_flow > 0 or config.aux_parts > 0 or self.teacher is not None:
+            scores, more = self.model(x, generator=self.gen, extras=True)
+            extra = scores[names[0]].new_zeros(())
+            if "aux" in more:
+                extra = extra + aux_loss(config, more["aux"], [p[1] for p in pairs])
+            if self.teacher is not None:
+                extra = extra + config.distill * self.teacher.loss(more["features"], [p[1] for p in pairs])
         else:
-            scores, extra = self.model(x, generator=self.gen), None
+            scores = self.model(x, generator=self.gen)
         loss, parts = multitask_loss(scores, labels, sources, names)
         if extra is not None:
             loss = loss + extra

@@ -14,6 +14,7 @@ from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
 from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
 from phav_validators.learn.train import (
     MixedBatches,
+    Teacher,
     TrainConfig,
     motion_window,
     predict,
@@ -284,3 +285,39 @@ def test_the_motion_window_finds_the_mover_not_the_panning_camera():
     still = motion_clips(1, 1, frames=8, size=(64, 48)).clips[0]
     still.flow[...] = 0.0
     assert motion_window(still, frames, (16, 16)) == (16, 24)  # nothing moves: the centre
+
+
+def _square_clips_with_flow(seed: int) -> list[Clip]:
+    """Moving squares whose flow is the square's own motion (a flow stream can learn it)."""
+    data = moving_square_clips(3, 12, seed=seed)
+    out = []
+    for c in data.clips:
+        flow = np.zeros(c.flow.shape, np.float32)
+        square = c.rgb[..., 0] == 255
+        angle = np.pi * (c.label + 0.5) / 3 - np.pi / 2
+        flow[square] = (1.5 * np.cos(angle), 1.5 * np.sin(angle))
+        out.append(dataclasses.replace(c, flow=flow.astype(np.float16)))
+    return out
+
+
+def test_distillation_pulls_the_rgb_features_towards_the_flow_teachers():
+    clips = _square_clips_with_flow(1)
+    flow_config = dataclasses.replace(SMALL, epochs=4, widths=(8, 16))
+    teacher = Teacher(train({"virtual": clips}, {"virtual": 3}, flow_config).model, flow_config)
+    student = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, distill=5.0, epochs=6, widths=(8, 16))
+    result = train({"virtual": clips}, {"virtual": 3}, student, teacher=teacher)
+    untrained = train({"virtual": clips}, {"virtual": 3}, dataclasses.replace(student, epochs=1), teacher=teacher)
+
+    def distance(model) -> float:
+        pairs = [snippets_and_targets(c, student, rng=None, teacher=flow_config) for c in clips[:16]]
+        model.eval()
+        with torch.no_grad():
+            _, more = model(torch.from_numpy(np.stack([p[0] for p in pairs])), extras=True)
+        return float(teacher.loss(more["features"], [p[1] for p in pairs]))
+
+    assert distance(result.model) < 0.7 * distance(untrained.model)
+    with pytest.raises(PhavUserError, match="distillation"):
+        train({"virtual": clips}, {"virtual": 3}, student)  # a weight but no teacher
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(stream="flow", distill=1.0)
+    assert e.value.field == "--distill"
