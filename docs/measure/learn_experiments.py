@@ -110,8 +110,8 @@ def run_cell(data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: 
     test = [data.clips[i] for i in split.test]
     labels = np.array([c.label for c in test])
     scores, minutes, epoch_s, train_acc = {}, {}, {}, {}
-    base = TrainConfig(stream="rgb" if "rgb" in streams else streams[0], seed=seed, threads=default_threads(),
-                       **overrides)  # fmt: skip
+    settings = {"threads": default_threads(), **overrides}
+    base = TrainConfig(stream="rgb" if "rgb" in streams else streams[0], seed=seed, **settings)
     teacher = None
     for stream in sorted(streams, key=lambda s: s != "flow") if base.distill > 0 else streams:
         config = base.for_stream(stream)

@@ -1,0 +1,62 @@
+"""How much of a short clip's window shows its action: per action, the share of windows of a
+base motion in which the body barely moves (docs/learnability.md, "the data").
+
+A clip plays ``duration`` seconds of its base motion from a uniformly drawn start
+(``phav_generator.sampling``). For every motion θ_AB allows an action, this measures the
+joint-angle speed (rad/s summed over the 30 degrees of freedom, root excluded) along the
+whole motion, averages it over every window of the clip length, and counts the windows
+whose mean is below a quarter of the motion's busiest window: clips that mostly hold a pose.
+
+    .venv/bin/python docs/measure/motion_windows.py --theta phav-v1-short --seconds 1.5
+"""
+
+from __future__ import annotations
+
+import argparse
+from importlib import resources
+
+import numpy as np
+
+from phav_generator.motion.animation import MotionParams
+from phav_generator.motion.library import BUILTIN_MOTIONS
+from phav_spec.motions import MOTIONS
+from phav_spec.theta import load_theta
+from phav_spec.vocab import ACTIONS
+
+FPS = 30
+
+
+def still_share(name: str, seconds: float, quiet: float = 0.25) -> float:
+    """Share of ``seconds``-long windows of motion ``name`` whose mean joint speed is below
+    ``quiet`` × the busiest window's."""
+    motion = BUILTIN_MOTIONS[name]
+    pose = motion.fn(np.arange(0.0, motion.length_s, 1.0 / FPS), MotionParams())
+    speed = np.abs(np.diff(pose.q, axis=0)).sum(axis=1) * FPS
+    window = round(seconds * FPS)
+    if len(speed) <= window:
+        return 0.0
+    means = np.convolve(speed, np.ones(window) / window, mode="valid")
+    return float((means < quiet * means.max()).mean())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--theta", default="phav-v1-short")
+    parser.add_argument("--seconds", type=float, default=1.5)
+    args = parser.parse_args()
+    path = resources.files("phav_spec") / "presets" / f"{args.theta}.yaml"
+    ab = load_theta(str(path)).arrays.ab
+    print(f"| action | motions | windows of {args.seconds:g} s mostly holding a pose (mean; per motion) |")
+    print("| --- | ---: | --- |")
+    rows = []
+    for a, action in enumerate(ACTIONS.names):
+        names = [m for m, hit in zip(MOTIONS.names, ab[a], strict=True) if hit]
+        shares = [still_share(m, args.seconds) for m in names]
+        rows.append((float(np.mean(shares)), action, names, shares))
+    for mean, action, names, shares in sorted(rows, reverse=True):
+        per = ", ".join(f"{m} {s:.0%}" for m, s in zip(names, shares, strict=True) if s > 0)
+        print(f"| {action} | {len(names)} | {mean:.0%}; {per or 'none'} |")
+
+
+if __name__ == "__main__":
+    main()
