@@ -131,15 +131,19 @@ def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
     if first is None:
         return None
     ok, png = cv2.imencode(".png", first[..., ::-1])
-    return "data:image/png;base64," + base64.b64encode(png.tobytes()).decode("ascii") if ok else None
+    return _png_url(png.tobytes()) if ok else None
+
+
+def _png_url(png: bytes) -> str:
+    """PNG bytes as a data URL the page can show inline."""
+    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
 
 
 def learnability_html(learn: LearnResult, root: Path) -> list[str]:
     """The confusion matrix, per-class accuracy (worst first) and, for the classes most
     often answered for each other, a middle frame of a clip of each, side by side."""
     esc = html.escape
-    png = confusion_png(learn.confusion(), learn.classes)
-    url = "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+    url = _png_url(confusion_png(learn.confusion(), learn.classes))
     out = [f"<h3>Learnability: confusion on held-out actors (fused)</h3><img src='{url}'>",
            "<h4>Per class (fused, worst first)</h4><table><tr><th>class</th><th>test clips</th><th>accuracy</th>"
            "<th>most often answered instead</th></tr>"]  # fmt: skip

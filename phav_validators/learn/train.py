@@ -27,7 +27,7 @@ from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
 from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import Architecture, in_channels, require_torch
-from phav_validators.learn.data import Clip
+from phav_validators.learn.data import BODY_PARTS, Clip
 
 #: TSN's gradient-norm clips (RGB 40, flow 20) and the fusion weights of its two streams.
 CLIP_GRAD = {"rgb": 40.0, "flow": 20.0}
@@ -277,12 +277,11 @@ def snippets_and_targets(
 def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple[int, int]:
     """Top-left (y, x) of the ``box`` (height, width) window holding the most motion in
     ``frames`` of the clip: the flow's magnitude after each frame's median vector (the
-    camera's) is removed, summed over a box-filtered map. It looks at the flow only, as
-    a real video's estimated flow would allow; the centre window when nothing moves."""
+    camera's) is removed, summed over every window position. It looks at the flow only,
+    as a real video's estimated flow would allow; the centre window when nothing moves."""
     h, w = clip.flow.shape[1:3]
     ch, cw = box
-    flow = clip.flow[np.unique(frames)].astype(np.float32)
-    flow -= np.median(flow.reshape(len(flow), -1, 2), axis=1)[:, None, None, :]
+    flow = _minus_median(clip.flow[np.unique(frames)].astype(np.float32))
     magnitude = np.sqrt((flow**2).sum(-1)).sum(0)
     # Sum over every window position: a summed-area table, exact and order-independent.
     table = np.pad(magnitude.astype(np.float64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
@@ -301,9 +300,16 @@ def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice], con
     x = clip.flow[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 2)
     ch, cw = x.shape[2:4]
     if config.flow_centre:
-        x -= np.median(x.reshape(k, length, -1, 2), axis=2)[:, :, None, None, :]
+        x = _minus_median(x)
     x = np.clip(x, -bound, bound) * (4.0 / bound)
     return x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
+
+
+def _minus_median(flow: np.ndarray) -> np.ndarray:
+    """Flow frames (…, h, w, 2), each with its median vector subtracted (in place)."""
+    lead = flow.shape[:-3]
+    flow -= np.median(flow.reshape(*lead, -1, 2), axis=-2)[..., None, None, :]
+    return flow
 
 
 def _flip(x: np.ndarray, *, flow: bool) -> np.ndarray:
@@ -488,8 +494,6 @@ def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | Non
 
 def aux_channels(config: TrainConfig) -> dict[str, int]:
     """The auxiliary head's channels per target, in the order they are stacked."""
-    from phav_validators.learn.data import BODY_PARTS
-
     out = {}
     if config.aux_flow > 0:
         out["flow"] = 2 * (config.rgb_frames - 1)
@@ -499,7 +503,7 @@ def aux_channels(config: TrainConfig) -> dict[str, int]:
 
 
 #: The body-part loss's class weights: "other" (mostly background) counts a tenth.
-_PART_WEIGHTS = (0.1,) + (1.0,) * 8
+_PART_WEIGHTS = (0.1,) + (1.0,) * (len(BODY_PARTS) - 1)
 
 
 def aux_loss(config: TrainConfig, predicted: Any, targets: Sequence[Mapping[str, np.ndarray]]) -> Any:
@@ -626,19 +630,12 @@ class _Run:
         x = torch.from_numpy(np.stack([p[0] for p in pairs])).to(dev)
         labels = torch.tensor([self.data[s][i].label for s, i in batch], device=dev)
         sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
-        extra = None
-        if config.aux_flow > 0 or config.aux_parts > 0 or self.teacher is not None:
-            scores, more = self.model(x, generator=self.gen, extras=True)
-            extra = scores[names[0]].new_zeros(())
-            if "aux" in more:
-                extra = extra + aux_loss(config, more["aux"], [p[1] for p in pairs])
-            if self.teacher is not None:
-                extra = extra + config.distill * self.teacher.loss(more["features"], [p[1] for p in pairs])
-        else:
-            scores = self.model(x, generator=self.gen)
+        scores, more = self.model(x, generator=self.gen, extras=True)
         loss, parts = multitask_loss(scores, labels, sources, names)
-        if extra is not None:
-            loss = loss + extra
+        if "aux" in more:
+            loss = loss + aux_loss(config, more["aux"], [p[1] for p in pairs])
+        if self.teacher is not None:
+            loss = loss + config.distill * self.teacher.loss(more["features"], [p[1] for p in pairs])
         if not torch.isfinite(loss):
             raise PhavUserError(f"training diverged at epoch {epoch + 1}, step {step + 1} "
                                 f"(loss {loss.item()}); lower the learning rate", field="--lr")  # fmt: skip
