@@ -89,6 +89,9 @@ def train_command(
         bool, typer.Option(help="TSM's temporal shift between the segments (testing then uses K segments too).")
     ] = False,
     rgb_frames: Annotated[int, typer.Option(min=1, help="RGB frames stacked per snippet (1: TSN's).")] = 1,
+    rgb_diff: Annotated[
+        bool, typer.Option(help="Stacked RGB frames enter as the first frame and consecutive differences.")
+    ] = False,
     aux_flow: Annotated[
         float, typer.Option(min=0.0, help="RGB stream: weight of predicting the flow between its frames (training).")
     ] = 0.0,
@@ -125,8 +128,8 @@ def train_command(
     base = TrainConfig(stream="rgb" if "rgb" in stream_list else stream_list[0], widths=_ints(widths, "--widths"),
                        epochs=epochs, lr=lr, optimizer=optimizer, mix=(("virtual", batch),), seed=seed,
                        stem_pool=stem_pool, dropout=dropout, segments=segments, temporal_shift=temporal_shift,
-                       rgb_frames=rgb_frames, aux_flow=aux_flow, aux_parts=aux_parts, crop=crop, focus=focus,
-                       pool=pool,
+                       rgb_frames=rgb_frames, rgb_diff=rgb_diff, aux_flow=aux_flow, aux_parts=aux_parts, crop=crop,
+                       focus=focus, pool=pool,
                        threads=threads if threads is not None else default_threads())  # fmt: skip
     for stream in stream_list:
         base.for_stream(stream)

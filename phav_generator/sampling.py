@@ -28,7 +28,7 @@ from phav_spec.distributions import (
     sample_subset,
     triangular_inverse_cdf,
 )
-from phav_spec.motions import MOTIONS
+from phav_spec.motions import MOTIONS, active_start
 from phav_spec.people import BOTTOMS, FABRICS, HAIR_STYLES, TOPS, Phenotype
 from phav_spec.population import (
     HAIR_COLOURS,
@@ -343,7 +343,11 @@ class RecipeSampler:
         duration = triangular_inverse_cdf(*theta.durations.clip_length(length_b), rng.random())
         speed = theta.motion.speed.sample(rng=rng)
         mirror = rng.random() < theta.motion.p_mirror
-        start_s = rng.random() * max(0.0, length_b - duration * speed)
+        u = rng.random()
+        if theta.motion.start == "active":
+            start_s = active_start(MOTIONS.names[b], length_b, duration * speed, u)
+        else:
+            start_s = u * max(0.0, length_b - duration * speed)
         motion = {
             "base_motion": MOTIONS.names[b],
             "base_motion_length_s": length_b,

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from phav_spec.motion_activity import MOVING_SPANS
 from phav_spec.vocab import ACTIONS, Registry
 
 #: Where a motion comes from: a procedural stand-in for a CMU MoCap take, or one of the three
@@ -239,3 +240,38 @@ def theta_ab(regexes: Mapping[str, str], motions: Registry[Motion] = MOTIONS) ->
             if regex.search(description):
                 theta[row, col] = 1.0
     return theta
+
+
+#: ``motion.start: active`` keeps the windows that move at least this share of the best
+#: window's moving time.
+ACTIVE_SHARE = 0.75
+#: Starts are considered on the video's frame grid (s).
+_START_STEP_S = 1.0 / 30.0
+
+
+def moving_share(spans: tuple[tuple[float, float], ...], starts: np.ndarray, window_s: float) -> np.ndarray:
+    """Per start (s), the share of the window [start, start + ``window_s``] that ``spans``
+    (moving (start, end) seconds of a take) cover."""
+    starts = np.asarray(starts, dtype=np.float64)
+    covered = np.zeros_like(starts)
+    for a, b in spans:
+        covered += np.clip(np.minimum(b, starts + window_s) - np.maximum(a, starts), 0.0, None)
+    return covered / window_s if window_s > 0 else np.ones_like(starts)
+
+
+def active_start(name: str, length_s: float, window_s: float, u: float) -> float:
+    """Where a window of ``window_s`` seconds starts in take ``name`` (``length_s`` long),
+    from one uniform draw ``u`` ∈ [0, 1): uniform over the frame-grid starts whose window
+    moves at least ``ACTIVE_SHARE`` of the best window's moving time (``MOVING_SPANS``),
+    so a short clip shows the action rather than a held pose. A take that never moves, or
+    one the table does not know (a user's clip), starts uniformly as ``motion.start: uniform``."""
+    room = max(0.0, length_s - window_s)
+    spans = MOVING_SPANS.get(name)
+    if spans is None or room == 0.0:
+        return u * room
+    starts = np.arange(int(np.floor(room / _START_STEP_S)) + 1) * _START_STEP_S
+    share = moving_share(spans, starts, window_s)
+    if not share.max() > 0:
+        return u * room
+    keep = starts[share >= ACTIVE_SHARE * share.max() - 1e-12]
+    return float(keep[min(int(u * len(keep)), len(keep) - 1)])

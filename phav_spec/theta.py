@@ -322,11 +322,15 @@ class SupportingCharacters(BaseModel):
 
 
 class MotionParameters(BaseModel):
-    """Playback of the base motion: speed factor and mirroring left/right."""
+    """Playback of the base motion: speed factor, mirroring left/right, and where in the
+    take the clip starts: ``uniform`` anywhere it fits, or ``active`` among the windows
+    where the body moves (``phav_spec.motions.active_start``; for short clips, which a
+    held pose would otherwise fill)."""
 
     model_config = _FROZEN
     speed: bounded("motion_speed")
     p_mirror: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+    start: Literal["uniform", "active"] = "uniform"
 
 
 class KiteSprings(BaseModel):
@@ -751,13 +755,16 @@ class Theta(BaseModel):
         description leaves its hash, and every recipe sampled from it, unchanged.
         """
         return sha256_hex(
-            canonical_json(self.model_dump(mode="json", exclude={"name", "description"} | self._absent()))
+            canonical_json(self.model_dump(mode="json", exclude={"name": True, "description": True} | self._absent()))
         )
 
-    def _absent(self) -> set[str]:
-        """Optional sections left out: a θ without ``people`` is written (and hashed) as
-        before the section existed."""
-        return {"people"} if self.people is None else set()
+    def _absent(self) -> dict[str, Any]:
+        """Optional parts left out: a θ without ``people``, or with the uniform clip start,
+        is written (and hashed) as before the part existed."""
+        absent: dict[str, Any] = {"people": True} if self.people is None else {}
+        if self.motion.start == "uniform":
+            absent["motion"] = {"start"}
+        return absent
 
     @property
     def people_sampled(self) -> bool:

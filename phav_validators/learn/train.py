@@ -47,6 +47,10 @@ class TrainConfig:
     flow_frames: int = 5
     #: RGB frames stacked per snippet (1: TSN's single frame; more let the stream see motion).
     rgb_frames: int = 1
+    #: Stacked RGB frames enter as the first frame and the differences between consecutive
+    #: frames (a linear change of the same pixels, TSN's RGB difference beside appearance),
+    #: so motion is not a small residue the first layer must learn to subtract.
+    rgb_diff: bool = False
     #: Subtract each flow frame's median vector: a cheap camera-motion compensation (the
     #: median of a frame is mostly background), so a moving kite camera is not the signal.
     flow_centre: bool = True
@@ -110,6 +114,8 @@ class TrainConfig:
                                 field="--distill")  # fmt: skip
         if self.aux_parts < 0:
             raise PhavUserError(f"must not be negative, got {self.aux_parts}", field="--aux-parts")
+        if self.rgb_diff and (self.stream != "rgb" or self.rgb_frames < 2):
+            raise PhavUserError("needs the rgb stream with --rgb-frames of 2 or more", field="--rgb-diff")
         if self.aux_flow < 0 or (self.aux_flow > 0 and (self.stream != "rgb" or self.rgb_frames < 2)):
             raise PhavUserError(f"needs the rgb stream with --rgb-frames of 2 or more, got {self.aux_flow}",
                                 field="--aux-flow")  # fmt: skip
@@ -119,8 +125,8 @@ class TrainConfig:
         return to their defaults for the flow stream."""
         if stream == "rgb":
             return replace(self, stream=stream)
-        return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, aux_flow=TrainConfig.aux_flow,
-                       distill=TrainConfig.distill)  # fmt: skip
+        return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, rgb_diff=TrainConfig.rgb_diff,
+                       aux_flow=TrainConfig.aux_flow, distill=TrainConfig.distill)  # fmt: skip
 
     @property
     def arch(self) -> Architecture:
@@ -256,6 +262,8 @@ def snippets_and_targets(
     if config.stream == "rgb":
         x = clip.rgb[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 3)
         x = (x / 255.0 - _RGB_MEAN) / _RGB_STD
+        if config.rgb_diff:
+            x[:, 1:] = np.diff(x, axis=1)
         x = x.transpose(0, 1, 4, 2, 3).reshape(k, 3 * length, ch, cw)  # r0, g0, b0, r1, …
         if targets and config.aux_flow > 0:
             out["flow"] = _flow_input(clip, frames[:, :-1], window, config)

@@ -44,12 +44,15 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
 def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
     out = tmp_path / "run"
     result = invoke_cli("train", str(phav), "--out", str(out), "--split", "random", "--segments", "4",
-                        "--temporal-shift", "--rgb-frames", "2", "--aux-flow", "1", "--aux-parts", "1",
+                        "--temporal-shift", "--rgb-frames", "2", "--rgb-diff", "--aux-flow", "1", "--aux-parts", "1",
                         "--focus", "motion", "--crop", "0.6", "--pool", "max", *FAST)  # fmt: skip
     assert result.returncode == 0, result.stderr
     data = json.loads((out / "results.json").read_text())
     assert (
-        data["config"]["rgb_frames"] == 2 and data["config"]["temporal_shift"] and data["config"]["focus"] == "motion"
+        data["config"]["rgb_frames"] == 2
+        and data["config"]["rgb_diff"]
+        and data["config"]["temporal_shift"]
+        and data["config"]["focus"] == "motion"
     )
     assert set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
 

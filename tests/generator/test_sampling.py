@@ -9,13 +9,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from phav_generator.sampling import RecipeSampler
 from phav_spec.expectations import exact_expectations, mean_duration
+from phav_spec.motion_activity import MOVING_SPANS
+from phav_spec.motions import ACTIVE_SHARE, moving_share
 from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table
 from phav_spec.seeding import part_rng, runtime_seeds, video_key
-from phav_spec.theta import load_preset
+from phav_spec.theta import load_preset, load_theta, parse_theta
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
 from tests.helpers import PRESET_PATH, invoke_cli
@@ -182,3 +185,28 @@ def test_fixed_length_clips_pass_the_duration_tests():
     assert not any(f.reason == Reason.DISTRIBUTION_MISMATCH for f in result.report.findings)
     wrong = ks("duration_s", "marginal", np.full(300, 2.5), duration_cdf(theta))
     assert wrong.statistic > 1 - 1e-9 and wrong.p_value < 1e-12
+
+
+def test_short_clips_start_where_the_body_moves():
+    """phav-v1-short (``motion.start: active``): every clip's window keeps at least 3/4 of
+    the most moving time its take allows, and only the start differs from the uniform θ's
+    recipe (the same draws feed every other field)."""
+    short = load_theta("phav-v1-short")
+    uniform = parse_theta(
+        {**yaml.safe_load(short.to_yaml()), "motion": {**short.motion.model_dump(), "start": "uniform"}}
+    )
+    active_sampler, uniform_sampler = RecipeSampler(short), RecipeSampler(uniform)
+    gained = []
+    for i in range(300):
+        recipe, plain = active_sampler.sample(0, i), uniform_sampler.sample(0, i)
+        m = recipe.motion
+        window = recipe.duration_s * m.speed
+        room = max(0.0, m.base_motion_length_s - window)
+        spans = MOVING_SPANS[m.base_motion]
+        grid = np.arange(int(np.floor(room * 30)) + 1) / 30
+        best = moving_share(spans, grid, window).max() if window > 0 else 0.0
+        share = float(moving_share(spans, np.array([m.start_s]), window)[0])
+        assert 0.0 <= m.start_s <= room + 1e-9 and share >= ACTIVE_SHARE * best - 1e-9, (i, m)
+        gained.append(share - float(moving_share(spans, np.array([plain.motion.start_s]), window)[0]))
+        assert recipe.model_dump(exclude={"motion", "theta_hash"}) == plain.model_dump(exclude={"motion", "theta_hash"})
+    assert np.mean(gained) > 0.1  # uniform windows hold poses a fair share of the time

@@ -8,7 +8,8 @@ import re
 import numpy as np
 import pytest
 
-from phav_spec.motions import MOTIONS, Motion, theta_ab
+import phav_spec.motions as motions_module
+from phav_spec.motions import ACTIVE_SHARE, MOTIONS, Motion, active_start, moving_share, theta_ab
 from phav_spec.theta import load_preset
 from phav_spec.vocab import ACTIONS, Registry
 
@@ -237,3 +238,29 @@ def test_theta_ab_uses_search_without_flags_on_a_custom_registry():
     assert theta.shape == (len(ACTIONS), 2)
     assert theta[ACTIONS.index("walk")].tolist() == [1.0, 0.0]
     assert theta[ACTIONS.index("run")].tolist() == [0.0, 0.0]
+
+
+def test_moving_share_is_the_covered_part_of_each_window():
+    spans = ((1.0, 2.0), (3.0, 3.5))
+    share = moving_share(spans, np.array([0.0, 0.5, 1.0, 2.5, 4.0]), 1.0)
+    assert np.allclose(share, [0.0, 0.5, 1.0, 0.5, 0.0])
+
+
+def test_an_active_start_falls_where_the_take_moves(monkeypatch):
+    spans = ((6.0, 7.5),)
+    table = dict(motions_module.MOVING_SPANS, probe=spans)
+    monkeypatch.setattr(motions_module, "MOVING_SPANS", table)
+    starts = [active_start("probe", 10.0, 1.5, u) for u in np.linspace(0.0, 0.999, 50)]
+    assert starts == sorted(starts)
+    # Every window keeps at least 3/4 of the best window's moving time (1.5 s, all of it).
+    share = moving_share(spans, np.array(starts), 1.5)
+    assert share.min() >= ACTIVE_SHARE - 1e-9 and 5.6 < min(starts) and max(starts) < 6.4
+    assert all(0.0 <= s <= 10.0 - 1.5 for s in starts)
+
+
+def test_an_unknown_or_still_take_starts_uniformly(monkeypatch):
+    table = dict(motions_module.MOVING_SPANS, still=())
+    monkeypatch.setattr(motions_module, "MOVING_SPANS", table)
+    for name in ("still", "a_users_clip"):
+        assert active_start(name, 10.0, 2.0, 0.5) == 4.0
+    assert active_start("still", 1.0, 2.0, 0.7) == 0.0  # the window is longer than the take

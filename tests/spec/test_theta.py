@@ -97,6 +97,7 @@ BAD = {
     "zero perturbation period": (_set("variations.random_perturbation.period_s", {"kind": "uniform", "low": 0.0, "high": 0.0}), "variations.random_perturbation.period_s", "allowed range"),
     "a crowd of background actors": (_set("background_actors.count", {"min": 0, "max": 3_000_000_000}), "background_actors.count.max", "at most 50"),
     "future format": (_set("format_version", 99), "format_version", "newer than this phav"),
+    "unknown clip start": (_set("motion.start", "middle"), "motion.start", "'uniform' or 'active'"),
 }  # fmt: skip
 
 
@@ -253,3 +254,16 @@ def test_the_people_preset_draws_people_and_round_trips():
     assert parse_theta(data).people is not None
     result = run_cli("theta", "show", "phav-people")
     assert result.returncode == 0 and "mode: sampled" in result.stdout
+
+
+def test_the_uniform_clip_start_is_the_theta_from_before_the_choice_existed():
+    data = preset_dict()
+    data["motion"]["start"] = "uniform"
+    theta = parse_theta(data)
+    assert theta.hash == load_preset().hash and "start" not in yaml.safe_load(theta.to_yaml())["motion"]
+    short = load_theta("phav-v1-short")
+    assert short.motion.start == "active" and load_preset().motion.start == "uniform"
+    again = parse_theta(yaml.safe_load(short.to_yaml()))
+    assert again == short and again.motion.start == "active"
+    data["motion"]["start"] = "active"
+    assert parse_theta(data).hash != load_preset().hash

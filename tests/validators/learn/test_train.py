@@ -199,8 +199,24 @@ def test_rgb_snippets_stack_consecutive_frames():
             assert np.allclose(x[k, 3 * i : 3 * i + 3], expected.transpose(2, 0, 1), atol=1e-6)
 
 
+def test_rgb_difference_input_is_the_first_frame_then_consecutive_differences():
+    clip = moving_square_clips(1, 1, frames=12).clips[0]
+    config = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, crop=1.0)
+    stacked = snippets(clip, config, rng=None).reshape(3, 3, 3, 24, 32)
+    diff = snippets(clip, dataclasses.replace(config, rgb_diff=True), rng=None).reshape(3, 3, 3, 24, 32)
+    assert np.array_equal(diff[:, 0], stacked[:, 0])
+    assert np.allclose(diff[:, 1:], stacked[:, 1:] - stacked[:, :-1], atol=1e-6)
+    assert np.abs(diff[:, 1:]).max() > 1.0  # the square moved
+    for bad in (dataclasses.replace(config, rgb_frames=1), dataclasses.replace(config, stream="flow")):
+        with pytest.raises(PhavUserError) as e:
+            dataclasses.replace(bad, rgb_diff=True)
+        assert e.value.field == "--rgb-diff"
+    assert TrainConfig(stream="rgb", rgb_frames=3, rgb_diff=True).for_stream("flow").rgb_diff is False
+
+
 @pytest.mark.parametrize(("how", "learns"), [({}, False), ({"temporal_shift": True, "segments": 6}, True),
-                                             ({"rgb_frames": 3}, True)])  # fmt: skip
+                                             ({"rgb_frames": 3}, True),
+                                             ({"rgb_frames": 3, "rgb_diff": True}, True)])  # fmt: skip
 def test_the_rgb_stream_learns_a_motion_no_single_frame_shows(how, learns):
     """A square's direction of travel: TSN's single RGB frame cannot see it; a temporal
     shift between segments, or stacked frames, can."""
