@@ -22,7 +22,7 @@ from phav_validators.learn.data import FLOW_SOURCES, ClipSet, load_phav, load_re
 from phav_validators.learn.experiment import MODES, RunResult, phav_runs, real_runs, summarise
 from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 from phav_validators.learn.splits import check_split_kind
-from phav_validators.learn.train import TrainConfig, default_threads, torch_device
+from phav_validators.learn.train import TrainConfig, default_threads, stream_order, torch_device
 from phav_validators.options import ProgressFactory
 
 
@@ -98,6 +98,9 @@ def train_command(
     aux_parts: Annotated[
         float, typer.Option(min=0.0, help="Weight of segmenting the body parts (PHAV's semantic frames; training).")
     ] = 0.0,
+    distill: Annotated[
+        float, typer.Option(min=0.0, help="RGB stream: weight of matching the flow stream's features (trained first).")
+    ] = 0.0,
     flow: Annotated[str, typer.Option(help="Flow: gt (PHAV's ground truth), farneback or tvl1 (estimated).")] = "gt",
     real: Annotated[
         str | None, typer.Option(help="A real dataset: ucf101=PATH or hmdb51=PATH (official split files beside it).")
@@ -128,11 +131,12 @@ def train_command(
     base = TrainConfig(stream="rgb" if "rgb" in stream_list else stream_list[0], widths=_ints(widths, "--widths"),
                        epochs=epochs, lr=lr, optimizer=optimizer, mix=(("virtual", batch),), seed=seed,
                        stem_pool=stem_pool, dropout=dropout, segments=segments, temporal_shift=temporal_shift,
-                       rgb_frames=rgb_frames, rgb_diff=rgb_diff, aux_flow=aux_flow, aux_parts=aux_parts, crop=crop,
-                       focus=focus, pool=pool,
+                       rgb_frames=rgb_frames, rgb_diff=rgb_diff, aux_flow=aux_flow, aux_parts=aux_parts,
+                       distill=distill, crop=crop, focus=focus, pool=pool,
                        threads=threads if threads is not None else default_threads())  # fmt: skip
     for stream in stream_list:
         base.for_stream(stream)
+    stream_order(stream_list, base)
     if aux_parts > 0 and (real is not None or dataset is None):
         raise PhavUserError("body-part targets come from PHAV's semantic frames: train on PHAV alone",
                             field="--aux-parts")  # fmt: skip

@@ -30,7 +30,7 @@ from phav_validators.learn.data import Clip, ClipSet, load_phav
 from phav_validators.learn.experiment import subsample
 from phav_validators.learn.learnability import binomial_p, chance_level
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import Teacher, TrainConfig, default_threads, fuse, predict, train
+from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, stream_order, teacher_of, train
 
 
 def cached_clips(roots: list[Path], size: tuple[int, int], flow: str) -> ClipSet:
@@ -113,12 +113,11 @@ def run_cell(data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: 
     settings = {"threads": default_threads(), **overrides}
     base = TrainConfig(stream="rgb" if "rgb" in streams else streams[0], seed=seed, **settings)
     teacher = None
-    for stream in sorted(streams, key=lambda s: s != "flow") if base.distill > 0 else streams:
+    for stream in stream_order(streams, base):
         config = base.for_stream(stream)
         result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config,
                        teacher=teacher if stream == "rgb" else None)  # fmt: skip
-        if stream == "flow" and base.distill > 0:
-            teacher = Teacher(result.model, config)
+        teacher = teacher_of(stream, result, base) or teacher
         scores[stream] = predict(result.model, test, config, "virtual")
         minutes[stream] = result.seconds / 60
         epoch_s[stream] = result.seconds / len(result.history)

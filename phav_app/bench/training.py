@@ -17,7 +17,7 @@ import numpy as np
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.learnability import binomial_p, chance_level
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, train
+from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, stream_order, teacher_of, train
 
 
 @dataclass(frozen=True)
@@ -74,7 +74,8 @@ def learning_curve(
     labels = np.array([c.label for c in test_clips], dtype=np.int64)
     scores: dict[str, dict[int, np.ndarray]] = {s: {} for s in streams}
     minutes: dict[str, dict[int, float]] = {s: {} for s in streams}
-    for stream in streams:
+    teacher = None
+    for stream in stream_order(streams, base):
         config = base.for_stream(stream)
 
         def record(result: TrainResult, stream: str = stream, config: TrainConfig = config) -> None:
@@ -86,7 +87,9 @@ def learning_curve(
                     acc = float((scores[stream][epoch].argmax(1) == labels).mean())
                     progress(f"{split.name}: {stream} epoch {epoch}/{config.epochs}, test accuracy {acc:.1%}")
 
-        train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config, after_epoch=record)
+        result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config, after_epoch=record,
+                       teacher=teacher if stream == "rgb" else None)  # fmt: skip
+        teacher = teacher_of(stream, result, base) or teacher
     points = []
     for epoch in sorted(set.intersection(*(set(scores[s]) for s in streams))):
         probs = {s: scores[s][epoch] for s in streams}

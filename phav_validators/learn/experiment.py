@@ -16,7 +16,7 @@ from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, fuse, predict, train
+from phav_validators.learn.train import TrainConfig, fuse, predict, stream_order, teacher_of, train
 
 #: ``tsn``: one source; ``cool``: PHAV mixed into every real mini-batch; ``ft``: real
 #: training started from a PHAV checkpoint's backbone.
@@ -66,14 +66,17 @@ def train_and_test(
     """Train each stream (checkpoint ``out/{name}-{stream}.pt``), test, fuse."""
     scores: dict[str, np.ndarray] = {}
     minutes: dict[str, float] = {}
-    for stream in streams:
+    teacher = None
+    for stream in stream_order(streams, base):
         config = base.for_stream(stream)
         advance = progress(f"{name}: {stream}", config.epochs) if progress is not None else None
         start = None
         if init is not None:
             start = init / f"split1-{stream}.pt" if init.is_dir() else init
         result = train(data, heads, config, checkpoint=out / f"{name}-{stream}.pt", init=start, device=device,
-                       progress=(lambda e, n, a=advance: a(1)) if advance is not None else None)  # fmt: skip
+                       progress=(lambda e, n, a=advance: a(1)) if advance is not None else None,
+                       teacher=teacher if stream == "rgb" else None)  # fmt: skip
+        teacher = teacher_of(stream, result, base) or teacher
         scores[stream] = predict(result.model, test, config, test_head, device=device)
         minutes[stream] = result.seconds / 60.0
     labels = np.array([c.label for c in test], dtype=np.int64)

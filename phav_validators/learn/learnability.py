@@ -29,7 +29,7 @@ from phav_validators.findings import CheckResult, Finding, Reason, Report
 from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, train
+from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, stream_order, teacher_of, train
 
 if TYPE_CHECKING:
     from phav_spec.manifest import DatasetManifest
@@ -167,14 +167,18 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
     seconds, stopped = 0.0, False
     with tempfile.TemporaryDirectory(prefix="phav-learn-") as tmp:
         out = opts.out_dir if opts.out_dir is not None else Path(tmp)
-        for i, stream in enumerate(opts.streams):
+        base = TrainConfig(stream=opts.streams[0], epochs=opts.epochs, seed=opts.seed, threads=threads)
+        teacher = None
+        for i, stream in enumerate(stream_order(opts.streams, base)):
             # Each stream may use an equal share of what the streams before it left over.
             budget = (opts.budget_minutes * 60.0 - seconds) / (len(opts.streams) - i)
-            config = TrainConfig(stream=stream, epochs=opts.epochs, seed=opts.seed, threads=threads)
+            config = base.for_stream(stream)
             advance = progress(f"learnability: training {stream}", opts.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
                            checkpoint=out / f"{stream}.pt", max_seconds=budget,
-                           progress=(lambda e, n, a=advance: a(1)) if advance is not None else None)  # fmt: skip
+                           progress=(lambda e, n, a=advance: a(1)) if advance is not None else None,
+                           teacher=teacher if stream == "rgb" else None)  # fmt: skip
+            teacher = teacher_of(stream, result, base) or teacher
             seconds += result.seconds
             stopped = stopped or result.stopped_on_time
             scores[stream] = predict(result.model, test_clips, config, "virtual")

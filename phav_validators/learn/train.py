@@ -187,6 +187,22 @@ class Teacher:
         return h.hexdigest()
 
 
+def stream_order(streams: Sequence[str], base: TrainConfig) -> list[str]:
+    """The order ``streams`` train in: the flow stream first when the RGB stream learns
+    from it (``distill``), which needs both; otherwise as given."""
+    if base.distill > 0 and "rgb" in streams:
+        if "flow" not in streams:
+            raise PhavUserError("the RGB stream distils from the flow stream: train both (--streams rgb,flow)",
+                                field="--distill")  # fmt: skip
+        return sorted(streams, key=lambda s: s != "flow")
+    return list(streams)
+
+
+def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher | None:
+    """The teacher a just-trained ``stream`` is for the RGB stream still to train, if any."""
+    return Teacher(result.model, result.config) if stream == "flow" and base.distill > 0 else None
+
+
 @dataclass
 class TrainResult:
     """The trained model and what training did."""

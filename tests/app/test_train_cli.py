@@ -57,6 +57,17 @@ def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
     assert set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
 
 
+def test_distillation_trains_the_flow_stream_first_and_teaches_the_rgb_stream(phav, tmp_path):
+    out = tmp_path / "run"
+    result = invoke_cli("train", str(phav), "--out", str(out), "--split", "random", "--rgb-frames", "2",
+                        "--distill", "5", *FAST)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    data = json.loads((out / "results.json").read_text())
+    assert data["config"]["distill"] == 5.0 and set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
+    # The RGB checkpoint was written after the flow one: the teacher trained first.
+    assert (out / "split1-flow.pt").stat().st_mtime_ns <= (out / "split1-rgb.pt").stat().st_mtime_ns
+
+
 def test_cool_tsn_and_fine_tuning_on_a_ucf101_folder(phav, tmp_path):
     ucf = ucf101_folder(tmp_path / "ucf", groups=2, clips=1)
     synthetic = tmp_path / "synthetic"
@@ -91,6 +102,8 @@ def _one_error_line(stderr: str) -> str:
         pytest.param(("--focus", "face"), "--focus", id="focus"),
         pytest.param(("--pool", "median"), "--pool", id="pool"),
         pytest.param(("--aux-flow", "1"), "--aux-flow", id="aux-flow-single-rgb-frame"),
+        pytest.param(("--distill", "1", "--streams", "rgb"), "--distill", id="distill-without-flow"),
+        pytest.param(("--rgb-diff",), "--rgb-diff", id="rgb-diff-single-frame"),
         pytest.param(("--aux-parts", "1", "--real", "ucf101=REAL"), "--aux-parts", id="aux-parts-real"),
         pytest.param(("--mode", "ft", "--real", "ucf101=REAL"), "--init", id="ft-without-init"),
         # read after the options are checked: the official split files are missing

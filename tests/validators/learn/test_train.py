@@ -21,6 +21,7 @@ from phav_validators.learn.train import (
     snippet_starts,
     snippets,
     snippets_and_targets,
+    stream_order,
     train,
 )
 from tests.validators.learn.helpers import motion_clips, moving_square_clips, ucf101_folder
@@ -336,4 +337,14 @@ def test_distillation_pulls_the_rgb_features_towards_the_flow_teachers():
         train({"virtual": clips}, {"virtual": 3}, student)  # a weight but no teacher
     with pytest.raises(PhavUserError) as e:
         TrainConfig(stream="flow", distill=1.0)
+    assert e.value.field == "--distill"
+
+
+def test_the_flow_stream_trains_first_only_when_it_teaches():
+    plain, distilling = TrainConfig(stream="rgb"), TrainConfig(stream="rgb", distill=5.0)
+    assert stream_order(["rgb", "flow"], plain) == ["rgb", "flow"]
+    assert stream_order(["rgb", "flow"], distilling) == ["flow", "rgb"]
+    assert stream_order(["flow"], distilling) == ["flow"]
+    with pytest.raises(PhavUserError) as e:
+        stream_order(["rgb"], distilling)
     assert e.value.field == "--distill"
