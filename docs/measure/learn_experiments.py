@@ -116,8 +116,8 @@ def run_cell(data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: 
     for stream in stream_order(streams, base):
         config = base.for_stream(stream)
         result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config,
-                       teacher=teacher if stream == "rgb" else None)  # fmt: skip
-        teacher = teacher_of(stream, result, base) or teacher
+                       teacher=teacher)  # fmt: skip
+        teacher = teacher_of(stream, result, base)
         scores[stream] = predict(result.model, test, config, "virtual")
         minutes[stream] = result.seconds / 60
         epoch_s[stream] = result.seconds / len(result.history)

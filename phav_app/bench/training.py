@@ -88,8 +88,8 @@ def learning_curve(
                     progress(f"{split.name}: {stream} epoch {epoch}/{config.epochs}, test accuracy {acc:.1%}")
 
         result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config, after_epoch=record,
-                       teacher=teacher if stream == "rgb" else None)  # fmt: skip
-        teacher = teacher_of(stream, result, base) or teacher
+                       teacher=teacher)  # fmt: skip
+        teacher = teacher_of(stream, result, base)
     points = []
     for epoch in sorted(set.intersection(*(set(scores[s]) for s in streams))):
         probs = {s: scores[s][epoch] for s in streams}

@@ -75,8 +75,8 @@ def train_and_test(
             start = init / f"split1-{stream}.pt" if init.is_dir() else init
         result = train(data, heads, config, checkpoint=out / f"{name}-{stream}.pt", init=start, device=device,
                        progress=(lambda e, n, a=advance: a(1)) if advance is not None else None,
-                       teacher=teacher if stream == "rgb" else None)  # fmt: skip
-        teacher = teacher_of(stream, result, base) or teacher
+                       teacher=teacher)  # fmt: skip
+        teacher = teacher_of(stream, result, base)
         scores[stream] = predict(result.model, test, config, test_head, device=device)
         minutes[stream] = result.seconds / 60.0
     labels = np.array([c.label for c in test], dtype=np.int64)

@@ -177,8 +177,8 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
                            checkpoint=out / f"{stream}.pt", max_seconds=budget,
                            progress=(lambda e, n, a=advance: a(1)) if advance is not None else None,
-                           teacher=teacher if stream == "rgb" else None)  # fmt: skip
-            teacher = teacher_of(stream, result, base) or teacher
+                           teacher=teacher)  # fmt: skip
+            teacher = teacher_of(stream, result, base)
             seconds += result.seconds
             stopped = stopped or result.stopped_on_time
             scores[stream] = predict(result.model, test_clips, config, "virtual")

@@ -199,7 +199,8 @@ def stream_order(streams: Sequence[str], base: TrainConfig) -> list[str]:
 
 
 def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher | None:
-    """The teacher a just-trained ``stream`` is for the RGB stream still to train, if any."""
+    """The teacher the next stream in ``stream_order`` trains with, given the one just
+    trained: the flow stream when the RGB stream (then the next, and last) distils from it."""
     return Teacher(result.model, result.config) if stream == "flow" and base.distill > 0 else None
 
 
