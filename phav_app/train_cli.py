@@ -22,7 +22,7 @@ from phav_validators.learn.data import FLOW_SOURCES, ClipSet, load_phav, load_re
 from phav_validators.learn.experiment import MODES, RunResult, phav_runs, real_runs, summarise
 from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 from phav_validators.learn.splits import check_split_kind
-from phav_validators.learn.train import TrainConfig, default_threads, stream_order, torch_device
+from phav_validators.learn.train import RECOMMENDED, TrainConfig, recommended_config, stream_order, torch_device
 from phav_validators.options import ProgressFactory
 
 
@@ -71,7 +71,12 @@ def train_command(
         str, typer.Option(help="PHAV split: random, actor, motion or actor+motion (held out).")
     ] = "random",
     splits: Annotated[int, typer.Option(min=1, max=3, help="Splits averaged (PHAV: seeded 80/20; real: 1..N).")] = 1,
-    epochs: Annotated[int, typer.Option(min=1, help="Epochs per stream.")] = 80,
+    epochs: Annotated[int, typer.Option(min=1, help="Epochs of the flow stream (and of RGB without --rgb-epochs).")] = (
+        RECOMMENDED.epochs
+    ),
+    rgb_epochs: Annotated[
+        int | None, typer.Option(min=1, help="Epochs of the RGB stream (default: a third of --epochs).")
+    ] = None,
     lr: Annotated[float, typer.Option(help="Peak learning rate (cosine decay).")] = 0.05,
     optimizer: Annotated[str, typer.Option(help="sgd (momentum 0.9, weight decay 5e-4, as TSN) or adamw.")] = "sgd",
     batch: Annotated[int, typer.Option(min=1, help="Clips per mini-batch (single source).")] = 32,
@@ -88,10 +93,16 @@ def train_command(
     temporal_shift: Annotated[
         bool, typer.Option(help="TSM's temporal shift between the segments (testing then uses K segments too).")
     ] = False,
-    rgb_frames: Annotated[int, typer.Option(min=1, help="RGB frames stacked per snippet (1: TSN's).")] = 1,
+    rgb_frames: Annotated[int, typer.Option(min=1, help="RGB frames stacked per snippet (1: TSN's).")] = (
+        RECOMMENDED.rgb_frames
+    ),
     rgb_diff: Annotated[
-        bool, typer.Option(help="Stacked RGB frames enter as the first frame and consecutive differences.")
-    ] = False,
+        bool | None,
+        typer.Option(
+            help="Stacked RGB frames enter as the first frame and consecutive differences "
+            "(default: on with 2 or more frames)."
+        ),
+    ] = None,
     aux_flow: Annotated[
         float, typer.Option(min=0.0, help="RGB stream: weight of predicting the flow between its frames (training).")
     ] = 0.0,
@@ -99,8 +110,13 @@ def train_command(
         float, typer.Option(min=0.0, help="Weight of segmenting the body parts (PHAV's semantic frames; training).")
     ] = 0.0,
     distill: Annotated[
-        float, typer.Option(min=0.0, help="RGB stream: weight of matching the flow stream's features (trained first).")
-    ] = 0.0,
+        float | None,
+        typer.Option(
+            min=0.0,
+            help="RGB stream: weight of matching the flow stream's features (trained first; "
+            f"default {RECOMMENDED.distill:g} when both streams train, else 0).",
+        ),
+    ] = None,
     flow: Annotated[str, typer.Option(help="Flow: gt (PHAV's ground truth), farneback or tvl1 (estimated).")] = "gt",
     real: Annotated[
         str | None, typer.Option(help="A real dataset: ucf101=PATH or hmdb51=PATH (official split files beside it).")
@@ -111,6 +127,9 @@ def train_command(
     init: Annotated[Path | None, typer.Option(help="TSN-FT: a phav train output folder (or checkpoint).")] = None,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     threads: Annotated[int | None, typer.Option(min=1, help="Torch threads (default: the usable cores).")] = None,
+    precision: Annotated[
+        str | None, typer.Option(help="fp32 or bf16 autocast (default: bf16 where the device computes it natively).")
+    ] = None,
     workers: Annotated[int, typer.Option(min=1, help="Processes decoding shards.")] = 1,
     seed: Annotated[int, typer.Option(min=0, help="Seed of splits, initialisation and sampling.")] = 0,
 ) -> None:
@@ -128,12 +147,16 @@ def train_command(
         raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
     clips_per_batch = _mix(mix)
     stored = _size(size)
-    base = TrainConfig(stream="rgb" if "rgb" in stream_list else stream_list[0], widths=_ints(widths, "--widths"),
-                       epochs=epochs, lr=lr, optimizer=optimizer, mix=(("virtual", batch),), seed=seed,
-                       stem_pool=stem_pool, dropout=dropout, segments=segments, temporal_shift=temporal_shift,
-                       rgb_frames=rgb_frames, rgb_diff=rgb_diff, aux_flow=aux_flow, aux_parts=aux_parts,
-                       distill=distill, crop=crop, focus=focus, pool=pool,
-                       threads=threads if threads is not None else default_threads())  # fmt: skip
+    # RECOMMENDED with every option given; what is left unset is resolved for these streams
+    # and this device (distillation, threads, precision).
+    chosen = {"distill": distill, "threads": threads, "precision": precision, "rgb_epochs": rgb_epochs,
+              "rgb_diff": rgb_diff if rgb_diff is not None else rgb_frames >= 2 and "rgb" in stream_list}  # fmt: skip
+    base = recommended_config(stream_list, device=device, widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
+                              optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool,
+                              dropout=dropout, segments=segments, temporal_shift=temporal_shift,
+                              rgb_frames=rgb_frames, aux_flow=aux_flow,
+                              aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
+                              **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip
     for stream in stream_list:
         base.for_stream(stream)
     stream_order(stream_list, base)

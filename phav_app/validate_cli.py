@@ -71,10 +71,17 @@ def validate(
     ] = False,
     learn_minutes: Annotated[
         float, typer.Option(help="learnability: minutes of CPU training, all streams together.")
-    ] = 10.0,
+    ] = LearnOptions.budget_minutes,
     learn_epochs: Annotated[
-        int, typer.Option(min=1, help="learnability: epochs per stream (within the minutes).")
-    ] = 80,
+        int, typer.Option(min=1, help="learnability: epochs of the flow stream (within the minutes).")
+    ] = LearnOptions.epochs,
+    learn_rgb_epochs: Annotated[
+        int | None,
+        typer.Option(min=1, help="learnability: epochs of the RGB stream (default: a third of --learn-epochs)."),
+    ] = None,
+    learn_precision: Annotated[
+        str | None, typer.Option(help="learnability: fp32 or bf16 (default: bf16 where the CPU has it).")
+    ] = None,
     learn_dir: Annotated[
         Path | None,
         typer.Option(help="learnability: folder for checkpoints (a rerun resumes) and confusion.png."),
@@ -106,7 +113,8 @@ def validate(
     options = Options(
         checks=_checks(checks), workers=workers, sample=sample, regenerate=regenerate, seed=seed, alpha=alpha,
         budget=failure_budget,
-        learn=LearnOptions(epochs=learn_epochs, budget_minutes=learn_minutes, seed=seed, threads=threads,
+        learn=LearnOptions(epochs=learn_epochs, rgb_epochs=learn_rgb_epochs, budget_minutes=learn_minutes,
+                           precision=learn_precision, seed=seed, threads=threads,
                            shuffle_labels=shuffle_labels, out_dir=learn_dir, workers=workers),
         engine=engine, address=address, regenerate_into=regenerate_into,
     )  # fmt: skip

@@ -128,8 +128,11 @@ def run_cell(data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: 
         accuracy["fused"] = float((fused.argmax(1) == labels).mean())
         chance = chance_level(labels, fused.argmax(1), len(data.classes))
         accuracy["p_fused"] = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
+    # The test clips' class probabilities per stream, kept so fusion can be studied afterwards.
+    probabilities = {s: np.round(p, 5).tolist() for s, p in scores.items()}
     return {"seed": seed, "train_clips": len(train_clips), "test_clips": len(test), "accuracy": accuracy,
-            "minutes": minutes, "epoch_seconds": epoch_s, "train_accuracy": train_acc}  # fmt: skip
+            "minutes": minutes, "epoch_seconds": epoch_s, "train_accuracy": train_acc,
+            "test_labels": labels.tolist(), "test_scores": probabilities}  # fmt: skip
 
 
 def row(cell: Cell, streams: list[str]) -> str:

@@ -2,7 +2,7 @@
 held-out-actor split of one PHAV dataset (docs/learnability.md's table).
 
 Clips are read once; each split trains both streams with the default ``phav train``
-settings and tests them every ``--every`` epochs (``phav_app.bench.training``).
+settings and tests them ``--points`` times over their epochs (``phav_app.bench.training``).
 
     .venv/bin/phav generate --theta phav-v1-short --videos 640 --seed 11 --workers 2 --out /tmp/d640
     .venv/bin/python docs/measure/learnability.py /tmp/d640 --json /tmp/curve.json
@@ -26,7 +26,7 @@ def main() -> None:
     parser.add_argument("dataset", type=Path)
     parser.add_argument("--splits", default="random,actor")
     parser.add_argument("--epochs", type=int, default=TrainConfig.epochs)
-    parser.add_argument("--every", type=int, default=10)
+    parser.add_argument("--points", type=int, default=8)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args()
@@ -36,13 +36,14 @@ def main() -> None:
     base = TrainConfig(epochs=args.epochs, seed=args.seed, threads=default_threads())
     points = []
     for kind in args.splits.split(","):
-        points += learning_curve(clips, kind, base, every=args.every, progress=lambda m: print(m, flush=True))
+        points += learning_curve(clips, kind, base, points=args.points, progress=lambda m: print(m, flush=True))
     print("| split | epochs per stream | training minutes (both streams) | RGB | flow | fused | fused × chance | "
           "binomial p |")  # fmt: skip
     print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for p in points:
         a = p.accuracy
-        print(f"| {p.split} ({p.test_clips} test clips) | {p.epoch} | {p.minutes:.1f} | {a['rgb']:.1%} | "
+        epochs = " / ".join(str(e) for e in p.epochs.values())
+        print(f"| {p.split} ({p.test_clips} test clips) | {epochs} | {p.minutes:.1f} | {a['rgb']:.1%} | "
               f"{a['flow']:.1%} | {a['fused']:.1%} | {a['fused'] / p.chance:.1f} | {p.p_fused:.1g} |")  # fmt: skip
     if args.json is not None:
         args.json.write_text(json.dumps([asdict(p) for p in points], indent=2) + "\n", encoding="utf-8")

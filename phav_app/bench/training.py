@@ -1,9 +1,9 @@
 """``phav bench --sections training``: clips per second per stream on this machine, and test
 accuracy against training minutes (random and held-out-actor splits), speed against error.
 
-Each stream trains for a fixed number of epochs and is tested after every ``every``-th; the
-fused accuracy at a point combines both streams at the same epoch, at the sum of their
-training minutes. Testing time is not counted as training time.
+Each stream trains for its fixed number of epochs and is tested at evenly spaced epochs of
+its own; the fused accuracy at a point combines the streams' tests of the same rank, at
+the sum of their training minutes. Testing time is not counted as training time.
 """
 
 from __future__ import annotations
@@ -33,10 +33,11 @@ class Throughput:
 
 @dataclass(frozen=True)
 class CurvePoint:
-    """Test accuracy after ``epoch`` epochs of each stream, at ``minutes`` of training."""
+    """Test accuracy after ``epochs`` epochs of each stream, at ``minutes`` of training
+    (both streams' together)."""
 
     split: str
-    epoch: int
+    epochs: dict[str, int]  # stream → epochs trained so far
     minutes: float
     accuracy: dict[str, float]  # rgb, flow, fused
     test_clips: int
@@ -64,10 +65,12 @@ def learning_curve(
     base: TrainConfig,
     streams: Sequence[str] = ("rgb", "flow"),
     *,
-    every: int = 1,
+    points: int = 8,
     progress: Callable[[str], None] | None = None,
 ) -> list[CurvePoint]:
-    """Test accuracy per stream and fused against training minutes on one seeded split."""
+    """Test accuracy per stream and fused against training minutes on one seeded split:
+    each stream is tested ``points`` times, evenly over its own epochs (the RGB stream may
+    train fewer, ``rgb_epochs``), and the i-th tests of the streams are fused."""
     split = make_split(clips.clips, split_kind, seed=base.seed)
     train_clips = [clips.clips[i] for i in split.train]
     test_clips = [clips.clips[i] for i in split.test]
@@ -77,10 +80,12 @@ def learning_curve(
     teacher = None
     for stream in stream_order(streams, base):
         config = base.for_stream(stream)
+        tested = sorted({max(1, round(k * config.epochs / points)) for k in range(1, points + 1)})
 
-        def record(result: TrainResult, stream: str = stream, config: TrainConfig = config) -> None:
+        def record(result: TrainResult, stream: str = stream, config: TrainConfig = config,
+                   tested: list[int] = tested) -> None:  # fmt: skip
             epoch = len(result.history)
-            if epoch % every == 0 or epoch == config.epochs:
+            if epoch in tested:
                 scores[stream][epoch] = predict(result.model, test_clips, config, "virtual")
                 minutes[stream][epoch] = result.seconds / 60.0
                 if progress is not None:
@@ -90,14 +95,15 @@ def learning_curve(
         result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config, after_epoch=record,
                        teacher=teacher)  # fmt: skip
         teacher = teacher_of(stream, result, base)
-    points = []
-    for epoch in sorted(set.intersection(*(set(scores[s]) for s in streams))):
-        probs = {s: scores[s][epoch] for s in streams}
+    out = []
+    for i in range(min(len(scores[s]) for s in streams)):
+        epochs = {s: sorted(scores[s])[i] for s in streams}
+        probs = {s: scores[s][e] for s, e in epochs.items()}
         fused = fuse(probs)
         accuracy = {s: float((p.argmax(1) == labels).mean()) for s, p in probs.items()}
         correct = int((fused.argmax(1) == labels).sum())
         accuracy["fused"] = correct / max(len(labels), 1)
         chance = chance_level(labels, fused.argmax(1), len(clips.classes))
-        points.append(CurvePoint(split.name, epoch, sum(minutes[s][epoch] for s in streams), accuracy, len(labels),
-                                 chance, binomial_p(correct, len(labels), chance)))  # fmt: skip
-    return points
+        out.append(CurvePoint(split.name, epochs, sum(minutes[s][e] for s, e in epochs.items()), accuracy,
+                              len(labels), chance, binomial_p(correct, len(labels), chance)))  # fmt: skip
+    return out

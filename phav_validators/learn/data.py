@@ -10,6 +10,7 @@ the base motion) travel beside the pixels and never reach the model.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import multiprocessing
 import re
@@ -76,6 +77,13 @@ class Clip:
     @property
     def n_frames(self) -> int:
         return len(self.rgb)
+
+    @functools.cached_property
+    def flow_median(self) -> np.ndarray:
+        """(T, 2) float32: each flow frame's median vector, mostly the camera's motion
+        (computed once per clip, as every snippet and crop of a frame subtracts it)."""
+        flat = self.flow.reshape(len(self.flow), -1, 2).astype(np.float32)
+        return np.median(flat, axis=1)
 
 
 @dataclass

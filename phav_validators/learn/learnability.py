@@ -29,7 +29,18 @@ from phav_validators.findings import CheckResult, Finding, Reason, Report
 from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, stream_order, teacher_of, train
+from phav_validators.learn.train import (
+    PRECISIONS,
+    RECOMMENDED,
+    TrainConfig,
+    default_threads,
+    fuse,
+    predict,
+    recommended_config,
+    stream_order,
+    teacher_of,
+    train,
+)
 
 if TYPE_CHECKING:
     from phav_spec.manifest import DatasetManifest
@@ -42,13 +53,18 @@ class LearnOptions:
 
     split: str = "actor"
     streams: tuple[str, ...] = ("rgb", "flow")
-    epochs: int = 80
-    #: Minutes of training for all streams together (each stream gets its share).
-    budget_minutes: float = 10.0
+    epochs: int = RECOMMENDED.epochs
+    #: The RGB stream's epochs (None: in ``RECOMMENDED``'s proportion to ``epochs``).
+    rgb_epochs: int | None = None
+    #: Minutes of training for all streams together (each stream gets its share); a safety
+    #: stop: the default epochs take ~14 minutes on 2 cores with bfloat16.
+    budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     flow: str = "gt"
     seed: int = 0
     threads: int | None = None
+    #: ``fp32`` or ``bf16``; None: what this machine computes fastest (``default_precision``).
+    precision: str | None = None
     alpha: float = 1e-3
     #: The fused accuracy must also be at least this many times chance.
     min_over_chance: float = 2.0
@@ -58,9 +74,17 @@ class LearnOptions:
     out_dir: Path | None = None
     workers: int = 1
 
+    def config(self, threads: int) -> TrainConfig:
+        """The training settings: ``RECOMMENDED`` with these epochs, seed, threads and precision."""
+        more = {"precision": self.precision} if self.precision is not None else {}
+        return recommended_config(self.streams, epochs=self.epochs, rgb_epochs=self.rgb_epochs, seed=self.seed,
+                                  threads=threads, **more)  # fmt: skip
+
     def __post_init__(self) -> None:
         if self.budget_minutes <= 0:
             raise PhavUserError(f"must be positive, got {self.budget_minutes}", field="--learn-minutes")
+        if self.precision is not None and self.precision not in PRECISIONS:
+            raise PhavUserError(f"choose {' or '.join(PRECISIONS)}, got {self.precision!r}", field="--learn-precision")
         if not self.streams or any(s not in ("rgb", "flow") for s in self.streams):
             raise PhavUserError(f"streams are rgb and flow, got {self.streams}", field="--streams")
 
@@ -80,10 +104,16 @@ class LearnResult:
     stopped_on_time: bool
     held_out: dict[str, list[str]] = field(default_factory=dict)
     keys: list[str] = field(default_factory=list)  # the test clips' video ids, in ``labels`` order
+    settings: dict[str, Any] = field(default_factory=dict)  # the base TrainConfig, as JSON
+    epochs: dict[str, int] = field(default_factory=dict)  # stream → epochs trained
 
     def accuracy(self, stream: str | None = None) -> float:
         probs = self.fused if stream is None else self.scores[stream]
         return float((probs.argmax(1) == self.labels).mean()) if len(self.labels) else 0.0
+
+    def interval(self, stream: str | None = None) -> tuple[float, float]:
+        """The 95 % Wilson interval of ``accuracy(stream)`` over the test clips."""
+        return wilson_interval(round(self.accuracy(stream) * len(self.labels)), len(self.labels))
 
     def confusion(self) -> np.ndarray:
         return confusion_matrix(self.labels, self.fused.argmax(1), len(self.classes))
@@ -137,6 +167,16 @@ def chance_level(labels: np.ndarray, predicted: np.ndarray, n_classes: int) -> f
     return max(1.0 / n_classes, float(p @ q))
 
 
+def wilson_interval(correct: int, n: int, z: float = 1.959964) -> tuple[float, float]:
+    """The Wilson score interval of a proportion ``correct / n`` (95 % for the default z)."""
+    if n == 0:
+        return 0.0, 1.0
+    p = correct / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return float(centre - half), float(centre + half)
+
+
 def binomial_p(correct: int, n: int, chance: float) -> float:
     """One-sided p of ≥ ``correct`` right answers out of ``n`` when each is right with ``chance``."""
 
@@ -164,16 +204,19 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
     test_clips = [clips.clips[i] for i in split.test]
     threads = opts.threads if opts.threads is not None else default_threads()
     scores: dict[str, np.ndarray] = {}
-    seconds, stopped = 0.0, False
+    seconds, stopped, epochs = 0.0, False, {}
     with tempfile.TemporaryDirectory(prefix="phav-learn-") as tmp:
         out = opts.out_dir if opts.out_dir is not None else Path(tmp)
-        base = TrainConfig(stream=opts.streams[0], epochs=opts.epochs, seed=opts.seed, threads=threads)
+        base = opts.config(threads)
         teacher = None
-        for i, stream in enumerate(stream_order(opts.streams, base)):
-            # Each stream may use an equal share of what the streams before it left over.
-            budget = (opts.budget_minutes * 60.0 - seconds) / (len(opts.streams) - i)
+        order = stream_order(opts.streams, base)
+        for i, stream in enumerate(order):
             config = base.for_stream(stream)
-            advance = progress(f"learnability: training {stream}", opts.epochs) if progress is not None else None
+            # Each stream may use what the streams before it left, less the later streams'
+            # shares: the time is shared in proportion to the streams' epochs.
+            later = sum(base.for_stream(s).epochs for s in order[i:])
+            budget = (opts.budget_minutes * 60.0 - seconds) * config.epochs / later
+            advance = progress(f"learnability: training {stream}", config.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
                            checkpoint=out / f"{stream}.pt", max_seconds=budget,
                            progress=(lambda e, n, a=advance: a(1)) if advance is not None else None,
@@ -181,13 +224,14 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
             teacher = teacher_of(stream, result, base)
             seconds += result.seconds
             stopped = stopped or result.stopped_on_time
+            epochs[stream] = len(result.history)
             scores[stream] = predict(result.model, test_clips, config, "virtual")
     labels = np.array([c.label for c in test_clips], dtype=np.int64)
     fused = fuse(scores)
     chance = chance_level(labels, fused.argmax(1), len(clips.classes))
     p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
     return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
-                       split.held_out, [c.key for c in test_clips])  # fmt: skip
+                       split.held_out, [c.key for c in test_clips], base.to_json(), epochs)  # fmt: skip
 
 
 def check_learnability(
@@ -219,8 +263,8 @@ def check_learnability(
             file=str(root), numbers={"accuracy": fused, "chance": result.chance, "p_value": result.p_value},
         ))  # fmt: skip
     if result.stopped_on_time:
-        report.notes.append(f"training stopped at the {opts.budget_minutes:g}-minute budget before "
-                            f"{opts.epochs} epochs: the result depends on this machine's speed")  # fmt: skip
+        report.notes.append(f"training stopped at the {opts.budget_minutes:g}-minute budget before its "
+                            f"epochs were done: the result depends on this machine's speed")  # fmt: skip
     if opts.shuffle_labels:
         report.notes.append("labels were shuffled (control run): this check is expected to fail")
     streams = ", ".join(f"{s} {result.accuracy(s):.1%}" for s in result.scores)
@@ -228,7 +272,10 @@ def check_learnability(
         "split": opts.split, "train_clips": result.train_clips, "test_clips": n, "chance": result.chance,
         "fused_accuracy": fused, "times_chance": ratio, "p_value": result.p_value,
         "training_minutes": result.minutes, "held_out": result.held_out,
+        "fused_ci95": list(result.interval()),
         **{f"{s}_accuracy": result.accuracy(s) for s in result.scores},
+        **{f"{s}_ci95": list(result.interval(s)) for s in result.scores},
+        "epochs": result.epochs, "settings": result.settings,
         "per_class": result.per_class(),
         "confused_pairs": [{"classes": [a, b], "clips": n} for a, b, n in result.confused_pairs()],
     }  # fmt: skip
@@ -236,8 +283,10 @@ def check_learnability(
         image = opts.out_dir / "confusion.png"
         write_confusion_png(result.confusion(), result.classes, image)
         numbers["confusion_png"] = str(image)
-    summary = (f"fused {fused:.1%} ({ratio:.1f}× chance {result.chance:.1%}, p = {result.p_value:.2g}) on {n} "
-               f"held-out clips; {streams}; {result.minutes:.1f} min training")  # fmt: skip
+    lo, hi = result.interval()
+    summary = (f"fused {fused:.1%} (95 % CI {lo:.1%}–{hi:.1%}; {ratio:.1f}× chance {result.chance:.1%}, "
+               f"p = {result.p_value:.2g}) on {n} held-out clips; {streams}; "
+               f"{result.minutes:.1f} min training")  # fmt: skip
     return CheckResult.from_report("learnability", report, summary, numbers), result
 
 

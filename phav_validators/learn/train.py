@@ -34,6 +34,7 @@ CLIP_GRAD = {"rgb": 40.0, "flow": 20.0}
 FUSION_WEIGHTS = {"rgb": 1.0, "flow": 1.5}
 #: Flow is clipped at ±20 px of a 340-px-wide frame (TSN's bound), scaled to the stored width.
 FLOW_BOUND_PX = 20.0
+PRECISIONS = ("fp32", "bf16")
 _RGB_MEAN, _RGB_STD = 0.45, 0.225
 
 
@@ -77,6 +78,9 @@ class TrainConfig:
     #: Global pooling of the last feature map (``Architecture.pool``).
     pool: str = Architecture.pool
     epochs: int = 80
+    #: Epochs of the RGB stream when it differs from the flow stream's (None: ``epochs``),
+    #: so a distilled RGB stream can take a smaller share of a time budget.
+    rgb_epochs: int | None = None
     #: Clips per mini-batch from each source, e.g. {"virtual": 10, "real": 22}.
     mix: tuple[tuple[str, int], ...] = (("virtual", 32),)
     #: ``sgd`` (TSN's: momentum, weight decay) or ``adamw`` (decoupled weight decay).
@@ -86,6 +90,10 @@ class TrainConfig:
     weight_decay: float = 5e-4
     seed: int = 0
     threads: int = 1
+    #: Arithmetic of the forward pass: ``fp32``, or ``bf16`` autocast (convolutions in
+    #: bfloat16, losses and weights in float32), twice as fast where the CPU has bfloat16
+    #: instructions (``default_precision``).
+    precision: str = "fp32"
 
     def __post_init__(self) -> None:
         in_channels(self.stream, self.flow_frames)  # raises on an unknown stream
@@ -95,6 +103,7 @@ class TrainConfig:
             ("flow_frames", self.flow_frames),
             ("rgb_frames", self.rgb_frames),
             ("epochs", self.epochs),
+            ("rgb_epochs", self.rgb_epochs if self.rgb_epochs is not None else 1),
             ("threads", self.threads),
         ):
             if value < 1:
@@ -105,6 +114,8 @@ class TrainConfig:
             raise PhavUserError(f"choose none or motion, got {self.focus!r}", field="--focus")
         if not self.mix or any(n < 1 for _, n in self.mix):
             raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
+        if self.precision not in PRECISIONS:
+            raise PhavUserError(f"choose {' or '.join(PRECISIONS)}, got {self.precision!r}", field="--precision")
         if self.optimizer not in ("sgd", "adamw"):
             raise PhavUserError(f"choose sgd or adamw, got {self.optimizer!r}", field="--optimizer")
         if not self.lr > 0:
@@ -121,12 +132,14 @@ class TrainConfig:
                                 field="--aux-flow")  # fmt: skip
 
     def for_stream(self, stream: str) -> TrainConfig:
-        """This config for ``stream``: the RGB-only settings (stacked frames, auxiliary flow)
-        return to their defaults for the flow stream."""
+        """This config for ``stream``: the RGB stream takes its own epochs (``rgb_epochs``);
+        the RGB-only settings (stacked frames, auxiliary flow) return to their defaults for
+        the flow stream."""
         if stream == "rgb":
-            return replace(self, stream=stream)
+            epochs = self.rgb_epochs if self.rgb_epochs is not None else self.epochs
+            return replace(self, stream=stream, epochs=epochs, rgb_epochs=None)
         return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, rgb_diff=TrainConfig.rgb_diff,
-                       aux_flow=TrainConfig.aux_flow, distill=TrainConfig.distill)  # fmt: skip
+                       aux_flow=TrainConfig.aux_flow, distill=TrainConfig.distill, rgb_epochs=None)  # fmt: skip
 
     @property
     def arch(self) -> Architecture:
@@ -174,9 +187,9 @@ class Teacher:
 
         x = torch.from_numpy(np.stack([t["teacher"] for t in targets])).to(features.device)
         self.model.eval()
-        with torch.no_grad():
+        with torch.no_grad(), autocast(self.config, features.device):
             _, more = self.model(x, extras=True)
-        return torch.nn.functional.mse_loss(features, more["features"])
+        return torch.nn.functional.mse_loss(features, more["features"].float())
 
     def digest(self) -> str:
         """A hash of the teacher's weights (a checkpoint resumes only with the same teacher)."""
@@ -202,6 +215,29 @@ def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher |
     """The teacher the next stream in ``stream_order`` trains with, given the one just
     trained: the flow stream when the RGB stream (then the next, and last) distils from it."""
     return Teacher(result.model, result.config) if stream == "flow" and base.distill > 0 else None
+
+
+#: Where ``phav train``, the learnability check and the training bench start (measured in
+#: docs/learnability.md, "The defaults and why"): the flow stream as TSN's for 120 epochs;
+#: the RGB stream on five frames entered as differences, matching the flow stream's
+#: features, for a third of the flow stream's epochs.
+RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, distill=5.0, epochs=120, rgb_epochs=40)
+
+
+def recommended_config(streams: Sequence[str], *, device: str = "cpu", **settings: Any) -> TrainConfig:
+    """``RECOMMENDED`` for training ``streams`` on ``device`` (its threads and precision), with
+    ``settings`` changed; other ``epochs`` scale the RGB stream's with them unless
+    ``rgb_epochs`` is given. Without both streams the RGB stream has no flow stream to learn
+    from, so it trains without distillation; without the RGB stream its settings are moot."""
+    base = replace(RECOMMENDED, threads=default_threads(), precision=default_precision(device))
+    if "rgb" not in streams:
+        base = base.for_stream(streams[0])
+    elif "flow" not in streams:
+        base = replace(base, distill=0.0)
+    if settings.get("rgb_epochs") is None and "epochs" in settings:
+        share = RECOMMENDED.rgb_epochs / RECOMMENDED.epochs
+        settings = {**settings, "rgb_epochs": max(1, round(settings["epochs"] * share))}
+    return replace(base, **settings)
 
 
 @dataclass
@@ -306,7 +342,8 @@ def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple
     as a real video's estimated flow would allow; the centre window when nothing moves."""
     h, w = clip.flow.shape[1:3]
     ch, cw = box
-    flow = _minus_median(clip.flow[np.unique(frames)].astype(np.float32))
+    used = np.unique(frames)
+    flow = clip.flow[used].astype(np.float32) - clip.flow_median[used][:, None, None, :]
     magnitude = np.sqrt((flow**2).sum(-1)).sum(0)
     # Sum over every window position: a summed-area table, exact and order-independent.
     table = np.pad(magnitude.astype(np.float64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
@@ -318,23 +355,16 @@ def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple
 
 
 def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice], config: TrainConfig) -> np.ndarray:
-    """Flow frames (K, L) of ``clip`` in ``window`` → (K, 2L, h, w): each frame's median
+    """Flow frames (K, L) of ``clip`` in ``window`` → (K, 2L, h, w): each whole frame's median
     vector subtracted (``flow_centre``), clipped at TSN's bound and scaled to ±4."""
     k, length = frames.shape
     bound = FLOW_BOUND_PX * clip.flow.shape[2] / 340.0
     x = clip.flow[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 2)
     ch, cw = x.shape[2:4]
     if config.flow_centre:
-        x = _minus_median(x)
+        x -= clip.flow_median[frames][:, :, None, None, :]
     x = np.clip(x, -bound, bound) * (4.0 / bound)
     return x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
-
-
-def _minus_median(flow: np.ndarray) -> np.ndarray:
-    """Flow frames (…, h, w, 2), each with its median vector subtracted (in place)."""
-    lead = flow.shape[:-3]
-    flow -= np.median(flow.reshape(*lead, -1, 2), axis=-2)[..., None, None, :]
-    return flow
 
 
 def _flip(x: np.ndarray, *, flow: bool) -> np.ndarray:
@@ -619,13 +649,16 @@ class _Run:
         }  # fmt: skip
 
     def epoch(self, epoch: int) -> Epoch:
-        """One epoch's steps; its record holds the mean loss per source and the training accuracy."""
+        """One epoch's steps; its record holds the mean loss per source and the training accuracy.
+        (Cutting the next batch in a second thread while the model computes was measured
+        slower on 2 cores: torch's threads already fill them.)"""
         names = self.config.sources
         start = time.perf_counter()
         sums = {name: [0.0, 0] for name in names}
         correct = seen = 0
         for step in range(self.steps_per_epoch):
-            batch, scores, labels, sources, parts = self._step(epoch, step)
+            batch, pairs = self._cut()
+            scores, labels, sources, parts = self._step(epoch, step, batch, pairs)
             for name, part in parts.items():
                 k = int((sources == names.index(name)).sum())
                 sums[name][0] += part.item() * k
@@ -637,9 +670,22 @@ class _Run:
         return Epoch(epoch + 1, {n: s / max(k, 1) for n, (s, k) in sums.items()}, correct / max(seen, 1),
                      time.perf_counter() - start)  # fmt: skip
 
-    def _step(self, epoch: int, step: int) -> tuple[list[tuple[str, int]], Any, Any, Any, dict[str, Any]]:
-        """One mini-batch at the cosine-decayed learning rate: the batch, the scores per head,
-        the labels, each clip's source index and the loss per source."""
+    def _cut(self) -> tuple[list[tuple[str, int]], list[tuple[np.ndarray, dict[str, np.ndarray]]]]:
+        """The next mini-batch and its clips' snippets and targets (random crops and flips)."""
+        batch = self.batches.next()
+        teacher = self.teacher.config if self.teacher is not None else None
+        return batch, [snippets_and_targets(self.data[s][i], self.config, rng=self.rng, teacher=teacher)
+                       for s, i in batch]  # fmt: skip
+
+    def _step(
+        self,
+        epoch: int,
+        step: int,
+        batch: Sequence[tuple[str, int]],
+        pairs: Sequence[tuple[np.ndarray, Mapping[str, np.ndarray]]],
+    ) -> tuple[Any, Any, Any, dict[str, Any]]:
+        """One mini-batch at the cosine-decayed learning rate: the scores per head, the
+        labels, each clip's source index and the loss per source."""
         import torch  # optional extra phav[train]: only training needs torch
 
         from phav_validators.learn.model import multitask_loss  # imports torch: optional extra phav[train]
@@ -649,13 +695,13 @@ class _Run:
         lr = config.lr * 0.5 * (1.0 + math.cos(math.pi * (epoch * self.steps_per_epoch + step) / total_steps))
         for group in self.opt.param_groups:
             group["lr"] = lr
-        batch = self.batches.next()
-        teacher = self.teacher.config if self.teacher is not None else None
-        pairs = [snippets_and_targets(self.data[s][i], config, rng=self.rng, teacher=teacher) for s, i in batch]
         x = torch.from_numpy(np.stack([p[0] for p in pairs])).to(dev)
         labels = torch.tensor([self.data[s][i].label for s, i in batch], device=dev)
         sources = torch.tensor([names.index(s) for s, _ in batch], device=dev)
-        scores, more = self.model(x, generator=self.gen, extras=True)
+        with autocast(config, dev):
+            scores, more = self.model(x, generator=self.gen, extras=True)
+        scores = {name: v.float() for name, v in scores.items()}  # the losses in float32
+        more = {name: v.float() for name, v in more.items()}
         loss, parts = multitask_loss(scores, labels, sources, names)
         if "aux" in more:
             loss = loss + aux_loss(config, more["aux"], [p[1] for p in pairs])
@@ -668,7 +714,7 @@ class _Run:
         loss.backward()
         torch.nn.utils.clip_grad_norm_(self.model.parameters(), CLIP_GRAD[self.config.stream])
         self.opt.step()
-        return batch, scores, labels, sources, parts
+        return scores, labels, sources, parts
 
 
 def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> None:
@@ -694,11 +740,11 @@ def predict(
     model.eval()
     out = []
     try:
-        with torch.no_grad():
+        with torch.no_grad(), autocast(config, dev):
             for i in range(0, len(clips), batch):
                 x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.eval_segments)
                                                for c in clips[i : i + batch]])).to(dev)  # fmt: skip
-                out.append(torch.softmax(model(x)[head], dim=1).cpu().numpy())
+                out.append(torch.softmax(model(x)[head].float(), dim=1).cpu().numpy())
     finally:
         torch.set_num_threads(threads)
     n = model.heads[head].out_features
@@ -723,6 +769,39 @@ def torch_device(name: str) -> Any:
     if dev.type == "cuda" and not torch.cuda.is_available():
         raise PhavUserError("CUDA is not available on this machine (torch sees no GPU)", field="--device")
     return dev
+
+
+def autocast(config: TrainConfig, device: Any) -> Any:
+    """The forward pass's arithmetic context: bfloat16 autocast under ``precision: bf16``."""
+    import torch  # optional extra phav[train]: only training needs torch
+
+    return torch.autocast(torch.device(device).type, dtype=torch.bfloat16, enabled=config.precision == "bf16")
+
+
+def default_precision(device: str = "cpu") -> str:
+    """``bf16`` where ``device`` computes bfloat16 natively (a CPU with AVX-512 BF16 or AMX,
+    a GPU from Ampere on), else ``fp32``. Results are reproducible per precision, as per
+    thread count."""
+    require_torch()
+    import torch  # optional extra phav[train]: only training needs torch
+
+    dev = torch_device(device)
+    if dev.type == "cuda":
+        return "bf16" if torch.cuda.is_bf16_supported() else "fp32"
+    flags = _cpu_flags()
+    return "bf16" if {"avx512_bf16"} <= flags or {"amx_bf16"} <= flags else "fp32"
+
+
+def _cpu_flags() -> set[str]:
+    """The CPU's feature flags (Linux's /proc/cpuinfo; empty elsewhere)."""
+    try:
+        text = Path("/proc/cpuinfo").read_text(encoding="ascii", errors="replace")
+    except OSError:  # pragma: no cover - not Linux
+        return set()
+    for line in text.splitlines():
+        if line.startswith("flags"):
+            return set(line.partition(":")[2].split())
+    return set()
 
 
 def default_threads() -> int:

@@ -34,6 +34,9 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     run = data["runs"][0]
     assert run["train_clips"] == 2 and run["test_clips"] == 1
     assert set(run["accuracy"]) == {"rgb", "flow", "fused"}
+    config = data["config"]  # the recommended settings: RGB differences distilled from flow
+    assert config["rgb_frames"] == 5 and config["rgb_diff"] and config["distill"] == 5.0
+    assert config["precision"] in ("fp32", "bf16")
     assert (out / "split1-rgb.pt").exists() and (out / "split1-flow.pt").exists()
     assert cv2.imread(str(out / "split1-confusion.png")) is not None
     again = invoke_cli(*args)  # every checkpoint is finished: nothing retrained, same numbers
@@ -66,6 +69,16 @@ def test_distillation_trains_the_flow_stream_first_and_teaches_the_rgb_stream(ph
     assert data["config"]["distill"] == 5.0 and set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
     # The RGB checkpoint was written after the flow one: the teacher trained first.
     assert (out / "split1-flow.pt").stat().st_mtime_ns <= (out / "split1-rgb.pt").stat().st_mtime_ns
+
+
+def test_tsns_single_rgb_frame_alone_needs_no_other_option(phav, tmp_path):
+    out = tmp_path / "run"
+    result = invoke_cli("train", str(phav), "--out", str(out), "--streams", "rgb", "--rgb-frames", "1",
+                        "--precision", "fp32", *FAST)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    config = json.loads((out / "results.json").read_text())["config"]
+    assert config["rgb_frames"] == 1 and not config["rgb_diff"] and config["distill"] == 0  # no flow to learn from
+    assert config["precision"] == "fp32"
 
 
 def test_cool_tsn_and_fine_tuning_on_a_ucf101_folder(phav, tmp_path):
@@ -101,9 +114,10 @@ def _one_error_line(stderr: str) -> str:
         pytest.param(("--device", "cuda:7"), "--device", id="device"),
         pytest.param(("--focus", "face"), "--focus", id="focus"),
         pytest.param(("--pool", "median"), "--pool", id="pool"),
-        pytest.param(("--aux-flow", "1"), "--aux-flow", id="aux-flow-single-rgb-frame"),
+        pytest.param(("--aux-flow", "1", "--rgb-frames", "1"), "--aux-flow", id="aux-flow-single-rgb-frame"),
         pytest.param(("--distill", "1", "--streams", "rgb"), "--distill", id="distill-without-flow"),
-        pytest.param(("--rgb-diff",), "--rgb-diff", id="rgb-diff-single-frame"),
+        pytest.param(("--rgb-diff", "--rgb-frames", "1"), "--rgb-diff", id="rgb-diff-single-frame"),
+        pytest.param(("--precision", "fp16"), "--precision", id="precision"),
         pytest.param(("--aux-parts", "1", "--real", "ucf101=REAL"), "--aux-parts", id="aux-parts-real"),
         pytest.param(("--mode", "ft", "--real", "ucf101=REAL"), "--init", id="ft-without-init"),
         # read after the options are checked: the official split files are missing

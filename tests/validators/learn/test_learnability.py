@@ -7,9 +7,10 @@ import json
 
 import cv2
 import numpy as np
+import pytest
 
 from phav_spec.manifest import load_manifest
-from phav_validators.learn.learnability import LearnResult
+from phav_validators.learn.learnability import LearnResult, wilson_interval
 from phav_validators.report import learnability_html
 from tests.helpers import invoke_cli
 
@@ -18,8 +19,8 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     report = tmp_path / "report.json"
     learn = tmp_path / "learn"
     result = invoke_cli("validate!", str(phav), "--checks", "learnability", "--learn-epochs", "1",
-                            "--threads", "1", "--learn-dir", str(learn), "--json", str(report),
-                            "--html", str(tmp_path / "r.html"))  # fmt: skip
+                        "--learn-rgb-epochs", "1", "--threads", "1", "--learn-dir", str(learn), "--json", str(report),
+                        "--html", str(tmp_path / "r.html"))  # fmt: skip
     # three clips cannot show learning: the check runs and fails with its numbers
     assert result.returncode == 1, result.stderr
     check = json.loads(report.read_text())["datasets"][0]["checks"][0]
@@ -28,12 +29,26 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     numbers = check["numbers"]
     assert numbers["test_clips"] + numbers["train_clips"] <= 3 and numbers["held_out"]["actor"]
     assert {"rgb_accuracy", "flow_accuracy", "fused_accuracy", "p_value", "chance"} <= set(numbers)
+    lo, hi = numbers["fused_ci95"]
+    assert 0 <= lo <= numbers["fused_accuracy"] <= hi <= 1
+    assert numbers["epochs"] == {"flow": 1, "rgb": 1}  # the flow stream first: the RGB stream learns from it
+    assert numbers["settings"]["distill"] > 0 and numbers["settings"]["precision"] in ("fp32", "bf16")
     image = cv2.imread(numbers["confusion_png"])
     assert image is not None and image.shape[0] > 35 * 14
     assert (learn / "rgb.pt").exists() and (learn / "flow.pt").exists()
     page = (tmp_path / "r.html").read_text()
     assert "Learnability: confusion" in page and "Per class" in page
     assert sum(row["clips"] for row in numbers["per_class"]) == numbers["test_clips"]
+
+
+def test_the_wilson_interval_of_an_accuracy():
+    assert wilson_interval(50, 100) == pytest.approx((0.4038, 0.5962), abs=1e-4)
+    lo, hi = wilson_interval(0, 20)
+    assert lo == pytest.approx(0.0, abs=1e-12) and hi == pytest.approx(0.1611, abs=1e-4)
+    # 118 of 262 (45 %): the interval is within ±6 points, as the issue asks of a test set
+    lo, hi = wilson_interval(118, 262)
+    assert hi - lo < 0.12 and lo < 118 / 262 < hi
+    assert wilson_interval(0, 0) == (0.0, 1.0)
 
 
 def _result(labels, answers, keys, classes):

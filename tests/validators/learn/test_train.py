@@ -13,11 +13,14 @@ from phav_spec.errors import PhavUserError
 from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
 from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
 from phav_validators.learn.train import (
+    RECOMMENDED,
     MixedBatches,
     Teacher,
     TrainConfig,
+    default_precision,
     motion_window,
     predict,
+    recommended_config,
     snippet_starts,
     snippets,
     snippets_and_targets,
@@ -348,3 +351,52 @@ def test_the_flow_stream_trains_first_only_when_it_teaches():
     with pytest.raises(PhavUserError) as e:
         stream_order(["rgb"], distilling)
     assert e.value.field == "--distill"
+
+
+def test_bf16_training_is_deterministic_and_learns_like_fp32():
+    data = motion_clips(3, 6)
+    config = dataclasses.replace(SMALL, precision="bf16", epochs=15)
+    a = train({"virtual": data.clips}, {"virtual": 3}, config)
+    b = train({"virtual": data.clips}, {"virtual": 3}, config)
+    wa, wb = _weights(a.model), _weights(b.model)
+    assert all(torch.equal(wa[k], wb[k]) for k in wa)
+    assert all(v.dtype != torch.bfloat16 for v in wa.values())  # weights stay float32; autocast is the arithmetic
+    fp32 = train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(config, precision="fp32"))
+    assert not all(torch.equal(wa[k], v) for k, v in _weights(fp32.model).items())  # another arithmetic
+    # … that learns the same: the loss falls to within 5 % of float32's, every clip fitted
+    assert a.history[-1].losses["virtual"] < 0.5 * a.history[0].losses["virtual"]
+    assert (
+        abs(a.history[-1].losses["virtual"] - fp32.history[-1].losses["virtual"])
+        < 0.05 * fp32.history[-1].losses["virtual"]
+    )
+    assert a.history[-1].train_accuracy == fp32.history[-1].train_accuracy == 1.0
+    probs = predict(a.model, data.clips, config, "virtual")
+    assert probs.dtype == np.float32 and np.allclose(probs.sum(1), 1.0, atol=1e-5)
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(precision="fp16")
+    assert e.value.field == "--precision"
+
+
+def test_the_rgb_stream_takes_its_own_epochs():
+    config = TrainConfig(stream="rgb", epochs=80, rgb_epochs=40, rgb_frames=5, rgb_diff=True)
+    assert config.for_stream("rgb").epochs == 40 and config.for_stream("flow").epochs == 80
+    assert TrainConfig(stream="rgb", epochs=80).for_stream("rgb").epochs == 80  # None: the same epochs
+    assert config.for_stream("flow").rgb_frames == 1  # the RGB-only settings leave the flow stream
+
+
+def test_the_recommended_settings_follow_the_streams_trained():
+    both = recommended_config(["rgb", "flow"], seed=3)
+    assert both.distill == RECOMMENDED.distill > 0 and both.rgb_diff and both.seed == 3
+    assert stream_order(["rgb", "flow"], both) == ["flow", "rgb"]
+    assert both.precision == default_precision() and both.threads >= 1
+    alone = recommended_config(["rgb"])
+    assert alone.distill == 0 and alone.rgb_frames == RECOMMENDED.rgb_frames  # no teacher to learn from
+    assert stream_order(["rgb"], alone) == ["rgb"]
+    flow = recommended_config(["flow"])
+    assert flow.stream == "flow" and not flow.rgb_diff and flow.distill == 0
+    assert recommended_config(["flow"], precision="fp32").precision == "fp32"
+    # other epochs scale the RGB stream's in the recommended proportion, unless given
+    assert (
+        recommended_config(["rgb", "flow"], epochs=30).rgb_epochs == 30 * RECOMMENDED.rgb_epochs // RECOMMENDED.epochs
+    )
+    assert recommended_config(["rgb", "flow"], epochs=30, rgb_epochs=7).rgb_epochs == 7
