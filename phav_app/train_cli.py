@@ -71,9 +71,9 @@ def train_command(
         str, typer.Option(help="PHAV split: random, actor, motion or actor+motion (held out).")
     ] = "random",
     splits: Annotated[int, typer.Option(min=1, max=3, help="Splits averaged (PHAV: seeded 80/20; real: 1..N).")] = 1,
-    epochs: Annotated[int, typer.Option(min=1, help="Epochs of the flow stream (and of RGB without --rgb-epochs).")] = (
-        RECOMMENDED.epochs
-    ),
+    epochs: Annotated[
+        int, typer.Option(min=1, help="Epochs of the flow stream (the RGB stream: a third, or --rgb-epochs).")
+    ] = (RECOMMENDED.epochs),
     rgb_epochs: Annotated[
         int | None, typer.Option(min=1, help="Epochs of the RGB stream (default: a third of --epochs).")
     ] = None,

@@ -7,6 +7,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from tests.validators.learn.helpers import motion_clips
@@ -42,3 +43,59 @@ def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script):
     cell = script.Cell("epochs=3", 40, (32, 24), overrides, [run, run])
     row = script.row(cell, ["rgb", "flow"])
     assert row.startswith("| epochs=3 | 2 | ") and row.count("|") == 10
+    # each test clip's probabilities per stream are kept, for fusion studies afterwards
+    assert len(run["test_labels"]) == run["test_clips"] == len(run["test_scores"]["flow"])
+    assert abs(sum(run["test_scores"]["rgb"][0]) - 1.0) < 1e-3
+
+
+def test_the_speed_script_times_a_step_under_each_arithmetic():
+    spec = importlib.util.spec_from_file_location("train_speed", SCRIPT.with_name("train_speed.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    from phav_validators.learn.config import Architecture
+
+    for bf16, last in ((False, False), (True, True)):
+        ms = module.step_ms(Architecture(widths=(8, 16)), bf16=bf16, channels_last=last, channels=10, steps=1, warm=0)
+        assert 0 < ms < 60_000
+
+
+def test_the_factor_presets_change_one_theta_key_each_and_are_valid(tmp_path):
+    import yaml
+
+    from phav_spec.theta import PRESETS_DIR, load_theta, parse_theta
+
+    spec = importlib.util.spec_from_file_location("theta_factors", SCRIPT.with_name("theta_factors.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
+    found = module.variants(base)
+    assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "clear", "one-motion"}
+    hashes = {load_theta("phav-v1-short").hash}
+    for factor, theta in found.items():
+        changed = {k for k in base if theta[k] != base[k]} - {"name", "description"}
+        assert len(changed) == 1, (factor, changed)
+        hashes.add(parse_theta(theta, source=factor).hash)
+    assert len(hashes) == 6  # every variant is another θ
+    one = parse_theta(found["one-motion"], source="one-motion")
+    ab = one.arrays.ab * one.arrays.motion_long_enough
+    assert (ab.sum(axis=1) == 1).all()  # one take per action, long enough for the shortest clip
+
+
+def test_the_pair_sheet_stacks_each_videos_frames_over_their_flow(phav, tmp_path, monkeypatch):
+    from phav_spec.manifest import load_manifest
+
+    spec = importlib.util.spec_from_file_location("pair_sheet", SCRIPT.with_name("pair_sheet.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    videos = sorted(v.video_id for v in load_manifest(phav / "manifest.json").videos)[:2]
+    out = tmp_path / "pair.png"
+    monkeypatch.setattr(sys, "argv", ["pair_sheet", str(phav), *videos, "--label", "a", "--frames", "3",
+                                      "--out", str(out)])  # fmt: skip
+    module.main()
+    import cv2
+
+    sheet = cv2.imread(str(out))
+    # two videos, each 3 frames wide at half size, RGB over flow, a 4-px gap between them
+    assert sheet.shape == (2 * 2 * 128 + 4, 3 * 170, 3)
+    top_rgb, top_flow = sheet[20:128], sheet[128:256]
+    assert top_rgb.std() > 5 and not np.array_equal(top_rgb, top_flow)
