@@ -73,7 +73,7 @@ def train_command(
     splits: Annotated[int, typer.Option(min=1, max=3, help="Splits averaged (PHAV: seeded 80/20; real: 1..N).")] = 1,
     epochs: Annotated[
         int, typer.Option(min=1, help="Epochs of the flow stream (the RGB stream: a third, or --rgb-epochs).")
-    ] = (RECOMMENDED.epochs),
+    ] = RECOMMENDED.epochs,
     rgb_epochs: Annotated[
         int | None, typer.Option(min=1, help="Epochs of the RGB stream (default: a third of --epochs).")
     ] = None,
@@ -150,7 +150,7 @@ def train_command(
     # RECOMMENDED with every option given; what is left unset is resolved for these streams
     # and this device (distillation, threads, precision).
     chosen = {"distill": distill, "threads": threads, "precision": precision, "rgb_epochs": rgb_epochs,
-              "rgb_diff": rgb_diff if rgb_diff is not None else rgb_frames >= 2 and "rgb" in stream_list}  # fmt: skip
+              "rgb_diff": rgb_diff}  # fmt: skip
     base = recommended_config(stream_list, device=device, widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
                               optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool,
                               dropout=dropout, segments=segments, temporal_shift=temporal_shift,

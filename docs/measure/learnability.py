@@ -18,14 +18,14 @@ from pathlib import Path
 
 from phav_app.bench.training import learning_curve
 from phav_validators.learn.data import load_phav
-from phav_validators.learn.train import TrainConfig, default_threads
+from phav_validators.learn.train import RECOMMENDED, recommended_config
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dataset", type=Path)
     parser.add_argument("--splits", default="random,actor")
-    parser.add_argument("--epochs", type=int, default=TrainConfig.epochs)
+    parser.add_argument("--epochs", type=int, default=RECOMMENDED.epochs)
     parser.add_argument("--points", type=int, default=8)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", type=Path, default=None)
@@ -33,7 +33,7 @@ def main() -> None:
     start = time.perf_counter()
     clips = load_phav(args.dataset, workers=2)
     print(f"read {len(clips)} clips in {time.perf_counter() - start:.0f} s", flush=True)
-    base = TrainConfig(epochs=args.epochs, seed=args.seed, threads=default_threads())
+    base = recommended_config(("rgb", "flow"), epochs=args.epochs, seed=args.seed)
     points = []
     for kind in args.splits.split(","):
         points += learning_curve(clips, kind, base, points=args.points, progress=lambda m: print(m, flush=True))

@@ -227,8 +227,9 @@ RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, distill=5.0
 def recommended_config(streams: Sequence[str], *, device: str = "cpu", **settings: Any) -> TrainConfig:
     """``RECOMMENDED`` for training ``streams`` on ``device`` (its threads and precision), with
     ``settings`` changed; other ``epochs`` scale the RGB stream's with them unless
-    ``rgb_epochs`` is given. Without both streams the RGB stream has no flow stream to learn
-    from, so it trains without distillation; without the RGB stream its settings are moot."""
+    ``rgb_epochs`` is given, and RGB differences need 2 or more frames unless ``rgb_diff``
+    is given. Without both streams the RGB stream has no flow stream to learn from, so it
+    trains without distillation; without the RGB stream its settings are moot."""
     base = replace(RECOMMENDED, threads=default_threads(), precision=default_precision(device))
     if "rgb" not in streams:
         base = base.for_stream(streams[0])
@@ -237,6 +238,8 @@ def recommended_config(streams: Sequence[str], *, device: str = "cpu", **setting
     if settings.get("rgb_epochs") is None and "epochs" in settings:
         share = RECOMMENDED.rgb_epochs / RECOMMENDED.epochs
         settings = {**settings, "rgb_epochs": max(1, round(settings["epochs"] * share))}
+    if settings.get("rgb_diff") is None:
+        settings = {**settings, "rgb_diff": base.rgb_diff and settings.get("rgb_frames", base.rgb_frames) >= 2}
     return replace(base, **settings)
 
 

@@ -400,3 +400,6 @@ def test_the_recommended_settings_follow_the_streams_trained():
         recommended_config(["rgb", "flow"], epochs=30).rgb_epochs == 30 * RECOMMENDED.rgb_epochs // RECOMMENDED.epochs
     )
     assert recommended_config(["rgb", "flow"], epochs=30, rgb_epochs=7).rgb_epochs == 7
+    # RGB differences need 2 or more frames: TSN's single frame turns them off unless asked
+    assert not recommended_config(["rgb", "flow"], rgb_frames=1).rgb_diff
+    assert recommended_config(["rgb", "flow"], rgb_frames=2).rgb_diff
