@@ -103,6 +103,10 @@ def train_command(
             "(default: on with 2 or more frames)."
         ),
     ] = None,
+    diff_gain: Annotated[
+        float,
+        typer.Option(help="Factor on the RGB differences (a difference is ~4x smaller than a frame)."),
+    ] = RECOMMENDED.diff_gain,
     aux_flow: Annotated[
         float, typer.Option(min=0.0, help="RGB stream: weight of predicting the flow between its frames (training).")
     ] = 0.0,
@@ -154,7 +158,7 @@ def train_command(
     base = recommended_config(stream_list, device=device, widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
                               optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool,
                               dropout=dropout, segments=segments, temporal_shift=temporal_shift,
-                              rgb_frames=rgb_frames, aux_flow=aux_flow,
+                              rgb_frames=rgb_frames, diff_gain=diff_gain, aux_flow=aux_flow,
                               aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
                               **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip
     for stream in stream_list:

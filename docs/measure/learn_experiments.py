@@ -13,11 +13,16 @@ nothing. A cell changes one thing against the baseline:
 
     .venv/bin/python docs/measure/learn_experiments.py /tmp/d1 /tmp/d2 --seeds 0,1,2 \\
         --cell baseline --cell clips=320 --cell size=128x96 --json /tmp/cells.json
+
+With ``--keep DIR`` each trained stream is kept there as a checkpoint named by its
+settings, seed and training clips, so cells that change only the RGB stream train the flow
+stream (its teacher) once per seed.
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import time
 from dataclasses import dataclass, fields, replace
@@ -101,8 +106,20 @@ def parse_cell(text: str, size: tuple[int, int]) -> tuple[int | None, tuple[int,
     return clips, size, overrides
 
 
-def run_cell(data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: int, streams: list[str]) -> dict:
-    """Train ``streams`` on the seed's held-out-actor split (subsampled to ``clips``), test, fuse."""
+def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip]) -> Path | None:
+    """Where a stream trained with ``config`` on ``clips`` is kept (None: not kept)."""
+    if keep is None:
+        return None
+    h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
+    h.update("\n".join(c.key for c in clips).encode())
+    return keep / f"{config.stream}-s{config.seed}-{h.hexdigest()[:16]}.pt"
+
+
+def run_cell(
+    data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: int, streams: list[str], keep: Path | None
+) -> dict:
+    """Train ``streams`` on the seed's held-out-actor split (subsampled to ``clips``), test, fuse;
+    trained streams are kept in ``keep`` (a checkpoint there is reused, not retrained)."""
     split = make_split(data.clips, "actor", seed=seed)
     train_clips = [data.clips[i] for i in split.train]
     if clips is not None and clips < len(train_clips):
@@ -115,8 +132,8 @@ def run_cell(data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: 
     teacher = None
     for stream in stream_order(streams, base):
         config = base.for_stream(stream)
-        result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config,
-                       teacher=teacher)  # fmt: skip
+        result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config, teacher=teacher,
+                       checkpoint=kept_stream(keep, config, train_clips))  # fmt: skip
         teacher = teacher_of(stream, result, base)
         scores[stream] = predict(result.model, test, config, "virtual")
         minutes[stream] = result.seconds / 60
@@ -159,7 +176,10 @@ def main() -> None:
     parser.add_argument("--size", default="85x64")
     parser.add_argument("--flow", default="gt")
     parser.add_argument("--json", type=Path, default=None, help="results, appended to and resumed from")
+    parser.add_argument("--keep", type=Path, default=None, help="folder where trained streams are kept and reused")
     args = parser.parse_args()
+    if args.keep is not None:
+        args.keep.mkdir(parents=True, exist_ok=True)
     streams = args.streams.split(",")
     w, h = args.size.split("x")
     seeds = [int(s) for s in args.seeds.split(",")]
@@ -177,7 +197,7 @@ def main() -> None:
             key = f"{text}|{args.flow}|{args.streams}|{seed}|{'+'.join(str(d) for d in args.datasets)}"
             if key not in done:
                 start = time.perf_counter()
-                done[key] = run_cell(loaded[size], clips, overrides, seed, streams)
+                done[key] = run_cell(loaded[size], clips, overrides, seed, streams, args.keep)
                 done[key]["wall_seconds"] = time.perf_counter() - start
                 if args.json is not None:
                     args.json.write_text(json.dumps(done, indent=1) + "\n", encoding="utf-8")

@@ -52,6 +52,13 @@ class TrainConfig:
     #: frames (a linear change of the same pixels, TSN's RGB difference beside appearance),
     #: so motion is not a small residue the first layer must learn to subtract.
     rgb_diff: bool = False
+    #: Frames between consecutive stacked RGB frames: a longer span in the same channels, so
+    #: a limb moving a pixel a frame differs by several between them.
+    rgb_stride: int = 1
+    #: Factor on the RGB differences (``rgb_diff``): a difference is a few times smaller than
+    #: a frame (std 0.22 against 0.97 between consecutive phav-v1-short frames), so at 1 the
+    #: first frame's appearance dominates the first layer from its start.
+    diff_gain: float = 1.0
     #: Subtract each flow frame's median vector: a cheap camera-motion compensation (the
     #: median of a frame is mostly background), so a moving kite camera is not the signal.
     flow_centre: bool = True
@@ -75,6 +82,10 @@ class TrainConfig:
     #: teacher's pooled features on the same snippets (MARS, Crasto et al. 2019), so the
     #: RGB stream learns the motion features flow has. Training only: it is tested alone.
     distill: float = 0.0
+    #: RGB stream with a flow teacher: start from the teacher's weights but its first
+    #: convolution (TSN's cross-modality pre-training, turned round: the motion features
+    #: above the stem carry over, and only the stem must learn to read frame differences).
+    teacher_init: bool = False
     #: Global pooling of the last feature map (``Architecture.pool``).
     pool: str = Architecture.pool
     epochs: int = 80
@@ -102,6 +113,7 @@ class TrainConfig:
             ("test_segments", self.test_segments),
             ("flow_frames", self.flow_frames),
             ("rgb_frames", self.rgb_frames),
+            ("rgb_stride", self.rgb_stride),
             ("epochs", self.epochs),
             ("rgb_epochs", self.rgb_epochs if self.rgb_epochs is not None else 1),
             ("threads", self.threads),
@@ -123,10 +135,18 @@ class TrainConfig:
         if self.distill < 0 or (self.distill > 0 and self.stream != "rgb"):
             raise PhavUserError(f"needs the rgb stream and a non-negative weight, got {self.distill}",
                                 field="--distill")  # fmt: skip
+        if not self.diff_gain > 0:
+            raise PhavUserError(f"must be positive, got {self.diff_gain}", field="--diff-gain")
+        if self.teacher_init and self.distill <= 0:
+            raise PhavUserError("needs a flow teacher (--distill above 0)", field="--teacher-init")
         if self.aux_parts < 0:
             raise PhavUserError(f"must not be negative, got {self.aux_parts}", field="--aux-parts")
         if self.rgb_diff and (self.stream != "rgb" or self.rgb_frames < 2):
             raise PhavUserError("needs the rgb stream with --rgb-frames of 2 or more", field="--rgb-diff")
+        if self.aux_flow > 0 and self.rgb_stride > 1:
+            raise PhavUserError(
+                "predicts the flow between consecutive frames: needs --rgb-stride 1", field="--aux-flow"
+            )
         if self.aux_flow < 0 or (self.aux_flow > 0 and (self.stream != "rgb" or self.rgb_frames < 2)):
             raise PhavUserError(f"needs the rgb stream with --rgb-frames of 2 or more, got {self.aux_flow}",
                                 field="--aux-flow")  # fmt: skip
@@ -139,7 +159,9 @@ class TrainConfig:
             epochs = self.rgb_epochs if self.rgb_epochs is not None else self.epochs
             return replace(self, stream=stream, epochs=epochs, rgb_epochs=None)
         return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, rgb_diff=TrainConfig.rgb_diff,
-                       aux_flow=TrainConfig.aux_flow, distill=TrainConfig.distill, rgb_epochs=None)  # fmt: skip
+                       rgb_stride=TrainConfig.rgb_stride, diff_gain=TrainConfig.diff_gain,
+                       aux_flow=TrainConfig.aux_flow, distill=TrainConfig.distill, teacher_init=False,
+                       rgb_epochs=None)  # fmt: skip
 
     @property
     def arch(self) -> Architecture:
@@ -161,6 +183,11 @@ class TrainConfig:
 
     def to_json(self) -> dict[str, Any]:
         return json.loads(json.dumps(asdict(self)))
+
+    def changed(self) -> dict[str, Any]:
+        """``to_json`` without the settings at their defaults."""
+        defaults = TrainConfig().to_json()
+        return {k: v for k, v in self.to_json().items() if v != defaults[k]}
 
 
 @dataclass
@@ -219,9 +246,10 @@ def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher |
 
 #: Where ``phav train``, the learnability check and the training bench start (measured in
 #: docs/learnability.md, "The defaults and why"): the flow stream as TSN's for 120 epochs;
-#: the RGB stream on five frames entered as differences, matching the flow stream's
-#: features, for a third of the flow stream's epochs.
-RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, distill=5.0, epochs=120, rgb_epochs=40)
+#: the RGB stream on five frames entered as the first and four differences at four times
+#: their scale, matching the flow stream's features, for a third of the flow stream's epochs.
+RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, diff_gain=4.0, distill=20.0, epochs=120,
+                          rgb_epochs=40)  # fmt: skip
 
 
 def recommended_config(streams: Sequence[str], *, device: str = "cpu", **settings: Any) -> TrainConfig:
@@ -296,9 +324,9 @@ def snippets_and_targets(
     snippet's first frame's body parts (K, h, w) as BODY_PARTS indices; ``teacher`` (given
     a flow teacher's config) the flow snippets that teacher sees from the same starts."""
     k = segments if segments is not None else config.segments
-    length = config.rgb_frames if config.stream == "rgb" else config.flow_frames
-    starts = snippet_starts(clip.n_frames, k, length, rng=rng)
-    frames = np.minimum(np.add.outer(np.asarray(starts), np.arange(length)), clip.n_frames - 1)
+    length, stride = (config.rgb_frames, config.rgb_stride) if config.stream == "rgb" else (config.flow_frames, 1)
+    starts = snippet_starts(clip.n_frames, k, (length - 1) * stride + 1, rng=rng)
+    frames = np.minimum(np.add.outer(np.asarray(starts), stride * np.arange(length)), clip.n_frames - 1)
     h, w = clip.rgb.shape[1:3]
     ch, cw = crop_box((h, w), config.crop)
     if config.focus == "motion":
@@ -319,7 +347,7 @@ def snippets_and_targets(
         x = clip.rgb[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 3)
         x = (x / 255.0 - _RGB_MEAN) / _RGB_STD
         if config.rgb_diff:
-            x[:, 1:] = np.diff(x, axis=1)
+            x[:, 1:] = np.diff(x, axis=1) * config.diff_gain
         x = x.transpose(0, 1, 4, 2, 3).reshape(k, 3 * length, ch, cw)  # r0, g0, b0, r1, …
         if targets and config.aux_flow > 0:
             out["flow"] = _flow_input(clip, frames[:, :-1], window, config)
@@ -421,8 +449,10 @@ class MixedBatches:
 def _fingerprint(
     config: TrainConfig, data: Mapping[str, Sequence[Clip]], heads: Mapping[str, int], init: str | Path | None
 ) -> str:
-    """What a checkpoint must agree on to be resumed: the config, heads, start and training clips."""
-    h = hashlib.sha256(json.dumps(config.to_json(), sort_keys=True).encode())
+    """What a checkpoint must agree on to be resumed: the config, heads, start and training
+    clips. Settings at their defaults are left out, so a setting added in a later version
+    does not orphan a checkpoint made before it."""
+    h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
     h.update(json.dumps([dict(sorted(heads.items())), None if init is None else Path(init).name]).encode())
     for name in sorted(data):
         for clip in data[name]:
@@ -503,6 +533,8 @@ def train(
             if teacher.model.backbone.out_features != model.backbone.out_features:
                 raise PhavUserError("the flow teacher's features are not as wide as this stream's", field="--widths")
             teacher.model.to(dev)
+            if config.teacher_init:
+                _init_from_teacher(model, teacher.model)
         opt = _optimizer(model, config)
         rng = seeded_rng(config.seed)
         fingerprint = _fingerprint(config, data, heads, init)
@@ -718,6 +750,17 @@ class _Run:
         torch.nn.utils.clip_grad_norm_(self.model.parameters(), CLIP_GRAD[self.config.stream])
         self.opt.step()
         return scores, labels, sources, parts
+
+
+def _init_from_teacher(model: Any, teacher: Any) -> None:
+    """Copy the flow teacher's weights into ``model``, all but its first convolution (whose
+    input channels differ) and an auxiliary head (the teacher's predicts other targets)."""
+    mine = model.state_dict()
+    stem = "backbone.features.0.weight"
+    carried = {k: v for k, v in teacher.state_dict().items() if k != stem and not k.startswith("aux.") and k in mine}
+    if any(mine[k].shape != v.shape for k, v in carried.items()):
+        raise PhavUserError("the flow teacher has another architecture than this stream", field="--teacher-init")
+    model.load_state_dict({**mine, **carried})
 
 
 def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> None:

@@ -13,6 +13,7 @@ from pathlib import Path
 import cv2
 import pytest
 
+from phav_validators.learn.train import RECOMMENDED
 from tests.helpers import invoke_cli, run_cli
 from tests.validators.learn.helpers import tiny_phav, ucf101_folder
 
@@ -35,7 +36,8 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     assert run["train_clips"] == 2 and run["test_clips"] == 1
     assert set(run["accuracy"]) == {"rgb", "flow", "fused"}
     config = data["config"]  # the recommended settings: RGB differences distilled from flow
-    assert config["rgb_frames"] == 5 and config["rgb_diff"] and config["distill"] == 5.0
+    assert config["rgb_frames"] == RECOMMENDED.rgb_frames and config["rgb_diff"]
+    assert config["distill"] == RECOMMENDED.distill > 0 and config["diff_gain"] == RECOMMENDED.diff_gain
     assert config["precision"] in ("fp32", "bf16")
     assert (out / "split1-rgb.pt").exists() and (out / "split1-flow.pt").exists()
     assert cv2.imread(str(out / "split1-confusion.png")) is not None

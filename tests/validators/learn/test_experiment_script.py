@@ -34,10 +34,10 @@ def test_a_cell_names_clips_size_and_any_training_setting(script):
         script.parse_cell("colour=red", (85, 64))
 
 
-def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script):
+def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script, tmp_path):
     data = motion_clips(4, 20)
     overrides = {"epochs": 3, "widths": (8, 16), "threads": 1}
-    run = script.run_cell(data, 40, overrides, 0, ["rgb", "flow"])
+    run = script.run_cell(data, 40, overrides, 0, ["rgb", "flow"], tmp_path)
     assert run["train_clips"] <= 44 and run["test_clips"] > 0
     assert set(run["accuracy"]) == {"rgb", "flow", "fused", "p_fused"}
     cell = script.Cell("epochs=3", 40, (32, 24), overrides, [run, run])
@@ -46,6 +46,13 @@ def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script):
     # each test clip's probabilities per stream are kept, for fusion studies afterwards
     assert len(run["test_labels"]) == run["test_clips"] == len(run["test_scores"]["flow"])
     assert abs(sum(run["test_scores"]["rgb"][0]) - 1.0) < 1e-3
+    # the trained streams are kept, named by their settings, and a rerun reuses them
+    kept = sorted(p.name.split("-")[0] for p in tmp_path.glob("*.pt"))
+    assert kept == ["flow", "rgb"]
+    again = script.run_cell(data, 40, overrides, 0, ["rgb", "flow"], tmp_path)
+    assert again["test_scores"] == run["test_scores"] and again["minutes"] == run["minutes"]
+    other = script.kept_stream(tmp_path, script.TrainConfig(stream="flow", epochs=4), [])
+    assert other.name not in {p.name for p in tmp_path.glob("*.pt")}
 
 
 def test_the_speed_script_times_a_step_under_each_arithmetic():

@@ -17,6 +17,7 @@ from phav_validators.learn.train import (
     MixedBatches,
     Teacher,
     TrainConfig,
+    _fingerprint,
     default_precision,
     motion_window,
     predict,
@@ -103,6 +104,16 @@ def test_an_interrupted_run_resumes_to_the_uninterrupted_weights(tmp_path):
     assert again.resumed_from == 3
     with pytest.raises(PhavUserError, match="other settings"):
         train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(config, lr=0.1), checkpoint=ckpt)
+
+
+def test_a_checkpoint_fingerprint_leaves_out_the_settings_at_their_defaults():
+    """A setting added later (at its default) does not orphan a checkpoint made before it."""
+    data = {"virtual": motion_clips(3, 2).clips}
+    config = dataclasses.replace(SMALL, lr=0.1)
+    assert config.changed() == {"widths": [8, 16], "epochs": 2, "mix": [["virtual", 8]], "lr": 0.1}
+    print_ = _fingerprint(config, data, {"virtual": 3}, None)
+    assert print_ == _fingerprint(dataclasses.replace(config, diff_gain=1.0), data, {"virtual": 3}, None)
+    assert print_ != _fingerprint(dataclasses.replace(config, lr=0.05), data, {"virtual": 3}, None)
 
 
 def test_a_damaged_checkpoint_is_a_user_error(tmp_path):
@@ -216,6 +227,27 @@ def test_rgb_difference_input_is_the_first_frame_then_consecutive_differences():
             dataclasses.replace(bad, rgb_diff=True)
         assert e.value.field == "--rgb-diff"
     assert TrainConfig(stream="rgb", rgb_frames=3, rgb_diff=True).for_stream("flow").rgb_diff is False
+    # a gain scales the differences alone; the first frame stays as it was
+    gained = snippets(clip, dataclasses.replace(config, rgb_diff=True, diff_gain=4.0), rng=None)
+    gained = gained.reshape(3, 3, 3, 24, 32)
+    assert np.array_equal(gained[:, 0], diff[:, 0]) and np.allclose(gained[:, 1:], 4.0 * diff[:, 1:], atol=1e-5)
+    with pytest.raises(PhavUserError) as e:
+        dataclasses.replace(config, diff_gain=0.0)
+    assert e.value.field == "--diff-gain"
+
+
+def test_strided_rgb_snippets_take_every_nth_frame_within_the_clip():
+    clip = moving_square_clips(1, 1, frames=12).clips[0]
+    config = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, rgb_stride=2, crop=1.0)
+    x = snippets(clip, config, rng=None)
+    for k, s in enumerate(snippet_starts(12, 3, 5, rng=None)):  # each snippet spans 5 frames
+        for i in range(3):
+            expected = (clip.rgb[s + 2 * i].astype(np.float32) / 255.0 - 0.45) / 0.225
+            assert np.allclose(x[k, 3 * i : 3 * i + 3], expected.transpose(2, 0, 1), atol=1e-6)
+    with pytest.raises(PhavUserError) as e:
+        dataclasses.replace(config, aux_flow=1.0)  # the flow between consecutive frames only
+    assert e.value.field == "--aux-flow"
+    assert config.for_stream("flow").rgb_stride == 1
 
 
 @pytest.mark.parametrize(("how", "learns"), [({}, False), ({"temporal_shift": True, "segments": 6}, True),
@@ -341,6 +373,26 @@ def test_distillation_pulls_the_rgb_features_towards_the_flow_teachers():
     with pytest.raises(PhavUserError) as e:
         TrainConfig(stream="flow", distill=1.0)
     assert e.value.field == "--distill"
+
+
+def test_a_student_can_start_from_its_flow_teacher_but_the_stem():
+    clips = _square_clips_with_flow(1)
+    flow_config = dataclasses.replace(SMALL, epochs=4, widths=(8, 16))
+    teacher = Teacher(train({"virtual": clips}, {"virtual": 3}, flow_config).model, flow_config)
+    student = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, rgb_diff=True, distill=5.0, teacher_init=True,
+                                  epochs=1, lr=1e-12)  # fmt: skip
+    started = _weights(train({"virtual": clips}, {"virtual": 3}, student, teacher=teacher).model)
+    taught = _weights(teacher.model)
+    carried = [k for k in taught if "running" not in k and "num_batches" not in k and k != "backbone.features.0.weight"]
+    assert len(carried) > 8 and all(torch.allclose(started[k], taught[k], atol=1e-6) for k in carried)
+    assert started["backbone.features.0.weight"].shape[1] == 9  # its own stem reads 3 RGB frames
+    fresh = _weights(train({"virtual": clips}, {"virtual": 3}, dataclasses.replace(student, teacher_init=False),
+                           teacher=teacher).model)  # fmt: skip
+    assert not torch.allclose(fresh["heads.virtual.weight"], taught["heads.virtual.weight"])
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(stream="rgb", teacher_init=True)  # no teacher to start from
+    assert e.value.field == "--teacher-init"
+    assert not dataclasses.replace(student, lr=0.05).for_stream("flow").teacher_init
 
 
 def test_the_flow_stream_trains_first_only_when_it_teaches():
