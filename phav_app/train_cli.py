@@ -105,7 +105,7 @@ def train_command(
     ] = None,
     diff_gain: Annotated[
         float,
-        typer.Option(help="Factor on the RGB differences (a difference is ~4x smaller than a frame)."),
+        typer.Option(help="Factor on the RGB differences (a difference is ~4x smaller than a frame; 1: as they are)."),
     ] = RECOMMENDED.diff_gain,
     aux_flow: Annotated[
         float, typer.Option(min=0.0, help="RGB stream: weight of predicting the flow between its frames (training).")

@@ -246,9 +246,10 @@ def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher |
 
 #: Where ``phav train``, the learnability check and the training bench start (measured in
 #: docs/learnability.md, "The defaults and why"): the flow stream as TSN's for 120 epochs;
-#: the RGB stream on five frames entered as the first and four differences at four times
-#: their scale, matching the flow stream's features, for a third of the flow stream's epochs.
-RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, diff_gain=4.0, distill=20.0, epochs=120,
+#: the RGB stream on five frames entered as the first and four differences at twelve times
+#: their scale, matching the flow stream's features (weight 20), for a third of the flow
+#: stream's epochs.
+RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, diff_gain=12.0, distill=20.0, epochs=120,
                           rgb_epochs=40)  # fmt: skip
 
 
