@@ -36,6 +36,8 @@ FUSION_WEIGHTS = {"rgb": 1.0, "flow": 1.5}
 FLOW_BOUND_PX = 20.0
 PRECISIONS = ("fp32", "bf16")
 _RGB_MEAN, _RGB_STD = 0.45, 0.225
+#: The ``TrainConfig`` settings of the RGB stream alone, back at their defaults for flow.
+_RGB_ONLY = ("rgb_frames", "rgb_diff", "rgb_stride", "diff_gain", "aux_flow", "distill", "teacher_init")
 
 
 @dataclass(frozen=True)
@@ -153,15 +155,12 @@ class TrainConfig:
 
     def for_stream(self, stream: str) -> TrainConfig:
         """This config for ``stream``: the RGB stream takes its own epochs (``rgb_epochs``);
-        the RGB-only settings (stacked frames, auxiliary flow) return to their defaults for
-        the flow stream."""
+        the RGB-only settings (``_RGB_ONLY``: stacked frames, differences, distillation)
+        return to their defaults for the flow stream."""
         if stream == "rgb":
             epochs = self.rgb_epochs if self.rgb_epochs is not None else self.epochs
             return replace(self, stream=stream, epochs=epochs, rgb_epochs=None)
-        return replace(self, stream=stream, rgb_frames=TrainConfig.rgb_frames, rgb_diff=TrainConfig.rgb_diff,
-                       rgb_stride=TrainConfig.rgb_stride, diff_gain=TrainConfig.diff_gain,
-                       aux_flow=TrainConfig.aux_flow, distill=TrainConfig.distill, teacher_init=False,
-                       rgb_epochs=None)  # fmt: skip
+        return replace(self, stream=stream, rgb_epochs=None, **{f: getattr(TrainConfig, f) for f in _RGB_ONLY})
 
     @property
     def arch(self) -> Architecture:
