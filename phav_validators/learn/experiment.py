@@ -100,13 +100,15 @@ def phav_runs(
     device: str = "cpu",
     progress: ProgressFactory | None = None,
 ) -> list[RunResult]:
-    """TSN on PHAV alone: ``splits`` seeded 80/20 splits of ``split_kind`` (the paper: three random)."""
+    """TSN on PHAV alone: ``splits`` seeded 80/20 splits of ``split_kind`` (the paper: three random).
+    Split ``k`` (from 0) splits and trains with seed ``base.seed + k``, so that held-out-actor
+    split ``k`` is the learnability check run with ``--seed`` that number, checkpoints and all."""
     runs = []
     for k in range(splits):
         split = make_split(clips.clips, split_kind, seed=base.seed + k)
         train_clips = [clips.clips[i] for i in split.train]
         test = [clips.clips[i] for i in split.test]
-        config = replace(base, mix=(("virtual", base.batch),))
+        config = replace(base, mix=(("virtual", base.batch),), seed=base.seed + k)
         runs.append(train_and_test(f"split{k + 1}", {"virtual": train_clips}, {"virtual": len(clips.classes)}, test,
                                    "virtual", config, streams, out, split=k + 1, device=device,
                                    progress=progress))  # fmt: skip

@@ -8,6 +8,7 @@ process for the one-line, exit-code-2 contract of the console script itself.
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import cv2
@@ -44,6 +45,30 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     again = invoke_cli(*args)  # every checkpoint is finished: nothing retrained, same numbers
     assert again.returncode == 0, again.stderr
     assert json.loads((out / "results.json").read_text())["runs"] == data["runs"]
+
+
+def test_held_out_actor_split_k_is_the_learnability_check_at_seed_k(phav, tmp_path):
+    """Split 2 of ``--split actor`` trains as the check with ``--seed 1``: its checkpoints serve both."""
+    learn, report = tmp_path / "learn", tmp_path / "check.json"
+    check = invoke_cli("validate!", str(phav), "--checks", "learnability", "--learn-epochs", "1",
+                       "--learn-rgb-epochs", "1", "--threads", "1", "--seed", "1", "--learn-dir", str(learn),
+                       "--json", str(report))  # fmt: skip
+    assert check.returncode in (0, 1), check.stderr
+    out = tmp_path / "run"
+    out.mkdir()
+    for stream in ("flow", "rgb"):
+        shutil.copy(learn / f"{stream}.pt", out / f"split2-{stream}.pt")
+    stamps = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    # a checkpoint made for other settings or clips would be refused (exit code 2)
+    result = invoke_cli("train", str(phav), "--out", str(out), "--split", "actor", "--splits", "2", "--epochs", "1",
+                        "--rgb-epochs", "1", "--threads", "1")  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert {p.name: p.stat().st_mtime_ns for p in out.glob("split2-*.pt")} == stamps  # finished: not retrained
+    numbers = json.loads(report.read_text())["datasets"][0]["checks"][0]["numbers"]
+    run = json.loads((out / "results.json").read_text())["runs"][1]
+    assert run["split"] == 2 and run["test_clips"] == numbers["test_clips"]
+    assert run["accuracy"]["fused"] == pytest.approx(numbers["fused_accuracy"])
+    assert run["accuracy"]["rgb"] == pytest.approx(numbers["rgb_accuracy"])
 
 
 def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
