@@ -257,7 +257,8 @@ def recommended_config(streams: Sequence[str], *, device: str = "cpu", **setting
     ``settings`` changed; other ``epochs`` scale the RGB stream's with them unless
     ``rgb_epochs`` is given, and RGB differences need 2 or more frames unless ``rgb_diff``
     is given. Without both streams the RGB stream has no flow stream to learn from, so it
-    trains without distillation; without the RGB stream its settings are moot."""
+    trains without distillation; without the RGB stream its settings are moot, and without
+    differences so is their gain (kept at 1, so the settings do not claim one)."""
     base = replace(RECOMMENDED, threads=default_threads(), precision=default_precision(device))
     if "rgb" not in streams:
         base = base.for_stream(streams[0])
@@ -268,6 +269,8 @@ def recommended_config(streams: Sequence[str], *, device: str = "cpu", **setting
         settings = {**settings, "rgb_epochs": max(1, round(settings["epochs"] * share))}
     if settings.get("rgb_diff") is None:
         settings = {**settings, "rgb_diff": base.rgb_diff and settings.get("rgb_frames", base.rgb_frames) >= 2}
+    if not settings["rgb_diff"]:
+        settings = {**settings, "diff_gain": TrainConfig.diff_gain}
     return replace(base, **settings)
 
 

@@ -105,6 +105,7 @@ def test_tsns_single_rgb_frame_alone_needs_no_other_option(phav, tmp_path):
     assert result.returncode == 0, result.stderr
     config = json.loads((out / "results.json").read_text())["config"]
     assert config["rgb_frames"] == 1 and not config["rgb_diff"] and config["distill"] == 0  # no flow to learn from
+    assert config["diff_gain"] == 1.0  # no differences to amplify: the settings do not claim a gain
     assert config["precision"] == "fp32"
 
 
