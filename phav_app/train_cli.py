@@ -135,7 +135,7 @@ def train_command(
         str | None, typer.Option(help="fp32 or bf16 autocast (default: bf16 where the device computes it natively).")
     ] = None,
     workers: Annotated[int, typer.Option(min=1, help="Processes decoding shards.")] = 1,
-    seed: Annotated[int, typer.Option(min=0, help="Seed of splits, initialisation and sampling.")] = 0,
+    seed: Annotated[int, typer.Option(min=0, help="Seed of splits and training (split k of --splits: seed + k).")] = 0,
 ) -> None:
     """Train TSN on PHAV, or TSN / TSN-FT / Cool-TSN on a real dataset; print accuracies."""
 
