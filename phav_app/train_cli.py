@@ -93,6 +93,9 @@ def train_command(
     temporal_shift: Annotated[
         bool, typer.Option(help="TSM's temporal shift between the segments (testing then uses K segments too).")
     ] = False,
+    temporal_conv: Annotated[
+        bool, typer.Option(help="(2+1)D: a temporal convolution across the segments in every block (testing: K).")
+    ] = False,
     rgb_frames: Annotated[int, typer.Option(min=1, help="RGB frames stacked per snippet (1: TSN's).")] = (
         RECOMMENDED.rgb_frames
     ),
@@ -158,6 +161,7 @@ def train_command(
     base = recommended_config(stream_list, device=device, widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
                               optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool,
                               dropout=dropout, segments=segments, temporal_shift=temporal_shift,
+                              temporal_conv=temporal_conv,
                               rgb_frames=rgb_frames, diff_gain=diff_gain, aux_flow=aux_flow,
                               aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
                               **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip

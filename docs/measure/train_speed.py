@@ -1,6 +1,7 @@
 """Milliseconds per training step of the TSN model alone (no snippet cutting) under each
-arithmetic and layout: float32, channels-last, bfloat16 autocast, and two smaller
-networks (docs/learnability.md, "The defaults and why").
+arithmetic and layout: float32, channels-last, bfloat16 autocast, two smaller networks,
+and in bfloat16 the backbones of the width/depth and temporal-model experiments
+(docs/learnability.md).
 
     .venv/bin/python docs/measure/train_speed.py --threads 2
 """
@@ -54,9 +55,18 @@ def main() -> None:
         ("bfloat16 autocast, channels-last", Architecture(), True, True),
         ("float32, max-pool after the stem", Architecture(stem_pool=True), False, False),
         ("float32, widths 24-48-96-192", Architecture(widths=(24, 48, 96, 192)), False, False),
+        ("bfloat16, widths 48-96-192-256", Architecture(widths=(48, 96, 192, 256)), True, False),
+        (
+            "bfloat16, widths 32-64-128-192-256 (a block more)",
+            Architecture(widths=(32, 64, 128, 192, 256)),
+            True,
+            False,
+        ),
+        ("bfloat16, temporal shift (K = 3)", Architecture(temporal_shift=True), True, False),
+        ("bfloat16, (2+1)D temporal convolution (K = 3)", Architecture(temporal_conv=True), True, False),
     ]
     base = None
-    print("| arithmetic / layout | ms per step | against float32 |")
+    print("| network, arithmetic / layout | ms per step | against float32 |")
     print("| --- | ---: | ---: |")
     for name, arch, bf16, last in rows:
         ms = step_ms(arch, bf16=bf16, channels_last=last, channels=args.channels, steps=args.steps, warm=3)

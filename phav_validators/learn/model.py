@@ -50,8 +50,28 @@ class ShiftBlock(nn.Module):
         return x + self.conv(temporal_shift(x, segments))
 
 
+class TemporalConvBlock(nn.Module):
+    """``x + relu(bn(conv_t(x)))``: a residual convolution of kernel 3 across the K segments
+    of each clip, position by position (the temporal half of a (2+1)D block)."""
+
+    def __init__(self, channels: int):
+        super().__init__()
+        self.conv = nn.Conv3d(channels, channels, (3, 1, 1), padding=(1, 0, 0), bias=False)
+        self.bn = nn.BatchNorm3d(channels)
+
+    def forward(self, x: Tensor, segments: int) -> Tensor:
+        n, c, h, w = x.shape
+        t = x.view(n // segments, segments, c, h, w).transpose(1, 2)  # (clips, C, K, h, w)
+        t = F.relu(self.bn(self.conv(t)))
+        return x + t.transpose(1, 2).reshape(n, c, h, w)
+
+
+#: Blocks that mix a clip's segments: their forward takes the number of segments.
+_TEMPORAL = (ShiftBlock, TemporalConvBlock)
+
+
 class Backbone(nn.Module):
-    """Snippets (N, C, H, W) → features (N, widths[-1]); with a temporal shift, N is
+    """Snippets (N, C, H, W) → features (N, widths[-1]); with a temporal model, N is
     clips × ``segments`` in clip order."""
 
     def __init__(self, channels: int, arch: Architecture):
@@ -67,6 +87,8 @@ class Backbone(nn.Module):
         for stage, (c_in, c_out) in enumerate(itertools.pairwise(w)):
             layers += _conv(c_in, c_out, 3, 2)
             layers += [ShiftBlock(c_out)] if self.shift else _conv(c_out, c_out, 3, 1)
+            if arch.temporal_conv:
+                layers.append(TemporalConvBlock(c_out))
             if stage == 0:
                 self.tap_index, self.tap_features = len(layers) - 1, c_out
         self.features = nn.Sequential(*layers)
@@ -84,7 +106,7 @@ class Backbone(nn.Module):
         ``stem_pool``), where an auxiliary dense head reads."""
         tap = x
         for i, layer in enumerate(self.features):
-            x = layer(x, segments) if isinstance(layer, ShiftBlock) else layer(x)
+            x = layer(x, segments) if isinstance(layer, _TEMPORAL) else layer(x)
             if i == self.tap_index:
                 tap = x
         return x, tap
@@ -148,12 +170,12 @@ def dropout(x: Tensor, p: float, *, generator: torch.Generator) -> Tensor:
 def init_weights(module: nn.Module, *, generator: torch.Generator) -> None:
     """Kaiming-normal convolutions, small normal classifiers, BN at (1, 0): all from ``generator``."""
     for m in module.modules():
-        if isinstance(m, nn.Conv2d):
+        if isinstance(m, (nn.Conv2d, nn.Conv3d)):
             nn.init.kaiming_normal_(m.weight, mode="fan_out", nonlinearity="relu", generator=generator)
         elif isinstance(m, nn.Linear):
             nn.init.normal_(m.weight, 0.0, 0.01, generator=generator)
             nn.init.zeros_(m.bias)
-        elif isinstance(m, nn.BatchNorm2d):
+        elif isinstance(m, (nn.BatchNorm2d, nn.BatchNorm3d)):
             nn.init.ones_(m.weight)
             nn.init.zeros_(m.bias)
 

@@ -73,6 +73,8 @@ class TrainConfig:
     stem_pool: bool = Architecture.stem_pool
     #: TSM's temporal shift between the K segments (then testing uses K segments too).
     temporal_shift: bool = Architecture.temporal_shift
+    #: A (2+1)D block's temporal convolution across the K segments at every stage.
+    temporal_conv: bool = Architecture.temporal_conv
     #: RGB stream with ``rgb_frames`` ≥ 2: weight of an auxiliary loss that predicts the
     #: (ground-truth) flow between its frames from its mid-level features. Training only:
     #: the tested network still sees RGB alone.
@@ -164,13 +166,15 @@ class TrainConfig:
 
     @property
     def arch(self) -> Architecture:
-        return Architecture(self.widths, self.dropout, self.stem_pool, self.temporal_shift, self.pool)
+        return Architecture(widths=self.widths, dropout=self.dropout, stem_pool=self.stem_pool,
+                            temporal_shift=self.temporal_shift, temporal_conv=self.temporal_conv,
+                            pool=self.pool)  # fmt: skip
 
     @property
     def eval_segments(self) -> int:
         """Snippets per clip when testing: ``test_segments``, or ``segments`` under a temporal
-        shift (its segments are a time axis the network was trained on)."""
-        return self.segments if self.temporal_shift else self.test_segments
+        shift or convolution (its segments are a time axis the network was trained on)."""
+        return self.segments if self.temporal_shift or self.temporal_conv else self.test_segments
 
     @property
     def batch(self) -> int:

@@ -142,6 +142,7 @@ def _one_error_line(stderr: str) -> str:
         pytest.param(("--device", "cuda:7"), "--device", id="device"),
         pytest.param(("--focus", "face"), "--focus", id="focus"),
         pytest.param(("--pool", "median"), "--pool", id="pool"),
+        pytest.param(("--temporal-shift", "--temporal-conv"), "--temporal-conv", id="two-temporal-models"),
         pytest.param(("--aux-flow", "1", "--rgb-frames", "1"), "--aux-flow", id="aux-flow-single-rgb-frame"),
         pytest.param(("--distill", "1", "--streams", "rgb"), "--distill", id="distill-without-flow"),
         pytest.param(("--rgb-diff", "--rgb-frames", "1"), "--rgb-diff", id="rgb-diff-single-frame"),

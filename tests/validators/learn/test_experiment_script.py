@@ -61,8 +61,9 @@ def test_the_speed_script_times_a_step_under_each_arithmetic():
     spec.loader.exec_module(module)
     from phav_validators.learn.config import Architecture
 
-    for bf16, last in ((False, False), (True, True)):
-        ms = module.step_ms(Architecture(widths=(8, 16)), bf16=bf16, channels_last=last, channels=10, steps=1, warm=0)
+    for bf16, last, temporal in ((False, False, {}), (True, True, {}), (True, False, {"temporal_conv": True})):
+        arch = Architecture(widths=(8, 16), **temporal)
+        ms = module.step_ms(arch, bf16=bf16, channels_last=last, channels=10, steps=1, warm=0)
         assert 0 < ms < 60_000
 
 

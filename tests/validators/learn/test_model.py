@@ -100,6 +100,22 @@ def test_same_generator_seed_gives_the_same_weights():
     assert not all(torch.equal(sa[k], sc[k]) for k in sa)
 
 
+def test_the_temporal_convolution_is_initialised_from_the_generator_alone():
+    def weights(seed: int) -> torch.Tensor:
+        torch.manual_seed(seed)  # torch's global state must not matter
+        g = torch.Generator().manual_seed(5)
+        model = TSN(3, {"virtual": 4}, Architecture((8, 16), temporal_conv=True), generator=g)
+        return next(m for m in model.modules() if isinstance(m, torch.nn.Conv3d)).weight.detach().clone()
+
+    assert torch.equal(weights(0), weights(1))
+
+
+def test_two_temporal_models_at_once_are_a_user_error():
+    with pytest.raises(PhavUserError) as e:
+        Architecture((8,), temporal_shift=True, temporal_conv=True)
+    assert e.value.field == "--temporal-conv"
+
+
 def test_training_forward_without_a_generator_is_refused():
     model = _model().train()
     with pytest.raises(ValueError, match="generator"):
@@ -125,9 +141,10 @@ def test_temporal_shift_moves_an_eighth_each_way_within_a_clip_only():
     assert torch.equal(out[:, :, 4:], t[:, :, None].expand(2, k, c - 4))  # the rest untouched
 
 
-def test_shifted_segments_see_each_other_but_never_another_clip():
+@pytest.mark.parametrize("temporal", ["temporal_shift", "temporal_conv"])
+def test_segments_see_each_other_through_the_temporal_model_but_never_another_clip(temporal):
     g = torch.Generator().manual_seed(0)
-    model = TSN(3, {"virtual": 4}, Architecture((8, 16, 16), temporal_shift=True), generator=g).eval()
+    model = TSN(3, {"virtual": 4}, Architecture((8, 16, 16), **{temporal: True}), generator=g).eval()
     x = torch.randn(2, 4, 3, 24, 32, generator=g)
     base = model(x)["virtual"]
     y = x.clone()
