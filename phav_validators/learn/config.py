@@ -26,7 +26,7 @@ class Architecture:
     the segments of a clip exchange information at every depth for no extra arithmetic.
     With ``temporal_conv`` each block ends in a residual convolution of kernel 3 across the
     segments at every position, after its spatial ones ((2+1)D, Tran et al. 2018): learnt
-    temporal mixing, for a third more arithmetic per block."""
+    temporal mixing, for a third of a 3×3 convolution's arithmetic more per block."""
 
     widths: tuple[int, ...] = (32, 64, 128, 192)
     dropout: float = 0.5
