@@ -275,7 +275,9 @@ def recommended_config(streams: Sequence[str], *, device: str = "cpu", **setting
         settings = {**settings, "rgb_diff": base.rgb_diff and settings.get("rgb_frames", base.rgb_frames) >= 2}
     if not settings["rgb_diff"]:
         settings = {**settings, "diff_gain": TrainConfig.diff_gain}
-    return replace(base, **settings)
+    config = replace(base, **settings)
+    # Settings given for the RGB stream (a CLI passes them all) are moot without it.
+    return config if "rgb" in streams else config.for_stream(streams[0])
 
 
 @dataclass

@@ -448,6 +448,8 @@ def test_the_recommended_settings_follow_the_streams_trained():
     assert stream_order(["rgb"], alone) == ["rgb"]
     flow = recommended_config(["flow"])
     assert flow.stream == "flow" and not flow.rgb_diff and flow.distill == 0
+    given = recommended_config(["flow"], rgb_frames=5, diff_gain=12.0, epochs=120)  # as the CLI passes them
+    assert given == dataclasses.replace(flow, epochs=120) and given.rgb_frames == 1 and given.rgb_epochs is None
     assert recommended_config(["flow"], precision="fp32").precision == "fp32"
     # other epochs scale the RGB stream's in the recommended proportion, unless given
     assert (
