@@ -106,20 +106,30 @@ def parse_cell(text: str, size: tuple[int, int]) -> tuple[int | None, tuple[int,
     return clips, size, overrides
 
 
-def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip]) -> Path | None:
-    """Where a stream trained with ``config`` on ``clips`` is kept (None: not kept)."""
+def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], data: str = "85x64-gt") -> Path | None:
+    """Where a stream trained with ``config`` on ``clips`` is kept (None: not kept); ``data``
+    names the stored size and flow source when they are not the defaults (85x64, gt), so a
+    cell on other inputs never meets another's checkpoint."""
     if keep is None:
         return None
     h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
     h.update("\n".join(c.key for c in clips).encode())
-    return keep / f"{config.stream}-s{config.seed}-{h.hexdigest()[:16]}.pt"
+    tag = "" if data == "85x64-gt" else f"{data}-"
+    return keep / f"{config.stream}-s{config.seed}-{tag}{h.hexdigest()[:16]}.pt"
 
 
 def run_cell(
-    data: ClipSet, clips: int | None, overrides: dict[str, Any], seed: int, streams: list[str], keep: Path | None
+    data: ClipSet,
+    clips: int | None,
+    overrides: dict[str, Any],
+    seed: int,
+    streams: list[str],
+    keep: Path | None,
+    inputs: str = "85x64-gt",
 ) -> dict:
     """Train ``streams`` on the seed's held-out-actor split (subsampled to ``clips``), test, fuse;
-    trained streams are kept in ``keep`` (a checkpoint there is reused, not retrained)."""
+    trained streams are kept in ``keep`` (a checkpoint there is reused, not retrained);
+    ``inputs`` is the clips' stored size and flow source, ``85x64-gt`` by default."""
     split = make_split(data.clips, "actor", seed=seed)
     train_clips = [data.clips[i] for i in split.train]
     if clips is not None and clips < len(train_clips):
@@ -133,7 +143,7 @@ def run_cell(
     for stream in stream_order(streams, base):
         config = base.for_stream(stream)
         result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config, teacher=teacher,
-                       checkpoint=kept_stream(keep, config, train_clips))  # fmt: skip
+                       checkpoint=kept_stream(keep, config, train_clips, inputs))  # fmt: skip
         teacher = teacher_of(stream, result, base)
         scores[stream] = predict(result.model, test, config, "virtual")
         minutes[stream] = result.seconds / 60
@@ -197,7 +207,8 @@ def main() -> None:
             key = f"{text}|{args.flow}|{args.streams}|{seed}|{'+'.join(str(d) for d in args.datasets)}"
             if key not in done:
                 start = time.perf_counter()
-                done[key] = run_cell(loaded[size], clips, overrides, seed, streams, args.keep)
+                inputs = f"{size[0]}x{size[1]}-{args.flow}"
+                done[key] = run_cell(loaded[size], clips, overrides, seed, streams, args.keep, inputs)
                 done[key]["wall_seconds"] = time.perf_counter() - start
                 if args.json is not None:
                     args.json.write_text(json.dumps(done, indent=1) + "\n", encoding="utf-8")
