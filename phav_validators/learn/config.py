@@ -50,6 +50,12 @@ class Architecture:
                 "choose one temporal model: --temporal-shift or --temporal-conv", field="--temporal-conv"
             )
 
+    @property
+    def temporal(self) -> bool:
+        """Whether a clip's segments exchange information inside the backbone, so they form
+        a time axis the network was trained on (testing must keep their number)."""
+        return self.temporal_shift or self.temporal_conv
+
 
 def in_channels(stream: str, flow_frames: int, rgb_frames: int = 1) -> int:
     """Channels of one snippet of ``stream``: ``rgb_frames`` stacked RGB frames or

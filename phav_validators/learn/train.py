@@ -174,7 +174,7 @@ class TrainConfig:
     def eval_segments(self) -> int:
         """Snippets per clip when testing: ``test_segments``, or ``segments`` under a temporal
         shift or convolution (its segments are a time axis the network was trained on)."""
-        return self.segments if self.temporal_shift or self.temporal_conv else self.test_segments
+        return self.segments if self.arch.temporal else self.test_segments
 
     @property
     def batch(self) -> int:

@@ -250,6 +250,14 @@ def test_strided_rgb_snippets_take_every_nth_frame_within_the_clip():
     assert config.for_stream("flow").rgb_stride == 1
 
 
+@pytest.mark.parametrize("temporal", [{}, {"temporal_shift": True}, {"temporal_conv": True}])
+def test_a_temporal_model_is_tested_on_the_segments_it_was_trained_on(temporal):
+    """TSN tests on 25 snippets; a network whose segments form a time axis keeps its K."""
+    config = TrainConfig(segments=6, test_segments=25, **temporal)
+    assert config.arch.temporal == bool(temporal)
+    assert config.eval_segments == (6 if temporal else 25)
+
+
 @pytest.mark.parametrize(("how", "learns"), [({}, False), ({"temporal_shift": True, "segments": 6}, True),
                                              ({"temporal_conv": True, "segments": 6, "epochs": 40}, True),
                                              ({"rgb_frames": 3}, True),
