@@ -106,15 +106,15 @@ def parse_cell(text: str, size: tuple[int, int]) -> tuple[int | None, tuple[int,
     return clips, size, overrides
 
 
-def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], data: str = "85x64-gt") -> Path | None:
-    """Where a stream trained with ``config`` on ``clips`` is kept (None: not kept); ``data``
-    names the stored size and flow source when they are not the defaults (85x64, gt), so a
+def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], inputs: str = "85x64-gt") -> Path | None:
+    """Where a stream trained with ``config`` on ``clips`` is kept (None: not kept); the name
+    carries ``inputs`` (stored size and flow source) when they are not the defaults, so a
     cell on other inputs never meets another's checkpoint."""
     if keep is None:
         return None
     h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
     h.update("\n".join(c.key for c in clips).encode())
-    tag = "" if data == "85x64-gt" else f"{data}-"
+    tag = "" if inputs == "85x64-gt" else f"{inputs}-"
     return keep / f"{config.stream}-s{config.seed}-{tag}{h.hexdigest()[:16]}.pt"
 
 
