@@ -38,10 +38,19 @@ from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, stream_order, teacher_of, train
 
 
+def inputs_name(size: tuple[int, int], flow: str) -> str:
+    """What a cell's clips are: stored size and flow source, e.g. ``85x64-gt``."""
+    return f"{size[0]}x{size[1]}-{flow}"
+
+
+#: The inputs of the check and of the tables unless a cell says otherwise.
+DEFAULT_INPUTS = inputs_name((85, 64), "gt")
+
+
 def cached_clips(roots: list[Path], size: tuple[int, int], flow: str) -> ClipSet:
     """All clips of ``roots`` (keys prefixed by the dataset's folder name) with their body
     parts, read once and kept in ``<first root>+<n>.clips-<size>-<flow>-parts.npz``."""
-    cache = roots[0].parent / f"{roots[0].name}+{len(roots)}.clips-{size[0]}x{size[1]}-{flow}-parts.npz"
+    cache = roots[0].parent / f"{roots[0].name}+{len(roots)}.clips-{inputs_name(size, flow)}-parts.npz"
     if cache.exists():
         z = np.load(cache, allow_pickle=False)
         meta = json.loads(str(z["meta"]))
@@ -106,7 +115,7 @@ def parse_cell(text: str, size: tuple[int, int]) -> tuple[int | None, tuple[int,
     return clips, size, overrides
 
 
-def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], inputs: str = "85x64-gt") -> Path | None:
+def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], inputs: str = DEFAULT_INPUTS) -> Path | None:
     """Where a stream trained with ``config`` on ``clips`` is kept (None: not kept); the name
     carries ``inputs`` (stored size and flow source) when they are not the defaults, so a
     cell on other inputs never meets another's checkpoint."""
@@ -114,7 +123,7 @@ def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], input
         return None
     h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
     h.update("\n".join(c.key for c in clips).encode())
-    tag = "" if inputs == "85x64-gt" else f"{inputs}-"
+    tag = "" if inputs == DEFAULT_INPUTS else f"{inputs}-"
     return keep / f"{config.stream}-s{config.seed}-{tag}{h.hexdigest()[:16]}.pt"
 
 
@@ -125,11 +134,11 @@ def run_cell(
     seed: int,
     streams: list[str],
     keep: Path | None,
-    inputs: str = "85x64-gt",
+    inputs: str = DEFAULT_INPUTS,
 ) -> dict:
     """Train ``streams`` on the seed's held-out-actor split (subsampled to ``clips``), test, fuse;
     trained streams are kept in ``keep`` (a checkpoint there is reused, not retrained);
-    ``inputs`` is the clips' stored size and flow source, ``85x64-gt`` by default."""
+    ``inputs`` is the clips' stored size and flow source (``inputs_name``)."""
     split = make_split(data.clips, "actor", seed=seed)
     train_clips = [data.clips[i] for i in split.train]
     if clips is not None and clips < len(train_clips):
@@ -203,11 +212,11 @@ def main() -> None:
         if size not in loaded:
             loaded[size] = cached_clips(args.datasets, size, args.flow)
         cell = Cell(text, clips, size, overrides, [])
+        inputs = inputs_name(size, args.flow)
         for seed in seeds:
             key = f"{text}|{args.flow}|{args.streams}|{seed}|{'+'.join(str(d) for d in args.datasets)}"
             if key not in done:
                 start = time.perf_counter()
-                inputs = f"{size[0]}x{size[1]}-{args.flow}"
                 done[key] = run_cell(loaded[size], clips, overrides, seed, streams, args.keep, inputs)
                 done[key]["wall_seconds"] = time.perf_counter() - start
                 if args.json is not None:

@@ -55,7 +55,9 @@ def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script, tmp_path):
     assert other.name not in {p.name for p in tmp_path.glob("*.pt")}
     # the same settings on other inputs (stored size, flow source) are kept apart
     flow = script.TrainConfig(stream="flow", **overrides)
-    assert script.kept_stream(tmp_path, flow, []) != script.kept_stream(tmp_path, flow, [], "85x64-farneback")
+    assert script.kept_stream(tmp_path, flow, []) != script.kept_stream(
+        tmp_path, flow, [], script.inputs_name((85, 64), "farneback")
+    )
 
 
 def test_the_speed_script_times_a_step_under_each_arithmetic():
