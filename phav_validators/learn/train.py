@@ -10,13 +10,14 @@ uninterrupted one reaches. Results are deterministic for a given seed and thread
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import io
 import json
 import math
 import os
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -533,9 +534,7 @@ def train(
     if (config.distill > 0) != (teacher is not None):
         raise PhavUserError("distillation needs both a weight and a trained flow stream", field="--distill")
     dev = torch_device(device)
-    threads = torch.get_num_threads()
-    torch.set_num_threads(config.threads)
-    try:
+    with torch_threads(config.threads):
         gen = torch.Generator().manual_seed(config.seed)
         model = _model(config, heads, init, gen, dev)
         if teacher is not None:
@@ -574,19 +573,64 @@ def train(
                 model.train()
         model.eval()
         return result
-    finally:
-        torch.set_num_threads(threads)
+
+
+def epoch_seconds(
+    data: Mapping[str, Sequence[Clip]],
+    heads: Mapping[str, int],
+    config: TrainConfig,
+    *,
+    teacher: TrainConfig | None = None,
+    steps: int = 4,
+    warm: int = 2,
+    device: str = "cpu",
+) -> float:
+    """Seconds one epoch of ``config`` takes on this machine: ``steps`` mini-batches of a
+    throwaway model timed after ``warm`` (with an untrained flow model as the ``teacher``
+    when the stream distils), scaled to an epoch's steps. For planning a time budget:
+    nothing of the probe reaches a trained model's weights or random draws."""
+    require_torch()
+    import torch  # optional extra phav[train]: only training needs torch
+
+    dev = torch_device(device)
+    with torch_threads(config.threads):
+        gen = torch.Generator().manual_seed(config.seed)
+        model = _model(config, heads, None, gen, dev)
+        mentor = Teacher(_model(teacher, heads, None, gen, dev), teacher) if teacher is not None else None
+        rng = seeded_rng(config.seed, 0x9B0BE)
+        batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
+        run = _Run(data, heads, config, "", model, _optimizer(model, config), rng, gen, batches, dev, mentor)
+        model.train()
+        start = 0.0
+        for step in range(warm + steps):
+            if step == warm:
+                start = time.perf_counter()
+            run._step(0, step, *run._cut())
+        return (time.perf_counter() - start) / steps * run.steps_per_epoch
+
+
+def fit_epochs(epochs: Mapping[str, int], seconds_per_epoch: Mapping[str, float], budget_s: float) -> dict[str, int]:
+    """Each stream's epochs scaled by one factor so that all of them fit in ``budget_s``
+    (unchanged when they already fit; at least one each): a cosine schedule that ends
+    inside the budget beats a longer one cut off before its learning rate has decayed."""
+    needed = sum(epochs[s] * seconds_per_epoch[s] for s in epochs)
+    if needed <= budget_s:
+        return dict(epochs)
+    factor = budget_s / needed
+    return {s: max(1, math.floor(n * factor)) for s, n in epochs.items()}
 
 
 def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | None, gen: Any, dev: Any) -> Any:
     """The TSN, initialised from ``gen`` (its backbone from ``init`` for TSN-FT), on ``dev``."""
-    from phav_validators.learn.model import TSN  # imports torch: optional extra phav[train]
+    from phav_validators.learn.model import TSN, channels_last  # imports torch: optional extra phav[train]
 
     aux = sum(aux_channels(config).values())
     model = TSN(in_channels(config.stream, config.flow_frames, config.rgb_frames), heads, config.arch, generator=gen,
                 aux_channels=aux)  # fmt: skip
     if init is not None:
         _init_backbone(model, load_checkpoint(init), init)
+    if config.precision == "fp32":  # faster there; bfloat16 kept its measured (default) layout
+        channels_last(model)
     model.to(dev)  # before the optimiser, whose state must live beside the parameters
     return model
 
@@ -790,18 +834,13 @@ def predict(
 
     dev = torch_device(device)
     model.to(dev)
-    threads = torch.get_num_threads()
-    torch.set_num_threads(config.threads)
     model.eval()
     out = []
-    try:
-        with torch.no_grad(), autocast(config, dev):
-            for i in range(0, len(clips), batch):
-                x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.eval_segments)
-                                               for c in clips[i : i + batch]])).to(dev)  # fmt: skip
-                out.append(torch.softmax(model(x)[head].float(), dim=1).cpu().numpy())
-    finally:
-        torch.set_num_threads(threads)
+    with torch_threads(config.threads), torch.no_grad(), autocast(config, dev):
+        for i in range(0, len(clips), batch):
+            x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.eval_segments)
+                                           for c in clips[i : i + batch]])).to(dev)  # fmt: skip
+            out.append(torch.softmax(model(x)[head].float(), dim=1).cpu().numpy())
     n = model.heads[head].out_features
     return np.concatenate(out) if out else np.zeros((0, n), np.float32)
 
@@ -826,6 +865,19 @@ def torch_device(name: str) -> Any:
     return dev
 
 
+@contextlib.contextmanager
+def torch_threads(n: int) -> Iterator[None]:
+    """Torch computes with ``n`` threads inside, and with as many as before after."""
+    import torch  # optional extra phav[train]: only training needs torch
+
+    before = torch.get_num_threads()
+    torch.set_num_threads(n)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
 def autocast(config: TrainConfig, device: Any) -> Any:
     """The forward pass's arithmetic context: bfloat16 autocast under ``precision: bf16``."""
     import torch  # optional extra phav[train]: only training needs torch
@@ -834,9 +886,10 @@ def autocast(config: TrainConfig, device: Any) -> Any:
 
 
 def default_precision(device: str = "cpu") -> str:
-    """``bf16`` where ``device`` computes bfloat16 natively (a CPU with AVX-512 BF16 or AMX,
-    a GPU from Ampere on), else ``fp32``. Results are reproducible per precision, as per
-    thread count."""
+    """``bf16`` where ``device`` computes bfloat16 faster than float32 (a CPU with AMX, a GPU
+    from Ampere on), else ``fp32``. AVX-512 BF16 alone is not enough: on a 2-core Xeon
+    without AMX a training step took 1.25× its float32 time in bfloat16 (docs/learnability.md).
+    Results are reproducible per precision, as per thread count."""
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
 
@@ -844,7 +897,7 @@ def default_precision(device: str = "cpu") -> str:
     if dev.type == "cuda":
         return "bf16" if torch.cuda.is_bf16_supported() else "fp32"
     flags = _cpu_flags()
-    return "bf16" if {"avx512_bf16"} <= flags or {"amx_bf16"} <= flags else "fp32"
+    return "bf16" if "amx_bf16" in flags else "fp32"
 
 
 def _cpu_flags() -> set[str]:

@@ -11,7 +11,15 @@ from torch.nn import functional as F
 
 from phav_spec.errors import PhavUserError
 from phav_validators.learn.config import Architecture, in_channels
-from phav_validators.learn.model import TSN, dropout, multitask_loss, temporal_shift
+from phav_validators.learn.model import (
+    TSN,
+    ShiftBlock,
+    TemporalConvBlock,
+    channels_last,
+    dropout,
+    multitask_loss,
+    temporal_shift,
+)
 
 
 def _model(stream: str = "flow", heads=None, seed: int = 0) -> TSN:
@@ -154,3 +162,25 @@ def test_segments_see_each_other_through_the_temporal_model_but_never_another_cl
     per_segment = model.heads["virtual"](model.backbone(y.flatten(0, 1), 4)).view(2, 4, 4)
     changed = model.heads["virtual"](model.backbone(x.flatten(0, 1), 4)).view(2, 4, 4)
     assert not torch.allclose(per_segment[0, 2], changed[0, 2])  # segment 2 saw segment 3 change
+
+
+@pytest.mark.parametrize("temporal", [{}, {"temporal_shift": True}, {"temporal_conv": True}])
+def test_the_backbone_computes_channels_last_and_the_same_function(temporal):
+    """In channels-last layout (faster in float32 on the CPU) the 2D convolutions' weights
+    and the backbone's activations follow it, and the network computes the contiguous
+    layout's function, up to the arithmetic's order."""
+    g = torch.Generator().manual_seed(0)
+    model = TSN(10, {"virtual": 4}, Architecture((8, 16, 16), **temporal), generator=g).eval()
+    channels_last(model)
+    convs = [m for m in model.modules() if isinstance(m, torch.nn.Conv2d)]
+    assert convs and all(m.weight.is_contiguous(memory_format=torch.channels_last) for m in convs)
+    x = torch.randn(6, 10, 24, 32, generator=g)  # 2 clips × 3 segments
+    fast = model.backbone(x, 3)
+    assert model.backbone.feature_maps(x, 3)[0].is_contiguous(memory_format=torch.channels_last)
+    for m in convs:
+        m.weight.data = m.weight.data.contiguous()
+    ref = x  # the layers by hand, every tensor in the default layout
+    for layer in model.backbone.features:
+        ref = layer(ref, 3) if isinstance(layer, (ShiftBlock, TemporalConvBlock)) else layer(ref)
+        assert ref.is_contiguous()
+    assert torch.allclose(fast, ref.mean(dim=(2, 3)), atol=1e-5)

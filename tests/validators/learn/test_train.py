@@ -11,7 +11,13 @@ import torch
 
 from phav_spec.errors import PhavUserError
 from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
-from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
+from phav_validators.learn.learnability import (
+    LearnOptions,
+    binomial_p,
+    chance_level,
+    planned_configs,
+    run_learnability,
+)
 from phav_validators.learn.train import (
     RECOMMENDED,
     MixedBatches,
@@ -19,6 +25,9 @@ from phav_validators.learn.train import (
     TrainConfig,
     _fingerprint,
     default_precision,
+    epoch_seconds,
+    fit_epochs,
+    load_checkpoint,
     motion_window,
     predict,
     recommended_config,
@@ -175,6 +184,44 @@ def test_learnable_motion_passes_and_shuffled_labels_do_not():
     assert result.accuracy() > 0.8 and result.p_value < 1e-6, (result.accuracy(), result.p_value)
     control = run_learnability(clips, dataclasses.replace(opts, shuffle_labels=True))
     assert control.accuracy() < 0.5 and control.p_value > 1e-3, (control.accuracy(), control.p_value)
+
+
+@pytest.mark.parametrize(("precision", "channels_last"), [("fp32", True), ("bf16", False)])
+def test_float32_trains_channels_last_and_bfloat16_in_the_default_layout(precision, channels_last):
+    config = dataclasses.replace(SMALL, precision=precision)
+    result = train({"virtual": motion_clips(3, 2).clips}, {"virtual": 3}, dataclasses.replace(config, epochs=1))
+    stem = result.model.backbone.features[0].weight
+    assert stem.is_contiguous(memory_format=torch.channels_last) == channels_last
+
+
+def test_fit_epochs_scales_every_stream_by_one_factor_only_when_over_the_budget():
+    epochs, per_epoch = {"flow": 120, "rgb": 40}, {"flow": 5.0, "rgb": 7.5}  # 600 + 300 s
+    assert fit_epochs(epochs, per_epoch, 900.0) == epochs
+    assert fit_epochs(epochs, per_epoch, 450.0) == {"flow": 60, "rgb": 20}
+    assert fit_epochs(epochs, per_epoch, 1.0) == {"flow": 1, "rgb": 1}  # at least one each
+
+
+def test_an_epoch_probe_times_the_stream_and_leaves_training_as_it_was():
+    clips = motion_clips(3, 4).clips
+    before = _weights(train({"virtual": clips}, {"virtual": 3}, SMALL).model)
+    rgb = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, rgb_diff=True, distill=1.0)
+    assert epoch_seconds({"virtual": clips}, {"virtual": 3}, SMALL, steps=2, warm=1) > 0
+    assert epoch_seconds({"virtual": clips}, {"virtual": 3}, rgb, teacher=SMALL, steps=2, warm=1) > 0
+    after = _weights(train({"virtual": clips}, {"virtual": 3}, SMALL).model)
+    assert all(torch.equal(before[k], after[k]) for k in before)
+
+
+def test_the_check_fits_its_epochs_to_a_budget_it_cannot_meet_and_resumes_with_them(tmp_path):
+    clips = motion_clips(3, 10)
+    roomy = run_learnability(clips, LearnOptions(epochs=2, budget_minutes=5, threads=1, streams=("flow",)))
+    assert roomy.epochs == {"flow": 2} and not roomy.fitted
+    tight = LearnOptions(epochs=100_000, budget_minutes=0.05, threads=1, streams=("flow",), out_dir=tmp_path)
+    result = run_learnability(clips, tight)
+    assert result.fitted and 1 <= result.epochs["flow"] < 100_000
+    # A rerun takes the epochs its checkpoint was started with, whatever a new probe says.
+    configs = planned_configs(tight.config(1), ["flow"], clips.clips, 3, 1e9, tmp_path)
+    started = load_checkpoint(tmp_path / "flow.pt")["config"]["epochs"]
+    assert configs["flow"].epochs == started < 100_000
 
 
 def test_chance_is_uniform_guessing_or_the_agreement_of_the_marginals():
@@ -444,6 +491,18 @@ def test_the_rgb_stream_takes_its_own_epochs():
     assert config.for_stream("rgb").epochs == 40 and config.for_stream("flow").epochs == 80
     assert TrainConfig(stream="rgb", epochs=80).for_stream("rgb").epochs == 80  # None: the same epochs
     assert config.for_stream("flow").rgb_frames == 1  # the RGB-only settings leave the flow stream
+
+
+@pytest.mark.parametrize(
+    ("flags", "expected"),
+    [({"avx512_bf16", "amx_bf16", "amx_tile"}, "bf16"), ({"avx512f", "avx512_bf16"}, "fp32"), (set(), "fp32")],
+)
+def test_bfloat16_is_the_cpu_default_only_with_amx(monkeypatch, flags, expected):
+    """AVX-512 BF16 alone made a training step slower than float32 (docs/learnability.md)."""
+    import phav_validators.learn.train as train_module
+
+    monkeypatch.setattr(train_module, "_cpu_flags", lambda: flags)
+    assert default_precision("cpu") == expected
 
 
 def test_the_recommended_settings_follow_the_streams_trained():
