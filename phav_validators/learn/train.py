@@ -582,13 +582,14 @@ def epoch_seconds(
     *,
     teacher: TrainConfig | None = None,
     steps: int = 4,
-    warm: int = 2,
     device: str = "cpu",
 ) -> float:
     """Seconds one epoch of ``config`` takes on this machine: ``steps`` mini-batches of a
-    throwaway model timed after ``warm`` (with an untrained flow model as the ``teacher``
-    when the stream distils), scaled to an epoch's steps. For planning a time budget:
-    nothing of the probe reaches a trained model's weights or random draws."""
+    throwaway model (with an untrained flow model as the ``teacher`` when the stream
+    distils), timed on a second pass over the same clips so that work done once per clip
+    (its flow medians) or once per process is not counted, scaled to an epoch's steps.
+    For planning a time budget: nothing of the probe reaches a trained model's weights or
+    random draws."""
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
 
@@ -601,11 +602,12 @@ def epoch_seconds(
         batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
         run = _Run(data, heads, config, "", model, _optimizer(model, config), rng, gen, batches, dev, mentor)
         model.train()
-        start = 0.0
-        for step in range(warm + steps):
-            if step == warm:
-                start = time.perf_counter()
-            run._step(0, step, *run._cut())
+        picked = [batches.next() for _ in range(steps)]
+        for step, batch in enumerate(picked):
+            run._step(0, step, *run._cut(batch))
+        start = time.perf_counter()
+        for step, batch in enumerate(picked):
+            run._step(0, step, *run._cut(batch))
         return (time.perf_counter() - start) / steps * run.steps_per_epoch
 
 
@@ -758,9 +760,12 @@ class _Run:
         return Epoch(epoch + 1, {n: s / max(k, 1) for n, (s, k) in sums.items()}, correct / max(seen, 1),
                      time.perf_counter() - start)  # fmt: skip
 
-    def _cut(self) -> tuple[list[tuple[str, int]], list[tuple[np.ndarray, dict[str, np.ndarray]]]]:
-        """The next mini-batch and its clips' snippets and targets (random crops and flips)."""
-        batch = self.batches.next()
+    def _cut(
+        self, batch: list[tuple[str, int]] | None = None
+    ) -> tuple[list[tuple[str, int]], list[tuple[np.ndarray, dict[str, np.ndarray]]]]:
+        """The next mini-batch (or ``batch``) and its clips' snippets and targets (random
+        crops and flips)."""
+        batch = self.batches.next() if batch is None else batch
         teacher = self.teacher.config if self.teacher is not None else None
         return batch, [snippets_and_targets(self.data[s][i], self.config, rng=self.rng, teacher=teacher)
                        for s, i in batch]  # fmt: skip
