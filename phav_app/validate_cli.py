@@ -70,11 +70,7 @@ def validate(
         bool, typer.Option("--details", help="Print per-variable histograms and the protagonist-size histogram.")
     ] = False,
     learn_minutes: Annotated[
-        float,
-        typer.Option(
-            help="learnability: minutes of CPU training, all streams together; a machine too slow "
-            "for the epochs gets them scaled down to fit."
-        ),
+        float, typer.Option(help="learnability: minutes of CPU training, all streams together.")
     ] = LearnOptions.budget_minutes,
     learn_epochs: Annotated[
         int, typer.Option(min=1, help="learnability: epochs of the flow stream (within the minutes).")

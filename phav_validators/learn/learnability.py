@@ -27,17 +27,14 @@ from phav_spec.manifest import load_manifest
 from phav_spec.seeding import seeded_rng
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 from phav_validators.learn.config import ProgressFactory
-from phav_validators.learn.data import DEFAULT_SIZE, Clip, ClipSet, load_phav
+from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
 from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import (
     PRECISIONS,
     RECOMMENDED,
     TrainConfig,
     default_threads,
-    epoch_seconds,
-    fit_epochs,
     fuse,
-    load_checkpoint,
     predict,
     recommended_config,
     stream_order,
@@ -59,9 +56,8 @@ class LearnOptions:
     epochs: int = RECOMMENDED.epochs
     #: The RGB stream's epochs (None: in ``RECOMMENDED``'s proportion to ``epochs``).
     rgb_epochs: int | None = None
-    #: Minutes of training for all streams together (each stream gets its share). Where the
-    #: epochs would take longer on this machine (a short probe says), they are scaled down to
-    #: fit, so that every schedule ends; stopping at the budget stays as a safety net.
+    #: Minutes of training for all streams together (each stream gets its share); a safety
+    #: stop: the default epochs take ~14 minutes on 2 cores with bfloat16.
     budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     flow: str = "gt"
@@ -110,8 +106,6 @@ class LearnResult:
     keys: list[str] = field(default_factory=list)  # the test clips' video ids, in ``labels`` order
     settings: dict[str, Any] = field(default_factory=dict)  # the base TrainConfig, as JSON
     epochs: dict[str, int] = field(default_factory=dict)  # stream → epochs trained
-    #: Whether the epochs were scaled down to fit the budget on this machine (``planned_configs``).
-    fitted: bool = False
 
     def accuracy(self, stream: str | None = None) -> float:
         probs = self.fused if stream is None else self.scores[stream]
@@ -216,13 +210,11 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
         base = opts.config(threads)
         teacher = None
         order = stream_order(opts.streams, base)
-        configs = planned_configs(base, order, train_clips, len(clips.classes), opts.budget_minutes * 60.0, out)
-        fitted = any(configs[s].epochs < base.for_stream(s).epochs for s in order)
         for i, stream in enumerate(order):
-            config = configs[stream]
+            config = base.for_stream(stream)
             # Each stream may use what the streams before it left, less the later streams'
             # shares: the time is shared in proportion to the streams' epochs.
-            later = sum(configs[s].epochs for s in order[i:])
+            later = sum(base.for_stream(s).epochs for s in order[i:])
             budget = (opts.budget_minutes * 60.0 - seconds) * config.epochs / later
             advance = progress(f"learnability: training {stream}", config.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
@@ -239,31 +231,7 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
     chance = chance_level(labels, fused.argmax(1), len(clips.classes))
     p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
     return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
-                       split.held_out, [c.key for c in test_clips], base.to_json(), epochs, fitted)  # fmt: skip
-
-
-def planned_configs(
-    base: TrainConfig, order: Sequence[str], clips: Sequence[Clip], classes: int, budget_s: float, out: Path
-) -> dict[str, TrainConfig]:
-    """Each stream's settings with its epochs scaled so that every schedule ends within
-    ``budget_s`` on this machine (``fit_epochs`` on probed epoch times; unchanged where they
-    fit). A stream with a checkpoint in ``out`` keeps the epochs it started with, so a rerun
-    resumes it whatever the probe says."""
-    configs = {s: base.for_stream(s) for s in order}
-    started = {s: _checkpoint_epochs(out / f"{s}.pt") for s in order}
-    if all(n is not None for n in started.values()):
-        return {s: dataclasses.replace(c, epochs=started[s]) for s, c in configs.items()}
-    data, heads = {"virtual": clips}, {"virtual": classes}
-    teacher = configs.get("flow") if base.distill > 0 else None
-    per_epoch = {s: epoch_seconds(data, heads, c, teacher=teacher if s == "rgb" else None) for s, c in configs.items()}
-    # 5 % kept back for what the probe does not see: checkpoints, progress, the test passes.
-    fitted = fit_epochs({s: c.epochs for s, c in configs.items()}, per_epoch, 0.95 * budget_s)
-    return {s: dataclasses.replace(c, epochs=started[s] or fitted[s]) for s, c in configs.items()}
-
-
-def _checkpoint_epochs(path: Path) -> int | None:
-    """The epochs of the schedule a checkpoint was trained on (None: no checkpoint there)."""
-    return int(load_checkpoint(path)["config"]["epochs"]) if path.exists() else None
+                       split.held_out, [c.key for c in test_clips], base.to_json(), epochs)  # fmt: skip
 
 
 def check_learnability(
@@ -294,10 +262,6 @@ def check_learnability(
             f"binomial p = {result.p_value:.2g}; needs p < {opts.alpha:g} and ≥ {opts.min_over_chance:g}× chance",
             file=str(root), numbers={"accuracy": fused, "chance": result.chance, "p_value": result.p_value},
         ))  # fmt: skip
-    if result.fitted:
-        report.notes.append(f"the epochs were scaled to fit the {opts.budget_minutes:g}-minute budget on this "
-                            f"machine ({', '.join(f'{s} {n}' for s, n in result.epochs.items())}): the result "
-                            f"depends on this machine's speed")  # fmt: skip
     if result.stopped_on_time:
         report.notes.append(f"training stopped at the {opts.budget_minutes:g}-minute budget before its "
                             f"epochs were done: the result depends on this machine's speed")  # fmt: skip

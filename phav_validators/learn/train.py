@@ -575,53 +575,6 @@ def train(
         return result
 
 
-def epoch_seconds(
-    data: Mapping[str, Sequence[Clip]],
-    heads: Mapping[str, int],
-    config: TrainConfig,
-    *,
-    teacher: TrainConfig | None = None,
-    steps: int = 4,
-    device: str = "cpu",
-) -> float:
-    """Seconds one epoch of ``config`` takes on this machine: ``steps`` mini-batches of a
-    throwaway model (with an untrained flow model as the ``teacher`` when the stream
-    distils), timed on a second pass over the same clips so that work done once per clip
-    (its flow medians) or once per process is not counted, scaled to an epoch's steps.
-    For planning a time budget: nothing of the probe reaches a trained model's weights or
-    random draws."""
-    require_torch()
-    import torch  # optional extra phav[train]: only training needs torch
-
-    dev = torch_device(device)
-    with torch_threads(config.threads):
-        gen = torch.Generator().manual_seed(config.seed)
-        model = _model(config, heads, None, gen, dev)
-        mentor = Teacher(_model(teacher, heads, None, gen, dev), teacher) if teacher is not None else None
-        rng = seeded_rng(config.seed, 0x9B0BE)
-        batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
-        run = _Run(data, heads, config, "", model, _optimizer(model, config), rng, gen, batches, dev, mentor)
-        model.train()
-        picked = [batches.next() for _ in range(steps)]
-        for step, batch in enumerate(picked):
-            run._step(0, step, *run._cut(batch))
-        start = time.perf_counter()
-        for step, batch in enumerate(picked):
-            run._step(0, step, *run._cut(batch))
-        return (time.perf_counter() - start) / steps * run.steps_per_epoch
-
-
-def fit_epochs(epochs: Mapping[str, int], seconds_per_epoch: Mapping[str, float], budget_s: float) -> dict[str, int]:
-    """Each stream's epochs scaled by one factor so that all of them fit in ``budget_s``
-    (unchanged when they already fit; at least one each): a cosine schedule that ends
-    inside the budget beats a longer one cut off before its learning rate has decayed."""
-    needed = sum(epochs[s] * seconds_per_epoch[s] for s in epochs)
-    if needed <= budget_s:
-        return dict(epochs)
-    factor = budget_s / needed
-    return {s: max(1, math.floor(n * factor)) for s, n in epochs.items()}
-
-
 def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | None, gen: Any, dev: Any) -> Any:
     """The TSN, initialised from ``gen`` (its backbone from ``init`` for TSN-FT), on ``dev``."""
     from phav_validators.learn.model import TSN, channels_last  # imports torch: optional extra phav[train]
@@ -760,12 +713,9 @@ class _Run:
         return Epoch(epoch + 1, {n: s / max(k, 1) for n, (s, k) in sums.items()}, correct / max(seen, 1),
                      time.perf_counter() - start)  # fmt: skip
 
-    def _cut(
-        self, batch: list[tuple[str, int]] | None = None
-    ) -> tuple[list[tuple[str, int]], list[tuple[np.ndarray, dict[str, np.ndarray]]]]:
-        """The next mini-batch (or ``batch``) and its clips' snippets and targets (random
-        crops and flips)."""
-        batch = self.batches.next() if batch is None else batch
+    def _cut(self) -> tuple[list[tuple[str, int]], list[tuple[np.ndarray, dict[str, np.ndarray]]]]:
+        """The next mini-batch and its clips' snippets and targets (random crops and flips)."""
+        batch = self.batches.next()
         teacher = self.teacher.config if self.teacher is not None else None
         return batch, [snippets_and_targets(self.data[s][i], self.config, rng=self.rng, teacher=teacher)
                        for s, i in batch]  # fmt: skip

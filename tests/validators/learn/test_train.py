@@ -11,13 +11,7 @@ import torch
 
 from phav_spec.errors import PhavUserError
 from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
-from phav_validators.learn.learnability import (
-    LearnOptions,
-    binomial_p,
-    chance_level,
-    planned_configs,
-    run_learnability,
-)
+from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
 from phav_validators.learn.train import (
     RECOMMENDED,
     MixedBatches,
@@ -25,9 +19,6 @@ from phav_validators.learn.train import (
     TrainConfig,
     _fingerprint,
     default_precision,
-    epoch_seconds,
-    fit_epochs,
-    load_checkpoint,
     motion_window,
     predict,
     recommended_config,
@@ -192,36 +183,6 @@ def test_float32_trains_channels_last_and_bfloat16_in_the_default_layout(precisi
     result = train({"virtual": motion_clips(3, 2).clips}, {"virtual": 3}, dataclasses.replace(config, epochs=1))
     stem = result.model.backbone.features[0].weight
     assert stem.is_contiguous(memory_format=torch.channels_last) == channels_last
-
-
-def test_fit_epochs_scales_every_stream_by_one_factor_only_when_over_the_budget():
-    epochs, per_epoch = {"flow": 120, "rgb": 40}, {"flow": 5.0, "rgb": 7.5}  # 600 + 300 s
-    assert fit_epochs(epochs, per_epoch, 900.0) == epochs
-    assert fit_epochs(epochs, per_epoch, 450.0) == {"flow": 60, "rgb": 20}
-    assert fit_epochs(epochs, per_epoch, 1.0) == {"flow": 1, "rgb": 1}  # at least one each
-
-
-def test_an_epoch_probe_times_the_stream_and_leaves_training_as_it_was():
-    clips = motion_clips(3, 4).clips
-    before = _weights(train({"virtual": clips}, {"virtual": 3}, SMALL).model)
-    rgb = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, rgb_diff=True, distill=1.0)
-    assert epoch_seconds({"virtual": clips}, {"virtual": 3}, SMALL, steps=2) > 0
-    assert epoch_seconds({"virtual": clips}, {"virtual": 3}, rgb, teacher=SMALL, steps=2) > 0
-    after = _weights(train({"virtual": clips}, {"virtual": 3}, SMALL).model)
-    assert all(torch.equal(before[k], after[k]) for k in before)
-
-
-def test_the_check_fits_its_epochs_to_a_budget_it_cannot_meet_and_resumes_with_them(tmp_path):
-    clips = motion_clips(3, 10)
-    roomy = run_learnability(clips, LearnOptions(epochs=2, budget_minutes=5, threads=1, streams=("flow",)))
-    assert roomy.epochs == {"flow": 2} and not roomy.fitted
-    tight = LearnOptions(epochs=100_000, budget_minutes=0.05, threads=1, streams=("flow",), out_dir=tmp_path)
-    result = run_learnability(clips, tight)
-    assert result.fitted and 1 <= result.epochs["flow"] < 100_000
-    # A rerun takes the epochs its checkpoint was started with, whatever a new probe says.
-    configs = planned_configs(tight.config(1), ["flow"], clips.clips, 3, 1e9, tmp_path)
-    started = load_checkpoint(tmp_path / "flow.pt")["config"]["epochs"]
-    assert configs["flow"].epochs == started < 100_000
 
 
 def test_chance_is_uniform_guessing_or_the_agreement_of_the_marginals():
