@@ -1,6 +1,7 @@
 """Milliseconds per training step of the TSN model alone (no snippet cutting) under each
 arithmetic and layout: float32, channels-last, bfloat16 autocast, two smaller networks,
-and in bfloat16 the backbones of the width/depth and temporal-model experiments
+then, in this machine's default arithmetic (bfloat16 with AMX, else float32 channels-last),
+the backbones of the width/depth and temporal-model experiments and the stored sizes
 (docs/learnability.md).
 
     .venv/bin/python docs/measure/train_speed.py --threads 2
@@ -15,18 +16,30 @@ import torch
 
 from phav_validators.learn.config import Architecture
 from phav_validators.learn.model import TSN
+from phav_validators.learn.model import channels_last as channels_last_weights
+from phav_validators.learn.train import crop_box, default_precision
 
 
-def step_ms(arch: Architecture, *, bf16: bool, channels_last: bool, channels: int, steps: int, warm: int) -> float:
+def step_ms(
+    arch: Architecture,
+    *,
+    bf16: bool,
+    channels_last: bool,
+    channels: int,
+    steps: int,
+    warm: int,
+    size: tuple[int, int] = (85, 64),
+) -> float:
     """Mean milliseconds of one forward, backward and SGD step on a batch of 32 clips × 3
-    snippets of ``channels`` × 56 × 74 (a 7/8 crop of 85×64), after ``warm`` steps."""
+    snippets of ``channels`` × the 7/8 crop of ``size`` (56 × 74 for 85×64), after ``warm`` steps."""
     gen = torch.Generator().manual_seed(0)
     model = TSN(channels, {"virtual": 35}, arch, generator=gen)
     opt = torch.optim.SGD(model.parameters(), lr=0.01, momentum=0.9)
-    x = torch.randn(32 * 3, channels, 56, 74, generator=gen)
+    height, width = crop_box((size[1], size[0]), 0.875)
+    x = torch.randn(32 * 3, channels, height, width, generator=gen)
     y = torch.randint(0, 35, (32,), generator=gen)
     if channels_last:
-        model = model.to(memory_format=torch.channels_last)
+        channels_last_weights(model)  # as training does: the 2D convolutions' weights only
         x = x.contiguous(memory_format=torch.channels_last)
     times = []
     for _ in range(warm + steps):
@@ -49,27 +62,31 @@ def main() -> None:
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
     rows = [
-        ("float32", Architecture(), False, False),
-        ("float32, channels-last", Architecture(), False, True),
-        ("bfloat16 autocast", Architecture(), True, False),
-        ("bfloat16 autocast, channels-last", Architecture(), True, True),
-        ("float32, max-pool after the stem", Architecture(stem_pool=True), False, False),
-        ("float32, widths 24-48-96-192", Architecture(widths=(24, 48, 96, 192)), False, False),
-        ("bfloat16, widths 48-96-192-256", Architecture(widths=(48, 96, 192, 256)), True, False),
-        (
-            "bfloat16, widths 32-64-128-192-256 (a block more)",
-            Architecture(widths=(32, 64, 128, 192, 256)),
-            True,
-            False,
-        ),
-        ("bfloat16, temporal shift (K = 3)", Architecture(temporal_shift=True), True, False),
-        ("bfloat16, (2+1)D temporal convolution (K = 3)", Architecture(temporal_conv=True), True, False),
+        ("float32", Architecture(), False, False, (85, 64)),
+        ("float32, channels-last", Architecture(), False, True, (85, 64)),
+        ("bfloat16 autocast", Architecture(), True, False, (85, 64)),
+        ("bfloat16 autocast, channels-last", Architecture(), True, True, (85, 64)),
+        ("float32, max-pool after the stem", Architecture(stem_pool=True), False, False, (85, 64)),
+        ("float32, widths 24-48-96-192", Architecture(widths=(24, 48, 96, 192)), False, False, (85, 64)),
     ]
+    here = default_precision() == "bf16"
+    arithmetic = "bfloat16" if here else "float32, channels-last"
+    deeper = Architecture(widths=(32, 64, 128, 192, 256))
+    experiments = [
+        (f"{arithmetic} (this machine's default)", Architecture(), (85, 64)),
+        (f"{arithmetic}, widths 48-96-192-256", Architecture(widths=(48, 96, 192, 256)), (85, 64)),
+        (f"{arithmetic}, widths 32-64-128-192-256 (a block more)", deeper, (85, 64)),
+        (f"{arithmetic}, temporal shift (K = 3)", Architecture(temporal_shift=True), (85, 64)),
+        (f"{arithmetic}, (2+1)D temporal convolution (K = 3)", Architecture(temporal_conv=True), (85, 64)),
+        (f"{arithmetic}, stored at 128×96", Architecture(), (128, 96)),
+        (f"{arithmetic}, stored at 170×128", Architecture(), (170, 128)),
+    ]
+    rows += [(name, arch, here, not here, size) for name, arch, size in experiments]
     base = None
     print("| network, arithmetic / layout | ms per step | against float32 |")
     print("| --- | ---: | ---: |")
-    for name, arch, bf16, last in rows:
-        ms = step_ms(arch, bf16=bf16, channels_last=last, channels=args.channels, steps=args.steps, warm=3)
+    for name, arch, bf16, last, size in rows:
+        ms = step_ms(arch, bf16=bf16, channels_last=last, channels=args.channels, steps=args.steps, warm=3, size=size)
         base = base or ms
         print(f"| {name} | {ms:.0f} | {ms / base:.2f} |", flush=True)
 
