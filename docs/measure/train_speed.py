@@ -11,13 +11,15 @@ from __future__ import annotations
 
 import argparse
 import time
+from collections.abc import Iterable
 
 import torch
 
 from phav_validators.learn.config import Architecture
+from phav_validators.learn.data import DEFAULT_SIZE
 from phav_validators.learn.model import TSN
 from phav_validators.learn.model import channels_last as channels_last_weights
-from phav_validators.learn.train import crop_box, default_precision
+from phav_validators.learn.train import TrainConfig, crop_box, default_precision
 
 
 def step_ms(
@@ -28,14 +30,14 @@ def step_ms(
     channels: int,
     steps: int,
     warm: int,
-    size: tuple[int, int] = (85, 64),
+    size: tuple[int, int] = DEFAULT_SIZE,
 ) -> float:
     """Mean milliseconds of one forward, backward and SGD step on a batch of 32 clips × 3
     snippets of ``channels`` × the 7/8 crop of ``size`` (56 × 74 for 85×64), after ``warm`` steps."""
     gen = torch.Generator().manual_seed(0)
     model = TSN(channels, {"virtual": 35}, arch, generator=gen)
     opt = torch.optim.SGD(model.parameters(), lr=0.01, momentum=0.9)
-    height, width = crop_box((size[1], size[0]), 0.875)
+    height, width = crop_box((size[1], size[0]), TrainConfig.crop)
     x = torch.randn(32 * 3, channels, height, width, generator=gen)
     y = torch.randint(0, 35, (32,), generator=gen)
     if channels_last:
@@ -61,32 +63,48 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=7)
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
-    rows = [
-        ("float32", Architecture(), False, False, (85, 64)),
-        ("float32, channels-last", Architecture(), False, True, (85, 64)),
-        ("bfloat16 autocast", Architecture(), True, False, (85, 64)),
-        ("bfloat16 autocast, channels-last", Architecture(), True, True, (85, 64)),
-        ("float32, max-pool after the stem", Architecture(stem_pool=True), False, False, (85, 64)),
-        ("float32, widths 24-48-96-192", Architecture(widths=(24, 48, 96, 192)), False, False, (85, 64)),
+    timed = {"channels": args.channels, "steps": args.steps, "warm": 3}
+    arithmetics = [
+        ("float32", Architecture(), False, False),
+        ("float32, channels-last", Architecture(), False, True),
+        ("bfloat16 autocast", Architecture(), True, False),
+        ("bfloat16 autocast, channels-last", Architecture(), True, True),
+        ("float32, max-pool after the stem", Architecture(stem_pool=True), False, False),
+        ("float32, widths 24-48-96-192", Architecture(widths=(24, 48, 96, 192)), False, False),
     ]
+    print_table(
+        "network, arithmetic / layout",
+        "against float32",
+        ((name, step_ms(arch, bf16=bf16, channels_last=last, **timed)) for name, arch, bf16, last in arithmetics),
+    )
     here = default_precision() == "bf16"
-    arithmetic = "bfloat16" if here else "float32, channels-last"
-    deeper = Architecture(widths=(32, 64, 128, 192, 256))
     experiments = [
-        (f"{arithmetic} (this machine's default)", Architecture(), (85, 64)),
-        (f"{arithmetic}, widths 48-96-192-256", Architecture(widths=(48, 96, 192, 256)), (85, 64)),
-        (f"{arithmetic}, widths 32-64-128-192-256 (a block more)", deeper, (85, 64)),
-        (f"{arithmetic}, temporal shift (K = 3)", Architecture(temporal_shift=True), (85, 64)),
-        (f"{arithmetic}, (2+1)D temporal convolution (K = 3)", Architecture(temporal_conv=True), (85, 64)),
-        (f"{arithmetic}, stored at 128×96", Architecture(), (128, 96)),
-        (f"{arithmetic}, stored at 170×128", Architecture(), (170, 128)),
+        ("the default network (32-64-128-192)", Architecture(), DEFAULT_SIZE),
+        ("widths 48-96-192-256", Architecture(widths=(48, 96, 192, 256)), DEFAULT_SIZE),
+        ("widths 32-64-128-192-256 (a block more)", Architecture(widths=(32, 64, 128, 192, 256)), DEFAULT_SIZE),
+        ("temporal shift (K = 3)", Architecture(temporal_shift=True), DEFAULT_SIZE),
+        ("(2+1)D temporal convolution (K = 3)", Architecture(temporal_conv=True), DEFAULT_SIZE),
+        ("stored at 128×96", Architecture(), (128, 96)),
+        ("stored at 170×128", Architecture(), (170, 128)),
     ]
-    rows += [(name, arch, here, not here, size) for name, arch, size in experiments]
-    base = None
-    print("| network, arithmetic / layout | ms per step | against float32 |")
+    print()
+    print_table(
+        f"network, in this machine's default arithmetic ({'bfloat16' if here else 'float32, channels-last'})",
+        "against the default network",
+        (
+            (name, step_ms(arch, bf16=here, channels_last=not here, size=size, **timed))
+            for name, arch, size in experiments
+        ),
+    )
+
+
+def print_table(first: str, ratio: str, rows: Iterable[tuple[str, float]]) -> None:
+    """A markdown table of milliseconds per step, each row also as a ratio to the first;
+    rows are printed as they are timed."""
+    print(f"| {first} | ms per step | {ratio} |")
     print("| --- | ---: | ---: |")
-    for name, arch, bf16, last, size in rows:
-        ms = step_ms(arch, bf16=bf16, channels_last=last, channels=args.channels, steps=args.steps, warm=3, size=size)
+    base = None
+    for name, ms in rows:
         base = base or ms
         print(f"| {name} | {ms:.0f} | {ms / base:.2f} |", flush=True)
 
