@@ -37,27 +37,26 @@ def compare_devices(
     seed: int = 0,
     **settings: Any,
 ) -> dict[str, Any]:
-    """Train ``stream`` on each device in float32 from the same seed; per device its losses,
-    seconds per epoch and test accuracy, and under ``difference`` how far the last device's
-    losses (relative) and test probabilities are from the first's."""
+    """Train ``stream`` on each device in float32 from the same seed; under ``runs`` per device
+    (in order) its losses, seconds per epoch and accuracies, and under ``difference`` how far
+    the last run's losses (relative) and test probabilities are from the first's."""
     labels = np.array([c.label for c in test])
-    losses, probs, figures = {}, {}, {}
+    losses, probs, runs = [], [], []
     for dev in devices:
         config = replace(recommended_config((stream,), device=dev, epochs=epochs, seed=seed, **settings),
                          precision="fp32")  # fmt: skip
         result = train({"virtual": train_clips}, {"virtual": n_classes}, config, device=dev)
-        probs[dev] = predict(result.model, test, config, "virtual", device=dev)
-        losses[dev] = np.array([e.losses["virtual"] for e in result.history])
-        figures[dev] = {"losses": losses[dev].tolist(), "epoch_seconds": [e.seconds for e in result.history],
-                        "train_clips": len(train_clips), "train_accuracy": result.history[-1].train_accuracy,
-                        "test_accuracy": float((probs[dev].argmax(1) == labels).mean())}  # fmt: skip
-    ref, other = devices[0], devices[-1]
-    figures["difference"] = {
-        "loss_relative": float((np.abs(losses[other] - losses[ref]) / np.abs(losses[ref])).max()),
-        "probability": float(np.abs(probs[other] - probs[ref]).max()),
-        "same_class": float((probs[other].argmax(1) == probs[ref].argmax(1)).mean()),
+        probs.append(predict(result.model, test, config, "virtual", device=dev))
+        losses.append(np.array([e.losses["virtual"] for e in result.history]))
+        runs.append({"device": dev, "losses": losses[-1].tolist(), "epoch_seconds": [e.seconds for e in result.history],
+                     "train_clips": len(train_clips), "train_accuracy": result.history[-1].train_accuracy,
+                     "test_accuracy": float((probs[-1].argmax(1) == labels).mean())})  # fmt: skip
+    difference = {
+        "loss_relative": float((np.abs(losses[-1] - losses[0]) / np.abs(losses[0])).max()),
+        "probability": float(np.abs(probs[-1] - probs[0]).max()),
+        "same_class": float((probs[-1].argmax(1) == probs[0].argmax(1)).mean()),
     }
-    return figures
+    return {"runs": runs, "difference": difference}
 
 
 def main() -> None:
@@ -81,9 +80,8 @@ def main() -> None:
           f"{args.stream} stream, {args.epochs} epochs, float32")  # fmt: skip
     figures = compare_devices(train_clips, test, len(clips.classes), devices, stream=args.stream, epochs=args.epochs,
                               seed=args.seed)  # fmt: skip
-    for dev in devices:
-        f = figures[dev]
-        print(f"{dev:>8}: losses {' '.join(f'{v:.4f}' for v in f['losses'])}; train {f['train_accuracy']:.1%}, "
+    for f in figures["runs"]:
+        print(f"{f['device']:>8}: losses {' '.join(f'{v:.4f}' for v in f['losses'])}; train {f['train_accuracy']:.1%}, "
               f"test {f['test_accuracy']:.1%}; {np.mean(f['epoch_seconds']):.2f} s/epoch")  # fmt: skip
     d = figures["difference"]
     print(f"{devices[-1]} against {devices[0]}: loss per epoch differs by {d['loss_relative']:.2e} at most "

@@ -2,13 +2,29 @@
 
 from __future__ import annotations
 
+import importlib.util
 import math
+import sys
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 
 from phav_validators.learn.data import Clip, ClipSet
 from tests.helpers import run_cli
+
+#: docs/measure: the experiment scripts behind docs/learnability.md's tables.
+MEASURE = Path(__file__).parents[3] / "docs" / "measure"
+
+
+def measure_script(name: str) -> ModuleType:
+    """The script ``docs/measure/<name>.py`` imported as module ``name`` (registered in
+    ``sys.modules``, where its dataclasses look themselves up)."""
+    spec = importlib.util.spec_from_file_location(name, MEASURE / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
 
 
 def tiny_phav(tmp_path_factory) -> Path:

@@ -4,24 +4,14 @@ against the CPU up to the order of sums (there is none in CI: that case skips)."
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import pytest
 
-from tests.validators.learn.helpers import motion_clips
-
-SCRIPT = Path(__file__).parents[3] / "docs" / "measure" / "device_parity.py"
+from tests.validators.learn.helpers import measure_script, motion_clips
 
 
 @pytest.fixture(scope="module")
 def script():
-    spec = importlib.util.spec_from_file_location("device_parity", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
+    return measure_script("device_parity")
 
 
 @pytest.fixture(scope="module")
@@ -34,9 +24,10 @@ def test_one_device_twice_gives_identical_figures(script, clips):
     train_clips, test, n = clips
     figures = script.compare_devices(train_clips, test, n, ["cpu", "cpu"], epochs=2, widths=(8, 16), threads=1)
     assert figures["difference"] == {"loss_relative": 0.0, "probability": 0.0, "same_class": 1.0}
-    cpu = figures["cpu"]
-    assert len(cpu["losses"]) == len(cpu["epoch_seconds"]) == 2 and cpu["train_clips"] == len(train_clips)
-    assert all(loss > 0 for loss in cpu["losses"])
+    first, second = figures["runs"]  # two runs, each kept: the second does not overwrite the first
+    assert first["device"] == second["device"] == "cpu" and first["losses"] == second["losses"]
+    assert len(first["losses"]) == len(first["epoch_seconds"]) == 2 and first["train_clips"] == len(train_clips)
+    assert all(loss > 0 for loss in first["losses"])
 
 
 def test_cuda_learns_what_the_cpu_learns(script, clips):

@@ -3,25 +3,17 @@ tables: its cell syntax and one cell on tiny synthetic clips (the real runs take
 
 from __future__ import annotations
 
-import importlib.util
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.validators.learn.helpers import motion_clips
-
-SCRIPT = Path(__file__).parents[3] / "docs" / "measure" / "learn_experiments.py"
+from tests.validators.learn.helpers import measure_script, motion_clips
 
 
 @pytest.fixture(scope="module")
 def script():
-    spec = importlib.util.spec_from_file_location("learn_experiments", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look themselves up there
-    spec.loader.exec_module(module)
-    return module
+    return measure_script("learn_experiments")
 
 
 def test_a_cell_names_clips_size_and_any_training_setting(script):
@@ -61,9 +53,7 @@ def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script, tmp_path):
 
 
 def test_the_speed_script_times_a_step_under_each_arithmetic():
-    spec = importlib.util.spec_from_file_location("train_speed", SCRIPT.with_name("train_speed.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = measure_script("train_speed")
     from phav_validators.learn.config import Architecture
 
     for bf16, last, temporal in ((False, False, {}), (True, True, {}), (True, False, {"temporal_conv": True})):
@@ -77,9 +67,7 @@ def test_the_factor_presets_change_one_theta_key_each_and_are_valid(tmp_path):
 
     from phav_spec.theta import PRESETS_DIR, load_theta, parse_theta
 
-    spec = importlib.util.spec_from_file_location("theta_factors", SCRIPT.with_name("theta_factors.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = measure_script("theta_factors")
     base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
     found = module.variants(base)
     assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "clear", "one-motion"}
@@ -97,9 +85,7 @@ def test_the_factor_presets_change_one_theta_key_each_and_are_valid(tmp_path):
 def test_the_pair_sheet_stacks_each_videos_frames_over_their_flow(phav, tmp_path, monkeypatch):
     from phav_spec.manifest import load_manifest
 
-    spec = importlib.util.spec_from_file_location("pair_sheet", SCRIPT.with_name("pair_sheet.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = measure_script("pair_sheet")
     videos = sorted(v.video_id for v in load_manifest(phav / "manifest.json").videos)[:2]
     out = tmp_path / "pair.png"
     monkeypatch.setattr(sys, "argv", ["pair_sheet", str(phav), *videos, "--label", "a", "--frames", "3",
