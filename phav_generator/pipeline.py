@@ -74,7 +74,8 @@ def write_part(task: VideoTask, recipe: Recipe, frames: Iterator[RenderedFrame],
     with open_part(part_path(parts, recipe.video_id, "tar.part")) as part:
         for rf in frames:
             hashes.add(rf.index, rf.modalities)
-            part.add_frame(recipe.video_id, rf.index, rf.modalities, frame_json(rf.camera, rf.people))
+            meta = frame_json(rf.camera, rf.people)
+            part.add_frame(recipe.video_id, rf.index, rf.modalities, meta, recipe.render.png_compression)
             rows["cameras"].append(rf.camera)
             rows["people"] += rf.people
             crash_point(f"part:{recipe.video_id}:{rf.index}")

@@ -553,10 +553,11 @@ class PeopleTheta(BaseModel):
 
 
 class RenderSettings(BaseModel):
-    """Post-processing of the RGB stream (paper Section "Rendered RGB Frames")."""
+    """The RGB stream's supersampling and post-processing (paper Section "Rendered RGB
+    Frames"), and the PNGs' zlib level; labels, depth and flow are always one sample a pixel."""
 
     model_config = _FROZEN
-    supersampling: int = Field(2, ge=1, le=4)
+    supersampling: Literal[1, 2, 4] = 2
     motion_blur: bool = True
     bloom: bool = True
     ambient_occlusion: bool = True

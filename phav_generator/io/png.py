@@ -20,20 +20,23 @@ from phav_spec.webdataset import decode_png
 
 __all__ = ["PNG_LEVEL", "decode_png", "encode_png"]
 
-#: zlib level of every PNG the generator writes.
+#: zlib level of the generator's PNGs unless θ's ``render.png_compression`` says otherwise.
 PNG_LEVEL = 1
 #: Modalities written with zlib's default strategy rather than RLE (see the module doc).
 _DEFAULT_STRATEGY = frozenset({"flow"})
 
 
-def _params(name: str) -> list[int]:
+def _params(name: str, level: int) -> list[int]:
     strategy = cv2.IMWRITE_PNG_STRATEGY_DEFAULT if name in _DEFAULT_STRATEGY else cv2.IMWRITE_PNG_STRATEGY_RLE
-    return [cv2.IMWRITE_PNG_COMPRESSION, PNG_LEVEL, cv2.IMWRITE_PNG_FILTER, cv2.IMWRITE_PNG_FILTER_SUB,
+    return [cv2.IMWRITE_PNG_COMPRESSION, level, cv2.IMWRITE_PNG_FILTER, cv2.IMWRITE_PNG_FILTER_SUB,
             cv2.IMWRITE_PNG_STRATEGY, strategy]  # fmt: skip
 
 
-def encode_png(array: np.ndarray, encoding: ModalityEncoding) -> bytes:
-    """One modality array (H, W) or (H, W, 3), of the encoding's dtype, as PNG bytes."""
+def encode_png(array: np.ndarray, encoding: ModalityEncoding, level: int = PNG_LEVEL) -> bytes:
+    """One modality array (H, W) or (H, W, 3), of the encoding's dtype, as PNG bytes at zlib
+    ``level`` (0–9: the bytes change, the decoded pixels and so the content hash do not)."""
+    if not 0 <= level <= 9:
+        raise ValueError(f"PNG compression level must be 0–9, got {level}")
     want = (encoding.channels,) if encoding.channels == 3 else ()
     if array.dtype != np.dtype(encoding.dtype) or array.ndim != 2 + len(want) or array.shape[2:] != want:
         raise ValueError(
@@ -41,7 +44,7 @@ def encode_png(array: np.ndarray, encoding: ModalityEncoding) -> bytes:
             f"got {array.dtype} of shape {array.shape}"
         )
     image = np.ascontiguousarray(array[..., ::-1]) if encoding.channels == 3 else np.ascontiguousarray(array)
-    ok, data = cv2.imencode(".png", image, _params(encoding.name))
+    ok, data = cv2.imencode(".png", image, _params(encoding.name, level))
     if not ok:
         raise RuntimeError(f"{encoding.name}: OpenCV could not encode the PNG")
     return data.tobytes()

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
-from phav_generator.io.png import encode_png
+from phav_generator.io.png import PNG_LEVEL, encode_png
 from phav_spec.encoding import MODALITIES
 from phav_spec.files import atomic_write
 
@@ -103,11 +103,14 @@ class ShardWriter:
                 self._sink.write(chunk)
                 self.size += len(chunk)
 
-    def add_frame(self, video_id: str, frame: int, modalities: dict, frame_meta: bytes) -> None:
-        """One WebDataset sample ``{video_id}/{frame:05d}``: six PNGs and the json metadata."""
+    def add_frame(
+        self, video_id: str, frame: int, modalities: dict, frame_meta: bytes, png_level: int = PNG_LEVEL
+    ) -> None:
+        """One WebDataset sample ``{video_id}/{frame:05d}``: six PNGs (zlib ``png_level``) and
+        the json metadata."""
         key = f"{video_id}/{frame:05d}"
         for m in MODALITIES:
-            self.add(f"{key}.{m.key}", encode_png(modalities[m.name], m))
+            self.add(f"{key}.{m.key}", encode_png(modalities[m.name], m, png_level))
         self.add(f"{key}.json", frame_meta)
 
 

@@ -32,6 +32,7 @@ from phav_generator.render.lighting import MAX_LAMPS, Lighting
 from phav_generator.render.meshes import Mesh
 from phav_generator.render.shaders import shader_source, with_features
 from phav_spec.seeding import seeded_rng
+from phav_spec.theta import RenderSettings
 
 #: Surface kinds the shader treats differently (``Drawable.material``).
 MATTE, GROUND, WATER, EMISSIVE = 0, 1, 2, 3
@@ -115,7 +116,7 @@ class Frame:
 
 @dataclass(frozen=True)
 class PostSettings:
-    """The RGB modality's post-processing; ``neutral`` switches every effect off."""
+    """The RGB modality's post-processing: each effect's strength, 0 (or False) for off."""
 
     motion_blur: float = 0.5
     ambient_occlusion: float = 0.45
@@ -124,10 +125,24 @@ class PostSettings:
     grade_gain: tuple[float, float, float] = (1.02, 1.0, 0.98)
     grade_lift: float = 0.01
     saturation: float = 1.08
+    #: Screen-space reflections on water and wet ground (where the scene has them).
+    reflections: bool = True
+    #: Colour grading: the gain, lift and saturation above and a gentle S-curve.
+    grading: bool = True
 
     @classmethod
-    def neutral(cls) -> PostSettings:
-        return cls(0.0, 0.0, 0.0, 0.0, (1.0, 1.0, 1.0), 0.0, 1.0)
+    def from_render(cls, settings: RenderSettings) -> PostSettings:
+        """The effects a recipe's render settings (θ's ``render`` section) switch on, at
+        their default strengths."""
+        on = cls()
+        return cls(
+            motion_blur=on.motion_blur if settings.motion_blur else 0.0,
+            ambient_occlusion=on.ambient_occlusion if settings.ambient_occlusion else 0.0,
+            bloom=on.bloom if settings.bloom else 0.0,
+            vignette=on.vignette if settings.vignette else 0.0,
+            reflections=settings.screen_space_reflection,
+            grading=settings.color_grading,
+        )
 
 
 def _default_lighting() -> Lighting:
@@ -247,8 +262,8 @@ class FrameRenderer:
         self.rain_prog = ctx.program(
             vertex_shader=shader_source("rain_vertex.glsl"), fragment_shader=shader_source("rain_fragment.glsl")
         )
-        post_features = {"MOTION_BLUR": ps.motion_blur > 0.0, "SSR": wet, "AO": ps.ambient_occlusion > 0.0,
-                         "BLOOM": ps.bloom > 0.0}  # fmt: skip
+        post_features = {"MOTION_BLUR": ps.motion_blur > 0.0, "SSR": wet and ps.reflections,
+                         "AO": ps.ambient_occlusion > 0.0, "BLOOM": ps.bloom > 0.0, "GRADING": ps.grading}  # fmt: skip
         self.post_prog = ctx.program(
             vertex_shader=fullscreen, fragment_shader=with_features(shader_source("post_fragment.glsl"), post_features)
         )

@@ -26,9 +26,6 @@ from phav_generator.render.scene import build_drawables, class_id, lamp_position
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES
 
-#: Supersampling of the RGB modality (colour only; labels, depth and flow are 1×).
-DEFAULT_SUPERSAMPLE = 2
-
 
 @dataclass(frozen=True)
 class RenderedFrame:
@@ -45,12 +42,14 @@ def scene_renderer(
     trajectory: Trajectory,
     ctx: moderngl.Context,
     *,
-    supersample: int = DEFAULT_SUPERSAMPLE,
+    supersample: int | None = None,
     post: PostSettings | None = None,
     people: bool = True,
 ) -> FrameRenderer:
-    """A renderer for one video: its world, light and weather, focused on the protagonist
-    (``people=False``: without the people, for the bench)."""
+    """A renderer for one video: its world, light and weather, focused on the protagonist,
+    with the recipe's render settings (θ's ``render``: supersampling of the RGB modality and
+    its post effects) unless ``supersample`` or ``post`` override them (the bench does);
+    ``people=False``: without the people, for the bench."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     lighting = lighting_for(recipe.world, indoor=env.indoor)
     protagonist = trajectory.person(recipe.protagonist.person_id)
@@ -60,8 +59,9 @@ def scene_renderer(
         lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]
     return FrameRenderer(
         ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting, people=people),
-        sky_class=class_id("sky"), lighting=lighting, lamps=lamps, focus=focus, supersample=supersample,
-        post=post, rain_seed=recipe.seeds.render,
+        sky_class=class_id("sky"), lighting=lighting, lamps=lamps, focus=focus,
+        supersample=recipe.render.supersampling if supersample is None else supersample,
+        post=PostSettings.from_render(recipe.render) if post is None else post, rain_seed=recipe.seeds.render,
     )  # fmt: skip
 
 
@@ -70,11 +70,12 @@ def render_video(
     trajectory: Trajectory,
     *,
     ctx: moderngl.Context,
-    supersample: int = DEFAULT_SUPERSAMPLE,
+    supersample: int | None = None,
     post: PostSettings | None = None,
 ) -> Iterator[RenderedFrame]:
     """Frames 0 … n_frames − 1 of a recipe's simulated ``trajectory``, rendered and measured
-    in ``ctx`` (the caller's: it stays open)."""
+    in ``ctx`` (the caller's: it stays open), with the recipe's render settings unless
+    ``supersample`` or ``post`` override them (``scene_renderer``)."""
     tr = trajectory
     with scene_renderer(recipe, tr, ctx, supersample=supersample, post=post) as renderer:
         meta = MetadataBuilder(recipe, tr)

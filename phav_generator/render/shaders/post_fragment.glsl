@@ -97,10 +97,12 @@ void main() {
         c += bloom * glow / 6.0;
     }
 #endif
+#if GRADING
     c = c * grade_gain + grade_lift;
     float luma = dot(c, vec3(0.2126, 0.7152, 0.0722));
     c = mix(vec3(luma), c, saturation);
     c = c + 0.06 * (c - 0.5) * (1.0 - abs(2.0 * c - 1.0));  // gentle S-curve
+#endif
     vec2 q = uv - 0.5;
     c *= 1.0 - vignette * dot(q, q) * 2.0;
     out_colour = vec4(clamp(c, 0.0, 1.0), 1.0);

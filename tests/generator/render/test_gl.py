@@ -11,10 +11,11 @@ import pytest
 
 from phav_generator.motion.rotations import axis_angle_matrix, look_at
 from phav_generator.render.camera import project
-from phav_generator.render.gl import Drawable, FrameRenderer
+from phav_generator.render.gl import Drawable, FrameRenderer, PostSettings
 from phav_generator.render.meshes import box, capsule
 from phav_generator.render.modalities import encode_frame
 from phav_spec.encoding import DEPTH_MAX_CODE, decode_flow, encode_depth
+from phav_spec.theta import RenderSettings
 
 W, H = 340, 256
 INTRINSICS = (260.0, 260.0, 170.0, 128.0)
@@ -216,3 +217,12 @@ def test_the_context_manager_releases_every_gl_object_on_an_exception(ctx):
         held = _gl_objects(r)
         raise RuntimeError("mid-frame")
     assert held and all(_released(o) for o in held)
+
+
+def test_post_settings_follow_the_recipes_render_switches():
+    """θ's defaults switch every effect on at its default strength; each switch turns off
+    only its own effect."""
+    assert PostSettings.from_render(RenderSettings()) == PostSettings()
+    off = PostSettings.from_render(RenderSettings(bloom=False, color_grading=False))
+    assert (off.bloom, off.grading) == (0.0, False)
+    assert off.motion_blur == PostSettings().motion_blur and off.reflections and off.vignette > 0.0

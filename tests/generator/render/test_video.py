@@ -75,3 +75,22 @@ def test_rgb_warped_by_the_flow_matches_the_next_frame_on_static_pixels(ctx):
     err = np.concatenate(errors)
     assert err.size > 10000
     assert np.median(err) < 1.5 and np.percentile(err, 95) < 8.0, (np.median(err), np.percentile(err, 95))
+
+
+def test_the_recipes_render_settings_reach_the_renderer(ctx):
+    """θ's ``render`` section, carried by each recipe, decides the RGB modality: one sample a
+    pixel or every post effect off changes it; labels, depth, flow and raw RGB (one sample,
+    before post) stay identical to the bit."""
+    base = recipe_for("walk", "urban", seconds=0.2, variation="none")
+    assert base.render.supersampling == 2
+    one_sample = base.model_copy(update={"render": base.render.model_copy(update={"supersampling": 1})})
+    plain = base.model_copy(update={"render": base.render.model_copy(update={
+        "motion_blur": False, "bloom": False, "ambient_occlusion": False, "screen_space_reflection": False,
+        "color_grading": False, "vignette": False})})  # fmt: skip
+    runs = {name: [rf.modalities for rf in render_recipe(r, ctx)] for name, r in
+            (("base", base), ("one_sample", one_sample), ("plain", plain))}  # fmt: skip
+    for name in ("one_sample", "plain"):
+        for a, b in zip(runs["base"], runs[name], strict=True):
+            for m in ("raw_rgb", "semantic", "instance", "depth", "flow"):
+                assert np.array_equal(a[m], b[m]), (name, m)
+        assert not all(np.array_equal(a["rgb"], b["rgb"]) for a, b in zip(runs["base"], runs[name], strict=True))
