@@ -1,5 +1,6 @@
 """θ presets that change one data factor of phav-v1-short each, for the learnability
-experiments (docs/learnability.md): clip length, camera, weather, motions per action.
+experiments (docs/learnability.md): clip length, camera, weather, motions per action, and
+the RGB modality's supersampling (phav-v1's 2 samples a pixel against phav-v1-short's 1).
 
 Each variant is phav-v1-short's YAML with one key replaced, written as
 ``<out>/phav-v1-short-<factor>.yaml``; generate from it with ``phav generate --theta FILE``.
@@ -43,6 +44,7 @@ def variants(base: dict[str, Any]) -> dict[str, dict[str, Any]]:
         "kite": ("theta_c", {**cameras, "kite": 1}),
         "clear": ("theta_w", {**weathers, "clear": 1}),
         "one-motion": ("theta_ab", {"regex": one_motion_per_action(regex, base["durations"]["t_min"])}),
+        "supersampling-2": ("render", {**base["render"], "supersampling": 2}),
     }
     out = {}
     for factor, (key, value) in changes.items():

@@ -8,6 +8,7 @@ import sys
 import numpy as np
 import pytest
 
+from tests.helpers import run_cli
 from tests.validators.learn.helpers import measure_script, motion_clips
 
 
@@ -70,13 +71,13 @@ def test_the_factor_presets_change_one_theta_key_each_and_are_valid(tmp_path):
     module = measure_script("theta_factors")
     base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
     found = module.variants(base)
-    assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "clear", "one-motion"}
+    assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "clear", "one-motion", "supersampling-2"}
     hashes = {load_theta("phav-v1-short").hash}
     for factor, theta in found.items():
         changed = {k for k in base if theta[k] != base[k]} - {"name", "description"}
         assert len(changed) == 1, (factor, changed)
         hashes.add(parse_theta(theta, source=factor).hash)
-    assert len(hashes) == 6  # every variant is another θ
+    assert len(hashes) == 7  # every variant is another θ
     one = parse_theta(found["one-motion"], source="one-motion")
     ab = one.arrays.ab * one.arrays.motion_long_enough
     assert (ab.sum(axis=1) == 1).all()  # one take per action, long enough for the shortest clip
@@ -98,3 +99,24 @@ def test_the_pair_sheet_stacks_each_videos_frames_over_their_flow(phav, tmp_path
     assert sheet.shape == (2 * 2 * 128 + 4, 3 * 170, 3)
     top_rgb, top_flow = sheet[20:128], sheet[128:256]
     assert top_rgb.std() > 5 and not np.array_equal(top_rgb, top_flow)
+
+
+def test_supersampling_moves_the_rgb_modality_only(phav, tmp_path):
+    """The tiny set again from θ's 2-sample variant: every modality but RGB hashes the same,
+    and the RGB frames differ, less once area-averaged to the check's size."""
+    import yaml
+
+    from phav_spec.theta import PRESETS_DIR
+
+    base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
+    theta = tmp_path / "ss2.yaml"
+    theta.write_text(yaml.safe_dump(measure_script("theta_factors").variants(base)["supersampling-2"]))
+    out = tmp_path / "ss2"
+    result = run_cli("generate", "--theta", str(theta), "--videos", "3", "--seed", "5", "--out", str(out),
+                     "--shard-size", "2", "--workers", "2")  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    found = measure_script("supersampling").compare(out, phav)
+    assert found["videos"] == 3 and found["frames"] > 30
+    assert found["equal_hashes"] == {"depth": 3, "flow": 3, "instance": 3, "raw_rgb": 3, "rgb": 0, "semantic": 3}
+    rgb = found["rgb_mean_abs"]
+    assert 0 < rgb["check_size"] < rgb["stored"] < 5
