@@ -15,16 +15,13 @@ import json
 from collections.abc import Iterator
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from phav_spec.encoding import modality
 from phav_spec.manifest import load_manifest
 from phav_spec.webdataset import decode_png
 from phav_validators.checks.tarsafe import TarScan, iter_members
-
-#: The learnability check's stored frame size (width, height).
-CHECK_SIZE = (85, 64)
+from phav_validators.learn.data import DEFAULT_SIZE, resize_rgb
 
 
 def rgb_frames(dataset: Path) -> Iterator[tuple[str, np.ndarray]]:
@@ -37,7 +34,8 @@ def rgb_frames(dataset: Path) -> Iterator[tuple[str, np.ndarray]]:
 
 def compare(reference: Path, other: Path) -> dict:
     """Videos whose hash agrees per modality, and the RGB frames' mean |difference| (levels)
-    at the stored size and area-averaged to ``CHECK_SIZE``: mean over frames and 99th percentile."""
+    at the stored size and as the check stores them (``resize_rgb`` to ``DEFAULT_SIZE``): mean
+    over frames and 99th percentile."""
     a = {v.video_id: v for v in load_manifest(reference / "manifest.json").videos}
     b = {v.video_id: v for v in load_manifest(other / "manifest.json").videos}
     if set(a) != set(b):
@@ -49,7 +47,7 @@ def compare(reference: Path, other: Path) -> dict:
     for name, x in rgb_frames(reference):
         y = theirs[name]
         full.append(float(np.abs(x.astype(np.float32) - y.astype(np.float32)).mean()))
-        xs, ys = (cv2.resize(f, CHECK_SIZE, interpolation=cv2.INTER_AREA).astype(np.float32) for f in (x, y))
+        xs, ys = (resize_rgb(f, DEFAULT_SIZE).astype(np.float32) for f in (x, y))
         small.append(float(np.abs(xs - ys).mean()))
     return {
         "videos": len(a), "frames": len(full), "equal_hashes": equal,

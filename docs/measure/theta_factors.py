@@ -33,6 +33,11 @@ def one_motion_per_action(regex: dict[str, str], t_min: float) -> dict[str, str]
     return out
 
 
+def base_preset() -> dict[str, Any]:
+    """phav-v1-short's θ as the YAML mapping the variants change."""
+    return yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
+
+
 def variants(base: dict[str, Any]) -> dict[str, dict[str, Any]]:
     """Factor name → (key, new value) applied to ``base``: one θ key changed per variant."""
     cameras = {name: 0 for name in base["theta_c"]}
@@ -58,7 +63,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
-    base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
+    base = base_preset()
     args.out.mkdir(parents=True, exist_ok=True)
     for factor, theta in variants(base).items():
         path = args.out / f"phav-v1-short-{factor}.yaml"

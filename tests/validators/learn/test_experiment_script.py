@@ -64,12 +64,10 @@ def test_the_speed_script_times_a_step_under_each_arithmetic():
 
 
 def test_the_factor_presets_change_one_theta_key_each_and_are_valid(tmp_path):
-    import yaml
-
-    from phav_spec.theta import PRESETS_DIR, load_theta, parse_theta
+    from phav_spec.theta import load_theta, parse_theta
 
     module = measure_script("theta_factors")
-    base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
+    base = module.base_preset()
     found = module.variants(base)
     assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "clear", "one-motion", "supersampling-2"}
     hashes = {load_theta("phav-v1-short").hash}
@@ -106,11 +104,9 @@ def test_supersampling_moves_the_rgb_modality_only(phav, tmp_path):
     and the RGB frames differ, less once area-averaged to the check's size."""
     import yaml
 
-    from phav_spec.theta import PRESETS_DIR
-
-    base = yaml.safe_load((PRESETS_DIR / "phav-v1-short.yaml").read_text(encoding="utf-8"))
+    factors = measure_script("theta_factors")
     theta = tmp_path / "ss2.yaml"
-    theta.write_text(yaml.safe_dump(measure_script("theta_factors").variants(base)["supersampling-2"]))
+    theta.write_text(yaml.safe_dump(factors.variants(factors.base_preset())["supersampling-2"]))
     out = tmp_path / "ss2"
     result = run_cli("generate", "--theta", str(theta), "--videos", "3", "--seed", "5", "--out", str(out),
                      "--shard-size", "2", "--workers", "2")  # fmt: skip
