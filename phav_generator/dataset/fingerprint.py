@@ -4,19 +4,30 @@ its manifest so that a reader knows whether bit-exact regeneration is promised."
 from __future__ import annotations
 
 import platform
+import tomllib
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from phav_generator.body.data import load_body_data
 from phav_spec.manifest import RendererFingerprint
 
+#: The source tree's project file: phav's version when it runs from a checkout it is not installed from.
+_PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
+
 
 def package_version(package: str) -> str:
-    """The installed version of ``package``, or ``unknown``."""
+    """The installed version of ``package``; phav's own from its source tree's pyproject.toml
+    when it is run from a checkout without being installed; else ``unknown``."""
     try:
         return version(package)
     except PackageNotFoundError:
-        return "unknown"
+        pass
+    if package == "phav":
+        try:
+            return str(tomllib.loads(_PYPROJECT.read_text(encoding="utf-8"))["project"]["version"])
+        except (OSError, KeyError, tomllib.TOMLDecodeError):
+            pass
+    return "unknown"
 
 
 def _cpu() -> tuple[str, str]:
