@@ -88,6 +88,12 @@ def train_command(
     focus: Annotated[
         str, typer.Option(help="Where the crop sits: none (random / centre) or motion (most flow, from the flow).")
     ] = "none",
+    scale_jitter: Annotated[
+        bool, typer.Option(help="TSN's multi-scale training crops (2/3 to all of the frame, resized; testing: centre).")
+    ] = RECOMMENDED.scale_jitter,
+    label_smoothing: Annotated[
+        float, typer.Option(help="Share of each target spread evenly over the classes (label smoothing).")
+    ] = RECOMMENDED.label_smoothing,
     pool: Annotated[str, typer.Option(help="Global pooling of the last feature map: avg or max.")] = "avg",
     segments: Annotated[int, typer.Option(min=1, help="Snippets per clip while training (TSN's K).")] = 3,
     temporal_shift: Annotated[
@@ -163,7 +169,8 @@ def train_command(
                               dropout=dropout, segments=segments, temporal_shift=temporal_shift,
                               temporal_conv=temporal_conv,
                               rgb_frames=rgb_frames, diff_gain=diff_gain, aux_flow=aux_flow,
-                              aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
+                              aux_parts=aux_parts, crop=crop, focus=focus, pool=pool, scale_jitter=scale_jitter,
+                              label_smoothing=label_smoothing,
                               **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip
     for stream in stream_list:
         base.for_stream(stream)

@@ -192,13 +192,15 @@ def init_weights(module: nn.Module, *, generator: torch.Generator) -> None:
 
 
 def multitask_loss(
-    scores: Mapping[str, Tensor], labels: Tensor, sources: Tensor, names: Sequence[str]
+    scores: Mapping[str, Tensor], labels: Tensor, sources: Tensor, names: Sequence[str], *, smoothing: float = 0.0
 ) -> tuple[Tensor, dict[str, Tensor]]:
     """The paper's loss ``Σ_z δ(y ∈ C_z) w_z L_z(y, G)`` over a mixed mini-batch.
 
     ``sources[i]`` indexes ``names`` (the head that sample i belongs to); ``w_z`` is source
     z's share of the batch and ``L_z`` its softmax loss, averaged over its own samples. A
-    source absent from the batch contributes nothing (and no NaN).
+    source absent from the batch contributes nothing (and no NaN). With ``smoothing`` each
+    target keeps 1 − smoothing of its probability and spreads the rest evenly over its
+    source's classes (label smoothing, Szegedy et al. 2016).
 
     Returns:
         the total loss and each present source's unweighted loss.
@@ -211,7 +213,7 @@ def multitask_loss(
         count = int(mine.sum())
         if count == 0:
             continue
-        loss = F.cross_entropy(scores[name][mine], labels[mine])
+        loss = F.cross_entropy(scores[name][mine], labels[mine], label_smoothing=smoothing)
         parts[name] = loss
         total = total + (count / n) * loss
     return total, parts

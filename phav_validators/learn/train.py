@@ -22,6 +22,7 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 
 from phav_spec.errors import PhavUserError
@@ -66,6 +67,11 @@ class TrainConfig:
     #: median of a frame is mostly background), so a moving kite camera is not the signal.
     flow_centre: bool = True
     crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
+    #: TSN's multi-scale cropping while training: each clip's crop takes a height and a width
+    #: from (1, 7/8, 3/4, 2/3) of the frame's, at most one step apart, anywhere in the frame,
+    #: resized to the ``crop`` the network sees (flow vectors scaled with it): actors of every
+    #: size in every place. Testing keeps the centre crop.
+    scale_jitter: bool = False
     #: Where the crop sits: ``none`` (random in training, centred in testing) or ``motion``
     #: (the window of most motion in the clip's median-centred flow, jittered in training).
     focus: str = "none"
@@ -104,6 +110,9 @@ class TrainConfig:
     lr: float = 0.05
     momentum: float = 0.9
     weight_decay: float = 5e-4
+    #: Share of each target's probability spread evenly over the classes (label smoothing):
+    #: a network that may not be certain of any training clip memorises its actors less.
+    label_smoothing: float = 0.0
     seed: int = 0
     threads: int = 1
     #: Arithmetic of the forward pass: ``fp32``, or ``bf16`` autocast (convolutions in
@@ -129,6 +138,8 @@ class TrainConfig:
             raise PhavUserError(f"must be in [0.2, 1], got {self.crop}", field="--crop")
         if self.focus not in ("none", "motion"):
             raise PhavUserError(f"choose none or motion, got {self.focus!r}", field="--focus")
+        if self.scale_jitter and self.focus != "none":
+            raise PhavUserError("choose one: a crop at the motion or jittered in scale", field="--scale-jitter")
         if not self.mix or any(n < 1 for _, n in self.mix):
             raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
         if self.precision not in PRECISIONS:
@@ -140,6 +151,8 @@ class TrainConfig:
         if self.distill < 0 or (self.distill > 0 and self.stream != "rgb"):
             raise PhavUserError(f"needs the rgb stream and a non-negative weight, got {self.distill}",
                                 field="--distill")  # fmt: skip
+        if not 0.0 <= self.label_smoothing < 1.0:
+            raise PhavUserError(f"must be in [0, 1), got {self.label_smoothing}", field="--label-smoothing")
         if not self.diff_gain > 0:
             raise PhavUserError(f"must be positive, got {self.diff_gain}", field="--diff-gain")
         if self.teacher_init and self.distill <= 0:
@@ -311,6 +324,39 @@ def crop_box(shape: tuple[int, int], crop: float) -> tuple[int, int]:
     return max(1, round(shape[0] * crop)), max(1, round(shape[1] * crop))
 
 
+#: TSN's crop scales (share of the frame's height or width) for ``scale_jitter``, and the
+#: (height, width) scale pairs it draws from: at most one step apart.
+JITTER_SCALES = (1.0, 0.875, 0.75, 0.66)
+_JITTER_PAIRS = [(a, b) for i, a in enumerate(JITTER_SCALES) for j, b in enumerate(JITTER_SCALES) if abs(i - j) <= 1]
+#: The most channels OpenCV resizes in one call.
+_CV_CHANNELS = 128
+
+
+def jitter_box(shape: tuple[int, int], rng: np.random.Generator) -> tuple[int, int]:
+    """(height, width) of a multi-scale training crop of a (height, width) frame."""
+    sy, sx = _JITTER_PAIRS[int(rng.integers(len(_JITTER_PAIRS)))]
+    return crop_box(shape, sy)[0], crop_box(shape, sx)[1]
+
+
+def resize_snippets(x: np.ndarray, size: tuple[int, int], *, kind: str) -> np.ndarray:
+    """Snippets (K, C, h, w) at ``size`` (height, width): ``rgb`` and ``flow`` bilinear, flow's
+    u (even channels) and v (odd) scaled with the frame; ``parts`` (K, h, w) labels nearest."""
+    h, w = x.shape[-2:]
+    if (h, w) == tuple(size):
+        return x
+    planes = x.reshape(-1, h, w).transpose(1, 2, 0)
+    method = cv2.INTER_NEAREST if kind == "parts" else cv2.INTER_LINEAR
+    out = np.concatenate([cv2.resize(np.ascontiguousarray(planes[..., i : i + _CV_CHANNELS]), (size[1], size[0]),
+                                     interpolation=method).reshape(size[0], size[1], -1)
+                          for i in range(0, planes.shape[-1], _CV_CHANNELS)], axis=-1)  # fmt: skip
+    out = out.transpose(2, 0, 1).reshape(*x.shape[:-2], *size)
+    if kind == "flow":
+        out = out.copy()
+        out[:, 0::2] *= size[1] / w
+        out[:, 1::2] *= size[0] / h
+    return out
+
+
 def snippets(
     clip: Clip, config: TrainConfig, *, rng: np.random.Generator | None, segments: int | None = None
 ) -> np.ndarray:
@@ -338,7 +384,9 @@ def snippets_and_targets(
     starts = snippet_starts(clip.n_frames, k, (length - 1) * stride + 1, rng=rng)
     frames = np.minimum(np.add.outer(np.asarray(starts), stride * np.arange(length)), clip.n_frames - 1)
     h, w = clip.rgb.shape[1:3]
-    ch, cw = crop_box((h, w), config.crop)
+    seen = ch, cw = crop_box((h, w), config.crop)
+    if config.scale_jitter and rng is not None:
+        ch, cw = jitter_box((h, w), rng)
     if config.focus == "motion":
         y0, x0 = motion_window(clip, frames, (ch, cw))
         if rng is not None:  # jitter by up to an eighth of the window
@@ -370,6 +418,9 @@ def snippets_and_targets(
         if clip.parts is None:
             raise PhavUserError(f"clip {clip.key} has no body-part frames (read with parts=True)", field="--aux-parts")
         out["parts"] = clip.parts[frames[:, 0], window[0], window[1]]
+    x = resize_snippets(x, seen, kind=config.stream)
+    kinds = {"flow": "flow", "teacher": "flow", "parts": "parts"}
+    out = {name: resize_snippets(t, seen, kind=kinds[name]) for name, t in out.items()}
     if flip:
         x = _flip(x, flow=config.stream == "flow")
         out = {name: _flip(t, flow=name in ("flow", "teacher")) for name, t in out.items()}
@@ -745,7 +796,7 @@ class _Run:
             scores, more = self.model(x, generator=self.gen, extras=True)
         scores = {name: v.float() for name, v in scores.items()}  # the losses in float32
         more = {name: v.float() for name, v in more.items()}
-        loss, parts = multitask_loss(scores, labels, sources, names)
+        loss, parts = multitask_loss(scores, labels, sources, names, smoothing=config.label_smoothing)
         if "aux" in more:
             loss = loss + aux_loss(config, more["aux"], [p[1] for p in pairs])
         if self.teacher is not None:

@@ -90,10 +90,11 @@ def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
 def test_distillation_trains_the_flow_stream_first_and_teaches_the_rgb_stream(phav, tmp_path):
     out = tmp_path / "run"
     result = invoke_cli("train", str(phav), "--out", str(out), "--split", "random", "--rgb-frames", "2",
-                        "--distill", "5", *FAST)  # fmt: skip
+                        "--distill", "5", "--scale-jitter", "--label-smoothing", "0.1", *FAST)  # fmt: skip
     assert result.returncode == 0, result.stderr
     data = json.loads((out / "results.json").read_text())
     assert data["config"]["distill"] == 5.0 and set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
+    assert data["config"]["scale_jitter"] and data["config"]["label_smoothing"] == 0.1
     # The RGB checkpoint was written after the flow one: the teacher trained first.
     assert (out / "split1-flow.pt").stat().st_mtime_ns <= (out / "split1-rgb.pt").stat().st_mtime_ns
 
@@ -142,6 +143,8 @@ def _one_error_line(stderr: str) -> str:
         pytest.param(("--device", "cuda:7"), "--device", id="device"),
         pytest.param(("--focus", "face"), "--focus", id="focus"),
         pytest.param(("--pool", "median"), "--pool", id="pool"),
+        pytest.param(("--scale-jitter", "--focus", "motion"), "--scale-jitter", id="jitter-and-focus"),
+        pytest.param(("--label-smoothing", "1"), "--label-smoothing", id="label-smoothing"),
         pytest.param(("--temporal-shift", "--temporal-conv"), "--temporal-conv", id="two-temporal-models"),
         pytest.param(("--aux-flow", "1", "--rgb-frames", "1"), "--aux-flow", id="aux-flow-single-rgb-frame"),
         pytest.param(("--distill", "1", "--streams", "rgb"), "--distill", id="distill-without-flow"),

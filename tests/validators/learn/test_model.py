@@ -55,6 +55,18 @@ def test_multitask_loss_is_the_paper_formula_per_sample():
     assert math.isclose(float(total), float(-(G[2] - torch.logsumexp(G, 0))), rel_tol=1e-6)
 
 
+def test_label_smoothing_spreads_a_share_of_the_target_over_the_sources_classes():
+    """With smoothing ε the target is (1 − ε) on the label plus ε/n on each of the source's n classes."""
+    g = torch.Generator().manual_seed(4)
+    scores = {"virtual": torch.randn(1, 6, generator=g), "real": torch.randn(1, 3, generator=g)}
+    total, _ = multitask_loss(scores, torch.tensor([2]), torch.tensor([1]), ["virtual", "real"], smoothing=0.3)
+    log_p = torch.log_softmax(scores["real"][0], 0)
+    expected = -(0.7 * log_p[2] + 0.1 * log_p.sum())
+    assert math.isclose(float(total), float(expected), rel_tol=1e-6)
+    plain, _ = multitask_loss(scores, torch.tensor([2]), torch.tensor([1]), ["virtual", "real"])
+    assert float(total) > float(plain)  # a confident wrong-or-right answer costs more once smoothed
+
+
 def _loss_and_grads(model: TSN, x, labels, sources, names):
     model.train()
     scores = model(x, generator=torch.Generator().manual_seed(0))

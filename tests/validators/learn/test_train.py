@@ -13,6 +13,7 @@ from phav_spec.errors import PhavUserError
 from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
 from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
 from phav_validators.learn.train import (
+    JITTER_SCALES,
     RECOMMENDED,
     MixedBatches,
     Teacher,
@@ -338,6 +339,47 @@ def test_auxiliary_options_are_checked():
     clip = motion_clips(1, 1).clips[0]  # no parts read
     with pytest.raises(PhavUserError, match="body-part"):
         snippets_and_targets(clip, TrainConfig(aux_parts=1.0), rng=None)
+
+
+def test_scale_jitter_crops_at_tsns_scales_and_scales_the_flow_with_the_frame():
+    clip = motion_clips(1, 1, frames=12, size=(64, 48)).clips[0]
+    clip.flow[..., 0] = 1.0
+    clip.flow[..., 1] = 0.5
+    config = dataclasses.replace(SMALL, flow_centre=False, scale_jitter=True)
+    plain = snippets(clip, dataclasses.replace(config, scale_jitter=False), rng=None)
+    assert np.array_equal(snippets(clip, config, rng=None), plain)  # testing: the centre crop
+    bound = 20.0 * 64 / 340
+    widths, heights = set(), set()
+    for s in range(40):
+        x = snippets(clip, config, rng=np.random.Generator(np.random.PCG64(s)))
+        assert x.shape == plain.shape == (3, 10, 42, 56)
+        u, v = abs(float(x[0, 0, 5, 5])), float(x[0, 1, 5, 5])
+        # a crop w' px wide seen at 56 px magnifies motion 56 / w': u = 4/bound · 56/w'
+        widths.add(round(4.0 / bound * 56 / u))
+        heights.add(round(2.0 / bound * 42 / v))
+        assert np.allclose(abs(x[:, 0::2]), u, rtol=1e-3) and np.allclose(x[:, 1::2], v, rtol=1e-3)
+    assert widths == {round(64 * s) for s in JITTER_SCALES}
+    assert heights == {round(48 * s) for s in JITTER_SCALES}
+
+
+def test_scale_jitter_resizes_the_auxiliary_targets_with_the_input():
+    rng = np.random.Generator(np.random.PCG64(3))
+    still = rng.integers(0, 256, (1, 24, 32, 3), dtype=np.uint8).repeat(10, axis=0)
+    flow = np.zeros((10, 24, 32, 2), np.float16)
+    parts = np.zeros((10, 24, 32), np.uint8)
+    parts[:, :, 16:] = 3  # the right half is one part
+    clip = Clip("c", 0, "virtual", still, flow, {}, parts)
+    config = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, aux_flow=1.0, aux_parts=1.0, scale_jitter=True)
+    for s in range(10):
+        x, targets = snippets_and_targets(clip, config, rng=np.random.Generator(np.random.PCG64(s)))
+        assert x.shape == (3, 9, 21, 28) and targets["flow"].shape == (3, 4, 21, 28)
+        assert targets["parts"].shape == (3, 21, 28) and set(np.unique(targets["parts"])) <= {0, 3}
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(scale_jitter=True, focus="motion")
+    assert e.value.field == "--scale-jitter"
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(label_smoothing=1.0)
+    assert e.value.field == "--label-smoothing"
 
 
 def test_the_motion_window_finds_the_mover_not_the_panning_camera():
