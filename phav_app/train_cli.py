@@ -89,8 +89,12 @@ def train_command(
         str, typer.Option(help="Where the crop sits: none (random / centre) or motion (most flow, from the flow).")
     ] = "none",
     scale_jitter: Annotated[
-        bool, typer.Option(help="TSN's multi-scale training crops (2/3 to all of the frame, resized; testing: centre).")
-    ] = RECOMMENDED.scale_jitter,
+        bool | None,
+        typer.Option(
+            help="TSN's multi-scale training crops (2/3 to all of the frame, resized; testing: centre). "
+            "Default: on, unless --focus motion."
+        ),
+    ] = None,
     label_smoothing: Annotated[
         float, typer.Option(help="Share of each target spread evenly over the classes (label smoothing).")
     ] = RECOMMENDED.label_smoothing,
@@ -163,13 +167,13 @@ def train_command(
     # RECOMMENDED with every option given; what is left unset is resolved for these streams
     # and this device (distillation, threads, precision).
     chosen = {"distill": distill, "threads": threads, "precision": precision, "rgb_epochs": rgb_epochs,
-              "rgb_diff": rgb_diff}  # fmt: skip
+              "rgb_diff": rgb_diff, "scale_jitter": scale_jitter}  # fmt: skip
     base = recommended_config(stream_list, device=device, widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
                               optimizer=optimizer, mix=(("virtual", batch),), seed=seed, stem_pool=stem_pool,
                               dropout=dropout, segments=segments, temporal_shift=temporal_shift,
                               temporal_conv=temporal_conv,
                               rgb_frames=rgb_frames, diff_gain=diff_gain, aux_flow=aux_flow,
-                              aux_parts=aux_parts, crop=crop, focus=focus, pool=pool, scale_jitter=scale_jitter,
+                              aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
                               label_smoothing=label_smoothing,
                               **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip
     for stream in stream_list:

@@ -262,21 +262,23 @@ def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher |
 
 
 #: Where ``phav train``, the learnability check and the training bench start (measured in
-#: docs/learnability.md, "The defaults and why"): the flow stream as TSN's for 120 epochs;
-#: the RGB stream on five frames entered as the first and four differences at twelve times
-#: their scale, matching the flow stream's features (weight 20), for a third of the flow
-#: stream's epochs.
+#: docs/learnability.md, "The defaults and why" and "Augmentation"): the flow stream as
+#: TSN's for 120 epochs, with TSN's multi-scale crops; the RGB stream on five frames entered
+#: as the first and four differences at twelve times their scale, matching the flow
+#: stream's features (weight 20), for a third of the flow stream's epochs.
 RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, diff_gain=12.0, distill=20.0, epochs=120,
-                          rgb_epochs=40)  # fmt: skip
+                          rgb_epochs=40, scale_jitter=True)  # fmt: skip
 
 
 def recommended_config(streams: Sequence[str], *, device: str = "cpu", **settings: Any) -> TrainConfig:
     """``RECOMMENDED`` for training ``streams`` on ``device`` (its threads and precision), with
     ``settings`` changed; other ``epochs`` scale the RGB stream's with them unless
-    ``rgb_epochs`` is given, and RGB differences need 2 or more frames unless ``rgb_diff``
-    is given. Without both streams the RGB stream has no flow stream to learn from, so it
-    trains without distillation; without the RGB stream its settings are moot, and without
-    differences so is their gain (kept at 1, so the settings do not claim one)."""
+    ``rgb_epochs`` is given, RGB differences need 2 or more frames unless ``rgb_diff``
+    is given, and a crop placed at the motion (``focus``) is not jittered in scale unless
+    ``scale_jitter`` is given. Without both streams the RGB stream has no flow stream to
+    learn from, so it trains without distillation; without the RGB stream its settings are
+    moot, and without differences so is their gain (kept at 1, so the settings do not
+    claim one)."""
     base = replace(RECOMMENDED, threads=default_threads(), precision=default_precision(device))
     if "rgb" not in streams:
         base = base.for_stream(streams[0])
@@ -285,6 +287,8 @@ def recommended_config(streams: Sequence[str], *, device: str = "cpu", **setting
     if settings.get("rgb_epochs") is None and "epochs" in settings:
         share = RECOMMENDED.rgb_epochs / RECOMMENDED.epochs
         settings = {**settings, "rgb_epochs": max(1, round(settings["epochs"] * share))}
+    if settings.get("scale_jitter") is None:  # a crop placed at the motion is not jittered
+        settings = {**settings, "scale_jitter": base.scale_jitter and settings.get("focus", base.focus) == "none"}
     if settings.get("rgb_diff") is None:
         settings = {**settings, "rgb_diff": base.rgb_diff and settings.get("rgb_frames", base.rgb_frames) >= 2}
     if not settings["rgb_diff"]:

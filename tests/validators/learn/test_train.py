@@ -529,3 +529,8 @@ def test_the_recommended_settings_follow_the_streams_trained():
     # RGB differences need 2 or more frames: TSN's single frame turns them off unless asked
     assert not recommended_config(["rgb", "flow"], rgb_frames=1).rgb_diff
     assert recommended_config(["rgb", "flow"], rgb_frames=2).rgb_diff
+    # TSN's multi-scale crops, unless the crop is placed at the motion (or turned off)
+    assert both.scale_jitter and not recommended_config(["flow"], focus="motion").scale_jitter
+    assert not recommended_config(["flow"], scale_jitter=False).scale_jitter
+    with pytest.raises(PhavUserError):
+        recommended_config(["flow"], focus="motion", scale_jitter=True)
