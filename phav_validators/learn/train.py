@@ -69,8 +69,9 @@ class TrainConfig:
     crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
     #: TSN's multi-scale cropping while training: each clip's crop takes a height and a width
     #: from (1, 7/8, 3/4, 2/3) of the frame's, at most one step apart, anywhere in the frame,
-    #: resized to the ``crop`` the network sees (flow vectors scaled with it): actors of every
-    #: size in every place. Testing keeps the centre crop.
+    #: resized to the ``crop`` the network sees (flow vectors scaled with it, so a magnified
+    #: crop's flow may pass the ±4 input bound by up to a third): actors of every size in
+    #: every place. Testing keeps the centre crop.
     scale_jitter: bool = False
     #: Where the crop sits: ``none`` (random in training, centred in testing) or ``motion``
     #: (the window of most motion in the clip's median-centred flow, jittered in training).

@@ -73,11 +73,13 @@ def test_flow_centring_removes_camera_motion_and_keeps_the_mover():
     assert np.allclose(x[:, 1::2, 8:12, 10:14], 0.0, atol=1e-2)
 
 
-def test_training_is_deterministic_for_a_seed():
+@pytest.mark.parametrize("scale_jitter", [False, True], ids=["fixed-crop", "multi-scale"])
+def test_training_is_deterministic_for_a_seed(scale_jitter):
     data = motion_clips(3, 6)
-    a = train({"virtual": data.clips}, {"virtual": 3}, SMALL)
-    b = train({"virtual": data.clips}, {"virtual": 3}, SMALL)
-    c = train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(SMALL, seed=1))
+    config = dataclasses.replace(SMALL, scale_jitter=scale_jitter)
+    a = train({"virtual": data.clips}, {"virtual": 3}, config)
+    b = train({"virtual": data.clips}, {"virtual": 3}, config)
+    c = train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(config, seed=1))
     wa, wb, wc = _weights(a.model), _weights(b.model), _weights(c.model)
     assert all(torch.equal(wa[k], wb[k]) for k in wa)
     assert not all(torch.equal(wa[k], wc[k]) for k in wa)
