@@ -335,6 +335,8 @@ JITTER_SCALES = (1.0, 0.875, 0.75, 0.66)
 _JITTER_PAIRS = [(a, b) for i, a in enumerate(JITTER_SCALES) for j, b in enumerate(JITTER_SCALES) if abs(i - j) <= 1]
 #: The most channels OpenCV resizes in one call.
 _CV_CHANNELS = 128
+#: What each auxiliary target of ``snippets_and_targets`` holds, for resizing and flipping it.
+_TARGET_KINDS = {"flow": "flow", "teacher": "flow", "parts": "parts"}
 
 
 def jitter_box(shape: tuple[int, int], rng: np.random.Generator) -> tuple[int, int]:
@@ -354,9 +356,8 @@ def resize_snippets(x: np.ndarray, size: tuple[int, int], *, kind: str) -> np.nd
     out = np.concatenate([cv2.resize(np.ascontiguousarray(planes[..., i : i + _CV_CHANNELS]), (size[1], size[0]),
                                      interpolation=method).reshape(size[0], size[1], -1)
                           for i in range(0, planes.shape[-1], _CV_CHANNELS)], axis=-1)  # fmt: skip
-    out = out.transpose(2, 0, 1).reshape(*x.shape[:-2], *size)
+    out = out.transpose(2, 0, 1).reshape(*x.shape[:-2], *size)  # a view of the fresh array
     if kind == "flow":
-        out = out.copy()
         out[:, 0::2] *= size[1] / w
         out[:, 1::2] *= size[0] / h
     return out
@@ -424,11 +425,10 @@ def snippets_and_targets(
             raise PhavUserError(f"clip {clip.key} has no body-part frames (read with parts=True)", field="--aux-parts")
         out["parts"] = clip.parts[frames[:, 0], window[0], window[1]]
     x = resize_snippets(x, seen, kind=config.stream)
-    kinds = {"flow": "flow", "teacher": "flow", "parts": "parts"}
-    out = {name: resize_snippets(t, seen, kind=kinds[name]) for name, t in out.items()}
+    out = {name: resize_snippets(t, seen, kind=_TARGET_KINDS[name]) for name, t in out.items()}
     if flip:
         x = _flip(x, flow=config.stream == "flow")
-        out = {name: _flip(t, flow=name in ("flow", "teacher")) for name, t in out.items()}
+        out = {name: _flip(t, flow=_TARGET_KINDS[name] == "flow") for name, t in out.items()}
     return np.ascontiguousarray(x), {name: np.ascontiguousarray(t) for name, t in out.items()}
 
 
