@@ -168,17 +168,37 @@ def run_cell(
     probabilities = {s: np.round(p, 5).tolist() for s, p in scores.items()}
     return {"seed": seed, "train_clips": len(train_clips), "test_clips": len(test), "accuracy": accuracy,
             "minutes": minutes, "epoch_seconds": epoch_s, "train_accuracy": train_acc,
-            "test_labels": labels.tolist(), "test_scores": probabilities}  # fmt: skip
+            "test_labels": labels.tolist(), "test_scores": probabilities,
+            "test_keys": [c.key for c in test]}  # fmt: skip
 
 
-def row(cell: Cell, streams: list[str]) -> str:
-    """A markdown row: mean (min–max) per stream over seeds, clips, minutes, seconds per epoch."""
+def accuracy_on(run: dict, streams: list[str], prefix: str) -> dict[str, float]:
+    """A run's accuracy per stream (and fused) on its test clips whose key starts with
+    ``prefix`` (e.g. ``g7/``: one dataset's clips of a pooled run), from its kept scores."""
+    if "test_keys" not in run:
+        raise SystemExit(f"seed {run['seed']}'s run predates test_keys: delete it from the JSON and rerun")
+    mine = np.array([k.startswith(prefix) for k in run["test_keys"]])
+    if not mine.any():
+        raise SystemExit(f"no test clip's key starts with {prefix!r}")
+    labels = np.array(run["test_labels"])[mine]
+    scores = {s: np.array(run["test_scores"][s])[mine] for s in streams}
+    if len(streams) > 1:
+        scores["fused"] = fuse(scores)
+    return {s: float((p.argmax(1) == labels).mean()) for s, p in scores.items()}
+
+
+def row(cell: Cell, streams: list[str], prefix: str | None = None) -> str:
+    """A markdown row: mean (min–max) per stream over seeds, clips, minutes, seconds per epoch;
+    with ``prefix``, the accuracy on the test clips whose key starts with it (``accuracy_on``)."""
+    found = [r["accuracy"] if prefix is None else accuracy_on(r, streams, prefix) for r in cell.runs]
     cols = []
     for s in [*streams, "fused"] if len(streams) > 1 else streams:
-        values = [100 * r["accuracy"][s] for r in cell.runs]
+        values = [100 * a[s] for a in found]
         cols.append(f"{np.mean(values):.1f} ({min(values):.0f}–{max(values):.0f})")
     n_train = round(np.mean([r["train_clips"] for r in cell.runs]))
-    n_test = round(np.mean([r["test_clips"] for r in cell.runs]))
+    tested = [r["test_clips"] if prefix is None else sum(k.startswith(prefix) for k in r["test_keys"])
+              for r in cell.runs]  # fmt: skip
+    n_test = round(np.mean(tested))
     minutes = np.mean([sum(r["minutes"].values()) for r in cell.runs])
     per_epoch = " / ".join(f"{np.mean([r['epoch_seconds'][s] for r in cell.runs]):.1f}" for s in streams)
     fit = " / ".join(f"{100 * np.mean([r['train_accuracy'][s] for r in cell.runs]):.0f}" for s in streams)
@@ -196,6 +216,12 @@ def main() -> None:
     parser.add_argument("--flow", default="gt")
     parser.add_argument("--json", type=Path, default=None, help="results, appended to and resumed from")
     parser.add_argument("--keep", type=Path, default=None, help="folder where trained streams are kept and reused")
+    parser.add_argument(
+        "--test-on",
+        default=None,
+        metavar="PREFIX",
+        help="also score each cell on the test clips whose key starts with PREFIX (e.g. g7/)",
+    )
     args = parser.parse_args()
     if args.keep is not None:
         args.keep.mkdir(parents=True, exist_ok=True)
@@ -230,6 +256,10 @@ def main() -> None:
     print("| --- | ---: | ---: | " + " | ".join("---:" for _ in names) + " | ---: | ---: | ---: |")
     for cell in cells:
         print(row(cell, streams))
+    if args.test_on is not None:
+        print(f"\nthe same cells on the test clips whose key starts with {args.test_on!r}")
+        for cell in cells:
+            print(row(cell, streams, args.test_on))
 
 
 if __name__ == "__main__":

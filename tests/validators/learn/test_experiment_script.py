@@ -39,6 +39,17 @@ def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script, tmp_path):
     # each test clip's probabilities per stream are kept, for fusion studies afterwards
     assert len(run["test_labels"]) == run["test_clips"] == len(run["test_scores"]["flow"])
     assert abs(sum(run["test_scores"]["rgb"][0]) - 1.0) < 1e-3
+    # ... with their keys, so a pooled run can be scored on one dataset's clips
+    assert len(run["test_keys"]) == run["test_clips"]
+    assert script.accuracy_on(run, ["rgb", "flow"], "") == pytest.approx(
+        {s: run["accuracy"][s] for s in ("rgb", "flow", "fused")}
+    )
+    first = run["test_keys"][0]
+    one = script.accuracy_on(run, ["rgb", "flow"], first)
+    assert one["flow"] == float(np.argmax(run["test_scores"]["flow"][0]) == run["test_labels"][0])
+    assert script.row(cell, ["rgb", "flow"], first).startswith(f"| epochs=3 | 2 | {run['train_clips']} / 1 |")
+    with pytest.raises(SystemExit, match="no test clip"):
+        script.accuracy_on(run, ["rgb", "flow"], "elsewhere/")
     # the trained streams are kept, named by their settings, and a rerun reuses them
     kept = sorted(p.name.split("-")[0] for p in tmp_path.glob("*.pt"))
     assert kept == ["flow", "rgb"]
