@@ -35,7 +35,16 @@ from phav_validators.learn.data import Clip, ClipSet, load_phav
 from phav_validators.learn.experiment import subsample
 from phav_validators.learn.learnability import binomial_p, chance_level
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, default_threads, fuse, predict, stream_order, teacher_of, train
+from phav_validators.learn.train import (
+    TrainConfig,
+    default_precision,
+    default_threads,
+    fuse,
+    predict,
+    stream_order,
+    teacher_of,
+    train,
+)
 
 
 def inputs_name(size: tuple[int, int], flow: str) -> str:
@@ -47,9 +56,10 @@ def inputs_name(size: tuple[int, int], flow: str) -> str:
 DEFAULT_INPUTS = inputs_name((85, 64), "gt")
 
 
-def cached_clips(roots: list[Path], size: tuple[int, int], flow: str) -> ClipSet:
+def cached_clips(roots: list[Path], size: tuple[int, int], flow: str, workers: int = 2) -> ClipSet:
     """All clips of ``roots`` (keys prefixed by the dataset's folder name) with their body
-    parts, read once and kept in ``<first root>+<n>.clips-<size>-<flow>-parts.npz``."""
+    parts, read once (by ``workers`` processes) and kept in
+    ``<first root>+<n>.clips-<size>-<flow>-parts.npz``."""
     cache = roots[0].parent / f"{roots[0].name}+{len(roots)}.clips-{inputs_name(size, flow)}-parts.npz"
     if cache.exists():
         z = np.load(cache, allow_pickle=False)
@@ -64,7 +74,7 @@ def cached_clips(roots: list[Path], size: tuple[int, int], flow: str) -> ClipSet
     clips, classes = [], []
     for root in roots:
         start = time.perf_counter()
-        part = load_phav(root, size=size, flow=flow, workers=2, parts=True)
+        part = load_phav(root, size=size, flow=flow, workers=workers, parts=True)
         print(f"read {len(part)} clips of {root} in {time.perf_counter() - start:.0f} s", flush=True)
         classes = part.classes
         clips += [replace(c, key=f"{root.name}/{c.key}") for c in part.clips]
@@ -135,10 +145,12 @@ def run_cell(
     streams: list[str],
     keep: Path | None,
     inputs: str = DEFAULT_INPUTS,
+    device: str = "cpu",
 ) -> dict:
     """Train ``streams`` on the seed's held-out-actor split (subsampled to ``clips``), test, fuse;
     trained streams are kept in ``keep`` (a checkpoint there is reused, not retrained);
-    ``inputs`` is the clips' stored size and flow source (``inputs_name``)."""
+    ``inputs`` is the clips' stored size and flow source (``inputs_name``); the networks run
+    on ``device`` in its default precision unless the cell sets one."""
     split = make_split(data.clips, "actor", seed=seed)
     train_clips = [data.clips[i] for i in split.train]
     if clips is not None and clips < len(train_clips):
@@ -146,15 +158,15 @@ def run_cell(
     test = [data.clips[i] for i in split.test]
     labels = np.array([c.label for c in test])
     scores, minutes, epoch_s, train_acc = {}, {}, {}, {}
-    settings = {"threads": default_threads(), **overrides}
+    settings = {"threads": default_threads(), "precision": default_precision(device), **overrides}
     base = TrainConfig(stream="rgb" if "rgb" in streams else streams[0], seed=seed, **settings)
     teacher = None
     for stream in stream_order(streams, base):
         config = base.for_stream(stream)
         result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config, teacher=teacher,
-                       checkpoint=kept_stream(keep, config, train_clips, inputs))  # fmt: skip
+                       checkpoint=kept_stream(keep, config, train_clips, inputs), device=device)  # fmt: skip
         teacher = teacher_of(stream, result, base)
-        scores[stream] = predict(result.model, test, config, "virtual")
+        scores[stream] = predict(result.model, test, config, "virtual", device=device)
         minutes[stream] = result.seconds / 60
         epoch_s[stream] = result.seconds / len(result.history)
         train_acc[stream] = result.history[-1].train_accuracy
@@ -214,6 +226,8 @@ def main() -> None:
     parser.add_argument("--streams", default="rgb,flow")
     parser.add_argument("--size", default="85x64")
     parser.add_argument("--flow", default="gt")
+    parser.add_argument("--device", default="cpu", help="where the networks run: cpu, cuda, cuda:1")
+    parser.add_argument("--workers", type=int, default=2, help="processes reading the datasets (once, then cached)")
     parser.add_argument("--json", type=Path, default=None, help="results, appended to and resumed from")
     parser.add_argument("--keep", type=Path, default=None, help="folder where trained streams are kept and reused")
     parser.add_argument(
@@ -236,14 +250,14 @@ def main() -> None:
     for text in args.cell or ["baseline"]:
         clips, size, overrides = parse_cell(text, (int(w), int(h)))
         if size not in loaded:
-            loaded[size] = cached_clips(args.datasets, size, args.flow)
+            loaded[size] = cached_clips(args.datasets, size, args.flow, args.workers)
         cell = Cell(text, clips, size, overrides, [])
         inputs = inputs_name(size, args.flow)
         for seed in seeds:
             key = f"{text}|{args.flow}|{args.streams}|{seed}|{'+'.join(str(d) for d in args.datasets)}"
             if key not in done:
                 start = time.perf_counter()
-                done[key] = run_cell(loaded[size], clips, overrides, seed, streams, args.keep, inputs)
+                done[key] = run_cell(loaded[size], clips, overrides, seed, streams, args.keep, inputs, args.device)
                 done[key]["wall_seconds"] = time.perf_counter() - start
                 if args.json is not None:
                     args.json.write_text(json.dumps(done, indent=1) + "\n", encoding="utf-8")

@@ -18,6 +18,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -39,6 +40,8 @@ FLOW_BOUND_PX = 20.0
 PRECISIONS = ("fp32", "bf16")
 _RGB_MEAN, _RGB_STD = 0.45, 0.225
 #: The ``TrainConfig`` settings of the RGB stream alone, back at their defaults for flow.
+#: map(function, items) → list, as a batch's clips are cut (``cutting``).
+Mapper = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
 _RGB_ONLY = ("rgb_frames", "rgb_diff", "rgb_stride", "diff_gain", "aux_flow", "distill", "teacher_init")
 
 
@@ -371,6 +374,48 @@ def snippets(
     return snippets_and_targets(clip, config, rng=rng, segments=segments, targets=False)[0]
 
 
+@dataclass(frozen=True)
+class Cut:
+    """Where one clip's snippets are cut: the snippets' first frames, the crop's (height,
+    width), its top-left corner (None: the clip's motion window, moved by ``nudge``) and the
+    flip. Drawn from the random state in one fixed order (``draw_cut``), so cutting a batch's
+    clips in threads gives the arrays that cutting them one after another gives."""
+
+    starts: tuple[int, ...]
+    box: tuple[int, int]
+    corner: tuple[int, int] | None
+    nudge: tuple[int, int] = (0, 0)
+    flip: bool = False
+
+
+def _snippet_frames(config: TrainConfig) -> tuple[int, int]:
+    """(frames, stride) of one snippet of the config's stream."""
+    return (config.rgb_frames, config.rgb_stride) if config.stream == "rgb" else (config.flow_frames, 1)
+
+
+def draw_cut(clip: Clip, config: TrainConfig, *, rng: np.random.Generator | None, segments: int | None = None) -> Cut:
+    """Where ``clip``'s K snippets are cut: with ``rng`` random offsets in their segments, a
+    random crop (multi-scale with ``scale_jitter``) and flip; without, segment centres and
+    the centre crop (or the motion window)."""
+    length, stride = _snippet_frames(config)
+    k = segments if segments is not None else config.segments
+    starts = snippet_starts(clip.n_frames, k, (length - 1) * stride + 1, rng=rng)
+    h, w = clip.rgb.shape[1:3]
+    ch, cw = crop_box((h, w), config.crop)
+    if config.scale_jitter and rng is not None:
+        ch, cw = jitter_box((h, w), rng)
+    if config.focus == "motion":
+        if rng is None:
+            return Cut(tuple(starts), (ch, cw), None)
+        # jitter by up to an eighth of the window
+        nudge = int(rng.integers(-(ch // 8), ch // 8 + 1)), int(rng.integers(-(cw // 8), cw // 8 + 1))
+        return Cut(tuple(starts), (ch, cw), None, nudge, bool(rng.random() < 0.5))
+    if rng is None:
+        return Cut(tuple(starts), (ch, cw), ((h - ch) // 2, (w - cw) // 2))
+    corner = int(rng.integers(0, h - ch + 1)), int(rng.integers(0, w - cw + 1))
+    return Cut(tuple(starts), (ch, cw), corner, flip=bool(rng.random() < 0.5))
+
+
 def snippets_and_targets(
     clip: Clip,
     config: TrainConfig,
@@ -381,30 +426,31 @@ def snippets_and_targets(
     teacher: TrainConfig | None = None,
 ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """``snippets`` and the auxiliary targets the config trains with, under the same crop
-    and flip: ``flow`` (``aux_flow``, RGB stream) the flow between the stacked frames
+    and flip: ``cut_clip`` at ``draw_cut``'s place."""
+    where = draw_cut(clip, config, rng=rng, segments=segments)
+    return cut_clip(clip, config, where, targets=targets, teacher=teacher)
+
+
+def cut_clip(
+    clip: Clip, config: TrainConfig, where: Cut, *, targets: bool = True, teacher: TrainConfig | None = None
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """One clip's snippets (K, C, h, w) float32, cropped at ``where``, resized to the crop the
+    network sees and normalised, with the auxiliary targets under the same crop and flip:
+    ``flow`` (``aux_flow``, RGB stream) the flow between the stacked frames
     (K, 2·(L − 1), h, w), scaled as the flow stream's input; ``parts`` (``aux_parts``) each
     snippet's first frame's body parts (K, h, w) as BODY_PARTS indices; ``teacher`` (given
     a flow teacher's config) the flow snippets that teacher sees from the same starts."""
-    k = segments if segments is not None else config.segments
-    length, stride = (config.rgb_frames, config.rgb_stride) if config.stream == "rgb" else (config.flow_frames, 1)
-    starts = snippet_starts(clip.n_frames, k, (length - 1) * stride + 1, rng=rng)
-    frames = np.minimum(np.add.outer(np.asarray(starts), stride * np.arange(length)), clip.n_frames - 1)
+    k = len(where.starts)
+    length, stride = _snippet_frames(config)
+    frames = np.minimum(np.add.outer(np.asarray(where.starts), stride * np.arange(length)), clip.n_frames - 1)
     h, w = clip.rgb.shape[1:3]
-    seen = ch, cw = crop_box((h, w), config.crop)
-    if config.scale_jitter and rng is not None:
-        ch, cw = jitter_box((h, w), rng)
-    if config.focus == "motion":
+    seen = crop_box((h, w), config.crop)
+    ch, cw = where.box
+    if where.corner is None:
         y0, x0 = motion_window(clip, frames, (ch, cw))
-        if rng is not None:  # jitter by up to an eighth of the window
-            y0 += int(rng.integers(-(ch // 8), ch // 8 + 1))
-            x0 += int(rng.integers(-(cw // 8), cw // 8 + 1))
-            y0, x0 = min(max(y0, 0), h - ch), min(max(x0, 0), w - cw)
-        flip = rng is not None and bool(rng.random() < 0.5)
-    elif rng is None:
-        y0, x0, flip = (h - ch) // 2, (w - cw) // 2, False
+        y0, x0 = min(max(y0 + where.nudge[0], 0), h - ch), min(max(x0 + where.nudge[1], 0), w - cw)
     else:
-        y0, x0 = int(rng.integers(0, h - ch + 1)), int(rng.integers(0, w - cw + 1))
-        flip = bool(rng.random() < 0.5)
+        y0, x0 = where.corner
     window = np.s_[y0 : y0 + ch, x0 : x0 + cw]
     out: dict[str, np.ndarray] = {}
     if config.stream == "rgb":
@@ -418,7 +464,7 @@ def snippets_and_targets(
     else:
         x = _flow_input(clip, frames, window, config)
     if targets and teacher is not None:
-        span = np.minimum(np.asarray(starts)[:, None] + np.arange(teacher.flow_frames), clip.n_frames - 1)
+        span = np.minimum(np.asarray(where.starts)[:, None] + np.arange(teacher.flow_frames), clip.n_frames - 1)
         out["teacher"] = _flow_input(clip, span, window, teacher)
     if targets and config.aux_parts > 0:
         if clip.parts is None:
@@ -426,7 +472,7 @@ def snippets_and_targets(
         out["parts"] = clip.parts[frames[:, 0], window[0], window[1]]
     x = resize_snippets(x, seen, kind=config.stream)
     out = {name: resize_snippets(t, seen, kind=_TARGET_KINDS[name]) for name, t in out.items()}
-    if flip:
+    if where.flip:
         x = _flip(x, flow=config.stream == "flow")
         out = {name: _flip(t, flow=_TARGET_KINDS[name] == "flow") for name, t in out.items()}
     return np.ascontiguousarray(x), {name: np.ascontiguousarray(t) for name, t in out.items()}
@@ -590,7 +636,7 @@ def train(
     if (config.distill > 0) != (teacher is not None):
         raise PhavUserError("distillation needs both a weight and a trained flow stream", field="--distill")
     dev = torch_device(device)
-    with torch_threads(config.threads):
+    with torch_threads(config.threads), cutting(dev, config.threads) as cutter:
         gen = torch.Generator().manual_seed(config.seed)
         model = _model(config, heads, init, gen, dev)
         if teacher is not None:
@@ -607,7 +653,7 @@ def train(
         ckpt = Path(checkpoint) if checkpoint is not None else None
         resumed = _resumable(ckpt, fingerprint)
         batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
-        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev, teacher)
+        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev, teacher, cutter)
         result = TrainResult(model, config)
         if resumed is not None:
             run.restore(resumed, result)
@@ -719,6 +765,8 @@ class _Run:
     batches: MixedBatches
     device: Any  # torch.device
     teacher: Teacher | None = None
+    #: Maps a function over a batch's clips (``cutting``): in turn or in a thread pool.
+    cutter: Mapper = field(default=lambda f, items: [*map(f, items)])
 
     @property
     def steps_per_epoch(self) -> int:
@@ -770,11 +818,16 @@ class _Run:
                      time.perf_counter() - start)  # fmt: skip
 
     def _cut(self) -> tuple[list[tuple[str, int]], list[tuple[np.ndarray, dict[str, np.ndarray]]]]:
-        """The next mini-batch and its clips' snippets and targets (random crops and flips)."""
+        """The next mini-batch and its clips' snippets and targets (random crops and flips):
+        every place drawn first, in order, then the clips cut (in threads off the CPU)."""
         batch = self.batches.next()
         teacher = self.teacher.config if self.teacher is not None else None
-        return batch, [snippets_and_targets(self.data[s][i], self.config, rng=self.rng, teacher=teacher)
-                       for s, i in batch]  # fmt: skip
+        clips = [self.data[s][i] for s, i in batch]
+        places = [draw_cut(clip, self.config, rng=self.rng) for clip in clips]
+        return batch, self.cutter(
+            lambda job: cut_clip(*job, teacher=teacher),
+            [(clip, self.config, where) for clip, where in zip(clips, places, strict=True)],
+        )
 
     def _step(
         self,
@@ -847,10 +900,13 @@ def predict(
     model.to(dev)
     model.eval()
     out = []
-    with torch_threads(config.threads), torch.no_grad(), autocast(config, dev):
+
+    def centre(clip: Clip) -> np.ndarray:
+        return snippets(clip, config, rng=None, segments=config.eval_segments)
+
+    with torch_threads(config.threads), cutting(dev, config.threads) as cutter, torch.no_grad(), autocast(config, dev):
         for i in range(0, len(clips), batch):
-            x = torch.from_numpy(np.stack([snippets(c, config, rng=None, segments=config.eval_segments)
-                                           for c in clips[i : i + batch]])).to(dev)  # fmt: skip
+            x = torch.from_numpy(np.stack(cutter(centre, clips[i : i + batch]))).to(dev)
             out.append(torch.softmax(model(x)[head].float(), dim=1).cpu().numpy())
     n = model.heads[head].out_features
     return np.concatenate(out) if out else np.zeros((0, n), np.float32)
@@ -874,6 +930,19 @@ def torch_device(name: str) -> Any:
     if dev.type == "cuda" and not torch.cuda.is_available():
         raise PhavUserError("CUDA is not available on this machine (torch sees no GPU)", field="--device")
     return dev
+
+
+@contextlib.contextmanager
+def cutting(device: Any, threads: int) -> Iterator[Mapper]:
+    """How a batch's clips are cut into snippets: one after another when the model runs on
+    the CPU (torch's threads fill the cores; a second cutting thread was measured slower on
+    2 cores), by ``threads`` threads when it runs on a GPU and the cores are free. OpenCV and
+    numpy's copies release the GIL; the order of the results is the batch's either way."""
+    if device.type == "cpu" or threads < 2:
+        yield lambda f, items: [*map(f, items)]
+        return
+    with ThreadPoolExecutor(threads, thread_name_prefix="phav-cut") as pool:
+        yield lambda f, items: [*pool.map(f, items)]
 
 
 @contextlib.contextmanager

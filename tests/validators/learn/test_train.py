@@ -4,6 +4,7 @@ learnable signal is learnt (a shuffled one is not)."""
 from __future__ import annotations
 
 import dataclasses
+import threading
 
 import numpy as np
 import pytest
@@ -19,7 +20,10 @@ from phav_validators.learn.train import (
     Teacher,
     TrainConfig,
     _fingerprint,
+    cut_clip,
+    cutting,
     default_precision,
+    draw_cut,
     motion_window,
     predict,
     recommended_config,
@@ -399,6 +403,29 @@ def test_the_motion_window_finds_the_mover_not_the_panning_camera():
     still = motion_clips(1, 1, frames=8, size=(64, 48)).clips[0]
     still.flow[...] = 0.0
     assert motion_window(still, frames, (16, 16)) == (16, 24)  # nothing moves: the centre
+
+
+@pytest.mark.parametrize("focus", ["none", "motion"])
+def test_a_batch_cut_in_threads_is_the_batch_cut_in_turn(focus):
+    clips = _square_clips_with_flow(1)[:16]
+    rgb = dataclasses.replace(SMALL, stream="rgb", rgb_frames=3, rgb_diff=True, aux_flow=1.0, focus=focus,
+                              scale_jitter=focus == "none")  # fmt: skip
+    teacher = dataclasses.replace(SMALL, focus=focus)
+    rng = np.random.Generator(np.random.PCG64(5))
+    in_turn = [snippets_and_targets(c, rgb, rng=rng, teacher=teacher) for c in clips]
+    rng = np.random.Generator(np.random.PCG64(5))
+    places = [draw_cut(c, rgb, rng=rng) for c in clips]  # every random draw first, in order
+    with cutting(torch.device("cuda"), 4) as cutter:  # off the CPU the cores are free: a thread pool
+        jobs = [(c, rgb, where) for c, where in zip(clips, places, strict=True)]
+        threaded = cutter(lambda job: cut_clip(*job, teacher=teacher), jobs)
+        names = set(cutter(lambda _: threading.current_thread().name, range(16)))
+    assert all(n.startswith("phav-cut") for n in names)
+    for (x, t), (y, u) in zip(in_turn, threaded, strict=True):
+        assert np.array_equal(x, y) and t.keys() == u.keys() == {"flow", "teacher"}
+        assert all(np.array_equal(t[k], u[k]) for k in t)
+    assert len({p.flip for p in places}) == 2 and len({p.starts for p in places}) > 1
+    with cutting(torch.device("cpu"), 4) as cutter:  # torch's threads fill the cores: in turn
+        assert set(cutter(lambda _: threading.current_thread().name, range(4))) == {threading.main_thread().name}
 
 
 def _square_clips_with_flow(seed: int) -> list[Clip]:
