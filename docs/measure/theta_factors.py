@@ -1,6 +1,7 @@
 """θ presets that change one data factor of phav-v1-short each, for the learnability
-experiments (docs/learnability.md): clip length, camera, weather, motions per action, and
-the RGB modality's supersampling (phav-v1's 2 samples a pixel against phav-v1-short's 1).
+experiments (docs/learnability.md): clip length, camera, the kite's framing, weather, motions
+per action, and the RGB modality's supersampling (phav-v1's 2 samples a pixel against
+phav-v1-short's 1).
 
 Each variant is phav-v1-short's YAML with one key replaced, written as
 ``<out>/phav-v1-short-<factor>.yaml``; generate from it with ``phav generate --theta FILE``.
@@ -20,6 +21,12 @@ import yaml
 
 from phav_spec.motions import MOTIONS
 from phav_spec.theta import PRESETS_DIR, load_theta
+
+#: The kite camera's distance and field of view of the ``kite-far`` variant.
+FAR_KITE = {
+    "fov_deg": {"kind": "uniform", "low": 40.0, "high": 70.0},
+    "distance_m": {"kind": "uniform", "low": 2.5, "high": 8.0},
+}
 
 
 def one_motion_per_action(regex: dict[str, str], t_min: float) -> dict[str, str]:
@@ -47,6 +54,9 @@ def variants(base: dict[str, Any]) -> dict[str, dict[str, Any]]:
         "clips-0.5-1s": ("durations", {"t_min": 0.5, "t_max": 1.0, "t_mod": 0.75}),
         "clips-2-4s": ("durations", {"t_min": 2.0, "t_max": 4.0, "t_mod": 3.0}),
         "kite": ("theta_c", {**cameras, "kite": 1}),
+        # The kite's framing: its earlier, wider ranges (2.5–8 m, 40–70°), under which the
+        # protagonist's median height was 26 % of the frame against 48 % (docs/framing.md).
+        "kite-far": ("cameras", {**base["cameras"], "kite": {**base["cameras"]["kite"], **FAR_KITE}}),
         "clear": ("theta_w", {**weathers, "clear": 1}),
         "one-motion": ("theta_ab", {"regex": one_motion_per_action(regex, base["durations"]["t_min"])}),
         "supersampling-2": ("render", {**base["render"], "supersampling": 2}),

@@ -80,13 +80,13 @@ def test_the_factor_presets_change_one_theta_key_each_and_are_valid(tmp_path):
     module = measure_script("theta_factors")
     base = module.base_preset()
     found = module.variants(base)
-    assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "clear", "one-motion", "supersampling-2"}
+    assert set(found) == {"clips-0.5-1s", "clips-2-4s", "kite", "kite-far", "clear", "one-motion", "supersampling-2"}
     hashes = {load_theta("phav-v1-short").hash}
     for factor, theta in found.items():
         changed = {k for k in base if theta[k] != base[k]} - {"name", "description"}
         assert len(changed) == 1, (factor, changed)
         hashes.add(parse_theta(theta, source=factor).hash)
-    assert len(hashes) == 7  # every variant is another θ
+    assert len(hashes) == 8  # every variant is another θ
     one = parse_theta(found["one-motion"], source="one-motion")
     ab = one.arrays.ab * one.arrays.motion_long_enough
     assert (ab.sum(axis=1) == 1).all()  # one take per action, long enough for the shortest clip
