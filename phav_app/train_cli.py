@@ -143,7 +143,12 @@ def train_command(
     real_fraction: Annotated[str, typer.Option(help="Fractions of real training data swept, e.g. 0.01,0.25,1.")] = "1",
     init: Annotated[Path | None, typer.Option(help="TSN-FT: a phav train output folder (or checkpoint).")] = None,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
-    threads: Annotated[int | None, typer.Option(min=1, help="Torch threads (default: the usable cores).")] = None,
+    threads: Annotated[
+        int | None,
+        typer.Option(
+            min=1, help="Torch threads; on a GPU also the threads cutting snippets (default: the usable cores)."
+        ),
+    ] = None,
     precision: Annotated[
         str | None, typer.Option(help="fp32 or bf16 autocast (default: bf16 where the device computes it natively).")
     ] = None,

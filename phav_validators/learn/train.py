@@ -39,9 +39,9 @@ FUSION_WEIGHTS = {"rgb": 1.0, "flow": 1.5}
 FLOW_BOUND_PX = 20.0
 PRECISIONS = ("fp32", "bf16")
 _RGB_MEAN, _RGB_STD = 0.45, 0.225
-#: The ``TrainConfig`` settings of the RGB stream alone, back at their defaults for flow.
 #: map(function, items) → list, as a batch's clips are cut (``cutting``).
 Mapper = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
+#: The ``TrainConfig`` settings of the RGB stream alone, back at their defaults for flow.
 _RGB_ONLY = ("rgb_frames", "rgb_diff", "rgb_stride", "diff_gain", "aux_flow", "distill", "teacher_init")
 
 
