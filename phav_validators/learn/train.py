@@ -750,6 +750,11 @@ def _resumable(ckpt: Path | None, fingerprint: str) -> dict[str, Any] | None:
     return state
 
 
+def _in_turn(f: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+    """``Mapper`` without threads: ``f`` of each item, one after another."""
+    return [f(item) for item in items]
+
+
 @dataclass
 class _Run:
     """One training run's moving parts: what a step updates and what a checkpoint keeps."""
@@ -766,7 +771,7 @@ class _Run:
     device: Any  # torch.device
     teacher: Teacher | None = None
     #: Maps a function over a batch's clips (``cutting``): in turn or in a thread pool.
-    cutter: Mapper = field(default=lambda f, items: [*map(f, items)])
+    cutter: Mapper = _in_turn
 
     @property
     def steps_per_epoch(self) -> int:
@@ -824,10 +829,8 @@ class _Run:
         teacher = self.teacher.config if self.teacher is not None else None
         clips = [self.data[s][i] for s, i in batch]
         places = [draw_cut(clip, self.config, rng=self.rng) for clip in clips]
-        return batch, self.cutter(
-            lambda job: cut_clip(*job, teacher=teacher),
-            [(clip, self.config, where) for clip, where in zip(clips, places, strict=True)],
-        )
+        return batch, self.cutter(lambda pair: cut_clip(pair[0], self.config, pair[1], teacher=teacher),
+                                  list(zip(clips, places, strict=True)))  # fmt: skip
 
     def _step(
         self,
@@ -939,7 +942,7 @@ def cutting(device: Any, threads: int) -> Iterator[Mapper]:
     2 cores), by ``threads`` threads when it runs on a GPU and the cores are free. OpenCV and
     numpy's copies release the GIL; the order of the results is the batch's either way."""
     if device.type == "cpu" or threads < 2:
-        yield lambda f, items: [*map(f, items)]
+        yield _in_turn
         return
     with ThreadPoolExecutor(threads, thread_name_prefix="phav-cut") as pool:
         yield lambda f, items: [*pool.map(f, items)]
