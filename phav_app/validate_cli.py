@@ -80,7 +80,8 @@ def validate(
         typer.Option(min=1, help="learnability: epochs of the RGB stream (default: a third of --learn-epochs)."),
     ] = None,
     learn_precision: Annotated[
-        str | None, typer.Option(help="learnability: fp32 or bf16 (default: bf16 where the CPU has AMX).")
+        str | None,
+        typer.Option(help="learnability: fp32 or bf16 (default: bf16 where this machine computes it faster)."),
     ] = None,
     learn_dir: Annotated[
         Path | None,

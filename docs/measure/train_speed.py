@@ -1,6 +1,6 @@
 """Milliseconds per training step of the TSN model alone (no snippet cutting) under each
 arithmetic and layout: float32, channels-last, bfloat16 autocast, two smaller networks,
-then, in this machine's default arithmetic (bfloat16 with AMX, else float32 channels-last),
+then, in this machine's default arithmetic (bfloat16 where it is faster, else float32 channels-last),
 the backbones of the width/depth and temporal-model experiments and the stored sizes
 (docs/learnability.md).
 

@@ -969,30 +969,33 @@ def autocast(config: TrainConfig, device: Any) -> Any:
 
 
 def default_precision(device: str = "cpu") -> str:
-    """``bf16`` where ``device`` computes bfloat16 faster than float32 (a CPU with AMX, a GPU
-    from Ampere on), else ``fp32``. AVX-512 BF16 alone is not enough: on a 2-core Xeon
-    without AMX a training step took 1.25× its float32 time in bfloat16 (docs/learnability.md).
-    Results are reproducible per precision, as per thread count."""
+    """``bf16`` where ``device`` computes bfloat16 faster than float32, else ``fp32``: a GPU
+    from Ampere on; a CPU with AMX; an AMD CPU with AVX-512 BF16 (a 2-core EPYC took 0.53×
+    its float32 time in bfloat16). AVX-512 BF16 alone on Intel is not enough: a 2-core
+    Xeon without AMX took 1.25× (docs/learnability.md). Results are reproducible per
+    precision, as per thread count, and every run's settings name it."""
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
 
     dev = torch_device(device)
     if dev.type == "cuda":
         return "bf16" if torch.cuda.is_bf16_supported() else "fp32"
-    flags = _cpu_flags()
-    return "bf16" if "amx_bf16" in flags else "fp32"
+    vendor, flags = _cpu_info()
+    fast = "amx_bf16" in flags or (vendor == "AuthenticAMD" and "avx512_bf16" in flags)
+    return "bf16" if fast else "fp32"
 
 
-def _cpu_flags() -> set[str]:
-    """The CPU's feature flags (Linux's /proc/cpuinfo; empty elsewhere)."""
+def _cpu_info(path: Path = Path("/proc/cpuinfo")) -> tuple[str, set[str]]:
+    """The CPU's vendor and feature flags (Linux's /proc/cpuinfo; empty elsewhere)."""
     try:
-        text = Path("/proc/cpuinfo").read_text(encoding="ascii", errors="replace")
+        text = path.read_text(encoding="ascii", errors="replace")
     except OSError:  # pragma: no cover - not Linux
-        return set()
+        return "", set()
+    fields = {}
     for line in text.splitlines():
-        if line.startswith("flags"):
-            return set(line.partition(":")[2].split())
-    return set()
+        key, _, value = line.partition(":")
+        fields.setdefault(key.strip(), value.strip())  # the first processor's
+    return fields.get("vendor_id", ""), set(fields.get("flags", "").split())
 
 
 def default_threads() -> int:

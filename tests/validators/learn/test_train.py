@@ -526,15 +526,31 @@ def test_the_rgb_stream_takes_its_own_epochs():
 
 
 @pytest.mark.parametrize(
-    ("flags", "expected"),
-    [({"avx512_bf16", "amx_bf16", "amx_tile"}, "bf16"), ({"avx512f", "avx512_bf16"}, "fp32"), (set(), "fp32")],
+    ("vendor", "flags", "expected"),
+    [
+        ("GenuineIntel", {"avx512_bf16", "amx_bf16", "amx_tile"}, "bf16"),
+        ("GenuineIntel", {"avx512f", "avx512_bf16"}, "fp32"),
+        ("AuthenticAMD", {"avx512f", "avx512_bf16"}, "bf16"),
+        ("AuthenticAMD", {"avx2"}, "fp32"),
+        ("", set(), "fp32"),
+    ],
 )
-def test_bfloat16_is_the_cpu_default_only_with_amx(monkeypatch, flags, expected):
-    """AVX-512 BF16 alone made a training step slower than float32 (docs/learnability.md)."""
+def test_bfloat16_is_the_cpu_default_where_it_was_measured_faster(monkeypatch, vendor, flags, expected):
+    """AVX-512 BF16 made a training step slower than float32 on a Xeon without AMX and
+    faster on an AMD EPYC (docs/learnability.md)."""
     import phav_validators.learn.train as train_module
 
-    monkeypatch.setattr(train_module, "_cpu_flags", lambda: flags)
+    monkeypatch.setattr(train_module, "_cpu_info", lambda: (vendor, flags))
     assert default_precision("cpu") == expected
+
+
+def test_the_cpu_info_is_read_from_proc_cpuinfo(tmp_path):
+    import phav_validators.learn.train as train_module
+
+    info = tmp_path / "cpuinfo"
+    info.write_text("processor\t: 0\nvendor_id\t: AuthenticAMD\nflags\t\t: fpu avx512_bf16\n\n"
+                    "processor\t: 1\nvendor_id\t: AuthenticAMD\nflags\t\t: fpu avx512_bf16\n")  # fmt: skip
+    assert train_module._cpu_info(info) == ("AuthenticAMD", {"fpu", "avx512_bf16"})
 
 
 def test_the_recommended_settings_follow_the_streams_trained():
