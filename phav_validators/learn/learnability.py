@@ -56,8 +56,8 @@ class LearnOptions:
     epochs: int = RECOMMENDED.epochs
     #: The RGB stream's epochs (None: in ``RECOMMENDED``'s proportion to ``epochs``).
     rgb_epochs: int | None = None
-    #: Minutes of training for all streams together (each stream gets its share); a safety
-    #: stop: the default epochs take ~14 minutes on 2 cores with bfloat16.
+    #: Minutes of training for all streams together, shared by their expected seconds
+    #: (``epoch_cost``); the default epochs take 14–16.5 minutes on 2 cores in bfloat16.
     budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     flow: str = "gt"
@@ -187,6 +187,19 @@ def binomial_p(correct: int, n: int, chance: float) -> float:
     return float(binomtest(correct, n, chance, alternative="greater").pvalue)
 
 
+#: An epoch of the distilled RGB stream in flow epochs: its snippets, the teacher's flow
+#: snippets and the teacher's forward pass (1.49–1.51 with the defaults on three CPUs, in
+#: float32 and bfloat16: docs/learnability.md).
+DISTILLED_RGB_EPOCH = 1.5
+
+
+def epoch_cost(config: TrainConfig) -> float:
+    """A stream's training time in flow epochs, by which the check shares its budget, so
+    that a stopped stream is stopped at the same share of its schedule as the other."""
+    per_epoch = DISTILLED_RGB_EPOCH if config.stream == "rgb" and config.distill > 0 else 1.0
+    return config.epochs * per_epoch
+
+
 def shuffled(clips: ClipSet, seed: int) -> ClipSet:
     """The same clips with labels permuted among them (the control that must not learn)."""
     rng = seeded_rng(seed, 0x5EED)
@@ -213,9 +226,9 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
         for i, stream in enumerate(order):
             config = base.for_stream(stream)
             # Each stream may use what the streams before it left, less the later streams'
-            # shares: the time is shared in proportion to the streams' epochs.
-            later = sum(base.for_stream(s).epochs for s in order[i:])
-            budget = (opts.budget_minutes * 60.0 - seconds) * config.epochs / later
+            # shares: the time is shared in proportion to the streams' expected seconds.
+            later = sum(epoch_cost(base.for_stream(s)) for s in order[i:])
+            budget = (opts.budget_minutes * 60.0 - seconds) * epoch_cost(config) / later
             advance = progress(f"learnability: training {stream}", config.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
                            checkpoint=out / f"{stream}.pt", max_seconds=budget,

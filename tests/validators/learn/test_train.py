@@ -12,7 +12,14 @@ import torch
 
 from phav_spec.errors import PhavUserError
 from phav_validators.learn.data import Clip, load_phav, load_real, ucf101_split
-from phav_validators.learn.learnability import LearnOptions, binomial_p, chance_level, run_learnability
+from phav_validators.learn.learnability import (
+    DISTILLED_RGB_EPOCH,
+    LearnOptions,
+    binomial_p,
+    chance_level,
+    epoch_cost,
+    run_learnability,
+)
 from phav_validators.learn.train import (
     JITTER_SCALES,
     RECOMMENDED,
@@ -182,6 +189,28 @@ def test_learnable_motion_passes_and_shuffled_labels_do_not():
     assert result.accuracy() > 0.8 and result.p_value < 1e-6, (result.accuracy(), result.p_value)
     control = run_learnability(clips, dataclasses.replace(opts, shuffle_labels=True))
     assert control.accuracy() < 0.5 and control.p_value > 1e-3, (control.accuracy(), control.p_value)
+
+
+def test_the_budget_is_shared_by_each_streams_expected_seconds(monkeypatch):
+    """The distilled RGB stream's epoch costs 1.5 flow epochs, so 30 flow + 10 RGB epochs
+    share 45 flow epochs' time: flow 30/45 of the budget, RGB what flow left."""
+    import phav_validators.learn.learnability as learnability
+
+    budgets, spent = {}, {}
+    real = learnability.train
+
+    def recording(data, heads, config, **kwargs):  # one epoch each: the shares are what is tested
+        budgets[config.stream] = kwargs["max_seconds"]
+        result = real(data, heads, dataclasses.replace(config, epochs=1), **kwargs)
+        spent[config.stream] = result.seconds
+        return result
+
+    monkeypatch.setattr(learnability, "train", recording)
+    run_learnability(motion_clips(3, 4), LearnOptions(epochs=30, rgb_epochs=10, budget_minutes=3, threads=1))
+    assert budgets["flow"] == pytest.approx(180 * 30 / 45)
+    assert budgets["rgb"] == pytest.approx(180 - spent["flow"])
+    assert epoch_cost(recommended_config(["rgb", "flow"]).for_stream("rgb")) == 40 * DISTILLED_RGB_EPOCH
+    assert epoch_cost(recommended_config(["rgb"]).for_stream("rgb")) == 40  # no teacher, no teacher's cost
 
 
 @pytest.mark.parametrize(("precision", "channels_last"), [("fp32", True), ("bf16", False)])
