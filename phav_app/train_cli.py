@@ -150,7 +150,7 @@ def train_command(
         ),
     ] = None,
     precision: Annotated[
-        str | None, typer.Option(help="fp32 or bf16 autocast (default: bf16 where the device computes it natively).")
+        str | None, typer.Option(help="fp32 or bf16 autocast (default: bf16 where the device computes it faster).")
     ] = None,
     workers: Annotated[int, typer.Option(min=1, help="Processes decoding shards.")] = 1,
     seed: Annotated[int, typer.Option(min=0, help="Seed of splits and training (split k of --splits: seed + k).")] = 0,

@@ -991,7 +991,7 @@ def _cpu_info(path: Path = Path("/proc/cpuinfo")) -> tuple[str, set[str]]:
         text = path.read_text(encoding="ascii", errors="replace")
     except OSError:  # pragma: no cover - not Linux
         return "", set()
-    fields = {}
+    fields: dict[str, str] = {}
     for line in text.splitlines():
         key, _, value = line.partition(":")
         fields.setdefault(key.strip(), value.strip())  # the first processor's
