@@ -57,7 +57,7 @@ class LearnOptions:
     #: The RGB stream's epochs (None: in ``RECOMMENDED``'s proportion to ``epochs``).
     rgb_epochs: int | None = None
     #: Minutes of training for all streams together, shared by their expected seconds
-    #: (``epoch_cost``); the default epochs take 14–16.5 minutes on 2 cores in bfloat16.
+    #: (``epoch_cost``); the default epochs take 14–16.7 minutes on 2 cores in bfloat16.
     budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     flow: str = "gt"
@@ -188,7 +188,7 @@ def binomial_p(correct: int, n: int, chance: float) -> float:
 
 
 #: An epoch of the distilled RGB stream in flow epochs: its snippets, the teacher's flow
-#: snippets and the teacher's forward pass (1.49–1.51 with the defaults on three CPUs, in
+#: snippets and the teacher's forward pass (1.36–1.51 with the defaults on three CPUs, in
 #: float32 and bfloat16: docs/learnability.md).
 DISTILLED_RGB_EPOCH = 1.5
 
