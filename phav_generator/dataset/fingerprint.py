@@ -9,6 +9,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from phav_generator.body.data import load_body_data
+from phav_spec.host import cpu_fields
 from phav_spec.manifest import RendererFingerprint
 
 #: The source tree's project file: phav's version when it runs from a checkout it is not installed from.
@@ -32,19 +33,10 @@ def package_version(package: str) -> str:
 
 def _cpu() -> tuple[str, str]:
     """CPU model name and sorted flags (Linux ``/proc/cpuinfo``; the platform elsewhere)."""
-    model, flags = platform.processor() or platform.machine(), ""
-    try:
-        text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return model, flags
-    for line in text.splitlines():
-        key, _, value = line.partition(":")
-        key = key.strip()
-        if key == "model name" and model in ("", platform.machine(), platform.processor()):
-            model = value.strip()
-        elif key in ("flags", "Features") and not flags:
-            flags = " ".join(sorted(value.split()))
-    return model, flags
+    fields = cpu_fields()
+    model = fields.get("model name") or platform.processor() or platform.machine()
+    flags = fields.get("flags") or fields.get("Features") or ""
+    return model, " ".join(sorted(flags.split()))
 
 
 #: The ``versions`` key of the body data's sha256 (the people's meshes are made from it).

@@ -28,6 +28,7 @@ import numpy as np
 
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
+from phav_spec.host import cpu_fields
 from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import Architecture, in_channels, require_torch
 from phav_validators.learn.data import BODY_PARTS, Clip
@@ -985,16 +986,9 @@ def default_precision(device: str = "cpu") -> str:
     return "bf16" if fast else "fp32"
 
 
-def _cpu_info(path: Path = Path("/proc/cpuinfo")) -> tuple[str, set[str]]:
-    """The CPU's vendor and feature flags (Linux's /proc/cpuinfo; empty elsewhere)."""
-    try:
-        text = path.read_text(encoding="ascii", errors="replace")
-    except OSError:  # pragma: no cover - not Linux
-        return "", set()
-    fields: dict[str, str] = {}
-    for line in text.splitlines():
-        key, _, value = line.partition(":")
-        fields.setdefault(key.strip(), value.strip())  # the first processor's
+def _cpu_info() -> tuple[str, set[str]]:
+    """The CPU's vendor and feature flags (empty where there is no /proc/cpuinfo)."""
+    fields = cpu_fields()
     return fields.get("vendor_id", ""), set(fields.get("flags", "").split())
 
 

@@ -27,3 +27,11 @@ def test_a_missing_pyproject_leaves_phav_unknown(monkeypatch, tmp_path):
     monkeypatch.setattr(fingerprint, "version", _not_installed)
     monkeypatch.setattr(fingerprint, "_PYPROJECT", tmp_path / "pyproject.toml")
     assert package_version("phav") == "unknown"
+
+
+def test_the_fingerprint_records_the_first_processors_model_and_sorted_flags(monkeypatch):
+    fields = {"model name": "AMD EPYC", "flags": "sse2 avx512_bf16 fpu"}
+    monkeypatch.setattr(fingerprint, "cpu_fields", lambda: fields)
+    assert fingerprint._cpu() == ("AMD EPYC", "avx512_bf16 fpu sse2")
+    monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"Features": "neon fp"})  # ARM names its flags so
+    assert fingerprint._cpu() == (fingerprint.platform.processor() or fingerprint.platform.machine(), "fp neon")

@@ -573,15 +573,6 @@ def test_bfloat16_is_the_cpu_default_where_it_was_measured_faster(monkeypatch, v
     assert default_precision("cpu") == expected
 
 
-def test_the_cpu_info_is_read_from_proc_cpuinfo(tmp_path):
-    import phav_validators.learn.train as train_module
-
-    info = tmp_path / "cpuinfo"
-    info.write_text("processor\t: 0\nvendor_id\t: AuthenticAMD\nflags\t\t: fpu avx512_bf16\n\n"
-                    "processor\t: 1\nvendor_id\t: AuthenticAMD\nflags\t\t: fpu avx512_bf16\n")  # fmt: skip
-    assert train_module._cpu_info(info) == ("AuthenticAMD", {"fpu", "avx512_bf16"})
-
-
 def test_the_recommended_settings_follow_the_streams_trained():
     both = recommended_config(["rgb", "flow"], seed=3)
     assert both.distill == RECOMMENDED.distill > 0 and both.rgb_diff and both.seed == 3
