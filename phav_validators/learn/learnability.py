@@ -12,6 +12,7 @@ p_e), so that a model answering one common class does not count as learning.
 from __future__ import annotations
 
 import dataclasses
+import math
 import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -106,6 +107,20 @@ class LearnResult:
     keys: list[str] = field(default_factory=list)  # the test clips' video ids, in ``labels`` order
     settings: dict[str, Any] = field(default_factory=dict)  # the base TrainConfig, as JSON
     epochs: dict[str, int] = field(default_factory=dict)  # stream → epochs trained
+    schedule: dict[str, int] = field(default_factory=dict)  # stream → epochs of its schedule
+    epoch_seconds: dict[str, float] = field(default_factory=dict)  # stream → mean seconds an epoch here
+
+    def full_minutes(self) -> float:
+        """Minutes the streams' whole schedules take at the epoch times measured here."""
+        return sum(self.schedule[s] * self.epoch_seconds[s] for s in self.schedule) / 60.0
+
+    def budget_note(self, budget_minutes: float) -> str:
+        """What a stop at the budget cost, and the budget that would finish the schedules here."""
+        reached = ", ".join(f"{s} {self.epochs[s]} of {self.schedule[s]} epochs" for s in self.schedule)
+        full = self.full_minutes()
+        return (f"training stopped at the {budget_minutes:g}-minute budget ({reached}): the result depends on "
+                f"this machine's speed; the whole schedules would take {full:.1f} minutes here "
+                f"(--learn-minutes {math.ceil(full)})")  # fmt: skip
 
     def accuracy(self, stream: str | None = None) -> float:
         probs = self.fused if stream is None else self.scores[stream]
@@ -208,6 +223,18 @@ def shuffled(clips: ClipSet, seed: int) -> ClipSet:
     return ClipSet(clips.source, clips.classes, out)
 
 
+def _estimate_unmeasured(epoch_seconds: dict[str, float], configs: dict[str, TrainConfig]) -> None:
+    """A stream the budget stopped before its first epoch: its epoch time from a measured
+    stream's, in proportion to their ``epoch_cost`` an epoch."""
+    measured = [s for s in configs if s in epoch_seconds]
+    if not measured:
+        return
+    unit = {s: epoch_cost(c) / c.epochs for s, c in configs.items()}
+    per_unit = epoch_seconds[measured[0]] / unit[measured[0]]
+    for stream in configs:
+        epoch_seconds.setdefault(stream, per_unit * unit[stream])
+
+
 def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFactory | None = None) -> LearnResult:
     """Split, train every stream within the budget, test, fuse and test against chance."""
     if opts.shuffle_labels:
@@ -217,7 +244,7 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
     test_clips = [clips.clips[i] for i in split.test]
     threads = opts.threads if opts.threads is not None else default_threads()
     scores: dict[str, np.ndarray] = {}
-    seconds, stopped, epochs = 0.0, False, {}
+    seconds, stopped, epochs, schedule, epoch_seconds = 0.0, False, {}, {}, {}
     with tempfile.TemporaryDirectory(prefix="phav-learn-") as tmp:
         out = opts.out_dir if opts.out_dir is not None else Path(tmp)
         base = opts.config(threads)
@@ -237,14 +264,18 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
             teacher = teacher_of(stream, result, base)
             seconds += result.seconds
             stopped = stopped or result.stopped_on_time
-            epochs[stream] = len(result.history)
+            epochs[stream], schedule[stream] = len(result.history), config.epochs
+            if result.history:
+                epoch_seconds[stream] = sum(e.seconds for e in result.history) / len(result.history)
             scores[stream] = predict(result.model, test_clips, config, "virtual")
+    _estimate_unmeasured(epoch_seconds, {s: base.for_stream(s) for s in order})
     labels = np.array([c.label for c in test_clips], dtype=np.int64)
     fused = fuse(scores)
     chance = chance_level(labels, fused.argmax(1), len(clips.classes))
     p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
     return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
-                       split.held_out, [c.key for c in test_clips], base.to_json(), epochs)  # fmt: skip
+                       split.held_out, [c.key for c in test_clips], base.to_json(), epochs, schedule,
+                       epoch_seconds)  # fmt: skip
 
 
 def check_learnability(
@@ -276,8 +307,7 @@ def check_learnability(
             file=str(root), numbers={"accuracy": fused, "chance": result.chance, "p_value": result.p_value},
         ))  # fmt: skip
     if result.stopped_on_time:
-        report.notes.append(f"training stopped at the {opts.budget_minutes:g}-minute budget before its "
-                            f"epochs were done: the result depends on this machine's speed")  # fmt: skip
+        report.notes.append(result.budget_note(opts.budget_minutes))
     if opts.shuffle_labels:
         report.notes.append("labels were shuffled (control run): this check is expected to fail")
     streams = ", ".join(f"{s} {result.accuracy(s):.1%}" for s in result.scores)
@@ -288,7 +318,8 @@ def check_learnability(
         "fused_ci95": list(result.interval()),
         **{f"{s}_accuracy": result.accuracy(s) for s in result.scores},
         **{f"{s}_ci95": list(result.interval(s)) for s in result.scores},
-        "epochs": result.epochs, "settings": result.settings,
+        "epochs": result.epochs, "schedule_epochs": result.schedule,
+        "full_schedule_minutes": result.full_minutes(), "settings": result.settings,
         "per_class": result.per_class(),
         "confused_pairs": [{"classes": [a, b], "clips": n} for a, b, n in result.confused_pairs()],
     }  # fmt: skip

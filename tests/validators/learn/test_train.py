@@ -4,6 +4,7 @@ learnable signal is learnt (a shuffled one is not)."""
 from __future__ import annotations
 
 import dataclasses
+import math
 import threading
 
 import numpy as np
@@ -211,6 +212,21 @@ def test_the_budget_is_shared_by_each_streams_expected_seconds(monkeypatch):
     assert budgets["rgb"] == pytest.approx(180 - spent["flow"])
     assert epoch_cost(recommended_config(["rgb", "flow"]).for_stream("rgb")) == 40 * DISTILLED_RGB_EPOCH
     assert epoch_cost(recommended_config(["rgb"]).for_stream("rgb")) == 40  # no teacher, no teacher's cost
+
+
+def test_a_stop_at_the_budget_says_what_it_cost_and_what_would_finish():
+    """A budget far too small for the schedules: the flow stream gets the epoch it starts
+    with, the RGB stream none (its epoch time is then estimated by ``epoch_cost``), and the
+    note names the epochs reached and the minutes the schedules would need here."""
+    result = run_learnability(motion_clips(3, 4), LearnOptions(epochs=6, rgb_epochs=3, budget_minutes=1e-4, threads=1))
+    assert result.stopped_on_time and result.epochs == {"flow": 1, "rgb": 0}
+    assert result.schedule == {"flow": 6, "rgb": 3}
+    assert result.epoch_seconds["flow"] > 0
+    assert result.epoch_seconds["rgb"] == pytest.approx(result.epoch_seconds["flow"] * DISTILLED_RGB_EPOCH)
+    assert result.full_minutes() > result.minutes  # six and three epochs cost more than the one
+    note = result.budget_note(1e-4)
+    assert "flow 1 of 6 epochs, rgb 0 of 3 epochs" in note
+    assert f"--learn-minutes {math.ceil(result.full_minutes())})" in note
 
 
 @pytest.mark.parametrize(("precision", "channels_last"), [("fp32", True), ("bf16", False)])
