@@ -116,3 +116,11 @@ def test_html_and_json_reports_show_the_framing() -> None:
     assert "Protagonist framing" in page and "protagonist height, kite" in page and "50.0%" in page
     assert report.to_json()["protagonist_framing"]["kite"]["in_view_share"] == 0.5
     assert DatasetReport("data", []).to_json()["protagonist_framing"] is None
+
+
+def test_the_html_report_shows_each_checks_notes() -> None:
+    """A note (e.g. the learnability budget's) reaches the HTML page as well as the console and JSON."""
+    check = CheckResult.skipped("learnability", "test")
+    check.report.notes.append("training stopped at the 15-minute budget (flow 83 of 120 epochs) & more")
+    page = report_html([DatasetReport("data", [check], n_videos=1, n_frames=2)])
+    assert "note: training stopped at the 15-minute budget (flow 83 of 120 epochs) &amp; more" in page
