@@ -94,7 +94,7 @@ def print_distribution(result: DistributionResult, console: Console, *, max_valu
 
 def print_report(report: Report, console: Console, *, limit: int = 40) -> None:
     """Notes, then findings (the first ``limit``), or a line saying all checks passed."""
-    for note in report.notes + report.overflow_notes():
+    for note in report.all_notes():
         console.print(f"[yellow]note:[/] {escape(note)}", soft_wrap=True)
     if report.ok:
         console.print("[bold green]all checks passed[/]")

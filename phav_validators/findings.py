@@ -124,6 +124,10 @@ class Report:
             if k > MAX_PER_REASON
         ]  # fmt: skip
 
+    def all_notes(self) -> list[str]:
+        """The notes, then the overflow lines: what every rendering of a report shows."""
+        return self.notes + self.overflow_notes()
+
 
 @dataclass
 class CheckResult:
@@ -160,5 +164,5 @@ class CheckResult:
             "numbers": self.numbers,
             "finding_counts": {r.value: k for r, k in sorted(self.report.counts.items())},
             "findings": [f.to_json() for f in self.report.findings],
-            "notes": self.report.notes + self.report.overflow_notes(),
+            "notes": self.report.all_notes(),
         }

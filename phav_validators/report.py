@@ -194,8 +194,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
         out.append("<table><tr><th>check</th><th>status</th><th>s</th><th>result</th><th>findings</th></tr>")
         for c in r.checks:
             counts = ", ".join(f"{k.value} × {n}" for k, n in sorted(c.report.counts.items()))
-            result = esc(c.summary) + "".join(f"<br><small>note: {esc(n)}</small>"
-                                              for n in c.report.notes + c.report.overflow_notes())  # fmt: skip
+            result = esc(c.summary) + "".join(f"<br><small>note: {esc(n)}</small>" for n in c.report.all_notes())
             out.append(f"<tr><td>{c.name}</td><td class='{c.status.value}'>{c.status.value}</td>"
                        f"<td>{c.seconds:.1f}</td><td>{result}</td><td>{esc(counts)}</td></tr>")  # fmt: skip
         out.append("</table>")
