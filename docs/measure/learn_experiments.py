@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from phav_spec.errors import PhavUserError
 from phav_validators.learn.data import Clip, ClipSet, load_phav
 from phav_validators.learn.experiment import subsample
 from phav_validators.learn.learnability import binomial_p, chance_level
@@ -137,6 +138,23 @@ def kept_stream(keep: Path | None, config: TrainConfig, clips: list[Clip], input
     return keep / f"{config.stream}-s{config.seed}-{tag}{h.hexdigest()[:16]}.pt"
 
 
+def cell_config(overrides: dict[str, Any], seed: int, streams: list[str], device: str = "cpu") -> TrainConfig:
+    """The settings a cell trains ``streams`` with (each stream's are ``for_stream`` of them);
+    a setting ``TrainConfig`` refuses is a ``PhavUserError``."""
+    settings = {"threads": default_threads(), "precision": default_precision(device), **overrides}
+    return TrainConfig(stream="rgb" if "rgb" in streams else streams[0], seed=seed, **settings)
+
+
+def check_cells(cells: list[tuple[str, dict[str, Any]]], streams: list[str], device: str = "cpu") -> None:
+    """Refuse, before anything is read or trained, a cell whose settings cannot train
+    ``streams`` (e.g. ``distill`` without the RGB stream): one line naming the cell."""
+    for text, overrides in cells:
+        try:
+            cell_config(overrides, 0, streams, device)
+        except PhavUserError as e:
+            raise SystemExit(f"--cell {text} with --streams {','.join(streams)}: {e}") from None
+
+
 def run_cell(
     data: ClipSet,
     clips: int | None,
@@ -158,8 +176,7 @@ def run_cell(
     test = [data.clips[i] for i in split.test]
     labels = np.array([c.label for c in test])
     scores, minutes, epoch_s, train_acc = {}, {}, {}, {}
-    settings = {"threads": default_threads(), "precision": default_precision(device), **overrides}
-    base = TrainConfig(stream="rgb" if "rgb" in streams else streams[0], seed=seed, **settings)
+    base = cell_config(overrides, seed, streams, device)
     teacher = None
     for stream in stream_order(streams, base):
         config = base.for_stream(stream)
@@ -245,10 +262,11 @@ def main() -> None:
     done: dict[str, Any] = {}
     if args.json is not None and args.json.exists():
         done = json.loads(args.json.read_text(encoding="utf-8"))
+    parsed = [(text, *parse_cell(text, (int(w), int(h)))) for text in args.cell or ["baseline"]]
+    check_cells([(text, overrides) for text, _, _, overrides in parsed], streams, args.device)
     loaded: dict[tuple[int, int], ClipSet] = {}
     cells = []
-    for text in args.cell or ["baseline"]:
-        clips, size, overrides = parse_cell(text, (int(w), int(h)))
+    for text, clips, size, overrides in parsed:
         if size not in loaded:
             loaded[size] = cached_clips(args.datasets, size, args.flow, args.workers)
         cell = Cell(text, clips, size, overrides, [])

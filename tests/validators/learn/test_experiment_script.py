@@ -27,6 +27,21 @@ def test_a_cell_names_clips_size_and_any_training_setting(script):
         script.parse_cell("colour=red", (85, 64))
 
 
+def test_a_cell_that_cannot_train_its_streams_is_refused_before_anything_is_read(script, tmp_path, monkeypatch):
+    # distillation needs the RGB stream: a flow-only grid says so at once, naming the cell,
+    # not after the cells before it have trained for an hour
+    script.check_cells([("epochs=3", {"epochs": 3})], ["flow"])
+    with pytest.raises(SystemExit, match=r"--cell epochs=3,distill=20 with --streams flow: --distill"):
+        script.check_cells([("epochs=3", {"epochs": 3}), ("epochs=3,distill=20", {"epochs": 3, "distill": 20.0})],
+                           ["flow"])  # fmt: skip
+    missing = tmp_path / "no-such-dataset"
+    argv = ["learn_experiments.py", str(missing), "--streams", "flow", "--cell", "epochs=3", "--cell", "distill=20"]
+    monkeypatch.setattr(sys, "argv", argv)
+    with pytest.raises(SystemExit, match="--cell distill=20"):
+        script.main()
+    assert not missing.exists() and not list(tmp_path.iterdir())
+
+
 def test_a_cell_trains_on_held_out_actors_and_reports_a_row(script, tmp_path):
     data = motion_clips(4, 20)
     overrides = {"epochs": 3, "widths": (8, 16), "threads": 1}
