@@ -150,7 +150,9 @@ def check_cells(cells: list[tuple[str, dict[str, Any]]], streams: list[str], dev
     ``streams`` (e.g. ``distill`` without the RGB stream): one line naming the cell."""
     for text, overrides in cells:
         try:
-            cell_config(overrides, 0, streams, device)
+            base = cell_config(overrides, 0, streams, device)
+            for stream in stream_order(streams, base):
+                base.for_stream(stream)
         except PhavUserError as e:
             raise SystemExit(f"--cell {text} with --streams {','.join(streams)}: {e}") from None
 
