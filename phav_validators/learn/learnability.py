@@ -66,6 +66,9 @@ class LearnOptions:
     threads: int | None = None
     #: ``fp32`` or ``bf16``; None: what this machine computes fastest (``default_precision``).
     precision: str | None = None
+    #: Max-pool after the stem (``TrainConfig.stem_pool``): both streams' epochs in about two
+    #: thirds of the time, for machines whose schedules do not fit the budget.
+    stem_pool: bool = False
     alpha: float = 1e-3
     #: The fused accuracy must also be at least this many times chance.
     min_over_chance: float = 2.0
@@ -76,10 +79,10 @@ class LearnOptions:
     workers: int = 1
 
     def config(self, threads: int) -> TrainConfig:
-        """The training settings: ``RECOMMENDED`` with these epochs, seed, threads and precision."""
+        """The training settings: ``RECOMMENDED`` with these epochs, seed, threads, precision and stem."""
         more = {"precision": self.precision} if self.precision is not None else {}
         return recommended_config(self.streams, epochs=self.epochs, rgb_epochs=self.rgb_epochs, seed=self.seed,
-                                  threads=threads, **more)  # fmt: skip
+                                  threads=threads, stem_pool=self.stem_pool, **more)  # fmt: skip
 
     def __post_init__(self) -> None:
         if self.budget_minutes <= 0:
@@ -118,9 +121,12 @@ class LearnResult:
         """What a stop at the budget cost, and the budget that would finish the schedules here."""
         reached = ", ".join(f"{s} {self.epochs[s]} of {self.schedule[s]} epochs" for s in self.schedule)
         full = self.full_minutes()
-        return (f"training stopped at the {budget_minutes:g}-minute budget ({reached}): the result depends on "
+        note = (f"training stopped at the {budget_minutes:g}-minute budget ({reached}): the result depends on "
                 f"this machine's speed; the whole schedules would take {full:.1f} minutes here "
                 f"(--learn-minutes {math.ceil(full)})")  # fmt: skip
+        if not self.settings.get("stem_pool", False):
+            note += ", or about two thirds of that with --learn-stem-pool (docs/learnability.md, 'The defaults')"
+        return note
 
     def accuracy(self, stream: str | None = None) -> float:
         probs = self.fused if stream is None else self.scores[stream]
