@@ -82,7 +82,9 @@ def train_command(
     batch: Annotated[int, typer.Option(min=1, help="Clips per mini-batch (single source).")] = 32,
     size: Annotated[str, typer.Option(help="Stored frame size WIDTHxHEIGHT; crops are 7/8 of it.")] = "85x64",
     widths: Annotated[str, typer.Option(help="Backbone widths, one stride-2 stage each.")] = "32,64,128,192",
-    stem_pool: Annotated[bool, typer.Option(help="Max-pool after the stem (for frames of 170x128 and up).")] = False,
+    stem_pool: Annotated[
+        bool, typer.Option(help="Max-pool after the stem: a quarter of the pixels in every later layer.")
+    ] = RECOMMENDED.stem_pool,
     dropout: Annotated[float, typer.Option(help="Dropout before the classifiers.")] = 0.3,
     crop: Annotated[float, typer.Option(help="Side of the training crop, share of the stored frame.")] = 0.875,
     focus: Annotated[

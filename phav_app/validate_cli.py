@@ -85,8 +85,8 @@ def validate(
     ] = None,
     learn_stem_pool: Annotated[
         bool,
-        typer.Option("--learn-stem-pool", help="learnability: max-pool after the stem (epochs in ~2/3 of the time)."),
-    ] = False,
+        typer.Option(help="learnability: max-pool after the stem (epochs in 1/2 to 2/3 of the time)."),
+    ] = LearnOptions.stem_pool,
     learn_dir: Annotated[
         Path | None,
         typer.Option(help="learnability: folder for checkpoints (a rerun resumes) and confusion.png."),

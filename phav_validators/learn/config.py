@@ -19,7 +19,7 @@ STREAMS = ("rgb", "flow")
 @dataclass(frozen=True)
 class Architecture:
     """The backbone's shape: a 5×5 stride-2 stem (then a 3×3 stride-2 max-pool when
-    ``stem_pool``, for large frames), one stride-2 block per width after the first (two
+    ``stem_pool``), one stride-2 block per width after the first (two
     3×3 convolutions each), global average pooling and dropout. With ``temporal_shift``
     the second convolution of each block is residual and sees an eighth of its channels
     shifted one segment forward and an eighth one segment back (TSM, Lin et al. 2019), so

@@ -58,7 +58,7 @@ class LearnOptions:
     #: The RGB stream's epochs (None: in ``RECOMMENDED``'s proportion to ``epochs``).
     rgb_epochs: int | None = None
     #: Minutes of training for all streams together, shared by their expected seconds
-    #: (``epoch_cost``); the default epochs take 14–16.7 minutes on 2 cores in bfloat16.
+    #: (``epoch_cost``); the default epochs take 9.5–10.6 minutes on a 2-core EPYC.
     budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     flow: str = "gt"
@@ -66,9 +66,9 @@ class LearnOptions:
     threads: int | None = None
     #: ``fp32`` or ``bf16``; None: what this machine computes fastest (``default_precision``).
     precision: str | None = None
-    #: Max-pool after the stem (``TrainConfig.stem_pool``): both streams' epochs in about two
-    #: thirds of the time, for machines whose schedules do not fit the budget.
-    stem_pool: bool = False
+    #: Max-pool after the stem (``TrainConfig.stem_pool``), as ``RECOMMENDED``: both streams'
+    #: epochs in half to two thirds of the time of the unpooled network.
+    stem_pool: bool = RECOMMENDED.stem_pool
     alpha: float = 1e-3
     #: The fused accuracy must also be at least this many times chance.
     min_over_chance: float = 2.0
@@ -125,7 +125,7 @@ class LearnResult:
                 f"this machine's speed; the whole schedules would take {full:.1f} minutes here "
                 f"(--learn-minutes {math.ceil(full)})")  # fmt: skip
         if not self.settings.get("stem_pool", False):
-            note += ", or about two thirds of that with --learn-stem-pool (docs/learnability.md, 'The defaults')"
+            note += ", or half to two thirds of that with --learn-stem-pool (the default)"
         return note
 
     def accuracy(self, stream: str | None = None) -> float:

@@ -227,15 +227,15 @@ def test_a_stop_at_the_budget_says_what_it_cost_and_what_would_finish():
     note = result.budget_note(1e-4)
     assert "flow 1 of 6 epochs, rgb 0 of 3 epochs" in note
     assert f"--learn-minutes {math.ceil(result.full_minutes())})" in note
-    assert "--learn-stem-pool" in note  # the lever for a machine whose schedules do not fit
-    result.settings["stem_pool"] = True
-    assert "--learn-stem-pool" not in result.budget_note(1e-4)
+    assert "--learn-stem-pool" not in note  # the default already pools
+    result.settings["stem_pool"] = False  # a run that turned it off is pointed back at it
+    assert "--learn-stem-pool (the default)" in result.budget_note(1e-4)
 
 
-def test_the_check_pools_the_stem_of_both_streams_when_asked():
-    base = LearnOptions(stem_pool=True).config(threads=1)
+def test_the_check_pools_the_stem_of_both_streams_unless_asked_not_to():
+    base = LearnOptions().config(threads=1)
     assert base.for_stream("flow").arch.stem_pool and base.for_stream("rgb").arch.stem_pool
-    assert not LearnOptions().config(threads=1).for_stream("flow").arch.stem_pool
+    assert not LearnOptions(stem_pool=False).config(threads=1).for_stream("flow").arch.stem_pool
 
 
 @pytest.mark.parametrize(("precision", "channels_last"), [("fp32", True), ("bf16", False)])
