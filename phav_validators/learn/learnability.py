@@ -209,8 +209,8 @@ def binomial_p(correct: int, n: int, chance: float) -> float:
 
 
 #: An epoch of the distilled RGB stream in flow epochs: its snippets, the teacher's flow
-#: snippets and the teacher's forward pass (1.36–1.51 with the defaults on three CPUs, in
-#: float32 and bfloat16: docs/learnability.md).
+#: snippets and the teacher's forward pass (1.36–1.51 unpooled on three CPUs, 1.50–1.61
+#: with the pooled stem on the EPYC, in float32 and bfloat16: docs/learnability.md).
 DISTILLED_RGB_EPOCH = 1.5
 
 
