@@ -22,7 +22,7 @@ from phav_validators.learn.data import FLOW_SOURCES, ClipSet, load_phav, load_re
 from phav_validators.learn.experiment import MODES, RunResult, phav_runs, real_runs, summarise
 from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 from phav_validators.learn.splits import check_split_kind
-from phav_validators.learn.train import RECOMMENDED, TrainConfig, recommended_config, stream_order, torch_device
+from phav_validators.learn.train import RECOMMENDED, TrainConfig, recommended_config, stream_configs, torch_device
 from phav_validators.options import ProgressFactory
 
 
@@ -183,9 +183,7 @@ def train_command(
                               aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
                               label_smoothing=label_smoothing,
                               **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip
-    for stream in stream_list:
-        base.for_stream(stream)
-    stream_order(stream_list, base)
+    stream_configs(stream_list, base)
     if aux_parts > 0 and (real is not None or dataset is None):
         raise PhavUserError("body-part targets come from PHAV's semantic frames: train on PHAV alone",
                             field="--aux-parts")  # fmt: skip

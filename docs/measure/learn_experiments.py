@@ -42,6 +42,7 @@ from phav_validators.learn.train import (
     default_threads,
     fuse,
     predict,
+    stream_configs,
     stream_order,
     teacher_of,
     train,
@@ -150,9 +151,7 @@ def check_cells(cells: list[tuple[str, dict[str, Any]]], streams: list[str], dev
     ``streams`` (e.g. ``distill`` without the RGB stream): one line naming the cell."""
     for text, overrides in cells:
         try:
-            base = cell_config(overrides, 0, streams, device)
-            for stream in stream_order(streams, base):
-                base.for_stream(stream)
+            stream_configs(streams, cell_config(overrides, 0, streams, device))
         except PhavUserError as e:
             raise SystemExit(f"--cell {text} with --streams {','.join(streams)}: {e}") from None
 

@@ -38,7 +38,7 @@ from phav_validators.learn.train import (
     fuse,
     predict,
     recommended_config,
-    stream_order,
+    stream_configs,
     teacher_of,
     train,
 )
@@ -255,12 +255,12 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
         out = opts.out_dir if opts.out_dir is not None else Path(tmp)
         base = opts.config(threads)
         teacher = None
-        order = stream_order(opts.streams, base)
-        for i, stream in enumerate(order):
-            config = base.for_stream(stream)
+        configs = stream_configs(opts.streams, base)
+        order = list(configs)
+        for i, (stream, config) in enumerate(configs.items()):
             # Each stream may use what the streams before it left, less the later streams'
             # shares: the time is shared in proportion to the streams' expected seconds.
-            later = sum(epoch_cost(base.for_stream(s)) for s in order[i:])
+            later = sum(epoch_cost(configs[s]) for s in order[i:])
             budget = (opts.budget_minutes * 60.0 - seconds) * epoch_cost(config) / later
             advance = progress(f"learnability: training {stream}", config.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
@@ -274,7 +274,7 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
             if result.history:
                 epoch_seconds[stream] = sum(e.seconds for e in result.history) / len(result.history)
             scores[stream] = predict(result.model, test_clips, config, "virtual")
-    _estimate_unmeasured(epoch_seconds, {s: base.for_stream(s) for s in order})
+    _estimate_unmeasured(epoch_seconds, configs)
     labels = np.array([c.label for c in test_clips], dtype=np.int64)
     fused = fuse(scores)
     chance = chance_level(labels, fused.argmax(1), len(clips.classes))

@@ -260,6 +260,13 @@ def stream_order(streams: Sequence[str], base: TrainConfig) -> list[str]:
     return list(streams)
 
 
+def stream_configs(streams: Sequence[str], base: TrainConfig) -> dict[str, TrainConfig]:
+    """Each of ``streams``' own settings (``for_stream``), in the order they train
+    (``stream_order``): a setting a stream refuses raises here, before any data is read."""
+    configs = {stream: base.for_stream(stream) for stream in streams}
+    return {stream: configs[stream] for stream in stream_order(streams, base)}
+
+
 def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher | None:
     """The teacher the next stream in ``stream_order`` trains with, given the one just
     trained: the flow stream when the RGB stream (then the next, and last) distils from it."""
