@@ -23,7 +23,7 @@ import numpy as np
 from phav_validators.learn.data import DEFAULT_SIZE, Clip, load_phav
 from phav_validators.learn.experiment import subsample
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import predict, recommended_config, train
+from phav_validators.learn.train import RECOMMENDED, predict, recommended_config, train
 
 
 def compare_devices(
@@ -41,6 +41,7 @@ def compare_devices(
     (in order) its losses, seconds per epoch and accuracies, and under ``difference`` how far
     the last run's losses (relative) and test probabilities are from the first's."""
     labels = np.array([c.label for c in test])
+    settings = {"stem_pool": RECOMMENDED.stem_pool, **settings}  # the same network on every device
     losses, probs, runs = [], [], []
     for dev in devices:
         config = replace(recommended_config((stream,), device=dev, epochs=epochs, seed=seed, **settings),

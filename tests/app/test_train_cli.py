@@ -39,7 +39,7 @@ def test_train_on_phav_writes_results_and_resumes(phav, tmp_path):
     config = data["config"]  # the recommended settings: RGB differences distilled from flow
     assert config["rgb_frames"] == RECOMMENDED.rgb_frames and config["rgb_diff"]
     assert config["distill"] == RECOMMENDED.distill > 0 and config["diff_gain"] == RECOMMENDED.diff_gain
-    assert config["precision"] in ("fp32", "bf16")
+    assert config["precision"] in ("fp32", "bf16") and config["stem_pool"]  # pooled on a CPU
     assert (out / "split1-rgb.pt").exists() and (out / "split1-flow.pt").exists()
     assert cv2.imread(str(out / "split1-confusion.png")) is not None
     again = invoke_cli(*args)  # every checkpoint is finished: nothing retrained, same numbers
@@ -75,7 +75,7 @@ def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
     out = tmp_path / "run"
     result = invoke_cli("train", str(phav), "--out", str(out), "--split", "random", "--segments", "4",
                         "--temporal-shift", "--rgb-frames", "2", "--rgb-diff", "--aux-flow", "1", "--aux-parts", "1",
-                        "--focus", "motion", "--crop", "0.6", "--pool", "max", *FAST)  # fmt: skip
+                        "--focus", "motion", "--crop", "0.6", "--pool", "max", "--no-stem-pool", *FAST)  # fmt: skip
     assert result.returncode == 0, result.stderr
     data = json.loads((out / "results.json").read_text())
     assert (
@@ -83,6 +83,7 @@ def test_train_with_the_temporal_and_auxiliary_options(phav, tmp_path):
         and data["config"]["rgb_diff"]
         and data["config"]["temporal_shift"]
         and data["config"]["focus"] == "motion"
+        and not data["config"]["stem_pool"]
     )
     assert set(data["runs"][0]["accuracy"]) == {"rgb", "flow", "fused"}
 

@@ -598,6 +598,17 @@ def test_bfloat16_is_the_cpu_default_where_it_was_measured_faster(monkeypatch, v
     assert default_precision("cpu") == expected
 
 
+def test_the_stem_is_pooled_by_default_on_a_cpu_and_not_on_a_gpu(monkeypatch):
+    """Time binds on a CPU, accuracy on a GPU (docs/learnability.md, the fifth GPU session);
+    CUDA is pretended here, so only the settings are built, nothing runs on it."""
+    assert recommended_config(["rgb", "flow"]).stem_pool and RECOMMENDED.stem_pool
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: True)
+    monkeypatch.setattr(torch.cuda, "is_bf16_supported", lambda: True)
+    on_gpu = recommended_config(["rgb", "flow"], device="cuda")
+    assert not on_gpu.stem_pool and not on_gpu.for_stream("flow").arch.stem_pool and on_gpu.precision == "bf16"
+    assert recommended_config(["rgb", "flow"], device="cuda:0", stem_pool=True).stem_pool  # unless asked
+
+
 def test_the_recommended_settings_follow_the_streams_trained():
     both = recommended_config(["rgb", "flow"], seed=3)
     assert both.distill == RECOMMENDED.distill > 0 and both.rgb_diff and both.seed == 3
