@@ -17,7 +17,7 @@ import numpy as np
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.learnability import binomial_p, chance_level
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, stream_order, teacher_of, train
+from phav_validators.learn.train import TrainConfig, TrainResult, fuse, predict, stream_configs, teacher_of, train
 
 
 @dataclass(frozen=True)
@@ -78,8 +78,7 @@ def learning_curve(
     scores: dict[str, dict[int, np.ndarray]] = {s: {} for s in streams}
     minutes: dict[str, dict[int, float]] = {s: {} for s in streams}
     teacher = None
-    for stream in stream_order(streams, base):
-        config = base.for_stream(stream)
+    for stream, config in stream_configs(streams, base).items():
         tested = sorted({max(1, round(k * config.epochs / points)) for k in range(1, points + 1)})
 
         def record(result: TrainResult, stream: str = stream, config: TrainConfig = config,

@@ -16,7 +16,7 @@ from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import ProgressFactory
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.splits import make_split
-from phav_validators.learn.train import TrainConfig, fuse, predict, stream_order, teacher_of, train
+from phav_validators.learn.train import TrainConfig, fuse, predict, stream_configs, teacher_of, train
 
 #: ``tsn``: one source; ``cool``: PHAV mixed into every real mini-batch; ``ft``: real
 #: training started from a PHAV checkpoint's backbone.
@@ -67,8 +67,7 @@ def train_and_test(
     scores: dict[str, np.ndarray] = {}
     minutes: dict[str, float] = {}
     teacher = None
-    for stream in stream_order(streams, base):
-        config = base.for_stream(stream)
+    for stream, config in stream_configs(streams, base).items():
         advance = progress(f"{name}: {stream}", config.epochs) if progress is not None else None
         start = None
         if init is not None:
