@@ -74,7 +74,7 @@ from phav_validators.checks.distribution import check_distributions
 from phav_validators.framing import read_framing
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
-from phav_validators.learn.train import RECOMMENDED, default_threads, recommended_config
+from phav_validators.learn.train import RECOMMENDED, RGB_EPOCH_SHARE, default_threads, recommended_config
 
 app = typer.Typer(
     name="phav",
@@ -604,7 +604,12 @@ def bench(
         int, typer.Option("--training-videos", min=10, help="phav-v1-short videos generated when no --training-data.")
     ] = 120,
     training_epochs: Annotated[
-        int, typer.Option("--training-epochs", min=1, help="Epochs of the flow stream (the RGB stream: a third).")
+        int,
+        typer.Option(
+            "--training-epochs",
+            min=1,
+            help=f"Epochs of the flow stream (the RGB stream: {RGB_EPOCH_SHARE} of them).",
+        ),
     ] = RECOMMENDED.epochs,
     generation_videos: Annotated[
         int, typer.Option("--generation-videos", min=1, help="First N phav-v1 recipes generated per worker count.")

@@ -22,7 +22,14 @@ from phav_validators.learn.data import FLOW_SOURCES, ClipSet, load_phav, load_re
 from phav_validators.learn.experiment import MODES, RunResult, phav_runs, real_runs, summarise
 from phav_validators.learn.learnability import confusion_matrix, write_confusion_png
 from phav_validators.learn.splits import check_split_kind
-from phav_validators.learn.train import RECOMMENDED, TrainConfig, recommended_config, stream_configs, torch_device
+from phav_validators.learn.train import (
+    RECOMMENDED,
+    RGB_EPOCH_SHARE,
+    TrainConfig,
+    recommended_config,
+    stream_configs,
+    torch_device,
+)
 from phav_validators.options import ProgressFactory
 
 
@@ -72,10 +79,18 @@ def train_command(
     ] = "random",
     splits: Annotated[int, typer.Option(min=1, max=3, help="Splits averaged (PHAV: seeded 80/20; real: 1..N).")] = 1,
     epochs: Annotated[
-        int, typer.Option(min=1, help="Epochs of the flow stream (the RGB stream: a third, or --rgb-epochs).")
+        int,
+        typer.Option(
+            min=1,
+            help=f"Epochs of the flow stream (the RGB stream: {RGB_EPOCH_SHARE}, or --rgb-epochs).",
+        ),
     ] = RECOMMENDED.epochs,
     rgb_epochs: Annotated[
-        int | None, typer.Option(min=1, help="Epochs of the RGB stream (default: a third of --epochs).")
+        int | None,
+        typer.Option(
+            min=1,
+            help=f"Epochs of the RGB stream (default: {RGB_EPOCH_SHARE} of --epochs).",
+        ),
     ] = None,
     lr: Annotated[float, typer.Option(help="Peak learning rate (cosine decay).")] = 0.05,
     optimizer: Annotated[str, typer.Option(help="sgd (momentum 0.9, weight decay 5e-4, as TSN) or adamw.")] = "sgd",

@@ -19,6 +19,7 @@ from phav_spec.errors import PhavUserError
 from phav_validators.checks.scan import tune_allocator
 from phav_validators.findings import Reason
 from phav_validators.learn.learnability import LearnOptions
+from phav_validators.learn.train import RGB_EPOCH_SHARE
 from phav_validators.options import CHECKS, Options
 from phav_validators.report import write_html, write_json
 from phav_validators.source import resolve
@@ -77,7 +78,10 @@ def validate(
     ] = LearnOptions.epochs,
     learn_rgb_epochs: Annotated[
         int | None,
-        typer.Option(min=1, help="learnability: epochs of the RGB stream (default: a third of --learn-epochs)."),
+        typer.Option(
+            min=1,
+            help=f"learnability: epochs of the RGB stream (default: {RGB_EPOCH_SHARE} of --learn-epochs).",
+        ),
     ] = None,
     learn_precision: Annotated[
         str | None,

@@ -210,8 +210,9 @@ def test_the_budget_is_shared_by_each_streams_expected_seconds(monkeypatch):
     run_learnability(motion_clips(3, 4), LearnOptions(epochs=30, rgb_epochs=10, budget_minutes=3, threads=1))
     assert budgets["flow"] == pytest.approx(180 * 30 / 45)
     assert budgets["rgb"] == pytest.approx(180 - spent["flow"])
-    assert epoch_cost(recommended_config(["rgb", "flow"]).for_stream("rgb")) == 40 * DISTILLED_RGB_EPOCH
-    assert epoch_cost(recommended_config(["rgb"]).for_stream("rgb")) == 40  # no teacher, no teacher's cost
+    rgb_epochs = RECOMMENDED.rgb_epochs
+    assert epoch_cost(recommended_config(["rgb", "flow"]).for_stream("rgb")) == rgb_epochs * DISTILLED_RGB_EPOCH
+    assert epoch_cost(recommended_config(["rgb"]).for_stream("rgb")) == rgb_epochs  # no teacher, no teacher's cost
 
 
 def test_a_stop_at_the_budget_says_what_it_cost_and_what_would_finish():
