@@ -43,7 +43,6 @@ from phav_validators.learn.train import (
     fuse,
     predict,
     stream_configs,
-    stream_order,
     teacher_of,
     train,
 )
@@ -179,8 +178,7 @@ def run_cell(
     scores, minutes, epoch_s, train_acc = {}, {}, {}, {}
     base = cell_config(overrides, seed, streams, device)
     teacher = None
-    for stream in stream_order(streams, base):
-        config = base.for_stream(stream)
+    for stream, config in stream_configs(streams, base).items():
         result = train({"virtual": train_clips}, {"virtual": len(data.classes)}, config, teacher=teacher,
                        checkpoint=kept_stream(keep, config, train_clips, inputs), device=device)  # fmt: skip
         teacher = teacher_of(stream, result, base)

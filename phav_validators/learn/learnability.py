@@ -256,12 +256,11 @@ def run_learnability(clips: ClipSet, opts: LearnOptions, *, progress: ProgressFa
         base = opts.config(threads)
         teacher = None
         configs = stream_configs(opts.streams, base)
-        order = list(configs)
+        costs = [epoch_cost(config) for config in configs.values()]
         for i, (stream, config) in enumerate(configs.items()):
             # Each stream may use what the streams before it left, less the later streams'
             # shares: the time is shared in proportion to the streams' expected seconds.
-            later = sum(epoch_cost(configs[s]) for s in order[i:])
-            budget = (opts.budget_minutes * 60.0 - seconds) * epoch_cost(config) / later
+            budget = (opts.budget_minutes * 60.0 - seconds) * costs[i] / sum(costs[i:])
             advance = progress(f"learnability: training {stream}", config.epochs) if progress is not None else None
             result = train({"virtual": train_clips}, {"virtual": len(clips.classes)}, config,
                            checkpoint=out / f"{stream}.pt", max_seconds=budget,

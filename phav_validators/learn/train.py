@@ -983,12 +983,12 @@ def autocast(config: TrainConfig, device: Any) -> Any:
 
 
 def default_stem_pool(device: str = "cpu") -> bool:
-    """Whether the stem is max-pooled by default on ``device``: on a CPU, where time binds
-    (both schedules in half to two thirds of the time, fused as good, RGB better); not on a
-    GPU, where both take minutes and the unpooled network scored 2.3 points more fused
-    (63.8 against 61.5 %, flow 63.4 against 60.3 %, the same three splits of 1,757 training
-    clips, in 5.8 against 4.9 minutes; docs/learnability.md)."""
-    return torch_device(device).type == "cpu"
+    """Whether the stem is max-pooled by default on ``device``: ``RECOMMENDED``'s choice on a
+    CPU, where time binds (both schedules in half to two thirds of the time, fused as good,
+    RGB better); not on a GPU, where both take minutes and the unpooled network scored 2.3
+    points more fused (63.8 against 61.5 %, flow 63.4 against 60.3 %, the same three splits
+    of 1,757 training clips, in 5.8 against 4.9 minutes; docs/learnability.md)."""
+    return RECOMMENDED.stem_pool and torch_device(device).type == "cpu"
 
 
 def default_precision(device: str = "cpu") -> str:
