@@ -58,7 +58,7 @@ class LearnOptions:
     #: The RGB stream's epochs (None: in ``RECOMMENDED``'s proportion to ``epochs``).
     rgb_epochs: int | None = None
     #: Minutes of training for all streams together, shared by their expected seconds
-    #: (``epoch_cost``); the default epochs take 13.6–14.8 minutes on a 2-core EPYC in bfloat16.
+    #: (``epoch_cost``); the default epochs take 13.3–14.8 minutes on a 2-core EPYC in bfloat16.
     budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     flow: str = "gt"
