@@ -1,0 +1,113 @@
+"""Where the crop placed on the motion lands: the share of the people's pixels inside it
+(docs/learnability.md, "Stored size and crop").
+
+``--focus motion`` places the network's crop on the window of most median-centred flow,
+found from the flow alone. This measures, per clip at its test snippets, how much of the
+body-part pixels of PHAV's semantic frames (any person's; the measurement only, never a
+network's input) falls inside that window, inside a window of the same size at the frame's
+centre, and inside the default centre crop. It reads ``learn_experiments.py``'s clip cache
+by memory map (the cache is stored uncompressed), so a 170×128 cache of 11 GB costs no RAM.
+
+    .venv/bin/python docs/measure/window_coverage.py g21+1.clips-170x128-gt-parts.npz --crop 0.5 --every 7
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from phav_validators.learn.data import Clip
+from phav_validators.learn.train import TrainConfig, crop_box, draw_cut, motion_window
+
+#: The zip local file header's fixed length and the offsets of its name and extra lengths.
+_LOCAL_HEADER, _NAME_LEN, _EXTRA_LEN = 30, 26, 28
+
+
+def memmap_npz(path: Path) -> dict[str, np.ndarray]:
+    """Each array of an uncompressed ``.npz`` (``np.savez``) as a read-only memory map."""
+    arrays = {}
+    with zipfile.ZipFile(path) as zf, open(path, "rb") as f:
+        for info in zf.infolist():
+            if info.compress_type != zipfile.ZIP_STORED:
+                raise SystemExit(f"{path}: {info.filename} is compressed; only np.savez files can be mapped")
+            f.seek(info.header_offset)
+            local = f.read(_LOCAL_HEADER)
+            skip = int.from_bytes(local[_NAME_LEN:_NAME_LEN + 2], "little") + int.from_bytes(
+                local[_EXTRA_LEN:_EXTRA_LEN + 2], "little")  # fmt: skip
+            f.seek(info.header_offset + _LOCAL_HEADER + skip)
+            version = np.lib.format.read_magic(f)
+            read_header = (
+                np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            )
+            shape, fortran, dtype = read_header(f)
+            if dtype.hasobject or fortran:
+                raise SystemExit(f"{path}: {info.filename} cannot be memory-mapped")
+            arrays[info.filename.removesuffix(".npy")] = np.memmap(path, dtype=dtype, mode="r", offset=f.tell(),
+                                                                   shape=shape)  # fmt: skip
+    return arrays
+
+
+def body_shares(clip: Clip, crop: float, default_crop: float = TrainConfig.crop) -> tuple[float, float, float] | None:
+    """Shares of the clip's body-part pixels, over its flow stream's test snippets, inside
+    (the motion window, a centred window of the same size, the default centre crop); None
+    when those frames show no person."""
+    config = TrainConfig(stream="flow", seed=0, crop=crop, focus="motion")
+    cut = draw_cut(clip, config, rng=None, segments=config.eval_segments)
+    frames = np.minimum(np.add.outer(np.asarray(cut.starts), np.arange(config.flow_frames)), clip.n_frames - 1)
+    body = clip.parts[np.unique(frames)] > 0
+    total = int(body.sum())
+    if total == 0:
+        return None
+    h, w = body.shape[1:]
+    ch, cw = cut.box
+    y, x = motion_window(clip, frames, (ch, cw))
+    dh, dw = crop_box((h, w), default_crop)
+
+    def inside(y0: int, x0: int, bh: int, bw: int) -> float:
+        return float(body[:, y0 : y0 + bh, x0 : x0 + bw].sum() / total)
+
+    return (
+        inside(y, x, ch, cw),
+        inside((h - ch) // 2, (w - cw) // 2, ch, cw),
+        inside((h - dh) // 2, (w - dw) // 2, dh, dw),
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("cache", type=Path, help="a learn_experiments.py clip cache (…-parts.npz)")
+    parser.add_argument("--crop", type=float, default=0.5, help="the motion window's side, share of the frame")
+    parser.add_argument("--every", type=int, default=7, help="measure every Nth clip of the cache")
+    args = parser.parse_args()
+    if not args.cache.exists():
+        raise SystemExit(f"{args.cache}: no such cache (learn_experiments.py writes it beside the dataset)")
+    arrays = memmap_npz(args.cache)
+    meta = json.loads(str(np.load(args.cache)["meta"]))
+    cuts = np.cumsum([0] + meta["frames"])
+    shares = []
+    for i in range(0, len(meta["keys"]), args.every):
+        a, b = cuts[i], cuts[i + 1]
+        clip = Clip(meta["keys"][i], meta["labels"][i], "virtual", np.asarray(arrays["rgb"][a:b]),
+                    np.asarray(arrays["flow"][a:b]), {}, np.asarray(arrays["parts"][a:b]))  # fmt: skip
+        found = body_shares(clip, args.crop)
+        if found is not None:
+            shares.append(found)
+    s = np.array(shares)
+    print(f"{len(s)} clips (every {args.every}th with a person), crop {args.crop} of {args.cache.name}")
+    print("| window | body pixels inside, median | mean | clips with under half inside | with none inside |")
+    print("| --- | ---: | ---: | ---: | ---: |")
+    names = [f"on the most motion ({args.crop})", f"centred, same size ({args.crop})",
+             f"the default centre crop ({TrainConfig.crop})"]  # fmt: skip
+    for name, v in zip(names, s.T, strict=True):
+        print(
+            f"| {name} | {100 * np.median(v):.0f} % | {100 * v.mean():.0f} % | {100 * (v < 0.5).mean():.0f} % | "
+            f"{100 * (v == 0).mean():.0f} % |"
+        )
+
+
+if __name__ == "__main__":
+    main()
