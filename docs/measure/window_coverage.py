@@ -96,6 +96,8 @@ def main() -> None:
         found = body_shares(clip, args.crop)
         if found is not None:
             shares.append(found)
+    if not shares:
+        raise SystemExit(f"{args.cache}: no measured clip shows a person (read it with parts: learn_experiments.py)")
     s = np.array(shares)
     print(f"{len(s)} clips (every {args.every}th with a person), crop {args.crop} of {args.cache.name}")
     print("| window | body pixels inside, median | mean | clips with under half inside | with none inside |")
