@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from phav_validators.learn.data import Clip
-from phav_validators.learn.train import TrainConfig, crop_box, draw_cut, motion_window
+from phav_validators.learn.train import TrainConfig, crop_box, draw_cut, motion_window, snippet_frames
 
 #: The zip local file header's fixed length and the offsets of its name and extra lengths.
 _LOCAL_HEADER, _NAME_LEN, _EXTRA_LEN = 30, 26, 28
@@ -57,7 +57,7 @@ def body_shares(clip: Clip, crop: float, default_crop: float = TrainConfig.crop)
     when those frames show no person."""
     config = TrainConfig(stream="flow", seed=0, crop=crop, focus="motion")
     cut = draw_cut(clip, config, rng=None, segments=config.eval_segments)
-    frames = np.minimum(np.add.outer(np.asarray(cut.starts), np.arange(config.flow_frames)), clip.n_frames - 1)
+    frames = snippet_frames(cut.starts, clip.n_frames, config.flow_frames)
     body = clip.parts[np.unique(frames)] > 0
     total = int(body.sum())
     if total == 0:

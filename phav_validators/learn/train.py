@@ -407,6 +407,12 @@ def _snippet_frames(config: TrainConfig) -> tuple[int, int]:
     return (config.rgb_frames, config.rgb_stride) if config.stream == "rgb" else (config.flow_frames, 1)
 
 
+def snippet_frames(starts: Sequence[int], n_frames: int, length: int, stride: int = 1) -> np.ndarray:
+    """(K, length) indices of the frames of the snippets starting at ``starts``, ``stride``
+    apart, the clip's last frame repeated where a snippet runs past its end."""
+    return np.minimum(np.add.outer(np.asarray(starts), stride * np.arange(length)), n_frames - 1)
+
+
 def draw_cut(clip: Clip, config: TrainConfig, *, rng: np.random.Generator | None, segments: int | None = None) -> Cut:
     """Where ``clip``'s K snippets are cut: with ``rng`` random offsets in their segments, a
     random crop (multi-scale with ``scale_jitter``) and flip; without, segment centres and
@@ -456,7 +462,7 @@ def cut_clip(
     a flow teacher's config) the flow snippets that teacher sees from the same starts."""
     k = len(where.starts)
     length, stride = _snippet_frames(config)
-    frames = np.minimum(np.add.outer(np.asarray(where.starts), stride * np.arange(length)), clip.n_frames - 1)
+    frames = snippet_frames(where.starts, clip.n_frames, length, stride)
     h, w = clip.rgb.shape[1:3]
     seen = crop_box((h, w), config.crop)
     ch, cw = where.box
@@ -478,7 +484,7 @@ def cut_clip(
     else:
         x = _flow_input(clip, frames, window, config)
     if targets and teacher is not None:
-        span = np.minimum(np.asarray(where.starts)[:, None] + np.arange(teacher.flow_frames), clip.n_frames - 1)
+        span = snippet_frames(where.starts, clip.n_frames, teacher.flow_frames)
         out["teacher"] = _flow_input(clip, span, window, teacher)
     if targets and config.aux_parts > 0:
         if clip.parts is None:
