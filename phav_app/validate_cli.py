@@ -71,7 +71,11 @@ def validate(
         bool, typer.Option("--details", help="Print per-variable histograms and the protagonist-size histogram.")
     ] = False,
     learn_minutes: Annotated[
-        float, typer.Option(help="learnability: minutes of CPU training, all streams together.")
+        float,
+        typer.Option(
+            help="learnability: a ceiling on the minutes of training, all streams together (a run it "
+            "stops early is inconclusive, not failed)."
+        ),
     ] = LearnOptions.budget_minutes,
     learn_epochs: Annotated[
         int, typer.Option(min=1, help="learnability: epochs of the flow stream (within the minutes).")
@@ -91,9 +95,23 @@ def validate(
         bool,
         typer.Option(help="learnability: max-pool after the stem (epochs in 1/2 to 2/3 of the time)."),
     ] = LearnOptions.stem_pool,
+    learn_flow: Annotated[
+        str,
+        typer.Option(
+            help="learnability: the flow stream's flow: gt (the dataset's) or farneback (estimated "
+            "from the frames, as a real video's must be)."
+        ),
+    ] = LearnOptions.flow,
+    learn_background: Annotated[
+        str,
+        typer.Option(
+            help="learnability: training clips showing a held-out model among the background people: "
+            "keep (counted in the report) or exclude."
+        ),
+    ] = LearnOptions.background,
     learn_dir: Annotated[
         Path | None,
-        typer.Option(help="learnability: folder for checkpoints (a rerun resumes) and confusion.png."),
+        typer.Option(help="learnability: folder for checkpoints (a rerun resumes), confusion.png and split.json."),
     ] = None,
     threads: Annotated[
         int | None, typer.Option(min=1, help="learnability: torch threads (results are reproducible per count).")
@@ -123,6 +141,7 @@ def validate(
         checks=_checks(checks), workers=workers, sample=sample, regenerate=regenerate, seed=seed, alpha=alpha,
         budget=failure_budget,
         learn=LearnOptions(epochs=learn_epochs, rgb_epochs=learn_rgb_epochs, budget_minutes=learn_minutes,
+                           flow=learn_flow, background=learn_background,
                            precision=learn_precision, stem_pool=learn_stem_pool, seed=seed,
                            threads=threads, shuffle_labels=shuffle_labels, out_dir=learn_dir, workers=workers),
         engine=engine, address=address, regenerate_into=regenerate_into,

@@ -58,6 +58,7 @@ class Reason(StrEnum):
     REGENERATION_MISMATCH = "REGENERATION_MISMATCH"  # a regenerated video differs
     # learnability
     NOT_LEARNABLE = "NOT_LEARNABLE"  # a small TSN does not beat chance on held-out actors
+    LEARNING_INCONCLUSIVE = "LEARNING_INCONCLUSIVE"  # the time budget stopped training first (warn)
 
 
 class Status(StrEnum):

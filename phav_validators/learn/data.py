@@ -5,7 +5,7 @@ A clip is held in memory at the training resolution: RGB frames (uint8) and forw
 (float16, in pixels of the stored frame). PHAV's flow is its ground truth by default; any
 clip's flow can instead be estimated with OpenCV (Farneback, or TV-L1 when
 opencv-contrib is installed — the paper's protocol). Labels and split groups (the actor,
-the base motion) travel beside the pixels and never reach the model.
+the motions) travel beside the pixels and never reach the model.
 """
 
 from __future__ import annotations
@@ -60,7 +60,10 @@ class Clip:
     source: str  # "virtual" (PHAV) or "real"
     rgb: np.ndarray  # (T, H, W, 3) uint8
     flow: np.ndarray  # (T, H, W, 2) float16, pixels of the stored frame; 0 where invalid
-    groups: dict[str, str] = field(default_factory=dict)  # e.g. {"actor": "...", "motion": "..."}
+    #: The groups a split holds out, by kind: the clip's members, the one that decides its
+    #: side first, e.g. {"actor": (protagonist, partner), "motion": (base, blended),
+    #: "background": (models...)}. A single name may be given as a string.
+    groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
     #: (T, H, W) uint8 indices into BODY_PARTS, when read (training-time targets only).
     parts: np.ndarray | None = None
 
@@ -73,6 +76,7 @@ class Clip:
             raise ValueError(f"{self.key}: a clip needs at least one frame")
         if self.parts is not None and (self.parts.shape != self.rgb.shape[:3] or self.parts.dtype != np.uint8):
             raise ValueError(f"{self.key}: parts {self.parts.shape} {self.parts.dtype} do not match rgb")
+        self.groups = {kind: (m,) if isinstance(m, str) else tuple(m) for kind, m in self.groups.items()}
 
     @property
     def n_frames(self) -> int:
@@ -183,7 +187,7 @@ def make_clip(
     *,
     size: tuple[int, int],
     flow: str,
-    groups: dict[str, str] | None = None,
+    groups: dict[str, tuple[str, ...]] | None = None,
     parts: Sequence[np.ndarray] | None = None,
 ) -> Clip:
     """A clip from full-resolution RGB frames and (ground-truth) flows, or with ``flow``
@@ -205,7 +209,7 @@ def make_clip(
 @dataclass(frozen=True)
 class _ShardTask:
     path: str
-    videos: dict[str, tuple[int, dict[str, str]]]  # video id → (label, groups)
+    videos: dict[str, tuple[int, dict[str, tuple[str, ...]]]]  # video id → (label, groups)
     size: tuple[int, int]
     flow: str
     parts: bool = False
@@ -289,9 +293,8 @@ def load_phav(
     ``parts`` also each frame's body parts (BODY_PARTS, from the semantic segmentation).
 
     Shards are streamed in place, one per task, in ``workers`` processes. The label is the
-    recipe's action, the groups its protagonist's human model (a sampled person: the video)
-    and base motion. A caller
-    that has already read the manifest or the recipes table passes them in."""
+    recipe's action, the groups its people and motions (``clip_groups``). A caller that has
+    already read the manifest or the recipes table passes them in."""
 
     root = Path(root)
     if flow not in FLOW_SOURCES:
@@ -304,10 +307,7 @@ def load_phav(
     if table is None:
         table = read_recipe_table(root / "recipes.parquet")
     actions = list(ACTIONS.names)
-    rows = zip(table.column("video_id"), table.column("action"), table.column("human_model"),
-               table.column("base_motion"), strict=True)  # fmt: skip
-    # A person drawn continuously (model "sampled") is nobody else: the video is its actor.
-    info = {vid: (actions.index(a), {"actor": vid if h == "sampled" else h, "motion": b}) for vid, a, h, b in rows}
+    info = {vid: (label, groups) for vid, label, groups in clip_groups(table)}
     chosen = None if videos is None else set(videos)
     tasks = []
     for shard in manifest.shards:
@@ -330,6 +330,32 @@ def load_phav(
                 progress(len(part))
     clips.sort(key=lambda c: c.key)
     return ClipSet("virtual", actions, clips)
+
+
+def clip_groups(table: RecipeTable) -> list[tuple[str, int, dict[str, tuple[str, ...]]]]:
+    """Each video's id, label and split groups from the recipes table: ``actor`` its
+    performers (the protagonist's human model, then the supporting person's where the
+    action has one), ``motion`` every motion it plays (base, then blended), ``background``
+    the background people's models. A person drawn continuously (model ``sampled``) is
+    nobody else: it is named by the video and its role. An action this phav's vocabulary
+    does not know is a PhavUserError naming the table."""
+    actions = {name: i for i, name in enumerate(ACTIONS.names)}
+    columns = [table.column(name) for name in ("video_id", "action", "human_model", "supporting_human_model",
+                                               "base_motion", "blend_motion", "background_human_models")]  # fmt: skip
+    out = []
+    for vid, action, lead, partner, base, blend, background in zip(*columns, strict=True):
+        if action not in actions:
+            raise PhavUserError(f"video {vid}: action {action!r} is not in this phav's vocabulary",
+                                source=str(table.path), field="action")  # fmt: skip
+
+        def person(model: str, role: str, vid: str = vid) -> str:
+            return model if model != "sampled" else f"{vid}/{role}"
+
+        actor = (person(lead, "protagonist"),) + ((person(partner, "supporting"),) if partner else ())
+        motion = (base,) + ((blend,) if blend else ())
+        crowd = tuple(person(m, f"background{i}") for i, m in enumerate(background or ()))
+        out.append((vid, actions[action], {"actor": actor, "motion": motion, "background": crowd}))
+    return out
 
 
 # --- real datasets: UCF-101 and HMDB-51 layouts -----------------------------------------------

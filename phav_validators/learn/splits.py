@@ -1,5 +1,14 @@
 """Train/test splits: the paper's random 80/20, and splits that hold out whole groups
-(human models, base motions) so that the test set shares no actor or motion with training."""
+(human models, motions) so that no held-out model or motion is seen in training.
+
+A clip's groups of a kind list its members, the one that decides its side first: for
+``actor`` the protagonist, then the supporting person; for ``motion`` the base motion, then
+the blended one. A clip is tested when its deciding members are held out, and trained on
+only when none of its members is: a training clip never shows a held-out performer or
+motion. A test clip whose other member (a partner) is a training clip's member too is
+``mixed``, reported apart. Background people are no performers; with ``background:
+exclude`` a training clip that shows a held-out model in the background is dropped too.
+"""
 
 from __future__ import annotations
 
@@ -13,9 +22,13 @@ from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 from phav_validators.learn.data import Clip
 
-#: What a split may hold out: ``actor`` (the protagonist's human model) and ``motion``
-#: (the base motion, chosen per action so every action keeps motions on both sides).
+#: What a split may hold out: ``actor`` (human models: protagonists and supporting people)
+#: and ``motion`` (base and blended motions, chosen per action so every action keeps motions
+#: on both sides).
 HOLD_OUT = ("actor", "motion")
+#: What a held-out-actor split does with training clips that show a held-out model among
+#: the background people: ``keep`` them (counted in ``Split.background_seen``) or ``exclude`` them.
+BACKGROUND = ("keep", "exclude")
 
 
 @dataclass(frozen=True)
@@ -25,8 +38,14 @@ class Split:
     name: str
     train: list[int]
     test: list[int]
-    dropped: int = 0  # clips on neither side (a held-out actor with a training motion, …)
+    dropped: int = 0  # clips on neither side (a held-out partner of a seen protagonist, …)
     held_out: dict[str, list[str]] = field(default_factory=dict)
+    #: Test clips with a member seen in training (a held-out protagonist's seen partner).
+    mixed: list[int] = field(default_factory=list)
+    #: Training clips that show a held-out model among their background people (``keep``).
+    background_seen: list[int] = field(default_factory=list)
+    #: Training clips dropped because of it (``exclude``).
+    background_dropped: int = 0
 
 
 def _rng(seed: int) -> np.random.Generator:
@@ -42,19 +61,27 @@ def random_split(n: int, *, test_fraction: float = 0.2, seed: int) -> Split:
     return Split("random", sorted(int(i) for i in order[k:]), sorted(int(i) for i in order[:k]))
 
 
-def held_out_split(clips: Sequence[Clip], hold: Sequence[str], *, test_fraction: float = 0.2, seed: int) -> Split:
-    """Hold out about ``test_fraction`` of each kind in ``hold``: a clip is tested when all
-    its groups are held out, trained on when none is, and dropped otherwise.
+def held_out_split(
+    clips: Sequence[Clip],
+    hold: Sequence[str],
+    *,
+    test_fraction: float = 0.2,
+    seed: int,
+    background: str = "keep",
+) -> Split:
+    """Hold out about ``test_fraction`` of each kind in ``hold`` (the module's policy).
 
-    Actors are drawn among all actors; motions per label (at least one of each label's
-    motions stays on each side when it has two or more)."""
+    Actors are drawn among the protagonists; motions per label among its clips' base
+    motions (at least one of each label's motions stays on each side when it has two or more)."""
     unknown = [h for h in hold if h not in HOLD_OUT]
     if unknown or not hold:
         raise PhavUserError(f"can hold out {' and '.join(HOLD_OUT)}, got {list(hold)!r}", field="--split")
+    if background not in BACKGROUND:
+        raise PhavUserError(f"choose {' or '.join(BACKGROUND)}, got {background!r}", field="--learn-background")
     rng = _rng(seed)
     held: dict[str, set[str]] = {}
     if "actor" in hold:
-        actors = sorted({_group(c, "actor") for c in clips})
+        actors = sorted({_group(c, "actor")[0] for c in clips})
         if len(actors) < 2:
             raise PhavUserError(f"holding out actors needs at least 2, the data has {len(actors)}", field="--split")
         k = min(len(actors) - 1, max(1, round(test_fraction * len(actors))))
@@ -62,27 +89,37 @@ def held_out_split(clips: Sequence[Clip], hold: Sequence[str], *, test_fraction:
     if "motion" in hold:
         held["motion"] = set()
         for label in sorted({c.label for c in clips}):
-            motions = sorted({_group(c, "motion") for c in clips if c.label == label})
+            motions = sorted({_group(c, "motion")[0] for c in clips if c.label == label})
             if len(motions) < 2:
                 continue
             k = min(len(motions) - 1, max(1, math.floor(test_fraction * len(motions) + 0.5)))
             held["motion"] |= {motions[int(i)] for i in rng.permutation(len(motions))[:k]}
-    train, test, dropped = [], [], 0
+    train, test, dropped, seen_background, background_dropped = [], [], 0, [], 0
     for i, clip in enumerate(clips):
-        inside = [_group(clip, kind) in held[kind] for kind in hold]
-        if all(inside):
+        deciding = [_group(clip, kind)[0] in held[kind] for kind in hold]
+        touches = any(m in held[kind] for kind in hold for m in _group(clip, kind))
+        if all(deciding):
             test.append(i)
-        elif not any(inside):
-            train.append(i)
-        else:
+        elif touches:
             dropped += 1
+        elif "actor" in held and any(m in held["actor"] for m in clip.groups.get("background", ())):
+            if background == "exclude":
+                background_dropped += 1
+            else:
+                train.append(i)
+                seen_background.append(i)
+        else:
+            train.append(i)
     if not train or not test:
         raise PhavUserError(f"holding out {'+'.join(hold)} leaves {len(train)} training and {len(test)} test clips",
                             field="--split")  # fmt: skip
-    return Split("held-out " + "+".join(hold), train, test, dropped, {k: sorted(v) for k, v in held.items()})
+    seen = {kind: {m for i in train for m in _group(clips[i], kind)} for kind in hold}
+    mixed = [i for i in test if any(m in seen[kind] for kind in hold for m in _group(clips[i], kind)[1:])]
+    return Split("held-out " + "+".join(hold), train, test, dropped, {k: sorted(v) for k, v in held.items()},
+                 mixed, seen_background, background_dropped)  # fmt: skip
 
 
-def _group(clip: Clip, kind: str) -> str:
+def _group(clip: Clip, kind: str) -> tuple[str, ...]:
     try:
         return clip.groups[kind]
     except KeyError:
@@ -96,9 +133,11 @@ def check_split_kind(kind: str) -> None:
         raise PhavUserError(f"expected random, actor, motion or actor+motion, got {kind!r}", field="--split")
 
 
-def make_split(clips: Sequence[Clip], kind: str, *, test_fraction: float = 0.2, seed: int) -> Split:
-    """``random``, ``actor``, ``motion`` or ``actor+motion``."""
+def make_split(
+    clips: Sequence[Clip], kind: str, *, test_fraction: float = 0.2, seed: int, background: str = "keep"
+) -> Split:
+    """``random``, ``actor``, ``motion`` or ``actor+motion``; ``background`` as ``held_out_split``'s."""
     check_split_kind(kind)
     if kind == "random":
         return random_split(len(clips), test_fraction=test_fraction, seed=seed)
-    return held_out_split(clips, kind.split("+"), test_fraction=test_fraction, seed=seed)
+    return held_out_split(clips, kind.split("+"), test_fraction=test_fraction, seed=seed, background=background)

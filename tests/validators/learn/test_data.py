@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import shutil
+
 import numpy as np
 import pytest
 
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.vocab import ACTIONS
-from phav_validators.learn.data import decode_video, hmdb51_split, load_phav, load_real, ucf101_split
+from phav_validators.learn.data import Clip, decode_video, hmdb51_split, load_phav, load_real, ucf101_split
 from phav_validators.learn.splits import make_split
+from tests.helpers import invoke_cli
 from tests.validators.learn.helpers import (
     HMDB_CLASSES,
     UCF_CLASSES,
@@ -29,7 +32,10 @@ def test_phav_clips_carry_actions_actors_and_motions_from_the_recipes(phav):
     for clip in clips.clips:
         r = recipes[clip.key]
         assert clip.label == ACTIONS.index(r.action) and clips.classes[clip.label] == r.action
-        assert clip.groups == {"actor": r.protagonist.human.model, "motion": r.motion.base_motion}
+        partner = tuple(c.human.model for c in r.supporting_characters)
+        blend = (r.variation.blend_motion,) if r.variation.kind == "action_blending" else ()
+        assert clip.groups == {"actor": (r.protagonist.human.model, *partner), "motion": (r.motion.base_motion, *blend),
+                               "background": tuple(a.human.model for a in r.background_actors)}  # fmt: skip
         assert clip.rgb.shape == (r.n_frames, 64, 85, 3) and clip.flow.shape == (r.n_frames, 64, 85, 2)
         assert np.isfinite(clip.flow.astype(np.float32)).all()
 
@@ -141,8 +147,8 @@ def test_held_out_splits_share_no_group_with_training(kind):
     clips = motion_clips(6, 20).clips
     split = make_split(clips, kind, seed=4)
     for group in kind.split("+"):
-        train = {clips[i].groups[group] for i in split.train}
-        test = {clips[i].groups[group] for i in split.test}
+        train = {m for i in split.train for m in clips[i].groups[group]}
+        test = {m for i in split.test for m in clips[i].groups[group]}
         assert not train & test
         assert set(split.held_out[group]) >= test
     if kind == "motion":  # every class keeps motions on both sides
@@ -150,6 +156,72 @@ def test_held_out_splits_share_no_group_with_training(kind):
     assert len(split.train) + len(split.test) + split.dropped == len(clips)
     assert make_split(clips, kind, seed=4) == split
     assert make_split(clips, kind, seed=5) != split
+
+
+def _clip(key: str, label: int, actor: tuple[str, ...], motion: tuple[str, ...], background=()) -> Clip:
+    rgb, flow = np.zeros((1, 2, 2, 3), np.uint8), np.zeros((1, 2, 2, 2), np.float16)
+    return Clip(key, label, "virtual", rgb, flow, {"actor": actor, "motion": motion, "background": background})
+
+
+def test_partners_and_blended_motions_never_train_when_held_out_and_background_people_are_counted():
+    # 10 protagonists; each clip's partner and background people are other protagonists
+    clips = [_clip(f"v{i:06d}", i % 3, (f"m{i % 10}",) + ((f"m{(i + 3) % 10}",) if i % 2 else ()),
+                   (f"base{i % 4}",) + ((f"base{(i + 1) % 4}",) if i % 3 == 0 else ()), (f"m{(i + 5) % 10}",))
+             for i in range(60)]  # fmt: skip
+    for seed in range(5):
+        split = make_split(clips, "actor", seed=seed)
+        held = set(split.held_out["actor"])
+        assert not {m for i in split.train for m in clips[i].groups["actor"]} & held
+        assert all(clips[i].groups["actor"][0] in held for i in split.test)
+        # a test clip's partner that also trains is reported apart
+        trained = {m for i in split.train for m in clips[i].groups["actor"]}
+        assert split.mixed == [i for i in split.test if set(clips[i].groups["actor"][1:]) & trained]
+        assert split.background_seen == [i for i in split.train if set(clips[i].groups["background"]) & held]
+        assert split.background_seen and split.background_dropped == 0
+        excluded = make_split(clips, "actor", seed=seed, background="exclude")
+        assert excluded.test == split.test and excluded.background_dropped == len(split.background_seen)
+        assert set(excluded.train) == set(split.train) - set(split.background_seen)
+        motion = make_split(clips, "motion", seed=seed)
+        held = set(motion.held_out["motion"])
+        assert not {m for i in motion.train for m in clips[i].groups["motion"]} & held  # blended ones too
+        assert any(set(clips[i].groups["motion"][1:]) & held for i in range(60) if i not in motion.test)
+
+
+def test_on_a_generated_set_no_training_clip_has_a_held_out_performer(phav):
+    clips = load_phav(phav, size=(17, 13)).clips
+    cases = set()
+    for seed in range(12):
+        split = make_split(clips, "actor", seed=seed)
+        held = set(split.held_out["actor"])
+        for i in split.train:
+            assert not set(clips[i].groups["actor"]) & held, (seed, clips[i].key)
+        if split.dropped:
+            cases.add("held-out partner: not trained")
+        if split.mixed:
+            cases.add("seen partner: tested apart")
+        if split.background_seen:
+            cases.add("held-out model in the background: counted")
+    assert len(cases) == 3, cases  # the set's roles cross (helpers.tiny_phav)
+
+
+def test_an_action_the_vocabulary_does_not_know_is_a_user_error(phav, tmp_path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    edited = tmp_path / "edited"
+    shutil.copytree(phav, edited)
+    table = pq.read_table(phav / "recipes.parquet")
+    actions = ["juggle"] + table.column("action").to_pylist()[1:]
+    table = table.set_column(table.column_names.index("action"), "action", pa.array(actions))
+    pq.write_table(table.replace_schema_metadata(pq.read_schema(phav / "recipes.parquet").metadata),
+                   edited / "recipes.parquet")  # fmt: skip
+    for args in (("train", str(edited), "--out", str(tmp_path / "run"), "--epochs", "1"),
+                 ("validate!", str(edited), "--checks", "learnability", "--learn-epochs", "1")):  # fmt: skip
+        result = invoke_cli(*args)
+        assert result.returncode == 2, (args[0], result.stdout, result.stderr)
+        message = result.stderr.strip()
+        assert "recipes.parquet" in message and "juggle" in message and "Traceback" not in message
+        assert len(message.splitlines()) == 1, message
 
 
 def test_random_split_is_80_20_and_seeded():

@@ -4,13 +4,22 @@ numbers, the confusion image, the checkpoints and the HTML section."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
 
 from phav_spec.manifest import load_manifest
-from phav_validators.learn.learnability import LearnResult, wilson_interval
+from phav_validators.findings import CheckResult, Reason, Status
+from phav_validators.learn.learnability import (
+    LearnOptions,
+    LearnResult,
+    binomial_p,
+    chance_level,
+    learnability_check,
+    wilson_interval,
+)
 from phav_validators.report import learnability_html
 from tests.helpers import invoke_cli
 
@@ -39,6 +48,55 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     page = (tmp_path / "r.html").read_text()
     assert "Learnability: confusion" in page and "Per class" in page
     assert sum(row["clips"] for row in numbers["per_class"]) == numbers["test_clips"]
+    assert (
+        sum(numbers["test_clips_per_class"].values()) == numbers["test_clips"]
+        and len(numbers["test_clips_per_class"]) == 35
+    )
+    # the split, listed for anyone to check against recipes.parquet
+    assert numbers["flow"] == "gt" and check["summary"].startswith("ground-truth flow: fused")
+    listed = numbers["split_videos"]
+    assert listed["held_out"] == numbers["held_out"] and json.loads((learn / "split.json").read_text()) == listed
+    assert len(listed["train_videos"]) == numbers["train_clips"] and len(listed["test_videos"]) == numbers["test_clips"]
+    assert not set(listed["train_videos"]) & set(listed["test_videos"])
+
+
+def test_a_budget_that_stops_training_is_inconclusive_not_a_failure(phav, tmp_path):
+    report = tmp_path / "report.json"
+    result = invoke_cli("validate!", str(phav), "--checks", "learnability", "--learn-epochs", "3",
+                        "--learn-rgb-epochs", "1", "--learn-minutes", "0.00001", "--learn-flow", "farneback",
+                        "--threads", "1", "--json", str(report))  # fmt: skip
+    assert result.returncode == 0, result.stderr  # warn: phav-validate exits 0
+    check = json.loads(report.read_text())["datasets"][0]["checks"][0]
+    assert check["status"] == "warn" and check["finding_counts"] == {"LEARNING_INCONCLUSIVE": 1}
+    assert check["summary"].startswith("inconclusive, Farneback flow estimated from the frames: fused")
+    finding = check["findings"][0]
+    assert finding["severity"] == "warn" and "rerun with --learn-minutes " in finding["message"]
+    assert finding["numbers"]["minutes_needed"] >= 1 and check["numbers"]["stopped_by_budget"]
+    assert check["numbers"]["epochs"]["flow"] == 1 and check["numbers"]["schedule_epochs"]["flow"] == 3
+
+
+def _verdict(correct: int, *, stopped: bool) -> CheckResult:
+    """The check's verdict on 40 test clips of 4 classes, ``correct`` of them right."""
+    classes = ["a", "b", "c", "d"]
+    labels = np.arange(40) % 4
+    answers = np.where(np.arange(40) < correct, labels, (labels + 1) % 4)
+    probs = np.eye(4)[answers]
+    chance = chance_level(labels, answers, 4)
+    p = binomial_p(correct, 40, chance)
+    result = LearnResult(classes, labels, {"flow": probs}, probs, chance, p, 100, 1.0, stopped,
+                         keys=[f"v{i:06d}" for i in range(40)], epochs={"flow": 2 if stopped else 8},
+                         schedule={"flow": 8}, epoch_seconds={"flow": 30.0})  # fmt: skip
+    return learnability_check(result, LearnOptions(budget_minutes=1.0), Path("set"))
+
+
+def test_the_verdict_depends_on_the_data_not_on_a_budget_that_stopped_training():
+    assert _verdict(10, stopped=False).status == Status.FAIL  # chance: the whole schedule ran
+    stopped = _verdict(10, stopped=True)
+    assert stopped.status == Status.WARN and stopped.report.counts == {Reason.LEARNING_INCONCLUSIVE: 1}
+    assert "rerun with --learn-minutes 5" in stopped.report.findings[0].message  # 8 × 30 s and a tenth
+    early_pass = _verdict(30, stopped=True)  # a partial result that passes already passes
+    assert early_pass.status == Status.PASS and "already passes" in early_pass.report.notes[0]
+    assert _verdict(30, stopped=False).status == Status.PASS
 
 
 def test_the_wilson_interval_of_an_accuracy():
