@@ -92,8 +92,7 @@ def train_command(
             help=f"Epochs of the RGB stream (default: {RGB_EPOCH_SHARE} of --epochs).",
         ),
     ] = None,
-    lr: Annotated[float, typer.Option(help="Peak learning rate (cosine decay).")] = 0.05,
-    optimizer: Annotated[str, typer.Option(help="sgd (momentum 0.9, weight decay 5e-4, as TSN) or adamw.")] = "sgd",
+    lr: Annotated[float, typer.Option(help="Peak learning rate of TSN's SGD (cosine decay).")] = 0.05,
     batch: Annotated[int, typer.Option(min=1, help="Clips per mini-batch (single source).")] = 32,
     size: Annotated[str, typer.Option(help="Stored frame size WIDTHxHEIGHT; crops are 7/8 of it.")] = "85x64",
     widths: Annotated[str, typer.Option(help="Backbone widths, one stride-2 stage each.")] = "32,64,128,192",
@@ -106,27 +105,11 @@ def train_command(
     ] = None,
     dropout: Annotated[float, typer.Option(help="Dropout before the classifiers.")] = 0.3,
     crop: Annotated[float, typer.Option(help="Side of the training crop, share of the stored frame.")] = 0.875,
-    focus: Annotated[
-        str, typer.Option(help="Where the crop sits: none (random / centre) or motion (most flow, from the flow).")
-    ] = "none",
     scale_jitter: Annotated[
         bool | None,
-        typer.Option(
-            help="TSN's multi-scale training crops (2/3 to all of the frame, resized; testing: centre). "
-            "Default: on, unless --focus motion."
-        ),
+        typer.Option(help="TSN's multi-scale training crops (2/3 to all of the frame, resized; testing: centre)."),
     ] = None,
-    label_smoothing: Annotated[
-        float, typer.Option(help="Share of each target spread evenly over the classes (label smoothing).")
-    ] = RECOMMENDED.label_smoothing,
-    pool: Annotated[str, typer.Option(help="Global pooling of the last feature map: avg or max.")] = "avg",
     segments: Annotated[int, typer.Option(min=1, help="Snippets per clip while training (TSN's K).")] = 3,
-    temporal_shift: Annotated[
-        bool, typer.Option(help="TSM's temporal shift between the segments (testing then uses K segments too).")
-    ] = False,
-    temporal_conv: Annotated[
-        bool, typer.Option(help="(2+1)D: a temporal convolution across the segments in every block (testing: K).")
-    ] = False,
     rgb_frames: Annotated[int, typer.Option(min=1, help="RGB frames stacked per snippet (1: TSN's).")] = (
         RECOMMENDED.rgb_frames
     ),
@@ -141,12 +124,6 @@ def train_command(
         float,
         typer.Option(help="Factor on the RGB differences (a difference is ~4x smaller than a frame; 1: as they are)."),
     ] = RECOMMENDED.diff_gain,
-    aux_flow: Annotated[
-        float, typer.Option(min=0.0, help="RGB stream: weight of predicting the flow between its frames (training).")
-    ] = 0.0,
-    aux_parts: Annotated[
-        float, typer.Option(min=0.0, help="Weight of segmenting the body parts (PHAV's semantic frames; training).")
-    ] = 0.0,
     distill: Annotated[
         float | None,
         typer.Option(
@@ -195,17 +172,10 @@ def train_command(
     chosen = {"distill": distill, "threads": threads, "precision": precision, "rgb_epochs": rgb_epochs,
               "rgb_diff": rgb_diff, "scale_jitter": scale_jitter, "stem_pool": stem_pool}  # fmt: skip
     base = recommended_config(stream_list, device=device, widths=_ints(widths, "--widths"), epochs=epochs, lr=lr,
-                              optimizer=optimizer, mix=(("virtual", batch),), seed=seed,
-                              dropout=dropout, segments=segments, temporal_shift=temporal_shift,
-                              temporal_conv=temporal_conv,
-                              rgb_frames=rgb_frames, diff_gain=diff_gain, aux_flow=aux_flow,
-                              aux_parts=aux_parts, crop=crop, focus=focus, pool=pool,
-                              label_smoothing=label_smoothing,
+                              mix=(("virtual", batch),), seed=seed, dropout=dropout, segments=segments,
+                              rgb_frames=rgb_frames, diff_gain=diff_gain, crop=crop,
                               **{k: v for k, v in chosen.items() if v is not None})  # fmt: skip
     stream_configs(stream_list, base)
-    if aux_parts > 0 and (real is not None or dataset is None):
-        raise PhavUserError("body-part targets come from PHAV's semantic frames: train on PHAV alone",
-                            field="--aux-parts")  # fmt: skip
     if dataset is None and real is None:
         raise PhavUserError("give a PHAV dataset directory, --real, or both", field="DATASET")
     try:
@@ -222,8 +192,7 @@ def train_command(
 
         virtual = None
         if dataset is not None:
-            virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0),
-                                parts=aux_parts > 0)  # fmt: skip
+            virtual = load_phav(dataset, size=stored, flow=flow, workers=workers, progress=progress("reading PHAV", 0))
         if real_source is None:
             runs = phav_runs(virtual, base, stream_list, out, split_kind=split, splits=splits, device=device,
                              progress=progress)  # fmt: skip

@@ -9,7 +9,7 @@ nothing. A cell changes one thing against the baseline:
 
 - ``clips=N``: N training clips, a seeded class-stratified subsample of the training side;
 - ``size=WxH``: the stored frame size;
-- any ``TrainConfig`` field (``epochs=40``, ``widths=32-64-128``, ``temporal_conv=true``, …).
+- any ``TrainConfig`` field (``epochs=40``, ``widths=32-64-128``, ``stem_pool=true``, …).
 
     .venv/bin/python docs/measure/learn_experiments.py /tmp/d1 /tmp/d2 --seeds 0,1,2 \\
         --cell baseline --cell clips=320 --cell size=128x96 --json /tmp/cells.json

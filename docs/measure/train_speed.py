@@ -1,8 +1,7 @@
 """Milliseconds per training step of the TSN model alone (no snippet cutting) under each
 arithmetic and layout: float32, channels-last, bfloat16 autocast, two smaller networks,
 then, in this machine's default arithmetic (bfloat16 where it is faster, else float32 channels-last),
-the backbones of the width/depth and temporal-model experiments and the stored sizes
-(docs/learnability.md).
+the backbones of the width/depth experiments and the stored sizes (docs/learnability.md).
 
     .venv/bin/python docs/measure/train_speed.py --threads 2
 """
@@ -82,8 +81,6 @@ def main() -> None:
         ("the default network (32-64-128-192)", Architecture(), DEFAULT_SIZE),
         ("widths 48-96-192-256", Architecture(widths=(48, 96, 192, 256)), DEFAULT_SIZE),
         ("widths 32-64-128-192-256 (a block more)", Architecture(widths=(32, 64, 128, 192, 256)), DEFAULT_SIZE),
-        ("temporal shift (K = 3)", Architecture(temporal_shift=True), DEFAULT_SIZE),
-        ("(2+1)D temporal convolution (K = 3)", Architecture(temporal_conv=True), DEFAULT_SIZE),
         ("stored at 128×96", Architecture(), (128, 96)),
         ("stored at 170×128", Architecture(), (170, 128)),
     ]

@@ -1,8 +1,9 @@
 """Where the crop placed on the motion lands: the share of the people's pixels inside it
 (docs/learnability.md, "Stored size and crop").
 
-``--focus motion`` places the network's crop on the window of most median-centred flow,
-found from the flow alone. This measures, per clip at its test snippets, how much of the
+The crop placed on the motion (``--focus motion``, measured there and since gone from
+``phav train``) was the window of most median-centred flow, found from the flow alone
+(``motion_window``). This measures, per clip at its test snippets, how much of the
 body-part pixels of PHAV's semantic frames (any person's; the measurement only, never a
 network's input) falls inside that window, inside a window of the same size at the frame's
 centre, and inside the default centre crop. It reads ``learn_experiments.py``'s clip cache
@@ -21,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from phav_validators.learn.data import Clip
-from phav_validators.learn.train import TrainConfig, crop_box, draw_cut, motion_window, snippet_frames
+from phav_validators.learn.train import TrainConfig, crop_box, draw_cut, snippet_frames
 
 #: The zip local file header's fixed length and the offsets of its name and extra lengths.
 _LOCAL_HEADER, _NAME_LEN, _EXTRA_LEN = 30, 26, 28
@@ -51,12 +52,32 @@ def memmap_npz(path: Path) -> dict[str, np.ndarray]:
     return arrays
 
 
+def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple[int, int]:
+    """Top-left (y, x) of the ``box`` (height, width) window holding the most motion in
+    ``frames`` of the clip: the flow's magnitude after each frame's median vector (the
+    camera's) is removed, summed over every window position. It looks at the flow only,
+    as a real video's estimated flow would allow; the centre window when nothing moves."""
+    h, w = clip.flow.shape[1:3]
+    ch, cw = box
+    used = np.unique(frames)
+    flow = clip.flow[used].astype(np.float32) - clip.flow_median[used][:, None, None, :]
+    magnitude = np.sqrt((flow**2).sum(-1)).sum(0)
+    # Sum over every window position: a summed-area table, exact and order-independent.
+    table = np.pad(magnitude.astype(np.float64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
+    sums = table[ch:, cw:] - table[:-ch, cw:] - table[ch:, :-cw] + table[:-ch, :-cw]
+    if not sums.max() > 0:
+        return (h - ch) // 2, (w - cw) // 2
+    y0, x0 = np.unravel_index(int(np.argmax(sums)), sums.shape)
+    return int(y0), int(x0)
+
+
 def body_shares(clip: Clip, crop: float, default_crop: float = TrainConfig.crop) -> tuple[float, float, float] | None:
     """Shares of the clip's body-part pixels, over its flow stream's test snippets, inside
     (the motion window, a centred window of the same size, the default centre crop); None
     when those frames show no person."""
-    config = TrainConfig(stream="flow", seed=0, crop=crop, focus="motion")
-    cut = draw_cut(clip, config, rng=None, segments=config.eval_segments)
+    config = TrainConfig(stream="flow", seed=0, crop=crop)
+    # The test snippets' starts and a centred window of the crop's size.
+    cut = draw_cut(clip, config, rng=None, segments=config.test_segments)
     frames = snippet_frames(cut.starts, clip.n_frames, config.flow_frames)
     body = clip.parts[np.unique(frames)] > 0
     total = int(body.sum())
@@ -70,11 +91,7 @@ def body_shares(clip: Clip, crop: float, default_crop: float = TrainConfig.crop)
     def inside(y0: int, x0: int, bh: int, bw: int) -> float:
         return float(body[:, y0 : y0 + bh, x0 : x0 + bw].sum() / total)
 
-    return (
-        inside(y, x, ch, cw),
-        inside((h - ch) // 2, (w - cw) // 2, ch, cw),
-        inside((h - dh) // 2, (w - dw) // 2, dh, dw),
-    )
+    return inside(y, x, ch, cw), inside(*cut.corner, ch, cw), inside((h - dh) // 2, (w - dw) // 2, dh, dw)
 
 
 def main() -> None:

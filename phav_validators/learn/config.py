@@ -19,42 +19,20 @@ STREAMS = ("rgb", "flow")
 @dataclass(frozen=True)
 class Architecture:
     """The backbone's shape: a 5×5 stride-2 stem (then a 3×3 stride-2 max-pool when
-    ``stem_pool``), one stride-2 block per width after the first (two
-    3×3 convolutions each), global average pooling and dropout. With ``temporal_shift``
-    the second convolution of each block is residual and sees an eighth of its channels
-    shifted one segment forward and an eighth one segment back (TSM, Lin et al. 2019), so
-    the segments of a clip exchange information at every depth for no extra arithmetic.
-    With ``temporal_conv`` each block ends in a residual convolution of kernel 3 across the
-    segments at every position, after its spatial ones ((2+1)D, Tran et al. 2018): learnt
-    temporal mixing, for a third of a 3×3 convolution's arithmetic more per block."""
+    ``stem_pool``), one stride-2 block per width after the first (two 3×3 convolutions
+    each), global average pooling and dropout. TSN's 2D network: its K segments meet only in
+    the consensus (temporal models fitted more and tested worse: docs/learnability.md,
+    "Backbone")."""
 
     widths: tuple[int, ...] = (32, 64, 128, 192)
     dropout: float = 0.5
     stem_pool: bool = False
-    temporal_shift: bool = False
-    temporal_conv: bool = False
-    #: How the last feature map becomes one vector: ``avg`` (TSN's global average) or
-    #: ``max`` (the strongest response anywhere: a small actor is not averaged away by
-    #: the background around it).
-    pool: str = "avg"
 
     def __post_init__(self) -> None:
         if not self.widths or min(self.widths) < 1:
             raise PhavUserError(f"must be positive, got {self.widths}", field="--widths")
-        if self.pool not in ("avg", "max"):
-            raise PhavUserError(f"choose avg or max, got {self.pool!r}", field="--pool")
         if not 0.0 <= self.dropout < 1.0:
             raise PhavUserError(f"must be in [0, 1), got {self.dropout}", field="--dropout")
-        if self.temporal_shift and self.temporal_conv:
-            raise PhavUserError(
-                "choose one temporal model: --temporal-shift or --temporal-conv", field="--temporal-conv"
-            )
-
-    @property
-    def temporal(self) -> bool:
-        """Whether a clip's segments exchange information inside the backbone, so they form
-        a time axis the network was trained on (testing must keep their number)."""
-        return self.temporal_shift or self.temporal_conv
 
 
 def in_channels(stream: str, flow_frames: int, rgb_frames: int = 1) -> int:

@@ -81,8 +81,8 @@ class LearnOptions:
     threads: int | None = None
     #: ``fp32`` or ``bf16``; None: what this machine computes fastest (``default_precision``).
     precision: str | None = None
-    #: Max-pool after the stem (``TrainConfig.stem_pool``), as ``RECOMMENDED``: both streams'
-    #: epochs in half to two thirds of the time of the unpooled network.
+    #: Max-pool after the stem (``TrainConfig.stem_pool``), as ``RECOMMENDED`` on a CPU:
+    #: the epochs take less time for the same accuracy (docs/learnability.md).
     stem_pool: bool = RECOMMENDED.stem_pool
     alpha: float = 1e-3
     #: The fused accuracy must also be at least this many times chance.
@@ -154,7 +154,7 @@ class LearnResult:
                 f"the whole schedule would take {self.full_minutes():.1f} minutes here: rerun with "
                 f"--learn-minutes {self.minutes_needed()}")  # fmt: skip
         if not self.settings.get("stem_pool", False):
-            note += ", or half to two thirds of that with --learn-stem-pool (the default)"
+            note += ", or less with --learn-stem-pool (the default)"
         return note
 
     def accuracy(self, stream: str | None = None, *, among: Sequence[str] | None = None) -> float:

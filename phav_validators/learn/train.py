@@ -16,6 +16,7 @@ import io
 import json
 import math
 import os
+import re
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -31,7 +32,7 @@ from phav_spec.files import atomic_write
 from phav_spec.host import cpu_fields
 from phav_spec.seeding import seeded_rng
 from phav_validators.learn.config import Architecture, in_channels, require_torch
-from phav_validators.learn.data import BODY_PARTS, Clip
+from phav_validators.learn.data import Clip
 
 #: TSN's gradient-norm clips (RGB 40, flow 20) and the fusion weights of its two streams.
 CLIP_GRAD = {"rgb": 40.0, "flow": 20.0}
@@ -39,11 +40,14 @@ FUSION_WEIGHTS = {"rgb": 1.0, "flow": 1.5}
 #: Flow is clipped at ±20 px of a 340-px-wide frame (TSN's bound), scaled to the stored width.
 FLOW_BOUND_PX = 20.0
 PRECISIONS = ("fp32", "bf16")
+#: The devices training runs on: the CPU or a CUDA GPU (``cuda``, ``cuda:N``). torch names
+#: more (``mps``, ``xpu``, …) that this code neither supports nor tests.
+_DEVICE = re.compile(r"cpu|cuda(:\d+)?")
 _RGB_MEAN, _RGB_STD = 0.45, 0.225
 #: map(function, items) → list, as a batch's clips are cut (``cutting``).
 Mapper = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
 #: The ``TrainConfig`` settings of the RGB stream alone, back at their defaults for flow.
-_RGB_ONLY = ("rgb_frames", "rgb_diff", "rgb_stride", "diff_gain", "aux_flow", "distill", "teacher_init")
+_RGB_ONLY = ("rgb_frames", "rgb_diff", "diff_gain", "distill")
 
 
 @dataclass(frozen=True)
@@ -60,16 +64,10 @@ class TrainConfig:
     #: frames (a linear change of the same pixels, TSN's RGB difference beside appearance),
     #: so motion is not a small residue the first layer must learn to subtract.
     rgb_diff: bool = False
-    #: Frames between consecutive stacked RGB frames: a longer span in the same channels, so
-    #: a limb moving a pixel a frame differs by several between them.
-    rgb_stride: int = 1
-    #: Factor on the RGB differences (``rgb_diff``): a difference is a few times smaller than
-    #: a frame (std 0.22 against 0.97 between consecutive phav-v1-short frames), so at 1 the
-    #: first frame's appearance dominates the first layer from its start.
+    #: Factor on the RGB differences (``rgb_diff``): a difference is several times smaller
+    #: than a frame, so at 1 the first frame's appearance dominates the first layer from its
+    #: start (docs/learnability.md, "The defaults and why").
     diff_gain: float = 1.0
-    #: Subtract each flow frame's median vector: a cheap camera-motion compensation (the
-    #: median of a frame is mostly background), so a moving kite camera is not the signal.
-    flow_centre: bool = True
     crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
     #: TSN's multi-scale cropping while training: each clip's crop takes a height and a width
     #: from (1, 7/8, 3/4, 2/3) of the frame's, at most one step apart, anywhere in the frame,
@@ -77,52 +75,28 @@ class TrainConfig:
     #: crop's flow may pass the ±4 input bound by up to a third): actors of every size in
     #: every place. Testing keeps the centre crop.
     scale_jitter: bool = False
-    #: Where the crop sits: ``none`` (random in training, centred in testing) or ``motion``
-    #: (the window of most motion in the clip's median-centred flow, jittered in training).
-    focus: str = "none"
     widths: tuple[int, ...] = Architecture.widths
     dropout: float = 0.3
     stem_pool: bool = Architecture.stem_pool
-    #: TSM's temporal shift between the K segments (then testing uses K segments too).
-    temporal_shift: bool = Architecture.temporal_shift
-    #: A (2+1)D block's temporal convolution across the K segments at every stage.
-    temporal_conv: bool = Architecture.temporal_conv
-    #: RGB stream with ``rgb_frames`` ≥ 2: weight of an auxiliary loss that predicts the
-    #: (ground-truth) flow between its frames from its mid-level features. Training only:
-    #: the tested network still sees RGB alone.
-    aux_flow: float = 0.0
-    #: Weight of an auxiliary loss that segments the body parts (PHAV's semantic
-    #: segmentation, ``data.BODY_PARTS``) from the mid-level features. Training only.
-    aux_parts: float = 0.0
     #: RGB stream with a flow teacher (``train(teacher=…)``): weight of matching the
     #: teacher's pooled features on the same snippets (MARS, Crasto et al. 2019), so the
     #: RGB stream learns the motion features flow has. Training only: it is tested alone.
     distill: float = 0.0
-    #: RGB stream with a flow teacher: start from the teacher's weights but its first
-    #: convolution (TSN's cross-modality pre-training, turned round: the motion features
-    #: above the stem carry over, and only the stem must learn to read frame differences).
-    teacher_init: bool = False
-    #: Global pooling of the last feature map (``Architecture.pool``).
-    pool: str = Architecture.pool
     epochs: int = 80
     #: Epochs of the RGB stream when it differs from the flow stream's (None: ``epochs``),
     #: so a distilled RGB stream can take a smaller share of a time budget.
     rgb_epochs: int | None = None
     #: Clips per mini-batch from each source, e.g. {"virtual": 10, "real": 22}.
     mix: tuple[tuple[str, int], ...] = (("virtual", 32),)
-    #: ``sgd`` (TSN's: momentum, weight decay) or ``adamw`` (decoupled weight decay).
-    optimizer: str = "sgd"
+    #: TSN's SGD: peak learning rate (cosine decay), momentum and weight decay.
     lr: float = 0.05
     momentum: float = 0.9
     weight_decay: float = 5e-4
-    #: Share of each target's probability spread evenly over the classes (label smoothing):
-    #: a network that may not be certain of any training clip memorises its actors less.
-    label_smoothing: float = 0.0
     seed: int = 0
     threads: int = 1
     #: Arithmetic of the forward pass: ``fp32``, or ``bf16`` autocast (convolutions in
-    #: bfloat16, losses and weights in float32), twice as fast where the CPU has bfloat16
-    #: instructions (``default_precision``).
+    #: bfloat16, losses and weights in float32), faster where the device computes bfloat16
+    #: natively (``default_precision``).
     precision: str = "fp32"
 
     def __post_init__(self) -> None:
@@ -132,7 +106,6 @@ class TrainConfig:
             ("test_segments", self.test_segments),
             ("flow_frames", self.flow_frames),
             ("rgb_frames", self.rgb_frames),
-            ("rgb_stride", self.rgb_stride),
             ("epochs", self.epochs),
             ("rgb_epochs", self.rgb_epochs if self.rgb_epochs is not None else 1),
             ("threads", self.threads),
@@ -141,38 +114,19 @@ class TrainConfig:
                 raise PhavUserError(f"must be at least 1, got {value}", field=f"--{name.replace('_', '-')}")
         if not 0.2 <= self.crop <= 1.0:
             raise PhavUserError(f"must be in [0.2, 1], got {self.crop}", field="--crop")
-        if self.focus not in ("none", "motion"):
-            raise PhavUserError(f"choose none or motion, got {self.focus!r}", field="--focus")
-        if self.scale_jitter and self.focus != "none":
-            raise PhavUserError("choose one: a crop at the motion or jittered in scale", field="--scale-jitter")
         if not self.mix or any(n < 1 for _, n in self.mix):
             raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
         if self.precision not in PRECISIONS:
             raise PhavUserError(f"choose {' or '.join(PRECISIONS)}, got {self.precision!r}", field="--precision")
-        if self.optimizer not in ("sgd", "adamw"):
-            raise PhavUserError(f"choose sgd or adamw, got {self.optimizer!r}", field="--optimizer")
         if not self.lr > 0:
             raise PhavUserError(f"must be positive, got {self.lr}", field="--lr")
         if self.distill < 0 or (self.distill > 0 and self.stream != "rgb"):
             raise PhavUserError(f"needs the rgb stream and a non-negative weight, got {self.distill}",
                                 field="--distill")  # fmt: skip
-        if not 0.0 <= self.label_smoothing < 1.0:
-            raise PhavUserError(f"must be in [0, 1), got {self.label_smoothing}", field="--label-smoothing")
         if not self.diff_gain > 0:
             raise PhavUserError(f"must be positive, got {self.diff_gain}", field="--diff-gain")
-        if self.teacher_init and self.distill <= 0:
-            raise PhavUserError("needs a flow teacher (--distill above 0)", field="--teacher-init")
-        if self.aux_parts < 0:
-            raise PhavUserError(f"must not be negative, got {self.aux_parts}", field="--aux-parts")
         if self.rgb_diff and (self.stream != "rgb" or self.rgb_frames < 2):
             raise PhavUserError("needs the rgb stream with --rgb-frames of 2 or more", field="--rgb-diff")
-        if self.aux_flow > 0 and self.rgb_stride > 1:
-            raise PhavUserError(
-                "predicts the flow between consecutive frames: needs --rgb-stride 1", field="--aux-flow"
-            )
-        if self.aux_flow < 0 or (self.aux_flow > 0 and (self.stream != "rgb" or self.rgb_frames < 2)):
-            raise PhavUserError(f"needs the rgb stream with --rgb-frames of 2 or more, got {self.aux_flow}",
-                                field="--aux-flow")  # fmt: skip
 
     def for_stream(self, stream: str) -> TrainConfig:
         """This config for ``stream``: the RGB stream takes its own epochs (``rgb_epochs``);
@@ -185,15 +139,7 @@ class TrainConfig:
 
     @property
     def arch(self) -> Architecture:
-        return Architecture(widths=self.widths, dropout=self.dropout, stem_pool=self.stem_pool,
-                            temporal_shift=self.temporal_shift, temporal_conv=self.temporal_conv,
-                            pool=self.pool)  # fmt: skip
-
-    @property
-    def eval_segments(self) -> int:
-        """Snippets per clip when testing: ``test_segments``, or ``segments`` under a temporal
-        shift or convolution (its segments are a time axis the network was trained on)."""
-        return self.segments if self.arch.temporal else self.test_segments
+        return Architecture(widths=self.widths, dropout=self.dropout, stem_pool=self.stem_pool)
 
     @property
     def batch(self) -> int:
@@ -273,13 +219,13 @@ def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher |
     return Teacher(result.model, result.config) if stream == "flow" and base.distill > 0 else None
 
 
-#: Where ``phav train``, the learnability check and the training bench start (measured in
-#: docs/learnability.md, "The defaults and why" and "Augmentation"): the flow stream as
-#: TSN's for 160 epochs, with TSN's multi-scale crops; the RGB stream on five frames entered
-#: as the first and four differences at twelve times their scale, matching the flow
-#: stream's features (weight 20), for 50 epochs; both with a max-pool after the stem on a
-#: CPU (the same accuracy or better in half to two thirds of the time; ``default_stem_pool``),
-#: whose time left the check's budget room for the epochs beyond 120 / 40.
+#: Where ``phav train``, the learnability check and the training bench start: the flow
+#: stream as TSN's for 160 epochs, with TSN's multi-scale crops; the RGB stream on five
+#: frames entered as the first and four differences at twelve times their scale, matching
+#: the flow stream's features (weight 20), for 50 epochs; both with a max-pool after the
+#: stem on a CPU (``default_stem_pool``), where time binds and the pooled stem buys the
+#: epochs. Each choice won against its alternatives in docs/learnability.md, "The defaults
+#: and why" and "Augmentation".
 RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, diff_gain=12.0, distill=20.0, epochs=160,
                           rgb_epochs=50, scale_jitter=True, stem_pool=True)  # fmt: skip
 #: The RGB stream's default epochs against the flow stream's, as the CLIs' help says it.
@@ -289,12 +235,10 @@ RGB_EPOCH_SHARE = f"{RECOMMENDED.rgb_epochs} per {RECOMMENDED.epochs}"
 def recommended_config(streams: Sequence[str], *, device: str = "cpu", **settings: Any) -> TrainConfig:
     """``RECOMMENDED`` for training ``streams`` on ``device`` (its threads, precision and stem), with
     ``settings`` changed; other ``epochs`` scale the RGB stream's with them unless
-    ``rgb_epochs`` is given, RGB differences need 2 or more frames unless ``rgb_diff``
-    is given, and a crop placed at the motion (``focus``) is not jittered in scale unless
-    ``scale_jitter`` is given. Without both streams the RGB stream has no flow stream to
-    learn from, so it trains without distillation; without the RGB stream its settings are
-    moot, and without differences so is their gain (kept at 1, so the settings do not
-    claim one)."""
+    ``rgb_epochs`` is given, and RGB differences need 2 or more frames unless ``rgb_diff``
+    is given. Without both streams the RGB stream has no flow stream to learn from, so it
+    trains without distillation; without the RGB stream its settings are moot, and without
+    differences so is their gain (kept at 1, so the settings do not claim one)."""
     base = replace(
         RECOMMENDED, threads=default_threads(), precision=default_precision(device), stem_pool=default_stem_pool(device)
     )
@@ -305,8 +249,6 @@ def recommended_config(streams: Sequence[str], *, device: str = "cpu", **setting
     if settings.get("rgb_epochs") is None and "epochs" in settings:
         share = RECOMMENDED.rgb_epochs / RECOMMENDED.epochs
         settings = {**settings, "rgb_epochs": max(1, round(settings["epochs"] * share))}
-    if settings.get("scale_jitter") is None:  # a crop placed at the motion is not jittered
-        settings = {**settings, "scale_jitter": base.scale_jitter and settings.get("focus", base.focus) == "none"}
     if settings.get("rgb_diff") is None:
         settings = {**settings, "rgb_diff": base.rgb_diff and settings.get("rgb_frames", base.rgb_frames) >= 2}
     if not settings["rgb_diff"]:
@@ -352,8 +294,6 @@ JITTER_SCALES = (1.0, 0.875, 0.75, 0.66)
 _JITTER_PAIRS = [(a, b) for i, a in enumerate(JITTER_SCALES) for j, b in enumerate(JITTER_SCALES) if abs(i - j) <= 1]
 #: The most channels OpenCV resizes in one call.
 _CV_CHANNELS = 128
-#: What each auxiliary target of ``snippets_and_targets`` holds, for resizing and flipping it.
-_TARGET_KINDS = {"flow": "flow", "teacher": "flow", "parts": "parts"}
 
 
 def jitter_box(shape: tuple[int, int], rng: np.random.Generator) -> tuple[int, int]:
@@ -363,15 +303,14 @@ def jitter_box(shape: tuple[int, int], rng: np.random.Generator) -> tuple[int, i
 
 
 def resize_snippets(x: np.ndarray, size: tuple[int, int], *, kind: str) -> np.ndarray:
-    """Snippets (K, C, h, w) at ``size`` (height, width): ``rgb`` and ``flow`` bilinear, flow's
-    u (even channels) and v (odd) scaled with the frame; ``parts`` (K, h, w) labels nearest."""
+    """Snippets (K, C, h, w) of ``kind`` ``rgb`` or ``flow`` at ``size`` (height, width),
+    bilinear; flow's u (even channels) and v (odd) scaled with the frame."""
     h, w = x.shape[-2:]
     if (h, w) == tuple(size):
         return x
     planes = x.reshape(-1, h, w).transpose(1, 2, 0)
-    method = cv2.INTER_NEAREST if kind == "parts" else cv2.INTER_LINEAR
     out = np.concatenate([cv2.resize(np.ascontiguousarray(planes[..., i : i + _CV_CHANNELS]), (size[1], size[0]),
-                                     interpolation=method).reshape(size[0], size[1], -1)
+                                     interpolation=cv2.INTER_LINEAR).reshape(size[0], size[1], -1)
                           for i in range(0, planes.shape[-1], _CV_CHANNELS)], axis=-1)  # fmt: skip
     out = out.transpose(2, 0, 1).reshape(*x.shape[:-2], *size)  # a view of the fresh array
     if kind == "flow":
@@ -385,51 +324,43 @@ def snippets(
 ) -> np.ndarray:
     """One clip's input (K, C, h, w) float32: K snippets, cropped and normalised; with ``rng``
     a random crop and horizontal flip (flow's u negated), else the centre crop."""
-    return snippets_and_targets(clip, config, rng=rng, segments=segments, targets=False)[0]
+    return snippets_and_targets(clip, config, rng=rng, segments=segments)[0]
 
 
 @dataclass(frozen=True)
 class Cut:
     """Where one clip's snippets are cut: the snippets' first frames, the crop's (height,
-    width), its top-left corner (None: the clip's motion window, moved by ``nudge``) and the
-    flip. Drawn from the random state in one fixed order (``draw_cut``), so cutting a batch's
-    clips in threads gives the arrays that cutting them one after another gives."""
+    width), its top-left corner and the flip. Drawn from the random state in one fixed order
+    (``draw_cut``), so cutting a batch's clips in threads gives the arrays that cutting them
+    one after another gives."""
 
     starts: tuple[int, ...]
     box: tuple[int, int]
-    corner: tuple[int, int] | None
-    nudge: tuple[int, int] = (0, 0)
+    corner: tuple[int, int]
     flip: bool = False
 
 
-def _snippet_frames(config: TrainConfig) -> tuple[int, int]:
-    """(frames, stride) of one snippet of the config's stream."""
-    return (config.rgb_frames, config.rgb_stride) if config.stream == "rgb" else (config.flow_frames, 1)
+def _snippet_length(config: TrainConfig) -> int:
+    """Frames in one snippet of the config's stream."""
+    return config.rgb_frames if config.stream == "rgb" else config.flow_frames
 
 
-def snippet_frames(starts: Sequence[int], n_frames: int, length: int, stride: int = 1) -> np.ndarray:
-    """(K, length) indices of the frames of the snippets starting at ``starts``, ``stride``
-    apart, the clip's last frame repeated where a snippet runs past its end."""
-    return np.minimum(np.add.outer(np.asarray(starts), stride * np.arange(length)), n_frames - 1)
+def snippet_frames(starts: Sequence[int], n_frames: int, length: int) -> np.ndarray:
+    """(K, length) indices of the frames of the snippets starting at ``starts``, the clip's
+    last frame repeated where a snippet runs past its end."""
+    return np.minimum(np.add.outer(np.asarray(starts), np.arange(length)), n_frames - 1)
 
 
 def draw_cut(clip: Clip, config: TrainConfig, *, rng: np.random.Generator | None, segments: int | None = None) -> Cut:
     """Where ``clip``'s K snippets are cut: with ``rng`` random offsets in their segments, a
     random crop (multi-scale with ``scale_jitter``) and flip; without, segment centres and
-    the centre crop (or the motion window)."""
-    length, stride = _snippet_frames(config)
+    the centre crop."""
     k = segments if segments is not None else config.segments
-    starts = snippet_starts(clip.n_frames, k, (length - 1) * stride + 1, rng=rng)
+    starts = snippet_starts(clip.n_frames, k, _snippet_length(config), rng=rng)
     h, w = clip.rgb.shape[1:3]
     ch, cw = crop_box((h, w), config.crop)
     if config.scale_jitter and rng is not None:
         ch, cw = jitter_box((h, w), rng)
-    if config.focus == "motion":
-        if rng is None:
-            return Cut(tuple(starts), (ch, cw), None)
-        # jitter by up to an eighth of the window
-        nudge = int(rng.integers(-(ch // 8), ch // 8 + 1)), int(rng.integers(-(cw // 8), cw // 8 + 1))
-        return Cut(tuple(starts), (ch, cw), None, nudge, bool(rng.random() < 0.5))
     if rng is None:
         return Cut(tuple(starts), (ch, cw), ((h - ch) // 2, (w - cw) // 2))
     corner = int(rng.integers(0, h - ch + 1)), int(rng.integers(0, w - cw + 1))
@@ -442,35 +373,25 @@ def snippets_and_targets(
     *,
     rng: np.random.Generator | None,
     segments: int | None = None,
-    targets: bool = True,
     teacher: TrainConfig | None = None,
 ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """``snippets`` and the auxiliary targets the config trains with, under the same crop
-    and flip: ``cut_clip`` at ``draw_cut``'s place."""
+    """``snippets`` and the targets of a flow teacher under the same crop and flip:
+    ``cut_clip`` at ``draw_cut``'s place."""
     where = draw_cut(clip, config, rng=rng, segments=segments)
-    return cut_clip(clip, config, where, targets=targets, teacher=teacher)
+    return cut_clip(clip, config, where, teacher=teacher)
 
 
 def cut_clip(
-    clip: Clip, config: TrainConfig, where: Cut, *, targets: bool = True, teacher: TrainConfig | None = None
+    clip: Clip, config: TrainConfig, where: Cut, *, teacher: TrainConfig | None = None
 ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One clip's snippets (K, C, h, w) float32, cropped at ``where``, resized to the crop the
-    network sees and normalised, with the auxiliary targets under the same crop and flip:
-    ``flow`` (``aux_flow``, RGB stream) the flow between the stacked frames
-    (K, 2·(L − 1), h, w), scaled as the flow stream's input; ``parts`` (``aux_parts``) each
-    snippet's first frame's body parts (K, h, w) as BODY_PARTS indices; ``teacher`` (given
-    a flow teacher's config) the flow snippets that teacher sees from the same starts."""
+    network sees and normalised; given a flow teacher's config, its target ``teacher``: the
+    flow snippets that teacher sees from the same starts under the same crop and flip."""
     k = len(where.starts)
-    length, stride = _snippet_frames(config)
-    frames = snippet_frames(where.starts, clip.n_frames, length, stride)
-    h, w = clip.rgb.shape[1:3]
-    seen = crop_box((h, w), config.crop)
-    ch, cw = where.box
-    if where.corner is None:
-        y0, x0 = motion_window(clip, frames, (ch, cw))
-        y0, x0 = min(max(y0 + where.nudge[0], 0), h - ch), min(max(x0 + where.nudge[1], 0), w - cw)
-    else:
-        y0, x0 = where.corner
+    length = _snippet_length(config)
+    frames = snippet_frames(where.starts, clip.n_frames, length)
+    seen = crop_box(clip.rgb.shape[1:3], config.crop)
+    (y0, x0), (ch, cw) = where.corner, where.box
     window = np.s_[y0 : y0 + ch, x0 : x0 + cw]
     out: dict[str, np.ndarray] = {}
     if config.stream == "rgb":
@@ -479,53 +400,28 @@ def cut_clip(
         if config.rgb_diff:
             x[:, 1:] = np.diff(x, axis=1) * config.diff_gain
         x = x.transpose(0, 1, 4, 2, 3).reshape(k, 3 * length, ch, cw)  # r0, g0, b0, r1, …
-        if targets and config.aux_flow > 0:
-            out["flow"] = _flow_input(clip, frames[:, :-1], window, config)
     else:
-        x = _flow_input(clip, frames, window, config)
-    if targets and teacher is not None:
+        x = _flow_input(clip, frames, window)
+    if teacher is not None:
         span = snippet_frames(where.starts, clip.n_frames, teacher.flow_frames)
-        out["teacher"] = _flow_input(clip, span, window, teacher)
-    if targets and config.aux_parts > 0:
-        if clip.parts is None:
-            raise PhavUserError(f"clip {clip.key} has no body-part frames (read with parts=True)", field="--aux-parts")
-        out["parts"] = clip.parts[frames[:, 0], window[0], window[1]]
+        out["teacher"] = resize_snippets(_flow_input(clip, span, window), seen, kind="flow")
     x = resize_snippets(x, seen, kind=config.stream)
-    out = {name: resize_snippets(t, seen, kind=_TARGET_KINDS[name]) for name, t in out.items()}
     if where.flip:
         x = _flip(x, flow=config.stream == "flow")
-        out = {name: _flip(t, flow=_TARGET_KINDS[name] == "flow") for name, t in out.items()}
+        out = {name: _flip(t, flow=True) for name, t in out.items()}
     return np.ascontiguousarray(x), {name: np.ascontiguousarray(t) for name, t in out.items()}
 
 
-def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple[int, int]:
-    """Top-left (y, x) of the ``box`` (height, width) window holding the most motion in
-    ``frames`` of the clip: the flow's magnitude after each frame's median vector (the
-    camera's) is removed, summed over every window position. It looks at the flow only,
-    as a real video's estimated flow would allow; the centre window when nothing moves."""
-    h, w = clip.flow.shape[1:3]
-    ch, cw = box
-    used = np.unique(frames)
-    flow = clip.flow[used].astype(np.float32) - clip.flow_median[used][:, None, None, :]
-    magnitude = np.sqrt((flow**2).sum(-1)).sum(0)
-    # Sum over every window position: a summed-area table, exact and order-independent.
-    table = np.pad(magnitude.astype(np.float64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
-    sums = table[ch:, cw:] - table[:-ch, cw:] - table[ch:, :-cw] + table[:-ch, :-cw]
-    if not sums.max() > 0:
-        return (h - ch) // 2, (w - cw) // 2
-    y0, x0 = np.unravel_index(int(np.argmax(sums)), sums.shape)
-    return int(y0), int(x0)
-
-
-def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice], config: TrainConfig) -> np.ndarray:
+def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice]) -> np.ndarray:
     """Flow frames (K, L) of ``clip`` in ``window`` → (K, 2L, h, w): each whole frame's median
-    vector subtracted (``flow_centre``), clipped at TSN's bound and scaled to ±4."""
+    vector subtracted, clipped at TSN's bound and scaled to ±4. The median is mostly the
+    camera's motion, which PHAV's following cameras add to every pixel: subtracted, it is not
+    a signal the network must learn to ignore (docs/learnability.md, "Which flow")."""
     k, length = frames.shape
     bound = FLOW_BOUND_PX * clip.flow.shape[2] / 340.0
     x = clip.flow[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 2)
     ch, cw = x.shape[2:4]
-    if config.flow_centre:
-        x -= clip.flow_median[frames][:, :, None, None, :]
+    x -= clip.flow_median[frames][:, :, None, None, :]
     x = np.clip(x, -bound, bound) * (4.0 / bound)
     return x.transpose(0, 1, 4, 2, 3).reshape(k, 2 * length, ch, cw)  # u0, v0, u1, v1, …
 
@@ -582,8 +478,8 @@ def _fingerprint(
     config: TrainConfig, data: Mapping[str, Sequence[Clip]], heads: Mapping[str, int], init: str | Path | None
 ) -> str:
     """What a checkpoint must agree on to be resumed: the config, heads, start and training
-    clips. Settings at their defaults are left out, so a setting added in a later version
-    does not orphan a checkpoint made before it."""
+    clips. Settings at their defaults are left out, so a setting added in a later version,
+    or one removed that was left at its default, does not orphan a checkpoint made before it."""
     h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
     h.update(json.dumps([dict(sorted(heads.items())), None if init is None else Path(init).name]).encode())
     for name in sorted(data):
@@ -663,9 +559,8 @@ def train(
             if teacher.model.backbone.out_features != model.backbone.out_features:
                 raise PhavUserError("the flow teacher's features are not as wide as this stream's", field="--widths")
             teacher.model.to(dev)
-            if config.teacher_init:
-                _init_from_teacher(model, teacher.model)
-        opt = _optimizer(model, config)
+        opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
+                              weight_decay=config.weight_decay)  # fmt: skip
         rng = seeded_rng(config.seed)
         fingerprint = _fingerprint(config, data, heads, init)
         if teacher is not None:
@@ -701,62 +596,13 @@ def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | Non
     """The TSN, initialised from ``gen`` (its backbone from ``init`` for TSN-FT), on ``dev``."""
     from phav_validators.learn.model import TSN, channels_last  # imports torch: optional extra phav[train]
 
-    aux = sum(aux_channels(config).values())
-    model = TSN(in_channels(config.stream, config.flow_frames, config.rgb_frames), heads, config.arch, generator=gen,
-                aux_channels=aux)  # fmt: skip
+    model = TSN(in_channels(config.stream, config.flow_frames, config.rgb_frames), heads, config.arch, generator=gen)
     if init is not None:
         _init_backbone(model, load_checkpoint(init), init)
     if config.precision == "fp32":  # faster there; bfloat16 kept its measured (default) layout
         channels_last(model)
     model.to(dev)  # before the optimiser, whose state must live beside the parameters
     return model
-
-
-def aux_channels(config: TrainConfig) -> dict[str, int]:
-    """The auxiliary head's channels per target, in the order they are stacked."""
-    out = {}
-    if config.aux_flow > 0:
-        out["flow"] = 2 * (config.rgb_frames - 1)
-    if config.aux_parts > 0:
-        out["parts"] = len(BODY_PARTS)
-    return out
-
-
-#: The body-part loss's class weights: "other" (mostly background) counts a tenth.
-_PART_WEIGHTS = (0.1,) + (1.0,) * (len(BODY_PARTS) - 1)
-
-
-def aux_loss(config: TrainConfig, predicted: Any, targets: Sequence[Mapping[str, np.ndarray]]) -> Any:
-    """The weighted auxiliary losses of a batch: smooth L1 on flow, soft cross-entropy on
-    body parts, each target area-averaged down to the head's resolution."""
-    import torch  # optional extra phav[train]: only training needs torch
-    from torch.nn import functional as F
-
-    size = predicted.shape[-2:]
-    total = predicted.new_zeros(())
-    start = 0
-    for name, n in aux_channels(config).items():
-        out = predicted[:, start : start + n]
-        start += n
-        target = torch.from_numpy(np.stack([t[name] for t in targets])).to(predicted.device).flatten(0, 1)
-        if name == "flow":
-            total = total + config.aux_flow * F.smooth_l1_loss(out, F.adaptive_avg_pool2d(target, size))
-        else:
-            share = F.one_hot(target.long(), n).permute(0, 3, 1, 2).float()
-            weights = torch.tensor(_PART_WEIGHTS, device=predicted.device)
-            soft = F.adaptive_avg_pool2d(share, size)
-            total = total + config.aux_parts * F.cross_entropy(out, soft, weight=weights)
-    return total
-
-
-def _optimizer(model: Any, config: TrainConfig) -> Any:
-    """SGD with momentum (TSN's) or AdamW, with the config's weight decay."""
-    import torch  # optional extra phav[train]: only training needs torch
-
-    if config.optimizer == "adamw":
-        return torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
-    return torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
-                           weight_decay=config.weight_decay)  # fmt: skip
 
 
 def _resumable(ckpt: Path | None, fingerprint: str) -> dict[str, Any] | None:
@@ -822,8 +668,8 @@ class _Run:
 
     def epoch(self, epoch: int) -> Epoch:
         """One epoch's steps; its record holds the mean loss per source and the training accuracy.
-        (Cutting the next batch in a second thread while the model computes was measured
-        slower on 2 cores: torch's threads already fill them.)"""
+        The next batch is not cut while the model computes: torch's threads already fill the
+        cores, so a second thread only competes with them (docs/learnability.md)."""
         names = self.config.sources
         start = time.perf_counter()
         sums = {name: [0.0, 0] for name in names}
@@ -877,9 +723,7 @@ class _Run:
             scores, more = self.model(x, generator=self.gen, extras=True)
         scores = {name: v.float() for name, v in scores.items()}  # the losses in float32
         more = {name: v.float() for name, v in more.items()}
-        loss, parts = multitask_loss(scores, labels, sources, names, smoothing=config.label_smoothing)
-        if "aux" in more:
-            loss = loss + aux_loss(config, more["aux"], [p[1] for p in pairs])
+        loss, parts = multitask_loss(scores, labels, sources, names)
         if self.teacher is not None:
             loss = loss + config.distill * self.teacher.loss(more["features"], [p[1] for p in pairs])
         if not torch.isfinite(loss):
@@ -890,17 +734,6 @@ class _Run:
         torch.nn.utils.clip_grad_norm_(self.model.parameters(), CLIP_GRAD[self.config.stream])
         self.opt.step()
         return scores, labels, sources, parts
-
-
-def _init_from_teacher(model: Any, teacher: Any) -> None:
-    """Copy the flow teacher's weights into ``model``, all but its first convolution (whose
-    input channels differ) and an auxiliary head (the teacher's predicts other targets)."""
-    mine = model.state_dict()
-    stem = "backbone.features.0.weight"
-    carried = {k: v for k, v in teacher.state_dict().items() if k != stem and not k.startswith("aux.") and k in mine}
-    if any(mine[k].shape != v.shape for k, v in carried.items()):
-        raise PhavUserError("the flow teacher has another architecture than this stream", field="--teacher-init")
-    model.load_state_dict({**mine, **carried})
 
 
 def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> None:
@@ -916,7 +749,7 @@ def _init_backbone(model: Any, state: Mapping[str, Any], source: str | Path) -> 
 def predict(
     model: Any, clips: Sequence[Clip], config: TrainConfig, head: str, *, batch: int = 32, device: str = "cpu"
 ) -> np.ndarray:
-    """Class probabilities (N, classes) of ``head``: ``eval_segments`` centre snippets per clip."""
+    """Class probabilities (N, classes) of ``head``: ``test_segments`` centre snippets per clip."""
     import torch  # optional extra phav[train]: only training needs torch
 
     dev = torch_device(device)
@@ -925,7 +758,7 @@ def predict(
     out = []
 
     def centre(clip: Clip) -> np.ndarray:
-        return snippets(clip, config, rng=None, segments=config.eval_segments)
+        return snippets(clip, config, rng=None, segments=config.test_segments)
 
     with torch_threads(config.threads), cutting(dev, config.threads) as cutter, torch.no_grad(), autocast(config, dev):
         for i in range(0, len(clips), batch):
@@ -942,24 +775,27 @@ def fuse(scores: Mapping[str, np.ndarray]) -> np.ndarray:
 
 
 def torch_device(name: str) -> Any:
-    """A torch device by name; one this machine lacks is a PhavUserError."""
+    """The torch device ``cpu``, ``cuda`` or ``cuda:N``; another name, or a GPU this machine
+    lacks, is a PhavUserError."""
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
 
-    try:
-        dev = torch.device(name)
-    except RuntimeError:
-        raise PhavUserError(f"unknown device {name!r}; e.g. cpu, cuda, cuda:1", field="--device") from None
+    if not _DEVICE.fullmatch(name):
+        raise PhavUserError(f"choose cpu, cuda or cuda:N, got {name!r}", field="--device")
+    dev = torch.device(name)
     if dev.type == "cuda" and not torch.cuda.is_available():
         raise PhavUserError("CUDA is not available on this machine (torch sees no GPU)", field="--device")
+    if dev.index is not None and dev.index >= torch.cuda.device_count():
+        raise PhavUserError(f"no GPU {name!r} on this machine; torch counts {torch.cuda.device_count()}, "
+                            "numbered from cuda:0", field="--device")  # fmt: skip
     return dev
 
 
 @contextlib.contextmanager
 def cutting(device: Any, threads: int) -> Iterator[Mapper]:
     """How a batch's clips are cut into snippets: one after another when the model runs on
-    the CPU (torch's threads fill the cores; a second cutting thread was measured slower on
-    2 cores), by ``threads`` threads when it runs on a GPU and the cores are free. OpenCV and
+    the CPU (torch's threads fill the cores, so cutting threads would only compete with
+    them), by ``threads`` threads when it runs on a GPU and the cores are free. OpenCV and
     numpy's copies release the GIL; the order of the results is the batch's either way."""
     if device.type == "cpu" or threads < 2:
         yield _in_turn
@@ -990,19 +826,18 @@ def autocast(config: TrainConfig, device: Any) -> Any:
 
 def default_stem_pool(device: str = "cpu") -> bool:
     """Whether the stem is max-pooled by default on ``device``: ``RECOMMENDED``'s choice on a
-    CPU, where time binds (both schedules in half to two thirds of the time, fused as good,
-    RGB better); not on a GPU, where both take minutes and the unpooled network scored 2.3
-    points more fused (63.8 against 61.5 %, flow 63.4 against 60.3 %, the same three splits
-    of 1,757 training clips, in 5.8 against 4.9 minutes; docs/learnability.md)."""
+    CPU, where time binds and the pooled network trains its schedules sooner, as accurate;
+    not on a GPU, where time does not bind and the unpooled network scored better
+    (docs/learnability.md, "The defaults and why" and "On a GPU")."""
     return RECOMMENDED.stem_pool and torch_device(device).type == "cpu"
 
 
 def default_precision(device: str = "cpu") -> str:
     """``bf16`` where ``device`` computes bfloat16 faster than float32, else ``fp32``: a GPU
-    from Ampere on; a CPU with AMX; an AMD CPU with AVX-512 BF16 (a 2-core EPYC took 0.53×
-    its float32 time in bfloat16). AVX-512 BF16 alone on Intel is not enough: a 2-core
-    Xeon without AMX took 1.25× (docs/learnability.md). Results are reproducible per
-    precision, as per thread count, and every run's settings name it."""
+    from Ampere on; a CPU with AMX; an AMD CPU with AVX-512 BF16. AVX-512 BF16 alone on
+    Intel is not enough: without AMX a step was slower in bfloat16 than in float32
+    (docs/learnability.md, "On a CPU without AMX" and "On an AMD EPYC"). Results are
+    reproducible per precision, as per thread count, and every run's settings name it."""
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch
 

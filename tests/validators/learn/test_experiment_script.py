@@ -18,10 +18,10 @@ def script():
 
 
 def test_a_cell_names_clips_size_and_any_training_setting(script):
-    clips, size, overrides = script.parse_cell("clips=320,size=128x96,widths=16-32,temporal_shift=true,lr=0.1,"
-                                               "focus=motion,epochs=30", (85, 64))  # fmt: skip
+    clips, size, overrides = script.parse_cell("clips=320,size=128x96,widths=16-32,stem_pool=true,lr=0.1,"
+                                               "precision=bf16,epochs=30", (85, 64))  # fmt: skip
     assert clips == 320 and size == (128, 96)
-    assert overrides == {"widths": (16, 32), "temporal_shift": True, "lr": 0.1, "focus": "motion", "epochs": 30}
+    assert overrides == {"widths": (16, 32), "stem_pool": True, "lr": 0.1, "precision": "bf16", "epochs": 30}
     assert script.parse_cell("baseline", (85, 64)) == (None, (85, 64), {})
     with pytest.raises(SystemExit, match="colour"):
         script.parse_cell("colour=red", (85, 64))
@@ -83,8 +83,8 @@ def test_the_speed_script_times_a_step_under_each_arithmetic():
     module = measure_script("train_speed")
     from phav_validators.learn.config import Architecture
 
-    for bf16, last, temporal in ((False, False, {}), (True, True, {}), (True, False, {"temporal_conv": True})):
-        arch = Architecture(widths=(8, 16), **temporal)
+    for bf16, last, stem_pool in ((False, False, False), (True, True, False), (True, False, True)):
+        arch = Architecture(widths=(8, 16), stem_pool=stem_pool)
         ms = module.step_ms(arch, bf16=bf16, channels_last=last, channels=10, steps=1, warm=0)
         assert 0 < ms < 60_000
 
@@ -130,11 +130,14 @@ def test_supersampling_moves_the_rgb_modality_only(phav, tmp_path):
     and the RGB frames differ, less once area-averaged to the check's size."""
     import yaml
 
+    from phav_spec.manifest import load_manifest
+
     factors = measure_script("theta_factors")
     theta = tmp_path / "ss2.yaml"
     theta.write_text(yaml.safe_dump(factors.variants(factors.base_preset())["supersampling-2"]))
     out = tmp_path / "ss2"
-    result = run_cli("generate", "--theta", str(theta), "--videos", "3", "--seed", "5", "--out", str(out),
+    seed = str(load_manifest(phav / "manifest.json").dataset_seed)  # the tiny set's recipes again
+    result = run_cli("generate", "--theta", str(theta), "--videos", "3", "--seed", seed, "--out", str(out),
                      "--shard-size", "2", "--workers", "2")  # fmt: skip
     assert result.returncode == 0, result.stderr
     found = measure_script("supersampling").compare(out, phav)

@@ -11,15 +11,7 @@ from torch.nn import functional as F
 
 from phav_spec.errors import PhavUserError
 from phav_validators.learn.config import Architecture, in_channels
-from phav_validators.learn.model import (
-    TSN,
-    ShiftBlock,
-    TemporalConvBlock,
-    channels_last,
-    dropout,
-    multitask_loss,
-    temporal_shift,
-)
+from phav_validators.learn.model import TSN, channels_last, dropout, multitask_loss
 
 
 def _model(stream: str = "flow", heads=None, seed: int = 0) -> TSN:
@@ -53,18 +45,6 @@ def test_multitask_loss_is_the_paper_formula_per_sample():
     total, _ = multitask_loss(scores, torch.tensor([2]), torch.tensor([1]), ["virtual", "real"])
     G = scores["real"][0]
     assert math.isclose(float(total), float(-(G[2] - torch.logsumexp(G, 0))), rel_tol=1e-6)
-
-
-def test_label_smoothing_spreads_a_share_of_the_target_over_the_sources_classes():
-    """With smoothing ε the target is (1 − ε) on the label plus ε/n on each of the source's n classes."""
-    g = torch.Generator().manual_seed(4)
-    scores = {"virtual": torch.randn(1, 6, generator=g), "real": torch.randn(1, 3, generator=g)}
-    total, _ = multitask_loss(scores, torch.tensor([2]), torch.tensor([1]), ["virtual", "real"], smoothing=0.3)
-    log_p = torch.log_softmax(scores["real"][0], 0)
-    expected = -(0.7 * log_p[2] + 0.1 * log_p.sum())
-    assert math.isclose(float(total), float(expected), rel_tol=1e-6)
-    plain, _ = multitask_loss(scores, torch.tensor([2]), torch.tensor([1]), ["virtual", "real"])
-    assert float(total) > float(plain)  # a confident wrong-or-right answer costs more once smoothed
 
 
 def _loss_and_grads(model: TSN, x, labels, sources, names):
@@ -120,22 +100,6 @@ def test_same_generator_seed_gives_the_same_weights():
     assert not all(torch.equal(sa[k], sc[k]) for k in sa)
 
 
-def test_the_temporal_convolution_is_initialised_from_the_generator_alone():
-    def weights(seed: int) -> torch.Tensor:
-        torch.manual_seed(seed)  # torch's global state must not matter
-        g = torch.Generator().manual_seed(5)
-        model = TSN(3, {"virtual": 4}, Architecture((8, 16), temporal_conv=True), generator=g)
-        return next(m for m in model.modules() if isinstance(m, torch.nn.Conv3d)).weight.detach().clone()
-
-    assert torch.equal(weights(0), weights(1))
-
-
-def test_two_temporal_models_at_once_are_a_user_error():
-    with pytest.raises(PhavUserError) as e:
-        Architecture((8,), temporal_shift=True, temporal_conv=True)
-    assert e.value.field == "--temporal-conv"
-
-
 def test_training_forward_without_a_generator_is_refused():
     model = _model().train()
     with pytest.raises(ValueError, match="generator"):
@@ -150,49 +114,22 @@ def test_bad_architecture_is_a_user_error(widths, dropout_p, field):
     assert e.value.field == field
 
 
-def test_temporal_shift_moves_an_eighth_each_way_within_a_clip_only():
-    k, c = 4, 16
-    x = torch.arange(2 * k, dtype=torch.float32).view(2 * k, 1, 1, 1).expand(2 * k, c, 1, 1).contiguous()
-    out = temporal_shift(x, k).view(2, k, c)
-    t = torch.arange(2 * k, dtype=torch.float32).view(2, k)
-    assert torch.equal(out[:, 1:, :2], t[:, :-1, None].expand(2, k - 1, 2))  # one segment later
-    assert torch.equal(out[:, :-1, 2:4], t[:, 1:, None].expand(2, k - 1, 2))  # one segment earlier
-    assert torch.equal(out[:, 0, :2], torch.zeros(2, 2)) and torch.equal(out[:, -1, 2:4], torch.zeros(2, 2))
-    assert torch.equal(out[:, :, 4:], t[:, :, None].expand(2, k, c - 4))  # the rest untouched
-
-
-@pytest.mark.parametrize("temporal", ["temporal_shift", "temporal_conv"])
-def test_segments_see_each_other_through_the_temporal_model_but_never_another_clip(temporal):
-    g = torch.Generator().manual_seed(0)
-    model = TSN(3, {"virtual": 4}, Architecture((8, 16, 16), **{temporal: True}), generator=g).eval()
-    x = torch.randn(2, 4, 3, 24, 32, generator=g)
-    base = model(x)["virtual"]
-    y = x.clone()
-    y[0, 3] = torch.randn(3, 24, 32, generator=g)  # clip 0's last segment only
-    moved = model(y)["virtual"]
-    assert torch.equal(moved[1], base[1])  # clip 1 is untouched
-    per_segment = model.heads["virtual"](model.backbone(y.flatten(0, 1), 4)).view(2, 4, 4)
-    changed = model.heads["virtual"](model.backbone(x.flatten(0, 1), 4)).view(2, 4, 4)
-    assert not torch.allclose(per_segment[0, 2], changed[0, 2])  # segment 2 saw segment 3 change
-
-
-@pytest.mark.parametrize("temporal", [{}, {"temporal_shift": True}, {"temporal_conv": True}])
-def test_the_backbone_computes_channels_last_and_the_same_function(temporal):
+def test_the_backbone_computes_channels_last_and_the_same_function():
     """In channels-last layout (faster in float32 on the CPU) the 2D convolutions' weights
     and the backbone's activations follow it, and the network computes the contiguous
     layout's function, up to the arithmetic's order."""
     g = torch.Generator().manual_seed(0)
-    model = TSN(10, {"virtual": 4}, Architecture((8, 16, 16), **temporal), generator=g).eval()
+    model = TSN(10, {"virtual": 4}, Architecture((8, 16, 16)), generator=g).eval()
     channels_last(model)
     convs = [m for m in model.modules() if isinstance(m, torch.nn.Conv2d)]
     assert convs and all(m.weight.is_contiguous(memory_format=torch.channels_last) for m in convs)
     x = torch.randn(6, 10, 24, 32, generator=g)  # 2 clips × 3 segments
-    fast = model.backbone(x, 3)
-    assert model.backbone.feature_maps(x, 3)[0].is_contiguous(memory_format=torch.channels_last)
+    fast = model.backbone(x)
+    assert model.backbone.feature_map(x).is_contiguous(memory_format=torch.channels_last)
     for m in convs:
         m.weight.data = m.weight.data.contiguous()
     ref = x  # the layers by hand, every tensor in the default layout
     for layer in model.backbone.features:
-        ref = layer(ref, 3) if isinstance(layer, (ShiftBlock, TemporalConvBlock)) else layer(ref)
+        ref = layer(ref)
         assert ref.is_contiguous()
     assert torch.allclose(fast, ref.mean(dim=(2, 3)), atol=1e-5)

@@ -41,6 +41,18 @@ def test_the_window_holds_the_person_who_moves_and_misses_one_who_stands_still(s
     assert script.body_shares(empty, crop=0.5) is None
 
 
+def test_the_motion_window_finds_the_mover_not_the_panning_camera(script):
+    clip = _clip(mover=(0, 0), body=(0, 0), frames=8, size=(64, 48))
+    clip.flow[...] = (0.8, -0.4)  # the camera pans
+    clip.flow[:, 30:40, 44:52] = (2.5, -0.4)  # a mover right of centre, low
+    frames = np.arange(6).reshape(3, 2)
+    y0, x0 = script.motion_window(clip, frames, (16, 16))
+    assert y0 <= 30 and y0 + 16 >= 40 and x0 <= 44 and x0 + 16 >= 52
+    still = _clip(mover=(0, 0), body=(0, 0), frames=8, size=(64, 48))
+    still.flow[...] = 0.0
+    assert script.motion_window(still, frames, (16, 16)) == (16, 24)  # nothing moves: the centre
+
+
 def test_an_uncompressed_npz_is_mapped_array_by_array_and_a_compressed_one_refused(script, tmp_path):
     a, b = np.arange(24, dtype=np.float16).reshape(2, 3, 4), np.arange(5, dtype=np.uint8)
     np.savez(tmp_path / "c.npz", a=a, b=b, meta="{}")
