@@ -1,5 +1,5 @@
 """Does a stream trained on another device (``--device cuda``) learn what it learns on the
-CPU, up to the order of floating-point sums? (docs/learnability.md, "On a GPU".)
+CPU, up to the order of floating-point sums? (docs/experiments/learnability.md, "On a GPU".)
 
 Trains one stream with the same settings, seed and clips on each device, in float32 on
 both (bfloat16 would compare arithmetics, not devices), and prints per device the loss

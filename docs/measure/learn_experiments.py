@@ -1,5 +1,5 @@
 """Why the learnability check scores what it scores: controlled experiments on PHAV clips
-(docs/learnability.md's tables).
+(docs/experiments/learnability.md's tables).
 
 Every cell trains both streams (or the ones asked for) on held-out-actor splits, one per
 seed, and reports the mean test accuracy with its spread (min–max over seeds), the
@@ -58,24 +58,23 @@ DEFAULT_INPUTS = inputs_name((85, 64), "gt")
 
 
 def cached_clips(roots: list[Path], size: tuple[int, int], flow: str, workers: int = 2) -> ClipSet:
-    """All clips of ``roots`` (keys prefixed by the dataset's folder name) with their body
-    parts, read once (by ``workers`` processes) and kept in
-    ``<first root>+<n>.clips-<size>-<flow>-parts.npz``."""
-    cache = roots[0].parent / f"{roots[0].name}+{len(roots)}.clips-{inputs_name(size, flow)}-parts.npz"
+    """All clips of ``roots`` (keys prefixed by the dataset's folder name), read once (by
+    ``workers`` processes) and kept in ``<first root>+<n>.clips-<size>-<flow>.npz``."""
+    cache = roots[0].parent / f"{roots[0].name}+{len(roots)}.clips-{inputs_name(size, flow)}.npz"
     if cache.exists():
         z = np.load(cache, allow_pickle=False)
         meta = json.loads(str(z["meta"]))
         if meta["roots"] == [str(r) for r in roots]:
             cuts = np.cumsum([0] + meta["frames"])
-            rgb, flow, parts = z["rgb"], z["flow"], z["parts"]  # each z[...] reads the whole array
-            clips = [Clip(key, label, "virtual", rgb[a:b], flow[a:b], groups, parts[a:b])
+            rgb, flow = z["rgb"], z["flow"]  # each z[...] reads the whole array
+            clips = [Clip(key, label, "virtual", rgb[a:b], flow[a:b], groups)
                      for key, label, groups, a, b in zip(meta["keys"], meta["labels"], meta["groups"], cuts[:-1],
                                                           cuts[1:], strict=True)]  # fmt: skip
             return ClipSet("virtual", meta["classes"], clips)
     clips, classes = [], []
     for root in roots:
         start = time.perf_counter()
-        part = load_phav(root, size=size, flow=flow, workers=workers, parts=True)
+        part = load_phav(root, size=size, flow=flow, workers=workers)
         print(f"read {len(part)} clips of {root} in {time.perf_counter() - start:.0f} s", flush=True)
         classes = part.classes
         clips += [replace(c, key=f"{root.name}/{c.key}") for c in part.clips]
@@ -84,7 +83,7 @@ def cached_clips(roots: list[Path], size: tuple[int, int], flow: str, workers: i
             "frames": [c.n_frames for c in clips]}  # fmt: skip
     tmp = cache.with_suffix(".tmp.npz")
     np.savez(tmp, meta=json.dumps(meta), rgb=np.concatenate([c.rgb for c in clips]),
-             flow=np.concatenate([c.flow for c in clips]), parts=np.concatenate([c.parts for c in clips]))  # fmt: skip
+             flow=np.concatenate([c.flow for c in clips]))  # fmt: skip
     tmp.rename(cache)
     return ClipSet("virtual", classes, clips)
 

@@ -1,5 +1,6 @@
 """Test accuracy against training minutes, per stream and fused, for the random and the
-held-out-actor split of one PHAV dataset (docs/learnability.md's table).
+held-out-actor split of one PHAV dataset (docs/experiments/learnability.md, "Measured before
+issue 23": accuracy against training minutes).
 
 Clips are read once; each split trains both streams with the default ``phav train``
 settings and tests them ``--points`` times over their epochs (``phav_app.bench.training``).

@@ -1,5 +1,6 @@
 """How much of a short clip's window shows its action: per action, the share of windows of a
-base motion in which the body barely moves (docs/learnability.md, "the data").
+base motion in which the body barely moves (docs/experiments/learnability.md, "Why it
+scores what it scores").
 
 A clip plays ``duration`` seconds of its base motion from a start drawn as θ's
 ``motion.start`` says (``phav_generator.sampling``). For every motion θ_AB allows an

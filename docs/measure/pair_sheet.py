@@ -1,5 +1,6 @@
 """A confused pair side by side: for each named video of a dataset, a row of RGB frames
-with the flow of the same frames beneath (docs/learnability.md's per-class view).
+with the flow of the same frames beneath (docs/experiments/learnability.md, "The check on a
+fresh phav-v1-short set": per class and confused pairs).
 
     .venv/bin/python docs/measure/pair_sheet.py /tmp/g7 v000033 v000488 --out pair.jpg \\
         --label "limp, answered moonwalk" --label "moonwalk"

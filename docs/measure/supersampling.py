@@ -1,6 +1,7 @@
 """Two datasets made from the same recipes at different RGB supersampling, compared: which
 modalities' content hashes agree, and how far apart the RGB frames are at the stored size
-and at the size the learnability check trains on (docs/learnability.md, "One sample a pixel").
+and at the size the learnability check trains on (docs/experiments/learnability.md, "One
+sample a pixel").
 
     .venv/bin/python docs/measure/theta_factors.py --out factors
     .venv/bin/phav generate --theta factors/phav-v1-short-supersampling-2.yaml --videos 64 --seed 7 --out ss2

@@ -1,7 +1,7 @@
 """θ presets that change one data factor of phav-v1-short each, for the learnability
-experiments (docs/learnability.md): clip length, camera, the kite's framing, weather, motions
-per action, and the RGB modality's supersampling (phav-v1's 2 samples a pixel against
-phav-v1-short's 1).
+experiments (docs/experiments/learnability.md, "The data" and "One sample a pixel"): clip
+length, camera, the kite's framing, weather, motions per action, and the RGB modality's
+supersampling (phav-v1's 2 samples a pixel against phav-v1-short's 1).
 
 Each variant is phav-v1-short's YAML with one key replaced, written as
 ``<out>/phav-v1-short-<factor>.yaml``; generate from it with ``phav generate --theta FILE``.

@@ -1,7 +1,8 @@
 """Milliseconds per training step of the TSN model alone (no snippet cutting) under each
 arithmetic and layout: float32, channels-last, bfloat16 autocast, two smaller networks,
 then, in this machine's default arithmetic (bfloat16 where it is faster, else float32 channels-last),
-the backbones of the width/depth experiments and the stored sizes (docs/learnability.md).
+the backbones of the width/depth experiments and the stored sizes
+(docs/experiments/learnability.md, "Backbone" and "Stored size and crop").
 
     .venv/bin/python docs/measure/train_speed.py --threads 2
 """

@@ -1,5 +1,5 @@
 """Where the crop placed on the motion lands: the share of the people's pixels inside it
-(docs/learnability.md, "Stored size and crop").
+(docs/experiments/learnability.md, "Stored size and crop").
 
 The crop placed on the motion (``--focus motion``, measured there and since gone from
 ``phav train``) was the window of most median-centred flow, found from the flow alone
@@ -7,20 +7,29 @@ The crop placed on the motion (``--focus motion``, measured there and since gone
 body-part pixels of PHAV's semantic frames (any person's; the measurement only, never a
 network's input) falls inside that window, inside a window of the same size at the frame's
 centre, and inside the default centre crop. It reads ``learn_experiments.py``'s clip cache
-by memory map (the cache is stored uncompressed), so a 170×128 cache of 11 GB costs no RAM.
+by memory map (the cache is stored uncompressed), so a 170×128 cache of 11 GB costs no RAM,
+and the measured clips' semantic frames from the shards of the datasets the cache names.
 
-    .venv/bin/python docs/measure/window_coverage.py g21+1.clips-170x128-gt-parts.npz --crop 0.5 --every 7
+    .venv/bin/python docs/measure/window_coverage.py g21+1.clips-170x128-gt.npz --crop 0.5 --every 7
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
 import zipfile
+from collections.abc import Iterable
 from pathlib import Path
 
+import cv2
 import numpy as np
 
+from phav_spec.encoding import modality
+from phav_spec.manifest import load_manifest
+from phav_spec.vocab import PIXEL_CLASSES, PixelGroup
+from phav_spec.webdataset import decode_png
+from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.learn.data import Clip
 from phav_validators.learn.train import TrainConfig, crop_box, draw_cut, snippet_frames
 
@@ -52,6 +61,54 @@ def memmap_npz(path: Path) -> dict[str, np.ndarray]:
     return arrays
 
 
+#: A person in the semantic frames: every body part and joint, either side, any person's.
+_BODY_COLOURS = np.array(sorted(
+    (c.rgb[0] << 16) | (c.rgb[1] << 8) | c.rgb[2]
+    for _, c in PIXEL_CLASSES.items()
+    if c.group in (PixelGroup.HUMAN_PARTS, PixelGroup.HUMAN_JOINTS)
+), np.int64)  # fmt: skip
+_SEMANTIC = re.compile(r"^(v\d+)/(\d+)\.seg\.png$")
+
+
+def body_mask(semantic: np.ndarray) -> np.ndarray:
+    """A semantic frame (H, W, 3) uint8 of PIXEL_CLASSES colours → (H, W) bool: where a
+    person's body part or joint is."""
+    packed = (semantic[..., 0].astype(np.int64) << 16) | (semantic[..., 1].astype(np.int64) << 8) | semantic[..., 2]
+    return np.isin(packed, _BODY_COLOURS)
+
+
+def read_bodies(root: Path, videos: Iterable[str], size: tuple[int, int]) -> dict[str, np.ndarray]:
+    """Each of ``videos``' body masks (T, H, W) bool at ``size`` (width, height), nearest
+    neighbour, from the semantic frames of the PHAV dataset at ``root`` (its shards
+    streamed, only those members read)."""
+    if not (root / "manifest.json").exists():
+        raise SystemExit(f"{root}: not a PHAV dataset directory (no manifest.json); its semantic frames are needed")
+    wanted = set(videos)
+    encoding = modality("semantic")
+    frames: dict[str, dict[int, np.ndarray]] = {v: {} for v in wanted}
+    for shard in load_manifest(root / "manifest.json").shards:
+        mine = wanted.intersection(shard.video_ids)
+        if not mine:
+            continue
+
+        def only(name: str, mine: set[str] = mine) -> bool:
+            m = _SEMANTIC.match(name)
+            return m is not None and m.group(1) in mine
+
+        path = root / shard.name
+        for name, data in iter_members(path, TarScan(), only=only):
+            vid, frame = _SEMANTIC.match(name).groups()  # type: ignore[union-attr]
+            body = body_mask(decode_png(data, encoding, source=f"{path}: {name}"))
+            frames[vid][int(frame)] = cv2.resize(body.view(np.uint8), size, interpolation=cv2.INTER_NEAREST)
+    bodies = {}
+    for vid, found in frames.items():
+        order = sorted(found)
+        if not order or order != list(range(len(order))):
+            raise SystemExit(f"{root}: video {vid}'s semantic frames are missing from its shard")
+        bodies[vid] = np.stack([found[i] for i in order]) > 0
+    return bodies
+
+
 def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple[int, int]:
     """Top-left (y, x) of the ``box`` (height, width) window holding the most motion in
     ``frames`` of the clip: the flow's magnitude after each frame's median vector (the
@@ -71,15 +128,17 @@ def motion_window(clip: Clip, frames: np.ndarray, box: tuple[int, int]) -> tuple
     return int(y0), int(x0)
 
 
-def body_shares(clip: Clip, crop: float, default_crop: float = TrainConfig.crop) -> tuple[float, float, float] | None:
-    """Shares of the clip's body-part pixels, over its flow stream's test snippets, inside
-    (the motion window, a centred window of the same size, the default centre crop); None
-    when those frames show no person."""
+def body_shares(
+    clip: Clip, body: np.ndarray, crop: float, default_crop: float = TrainConfig.crop
+) -> tuple[float, float, float] | None:
+    """Shares of the clip's body-part pixels (``body``: (T, H, W) bool, ``read_bodies``),
+    over its flow stream's test snippets, inside (the motion window, a centred window of the
+    same size, the default centre crop); None when those frames show no person."""
     config = TrainConfig(stream="flow", seed=0, crop=crop)
     # The test snippets' starts and a centred window of the crop's size.
     cut = draw_cut(clip, config, rng=None, segments=config.test_segments)
     frames = snippet_frames(cut.starts, clip.n_frames, config.flow_frames)
-    body = clip.parts[np.unique(frames)] > 0
+    body = body[np.unique(frames)]
     total = int(body.sum())
     if total == 0:
         return None
@@ -96,7 +155,7 @@ def body_shares(clip: Clip, crop: float, default_crop: float = TrainConfig.crop)
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("cache", type=Path, help="a learn_experiments.py clip cache (…-parts.npz)")
+    parser.add_argument("cache", type=Path, help="a learn_experiments.py clip cache (….clips-WxH-FLOW.npz)")
     parser.add_argument("--crop", type=float, default=0.5, help="the motion window's side, share of the frame")
     parser.add_argument("--every", type=int, default=7, help="measure every Nth clip of the cache")
     args = parser.parse_args()
@@ -105,16 +164,28 @@ def main() -> None:
     arrays = memmap_npz(args.cache)
     meta = json.loads(str(np.load(args.cache)["meta"]))
     cuts = np.cumsum([0] + meta["frames"])
+    measured = range(0, len(meta["keys"]), args.every)
+    # The measured clips' people, read per dataset: a cache's keys are "<dataset folder>/<video>".
+    roots = {Path(r).name: Path(r) for r in meta["roots"]}
+    videos: dict[str, list[str]] = {}
+    for i in measured:
+        dataset, _, video = meta["keys"][i].partition("/")
+        videos.setdefault(dataset, []).append(video)
+    size = (arrays["rgb"].shape[2], arrays["rgb"].shape[1])
+    bodies = {f"{dataset}/{video}": body for dataset, names in videos.items()
+              for video, body in read_bodies(roots[dataset], names, size).items()}  # fmt: skip
     shares = []
-    for i in range(0, len(meta["keys"]), args.every):
+    for i in measured:
         a, b = cuts[i], cuts[i + 1]
-        clip = Clip(meta["keys"][i], meta["labels"][i], "virtual", np.asarray(arrays["rgb"][a:b]),
-                    np.asarray(arrays["flow"][a:b]), {}, np.asarray(arrays["parts"][a:b]))  # fmt: skip
-        found = body_shares(clip, args.crop)
+        key = meta["keys"][i]
+        clip = Clip(key, meta["labels"][i], "virtual", np.asarray(arrays["rgb"][a:b]), np.asarray(arrays["flow"][a:b]))
+        if bodies[key].shape != clip.flow.shape[:3]:
+            raise SystemExit(f"{args.cache}: {key} has {clip.n_frames} frames, {len(bodies[key])} in its dataset")
+        found = body_shares(clip, bodies[key], args.crop)
         if found is not None:
             shares.append(found)
     if not shares:
-        raise SystemExit(f"{args.cache}: no measured clip shows a person (read it with parts: learn_experiments.py)")
+        raise SystemExit(f"{args.cache}: no measured clip shows a person")
     s = np.array(shares)
     print(f"{len(s)} clips (every {args.every}th with a person), crop {args.crop} of {args.cache.name}")
     print("| window | body pixels inside, median | mean | clips with under half inside | with none inside |")

@@ -21,7 +21,7 @@ class Architecture:
     """The backbone's shape: a 5×5 stride-2 stem (then a 3×3 stride-2 max-pool when
     ``stem_pool``), one stride-2 block per width after the first (two 3×3 convolutions
     each), global average pooling and dropout. TSN's 2D network: its K segments meet only in
-    the consensus (temporal models fitted more and tested worse: docs/learnability.md,
+    the consensus (temporal models fitted more and tested worse: docs/experiments/learnability.md,
     "Backbone")."""
 
     widths: tuple[int, ...] = (32, 64, 128, 192)

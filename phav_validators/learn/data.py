@@ -27,7 +27,7 @@ from phav_spec.encoding import FLOW_OFFSET, FLOW_SCALE, modality
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import load_manifest
 from phav_spec.recipe_table import read_recipe_table
-from phav_spec.vocab import ACTIONS, PIXEL_CLASSES
+from phav_spec.vocab import ACTIONS
 from phav_spec.webdataset import decode_png
 from phav_validators.checks.tarsafe import TarScan, iter_members
 
@@ -40,15 +40,6 @@ FLOW_SOURCES = ("gt", "farneback", "tvl1")
 #: The stored frame size (width, height) unless configured otherwise: PHAV's 340×256 / 4.
 DEFAULT_SIZE = (85, 64)
 VIDEO_SUFFIXES = (".avi", ".mp4", ".mkv", ".webm", ".mov")
-#: Body parts an auxiliary head may learn from PHAV's semantic segmentation: left and right
-#: merged (a mirrored frame keeps its labels), each joint counted with its limb.
-BODY_PARTS = ("other", "head", "chest", "upper_arm", "lower_arm", "hand", "upper_leg", "lower_leg", "foot")
-_PART_OF = {
-    "head": "head", "neck": "head", "chest": "chest",
-    "upper_arm": "upper_arm", "shoulder": "upper_arm", "lower_arm": "lower_arm", "elbow": "lower_arm",
-    "hand": "hand", "wrist": "hand", "upper_leg": "upper_leg", "hip": "upper_leg",
-    "lower_leg": "lower_leg", "knee": "lower_leg", "foot": "foot", "ankle": "foot",
-}  # fmt: skip
 
 
 @dataclass
@@ -64,8 +55,6 @@ class Clip:
     #: side first, e.g. {"actor": (protagonist, partner), "motion": (base, blended),
     #: "background": (models...)}. A single name may be given as a string.
     groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
-    #: (T, H, W) uint8 indices into BODY_PARTS, when read (training-time targets only).
-    parts: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.rgb.ndim != 4 or self.rgb.shape[-1] != 3 or self.rgb.dtype != np.uint8:
@@ -74,8 +63,6 @@ class Clip:
             raise ValueError(f"{self.key}: flow {self.flow.shape} does not match rgb {self.rgb.shape}")
         if len(self.rgb) == 0:
             raise ValueError(f"{self.key}: a clip needs at least one frame")
-        if self.parts is not None and (self.parts.shape != self.rgb.shape[:3] or self.parts.dtype != np.uint8):
-            raise ValueError(f"{self.key}: parts {self.parts.shape} {self.parts.dtype} do not match rgb")
         self.groups = {kind: (m,) if isinstance(m, str) else tuple(m) for kind, m in self.groups.items()}
 
     @property
@@ -123,35 +110,6 @@ def resize_flow(flow: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     return out.astype(np.float16)
 
 
-def _part_table() -> tuple[np.ndarray, np.ndarray]:
-    """Packed 24-bit semantic colours (sorted) and the BODY_PARTS index of each."""
-    keys, ids = [], []
-    for name in PIXEL_CLASSES.names:
-        stem = name.removeprefix("left_").removeprefix("right_")
-        if stem in _PART_OF:
-            r, g, b = PIXEL_CLASSES[name].rgb
-            keys.append((r << 16) | (g << 8) | b)
-            ids.append(BODY_PARTS.index(_PART_OF[stem]))
-    order = np.argsort(keys)
-    return np.asarray(keys, np.int64)[order], np.asarray(ids, np.uint8)[order]
-
-
-_PART_KEYS, _PART_IDS = _part_table()
-
-
-def body_parts(semantic: np.ndarray) -> np.ndarray:
-    """A semantic frame (H, W, 3) uint8 of PIXEL_CLASSES colours → (H, W) BODY_PARTS indices
-    (0 wherever no body part is)."""
-    packed = (semantic[..., 0].astype(np.int64) << 16) | (semantic[..., 1].astype(np.int64) << 8) | semantic[..., 2]
-    at = np.minimum(np.searchsorted(_PART_KEYS, packed), len(_PART_KEYS) - 1)
-    return np.where(_PART_KEYS[at] == packed, _PART_IDS[at], 0).astype(np.uint8)
-
-
-def resize_parts(parts: np.ndarray, size: tuple[int, int]) -> np.ndarray:
-    """Part indices at ``size`` (width, height), nearest neighbour (labels are not averaged)."""
-    return cv2.resize(parts, size, interpolation=cv2.INTER_NEAREST)
-
-
 def estimate_flow(frames: Sequence[np.ndarray], method: str) -> list[np.ndarray]:
     """Forward flow t→t+1 (H, W, 2) estimated from full-resolution RGB frames; the last
     frame, which has no successor, repeats the previous flow (zero for a single frame)."""
@@ -188,19 +146,16 @@ def make_clip(
     size: tuple[int, int],
     flow: str,
     groups: dict[str, tuple[str, ...]] | None = None,
-    parts: Sequence[np.ndarray] | None = None,
 ) -> Clip:
     """A clip from full-resolution RGB frames and (ground-truth) flows, or with ``flow``
-    estimated when it is not ``gt`` or no flows are given; ``parts`` are full-resolution
-    BODY_PARTS frames, kept as training targets."""
+    estimated when it is not ``gt`` or no flows are given."""
     if not frames:
         raise ValueError(f"{key}: no frames")
     if flow != "gt" or flows is None:
         flows = estimate_flow(frames, "farneback" if flow == "gt" else flow)
     rgb = np.stack([resize_rgb(f, size) for f in frames])
     stored = np.stack([resize_flow(f, size) for f in flows])
-    kept = None if parts is None else np.stack([resize_parts(p, size) for p in parts])
-    return Clip(key, label, source, rgb, stored, dict(groups or {}), kept)
+    return Clip(key, label, source, rgb, stored, dict(groups or {}))
 
 
 # --- PHAV datasets -----------------------------------------------------------------------------
@@ -212,23 +167,20 @@ class _ShardTask:
     videos: dict[str, tuple[int, dict[str, tuple[str, ...]]]]  # video id → (label, groups)
     size: tuple[int, int]
     flow: str
-    parts: bool = False
 
 
-_MEMBER = re.compile(r"^(v\d+)/(\d+)\.(rgb|flow|seg)\.png$")
+_MEMBER = re.compile(r"^(v\d+)/(\d+)\.(rgb|flow)\.png$")
 
 
 def _load_shard(task: _ShardTask) -> list[Clip]:
-    """The clips of one shard, its members streamed (RGB, flow and, for part targets, the
-    semantic segmentation; nothing unpacked)."""
+    """The clips of one shard, its RGB and flow members streamed (nothing unpacked)."""
 
     cv2.setNumThreads(1)
-    rgb_enc, flow_enc, seg_enc = modality("rgb"), modality("flow"), modality("semantic")
+    rgb_enc, flow_enc = modality("rgb"), modality("flow")
     frames: dict[str, dict[int, np.ndarray]] = {v: {} for v in task.videos}
     flows: dict[str, dict[int, np.ndarray]] = {v: {} for v in task.videos}
-    parts: dict[str, dict[int, np.ndarray]] = {v: {} for v in task.videos}
     gt = task.flow == "gt"
-    kinds = {"rgb"} | ({"flow"} if gt else set()) | ({"seg"} if task.parts else set())
+    kinds = {"rgb"} | ({"flow"} if gt else set())
 
     def wanted(name: str) -> bool:
         m = _MEMBER.match(name)
@@ -240,8 +192,6 @@ def _load_shard(task: _ShardTask) -> list[Clip]:
         try:
             if kind == "rgb":
                 frames[vid][int(frame)] = decode_png(data, rgb_enc, source=source)
-            elif kind == "seg":
-                parts[vid][int(frame)] = body_parts(decode_png(data, seg_enc, source=source))
             else:
                 flows[vid][int(frame)] = kitti_flow(decode_png(data, flow_enc, source=source), source=source)
         except ValueError as e:
@@ -253,13 +203,9 @@ def _load_shard(task: _ShardTask) -> list[Clip]:
             raise PhavUserError(f"video {vid}: frames missing from the shard (run phav-validate)", source=task.path)
         if gt and sorted(flows[vid]) != order:
             raise PhavUserError(f"video {vid}: flow frames missing from the shard", source=task.path)
-        if task.parts and sorted(parts[vid]) != order:
-            raise PhavUserError(f"video {vid}: semantic frames missing from the shard", source=task.path)
         rgb = [frames[vid][i] for i in order]
         flow = [flows[vid][i] for i in order] if gt else None
-        seg = [parts[vid][i] for i in order] if task.parts else None
-        clips.append(make_clip(vid, label, "virtual", rgb, flow, size=task.size, flow=task.flow, groups=groups,
-                               parts=seg))  # fmt: skip
+        clips.append(make_clip(vid, label, "virtual", rgb, flow, size=task.size, flow=task.flow, groups=groups))
     return clips
 
 
@@ -287,10 +233,8 @@ def load_phav(
     progress: Callable[[int], None] | None = None,
     manifest: DatasetManifest | None = None,
     table: RecipeTable | None = None,
-    parts: bool = False,
 ) -> ClipSet:
-    """A PHAV dataset directory's clips (or those in ``videos``), labelled by action; with
-    ``parts`` also each frame's body parts (BODY_PARTS, from the semantic segmentation).
+    """A PHAV dataset directory's clips (or those in ``videos``), labelled by action.
 
     Shards are streamed in place, one per task, in ``workers`` processes. The label is the
     recipe's action, the groups its people and motions (``clip_groups``). A caller that has
@@ -313,7 +257,7 @@ def load_phav(
     for shard in manifest.shards:
         wanted = {v: info[v] for v in shard.video_ids if v in info and (chosen is None or v in chosen)}
         if wanted:
-            tasks.append(_ShardTask(str(root / shard.name), wanted, size, flow, parts))
+            tasks.append(_ShardTask(str(root / shard.name), wanted, size, flow))
     clips: list[Clip] = []
     if workers > 1 and len(tasks) > 1:
         mp = multiprocessing.get_context("spawn")

@@ -68,7 +68,8 @@ class LearnOptions:
     rgb_epochs: int | None = None
     #: A ceiling on the minutes of training, all streams together, shared by their expected
     #: seconds (``epoch_cost``): high enough that the default schedule ends on a 2-core CPU
-    #: in either precision (docs/learnability.md), so that only a slower machine stops it.
+    #: in either precision (docs/experiments/learnability.md, "The defaults and why"), so
+    #: that only a slower machine stops it.
     budget_minutes: float = 15.0
     size: tuple[int, int] = DEFAULT_SIZE
     #: ``gt`` (the dataset's flow) or ``farneback`` (estimated from the RGB frames, as a
@@ -82,7 +83,8 @@ class LearnOptions:
     #: ``fp32`` or ``bf16``; None: what this machine computes fastest (``default_precision``).
     precision: str | None = None
     #: Max-pool after the stem (``TrainConfig.stem_pool``), as ``RECOMMENDED`` on a CPU:
-    #: the epochs take less time for the same accuracy (docs/learnability.md).
+    #: the epochs take less time for the same accuracy (docs/experiments/learnability.md,
+    #: "The defaults and why").
     stem_pool: bool = RECOMMENDED.stem_pool
     alpha: float = 1e-3
     #: The fused accuracy must also be at least this many times chance.
@@ -260,7 +262,7 @@ def binomial_p(correct: int, n: int, chance: float) -> float:
 
 #: An epoch of the distilled RGB stream in flow epochs, an estimate: it cuts its snippets
 #: and the teacher's and runs the teacher's forward pass too. Only a run stopped by the
-#: budget depends on it (its source: docs/experiments/learnability.md).
+#: budget depends on it (its source: docs/experiments/learnability.md, "On an AMD EPYC").
 DISTILLED_RGB_EPOCH = 1.5
 
 

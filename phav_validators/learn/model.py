@@ -92,8 +92,8 @@ def dropout(x: Tensor, p: float, *, generator: torch.Generator) -> Tensor:
 
 def channels_last(module: nn.Module) -> None:
     """Every 2D convolution's weights in channels-last layout, which the backbone's inputs
-    then follow: float32 convolutions run faster so on a CPU (docs/learnability.md, "On a
-    CPU without AMX"). Only the arithmetic's order changes, not the function."""
+    then follow: float32 convolutions run faster so on a CPU (docs/experiments/learnability.md,
+    "On a CPU without AMX"). Only the arithmetic's order changes, not the function."""
     for m in module.modules():
         if isinstance(m, nn.Conv2d):
             m.weight.data = m.weight.data.contiguous(memory_format=torch.channels_last)

@@ -66,7 +66,7 @@ class TrainConfig:
     rgb_diff: bool = False
     #: Factor on the RGB differences (``rgb_diff``): a difference is several times smaller
     #: than a frame, so at 1 the first frame's appearance dominates the first layer from its
-    #: start (docs/learnability.md, "The defaults and why").
+    #: start (docs/experiments/learnability.md, "The defaults and why").
     diff_gain: float = 1.0
     crop: float = 0.875  # side of the random training crop (centre crop when testing), share of the frame
     #: TSN's multi-scale cropping while training: each clip's crop takes a height and a width
@@ -224,8 +224,8 @@ def teacher_of(stream: str, result: TrainResult, base: TrainConfig) -> Teacher |
 #: frames entered as the first and four differences at twelve times their scale, matching
 #: the flow stream's features (weight 20), for 50 epochs; both with a max-pool after the
 #: stem on a CPU (``default_stem_pool``), where time binds and the pooled stem buys the
-#: epochs. Each choice won against its alternatives in docs/learnability.md, "The defaults
-#: and why" and "Augmentation".
+#: epochs. Each choice won against its alternatives in docs/experiments/learnability.md,
+#: "The defaults and why" and "Augmentation".
 RECOMMENDED = TrainConfig(stream="rgb", rgb_frames=5, rgb_diff=True, diff_gain=12.0, distill=20.0, epochs=160,
                           rgb_epochs=50, scale_jitter=True, stem_pool=True)  # fmt: skip
 #: The RGB stream's default epochs against the flow stream's, as the CLIs' help says it.
@@ -416,7 +416,7 @@ def _flow_input(clip: Clip, frames: np.ndarray, window: tuple[slice, slice]) -> 
     """Flow frames (K, L) of ``clip`` in ``window`` → (K, 2L, h, w): each whole frame's median
     vector subtracted, clipped at TSN's bound and scaled to ±4. The median is mostly the
     camera's motion, which PHAV's following cameras add to every pixel: subtracted, it is not
-    a signal the network must learn to ignore (docs/learnability.md, "Which flow")."""
+    a signal the network must learn to ignore (docs/experiments/learnability.md, "Which flow")."""
     k, length = frames.shape
     bound = FLOW_BOUND_PX * clip.flow.shape[2] / 340.0
     x = clip.flow[frames][:, :, window[0], window[1]].astype(np.float32)  # (K, L, h, w, 2)
@@ -669,7 +669,8 @@ class _Run:
     def epoch(self, epoch: int) -> Epoch:
         """One epoch's steps; its record holds the mean loss per source and the training accuracy.
         The next batch is not cut while the model computes: torch's threads already fill the
-        cores, so a second thread only competes with them (docs/learnability.md)."""
+        cores, so a second thread only competes with them (docs/experiments/learnability.md,
+        "The defaults and why")."""
         names = self.config.sources
         start = time.perf_counter()
         sums = {name: [0.0, 0] for name in names}
@@ -828,7 +829,7 @@ def default_stem_pool(device: str = "cpu") -> bool:
     """Whether the stem is max-pooled by default on ``device``: ``RECOMMENDED``'s choice on a
     CPU, where time binds and the pooled network trains its schedules sooner, as accurate;
     not on a GPU, where time does not bind and the unpooled network scored better
-    (docs/learnability.md, "The defaults and why" and "On a GPU")."""
+    (docs/experiments/learnability.md, "The defaults and why" and "On a GPU")."""
     return RECOMMENDED.stem_pool and torch_device(device).type == "cpu"
 
 
@@ -836,7 +837,7 @@ def default_precision(device: str = "cpu") -> str:
     """``bf16`` where ``device`` computes bfloat16 faster than float32, else ``fp32``: a GPU
     from Ampere on; a CPU with AMX; an AMD CPU with AVX-512 BF16. AVX-512 BF16 alone on
     Intel is not enough: without AMX a step was slower in bfloat16 than in float32
-    (docs/learnability.md, "On a CPU without AMX" and "On an AMD EPYC"). Results are
+    (docs/experiments/learnability.md, "On a CPU without AMX" and "On an AMD EPYC"). Results are
     reproducible per precision, as per thread count, and every run's settings name it."""
     require_torch()
     import torch  # optional extra phav[train]: only training needs torch

@@ -13,7 +13,7 @@ import numpy as np
 from phav_validators.learn.data import Clip, ClipSet
 from tests.helpers import run_cli
 
-#: docs/measure: the experiment scripts behind docs/learnability.md's tables.
+#: docs/measure: the experiment scripts behind docs/experiments/learnability.md's tables.
 MEASURE = Path(__file__).parents[3] / "docs" / "measure"
 
 

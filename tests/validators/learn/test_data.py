@@ -266,39 +266,3 @@ def test_flow_estimators_farneback_and_a_clear_error_without_tvl1():
             estimate_flow(frames, "tvl1")
     with pytest.raises(PhavUserError, match="farneback or tvl1"):
         estimate_flow(frames, "raft")
-
-
-def test_body_parts_merge_sides_and_joints_and_leave_the_rest_other():
-    from phav_spec.vocab import PIXEL_CLASSES
-    from phav_validators.learn.data import BODY_PARTS, body_parts
-
-    names = ["left_hand", "right_wrist", "neck", "right_knee", "chest", "sky", "ball"]
-    image = np.array([[PIXEL_CLASSES[n].rgb for n in names] + [(0, 0, 0), (1, 2, 3)]], np.uint8)
-    got = [BODY_PARTS[i] for i in body_parts(image)[0]]
-    assert got == ["hand", "hand", "head", "lower_leg", "chest", "other", "other", "other", "other"]
-
-
-def test_phav_body_parts_are_read_from_the_semantic_frames(phav):
-    import cv2
-
-    from phav_spec.vocab import PIXEL_CLASSES
-    from phav_validators.checks.tarsafe import TarScan, iter_members
-    from phav_validators.learn.data import BODY_PARTS
-
-    clips = load_phav(phav, size=(85, 64), parts=True)
-    assert all(c.parts is not None and c.parts.shape == c.rgb.shape[:3] for c in clips.clips)
-    assert all((c.parts > 0).any() for c in clips.clips)  # every protagonist shows its body
-    shard = sorted(phav.glob("*.tar"))[0]
-    name, data = next((n, d) for n, d in iter_members(shard, TarScan()) if n.endswith("00004.seg.png"))
-    seg = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)[..., ::-1]
-    by_colour = {PIXEL_CLASSES[n].rgb: n.removeprefix("left_").removeprefix("right_") for n in PIXEL_CLASSES.names}
-    part_of = {"neck": "head", "shoulder": "upper_arm", "elbow": "lower_arm", "wrist": "hand", "hip": "upper_leg",
-               "knee": "lower_leg", "ankle": "foot"}  # fmt: skip
-    small = cv2.resize(seg, (85, 64), interpolation=cv2.INTER_NEAREST)
-    expected = np.zeros((64, 85), np.uint8)
-    for y, x in np.ndindex(64, 85):
-        stem = by_colour.get(tuple(int(v) for v in small[y, x]), "")
-        stem = part_of.get(stem, stem)
-        expected[y, x] = BODY_PARTS.index(stem) if stem in BODY_PARTS[1:] else 0
-    clip = next(c for c in clips.clips if c.key == name.split("/")[0])
-    assert np.array_equal(clip.parts[4], expected)

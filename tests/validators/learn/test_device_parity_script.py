@@ -1,4 +1,4 @@
-"""docs/measure/device_parity.py, behind docs/learnability.md's "On a GPU": the same seed
+"""docs/measure/device_parity.py, behind docs/experiments/learnability.md's "On a GPU": the same seed
 and clips train to the same losses and predictions; on a machine with CUDA, the GPU
 against the CPU up to the order of sums (there is none in CI: that case skips)."""
 

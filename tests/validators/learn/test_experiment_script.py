@@ -1,5 +1,6 @@
-"""docs/measure/learn_experiments.py, the experiment script behind docs/learnability.md's
-tables: its cell syntax and one cell on tiny synthetic clips (the real runs take hours)."""
+"""docs/measure/learn_experiments.py, the experiment script behind
+docs/experiments/learnability.md's tables: its cell syntax and one cell on tiny synthetic
+clips (the real runs take hours)."""
 
 from __future__ import annotations
 

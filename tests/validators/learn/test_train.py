@@ -479,7 +479,8 @@ def test_the_rgb_stream_takes_its_own_epochs():
 )
 def test_bfloat16_is_the_cpu_default_where_it_was_measured_faster(monkeypatch, vendor, flags, expected):
     """AVX-512 BF16 made a training step slower than float32 on a Xeon without AMX and
-    faster on an AMD EPYC (docs/learnability.md)."""
+    faster on an AMD EPYC (docs/experiments/learnability.md, "On a CPU without AMX" and "On an
+    AMD EPYC")."""
     import phav_validators.learn.train as train_module
 
     monkeypatch.setattr(train_module, "_cpu_info", lambda: (vendor, flags))
@@ -487,8 +488,9 @@ def test_bfloat16_is_the_cpu_default_where_it_was_measured_faster(monkeypatch, v
 
 
 def test_the_stem_is_pooled_by_default_on_a_cpu_and_not_on_a_gpu(monkeypatch):
-    """Time binds on a CPU, accuracy on a GPU (docs/learnability.md, the fifth GPU session);
-    CUDA is pretended here, so only the settings are built, nothing runs on it."""
+    """Time binds on a CPU, accuracy on a GPU, where the unpooled network scored better
+    (docs/experiments/learnability.md, "On a GPU"); CUDA is pretended here, so only the
+    settings are built, nothing runs on it."""
     assert recommended_config(["rgb", "flow"]).stem_pool and RECOMMENDED.stem_pool
     monkeypatch.setattr(torch.cuda, "is_available", lambda: True)
     monkeypatch.setattr(torch.cuda, "device_count", lambda: 1)
