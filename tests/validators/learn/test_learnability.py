@@ -58,6 +58,7 @@ def test_validate_learnability_reports_accuracy_and_a_confusion_image(phav, tmp_
     assert listed["held_out"] == numbers["held_out"] and json.loads((learn / "split.json").read_text()) == listed
     assert len(listed["train_videos"]) == numbers["train_clips"] and len(listed["test_videos"]) == numbers["test_clips"]
     assert not set(listed["train_videos"]) & set(listed["test_videos"])
+    assert numbers["train_clips_with_held_out_background"] == len(listed["train_videos_with_held_out_background"])
 
 
 def test_a_budget_that_stops_training_is_inconclusive_not_a_failure(phav, tmp_path):
