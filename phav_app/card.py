@@ -187,8 +187,9 @@ def _card_recipe_only(index: ReleaseIndex) -> list[str]:
         "phav-validate .            # regenerates what its checks need, then validates",
         "```",
         "",
-        "Pixels are bit-identical where the renderer fingerprint (below) is equal; elsewhere they may differ "
-        "in the last bits, and `phav regenerate` says which videos do.",
+        "Pixels are bit-identical where the renderer fingerprint (below) is equal — the GL strings, the CPU's "
+        "SIMD class, the versions and the body data, not the CPU's model (`phav fingerprint` says whether a "
+        "machine is one); elsewhere they may differ in the last bits, and `phav regenerate` says which videos do.",
         "",
     ]
 
@@ -254,7 +255,7 @@ def _card_renderer(manifest: DatasetManifest) -> list[str]:
         "",
         "## Renderer of record",
         "",
-        f"{r.gl_renderer} ({r.gl_vendor}, OpenGL {r.gl_version}) on {r.cpu_model}; "
+        f"{r.gl_renderer} ({r.gl_vendor}, OpenGL {r.gl_version}) on {r.cpu_model} (SIMD class {r.simd_class}); "
         + ", ".join(f"{k} {v}" for k, v in sorted(r.versions.items()))
         + f". Fingerprint digest `{r.digest()}`.",
     ]

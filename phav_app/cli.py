@@ -47,6 +47,7 @@ from phav_app.console import (
     print_report,
     run_app,
 )
+from phav_app.fingerprint_cli import fingerprint_command
 from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet, write_gif
 from phav_app.release import make_release
 from phav_app.sheets import render_sheet, sheet_specs, write_index
@@ -422,6 +423,7 @@ class _RenderProgress:
 
 # `phav train` lives in its own module (train_cli.py); torch is imported only when it trains.
 app.command("train")(train_command)
+app.command("fingerprint")(fingerprint_command)
 
 
 @app.command()

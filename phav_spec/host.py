@@ -1,7 +1,7 @@
 """The machine a process runs on, as far as results depend on it: its CPU's fields.
 
-The renderer fingerprint records the CPU (pixels may differ across CPUs) and training picks
-its arithmetic by it; both read them here, so that they read them alike."""
+The renderer fingerprint records the CPU's SIMD class (llvmpipe's code path, which decides
+pixels) and training picks its arithmetic by the flags; both read them here, alike."""
 
 from __future__ import annotations
 
@@ -23,3 +23,43 @@ def cpu_fields(path: Path = CPUINFO) -> dict[str, str]:
         if sep:
             fields.setdefault(key.strip(), value.strip())  # later processors repeat the keys
     return fields
+
+
+#: llvmpipe's code paths on x86-64, best first: the flag that opens each, and the class name.
+#: Measured (docs/reproducibility.md): forcing llvmpipe's capabilities down level by level
+#: changes the bytes only where one of these lines is crossed — AVX, AVX2 and AVX-512 give
+#: one set of bytes; SSSE3 and SSE4.1 another; SSE2 and SSE3 a third.
+X86_SIMD_CLASSES: tuple[tuple[str, str], ...] = (
+    ("avx", "x86-64-avx"),
+    ("ssse3", "x86-64-ssse3"),
+    ("sse2", "x86-64-sse2"),
+)
+
+
+#: Mesa's override of the CPU capabilities llvmpipe uses (a measurement tool), and the flags
+#: each of its values leaves: llvmpipe then takes the code path of that level.
+GALLIUM_CAPS_ENV = "GALLIUM_OVERRIDE_CPU_CAPS"
+_GALLIUM_CAPS = {
+    "nosse": (),
+    "sse": ("sse",),
+    "sse2": ("sse", "sse2"),
+    "sse3": ("sse", "sse2", "sse3"),
+    "ssse3": ("sse", "sse2", "sse3", "ssse3"),
+    "sse4.1": ("sse", "sse2", "sse3", "ssse3", "sse4_1"),
+    "avx": ("sse", "sse2", "sse3", "ssse3", "sse4_1", "avx"),
+}
+
+
+def simd_class(flags: str, machine: str, model: str = "", override: str | None = None) -> str:
+    """The class of CPU whose pixels are alike: on x86-64 llvmpipe's code path, from the
+    ``/proc/cpuinfo`` flags, lowered to Mesa's ``override`` (``GALLIUM_OVERRIDE_CPU_CAPS``)
+    where one is set; elsewhere (not measured) the architecture and the CPU's model."""
+    if machine.lower() in ("x86_64", "amd64"):
+        present = set(flags.split())
+        if override is not None and override in _GALLIUM_CAPS:
+            present &= set(_GALLIUM_CAPS[override])
+        for flag, name in X86_SIMD_CLASSES:
+            if flag in present:
+                return name
+        return "x86-64"
+    return f"{machine}: {model}" if model else machine

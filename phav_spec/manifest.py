@@ -9,7 +9,7 @@ decides whether pixels must match bit for bit (row "renderer of record").
 from __future__ import annotations
 
 import os
-from typing import Annotated, Any, Self
+from typing import Annotated, Any, Literal, Self
 
 from pydantic import (
     BaseModel,
@@ -26,8 +26,10 @@ from phav_spec.canonical import canonical_json, pretty_json, sha256_hex
 from phav_spec.encoding import MODALITIES, ModalityEncoding, video_content_hash
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, parse_json_object, read_text
+from phav_spec.host import simd_class
 
 __all__ = [
+    "FINGERPRINT_VERSION",
     "MANIFEST_VERSION",
     "DatasetManifest",
     "RendererFingerprint",
@@ -35,10 +37,13 @@ __all__ = [
     "VideoEntry",
     "dump_manifest",
     "load_manifest",
+    "renderer_differences",
 ]
 
 #: Version of the manifest format this code reads and writes; readers refuse newer ones.
 MANIFEST_VERSION = 1
+#: Version of the renderer fingerprint's fields this code writes (``RendererFingerprint``).
+FINGERPRINT_VERSION = 2
 
 VIDEO_ID_PATTERN = r"^v\d{6}$"
 SHARD_NAME_PATTERN = r"^[A-Za-z0-9_-]+-\d{6}\.tar$"
@@ -54,22 +59,91 @@ Sha256Hex = Annotated[str, StringConstraints(pattern=SHA256_PATTERN)]
 _CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
+#: What a comparison of two fingerprints is for: the pixels (content hashes), or whole files
+#: (shards and metadata tables, whose floats also carry numpy's and OpenBLAS's last bits).
+Scope = Literal["pixels", "files"]
+
+
 class RendererFingerprint(BaseModel):
-    """Everything the pixels depend on; equal fingerprints promise bit-identical frames."""
+    """What a dataset's bytes depend on, as measured (docs/reproducibility.md). The pixels: the
+    GL strings (Mesa, LLVM and llvmpipe's vector width), the CPU's SIMD class, the versions of
+    the packages whose arithmetic reaches them and the body data's hash. The metadata's floats
+    also: numpy's SIMD targets and OpenBLAS's kernels (``numeric_class``). Equal ``key`` for a
+    scope, bit-identical bytes of that scope promised.
+
+    Version 1 recorded the CPU's model name and whole flag list and compared them too; it
+    still loads, compares its pixels by today's rule through the class its flags give, and
+    its files as unknown (it has no numeric class)."""
 
     model_config = _CONFIG
 
+    fingerprint_version: int = Field(default=1, ge=1)
     gl_vendor: str
     gl_renderer: str
     gl_version: str
+    #: The CPU's SIMD class (``phav_spec.host.simd_class``); version 2 on.
+    cpu_class: str | None = None
+    #: numpy's SIMD targets in use and OpenBLAS's kernels; version 2 on.
+    numeric_class: str | None = None
+    #: The CPU's model name: recorded for the reader, compared only by version 1.
     cpu_model: str
-    cpu_flags: str
+    #: Version 1 only: the CPU's sorted flags (``/proc/cpuinfo``).
+    cpu_flags: str | None = None
     #: Package versions, e.g. ``{"phav": ..., "numpy": ..., "mujoco": ..., "moderngl": ...}``.
     versions: dict[str, str]
 
-    def digest(self) -> str:
-        """Return the sha256 hex digest of the fingerprint's canonical JSON (sorted keys)."""
-        return sha256_hex(canonical_json(self.model_dump(mode="json")))
+    @model_validator(mode="after")
+    def _fields_of_its_version(self) -> Self:
+        if self.fingerprint_version > FINGERPRINT_VERSION:
+            raise ValueError(
+                f"renderer fingerprint version {self.fingerprint_version} is newer than this phav reads "
+                f"({FINGERPRINT_VERSION}); upgrade phav"
+            )
+        needs = ("cpu_flags",) if self.fingerprint_version == 1 else ("cpu_class", "numeric_class")
+        for name in needs:
+            if getattr(self, name) is None:
+                raise ValueError(f"a version {self.fingerprint_version} renderer fingerprint needs {name}")
+        return self
+
+    @property
+    def simd_class(self) -> str:
+        """The CPU class the pixels depend on; for version 1, the one its flags give."""
+        if self.cpu_class is not None:
+            return self.cpu_class
+        flags = self.cpu_flags or ""
+        # Version 1 ran only on Linux, where x86 CPUs list sse2; ARM lists its flags as Features.
+        machine = "x86_64" if "sse2" in flags.split() else "unknown"
+        return simd_class(flags, machine, self.cpu_model)
+
+    def key(self, scope: Scope = "pixels") -> dict[str, str]:
+        """The fields that decide the bytes of ``scope``, flat (``versions.numpy``, …)."""
+        fields = {"gl_vendor": self.gl_vendor, "gl_renderer": self.gl_renderer, "gl_version": self.gl_version,
+                  "cpu_class": self.simd_class}  # fmt: skip
+        fields |= {f"versions.{k}": v for k, v in sorted(self.versions.items())}
+        if scope == "files":  # version 1 did not record it: never equal to anything
+            unknown = f"not recorded (fingerprint version {self.fingerprint_version})"
+            fields["numeric_class"] = self.numeric_class or unknown
+        return fields
+
+    def differences(self, other: RendererFingerprint, scope: Scope = "pixels") -> list[str]:
+        """The keys (``key``) in which ``other`` differs from this fingerprint, sorted; empty:
+        bit-identical bytes of ``scope`` promised."""
+        mine, theirs = self.key(scope), other.key(scope)
+        return sorted(k for k in mine.keys() | theirs.keys() if mine.get(k) != theirs.get(k))
+
+    def digest(self, scope: Scope = "pixels") -> str:
+        """The sha256 hex digest of ``key``'s canonical JSON: one name for the renderer class."""
+        return sha256_hex(canonical_json(self.key(scope)))
+
+
+def renderer_differences(
+    recorded: RendererFingerprint | None, here: RendererFingerprint | None, scope: Scope = "pixels"
+) -> list[str] | None:
+    """The fingerprint keys in which ``here`` differs from ``recorded`` for ``scope`` (empty:
+    bit-identical bytes promised); None when either is unknown."""
+    if recorded is None or here is None:
+        return None
+    return recorded.differences(here, scope)
 
 
 class ShardEntry(BaseModel):

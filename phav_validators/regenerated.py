@@ -25,7 +25,7 @@ from phav_generator.regenerate import plan_regeneration
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse_json_object, read_text
-from phav_spec.manifest import RendererFingerprint
+from phav_spec.manifest import RendererFingerprint, renderer_differences
 from phav_spec.release import RELEASE_FILE
 from phav_validators.as_is import validate_as_is
 from phav_validators.findings import Reason
@@ -155,12 +155,15 @@ def validate_release(
     report.source = f"{inp.label} (recipe-only release)"
     expected = plan.expected.renderer if plan.expected is not None else None
     made_by = RendererFingerprint.model_validate(marker["renderer"]) if marker.get("renderer") else None
-    exact = expected is not None and made_by is not None and expected.digest() == made_by.digest()
+    differs = renderer_differences(expected, made_by)
+    exact = differs == []
     where = f"kept in {options.regenerate_into}" if options.regenerate_into is not None else "in a temporary directory"
     basis = (
         "equals the release's: every hash must match"
         if exact
-        else "differs from the release's: hash differences are warnings, pixels may differ in the last bits"
+        else "differs from the release's"
+        + (f" ({', '.join(differs)})" if differs else "")
+        + ": hash differences are warnings, pixels may differ in the last bits"
     )
     verb = "reused" if reused else "regenerated"
     note = f"{verb} {len(chosen)} of {len(plan.shards)} shards from the release's recipes ({where}); "

@@ -70,8 +70,9 @@ def _cli_env() -> dict[str, str]:
     return env
 
 
-def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    """Run ``phav`` (or ``phav-validate`` when the first arg is 'validate!') as a user would."""
+def run_cli(*args: str, cwd: Path | None = None, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``phav`` (or ``phav-validate`` when the first arg is 'validate!') as a user would,
+    with ``env`` added to the bare environment."""
     if args and args[0] == "validate!":
         module, rest = "phav_app.validate_cli", args[1:]
     else:
@@ -81,7 +82,7 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[
         capture_output=True,
         text=True,
         cwd=cwd,
-        env=_cli_env(),
+        env=_cli_env() | (env or {}),
     )
 
 

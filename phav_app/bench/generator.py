@@ -351,7 +351,7 @@ def machine_lines(gl: str = "llvmpipe") -> list[str]:
     return [
         "| | |",
         "|---|---|",
-        f"| CPU | {fp.cpu_model}, {os.cpu_count()} logical cores |",
+        f"| CPU | {fp.cpu_model} (SIMD class {fp.simd_class}), {os.cpu_count()} logical cores |",
         f"| memory | {memory:.0f} GiB |",
         f"| system | {platform.system()} {platform.release()}, Python {platform.python_version()} |",
         f"| GL | {fp.gl_vendor}; {fp.gl_renderer}; {fp.gl_version} |",

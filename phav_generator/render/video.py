@@ -19,8 +19,8 @@ import numpy as np
 
 from phav_generator.physics.trajectory import Trajectory
 from phav_generator.render.annotations import MetadataBuilder
-from phav_generator.render.gl import FrameRenderer, PostSettings
-from phav_generator.render.lighting import lighting_for
+from phav_generator.render.gl import Drawable, FrameRenderer, PostSettings
+from phav_generator.render.lighting import Lighting, lighting_for
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.scene import build_drawables, class_id, lamp_positions
 from phav_spec.recipe import Recipe
@@ -37,6 +37,48 @@ class RenderedFrame:
     people: list[dict[str, Any]]
 
 
+@dataclass(frozen=True)
+class SceneInputs:
+    """Everything a video's renderer is given, computed on the CPU from its recipe and
+    trajectory: the last stage before GL (``dataset.reference`` hashes it)."""
+
+    width: int
+    height: int
+    drawables: list[Drawable]
+    lighting: Lighting
+    lamps: np.ndarray  # (L, 3) lamp positions, nearest the action first
+    focus: np.ndarray  # (3,) the protagonist's mean position
+    supersample: int
+    post: PostSettings
+    rain_seed: int
+
+
+def scene_inputs(
+    recipe: Recipe,
+    trajectory: Trajectory,
+    *,
+    supersample: int | None = None,
+    post: PostSettings | None = None,
+    people: bool = True,
+) -> SceneInputs:
+    """One video's world, light and weather, focused on the protagonist, with the recipe's
+    render settings (θ's ``render``: supersampling of the RGB modality and its post effects)
+    unless ``supersample`` or ``post`` override them (the bench does); ``people=False``:
+    without the people, for the bench."""
+    env = ENVIRONMENT_SCENES[recipe.environment.name]
+    lighting = lighting_for(recipe.world, indoor=env.indoor)
+    protagonist = trajectory.person(recipe.protagonist.person_id)
+    lamps = lamp_positions(env)
+    focus = protagonist.body_pos[:, 0].mean(axis=0)
+    if len(lamps):  # the lamps nearest the action light it
+        lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]
+    return SceneInputs(
+        recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting, people=people),
+        lighting, lamps, focus, recipe.render.supersampling if supersample is None else supersample,
+        PostSettings.from_render(recipe.render) if post is None else post, recipe.seeds.render,
+    )  # fmt: skip
+
+
 def scene_renderer(
     recipe: Recipe,
     trajectory: Trajectory,
@@ -46,22 +88,12 @@ def scene_renderer(
     post: PostSettings | None = None,
     people: bool = True,
 ) -> FrameRenderer:
-    """A renderer for one video: its world, light and weather, focused on the protagonist,
-    with the recipe's render settings (θ's ``render``: supersampling of the RGB modality and
-    its post effects) unless ``supersample`` or ``post`` override them (the bench does);
-    ``people=False``: without the people, for the bench."""
-    env = ENVIRONMENT_SCENES[recipe.environment.name]
-    lighting = lighting_for(recipe.world, indoor=env.indoor)
-    protagonist = trajectory.person(recipe.protagonist.person_id)
-    lamps = lamp_positions(env)
-    focus = protagonist.body_pos[:, 0].mean(axis=0)
-    if len(lamps):  # the lamps nearest the action light it
-        lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]
+    """A renderer for one video in ``ctx``: ``scene_inputs`` (same arguments) drawn by a
+    ``FrameRenderer``."""
+    s = scene_inputs(recipe, trajectory, supersample=supersample, post=post, people=people)
     return FrameRenderer(
-        ctx, recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting, people=people),
-        sky_class=class_id("sky"), lighting=lighting, lamps=lamps, focus=focus,
-        supersample=recipe.render.supersampling if supersample is None else supersample,
-        post=PostSettings.from_render(recipe.render) if post is None else post, rain_seed=recipe.seeds.render,
+        ctx, s.width, s.height, s.drawables, sky_class=class_id("sky"), lighting=s.lighting, lamps=s.lamps,
+        focus=s.focus, supersample=s.supersample, post=s.post, rain_seed=s.rain_seed,
     )  # fmt: skip
 
 

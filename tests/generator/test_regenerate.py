@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import shutil
 
+from phav_generator.dataset import fingerprint
 from phav_spec.encoding import video_content_hash
 from phav_spec.manifest import load_manifest
 from tests.helpers import invoke_cli, run_cli
@@ -16,6 +17,23 @@ def test_a_fresh_process_renders_the_same_manifest(small_dataset, tmp_path):
     result = run_cli("regenerate", str(small_dataset), "--out", str(tmp_path / "r"))
     assert result.returncode == 0, result.stderr
     assert "3/3 videos match; files: 2/2 sha256 match (same renderer fingerprint" in result.stdout  # 2 shards
+
+
+def test_other_blas_kernels_keep_the_pixels_and_say_why_the_files_differ(small_dataset, tmp_path):
+    """OpenBLAS forced to another CPU's kernels stands in for a CPU of the same SIMD class
+    with other numerics: the pixels are promised and match; shards whose metadata floats
+    differ in their last bits are reported as such, not as mismatches (exit 0)."""
+    here = fingerprint._openblas_core()
+    other = "Sandybridge" if here == "Haswell" else "Haswell"
+    result = run_cli("regenerate", str(small_dataset), "--out", str(tmp_path / "r"), env={"OPENBLAS_CORETYPE": other})
+    assert result.returncode == 0, result.stdout
+    rebuilt = load_manifest(tmp_path / "r" / "manifest.json").renderer
+    original = load_manifest(small_dataset / "manifest.json").renderer
+    assert rebuilt is not None and original is not None and f"OpenBLAS {other}" in str(rebuilt.numeric_class)
+    assert original.differences(rebuilt) == [] and original.differences(rebuilt, "files") == ["numeric_class"]
+    assert "content hashes: 3/3 videos match" in result.stdout and "mismatch" not in result.stdout
+    if "2/2 sha256 match" not in result.stdout:
+        assert "differ where numeric_class differ: metadata floats in their last bits" in result.stdout
 
 
 def test_recipes_parquet_alone_regenerates_every_hash(small_dataset, tmp_path):

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from phav_spec.host import cpu_fields
+import pytest
+
+from phav_spec.host import cpu_fields, simd_class
 
 
 def test_the_cpu_fields_are_the_first_processors(tmp_path):
@@ -16,3 +18,28 @@ def test_the_cpu_fields_are_the_first_processors(tmp_path):
 
 def test_no_cpuinfo_gives_no_fields(tmp_path):
     assert cpu_fields(tmp_path / "missing") == {}
+
+
+@pytest.mark.parametrize(
+    ("flags", "override", "expected"),
+    [
+        ("fpu sse2 ssse3 sse4_1 avx avx2 avx512f", None, "x86-64-avx"),
+        ("fpu sse2 ssse3 sse4_1 avx", None, "x86-64-avx"),
+        ("fpu sse2 sse3 ssse3 sse4_1 sse4_2", None, "x86-64-ssse3"),
+        ("fpu sse sse2 sse3", None, "x86-64-sse2"),
+        ("fpu", None, "x86-64"),
+        ("fpu sse2 ssse3 avx avx2", "sse4.1", "x86-64-ssse3"),
+        ("fpu sse2 ssse3 avx avx2", "sse3", "x86-64-sse2"),
+        ("fpu sse2 ssse3 avx avx2", "nosse", "x86-64"),
+        ("fpu sse2 ssse3 avx avx2", "avx", "x86-64-avx"),
+        ("fpu sse2 ssse3", "avx", "x86-64-ssse3"),  # an override never adds what the CPU lacks
+        ("fpu sse2 ssse3 avx", "not-a-level", "x86-64-avx"),  # Mesa ignores what it does not know
+    ],
+)
+def test_the_simd_class_is_llvmpipes_code_path(flags, override, expected):
+    assert simd_class(flags, "x86_64", "Some CPU", override) == expected
+
+
+def test_other_architectures_are_classed_by_their_model():
+    assert simd_class("fp asimd", "aarch64", "Neoverse-N1") == "aarch64: Neoverse-N1"
+    assert simd_class("", "riscv64") == "riscv64"

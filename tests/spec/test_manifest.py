@@ -22,6 +22,7 @@ from phav_spec.manifest import (
     VideoEntry,
     dump_manifest,
     load_manifest,
+    renderer_differences,
 )
 
 HEX_A = "a" * 64
@@ -147,6 +148,39 @@ def test_fingerprint_digest_is_canonical() -> None:
     assert len(a.digest()) == 64
     assert _fingerprint(gl_version="4.5 Mesa 23.0").digest() != a.digest()
     assert _fingerprint(versions={**a.versions, "numpy": "2.5.0"}).digest() != a.digest()
+
+
+def test_fingerprints_compare_by_simd_class_across_versions() -> None:
+    """Version 1 (model and flags) against version 2 (class): the model is not compared; the
+    class of version 1's flags is, for pixels; for whole files version 1 lacks the numerics."""
+    numerics = "numpy X86_V3; OpenBLAS Haswell"
+    v1 = _fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2")
+    v2 = _fingerprint(fingerprint_version=2, cpu_flags=None, cpu_class="x86-64-avx", numeric_class=numerics,
+                      cpu_model="Other CPU")  # fmt: skip
+    assert v1.simd_class == "x86-64-avx" and v1.differences(v2) == [] and v1.digest() == v2.digest()
+    assert v1.differences(v2, "files") == ["numeric_class"] and v2.differences(v2, "files") == []
+    assert renderer_differences(v1, None) is None and renderer_differences(v1, v2) == []
+    no_avx = _fingerprint(cpu_flags="fpu sse2 ssse3")
+    newer_numpy = v2.model_copy(update={"versions": {**v1.versions, "numpy": "9.9"}})
+    other_blas = v2.model_copy(update={"numeric_class": "numpy X86_V3; OpenBLAS Zen"})
+    assert v2.differences(no_avx) == ["cpu_class"] and v2.differences(newer_numpy) == ["versions.numpy"]
+    assert v2.differences(other_blas) == [] and v2.differences(other_blas, "files") == ["numeric_class"]
+
+
+@pytest.mark.parametrize(
+    ("changes", "fragment"),
+    [
+        ({"fingerprint_version": 3}, "newer than this phav reads"),
+        ({"fingerprint_version": 2}, "needs cpu_class"),
+        ({"fingerprint_version": 2, "cpu_class": "x86-64-avx"}, "needs numeric_class"),
+        ({"cpu_flags": None}, "needs cpu_flags"),
+    ],
+)
+def test_a_fingerprint_needs_the_fields_of_its_version(tmp_path: Path, changes: dict[str, Any], fragment: str) -> None:
+    data = _manifest_data()
+    data["renderer"] = {**data["renderer"], **changes}
+    error = _load_error(tmp_path, data)
+    assert error.field == "renderer" and fragment in str(error)
 
 
 @pytest.mark.parametrize(

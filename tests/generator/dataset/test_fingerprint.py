@@ -1,4 +1,5 @@
-"""The versions a manifest records: phav's own even when it runs from a source checkout."""
+"""What a manifest's fingerprint records: phav's version even when it runs from a source checkout,
+the CPU's model and SIMD class."""
 
 from __future__ import annotations
 
@@ -29,9 +30,11 @@ def test_a_missing_pyproject_leaves_phav_unknown(monkeypatch, tmp_path):
     assert package_version("phav") == "unknown"
 
 
-def test_the_fingerprint_records_the_first_processors_model_and_sorted_flags(monkeypatch):
-    fields = {"model name": "AMD EPYC", "flags": "sse2 avx512_bf16 fpu"}
-    monkeypatch.setattr(fingerprint, "cpu_fields", lambda: fields)
-    assert fingerprint._cpu() == ("AMD EPYC", "avx512_bf16 fpu sse2")
+def test_the_fingerprint_records_the_first_processors_model_and_simd_class(monkeypatch):
+    monkeypatch.setattr(fingerprint.platform, "machine", lambda: "x86_64")
+    monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"model name": "AMD EPYC", "flags": "sse2 avx avx512_bf16"})
+    assert fingerprint._cpu() == ("AMD EPYC", "x86-64-avx")
+    monkeypatch.setattr(fingerprint.platform, "machine", lambda: "aarch64")
     monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"Features": "neon fp"})  # ARM names its flags so
-    assert fingerprint._cpu() == (fingerprint.platform.processor() or fingerprint.platform.machine(), "fp neon")
+    model = fingerprint.platform.processor() or "aarch64"
+    assert fingerprint._cpu() == (model, f"aarch64: {model}")  # not measured: its model decides
