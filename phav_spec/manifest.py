@@ -73,7 +73,7 @@ class RendererFingerprint(BaseModel):
 
     Version 1 recorded the CPU's model name and whole flag list and compared them too; it
     still loads, compares its pixels by today's rule through the class its flags give, and
-    its files as unknown (it has no numeric class)."""
+    its files by its flags (equal only to a version 1 fingerprint of the same flags)."""
 
     model_config = _CONFIG
 
@@ -120,9 +120,8 @@ class RendererFingerprint(BaseModel):
         fields = {"gl_vendor": self.gl_vendor, "gl_renderer": self.gl_renderer, "gl_version": self.gl_version,
                   "cpu_class": self.simd_class}  # fmt: skip
         fields |= {f"versions.{k}": v for k, v in sorted(self.versions.items())}
-        if scope == "files":  # version 1 did not record it: never equal to anything
-            unknown = f"not recorded (fingerprint version {self.fingerprint_version})"
-            fields["numeric_class"] = self.numeric_class or unknown
+        if scope == "files":  # version 1 has no numerics: its CPU's flags (the old rule) stand in
+            fields["numeric_class"] = self.numeric_class or f"CPU flags {self.cpu_flags}"
         return fields
 
     def differences(self, other: RendererFingerprint, scope: Scope = "pixels") -> list[str]:

