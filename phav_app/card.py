@@ -12,13 +12,16 @@ from __future__ import annotations
 import itertools
 import logging
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import yaml
 
 from phav_spec.expectations import duration_cdf
+from phav_spec.metadata import CAMERA_COLUMNS, PEOPLE_COLUMNS, MetaColumn
 from phav_spec.release import PHAV_CITATION
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.report import histogram_svg
@@ -135,14 +138,61 @@ def _bytes(n: int) -> str:
     raise AssertionError
 
 
+def _hf_dtype(arrow_type: str) -> dict[str, Any]:
+    """A metadata column's Arrow type (``phav_spec.metadata``) as a Hugging Face feature:
+    ``{"dtype": "float64"}``, ``{"list": "float64"}``, ``{"list": {"list": "float64"}}``."""
+    if arrow_type.startswith("list<"):
+        inner = arrow_type[len("list<") : arrow_type.rindex(">")]
+        item = _hf_dtype(inner)
+        return {"list": item.get("dtype", item)}
+    return {"dtype": arrow_type}
+
+
+def _hf_struct(columns: Sequence[MetaColumn]) -> list[dict[str, Any]]:
+    return [{"name": c.name, **_hf_dtype(c.arrow_type)} for c in sorted(columns, key=lambda c: c.name)]
+
+
+def hf_front_matter(manifest: DatasetManifest, index: ReleaseIndex) -> dict[str, Any]:
+    """The dataset card's YAML for Hugging Face ``datasets``: ``load_dataset(DIR)`` reads the
+    frames from the shards with declared features, so that flow (16-bit RGB, which PIL cannot
+    hold) arrives as its PNG's bytes and every other modality as an exact image; a
+    recipe-only release reads its recipes table. ``datasets`` serves every config of a card
+    with one loader, so the metadata tables are not configs here (docs/loading.md)."""
+    if index.recipes_only:
+        return {"license": index.license.lower(),
+                "configs": [{"config_name": "recipes", "default": True,
+                             "data_files": [{"split": "train", "path": "recipes.parquet"}]}]}  # fmt: skip
+    frame = [{"name": "camera", "struct": _hf_struct(CAMERA_COLUMNS)},
+             {"name": "metadata_version", "dtype": "int64"},
+             {"name": "people", "list": _hf_struct(PEOPLE_COLUMNS)}]  # fmt: skip
+    features: list[dict[str, Any]] = [
+        {"name": m.key, "dtype": "binary" if _pil_cannot_hold(m) else "image"} for m in manifest.modalities
+    ]
+    features += [{"name": "json", "struct": frame}, {"name": "__key__", "dtype": "string"},
+                 {"name": "__url__", "dtype": "string"}]  # fmt: skip
+    return {
+        "license": index.license.lower(),
+        "configs": [{"config_name": "frames", "default": True,
+                     "data_files": [{"split": "train", "path": f"{manifest.name}-*.tar"}]}],
+        "dataset_info": [{"config_name": "frames", "features": features}],
+    }  # fmt: skip
+
+
 def dataset_card(
     manifest: DatasetManifest, recipes: RecipeFit, theta: Theta, index: ReleaseIndex, figures: list[str]
 ) -> str:
-    """The release's README.md: what the data is, how to get and check its pixels, statistics,
-    histograms against θ, the θ itself, the files with their hashes, and how to cite."""
+    """The release's README.md: the Hugging Face card's YAML, then what the data is, how to
+    load it, get and check its pixels, statistics, histograms against θ, the θ itself, the
+    files with their hashes, and how to cite."""
+    front = yaml.safe_dump(hf_front_matter(manifest, index), sort_keys=False, allow_unicode=True)
     lines = [
+        "---",
+        front.rstrip("\n"),
+        "---",
+        "",
         *_card_summary(manifest, theta, index),
         *(_card_recipe_only(index) if index.recipes_only else _card_check()),
+        *([] if index.recipes_only else _card_loading(manifest)),
         *_card_modalities(manifest),
         *_card_statistics(manifest, recipes, index, figures),
         *_card_renderer(manifest),
@@ -198,6 +248,30 @@ def _card_check() -> list[str]:
     """How to check a full release."""
     return ["Check it: `phav-validate .` (integrity, encoding, distribution, failure cases, consistency, "
             "reproducibility).", ""]  # fmt: skip
+
+
+def _card_loading(manifest: DatasetManifest) -> list[str]:
+    """How to load the frames with Hugging Face ``datasets``, flow exact."""
+    tables = ", ".join(f"`{t}.parquet`" for t in ("recipes", "people", "cameras"))
+    return [
+        "## Loading",
+        "",
+        "Flow is a 16-bit RGB PNG, which PIL (and so `datasets`' image decoding) cannot hold: the card declares "
+        "`flow.png` as bytes; decode them with OpenCV. The other modalities arrive as exact images (depth as "
+        "16-bit `I;16`).",
+        "",
+        "```python",
+        "import cv2, numpy as np",
+        "from datasets import load_dataset",
+        'frames = load_dataset(".", split="train")        # this directory, or the Hub repository',
+        'flow = cv2.imdecode(np.frombuffer(frames[0]["flow.png"], np.uint8), cv2.IMREAD_UNCHANGED)[..., ::-1]',
+        'people = load_dataset("parquet", data_files="people.parquet", split="train")',
+        "```",
+        "",
+        f"The tables ({tables}) load as `people` does. `phav_spec.webdataset.phav_decoder` reads the shards "
+        "with `webdataset`, every modality exact.",
+        "",
+    ]
 
 
 def _card_modalities(manifest: DatasetManifest) -> list[str]:
@@ -320,10 +394,17 @@ def _fields(record_set: str, file_id: str, columns: dict[str, str]) -> list[dict
             for col, kind in columns.items()]  # fmt: skip
 
 
+def _pil_cannot_hold(m: ModalityEncoding) -> bool:
+    """16-bit RGB (flow): PIL, which Croissant and Hugging Face loaders decode images with,
+    reduces it to 8 bits; such a modality is served as its PNG's bytes."""
+    return m.dtype == "uint16" and m.channels == 3
+
+
 def _modality_note(m: ModalityEncoding) -> str:
-    """The modality's description, warning where PIL (Croissant loaders' decoder) loses bits."""
-    if m.dtype == "uint16" and m.channels == 3:
-        return f"{m.description}. 16-bit RGB PNG: PIL reduces it to 8 bits; decode the bytes with OpenCV"
+    """The modality's description, and how to decode it where PIL would lose bits."""
+    if _pil_cannot_hold(m):
+        return (f"{m.description}. The field holds the 16-bit RGB PNG's bytes (PIL would reduce it to 8 bits): "
+                "decode them with cv2.imdecode(..., cv2.IMREAD_UNCHANGED), channels in BGR order")  # fmt: skip
     return m.description
 
 
@@ -359,7 +440,8 @@ def croissant(manifest: DatasetManifest, table: RecipeTable, index: ReleaseIndex
             record_sets.append({
                 "@type": "cr:RecordSet", "@id": m.name, "name": m.name, "description": _modality_note(m),
                 "field": [
-                    {"@type": "cr:Field", "@id": f"{m.name}/image", "name": "image", "dataType": "sc:ImageObject",
+                    {"@type": "cr:Field", "@id": f"{m.name}/image", "name": "image",
+                     "dataType": "sc:Text" if _pil_cannot_hold(m) else "sc:ImageObject",
                      "source": {"fileSet": {"@id": f"{m.name}-frames"}, "extract": {"fileProperty": "content"}}},
                     {"@type": "cr:Field", "@id": f"{m.name}/key", "name": "key", "dataType": "sc:Text",
                      "source": {"fileSet": {"@id": f"{m.name}-frames"}, "extract": {"fileProperty": "fullpath"},

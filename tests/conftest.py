@@ -38,6 +38,17 @@ settings.register_profile("dev", max_examples=200, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    """The data clients' caches in a folder of this run, set before any test imports them
+    (both read it at import): nothing comes from ~/.cache, and mlcroissant, which keys what
+    it unpacks by a file's contentUrl alone, never serves another run's shards."""
+    import tempfile
+
+    caches = Path(tempfile.mkdtemp(prefix="phav-test-caches-"))
+    os.environ.setdefault("CROISSANT_CACHE", str(caches / "croissant"))
+    os.environ.setdefault("HF_HOME", str(caches / "huggingface"))
+
+
 @pytest.fixture(scope="session")
 def small_theta() -> Theta:
     """phav-v1-tiny: phav-v1 with clips of 0.2 s (6 frames)."""

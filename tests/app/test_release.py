@@ -7,15 +7,18 @@ import json
 import shutil
 from pathlib import Path
 
+import numpy as np
+import pyarrow.parquet as pq
 import pytest
 
 from phav_app.card import check_croissant
 from phav_app.release import make_release
-from phav_spec.encoding import video_content_hash
+from phav_spec.encoding import modality, video_content_hash
 from phav_spec.errors import PhavUserError
 from phav_spec.files import file_sha256
 from phav_spec.manifest import dump_manifest, load_manifest
 from phav_spec.release import RELEASE_FILE, load_release_index
+from phav_spec.webdataset import decode_png, phav_decoder
 from tests.helpers import file_bytes, invoke_cli, run_cli, theta_variant, tiny, tree_bytes
 
 CARD_FILES = ("README.md", "croissant.json", RELEASE_FILE)
@@ -80,6 +83,52 @@ def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
     assert first["depth/key"] == b"v000000/00000" and first["depth/image"].size == (340, 256)
     rgb = list(itertools.islice(ds.records("rgb"), 3))
     assert [r["rgb/key"] for r in rgb] == [b"v000000/00000", b"v000000/00001", b"v000000/00002"]
+    written = _written_frames(dataset)
+    flows = list(mlc.Dataset(str(rel / "croissant.json")).records("flow"))  # a new Dataset: one pass each
+    assert len(flows) == len(written)
+    for r in flows:  # the PNG's bytes, as the description says: exact 16-bit flow
+        got = decode_png(r["flow/image"], modality("flow"))
+        assert np.array_equal(got, written[r["flow/key"].decode()]["flow.png"])
+    again = mlc.Dataset(str(rel / "croissant.json"))  # a record set of a tar reads once per Dataset
+    depth = {r["depth/key"].decode(): np.asarray(r["depth/image"]) for r in again.records("depth")}
+    assert all(np.array_equal(depth[k], written[k]["depth.png"]) for k in written)
+
+
+def _written_frames(dataset: Path) -> dict[str, dict]:
+    """Every frame of the dataset's shards as the writer's decoder reads it, by sample key."""
+    import webdataset as wds
+
+    urls = sorted(str(p) for p in dataset.glob("*.tar"))
+    return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}
+
+
+def test_a_full_release_loads_exactly_through_hugging_face_datasets(dataset, tmp_path):
+    """load_dataset(RELEASE_DIR) reads the card's frames config: flow as its PNG's bytes, the
+    other modalities as exact images, the metadata as the shards' JSON; the tables load
+    from their Parquet files, equal to them."""
+    datasets = pytest.importorskip("datasets")
+    rel = tmp_path / "full"
+    make_release(dataset, rel, date="2026-11-21")
+    frames = datasets.load_dataset(str(rel), split="train")
+    written = _written_frames(dataset)
+    assert sorted(frames["__key__"]) == sorted(written) and len(frames) == len(written)
+    for row in frames:
+        want = written[row["__key__"]]
+        flow = decode_png(row["flow.png"], modality("flow"))
+        assert flow.dtype == np.uint16 and np.array_equal(flow, want["flow.png"])
+        for key in ("rgb.png", "raw.png", "seg.png", "inst.png", "depth.png"):
+            assert np.array_equal(np.asarray(row[key]), want[key]), key
+        assert row["json"]["camera"] == want["json"]["camera"]
+        people = {p["person_id"]: p for p in row["json"]["people"]}
+        for p in want["json"]["people"]:
+            got = people[p["person_id"]]
+            assert all(got[k] == p[k] or _both_nan(got[k], p[k]) for k in p), p["person_id"]
+    people = datasets.load_dataset("parquet", data_files=str(rel / "people.parquet"), split="train")
+    assert people.to_pandas().equals(pq.read_table(rel / "people.parquet").to_pandas())
+
+
+def _both_nan(a, b) -> bool:
+    return np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float), equal_nan=True)
 
 
 def test_a_recipe_only_release_is_small_validates_and_says_how_to_rebuild(dataset, recipe_release):
