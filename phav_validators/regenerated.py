@@ -156,15 +156,19 @@ def validate_release(
     expected = plan.expected.renderer if plan.expected is not None else None
     made_by = RendererFingerprint.model_validate(marker["renderer"]) if marker.get("renderer") else None
     differs = renderer_differences(expected, made_by)
-    exact = differs == []
+    files_differ = renderer_differences(expected, made_by, "files")
     where = f"kept in {options.regenerate_into}" if options.regenerate_into is not None else "in a temporary directory"
-    basis = (
-        "equals the release's: every hash must match"
-        if exact
-        else "differs from the release's"
-        + (f" ({', '.join(differs)})" if differs else "")
-        + ": hash differences are warnings, pixels may differ in the last bits"
-    )
+    if files_differ == []:
+        basis, lenient = "equals the release's: every hash must match", ()
+    elif differs == []:
+        numerics = ", ".join(k for k in files_differ or [] if k not in differs)
+        basis = (f"equals the release's for pixels (every content hash must match); {numerics} differ, so shard "
+                 "bytes may differ in the metadata's last bits (warnings)")  # fmt: skip
+        lenient = (Reason.SHARD_BYTES_CHANGED,)
+    else:
+        basis = ("differs from the release's" + (f" ({', '.join(differs)})" if differs else "")
+                 + ": hash differences are warnings, pixels may differ in the last bits")  # fmt: skip
+        lenient = _RENDERER_DEPENDENT
     verb = "reused" if reused else "regenerated"
     note = f"{verb} {len(chosen)} of {len(plan.shards)} shards from the release's recipes ({where}); "
     note += f"the renderer that made them {basis}"
@@ -172,8 +176,8 @@ def validate_release(
         if check.name != "integrity":
             continue
         check.report.notes.append(note)
-        if not exact:
-            check.report.findings = [dataclasses.replace(f, severity="warn") if f.reason in _RENDERER_DEPENDENT
+        if lenient:
+            check.report.findings = [dataclasses.replace(f, severity="warn") if f.reason in lenient
                                      else f for f in check.report.findings]  # fmt: skip
             check.status = type(check).from_report(check.name, check.report, check.summary, check.numbers).status
     return report

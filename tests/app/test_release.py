@@ -13,6 +13,7 @@ import pytest
 
 from phav_app.card import check_croissant
 from phav_app.release import make_release
+from phav_generator.dataset import fingerprint
 from phav_spec.encoding import modality, video_content_hash
 from phav_spec.errors import PhavUserError
 from phav_spec.files import file_sha256
@@ -252,6 +253,21 @@ def test_phav_validate_regenerates_a_recipe_only_release(recipe_release, local_v
     again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(px))
     assert any("reused 2 of 2 shards" in n for n in again["integrity"]["notes"])
     assert again["integrity"]["status"] == "pass"
+
+
+def test_a_recipe_only_release_regenerated_with_other_numerics_passes_on_its_pixels(recipe_release, tmp_path):
+    """OpenBLAS on another CPU's kernels stands in for a machine of the same SIMD class with
+    other numerics: every content hash must match and does; shard bytes whose metadata floats
+    differ are warnings, and the note names the numerics."""
+    other = "Sandybridge" if fingerprint._openblas_core() == "Haswell" else "Haswell"
+    out = tmp_path / "report.json"
+    result = run_cli("validate!", str(recipe_release), "--json", str(out), "--checks", "integrity",
+                     env={"OPENBLAS_CORETYPE": other})  # fmt: skip
+    assert result.returncode == 0, result.stdout
+    integrity = json.loads(out.read_text(encoding="utf-8"))["datasets"][0]["checks"][0]
+    assert integrity["numbers"]["hashed"] == 3 and integrity["status"] in ("pass", "warn")
+    assert any("equals the release's for pixels" in n and "numeric_class" in n for n in integrity["notes"])
+    assert all(f["severity"] == "warn" and f["reason"] == "SHARD_BYTES_CHANGED" for f in integrity["findings"])
 
 
 def test_recipe_checks_of_a_recipe_only_release_need_no_pixels(recipe_release, tmp_path):
