@@ -4,6 +4,7 @@ rebuilding a recipe-only release with `phav regenerate` and `phav-validate` (iss
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from pathlib import Path
 
@@ -93,6 +94,23 @@ def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
     again = mlc.Dataset(str(rel / "croissant.json"))  # a record set of a tar reads once per Dataset
     depth = {r["depth/key"].decode(): np.asarray(r["depth/image"]) for r in again.records("depth")}
     assert all(np.array_equal(depth[k], written[k]["depth.png"]) for k in written)
+
+
+def test_the_readme_loading_snippets_run_and_read_exact_flow(dataset, tmp_path, monkeypatch):
+    """Each client's snippet in the README's "Loading" section, run as written against a
+    release named ``rel``: its flow is one of the writer's frames, bit for bit."""
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("### Loading", 1)[1].split("\n### ", 1)[0]
+    blocks = re.findall(r"```python\n(.*?)```", section, re.S)
+    assert len(blocks) == 3
+    make_release(dataset, tmp_path / "rel", date="2026-11-21")
+    monkeypatch.chdir(tmp_path)
+    written = _written_frames(dataset)
+    for code in blocks:
+        namespace: dict = {}
+        exec(compile(code, "README.md", "exec"), namespace)
+        flow = namespace["flow"]
+        assert flow.dtype == np.uint16 and any(np.array_equal(flow, w["flow.png"]) for w in written.values())
 
 
 def _written_frames(dataset: Path) -> dict[str, dict]:
