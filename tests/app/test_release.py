@@ -98,11 +98,12 @@ def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
 
 def test_the_readme_loading_snippets_run_and_read_exact_flow(dataset, tmp_path, monkeypatch):
     """Each client's snippet in the README's "Loading" section, run as written against a
-    release named ``rel``: its flow is one of the writer's frames, bit for bit."""
+    release named ``rel``: its flow is one of the writer's frames, bit for bit (the PyTorch
+    one's, decoded to pixels, its last batch's)."""
     readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
     section = readme.split("### Loading", 1)[1].split("\n### ", 1)[0]
     blocks = re.findall(r"```python\n(.*?)```", section, re.S)
-    assert len(blocks) == 3
+    assert len(blocks) == 4
     make_release(dataset, tmp_path / "rel", date="2026-11-21")
     monkeypatch.chdir(tmp_path)
     written = _written_frames(dataset)
@@ -110,6 +111,9 @@ def test_the_readme_loading_snippets_run_and_read_exact_flow(dataset, tmp_path, 
         namespace: dict = {}
         exec(compile(code, "README.md", "exec"), namespace)
         flow = namespace["flow"]
+        if "PhavClips" in code:  # a batch of clips: TSN frames at the asked size, (u, v) pixels
+            assert tuple(flow.shape[1:]) == (3, 128, 170, 2) and len(namespace["label"]) == flow.shape[0]
+            continue
         assert flow.dtype == np.uint16 and any(np.array_equal(flow, w["flow.png"]) for w in written.values())
 
 

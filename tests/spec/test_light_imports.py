@@ -11,7 +11,7 @@ def test_spec_modules_import_light():
         "import sys\n"
         "import phav_spec.vocab, phav_spec.scene, phav_spec.motions, phav_spec.distributions, phav_spec.theta\n"
         "import phav_spec.recipe, phav_spec.expectations, phav_spec.encoding, phav_spec.manifest\n"
-        "import phav_spec.recipe_table\n"
+        "import phav_spec.recipe_table, phav_spec.clips\n"
         "print(' '.join(sorted({m.split('.')[0] for m in sys.modules})))\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()

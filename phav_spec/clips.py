@@ -1,0 +1,183 @@
+"""Clips out of a PHAV dataset's shards, by video: chosen modalities and frames, decoded
+exactly, optionally resized — random access without unpacking anything.
+
+``ClipReader(root)`` reads a dataset directory's manifest and recipes table and indexes each
+shard's members once (tar headers only: where each frame's PNGs and JSON lie in the file);
+``read(video_id, frames, modalities, size)`` then seeks straight to them. Frames come back as
+arrays (T, H, W, C); flow as (u, v) float32 pixels of the returned size with 0 where invalid
+(``valid`` says where); depth as float32 metres (inf for sky); labels are the recipe's action
+index in ``phav_spec.vocab.ACTIONS``. ``tsn_frames`` picks the frames of TSN's segments.
+``phav_spec.torchdata`` streams clips to a PyTorch ``DataLoader``.
+
+OpenCV and pyarrow are imported on first use (phav_spec imports light, DESIGN.md).
+"""
+
+from __future__ import annotations
+
+import json
+import tarfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from phav_spec.encoding import decode_depth, decode_flow, modality
+from phav_spec.errors import PhavUserError
+from phav_spec.manifest import load_manifest
+from phav_spec.vocab import ACTIONS
+from phav_spec.webdataset import decode_png
+
+__all__ = ["CLIP_MODALITIES", "ClipReader", "tsn_frames"]
+
+#: What a clip can carry: the six image modalities and the frame's people metadata rows.
+CLIP_MODALITIES = ("rgb", "raw_rgb", "semantic", "instance", "depth", "flow", "people")
+#: Label images are resized by nearest neighbour (a class colour is never averaged).
+_NEAREST = ("semantic", "instance", "depth")
+
+
+@dataclass(frozen=True)
+class _Member:
+    shard: Path
+    offset: int
+    size: int
+
+
+def tsn_frames(n_frames: int, segments: int, rng: np.random.Generator | None = None) -> list[int]:
+    """TSN's sampling: the clip cut into ``segments`` equal spans, one frame from each — at a
+    random place in its span with ``rng`` (training), at its centre without (testing)."""
+    if n_frames < 1 or segments < 1:
+        raise ValueError(f"need frames and segments, got {n_frames} frames and {segments} segments")
+    edges = np.linspace(0.0, n_frames, segments + 1)
+    if rng is None:
+        picks = (edges[:-1] + edges[1:]) / 2
+    else:
+        picks = edges[:-1] + rng.random(segments) * (edges[1:] - edges[:-1])
+    return [min(int(p), n_frames - 1) for p in picks]
+
+
+def _index_shard(path: Path) -> dict[tuple[str, int, str], _Member]:
+    """(video id, frame, member key) → where the member's bytes lie in the tar."""
+    out: dict[tuple[str, int, str], _Member] = {}
+    try:
+        with tarfile.open(path, "r:") as tar:
+            for info in tar:
+                name = info.name
+                if not info.isfile() or "/" not in name:
+                    continue
+                vid, rest = name.split("/", 1)
+                frame, _, key = rest.partition(".")
+                if frame.isdigit():
+                    out[(vid, int(frame), key)] = _Member(path, info.offset_data, info.size)
+    except (tarfile.TarError, OSError) as e:
+        raise PhavUserError(f"not a readable shard ({e}); run phav-validate", source=str(path)) from None
+    return out
+
+
+def _resize_flow(flow: np.ndarray, valid: np.ndarray, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Flow (T, H, W, 2) in pixels and its validity at ``size`` (width, height): vectors
+    area-averaged and scaled with the image, validity by nearest neighbour."""
+    import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when frames are decoded
+
+    h, w = flow.shape[1:3]
+    out = np.stack([cv2.resize(x, size, interpolation=cv2.INTER_AREA) for x in flow])
+    out[..., 0] *= size[0] / w
+    out[..., 1] *= size[1] / h
+    kept = np.stack([cv2.resize(v.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) for v in valid])
+    return out, kept.astype(bool)
+
+
+class ClipReader:
+    """Random access to a dataset directory's clips (``read``), its videos' frame counts and
+    labels. Safe to use from several processes (each opens the shards itself)."""
+
+    def __init__(self, root: str | Path):
+        from phav_spec.recipe_table import read_recipe_table
+
+        self.root = Path(root)
+        manifest_path = self.root / "manifest.json"
+        if not manifest_path.exists():
+            raise PhavUserError("not a PHAV dataset directory (no manifest.json)", source=str(self.root))
+        self.manifest = load_manifest(manifest_path)
+        table = read_recipe_table(self.root / "recipes.parquet")
+        actions = {name: i for i, name in enumerate(ACTIONS.names)}
+        self.labels: dict[str, int] = {}
+        for vid, action in zip(table.column("video_id"), table.column("action"), strict=True):
+            if action not in actions:
+                raise PhavUserError(f"video {vid}: unknown action {action!r}", source=str(table.path), field="action")
+            self.labels[vid] = actions[action]
+        self.n_frames = {v.video_id: v.n_frames for v in self.manifest.videos}
+        self._members: dict[tuple[str, int, str], _Member] = {}
+        for shard in self.manifest.shards:
+            self._members.update(_index_shard(self.root / shard.name))
+
+    @property
+    def video_ids(self) -> list[str]:
+        """Every video with a recipe, in manifest order."""
+        return [v.video_id for v in self.manifest.videos if v.video_id in self.labels]
+
+    def _bytes(self, vid: str, frame: int, key: str) -> bytes:
+        member = self._members.get((vid, frame, key))
+        if member is None:
+            raise PhavUserError(f"video {vid} frame {frame}: no {key} member", source=str(self.root))
+        with open(member.shard, "rb") as fh:
+            fh.seek(member.offset)
+            data = fh.read(member.size)
+        if len(data) != member.size:
+            raise PhavUserError(f"{vid}/{frame:05d}.{key}: the shard ends early", source=str(member.shard))
+        return data
+
+    def read(
+        self,
+        video_id: str,
+        frames: Sequence[int] | None = None,
+        modalities: Sequence[str] = ("rgb", "flow"),
+        size: tuple[int, int] | None = None,
+    ) -> dict[str, Any]:
+        """One clip: per modality an array over ``frames`` (all when None) at ``size``
+        (width, height; None keeps 340×256), plus ``label``, ``video_id`` and ``frames``.
+
+        Image modalities are (T, H, W, 3) uint8; ``depth`` (T, H, W) float32 metres (inf:
+        sky); ``flow`` (T, H, W, 2) float32 pixels of the returned size, 0 where invalid,
+        with ``flow_valid`` (T, H, W) bool; ``people`` a list (per frame) of the frame's
+        metadata rows."""
+        import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when frames are decoded
+
+        unknown = [m for m in modalities if m not in CLIP_MODALITIES]
+        if unknown:
+            raise PhavUserError(f"unknown modalities {unknown}; choose from {', '.join(CLIP_MODALITIES)}",
+                                field="modalities")  # fmt: skip
+        if video_id not in self.labels:
+            raise PhavUserError(f"no video {video_id!r} with a recipe", source=str(self.root))
+        order = list(range(self.n_frames[video_id])) if frames is None else [int(f) for f in frames]
+        out: dict[str, Any] = {"video_id": video_id, "label": self.labels[video_id], "frames": order}
+        for name in modalities:
+            if name == "people":
+                out["people"] = [json.loads(self._bytes(video_id, f, "json"))["people"] for f in order]
+                continue
+            enc = modality(name)
+            arrays = []
+            for f in order:
+                source = f"{self.root}: {video_id}/{f:05d}.{enc.key}"
+                try:
+                    arrays.append(decode_png(self._bytes(video_id, f, enc.key), enc, source=source))
+                except ValueError as e:
+                    raise PhavUserError(str(e)) from None
+            stack = np.stack(arrays)
+            try:
+                if name == "flow":
+                    decoded = [decode_flow(code) for code in stack]
+                    flow = np.nan_to_num(np.stack([d[0] for d in decoded]), nan=0.0)
+                    valid = np.stack([d[1] for d in decoded])
+                    if size is not None:
+                        flow, valid = _resize_flow(flow, valid, size)
+                    out["flow"], out["flow_valid"] = flow, valid
+                    continue
+                if size is not None:
+                    mode = cv2.INTER_NEAREST if name in _NEAREST else cv2.INTER_AREA
+                    stack = np.stack([cv2.resize(x, size, interpolation=mode) for x in stack])
+                out[name] = decode_depth(stack) if name == "depth" else stack
+            except ValueError as e:
+                raise PhavUserError(f"video {video_id}: {e}", source=str(self.root)) from None
+        return out

@@ -1,0 +1,132 @@
+"""A PHAV dataset's clips for a PyTorch ``DataLoader``: ``PhavClips`` streams them from the
+shards, in a seeded order that is the same on every run and whatever the number of workers,
+each clip exactly once per epoch, and resumable.
+
+    from torch.utils.data import DataLoader
+    from phav_spec.torchdata import PhavClips, collate
+
+    clips = PhavClips("data", modalities=("rgb", "flow"), segments=3, size=(170, 128), batch_size=8)
+    loader = DataLoader(clips, batch_size=8, num_workers=2, collate_fn=collate)
+    for epoch in range(10):
+        clips.set_epoch(epoch)
+        for batch in loader:
+            batch["rgb"], batch["flow"], batch["label"]   # (8, 3, 128, 170, 3) uint8, (8, 3, 128, 170, 2), (8,)
+
+The order of an epoch is a permutation of the videos drawn from (seed, epoch); worker w of W
+reads the batches w, w + W, … of it, so the loader's batches come in exactly that order.
+After n clips, ``state_dict(n)`` saved and later ``load_state_dict`` on a fresh
+``PhavClips`` continue with clip n + 1. Needs torch (``pip install 'phav[train]'``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+from torch.utils.data import IterableDataset, get_worker_info
+
+from phav_spec.clips import ClipReader, tsn_frames
+from phav_spec.errors import PhavUserError
+
+__all__ = ["PhavClips", "collate"]
+
+
+class PhavClips(IterableDataset):
+    """Clips of the dataset directory ``root`` (or of its ``videos``): ``modalities`` as
+    ``phav_spec.clips.ClipReader.read`` gives them, as tensors; ``segments`` frames by TSN's
+    sampling (random in each span when ``train``, central otherwise), or every frame when
+    None; frames at ``size`` (width, height) or 340×256. ``batch_size`` must be the
+    ``DataLoader``'s: it decides which worker reads which clips."""
+
+    def __init__(
+        self,
+        root: str | Path,
+        *,
+        modalities: Sequence[str] = ("rgb", "flow"),
+        segments: int | None = 3,
+        size: tuple[int, int] | None = None,
+        videos: Sequence[str] | None = None,
+        batch_size: int = 1,
+        shuffle: bool = True,
+        train: bool = True,
+        seed: int = 0,
+    ):
+        super().__init__()
+        self.reader = ClipReader(root)
+        known = set(self.reader.video_ids)
+        chosen = sorted(known if videos is None else set(videos))
+        missing = [v for v in chosen if v not in known]
+        if missing:
+            raise PhavUserError(f"videos not in the dataset: {missing[:5]}", source=str(root), field="videos")
+        if batch_size < 1 or (segments is not None and segments < 1):
+            raise PhavUserError(f"batch_size and segments must be positive, got {batch_size}, {segments}")
+        self.videos = chosen
+        self.modalities = tuple(modalities)
+        self.segments, self.size, self.batch_size = segments, size, batch_size
+        self.shuffle, self.train, self.seed = shuffle, train, seed
+        self.epoch = 0
+        self._skip = 0  # clips of this epoch already consumed (a resumed run)
+
+    def __len__(self) -> int:
+        return len(self.videos)
+
+    def set_epoch(self, epoch: int) -> None:
+        """Start ``epoch``: its order, and its frames when training."""
+        self.epoch, self._skip = epoch, 0
+
+    def order(self, epoch: int | None = None) -> list[str]:
+        """The epoch's videos in the order the loader yields them."""
+        epoch = self.epoch if epoch is None else epoch
+        if not self.shuffle:
+            return list(self.videos)
+        rng = np.random.default_rng([self.seed, epoch])
+        return [self.videos[i] for i in rng.permutation(len(self.videos))]
+
+    def state_dict(self, consumed: int) -> dict[str, int]:
+        """What resumes after ``consumed`` clips of the current epoch."""
+        return {"epoch": self.epoch, "consumed": self._skip + consumed}
+
+    def load_state_dict(self, state: dict[str, int]) -> None:
+        """Continue where ``state_dict`` was taken."""
+        self.epoch, self._skip = int(state["epoch"]), int(state["consumed"])
+
+    def __iter__(self):
+        info = get_worker_info()
+        worker, workers = (info.id, info.num_workers) if info is not None else (0, 1)
+        order = self.order()
+        for start in range(self._skip + worker * self.batch_size, len(order), workers * self.batch_size):
+            for position in range(start, min(start + self.batch_size, len(order))):
+                yield self._clip(order[position], position)
+
+    def _clip(self, video_id: str, position: int) -> dict[str, Any]:
+        n = self.reader.n_frames[video_id]
+        frames = None
+        if self.segments is not None:
+            # Seeded by the clip's place in the epoch: the same frames whatever the workers.
+            rng = np.random.default_rng([self.seed, self.epoch, position]) if self.train else None
+            frames = tsn_frames(n, self.segments, rng)
+        clip = self.reader.read(video_id, frames, self.modalities, self.size)
+        out: dict[str, Any] = {"video_id": video_id, "label": clip["label"], "frames": torch.tensor(clip["frames"])}
+        for key, value in clip.items():
+            if isinstance(value, np.ndarray):
+                out[key] = torch.from_numpy(np.ascontiguousarray(value))
+            elif key == "people":
+                out[key] = value
+        return out
+
+
+def collate(clips: list[dict[str, Any]]) -> dict[str, Any]:
+    """A batch: tensors stacked, labels as a tensor, video ids and people rows as lists."""
+    out: dict[str, Any] = {}
+    for key in clips[0]:
+        values = [c[key] for c in clips]
+        if isinstance(values[0], torch.Tensor):
+            out[key] = torch.stack(values)
+        elif key == "label":
+            out[key] = torch.tensor(values)
+        else:
+            out[key] = values
+    return out

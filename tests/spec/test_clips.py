@@ -1,0 +1,124 @@
+"""Clips read straight from a dataset's shards (phav_spec.clips) and streamed to a PyTorch
+DataLoader (phav_spec.torchdata): exact modalities, TSN frames, every clip once per epoch in
+a seeded order, and a resumed iterator that continues where it stopped."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from phav_spec.clips import ClipReader, tsn_frames
+from phav_spec.encoding import decode_depth, decode_flow
+from phav_spec.errors import PhavUserError
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.vocab import ACTIONS
+
+
+def _written(dataset) -> dict[str, dict]:
+    import webdataset as wds
+
+    from phav_spec.webdataset import phav_decoder
+
+    urls = sorted(str(p) for p in dataset.glob("*.tar"))
+    return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}
+
+
+IMAGES = (("rgb", "rgb.png"), ("raw_rgb", "raw.png"), ("semantic", "seg.png"), ("instance", "inst.png"))
+
+
+def test_a_clip_is_the_writers_frames_exactly(small_dataset):
+    reader = ClipReader(small_dataset)
+    written = _written(small_dataset)
+    table = read_recipe_table(small_dataset / "recipes.parquet")
+    actions = dict(zip(table.column("video_id"), table.column("action"), strict=True))
+    assert reader.video_ids == sorted(actions)
+    for vid in reader.video_ids:
+        clip = reader.read(vid, modalities=("rgb", "raw_rgb", "semantic", "instance", "depth", "flow", "people"))
+        assert clip["label"] == ACTIONS.names.index(actions[vid]) and clip["frames"] == list(range(6))
+        for i, f in enumerate(clip["frames"]):
+            w = written[f"{vid}/{f:05d}"]
+            for name, key in (
+                ("rgb", "rgb.png"),
+                ("raw_rgb", "raw.png"),
+                ("semantic", "seg.png"),
+                ("instance", "inst.png"),
+            ):
+                assert np.array_equal(clip[name][i], w[key]), name
+            assert np.array_equal(clip["depth"][i], decode_depth(w["depth.png"]))
+            flow, valid = decode_flow(w["flow.png"])
+            assert np.array_equal(clip["flow"][i], np.nan_to_num(flow, nan=0.0))
+            assert np.array_equal(clip["flow_valid"][i], valid)
+            assert clip["people"][i] == w["json"]["people"]
+
+
+def test_chosen_frames_at_a_smaller_size(small_dataset):
+    reader = ClipReader(small_dataset)
+    vid = reader.video_ids[0]
+    full = reader.read(vid, [1, 4], ("rgb", "flow", "semantic"))
+    small = reader.read(vid, [1, 4], ("rgb", "flow", "semantic"), size=(170, 128))
+    assert (
+        small["frames"] == [1, 4] and small["rgb"].shape == (2, 128, 170, 3) and small["flow"].shape == (2, 128, 170, 2)
+    )
+    # Vectors are in pixels of the returned size: half the frame, half the motion.
+    assert np.allclose(small["flow"].mean(axis=(1, 2)), full["flow"].mean(axis=(1, 2)) / 2, atol=0.05)
+    assert set(map(tuple, small["semantic"].reshape(-1, 3))) <= set(map(tuple, full["semantic"].reshape(-1, 3)))
+
+
+def test_tsn_frames_take_one_frame_per_segment():
+    assert tsn_frames(6, 3) == [1, 3, 5] and tsn_frames(2, 3) == [0, 1, 1]
+    for seed in range(20):
+        picks = tsn_frames(90, 3, np.random.default_rng(seed))
+        assert [p // 30 for p in picks] == [0, 1, 2]
+    assert tsn_frames(90, 3, np.random.default_rng(7)) == tsn_frames(90, 3, np.random.default_rng(7))
+    with pytest.raises(ValueError):
+        tsn_frames(0, 3)
+
+
+def test_bad_requests_are_one_line_errors(small_dataset, tmp_path):
+    reader = ClipReader(small_dataset)
+    with pytest.raises(PhavUserError, match="unknown modalities"):
+        reader.read(reader.video_ids[0], modalities=("rgb", "thermal"))
+    with pytest.raises(PhavUserError, match="no video 'v999999'"):
+        reader.read("v999999")
+    with pytest.raises(PhavUserError, match=r"no manifest\.json"):
+        ClipReader(tmp_path)
+
+
+def _epoch(clips, workers: int) -> list[tuple[str, list[int]]]:
+    from torch.utils.data import DataLoader
+
+    from phav_spec.torchdata import collate
+
+    loader = DataLoader(clips, batch_size=clips.batch_size, num_workers=workers, collate_fn=collate)
+    return [(vid, f.tolist()) for batch in loader for vid, f in zip(batch["video_id"], batch["frames"], strict=True)]
+
+
+def test_two_workers_yield_each_clip_once_in_the_seeded_order(small_dataset):
+    pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    clips = PhavClips(small_dataset, modalities=("rgb", "flow"), segments=3, size=(85, 64), batch_size=1, seed=5)
+    first = _epoch(clips, workers=2)
+    assert [v for v, _ in first] == clips.order() and sorted(v for v, _ in first) == clips.videos
+    assert first == _epoch(clips, workers=0)  # the same clips and frames whatever the workers
+    again = PhavClips(small_dataset, modalities=("rgb", "flow"), segments=3, size=(85, 64), batch_size=1, seed=5)
+    assert _epoch(again, workers=2) == first  # the same on every run
+    orders = set()
+    for epoch in range(6):
+        clips.set_epoch(epoch)
+        orders.add(tuple(clips.order()))
+        assert sorted(v for v, _ in _epoch(clips, workers=2)) == clips.videos
+    assert len(orders) > 1
+
+
+def test_a_resumed_iterator_continues_where_it_stopped(small_dataset):
+    pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    clips = PhavClips(small_dataset, modalities=("rgb",), segments=2, batch_size=1, seed=1)
+    clips.set_epoch(3)
+    whole = _epoch(clips, workers=0)
+    state = clips.state_dict(consumed=2)
+    fresh = PhavClips(small_dataset, modalities=("rgb",), segments=2, batch_size=1, seed=1)
+    fresh.load_state_dict(state)
+    assert _epoch(fresh, workers=2) == whole[2:]
