@@ -16,23 +16,29 @@ from __future__ import annotations
 
 import json
 import tarfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
-from phav_spec.encoding import decode_depth, decode_flow, modality
+from phav_spec.encoding import decode_depth, flow_pixels, modality
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import load_manifest
 from phav_spec.vocab import ACTIONS
 from phav_spec.webdataset import decode_png
 
+if TYPE_CHECKING:
+    from phav_spec.manifest import DatasetManifest
+
 __all__ = ["CLIP_MODALITIES", "ClipReader", "tsn_frames"]
 
 #: What a clip can carry: the six image modalities and the frame's people metadata rows.
 CLIP_MODALITIES = ("rgb", "raw_rgb", "semantic", "instance", "depth", "flow", "people")
+#: The largest member read (bytes): a 340×256 16-bit RGB PNG is at most ~0.6 MB; a hostile
+#: shard's huge member is refused unread.
+MAX_MEMBER_BYTES = 64 * 2**20
 #: Label images are resized by nearest neighbour (a class colour is never averaged).
 _NEAREST = ("semantic", "instance", "depth")
 
@@ -75,6 +81,20 @@ def _index_shard(path: Path) -> dict[tuple[str, int, str], _Member]:
     return out
 
 
+def _labels(path: Path) -> dict[str, int]:
+    """Each video's action index from a recipes table; an unknown action names the table."""
+    from phav_spec.recipe_table import read_recipe_table
+
+    table = read_recipe_table(path)
+    actions = {name: i for i, name in enumerate(ACTIONS.names)}
+    labels = {}
+    for vid, action in zip(table.column("video_id"), table.column("action"), strict=True):
+        if action not in actions:
+            raise PhavUserError(f"video {vid}: unknown action {action!r}", source=str(path), field="action")
+        labels[vid] = actions[action]
+    return labels
+
+
 def _resize_flow(flow: np.ndarray, valid: np.ndarray, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Flow (T, H, W, 2) in pixels and its validity at ``size`` (width, height): vectors
     area-averaged and scaled with the image, validity by nearest neighbour."""
@@ -90,27 +110,32 @@ def _resize_flow(flow: np.ndarray, valid: np.ndarray, size: tuple[int, int]) -> 
 
 class ClipReader:
     """Random access to a dataset directory's clips (``read``), its videos' frame counts and
-    labels. Safe to use from several processes (each opens the shards itself)."""
+    labels. Each shard is indexed when a clip of it is first read; a reader pickles without
+    its open files, so that ``DataLoader`` workers each open their own."""
 
-    def __init__(self, root: str | Path):
-        from phav_spec.recipe_table import read_recipe_table
-
+    def __init__(self, root: str | Path, *, manifest: DatasetManifest | None = None,
+                 labels: Mapping[str, int] | None = None):  # fmt: skip
         self.root = Path(root)
-        manifest_path = self.root / "manifest.json"
-        if not manifest_path.exists():
-            raise PhavUserError("not a PHAV dataset directory (no manifest.json)", source=str(self.root))
-        self.manifest = load_manifest(manifest_path)
-        table = read_recipe_table(self.root / "recipes.parquet")
-        actions = {name: i for i, name in enumerate(ACTIONS.names)}
-        self.labels: dict[str, int] = {}
-        for vid, action in zip(table.column("video_id"), table.column("action"), strict=True):
-            if action not in actions:
-                raise PhavUserError(f"video {vid}: unknown action {action!r}", source=str(table.path), field="action")
-            self.labels[vid] = actions[action]
-        self.n_frames = {v.video_id: v.n_frames for v in self.manifest.videos}
-        self._members: dict[tuple[str, int, str], _Member] = {}
-        for shard in self.manifest.shards:
-            self._members.update(_index_shard(self.root / shard.name))
+        if manifest is None:
+            manifest_path = self.root / "manifest.json"
+            if not manifest_path.exists():
+                raise PhavUserError("not a PHAV dataset directory (no manifest.json)", source=str(self.root))
+            manifest = load_manifest(manifest_path)
+        self.manifest = manifest
+        self.labels = dict(labels) if labels is not None else _labels(self.root / "recipes.parquet")
+        self.n_frames = {v.video_id: v.n_frames for v in manifest.videos}
+        self._shard_of = {v.video_id: self.root / v.shard for v in manifest.videos}
+        self._index: dict[Path, dict[tuple[str, int, str], _Member]] = {}
+        self._files: dict[Path, BinaryIO] = {}
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {**self.__dict__, "_files": {}}
+
+    def close(self) -> None:
+        """Close the shards this reader opened (it reopens them when read again)."""
+        for fh in self._files.values():
+            fh.close()
+        self._files = {}
 
     @property
     def video_ids(self) -> list[str]:
@@ -118,14 +143,23 @@ class ClipReader:
         return [v.video_id for v in self.manifest.videos if v.video_id in self.labels]
 
     def _bytes(self, vid: str, frame: int, key: str) -> bytes:
-        member = self._members.get((vid, frame, key))
+        shard = self._shard_of[vid]
+        if shard not in self._index:
+            self._index[shard] = _index_shard(shard)
+        member = self._index[shard].get((vid, frame, key))
         if member is None:
-            raise PhavUserError(f"video {vid} frame {frame}: no {key} member", source=str(self.root))
-        with open(member.shard, "rb") as fh:
-            fh.seek(member.offset)
-            data = fh.read(member.size)
+            raise PhavUserError(f"video {vid}: frames missing from the shard (frame {frame}'s {key}); run "
+                                "phav-validate", source=str(shard))  # fmt: skip
+        if member.size > MAX_MEMBER_BYTES:
+            raise PhavUserError(f"{vid}/{frame:05d}.{key}: {member.size} bytes, larger than any frame can be",
+                                source=str(shard))  # fmt: skip
+        if shard not in self._files:
+            self._files[shard] = open(shard, "rb")  # kept open across reads; close() and pickling drop it
+        fh = self._files[shard]
+        fh.seek(member.offset)
+        data = fh.read(member.size)
         if len(data) != member.size:
-            raise PhavUserError(f"{vid}/{frame:05d}.{key}: the shard ends early", source=str(member.shard))
+            raise PhavUserError(f"{vid}/{frame:05d}.{key}: the shard ends early", source=str(shard))
         return data
 
     def read(
@@ -167,9 +201,7 @@ class ClipReader:
             stack = np.stack(arrays)
             try:
                 if name == "flow":
-                    decoded = [decode_flow(code) for code in stack]
-                    flow = np.nan_to_num(np.stack([d[0] for d in decoded]), nan=0.0)
-                    valid = np.stack([d[1] for d in decoded])
+                    flow, valid = flow_pixels(stack)
                     if size is not None:
                         flow, valid = _resize_flow(flow, valid, size)
                     out["flow"], out["flow_valid"] = flow, valid

@@ -32,6 +32,7 @@ __all__ = [
     "decode_flow",
     "encode_depth",
     "encode_flow",
+    "flow_pixels",
     "instance_rgb",
     "modality",
     "video_content_hash",
@@ -198,6 +199,23 @@ def decode_flow(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     flow = (code[..., :2].astype(np.float64) - FLOW_OFFSET) / FLOW_SCALE
     flow[~valid] = np.nan
     return flow.astype(np.float32), valid
+
+
+def flow_pixels(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """KITTI codes (H, W, 3) uint16, RGB order → (flow, valid): (u, v) float32 pixels with 0
+    where invalid, and the validity. ``decode_flow``'s values without NaN, about three times
+    faster, which matters when a whole dataset is read for training.
+
+    Raises:
+        ValueError: a B channel value other than 0 or 1 (e.g. a BGR image).
+    """
+    valid = code[..., 2]
+    if valid.max(initial=0) > 1:
+        raise ValueError("flow B channel must be 0 or 1 (was it read in BGR order?)")
+    flow = code[..., :2].astype(np.float32)
+    flow -= FLOW_OFFSET
+    flow *= valid[..., None].astype(np.float32) / FLOW_SCALE
+    return flow, valid.astype(bool)
 
 
 def _frame(data: bytes) -> bytes:

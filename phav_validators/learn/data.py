@@ -1,5 +1,6 @@
-"""Clips for training: PHAV shards streamed from their tars, and real datasets in the
-UCF-101 and HMDB-51 folder layouts decoded with PyAV.
+"""Clips for training: PHAV's read from its shards by ``phav_spec.clips.ClipReader`` (the
+reader users have, so that the check and ``phav train`` see what a user's loader sees), and
+real datasets in the UCF-101 and HMDB-51 folder layouts decoded with PyAV.
 
 A clip is held in memory at the training resolution: RGB frames (uint8) and forward flow
 (float16, in pixels of the stored frame). PHAV's flow is its ground truth by default; any
@@ -23,16 +24,13 @@ from typing import TYPE_CHECKING
 import cv2
 import numpy as np
 
-from phav_spec.encoding import FLOW_OFFSET, FLOW_SCALE, modality
+from phav_spec.clips import ClipReader
 from phav_spec.errors import PhavUserError
-from phav_spec.manifest import load_manifest
+from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.vocab import ACTIONS
-from phav_spec.webdataset import decode_png
-from phav_validators.checks.tarsafe import TarScan, iter_members
 
 if TYPE_CHECKING:
-    from phav_spec.manifest import DatasetManifest
     from phav_spec.recipe_table import RecipeTable
 
 #: How flow is obtained: the dataset's ground truth, or estimated from the RGB frames.
@@ -163,64 +161,33 @@ def make_clip(
 
 @dataclass(frozen=True)
 class _ShardTask:
-    path: str
+    root: str
+    manifest: DatasetManifest
     videos: dict[str, tuple[int, dict[str, tuple[str, ...]]]]  # video id → (label, groups)
     size: tuple[int, int]
     flow: str
 
 
-_MEMBER = re.compile(r"^(v\d+)/(\d+)\.(rgb|flow)\.png$")
-
-
 def _load_shard(task: _ShardTask) -> list[Clip]:
-    """The clips of one shard, its RGB and flow members streamed (nothing unpacked)."""
-
+    """The clips of one shard (``phav_spec.clips.ClipReader``: members read in place). With
+    ground-truth flow both streams come resized by the reader; an estimated flow is computed
+    from the full-resolution frames first."""
     cv2.setNumThreads(1)
-    rgb_enc, flow_enc = modality("rgb"), modality("flow")
-    frames: dict[str, dict[int, np.ndarray]] = {v: {} for v in task.videos}
-    flows: dict[str, dict[int, np.ndarray]] = {v: {} for v in task.videos}
-    gt = task.flow == "gt"
-    kinds = {"rgb"} | ({"flow"} if gt else set())
-
-    def wanted(name: str) -> bool:
-        m = _MEMBER.match(name)
-        return m is not None and m.group(1) in task.videos and m.group(3) in kinds
-
-    for name, data in iter_members(task.path, TarScan(), only=wanted):
-        vid, frame, kind = _MEMBER.match(name).groups()  # type: ignore[union-attr]
-        source = f"{task.path}: {name}"
-        try:
-            if kind == "rgb":
-                frames[vid][int(frame)] = decode_png(data, rgb_enc, source=source)
-            else:
-                flows[vid][int(frame)] = kitti_flow(decode_png(data, flow_enc, source=source), source=source)
-        except ValueError as e:
-            raise PhavUserError(str(e)) from None
+    labels = {vid: label for vid, (label, _) in task.videos.items()}
+    reader = ClipReader(task.root, manifest=task.manifest, labels=labels)
     clips = []
-    for vid, (label, groups) in task.videos.items():
-        order = sorted(frames[vid])
-        if not order or order != list(range(len(order))):
-            raise PhavUserError(f"video {vid}: frames missing from the shard (run phav-validate)", source=task.path)
-        if gt and sorted(flows[vid]) != order:
-            raise PhavUserError(f"video {vid}: flow frames missing from the shard", source=task.path)
-        rgb = [frames[vid][i] for i in order]
-        flow = [flows[vid][i] for i in order] if gt else None
-        clips.append(make_clip(vid, label, "virtual", rgb, flow, size=task.size, flow=task.flow, groups=groups))
+    try:
+        for vid, (label, groups) in task.videos.items():
+            if task.flow == "gt":
+                c = reader.read(vid, None, ("rgb", "flow"), task.size)
+                clips.append(Clip(vid, label, "virtual", c["rgb"], c["flow"].astype(np.float16), groups))
+            else:
+                frames = list(reader.read(vid, None, ("rgb",))["rgb"])
+                clips.append(make_clip(vid, label, "virtual", frames, None, size=task.size, flow=task.flow,
+                                       groups=groups))  # fmt: skip
+    finally:
+        reader.close()
     return clips
-
-
-def kitti_flow(code: np.ndarray, *, source: str) -> np.ndarray:
-    """KITTI flow codes (H, W, 3) uint16, RGB order → (u, v) float32 pixels, 0 where invalid.
-
-    ``phav_spec.encoding.decode_flow`` in float32 and without NaN: the same values, read
-    about three times faster, which matters when a whole dataset is loaded for training."""
-    valid = code[..., 2]
-    if valid.max(initial=0) > 1:
-        raise ValueError(f"{source}: flow B channel must be 0 or 1 (was it read in BGR order?)")
-    flow = code[..., :2].astype(np.float32)
-    flow -= FLOW_OFFSET
-    flow *= valid[..., None].astype(np.float32) / FLOW_SCALE
-    return flow
 
 
 def load_phav(
@@ -257,7 +224,7 @@ def load_phav(
     for shard in manifest.shards:
         wanted = {v: info[v] for v in shard.video_ids if v in info and (chosen is None or v in chosen)}
         if wanted:
-            tasks.append(_ShardTask(str(root / shard.name), wanted, size, flow))
+            tasks.append(_ShardTask(str(root), manifest, wanted, size, flow))
     clips: list[Clip] = []
     if workers > 1 and len(tasks) > 1:
         mp = multiprocessing.get_context("spawn")

@@ -20,6 +20,7 @@ from phav_spec.encoding import (
     decode_flow,
     encode_depth,
     encode_flow,
+    flow_pixels,
     modality,
 )
 from phav_spec.strategies.frames import depth_codes, depth_maps_m, flow_codes, flow_fields
@@ -361,3 +362,15 @@ def test_content_hasher_streams_the_content_hash():
     short.add("00000", arrays["00000"])
     with pytest.raises(ValueError, match="1 array"):
         short.hexdigest()
+
+
+def test_flow_pixels_reads_what_decode_flow_reads_without_nan():
+    rng = np.random.Generator(np.random.PCG64(0))
+    u, v = rng.uniform(-600, 600, (2, 16, 24))
+    code = encode_flow(u, v, rng.random((16, 24)) > 0.2)
+    flow, valid = flow_pixels(code)
+    expected, expected_valid = decode_flow(code)
+    assert flow.dtype == np.float32 and np.array_equal(flow, np.nan_to_num(expected))
+    assert np.array_equal(valid, expected_valid)
+    with pytest.raises(ValueError, match="BGR"):
+        flow_pixels(np.ascontiguousarray(code[..., ::-1]))

@@ -237,19 +237,6 @@ def test_bad_split_names_the_option():
     assert e.value.field == "--split" and "actor+motion" in e.value.detail
 
 
-def test_kitti_flow_reads_what_the_spec_decoder_reads():
-    from phav_spec.encoding import decode_flow, encode_flow
-    from phav_validators.learn.data import kitti_flow
-
-    rng = np.random.Generator(np.random.PCG64(0))
-    u, v = rng.uniform(-600, 600, (2, 16, 24))
-    code = encode_flow(u, v, rng.random((16, 24)) > 0.2)
-    expected = np.nan_to_num(decode_flow(code)[0])
-    assert np.array_equal(kitti_flow(code, source="x"), expected)
-    with pytest.raises(ValueError, match="BGR"):
-        kitti_flow(np.ascontiguousarray(code[..., ::-1]), source="x")
-
-
 def test_flow_estimators_farneback_and_a_clear_error_without_tvl1():
     import cv2
 
