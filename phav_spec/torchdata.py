@@ -15,7 +15,9 @@ each clip exactly once per epoch, and resumable.
 The order of an epoch is a permutation of the videos drawn from (seed, epoch); worker w of W
 reads the batches w, w + W, … of it, so the loader's batches come in exactly that order.
 After n clips, ``state_dict(n)`` saved and later ``load_state_dict`` on a fresh
-``PhavClips`` continue with clip n + 1. Needs torch (``pip install 'phav[train]'``).
+``PhavClips`` continue with clip n + 1. ``videos=`` takes a split's ids, e.g. from
+``phav_validators.learn.splits.dataset_split`` (held-out performers, as the learnability
+check splits). Needs torch (``pip install 'phav[train]'``).
 """
 
 from __future__ import annotations

@@ -15,12 +15,31 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.recipe_table import read_recipe_table
 from phav_spec.seeding import seeded_rng
-from phav_validators.learn.data import Clip
+from phav_validators.learn.data import clip_groups
+
+
+class Grouped(Protocol):
+    """What a split reads of a clip: its key, label and groups (``data.Clip`` has them)."""
+
+    key: str
+    label: int
+    groups: dict[str, tuple[str, ...]]
+
+
+@dataclass(frozen=True)
+class _Video:
+    key: str
+    label: int
+    groups: dict[str, tuple[str, ...]]
+
 
 #: What a split may hold out: ``actor`` (human models: protagonists and supporting people)
 #: and ``motion`` (base and blended motions, chosen per action so every action keeps motions
@@ -62,7 +81,7 @@ def random_split(n: int, *, test_fraction: float = 0.2, seed: int) -> Split:
 
 
 def held_out_split(
-    clips: Sequence[Clip],
+    clips: Sequence[Grouped],
     hold: Sequence[str],
     *,
     test_fraction: float = 0.2,
@@ -119,7 +138,7 @@ def held_out_split(
                  mixed, seen_background, background_dropped)  # fmt: skip
 
 
-def _group(clip: Clip, kind: str) -> tuple[str, ...]:
+def _group(clip: Grouped, kind: str) -> tuple[str, ...]:
     try:
         return clip.groups[kind]
     except KeyError:
@@ -134,10 +153,22 @@ def check_split_kind(kind: str) -> None:
 
 
 def make_split(
-    clips: Sequence[Clip], kind: str, *, test_fraction: float = 0.2, seed: int, background: str = "keep"
+    clips: Sequence[Grouped], kind: str, *, test_fraction: float = 0.2, seed: int, background: str = "keep"
 ) -> Split:
     """``random``, ``actor``, ``motion`` or ``actor+motion``; ``background`` as ``held_out_split``'s."""
     check_split_kind(kind)
     if kind == "random":
         return random_split(len(clips), test_fraction=test_fraction, seed=seed)
     return held_out_split(clips, kind.split("+"), test_fraction=test_fraction, seed=seed, background=background)
+
+
+def dataset_split(
+    root: str | Path, kind: str = "actor", *, seed: int, test_fraction: float = 0.2, background: str = "keep"
+) -> tuple[list[str], list[str]]:
+    """The training and test video ids of a dataset directory's ``kind`` split, from its
+    recipes alone: the split ``phav train`` and the learnability check make for ``seed``
+    (e.g. to give ``phav_spec.torchdata.PhavClips`` its ``videos``)."""
+    videos = sorted((_Video(v, label, groups) for v, label, groups in clip_groups(read_recipe_table(
+        Path(root) / "recipes.parquet"))), key=lambda c: c.key)  # fmt: skip
+    split = make_split(videos, kind, test_fraction=test_fraction, seed=seed, background=background)
+    return [videos[i].key for i in split.train], [videos[i].key for i in split.test]

@@ -11,7 +11,7 @@ from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.vocab import ACTIONS
 from phav_validators.learn.data import Clip, decode_video, hmdb51_split, load_phav, load_real, ucf101_split
-from phav_validators.learn.splits import make_split
+from phav_validators.learn.splits import dataset_split, make_split
 from tests.helpers import invoke_cli
 from tests.validators.learn.helpers import (
     HMDB_CLASSES,
@@ -253,3 +253,18 @@ def test_flow_estimators_farneback_and_a_clear_error_without_tvl1():
             estimate_flow(frames, "tvl1")
     with pytest.raises(PhavUserError, match="farneback or tvl1"):
         estimate_flow(frames, "raft")
+
+
+def test_a_dataset_split_from_the_recipes_alone_is_the_checks_split(phav):
+    """dataset_split reads no pixels and gives the ids the check and phav train split into,
+    so that a user's PhavClips trains and tests on the same videos."""
+    clips = load_phav(phav, size=(17, 13)).clips
+    for kind in ("actor", "random"):
+        for seed in range(3):
+            split = make_split(clips, kind, seed=seed)
+            train, test = dataset_split(phav, kind, seed=seed)
+            assert train == [clips[i].key for i in split.train] and test == [clips[i].key for i in split.test]
+    pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    assert PhavClips(phav, videos=test, segments=2).videos == sorted(test)
