@@ -122,3 +122,32 @@ def test_a_resumed_iterator_continues_where_it_stopped(small_dataset):
     fresh = PhavClips(small_dataset, modalities=("rgb",), segments=2, batch_size=1, seed=1)
     fresh.load_state_dict(state)
     assert _epoch(fresh, workers=2) == whole[2:]
+
+
+def test_a_clips_people_rows_are_the_people_table(small_dataset):
+    """The per-frame metadata a clip carries is people.parquet's rows, NaN for NaN."""
+    import pyarrow.parquet as pq
+
+    reader = ClipReader(small_dataset)
+    table = pq.read_table(small_dataset / "people.parquet").to_pylist()
+    rows = {(r["video_id"], r["frame"], r["person_id"]): r for r in table}
+    seen = 0
+    for vid in reader.video_ids:
+        clip = reader.read(vid, modalities=("people",))
+        for f, people in zip(clip["frames"], clip["people"], strict=True):
+            for person in people:
+                want = rows[(vid, f, person["person_id"])]
+                for key, value in want.items():
+                    got = person[key]
+                    assert got == value or _nan_equal(got, value), (vid, f, key)
+                seen += 1
+    assert seen == len(table)
+
+
+def _nan_equal(a, b) -> bool:
+    """JSON writes NaN as null: equal where the table's NaN is the JSON's None."""
+    if a is None:
+        return isinstance(b, float) and b != b
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(x == y or _nan_equal(x, y) for x, y in zip(a, b, strict=True))
+    return a == b
