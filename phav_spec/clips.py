@@ -34,8 +34,9 @@ if TYPE_CHECKING:
 
 __all__ = ["CLIP_MODALITIES", "ClipReader", "tsn_frames"]
 
-#: What a clip can carry: the six image modalities and the frame's people metadata rows.
-CLIP_MODALITIES = ("rgb", "raw_rgb", "semantic", "instance", "depth", "flow", "people")
+#: What a clip can carry: the six image modalities and the frame's metadata (its people's
+#: rows and its camera's, as in people.parquet and cameras.parquet).
+CLIP_MODALITIES = ("rgb", "raw_rgb", "semantic", "instance", "depth", "flow", "people", "camera")
 #: The largest member read (bytes): a 340×256 16-bit RGB PNG is at most ~0.6 MB; a hostile
 #: shard's huge member is refused unread.
 MAX_MEMBER_BYTES = 64 * 2**20
@@ -175,7 +176,7 @@ class ClipReader:
         Image modalities are (T, H, W, 3) uint8; ``depth`` (T, H, W) float32 metres (inf:
         sky); ``flow`` (T, H, W, 2) float32 pixels of the returned size, 0 where invalid,
         with ``flow_valid`` (T, H, W) bool; ``people`` a list (per frame) of the frame's
-        metadata rows."""
+        people rows, ``camera`` of its camera row (NaN as None)."""
         import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when frames are decoded
 
         unknown = [m for m in modalities if m not in CLIP_MODALITIES]
@@ -187,8 +188,8 @@ class ClipReader:
         order = list(range(self.n_frames[video_id])) if frames is None else [int(f) for f in frames]
         out: dict[str, Any] = {"video_id": video_id, "label": self.labels[video_id], "frames": order}
         for name in modalities:
-            if name == "people":
-                out["people"] = [json.loads(self._bytes(video_id, f, "json"))["people"] for f in order]
+            if name in ("people", "camera"):
+                out[name] = [json.loads(self._bytes(video_id, f, "json"))[name] for f in order]
                 continue
             enc = modality(name)
             arrays = []

@@ -115,7 +115,7 @@ class PhavClips(IterableDataset):
         for key, value in clip.items():
             if isinstance(value, np.ndarray):
                 out[key] = torch.from_numpy(np.ascontiguousarray(value))
-            elif key == "people":
+            elif key in ("people", "camera"):
                 out[key] = value
         return out
 

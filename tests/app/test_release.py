@@ -71,7 +71,8 @@ def test_a_full_release_carries_every_file_with_its_hash(dataset, tmp_path):
 
 
 def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
-    """A Croissant loader reads the recipes and each modality's frames out of the tars."""
+    """A Croissant loader reads the recipes and every modality's frames out of the tars, each
+    equal to the writer's (flow as its PNG's bytes)."""
     import itertools
 
     mlc = pytest.importorskip("mlcroissant")
@@ -91,9 +92,11 @@ def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
     for r in flows:  # the PNG's bytes, as the description says: exact 16-bit flow
         got = decode_png(r["flow/image"], modality("flow"))
         assert np.array_equal(got, written[r["flow/key"].decode()]["flow.png"])
-    again = mlc.Dataset(str(rel / "croissant.json"))  # a record set of a tar reads once per Dataset
-    depth = {r["depth/key"].decode(): np.asarray(r["depth/image"]) for r in again.records("depth")}
-    assert all(np.array_equal(depth[k], written[k]["depth.png"]) for k in written)
+    for name, key in (("depth", "depth.png"), ("rgb", "rgb.png"), ("raw_rgb", "raw.png"), ("semantic", "seg.png"),
+                      ("instance", "inst.png")):  # fmt: skip
+        again = mlc.Dataset(str(rel / "croissant.json"))  # a record set of a tar reads once per Dataset
+        frames = {r[f"{name}/key"].decode(): np.asarray(r[f"{name}/image"]) for r in again.records(name)}
+        assert sorted(frames) == sorted(written) and all(np.array_equal(frames[k], written[k][key]) for k in written)
 
 
 def test_the_readme_loading_snippets_run_and_read_exact_flow(dataset, tmp_path, monkeypatch):

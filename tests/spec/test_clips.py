@@ -124,16 +124,20 @@ def test_a_resumed_iterator_continues_where_it_stopped(small_dataset):
     assert _epoch(fresh, workers=2) == whole[2:]
 
 
-def test_a_clips_people_rows_are_the_people_table(small_dataset):
-    """The per-frame metadata a clip carries is people.parquet's rows, NaN for NaN."""
+def test_a_clips_metadata_rows_are_the_tables(small_dataset):
+    """The per-frame metadata a clip carries is people.parquet's and cameras.parquet's rows,
+    NaN for NaN."""
     import pyarrow.parquet as pq
 
     reader = ClipReader(small_dataset)
     table = pq.read_table(small_dataset / "people.parquet").to_pylist()
     rows = {(r["video_id"], r["frame"], r["person_id"]): r for r in table}
+    cameras = {(r["video_id"], r["frame"]): r for r in pq.read_table(small_dataset / "cameras.parquet").to_pylist()}
     seen = 0
     for vid in reader.video_ids:
-        clip = reader.read(vid, modalities=("people",))
+        clip = reader.read(vid, modalities=("people", "camera"))
+        for f, camera in zip(clip["frames"], clip["camera"], strict=True):
+            assert all(_nan_equal(camera[k], v) or camera[k] == v for k, v in cameras[(vid, f)].items()), (vid, f)
         for f, people in zip(clip["frames"], clip["people"], strict=True):
             for person in people:
                 want = rows[(vid, f, person["person_id"])]
