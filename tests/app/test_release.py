@@ -153,6 +153,19 @@ def test_a_full_release_loads_exactly_through_hugging_face_datasets(dataset, tmp
     assert people.to_pandas().equals(pq.read_table(rel / "people.parquet").to_pandas())
 
 
+def test_a_generated_directory_loads_through_datasets_with_flow_cast_to_bytes(dataset):
+    """docs/loading.md's line for a directory without a card: every frame's flow exact."""
+    datasets = pytest.importorskip("datasets")
+    files = sorted(str(p) for p in dataset.glob("*.tar"))
+    frames = datasets.load_dataset("webdataset", data_files=files, split="train")
+    frames = frames.cast_column("flow.png", datasets.Image(decode=False))
+    written = _written_frames(dataset)
+    assert len(frames) == len(written)
+    for row in frames:
+        got = decode_png(row["flow.png"]["bytes"], modality("flow"))
+        assert np.array_equal(got, written[row["__key__"]]["flow.png"])
+
+
 def _both_nan(a, b) -> bool:
     return np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float), equal_nan=True)
 
