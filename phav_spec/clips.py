@@ -183,8 +183,8 @@ class ClipReader:
         if unknown:
             raise PhavUserError(f"unknown modalities {unknown}; choose from {', '.join(CLIP_MODALITIES)}",
                                 field="modalities")  # fmt: skip
-        if video_id not in self.labels:
-            raise PhavUserError(f"no video {video_id!r} with a recipe", source=str(self.root))
+        if video_id not in self.labels or video_id not in self.n_frames:
+            raise PhavUserError(f"no video {video_id!r} with a recipe and frames", source=str(self.root))
         order = list(range(self.n_frames[video_id])) if frames is None else [int(f) for f in frames]
         out: dict[str, Any] = {"video_id": video_id, "label": self.labels[video_id], "frames": order}
         for name in modalities:

@@ -78,7 +78,7 @@ def test_bad_requests_are_one_line_errors(small_dataset, tmp_path):
     reader = ClipReader(small_dataset)
     with pytest.raises(PhavUserError, match="unknown modalities"):
         reader.read(reader.video_ids[0], modalities=("rgb", "thermal"))
-    with pytest.raises(PhavUserError, match="no video 'v999999'"):
+    with pytest.raises(PhavUserError, match="no video 'v999999' with a recipe and frames"):
         reader.read("v999999")
     with pytest.raises(PhavUserError, match=r"no manifest\.json"):
         ClipReader(tmp_path)
