@@ -32,6 +32,7 @@ from torch.utils.data import IterableDataset, get_worker_info
 
 from phav_spec.clips import ClipReader, tsn_frames
 from phav_spec.errors import PhavUserError
+from phav_spec.seeding import seeded_rng
 
 __all__ = ["PhavClips", "collate"]
 
@@ -84,7 +85,7 @@ class PhavClips(IterableDataset):
         epoch = self.epoch if epoch is None else epoch
         if not self.shuffle:
             return list(self.videos)
-        rng = np.random.default_rng([self.seed, epoch])
+        rng = seeded_rng(self.seed, epoch)
         return [self.videos[i] for i in rng.permutation(len(self.videos))]
 
     def state_dict(self, consumed: int) -> dict[str, int]:
@@ -108,7 +109,7 @@ class PhavClips(IterableDataset):
         frames = None
         if self.segments is not None:
             # Seeded by the clip's place in the epoch: the same frames whatever the workers.
-            rng = np.random.default_rng([self.seed, self.epoch, position]) if self.train else None
+            rng = seeded_rng(self.seed, self.epoch, position) if self.train else None
             frames = tsn_frames(n, self.segments, rng)
         clip = self.reader.read(video_id, frames, self.modalities, self.size)
         out: dict[str, Any] = {"video_id": video_id, "label": clip["label"], "frames": torch.tensor(clip["frames"])}

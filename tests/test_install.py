@@ -4,6 +4,7 @@ nothing else but phav itself, torch (pinned apart: its CPU wheel) and the instal
 from __future__ import annotations
 
 import re
+import sysconfig
 from importlib.metadata import distributions
 from pathlib import Path
 
@@ -30,7 +31,9 @@ def _makefile_torch() -> str:
 
 def test_the_environment_is_the_lock():
     locked = _locked()
-    installed = {_name(d.metadata["Name"]): d.version for d in distributions()}
+    # The environment's own packages: Ray, once imported, puts its vendored ones on sys.path.
+    site = sorted({sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]})
+    installed = {_name(d.metadata["Name"]): d.version for d in distributions(path=site)}
     assert {"numpy", "mujoco", "moderngl", "anny", "pytest"} <= set(locked)
     wrong = {name: (installed.get(name), version) for name, version in locked.items() if installed.get(name) != version}
     assert not wrong, f"(installed, locked) differ: {wrong}; run make install"
