@@ -26,21 +26,24 @@ from tests.helpers import PRESET_PATH, invoke_cli
 GOLDEN = Path(__file__).parents[1] / "golden" / "phav-v1-seed0-first5.json"
 
 
-@pytest.fixture(scope="module")
-def table_40k(tmp_path_factory):
-    """`phav sample --theta recipes/phav-v1.yaml --n 40000 --seed 0`, as a user would run it
-    (in this process: a subprocess would add only its start). 40,000 is PHAV's size: the
+@pytest.fixture(
+    scope="module", params=[pytest.param(4000, id="4k"), pytest.param(40000, id="40k", marks=pytest.mark.slow)]
+)
+def table_40k(request, tmp_path_factory):
+    """`phav sample --theta recipes/phav-v1.yaml --n N --seed 0`, as a user would run it (in
+    this process: a subprocess would add only its start). 40,000 is PHAV's size: the
     distribution check must not raise a false alarm on a dataset that large, where it can see
-    the smallest systematic difference."""
+    the smallest systematic difference (slow: `make test-all`); 4,000 in the default run."""
     out = tmp_path_factory.mktemp("sample") / "recipes.parquet"
-    result = invoke_cli("sample", "--theta", str(PRESET_PATH), "--n", "40000", "--seed", "0", "--out", str(out))
+    n = str(request.param)
+    result = invoke_cli("sample", "--theta", str(PRESET_PATH), "--n", n, "--seed", "0", "--out", str(out))
     assert result.returncode == 0, result.stderr
     return read_recipe_table(out)
 
 
-def test_40k_recipes_match_every_histogram_and_conditional_table(table_40k):
+def test_recipes_match_every_histogram_and_conditional_table(table_40k):
     theta = load_preset()
-    assert table_40k.table.num_rows == 40000
+    assert table_40k.table.num_rows in (4000, 40000)
     assert table_40k.theta == theta and table_40k.dataset_seed == 0
     columns = {name: table_40k.column(name) for name in table_40k.table.column_names}
     result = check_distributions(columns, theta)
@@ -48,7 +51,7 @@ def test_40k_recipes_match_every_histogram_and_conditional_table(table_40k):
     tested = {t.variable for t in result.tests}
     assert tested >= set(exact_expectations(theta)) | {"duration_s", "clock_hour"}
     conditional = [t for t in result.tests if t.condition != "marginal"]
-    assert len(conditional) > 300  # every (action), (action, environment), (weather)… row
+    assert len(conditional) > (300 if table_40k.table.num_rows == 40000 else 100)  # (action), (action, env)… rows
     assert all(t.impossible == 0 for t in result.tests)
 
 
@@ -67,7 +70,7 @@ def test_no_zero_probability_value_ever_appears(table_40k):
 def test_mean_duration_is_about_five_seconds(table_40k):
     durations = np.array(table_40k.column("duration_s"))
     assert mean_duration(load_preset()) == pytest.approx(5.0, abs=0.01)  # paper: 4.99 s
-    assert durations.mean() == pytest.approx(5.0, abs=0.05)
+    assert durations.mean() == pytest.approx(5.0, abs=0.05 if len(durations) == 40000 else 0.15)
     assert durations.min() >= 1.0 and durations.max() <= 10.0
     frames = np.array(table_40k.column("n_frames"))
     assert frames.min() >= 30 and frames.max() <= 300
