@@ -15,6 +15,7 @@ OpenCV and pyarrow are imported on first use (phav_spec imports light, DESIGN.md
 from __future__ import annotations
 
 import json
+import os
 import tarfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -128,6 +129,7 @@ class ClipReader:
         self._shard_of = {v.video_id: self.root / v.shard for v in manifest.videos}
         self._index: dict[Path, dict[tuple[str, int, str], _Member]] = {}
         self._files: dict[Path, BinaryIO] = {}
+        self._pid = os.getpid()
 
     def __getstate__(self) -> dict[str, Any]:
         return {**self.__dict__, "_files": {}}
@@ -154,6 +156,8 @@ class ClipReader:
         if member.size > MAX_MEMBER_BYTES:
             raise PhavUserError(f"{vid}/{frame:05d}.{key}: {member.size} bytes, larger than any frame can be",
                                 source=str(shard))  # fmt: skip
+        if self._pid != os.getpid():  # a forked worker: the parent's files share its offsets
+            self._files, self._pid = {}, os.getpid()
         if shard not in self._files:
             self._files[shard] = open(shard, "rb")  # kept open across reads; close() and pickling drop it
         fh = self._files[shard]
