@@ -191,9 +191,12 @@ class ClipReader:
             raise PhavUserError(f"no video {video_id!r} with a recipe and frames", source=str(self.root))
         order = list(range(self.n_frames[video_id])) if frames is None else [int(f) for f in frames]
         out: dict[str, Any] = {"video_id": video_id, "label": self.labels[video_id], "frames": order}
+        metadata = [m for m in modalities if m in ("people", "camera")]
+        if metadata:  # one read of each frame's JSON serves both
+            rows = [json.loads(self._bytes(video_id, f, "json")) for f in order]
+            out |= {name: [row[name] for row in rows] for name in metadata}
         for name in modalities:
-            if name in ("people", "camera"):
-                out[name] = [json.loads(self._bytes(video_id, f, "json"))[name] for f in order]
+            if name in metadata:
                 continue
             enc = modality(name)
             arrays = []
