@@ -119,3 +119,13 @@ def invoke_cli(*args: str) -> subprocess.CompletedProcess[str]:
         err.write(code)
         code = 1
     return subprocess.CompletedProcess(list(args), code or 0, out.getvalue(), err.getvalue())
+
+
+def written_frames(dataset: Path) -> dict[str, dict]:
+    """Every frame of a dataset's shards as the writer's decoder reads it, by sample key."""
+    import webdataset as wds
+
+    from phav_spec.webdataset import phav_decoder
+
+    urls = sorted(str(p) for p in dataset.glob("*.tar"))
+    return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}

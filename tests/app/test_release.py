@@ -20,8 +20,8 @@ from phav_spec.errors import PhavUserError
 from phav_spec.files import file_sha256
 from phav_spec.manifest import dump_manifest, load_manifest
 from phav_spec.release import RELEASE_FILE, load_release_index
-from phav_spec.webdataset import decode_png, phav_decoder
-from tests.helpers import file_bytes, invoke_cli, run_cli, theta_variant, tiny, tree_bytes
+from phav_spec.webdataset import decode_png
+from tests.helpers import file_bytes, invoke_cli, run_cli, theta_variant, tiny, tree_bytes, written_frames
 
 CARD_FILES = ("README.md", "croissant.json", RELEASE_FILE)
 
@@ -86,7 +86,7 @@ def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
     assert first["depth/key"] == b"v000000/00000" and first["depth/image"].size == (340, 256)
     rgb = list(itertools.islice(ds.records("rgb"), 3))
     assert [r["rgb/key"] for r in rgb] == [b"v000000/00000", b"v000000/00001", b"v000000/00002"]
-    written = _written_frames(dataset)
+    written = written_frames(dataset)
     flows = list(mlc.Dataset(str(rel / "croissant.json")).records("flow"))  # a new Dataset: one pass each
     assert len(flows) == len(written)
     for r in flows:  # the PNG's bytes, as the description says: exact 16-bit flow
@@ -109,7 +109,7 @@ def test_the_readme_loading_snippets_run_and_read_exact_flow(dataset, tmp_path, 
     assert len(blocks) == 4
     make_release(dataset, tmp_path / "rel", date="2026-11-21")
     monkeypatch.chdir(tmp_path)
-    written = _written_frames(dataset)
+    written = written_frames(dataset)
     for code in blocks:
         namespace: dict = {}
         exec(compile(code, "README.md", "exec"), namespace)
@@ -120,14 +120,6 @@ def test_the_readme_loading_snippets_run_and_read_exact_flow(dataset, tmp_path, 
         assert flow.dtype == np.uint16 and any(np.array_equal(flow, w["flow.png"]) for w in written.values())
 
 
-def _written_frames(dataset: Path) -> dict[str, dict]:
-    """Every frame of the dataset's shards as the writer's decoder reads it, by sample key."""
-    import webdataset as wds
-
-    urls = sorted(str(p) for p in dataset.glob("*.tar"))
-    return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}
-
-
 def test_a_full_release_loads_exactly_through_hugging_face_datasets(dataset, tmp_path):
     """load_dataset(RELEASE_DIR) reads the card's frames config: flow as its PNG's bytes, the
     other modalities as exact images, the metadata as the shards' JSON; the tables load
@@ -136,7 +128,7 @@ def test_a_full_release_loads_exactly_through_hugging_face_datasets(dataset, tmp
     rel = tmp_path / "full"
     make_release(dataset, rel, date="2026-11-21")
     frames = datasets.load_dataset(str(rel), split="train")
-    written = _written_frames(dataset)
+    written = written_frames(dataset)
     assert sorted(frames["__key__"]) == sorted(written) and len(frames) == len(written)
     for row in frames:
         want = written[row["__key__"]]
@@ -159,7 +151,7 @@ def test_a_generated_directory_loads_through_datasets_with_flow_cast_to_bytes(da
     files = sorted(str(p) for p in dataset.glob("*.tar"))
     frames = datasets.load_dataset("webdataset", data_files=files, split="train")
     frames = frames.cast_column("flow.png", datasets.Image(decode=False))
-    written = _written_frames(dataset)
+    written = written_frames(dataset)
     assert len(frames) == len(written)
     for row in frames:
         got = decode_png(row["flow.png"]["bytes"], modality("flow"))

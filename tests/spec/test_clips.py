@@ -12,23 +12,14 @@ from phav_spec.encoding import decode_depth, decode_flow
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.vocab import ACTIONS
-
-
-def _written(dataset) -> dict[str, dict]:
-    import webdataset as wds
-
-    from phav_spec.webdataset import phav_decoder
-
-    urls = sorted(str(p) for p in dataset.glob("*.tar"))
-    return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}
-
+from tests.helpers import written_frames
 
 IMAGES = (("rgb", "rgb.png"), ("raw_rgb", "raw.png"), ("semantic", "seg.png"), ("instance", "inst.png"))
 
 
 def test_a_clip_is_the_writers_frames_exactly(small_dataset):
     reader = ClipReader(small_dataset)
-    written = _written(small_dataset)
+    written = written_frames(small_dataset)
     table = read_recipe_table(small_dataset / "recipes.parquet")
     actions = dict(zip(table.column("video_id"), table.column("action"), strict=True))
     assert reader.video_ids == sorted(actions)
