@@ -1,0 +1,106 @@
+"""How segmenters trained on real photographs name our pixel classes (the realism check).
+
+Each of our pixel classes is either *judged as* one of the judge's classes — the class a
+person would name it by (a bench is judged as a chair, a truck by the VOC model as a car) —
+or *not judged*, with the reason. A figure is always reported under our class: a bench
+judged as chair stays a bench, never pooled into chair. The judges' label lists are in
+their output ids' order.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+from phav_spec.vocab import PIXEL_CLASSES, PixelGroup
+
+
+@dataclass(frozen=True)
+class JudgeClasses:
+    """A segmenter's label list and what each of our pixel classes is judged as."""
+
+    judge: str
+    #: The judge's class names by output id.
+    labels: tuple[str, ...]
+    #: Our class → the judge's class it should be labelled as.
+    judged_as: Mapping[str, str]
+    #: Our class → why the judge does not judge it.
+    not_judged: Mapping[str, str]
+
+    def label_id(self, name: str) -> int:
+        return self.labels.index(name)
+
+
+def _people(name: str) -> dict[str, str]:
+    groups = (PixelGroup.HUMAN_PARTS, PixelGroup.HUMAN_JOINTS)
+    return {c: name for c, info in PIXEL_CLASSES.items() if info.group in groups}
+
+
+def _rest(judged: Mapping[str, str], named: Mapping[str, str], reason: str) -> dict[str, str]:
+    """Every class neither judged nor given its own reason, with ``reason``."""
+    return {c: named.get(c, reason) for c, _ in PIXEL_CLASSES.items() if c not in judged}
+
+
+_VOC_LABELS = (
+    "background", "aeroplane", "bicycle", "bird", "boat", "bottle", "bus", "car", "cat", "chair", "cow",
+    "diningtable", "dog", "horse", "motorbike", "person", "pottedplant", "sheep", "sofa", "train", "tvmonitor",
+)  # fmt: skip
+
+_VOC_JUDGED = {
+    "car": "car", "truck": "car", "bus": "bus",
+    "chair": "chair", "bench": "chair", "sofa": "sofa", "table": "diningtable", "screen": "tvmonitor",
+    **_people("person"),
+}  # fmt: skip
+
+#: DeepLabV3-MobileNetV2 on PASCAL VOC 2012: the objects people touch and pass.
+PASCAL_VOC = JudgeClasses(
+    judge="pascal_voc",
+    labels=_VOC_LABELS,
+    judged_as=MappingProxyType(_VOC_JUDGED),
+    not_judged=MappingProxyType(
+        _rest(
+            _VOC_JUDGED,
+            {
+                "unlabeled": "void",
+                "misc": "mixed objects (cups, bottles, boxes, carts, bars)",
+                "vegetation": "no VOC class (pottedplant is a plant in a pot)",
+                "tree": "no VOC class (pottedplant is a plant in a pot)",
+            },
+            "no VOC class: the scene around the objects",
+        )
+    ),
+)
+
+_CITYSCAPES_LABELS = (
+    "road", "sidewalk", "building", "wall", "fence", "pole", "traffic light", "traffic sign", "vegetation",
+    "terrain", "sky", "person", "rider", "car", "truck", "bus", "train", "motorcycle", "bicycle",
+)  # fmt: skip
+
+_CITYSCAPES_JUDGED = {
+    "road": "road", "building": "building", "pole": "pole", "traffic_light": "traffic light",
+    "traffic_sign": "traffic sign", "vegetation": "vegetation", "tree": "vegetation", "terrain": "terrain",
+    "sky": "sky", "car": "car", "truck": "truck", "bus": "bus", "guard_rail": "fence",
+    **_people("person"),
+}  # fmt: skip
+
+#: DeepLab (MobileNet-EdgeTPU slim) on Cityscapes: street scenes, outdoor environments only.
+CITYSCAPES = JudgeClasses(
+    judge="cityscapes",
+    labels=_CITYSCAPES_LABELS,
+    judged_as=MappingProxyType(_CITYSCAPES_JUDGED),
+    not_judged=MappingProxyType(
+        _rest(
+            _CITYSCAPES_JUDGED,
+            {
+                "unlabeled": "void",
+                "misc": "mixed objects (cups, bottles, boxes, carts, bars)",
+                "bench": "no Cityscapes class",
+            },
+            "no Cityscapes class (an indoor class or a prop)",
+        )
+    ),
+)
+
+#: The segmenters' class tables by judge name.
+JUDGE_CLASSES: Mapping[str, JudgeClasses] = MappingProxyType({j.judge: j for j in (PASCAL_VOC, CITYSCAPES)})

@@ -1,0 +1,1 @@
+"""The realism check: models trained on real photographs judge our people and our world."""
