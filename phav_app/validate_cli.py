@@ -21,6 +21,7 @@ from phav_validators.findings import Reason
 from phav_validators.learn.learnability import LearnOptions
 from phav_validators.learn.train import RGB_EPOCH_SHARE
 from phav_validators.options import CHECKS, Options
+from phav_validators.realism.check import HEADLINES, RealismOptions, parse_minimums
 from phav_validators.report import write_html, write_json
 from phav_validators.source import resolve
 from phav_validators.validate import validate_dataset
@@ -31,7 +32,7 @@ if TYPE_CHECKING:
 app = typer.Typer(name="phav-validate", add_completion=False, pretty_exceptions_enable=False)
 
 _ALL = "integrity,schema,encoding,distribution,failures,consistency,reproducibility"
-_OPTIONAL = "learnability"
+_OPTIONAL = "learnability, realism"
 _STYLE = {"pass": "green", "warn": "yellow", "fail": "bold red", "skip": "dim"}
 
 
@@ -119,6 +120,23 @@ def validate(
     shuffle_labels: Annotated[
         bool, typer.Option("--shuffle-labels", help="learnability control run: permute labels (must fail).")
     ] = False,
+    realism_frames: Annotated[
+        int, typer.Option(min=1, help="realism: frames judged, drawn with --seed from every video's frames.")
+    ] = RealismOptions.frames,
+    realism_models: Annotated[
+        Path | None,
+        typer.Option(help="realism: folder with the judges' .tflite files (default: the ones shipped with phav)."),
+    ] = None,
+    realism_min: Annotated[
+        str | None,
+        typer.Option(
+            help="realism: figures that must reach a minimum, e.g. person_pck_0.2=0.9,voc_person_iou=0.5 "
+            f"(of {', '.join(HEADLINES)}); without it the check reports and passes."
+        ),
+    ] = None,
+    realism_threads: Annotated[
+        int, typer.Option(min=1, help="realism: threads per model (figures are reproducible per count).")
+    ] = RealismOptions.threads,
     engine: Annotated[
         str, typer.Option(help="local (a process pool of --workers) or ray (pip install 'phav\\[ray]').")
     ] = "local",
@@ -134,7 +152,8 @@ def validate(
     ] = None,
 ) -> None:
     """Validate PHAV datasets: integrity, schema, encoding, distribution, failures,
-    consistency and reproducibility; and, when named, learnability (a small TSN is trained).
+    consistency and reproducibility; and, when named, learnability (a small TSN is trained)
+    and realism (models trained on real photographs judge the frames).
     A recipe-only release has the pixels its checks read regenerated first."""
 
     options = Options(
@@ -144,6 +163,8 @@ def validate(
                            flow=learn_flow, background=learn_background,
                            precision=learn_precision, stem_pool=learn_stem_pool, seed=seed,
                            threads=threads, shuffle_labels=shuffle_labels, out_dir=learn_dir, workers=workers),
+        realism=RealismOptions(frames=realism_frames, models_dir=realism_models, minimums=parse_minimums(realism_min),
+                               threads=realism_threads, seed=seed),
         engine=engine, address=address, regenerate_into=regenerate_into,
     )  # fmt: skip
     inputs = resolve(paths)

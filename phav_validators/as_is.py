@@ -51,6 +51,7 @@ from phav_validators.options import (
     ProgressFactory,
     sample_videos,
 )
+from phav_validators.realism.check import RealismOptions, realism_check, run_realism
 from phav_validators.source import CAMERAS, PEOPLE, THETA, DatasetInput, is_recipe_release
 
 if TYPE_CHECKING:
@@ -58,6 +59,7 @@ if TYPE_CHECKING:
 
     from phav_validators.checks.distribution import DistributionResult
     from phav_validators.learn.learnability import LearnOptions, LearnResult
+    from phav_validators.realism.check import RealismResult
 
 _SCAN_CHECKS = ("integrity", "encoding", "consistency")
 #: Scan jobs per worker process: shards split into parts so that workers finish together
@@ -470,6 +472,10 @@ def _validate(
     if "learnability" in want:
         with _timed(timings, "learnability"):
             results["learnability"], learn_result = _learnability(inp, loaded, opts, progress)
+    realism_result = None
+    if "realism" in want:
+        with _timed(timings, "realism"):
+            results["realism"], realism_result = _realism(inp, loaded, opts, progress)
 
     framing = None if inp.recipes_only else _framing(inp, loaded, selected)
     m = loaded.manifest
@@ -482,6 +488,7 @@ def _validate(
         fingerprint_match=fingerprint_match,
         distribution=dist_result,
         learnability=learn_result,
+        realism=realism_result,
         framing=framing,
     )
     _flag_frames(report, shard_of, inp.root)
@@ -673,3 +680,16 @@ def _learnability(
     if learn.workers != opts.workers:
         learn = dataclasses.replace(learn, workers=opts.workers)
     return check_learnability(inp.root, learn, progress=progress, manifest=loaded.manifest, table=loaded.table)
+
+
+def _realism(
+    inp: DatasetInput, loaded: _Loaded, opts: Options, progress: ProgressFactory | None
+) -> tuple[CheckResult, RealismResult | None]:
+    """Models trained on real photographs judge a seeded sample of the dataset's frames."""
+    if inp.recipes_only or loaded.manifest is None or loaded.table is None:
+        return CheckResult.skipped("realism", "needs shards, a manifest and the recipes table"), None
+    if inp.shards is not None:
+        return CheckResult.skipped("realism", "samples the whole dataset: name its directory"), None
+    realism = opts.realism if opts.realism is not None else RealismOptions(seed=opts.seed)
+    result = run_realism(inp.root, realism, progress=progress)
+    return realism_check(result, realism), result

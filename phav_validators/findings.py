@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any
+
+#: ``progress(description, total)`` starts a bar and returns its ``advance(n)``; every long
+#: check reports through one.
+ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 
 class Reason(StrEnum):
@@ -59,6 +64,8 @@ class Reason(StrEnum):
     # learnability
     NOT_LEARNABLE = "NOT_LEARNABLE"  # a small TSN does not beat chance on held-out actors
     LEARNING_INCONCLUSIVE = "LEARNING_INCONCLUSIVE"  # the time budget stopped training first (warn)
+    # realism
+    REALISM_BELOW_MIN = "REALISM_BELOW_MIN"  # a figure asked for with --realism-min is below it
 
 
 class Status(StrEnum):

@@ -4,7 +4,6 @@ options, the report, and the seeded choice of which videos a sampled check reads
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -13,23 +12,22 @@ from phav_generator.engines import check_engine
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 from phav_validators.checks.failures import DEFAULT_BUDGET
-from phav_validators.findings import CheckResult, Status
+from phav_validators.findings import CheckResult, ProgressFactory, Status  # noqa: F401 (re-exported)
 
 if TYPE_CHECKING:
     from phav_validators.checks.distribution import DistributionResult
     from phav_validators.framing import FramingResult
     from phav_validators.learn.learnability import LearnOptions, LearnResult
+    from phav_validators.realism.check import RealismOptions, RealismResult
 
 #: The checks in the order they run and print.
 CHECKS: tuple[str, ...] = (
     "integrity", "schema", "encoding", "distribution", "failures", "consistency", "reproducibility",
 )  # fmt: skip
-#: Checks run only when named (``--checks learnability``): they train a network.
-OPTIONAL_CHECKS: tuple[str, ...] = ("learnability",)
+#: Checks run only when named (``--checks learnability,realism``): they train a network, or
+#: run models trained on real photographs.
+OPTIONAL_CHECKS: tuple[str, ...] = ("learnability", "realism")
 ALL_CHECKS = CHECKS + OPTIONAL_CHECKS
-
-#: ``progress(description, total)`` starts a bar and returns its ``advance(n)``.
-ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 
 @dataclass(frozen=True)
@@ -47,6 +45,8 @@ class Options:
     budget: float = DEFAULT_BUDGET
     #: Settings of the learnability check (None: its defaults).
     learn: LearnOptions | None = None
+    #: Settings of the realism check (None: its defaults).
+    realism: RealismOptions | None = None
     #: ``local`` (a process pool of ``workers``) or ``ray`` (Ray tasks; ``address`` names a cluster).
     engine: str = "local"
     address: str | None = None
@@ -80,6 +80,7 @@ class DatasetReport:
     fingerprint_match: bool | None = None
     distribution: DistributionResult | None = None
     learnability: LearnResult | None = None
+    realism: RealismResult | None = None
     #: How the camera frames the protagonist, from people.parquet (None without one).
     framing: FramingResult | None = None
     #: Per flagged video, one representative (shard path, frame) for the HTML report.
@@ -123,7 +124,7 @@ class DatasetReport:
 
 
 #: Checks that need pixels (shards, or the metadata tables the renderer writes).
-PIXEL_CHECKS = ("integrity", "encoding", "failures", "consistency", "reproducibility", "learnability")
+PIXEL_CHECKS = ("integrity", "encoding", "failures", "consistency", "reproducibility", "learnability", "realism")
 
 
 #: The options ``phav-validate`` runs with when given none.

@@ -3,14 +3,10 @@
 from __future__ import annotations
 
 import importlib.util
-from collections.abc import Callable
 from dataclasses import dataclass
 
 from phav_spec.errors import PhavUserError
-
-#: ``progress(description, total)`` starts a bar and returns its ``advance(n)`` (as in
-#: ``phav_validators.validate``).
-ProgressFactory = Callable[[str, int], Callable[[int], None]]
+from phav_validators.findings import ProgressFactory  # noqa: F401 (re-exported: the learning modules name it)
 
 #: Input channels per stream: an RGB frame, or ``flow_frames`` stacked (u, v) flow frames.
 STREAMS = ("rgb", "flow")

@@ -8,9 +8,12 @@ frame's pixels; ``ai_edge_litert`` is imported on first use (the ``phav[realism]
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
-from collections.abc import Mapping
+import os
+import sys
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -75,6 +78,21 @@ def model_file(name: str, models_dir: Path | None = None) -> Path:
     return path
 
 
+@contextlib.contextmanager
+def _native_stderr_silenced() -> Iterator[None]:
+    """File descriptor 2 points at /dev/null inside the block (native libraries write there
+    directly, past ``sys.stderr``); Python's own ``sys.stderr`` is flushed first."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 def _interpreter(path: Path, threads: int) -> Any:
     try:
         from ai_edge_litert.interpreter import Interpreter
@@ -82,8 +100,9 @@ def _interpreter(path: Path, threads: int) -> Any:
         raise PhavUserError("the realism check needs ai-edge-litert: pip install 'phav[realism]'",
                             field="--checks") from None  # fmt: skip
     try:
-        interpreter = Interpreter(model_path=str(path), num_threads=threads)
-        interpreter.allocate_tensors()
+        with _native_stderr_silenced():  # the runtime logs "INFO: Created … delegate" on fd 2
+            interpreter = Interpreter(model_path=str(path), num_threads=threads)
+            interpreter.allocate_tensors()
     except (ValueError, RuntimeError) as e:
         raise PhavUserError(f"not a TensorFlow Lite model ({str(e).splitlines()[0]})", source=str(path)) from None
     return interpreter

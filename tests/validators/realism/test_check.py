@@ -1,0 +1,138 @@
+"""The realism check end to end on the shared dataset: figures with intervals, the same
+figures for the same seed, minimums that fail, and one-line errors."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from phav_spec.errors import PhavUserError
+from phav_validators.findings import Reason, Status
+from phav_validators.realism.check import (
+    HEADLINES,
+    RealismOptions,
+    Tally,
+    parse_minimums,
+    realism_check,
+    run_realism,
+    view_of,
+)
+from phav_validators.realism.judges import JUDGE_MODELS, MODELS_DIR
+from tests.helpers import invoke_cli
+
+pytest.importorskip("ai_edge_litert")
+
+
+@pytest.fixture(scope="module")
+def judged(small_dataset):
+    return run_realism(small_dataset, RealismOptions(frames=12, seed=5))
+
+
+def test_the_check_judges_people_and_world_with_intervals(judged):
+    assert judged.frames == 12 and judged.videos == 3 and judged.people > 0
+    assert set(judged.models) == set(JUDGE_MODELS)
+    for key in ("person_found|all", "person_pck_0.2|all", "iou|pascal_voc|person|all", "recall|pascal_voc|person|all"):
+        fig = judged.figures[key]
+        assert 0 <= fig.low <= fig.value <= fig.high <= 1 and fig.count > 0 and 1 <= fig.videos <= 3, key
+    # The shared set's scenes: urban and stadium outdoors (judged by Cityscapes), "simple" too.
+    assert any(k.startswith("iou|cityscapes|") for k in judged.figures)
+    assert "cityscapes_miou" in judged.figures
+    # People are scored as one class, never as parts.
+    assert not any("|head|" in k or "|chest|" in k for k in judged.figures)
+    # The sample's frames add up: every judged frame is in one of the three videos' groups.
+    assert sum(f.count for k, f in judged.figures.items() if k.startswith("person_found|view=")) <= judged.people
+
+
+def test_the_same_seed_gives_the_same_figures_and_another_seed_other_frames(small_dataset, judged):
+    again = run_realism(small_dataset, RealismOptions(frames=12, seed=5))
+    assert again.to_json() == judged.to_json()
+    other = run_realism(small_dataset, RealismOptions(frames=4, seed=6))
+    assert other.frames == 4
+
+
+def test_a_figure_below_its_minimum_fails_and_none_fails_by_default(judged):
+    assert realism_check(judged, judged.options).status == Status.PASS
+    pck = judged.figures["person_pck_0.2|all"].value
+    opts = replace(judged.options, minimums={"person_pck_0.2": pck + 0.01, "person_pck_0.1": 0.0})
+    result = realism_check(judged, opts)
+    assert result.status == Status.FAIL
+    [finding] = result.report.findings
+    assert finding.reason == Reason.REALISM_BELOW_MIN and "person_pck_0.2" in finding.message
+    assert set(result.numbers["headline"]) <= set(HEADLINES)
+
+
+def test_minimums_parse_and_refuse_unknown_figures():
+    assert parse_minimums("person_pck_0.2=0.9, voc_person_iou=0.5") == {"person_pck_0.2": 0.9, "voc_person_iou": 0.5}
+    assert parse_minimums(None) == {}
+    with pytest.raises(PhavUserError, match="unknown figure 'pck'"):
+        parse_minimums("pck=0.9")
+    with pytest.raises(PhavUserError, match="not a number"):
+        parse_minimums("person_found=high")
+
+
+def test_a_ratio_is_of_sums_over_videos_with_a_seeded_interval():
+    tally = Tally()
+    for video, (num, den) in {"a": (9, 10), "b": (1, 10), "c": (5, 5)}.items():
+        tally.add("x", video, num, den)
+    fig = tally.figure("x", seed=0)
+    assert fig.value == pytest.approx(15 / 25) and fig.videos == 3 and fig.count == 25
+    assert fig.low < fig.value < fig.high
+    assert tally.figure("x", seed=0) == fig and tally.figure("y", seed=0) is None
+
+
+def _person(facing_deg: float) -> dict:
+    """A person at the origin facing ``facing_deg`` (0: +x) with hips 0.2 m apart, z up."""
+    a = np.radians(facing_deg)
+    left = np.array([-np.sin(a), np.cos(a), 0.0]) * 0.1  # the person's left of its facing
+    joints = np.zeros((13, 3))
+    joints[7], joints[8] = left + [0, 0, 1], -left + [0, 0, 1]
+    return {"joints3d": joints.ravel().tolist()}
+
+
+@pytest.mark.parametrize(("facing", "view"), [(0, "front"), (180, "back"), (90, "side"), (-60, "side"), (30, "front")])
+def test_the_view_is_where_the_camera_stands_around_the_person(facing, view):
+    camera = {"cam_to_world": np.array([[1, 0, 0, 5], [0, 1, 0, 0], [0, 0, 1, 1.5], [0, 0, 0, 1]]).ravel().tolist()}
+    assert view_of(_person(facing), camera) == view
+
+
+def test_the_check_in_phav_validate_reports_and_passes(small_dataset, tmp_path):
+    out = tmp_path / "report.json"
+    result = invoke_cli("validate!", str(small_dataset), "--checks", "realism", "--realism-frames", "6",
+                        "--json", str(out))  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "realism" in result.stdout and "person_pck_0.2" in result.stdout
+    [check] = json.loads(out.read_text())["datasets"][0]["checks"]
+    assert check["name"] == "realism" and check["status"] == "pass"
+    assert check["numbers"]["frames"] == 6 and check["numbers"]["models"]["pascal_voc"]["sha256"]
+    failing = invoke_cli("validate!", str(small_dataset), "--checks", "realism", "--realism-frames", "6",
+                         "--realism-min", "person_pck_0.1=1.01")  # fmt: skip
+    assert failing.returncode == 1 and "REALISM_BELOW_MIN" in failing.stdout
+
+
+def _one_line_exit_2(result, *words: str) -> None:
+    assert result.returncode == 2, result.stdout + result.stderr
+    said = result.stderr.strip()
+    assert "Traceback" not in said and len(said.splitlines()) == 1, said
+    for w in words:
+        assert w in said, said
+
+
+def test_a_corrupt_model_or_a_missing_extra_is_one_line_and_exit_2(small_dataset, tmp_path, monkeypatch):
+    models = tmp_path / "models"
+    models.mkdir()
+    for m in JUDGE_MODELS.values():
+        shutil.copy(MODELS_DIR / m.file, models)
+    bad = models / JUDGE_MODELS["pascal_voc"].file
+    bad.write_bytes(bad.read_bytes()[:1000])
+    args = ("validate!", str(small_dataset), "--checks", "realism", "--realism-frames", "2")
+    _one_line_exit_2(invoke_cli(*args, "--realism-models", str(models)), "not a TensorFlow Lite model", bad.name)
+    _one_line_exit_2(invoke_cli(*args, "--realism-models", str(tmp_path / "none")), "missing model file")
+    _one_line_exit_2(invoke_cli(*args, "--realism-min", "pck=1"), "--realism-min", "unknown figure")
+    monkeypatch.setitem(sys.modules, "ai_edge_litert.interpreter", None)  # as if the extra were not installed
+    shutil.copy(MODELS_DIR / JUDGE_MODELS["pascal_voc"].file, bad)
+    _one_line_exit_2(invoke_cli(*args, "--realism-models", str(models)), "pip install 'phav[realism]'")
