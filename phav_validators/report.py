@@ -20,11 +20,14 @@ import numpy as np
 from phav_generator.dataset.fingerprint import package_version
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
+from phav_spec.judge_classes import JUDGE_CLASSES
 from phav_spec.manifest import load_manifest
 from phav_validators.checks.reproduce import shard_video_frames
 from phav_validators.framing import FRAMING_BINS, FramingResult
 from phav_validators.learn.learnability import LearnResult, confusion_png
 from phav_validators.options import DatasetReport
+from phav_validators.realism.check import VIEWS, RealismResult
+from phav_validators.realism.figures import example_sheet
 
 #: Version of the JSON report's layout; bumped when a field changes meaning.
 REPORT_VERSION = 1
@@ -176,6 +179,62 @@ def learnability_html(learn: LearnResult, root: Path) -> list[str]:
     return out
 
 
+def _figure_cell(fig: Any) -> str:
+    if fig is None:
+        return "<td></td>"
+    return f"<td>{fig.value:.2f} <small>({fig.low:.2f}–{fig.high:.2f}; n {fig.count:,.0f})</small></td>"
+
+
+def realism_html(result: RealismResult) -> list[str]:
+    """The people table per view and per joint, the world table per judge and class (all
+    environments, then each), and a few judged frames beside their ground truth."""
+    esc = html.escape
+    fig = result.figures.get
+    models = ", ".join(f"{esc(n)} {h[:12]}" for n, h in sorted(result.models.items()))
+    out = [f"<h3>Realism: models trained on real photographs</h3><p>{result.frames} frames of {result.videos} "
+           f"videos (seed {result.options.seed}), {result.people} protagonists judged; each figure with its 95 % "
+           f"bootstrap interval over videos and its count. Models (sha256): {models}.</p>",
+           "<h4>People</h4><table><tr><th>view</th><th>found by the detector</th><th>its score</th>"
+           "<th>PCK 0.1</th><th>PCK 0.2</th><th>left/right swapped</th></tr>"]  # fmt: skip
+    for view in ("all", *(f"view={v}" for v in VIEWS)):
+        names = ("person_found", "person_score", "person_pck_0.1", "person_pck_0.2", "person_swap")
+        cells = "".join(_figure_cell(fig(f"{k}|{view}")) for k in names)
+        out.append(f"<tr><td>{esc(view.removeprefix('view='))}</td>{cells}</tr>")
+    out.append("</table><table><tr><th>joint</th><th>PCK 0.1</th><th>PCK 0.2</th></tr>")
+    joints = sorted({k.split("|")[1] for k in result.figures if k.startswith("joint_pck_0.2|")})
+    for j in joints:
+        out.append(f"<tr><td>{esc(j)}</td>{_figure_cell(fig(f'joint_pck_0.1|{j}'))}"
+                   f"{_figure_cell(fig(f'joint_pck_0.2|{j}'))}</tr>")  # fmt: skip
+    out.append("</table>")
+    for judge in ("pascal_voc", "cityscapes"):
+        keys = [k for k in result.figures if k.startswith(f"iou|{judge}|")]
+        ours = sorted({k.split("|")[2] for k in keys})
+        envs = sorted({k.split("|")[3] for k in keys} - {"all"})
+        if not ours:
+            continue
+        head = "".join(f"<th>IoU {esc(e.removeprefix('environment='))}</th>" for e in envs)
+        out.append(f"<h4>World: {esc(judge)}</h4><table><tr><th>our class</th><th>IoU</th><th>recall</th>{head}</tr>")
+        for c in ours:
+            cells = "".join(_figure_cell(fig(f"iou|{judge}|{c}|{e}")) for e in envs)
+            out.append(f"<tr><td>{esc(c)}</td>{_figure_cell(fig(f'iou|{judge}|{c}|all'))}"
+                       f"{_figure_cell(fig(f'recall|{judge}|{c}|all'))}{cells}</tr>")  # fmt: skip
+        out.append("</table>")
+    if fig("cityscapes_miou") is not None:
+        m = fig("cityscapes_miou")
+        out.append(f"<p>Cityscapes mIoU over its classes present: {m.value:.2f} ({m.low:.2f}–{m.high:.2f}).</p>")
+    if result.examples:
+        out.append(
+            "<h4>Judged frames</h4><p>The frame with our joints (green) and the landmark model's (red); then "
+            "per segmenter, what it should answer and what it answered (dark grey: not judged).</p>"
+        )
+        for ex in result.examples:
+            sheet = example_sheet(ex, JUDGE_CLASSES)
+            png = cv2.imencode(".png", np.ascontiguousarray(sheet[..., ::-1]))[1].tobytes()
+            out.append(f"<figure><img src='{_png_url(png)}'><figcaption>{esc(ex['video'])} frame "
+                       f"{ex['frame']:05d}</figcaption></figure>")  # fmt: skip
+    return out
+
+
 def report_html(reports: Sequence[DatasetReport]) -> str:
     esc = html.escape
     out = [
@@ -228,6 +287,8 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
         if r.learnability is not None:
             out += learnability_html(r.learnability, Path(r.source))
+        if r.realism is not None:
+            out += realism_html(r.realism)
     out.append("</body></html>")
     return "\n".join(out)
 

@@ -305,7 +305,7 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
                         judged = judge_person(judges, tally, video, rgb, person, groups)
                         people += 1
                 if len(examples) < 4 and (judged is not None or len(examples) < 2):
-                    examples.append({"video": video, "frame": f, "rgb": rgb, "classes": classes, "voc": voc,
+                    examples.append({"video": video, "frame": f, "rgb": rgb, "classes": classes, "pascal_voc": voc,
                                      "cityscapes": city, "person": person, "judged": judged})  # fmt: skip
                 if advance is not None:
                     advance(1)

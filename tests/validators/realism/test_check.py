@@ -136,3 +136,28 @@ def test_a_corrupt_model_or_a_missing_extra_is_one_line_and_exit_2(small_dataset
     monkeypatch.setitem(sys.modules, "ai_edge_litert.interpreter", None)  # as if the extra were not installed
     shutil.copy(MODELS_DIR / JUDGE_MODELS["pascal_voc"].file, bad)
     _one_line_exit_2(invoke_cli(*args, "--realism-models", str(models)), "pip install 'phav[realism]'")
+
+
+def test_the_html_report_shows_the_tables_and_judged_frames(small_dataset, tmp_path):
+    page = tmp_path / "report.html"
+    result = invoke_cli("validate!", str(small_dataset), "--checks", "realism", "--realism-frames", "4",
+                        "--html", str(page))  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    text = page.read_text()
+    assert "Realism: models trained on real photographs" in text and "World: pascal_voc" in text
+    assert "<td>person</td>" in text and text.count("<figure><img src='data:image/png") >= 2
+
+
+def test_an_example_sheet_puts_what_a_judge_should_answer_beside_its_answer(judged):
+    from phav_spec.judge_classes import JUDGE_CLASSES
+    from phav_validators.realism.figures import NOT_JUDGED, example_sheet, expected_labels, palette
+
+    ex = judged.examples[0]
+    sheet = example_sheet(ex, JUDGE_CLASSES)
+    tiles = 1 + 2 * sum(ex[n] is not None for n in JUDGE_CLASSES)
+    assert sheet.shape == (256, tiles * 340 + (tiles - 1) * 4, 3)
+    voc = JUDGE_CLASSES["pascal_voc"]
+    expected = palette(voc)[expected_labels(ex["classes"], voc)]
+    assert np.array_equal(sheet[:, 344:684], expected)
+    assert np.array_equal(sheet[:, 688:1028], palette(voc)[ex["pascal_voc"]])
+    assert (expected == NOT_JUDGED).all(axis=-1).any()  # the scene around the objects is not judged
