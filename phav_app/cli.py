@@ -35,6 +35,7 @@ from phav_app.bench.generator import (
     benchmark_report,
     mean_frames_per_video,
 )
+from phav_app.bench.realism import bench_realism
 from phav_app.bench.training import learning_curve, throughput
 from phav_app.bench.validation import bench_validation
 from phav_app.card import check_croissant
@@ -82,6 +83,7 @@ from phav_validators.framing import read_framing
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
 from phav_validators.learn.train import RECOMMENDED, RGB_EPOCH_SHARE, default_threads, recommended_config
+from phav_validators.realism.check import HEADLINES
 
 app = typer.Typer(
     name="phav",
@@ -100,7 +102,7 @@ app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
 #: What `phav bench --sections` can run.
-BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "generation", "validation", "training")
+BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "generation", "validation", "training", "realism")
 
 ThetaOption = Annotated[str, typer.Option("--theta", help="θ YAML file, or a preset name such as phav-v1.")]
 EngineOption = Annotated[
@@ -622,6 +624,15 @@ def bench(
             help=f"Epochs of the flow stream (the RGB stream: {RGB_EPOCH_SHARE} of them).",
         ),
     ] = RECOMMENDED.epochs,
+    realism_data: Annotated[
+        Path | None, typer.Option("--realism-data", help="A PHAV dataset to judge (default: generate one).")
+    ] = None,
+    realism_videos: Annotated[
+        int, typer.Option("--realism-videos", min=2, help="phav-v1-short videos generated when no --realism-data.")
+    ] = 40,
+    realism_frames: Annotated[
+        str, typer.Option("--realism-frames", help="Comma-separated frame counts judged, one run each.")
+    ] = "25,50,100,200",
     generation_videos: Annotated[
         int, typer.Option("--generation-videos", min=1, help="First N phav-v1 recipes generated per worker count.")
     ] = 8,
@@ -637,7 +648,8 @@ def bench(
     the 35 actions are from simulated motion, against simulation time), rendering (frames/s
     against edge error), generation (frames/s with 1 and 2 workers, byte-identical, and
     the projected wall time of a PHAV-sized run), validation (frames/s per check against
-    generation, detection against --sample) and training (clips/s per stream, test accuracy against minutes)."""
+    generation, detection against --sample), training (clips/s per stream, test accuracy against minutes)
+    and realism (seconds per judged frame against the width of each figure's interval)."""
     chosen = [s.strip() for s in sections.split(",") if s.strip()]
     unknown = sorted(set(chosen) - set(BENCH_SECTIONS))
     if unknown:
@@ -658,6 +670,8 @@ def bench(
                                                        out_dir=out_dir),
         "training": lambda: _bench_training_tables(data=training_data, videos=training_videos, epochs=training_epochs,
                                                    seed=seed, out_dir=out_dir),
+        "realism": lambda: _bench_realism_table(data=realism_data, videos=realism_videos,
+                                                frames=_frame_counts(realism_frames), seed=seed, out_dir=out_dir),
     }  # fmt: skip
     recorded: dict[str, str] = {}
     console.record = report is not None
@@ -719,6 +733,39 @@ def _bench_validation_tables(*, seed: int, videos: int, trials: int, out_dir: Pa
         det.add_row(f"{d.fraction:g}", f"{d.videos_decoded:.1f}", f"{d.seconds:.1f}",
                     f"{d.detected}/{d.trials} = {d.detected / d.trials:.0%}", f"{d.expected:.0%}")  # fmt: skip
     console.print(det)
+
+
+def _frame_counts(text: str) -> list[int]:
+    try:
+        counts = sorted({int(x) for x in text.split(",") if x.strip()})
+    except ValueError:
+        raise PhavUserError(f"{text!r}: expected comma-separated whole numbers", field="--realism-frames") from None
+    if not counts or counts[0] < 1:
+        raise PhavUserError(f"{text!r}: name at least one count of 1 or more", field="--realism-frames")
+    return counts
+
+
+def _bench_realism_table(*, data: Path | None, videos: int, frames: list[int], seed: int,
+                         out_dir: Path | None) -> None:  # fmt: skip
+    source = escape(str(data)) if data is not None else f"{videos} generated phav-v1-short videos, seed {seed}"
+    with tempfile.TemporaryDirectory() as tmp, console.status("realism bench") as status:
+        if data is None:
+            data = (out_dir if out_dir is not None else Path(tmp)) / "realism"
+            status.update(f"generating {videos} phav-v1-short videos")
+            theta = load_theta("phav-v1-short")
+            write_dataset(chunk(list(sample_recipes(theta, n=videos, seed=seed)), 16), data, name="phav",
+                          theta=theta, dataset_seed=seed, workers=default_threads())  # fmt: skip
+        status.update(f"judging {data}")
+        points = bench_realism(data, frames, seed=seed)
+    table = Table(title=f"realism ({source}; one thread per model; each figure: value ± half its 95 % interval)",
+                  title_justify="left")  # fmt: skip
+    names = sorted({n for p in points for n in p.figures}, key=list(HEADLINES).index)
+    for col in ("frames", "people", "seconds", "s/frame", *names):
+        table.add_column(col, justify="right")
+    for p in points:
+        cells = [f"{f.value:.3f} ± {(f.high - f.low) / 2:.3f}" if (f := p.figures.get(n)) else "" for n in names]
+        table.add_row(str(p.frames), str(p.people), f"{p.seconds:.1f}", f"{p.seconds_per_frame:.2f}", *cells)
+    console.print(table)
 
 
 def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed: int, out_dir: Path | None) -> None:
