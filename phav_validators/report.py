@@ -26,7 +26,7 @@ from phav_validators.checks.reproduce import shard_video_frames
 from phav_validators.framing import FRAMING_BINS, FramingResult
 from phav_validators.learn.learnability import LearnResult, confusion_png
 from phav_validators.options import DatasetReport
-from phav_validators.realism.check import VIEWS, RealismResult
+from phav_validators.realism.check import MIN_VIDEOS, VIEWS, RealismResult
 from phav_validators.realism.figures import example_sheet
 
 #: Version of the JSON report's layout; bumped when a field changes meaning.
@@ -194,12 +194,14 @@ def realism_html(result: RealismResult) -> list[str]:
     out = [f"<h3>Realism: models trained on real photographs</h3><p>{result.frames} frames of {result.videos} "
            f"videos (seed {result.options.seed}), {result.people} protagonists judged; each figure with its 95 % "
            f"bootstrap interval over videos and its count. Models (sha256): {models}.</p>",
-           "<h4>People</h4><table><tr><th>view</th><th>found by the detector</th><th>its score</th>"
+           "<h4>People</h4><table><tr><th>view or action</th><th>found by the detector</th><th>its score</th>"
            "<th>PCK 0.1</th><th>PCK 0.2</th><th>left/right swapped</th></tr>"]  # fmt: skip
-    for view in ("all", *(f"view={v}" for v in VIEWS)):
-        names = ("person_found", "person_score", "person_pck_0.1", "person_pck_0.2", "person_swap")
-        cells = "".join(_figure_cell(fig(f"{k}|{view}")) for k in names)
-        out.append(f"<tr><td>{esc(view.removeprefix('view='))}</td>{cells}</tr>")
+    names = ("person_found", "person_score", "person_pck_0.1", "person_pck_0.2", "person_swap")
+    actions = sorted(k.split("|")[1] for k, f in result.figures.items()
+                     if k.startswith("person_found|action=") and f.videos >= MIN_VIDEOS)  # fmt: skip
+    for group in ("all", *(f"view={v}" for v in VIEWS), *actions):
+        cells = "".join(_figure_cell(fig(f"{k}|{group}")) for k in names)
+        out.append(f"<tr><td>{esc(group.removeprefix('view='))}</td>{cells}</tr>")
     out.append("</table><table><tr><th>joint</th><th>PCK 0.1</th><th>PCK 0.2</th></tr>")
     joints = sorted({k.split("|")[1] for k in result.figures if k.startswith("joint_pck_0.2|")})
     for j in joints:
@@ -224,8 +226,9 @@ def realism_html(result: RealismResult) -> list[str]:
         out.append(f"<p>Cityscapes mIoU over its classes present: {m.value:.2f} ({m.low:.2f}–{m.high:.2f}).</p>")
     if result.examples:
         out.append(
-            "<h4>Judged frames</h4><p>The frame with our joints (green) and the landmark model's (red); then "
-            "per segmenter, what it should answer and what it answered (dark grey: not judged).</p>"
+            "<h4>Judged frames</h4><p>The frame with our box and joints (white, green), the detector's person region "
+            "(yellow) and the landmark model's joints (red); then per segmenter, what it should answer and what it "
+            "answered (dark grey: not judged).</p>"
         )
         for ex in result.examples:
             sheet = example_sheet(ex, JUDGE_CLASSES)

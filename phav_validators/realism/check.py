@@ -36,6 +36,8 @@ _MIRROR = {n: n.replace("left", "right") if n.startswith("left") else n.replace(
            for n in BLAZEPOSE_JOINTS}  # fmt: skip
 #: Camera views of a person: the angle between where it faces and where the camera is.
 VIEWS = ("front", "side", "back")
+#: A group (an action, an environment) is shown apart from at least this many videos.
+MIN_VIDEOS = 5
 #: Bootstrap resamples of the videos for each interval.
 RESAMPLES = 1000
 

@@ -51,7 +51,8 @@ def expected_labels(classes: np.ndarray, judge: JudgeClasses) -> np.ndarray:
 
 
 def _joints_drawn(rgb: np.ndarray, person: dict[str, Any] | None, judged: dict[str, Any] | None) -> np.ndarray:
-    """The frame with the protagonist's box, its joints (green) and the judged ones (red)."""
+    """The frame with the protagonist's box (white), its joints (green), the detector's person
+    region (yellow) and the landmark model's joints (red)."""
     out = rgb.copy()
     if person is None or person["bbox2d"][0] is None:
         return out
@@ -62,6 +63,9 @@ def _joints_drawn(rgb: np.ndarray, person: dict[str, Any] | None, judged: dict[s
         if person["visible"][j] and np.all(np.isfinite(joints[j])):
             cv2.circle(out, tuple(int(v) for v in joints[j]), 3, (0, 220, 0), -1)
     if judged is not None:
+        if judged["found"] is not None:  # the detector's person region, as MediaPipe builds it
+            rx0, ry0, rx1, ry1 = (round(v) for v in judged["found"].region())
+            cv2.rectangle(out, (rx0, ry0), (rx1, ry1), (255, 220, 0), 1)
         for x, y in judged["landmarks"].joints.values():
             cv2.drawMarker(out, (int(x), int(y)), (255, 40, 40), cv2.MARKER_CROSS, 7, 2)
     return out
