@@ -39,14 +39,15 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """The data clients' caches in a folder of this run, set before any test imports them
-    (both read it at import): nothing comes from ~/.cache, and mlcroissant, which keys what
-    it unpacks by a file's contentUrl alone, never serves another run's shards."""
+    """The data clients' caches in a folder of this process, set before any test imports
+    them (both read it at import): nothing comes from ~/.cache, and mlcroissant, which keys
+    what it unpacks by a file's contentUrl alone, never serves another run's shards — nor
+    another test process's, where the suite runs in several (pytest-xdist)."""
     import tempfile
 
     caches = Path(tempfile.mkdtemp(prefix="phav-test-caches-"))
-    os.environ.setdefault("CROISSANT_CACHE", str(caches / "croissant"))
-    os.environ.setdefault("HF_HOME", str(caches / "huggingface"))
+    os.environ["CROISSANT_CACHE"] = str(caches / "croissant")
+    os.environ["HF_HOME"] = str(caches / "huggingface")
 
 
 @pytest.fixture(scope="session")

@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from tests.helpers import run_cli
+from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, SMALL_VIDEOS, run_cli, theta_variant, tiny
 from tests.validators.learn.helpers import measure_script, motion_clips
 
 
@@ -126,23 +126,22 @@ def test_the_pair_sheet_stacks_each_videos_frames_over_their_flow(phav, tmp_path
     assert top_rgb.std() > 5 and not np.array_equal(top_rgb, top_flow)
 
 
-def test_supersampling_moves_the_rgb_modality_only(phav, tmp_path):
-    """The tiny set again from θ's 2-sample variant: every modality but RGB hashes the same,
-    and the RGB frames differ, less once area-averaged to the check's size."""
-    import yaml
+def test_supersampling_moves_the_rgb_modality_only(small_dataset, tmp_path):
+    """The shared set's recipes again with one sample a pixel instead of phav-v1's two: every
+    modality but RGB hashes the same, and the RGB frames differ, less once area-averaged to
+    the check's size."""
 
-    from phav_spec.manifest import load_manifest
+    def one_sample(data: dict) -> None:
+        tiny(data)
+        data["render"] = {**data["render"], "supersampling": 1}
 
-    factors = measure_script("theta_factors")
-    theta = tmp_path / "ss2.yaml"
-    theta.write_text(yaml.safe_dump(factors.variants(factors.base_preset())["supersampling-2"]))
-    out = tmp_path / "ss2"
-    seed = str(load_manifest(phav / "manifest.json").dataset_seed)  # the tiny set's recipes again
-    result = run_cli("generate", "--theta", str(theta), "--videos", "3", "--seed", seed, "--out", str(out),
-                     "--shard-size", "2", "--workers", "2")  # fmt: skip
+    theta = theta_variant(tmp_path, one_sample)
+    out = tmp_path / "ss1"
+    result = run_cli("generate", "--theta", str(theta), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
+                     "--out", str(out), "--shard-size", str(SMALL_SHARD_SIZE), "--workers", "2")  # fmt: skip
     assert result.returncode == 0, result.stderr
-    found = measure_script("supersampling").compare(out, phav)
-    assert found["videos"] == 3 and found["frames"] > 30
+    found = measure_script("supersampling").compare(small_dataset, out)
+    assert found["videos"] == SMALL_VIDEOS and found["frames"] == SMALL_VIDEOS * 6
     assert found["equal_hashes"] == {"depth": 3, "flow": 3, "instance": 3, "raw_rgb": 3, "rgb": 0, "semantic": 3}
     rgb = found["rgb_mean_abs"]
     assert 0 < rgb["check_size"] < rgb["stored"] < 5

@@ -1,0 +1,66 @@
+"""Markdown tables of realism figures from `phav-validate --checks realism --json` reports,
+one column per report (docs/realism.md): the headline figures, people per view, and the
+world per our class for each judge.
+
+    python docs/measure/realism_table.py today=realism-today.json capsules=realism-capsules.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from phav_validators.realism.check import HEADLINES, VIEWS
+
+
+def realism_numbers(path: Path) -> dict:
+    """The realism check's numbers of the first dataset of a JSON report."""
+    report = json.loads(path.read_text())
+    [check] = [c for c in report["datasets"][0]["checks"] if c["name"] == "realism"]
+    return check["numbers"]
+
+
+def cell(fig: dict | None) -> str:
+    if fig is None:
+        return "—"
+    low, high = fig["ci95"]
+    return f"{fig['value']:.2f} ({low:.2f}–{high:.2f})"
+
+
+def table(title: str, rows: list[tuple[str, str]], runs: dict[str, dict]) -> list[str]:
+    """A table whose rows are (label, figure key) and whose columns are the runs."""
+    out = [f"| {title} | " + " | ".join(runs) + " |", "| --- |" + " ---: |" * len(runs)]
+    for label, key in rows:
+        figs = [run["figures"].get(key) for run in runs.values()]
+        if any(f is not None for f in figs):
+            out.append(f"| {label} | " + " | ".join(cell(f) for f in figs) + " |")
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+", help="name=report.json")
+    args = parser.parse_args()
+    runs = {name: realism_numbers(Path(path)) for name, path in (r.split("=", 1) for r in args.runs)}
+    lines = ["| judged | " + " | ".join(runs) + " |", "| --- |" + " ---: |" * len(runs),
+             "| frames (videos), protagonists | " + " | ".join(
+                 f"{r['frames']} ({r['videos']}), {r['people']}" for r in runs.values()) + " |"]  # fmt: skip
+    lines += table("headline", [(n, k) for n, k in HEADLINES.items()], runs)[2:]
+    print("\n".join(lines) + "\n")
+    people = [(f"{v}: found / PCK 0.2 / swapped", v) for v in ("all", *VIEWS)]
+    rows = []
+    for label, v in people:
+        group = v if v == "all" else f"view={v}"
+        rows += [(f"{label.split(':')[0]} — found", f"person_found|{group}"),
+                 (f"{label.split(':')[0]} — PCK 0.2", f"person_pck_0.2|{group}"),
+                 (f"{label.split(':')[0]} — left/right swapped", f"person_swap|{group}")]  # fmt: skip
+    print("\n".join(table("people (view)", rows, runs)) + "\n")
+    for judge in ("pascal_voc", "cityscapes"):
+        ours = sorted({k.split("|")[2] for r in runs.values() for k in r["figures"] if k.startswith(f"iou|{judge}|")})
+        rows = [(c, f"iou|{judge}|{c}|all") for c in ours]
+        print("\n".join(table(f"{judge}: IoU of our class", rows, runs)) + "\n")
+
+
+if __name__ == "__main__":
+    main()
