@@ -1,7 +1,8 @@
 """``phav-validate`` on a dataset: the seven checks, run once each, collected into one report.
 
 integrity · schema · encoding · distribution · failures · consistency · reproducibility,
-and when named, learnability (a small TSN trained on the pixels; docs/learnability.md)
+and when named, learnability (a small TSN trained on the pixels; docs/learnability.md) and
+realism (models trained on real photographs judge a sample of frames; docs/realism.md)
 (docs/validation.md says what each measures and where its thresholds come from). Shards are
 scanned once, in a process pool when ``workers`` > 1; integrity, encoding and consistency
 read their numbers off that one pass. Every check runs even when another fails, so one
