@@ -11,7 +11,7 @@ import argparse
 import json
 from pathlib import Path
 
-from phav_validators.realism.check import HEADLINES, VIEWS
+from phav_validators.realism.check import HEADLINES, MIN_VIDEOS, VIEWS
 
 
 def realism_numbers(path: Path) -> dict:
@@ -60,6 +60,17 @@ def main() -> None:
         ours = sorted({k.split("|")[2] for r in runs.values() for k in r["figures"] if k.startswith(f"iou|{judge}|")})
         rows = [(c, f"iou|{judge}|{c}|all") for c in ours]
         print("\n".join(table(f"{judge}: IoU of our class", rows, runs)) + "\n")
+    # Per environment and per action (where at least MIN_VIDEOS videos were judged).
+    for judge, c in (("pascal_voc", "person"), ("cityscapes", "person"), ("cityscapes", "road"),
+                     ("cityscapes", "building"), ("cityscapes", "terrain")):  # fmt: skip
+        envs = sorted({k.split("|")[3] for r in runs.values() for k in r["figures"]
+                       if k.startswith(f"iou|{judge}|{c}|environment=")})  # fmt: skip
+        rows = [(e.removeprefix("environment="), f"iou|{judge}|{c}|{e}") for e in envs]
+        print("\n".join(table(f"{judge}: IoU of {c}, by environment", rows, runs)) + "\n")
+    actions = sorted({k.split("|")[1] for r in runs.values() for k, f in r["figures"].items()
+                      if k.startswith("person_pck_0.2|action=") and f["videos"] >= MIN_VIDEOS})  # fmt: skip
+    rows = [(a.removeprefix("action="), f"person_pck_0.2|{a}") for a in actions]
+    print("\n".join(table(f"PCK 0.2 by action (at least {MIN_VIDEOS} videos)", rows, runs)) + "\n")
 
 
 if __name__ == "__main__":
