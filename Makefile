@@ -45,13 +45,15 @@ demo: $(STAMP)
 	$(VENV)/bin/phav-validate $(DEMO)/release --workers 2 --checks integrity,schema,encoding --regenerate-into $(DEMO)/release-pixels
 	$(VENV)/bin/phav preview $(DEMO)/videos --video v000000 --out $(DEMO)/v000000-preview.png
 
-# Lint, the import contracts (pyproject: [tool.importlinter]), then the suite; the wall time
+# Lint, the import contracts (pyproject: [tool.importlinter]), then the suite in two processes
+# (pytest-xdist; a file's tests stay in one, so its fixtures are built once); the wall time
 # is the last line. Tests marked slow repeat what a default test covers at a larger scale:
 # `make test-all` runs them too. Branch coverage doubles the suite's time: `make coverage`.
+TEST_PROCESSES ?= 2
 test: $(STAMP)
 	@start=$$(date +%s); \
 	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && \
-	$(PY) -m pytest -q -m "not slow"; \
+	$(PY) -m pytest -q -m "not slow" -n $(TEST_PROCESSES) --dist loadfile; \
 	status=$$?; echo "make test: $$(( $$(date +%s) - start )) s wall"; exit $$status
 
 coverage: $(STAMP)
@@ -59,7 +61,8 @@ coverage: $(STAMP)
 		--cov-branch --cov-report=term:skip-covered
 
 test-all: $(STAMP)
-	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && $(PY) -m pytest -q
+	$(VENV)/bin/ruff check . && $(VENV)/bin/lint-imports --no-cache && \
+	$(PY) -m pytest -q -n $(TEST_PROCESSES) --dist loadfile
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
