@@ -17,6 +17,7 @@ from rich.table import Table
 from phav_app.console import console
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
+from phav_validators.findings import ProgressFactory
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import FLOW_SOURCES, ClipSet, load_phav, load_real, real_split
 from phav_validators.learn.experiment import MODES, RunResult, phav_runs, real_runs, summarise
@@ -30,7 +31,6 @@ from phav_validators.learn.train import (
     stream_configs,
     torch_device,
 )
-from phav_validators.options import ProgressFactory
 
 
 def _size(text: str) -> tuple[int, int]:

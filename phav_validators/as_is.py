@@ -41,7 +41,7 @@ from phav_validators.checks.recipes import check_recipe_table
 from phav_validators.checks.reproduce import check_reproducibility
 from phav_validators.checks.scan import ShardJob, ShardScan, VideoExpect, VideoScan, scan_shard, tune_allocator
 from phav_validators.checks.tarsafe import TarScan, iter_members
-from phav_validators.findings import CheckResult, Finding, Reason, Report
+from phav_validators.findings import CheckResult, Finding, ProgressFactory, Reason, Report
 from phav_validators.framing import FramingResult, read_framing
 from phav_validators.learn.learnability import LearnOptions, check_learnability
 from phav_validators.options import (
@@ -49,7 +49,6 @@ from phav_validators.options import (
     DEFAULT_OPTIONS,
     DatasetReport,
     Options,
-    ProgressFactory,
     sample_videos,
 )
 from phav_validators.realism.check import RealismOptions, realism_check, run_realism

@@ -12,7 +12,7 @@ from phav_generator.engines import check_engine
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 from phav_validators.checks.failures import DEFAULT_BUDGET
-from phav_validators.findings import CheckResult, ProgressFactory, Status  # noqa: F401 (re-exported)
+from phav_validators.findings import CheckResult, Status
 
 if TYPE_CHECKING:
     from phav_validators.checks.distribution import DistributionResult

@@ -28,8 +28,8 @@ from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse
 from phav_spec.manifest import RendererFingerprint, renderer_differences
 from phav_spec.release import RELEASE_FILE
 from phav_validators.as_is import validate_as_is
-from phav_validators.findings import Reason
-from phav_validators.options import DatasetReport, Options, ProgressFactory, sample_videos
+from phav_validators.findings import ProgressFactory, Reason
+from phav_validators.options import DatasetReport, Options, sample_videos
 from phav_validators.source import MANIFEST, RECIPES, THETA, DatasetInput
 
 if TYPE_CHECKING:

@@ -12,7 +12,8 @@ report lists everything wrong; a check whose inputs are missing is skipped, and 
 from __future__ import annotations
 
 from phav_validators.as_is import validate_as_is
-from phav_validators.options import DEFAULT_OPTIONS, PIXEL_CHECKS, DatasetReport, Options, ProgressFactory
+from phav_validators.findings import ProgressFactory
+from phav_validators.options import DEFAULT_OPTIONS, PIXEL_CHECKS, DatasetReport, Options
 from phav_validators.regenerated import validate_release
 from phav_validators.source import DatasetInput, is_recipe_release
 

@@ -6,7 +6,6 @@ import importlib.util
 from dataclasses import dataclass
 
 from phav_spec.errors import PhavUserError
-from phav_validators.findings import ProgressFactory  # noqa: F401 (re-exported: the learning modules name it)
 
 #: Input channels per stream: an RGB frame, or ``flow_frames`` stacked (u, v) flow frames.
 STREAMS = ("rgb", "flow")

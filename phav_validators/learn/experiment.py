@@ -13,7 +13,7 @@ import numpy as np
 
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
-from phav_validators.learn.config import ProgressFactory
+from phav_validators.findings import ProgressFactory
 from phav_validators.learn.data import Clip, ClipSet
 from phav_validators.learn.splits import make_split
 from phav_validators.learn.train import TrainConfig, fuse, predict, stream_configs, teacher_of, train

@@ -32,8 +32,7 @@ from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
 from phav_spec.manifest import load_manifest
 from phav_spec.seeding import seeded_rng
-from phav_validators.findings import CheckResult, Finding, Reason, Report
-from phav_validators.learn.config import ProgressFactory
+from phav_validators.findings import CheckResult, Finding, ProgressFactory, Reason, Report
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
 from phav_validators.learn.splits import BACKGROUND, Split, make_split
 from phav_validators.learn.train import (
