@@ -23,6 +23,7 @@ from rich.progress import (
     TimeRemainingColumn,
     TransferSpeedColumn,
 )
+from rich.status import Status
 from rich.table import Table
 
 from phav_app.bench.generator import (
@@ -735,6 +736,15 @@ def _bench_validation_tables(*, seed: int, videos: int, trials: int, out_dir: Pa
     console.print(det)
 
 
+def _bench_dataset(out: Path, videos: int, seed: int, status: Status) -> Path:
+    """``videos`` phav-v1-short videos of ``seed`` generated into ``out``, for a bench to read."""
+    status.update(f"generating {videos} phav-v1-short videos")
+    theta = load_theta("phav-v1-short")
+    write_dataset(chunk(list(sample_recipes(theta, n=videos, seed=seed)), 16), out, name="phav",
+                  theta=theta, dataset_seed=seed, workers=default_threads())  # fmt: skip
+    return out
+
+
 def _frame_counts(text: str) -> list[int]:
     try:
         counts = sorted({int(x) for x in text.split(",") if x.strip()})
@@ -750,11 +760,7 @@ def _bench_realism_table(*, data: Path | None, videos: int, frames: list[int], s
     source = escape(str(data)) if data is not None else f"{videos} generated phav-v1-short videos, seed {seed}"
     with tempfile.TemporaryDirectory() as tmp, console.status("realism bench") as status:
         if data is None:
-            data = (out_dir if out_dir is not None else Path(tmp)) / "realism"
-            status.update(f"generating {videos} phav-v1-short videos")
-            theta = load_theta("phav-v1-short")
-            write_dataset(chunk(list(sample_recipes(theta, n=videos, seed=seed)), 16), data, name="phav",
-                          theta=theta, dataset_seed=seed, workers=default_threads())  # fmt: skip
+            data = _bench_dataset((out_dir if out_dir is not None else Path(tmp)) / "realism", videos, seed, status)
         status.update(f"judging {data}")
         points = bench_realism(data, frames, seed=seed)
     table = Table(title=f"realism ({source}; one thread per model; each figure: value ± half its 95 % interval)",
@@ -774,11 +780,7 @@ def _bench_training_tables(*, data: Path | None, videos: int, epochs: int, seed:
     source = escape(str(data)) if data is not None else f"{videos} generated phav-v1-short videos, seed {seed}"
     with tempfile.TemporaryDirectory() as tmp, console.status("training bench") as status:
         if data is None:
-            data = (out_dir if out_dir is not None else Path(tmp)) / "training"
-            status.update(f"generating {videos} phav-v1-short videos")
-            theta = load_theta("phav-v1-short")
-            write_dataset(chunk(list(sample_recipes(theta, n=videos, seed=seed)), 16), data, name="phav",
-                          theta=theta, dataset_seed=seed, workers=default_threads())  # fmt: skip
+            data = _bench_dataset((out_dir if out_dir is not None else Path(tmp)) / "training", videos, seed, status)
         status.update(f"reading {data}")
         clips = load_phav(data, workers=default_threads())
         base = recommended_config(("rgb", "flow"), epochs=epochs, seed=seed)

@@ -133,13 +133,18 @@ def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
         return None
     if first is None:
         return None
-    ok, png = cv2.imencode(".png", first[..., ::-1])
-    return _png_url(png.tobytes()) if ok else None
+    return _rgb_png_url(first)
 
 
 def _png_url(png: bytes) -> str:
     """PNG bytes as a data URL the page can show inline."""
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+
+
+def _rgb_png_url(image: np.ndarray) -> str | None:
+    """An RGB image (H, W, 3) uint8 as a PNG data URL, None if OpenCV cannot encode it."""
+    ok, png = cv2.imencode(".png", np.ascontiguousarray(image[..., ::-1]))
+    return _png_url(png.tobytes()) if ok else None
 
 
 def learnability_html(learn: LearnResult, root: Path) -> list[str]:
@@ -232,8 +237,7 @@ def realism_html(result: RealismResult) -> list[str]:
         )
         for ex in result.examples:
             sheet = example_sheet(ex, JUDGE_CLASSES)
-            png = cv2.imencode(".png", np.ascontiguousarray(sheet[..., ::-1]))[1].tobytes()
-            out.append(f"<figure><img src='{_png_url(png)}'><figcaption>{esc(ex['video'])} frame "
+            out.append(f"<figure><img src='{_rgb_png_url(sheet)}'><figcaption>{esc(ex['video'])} frame "
                        f"{ex['frame']:05d}</figcaption></figure>")  # fmt: skip
     return out
 

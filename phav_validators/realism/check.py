@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +21,7 @@ import numpy as np
 
 from phav_spec.clips import ClipReader
 from phav_spec.errors import PhavUserError
-from phav_spec.judge_classes import JudgeClasses
+from phav_spec.judge_classes import JUDGE_CLASSES, JudgeClasses
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES
@@ -160,9 +161,11 @@ def judge_person(judges: Judges, tally: Tally, video: str, rgb: np.ndarray, pers
     return {"found": hits[0] if hits else None, "landmarks": answer, "error": error}
 
 
-def _judged_groups(judge: JudgeClasses) -> dict[str, dict[str, list[int]]]:
+@cache
+def _judged_groups(judge_name: str) -> dict[str, dict[str, list[int]]]:
     """Judge class → our classes judged as it → their class ids; a person's parts and joints
     count as one class, ``person`` (a body is one object, to us as to the judge)."""
+    judge = JUDGE_CLASSES[judge_name]
     out: dict[str, dict[str, list[int]]] = {}
     for name, info in PIXEL_CLASSES.items():
         m = judge.judged_as.get(name)
@@ -180,7 +183,7 @@ def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, ta
     Our class c judged as m: its IoU is |c ∩ m| / |c ∪ (m outside every class judged as m)|,
     so that a bench judged as chair is not blamed for the chairs beside it. Per judge class,
     the plain IoU against the union of our classes judged as it (mIoU over those present)."""
-    for m, ours in _judged_groups(judge).items():
+    for m, ours in _judged_groups(judge.judge).items():
         said = labels == judge.label_id(m)
         truth = np.isin(classes, [i for ids in ours.values() for i in ids])
         extra = float((said & ~truth).sum())

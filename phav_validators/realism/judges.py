@@ -23,7 +23,7 @@ import cv2
 import numpy as np
 
 from phav_spec.errors import PhavUserError
-from phav_spec.judge_classes import CITYSCAPES, PASCAL_VOC, JudgeClasses
+from phav_spec.judge_classes import JUDGE_CLASSES, JudgeClasses
 
 #: The models shipped with the package.
 MODELS_DIR = Path(__file__).parent / "models"
@@ -64,18 +64,19 @@ def file_sha256(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-def model_file(name: str, models_dir: Path | None = None) -> Path:
-    """The file of judge ``name`` in ``models_dir`` (default: the shipped copies, whose
-    sha256 must match: a changed shipped file is corrupt, not another version)."""
+def model_file(name: str, models_dir: Path | None = None) -> tuple[Path, str]:
+    """The file of judge ``name`` in ``models_dir`` and its sha256 (default: the shipped
+    copies, whose sha256 must match: a changed shipped file is corrupt, not another version)."""
     model = JUDGE_MODELS[name]
     path = (models_dir or MODELS_DIR) / model.file
     if not path.is_file():
         raise PhavUserError(f"missing model file {model.file} ({model.trained_on})", source=str(path.parent),
                             field="--realism-models")  # fmt: skip
-    if models_dir is None and file_sha256(path) != model.sha256:
+    digest = file_sha256(path)
+    if models_dir is None and digest != model.sha256:
         raise PhavUserError("corrupt model file (its sha256 is not the shipped one's); reinstall phav",
                             source=str(path))  # fmt: skip
-    return path
+    return path, digest
 
 
 @contextlib.contextmanager
@@ -329,11 +330,11 @@ class Judges:
 @cache
 def load_judges(models_dir: Path | None = None, threads: int = 1) -> Judges:
     """Every judge from ``models_dir`` (default: the shipped models)."""
-    paths = {name: model_file(name, models_dir) for name in JUDGE_MODELS}
-    classes = {"pascal_voc": PASCAL_VOC, "cityscapes": CITYSCAPES}
+    files = {name: model_file(name, models_dir) for name in JUDGE_MODELS}
+    paths = {name: path for name, (path, _) in files.items()}
     return Judges(
         PoseDetector(paths["pose_detector"], threads),
         PoseLandmarks(paths["pose_landmarks"], threads),
-        {name: Segmenter(paths[name], c, threads) for name, c in classes.items()},
-        {name: file_sha256(p) for name, p in paths.items()},
+        {name: Segmenter(paths[name], classes, threads) for name, classes in JUDGE_CLASSES.items()},
+        {name: digest for name, (_, digest) in files.items()},
     )
