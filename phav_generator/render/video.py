@@ -68,7 +68,7 @@ def scene_inputs(
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     lighting = lighting_for(recipe.world, indoor=env.indoor)
     protagonist = trajectory.person(recipe.protagonist.person_id)
-    lamps = lamp_positions(env)
+    lamps = lamp_positions(recipe.environment.name)
     focus = protagonist.body_pos[:, 0].mean(axis=0)
     if len(lamps):  # the lamps nearest the action light it
         lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]

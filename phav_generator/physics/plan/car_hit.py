@@ -13,6 +13,10 @@ from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, Pro
 from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS
 
+#: The car's box floats this far (m) above the ground: its wheels fill the gap, the box is
+#: the body a person meets.
+CAR_CLEARANCE_M = 0.15
+
 
 def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins."""
@@ -29,7 +33,7 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     half = np.array([2.1, 0.9, 0.7])
     ground = b.recipe.protagonist.position[2]
     # The car's front reaches the pelvis at t_hit; then it brakes once it has touched.
-    centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + 0.15]) + across * (half[0] + 0.15)
+    centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + CAR_CLEARANCE_M]) + across * (half[0] + 0.15)
     path = centre_hit[None, :] - across[None, :] * speed * (b.times - t_hit)[:, None]
     yaw = heading + side * math.pi / 2 + math.pi
     quat = rot_to_quat(yaw_matrix(yaw))

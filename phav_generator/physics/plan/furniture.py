@@ -13,6 +13,9 @@ from phav_generator.physics.plan.people import body_poses
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan, StaticBox
 from phav_spec.vocab import OBJECTS
 
+#: A chair's back: its height above the seat and half its thickness (m).
+CHAIR_BACK_M = 0.42
+CHAIR_BACK_HALF_M = 0.02
 #: Half the thickness of the posts that hold a pull-up bar's ends (m).
 POST_HALF_WIDTH_M = 0.04
 
@@ -63,6 +66,13 @@ def chair_under_pelvis(b: PlanBuilder, p: PersonPlan) -> None:
         b.boxes.append(chair(aside, ground + 0.45))
         return
     b.boxes.append(box)
+    # A back on the seat's rear edge, where the sitter's torso, arms and head stay clear of it.
+    back_centre = np.array(box.center[:2]) + (half - CHAIR_BACK_HALF_M) * back[:2]
+    rest = StaticBox("chair", (float(back_centre[0]), float(back_centre[1]), seat_top + CHAIR_BACK_M / 2),
+                     (CHAIR_BACK_HALF_M, half, CHAIR_BACK_M / 2), heading)  # fmt: skip
+    torso = ("pelvis", "chest", "head", "left_upper_arm", "right_upper_arm", "left_lower_arm", "right_lower_arm")
+    if not box_meets_bones(rest, p.dims, rot, pos, torso):
+        b.boxes.append(rest)
     b.manipulations.append(
         Manipulation("chair", p.person_id, "pelvis", "hold", float(b.times[i]) - 0.5, float(b.times[i]) + 0.5)
     )

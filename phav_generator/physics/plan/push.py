@@ -24,6 +24,10 @@ DOOR_WIDTH_M = 1.0
 DOOR_HEIGHT_M = 2.0
 
 
+#: A cart's basket floats this far (m) above the ground: its castors fill the gap.
+CART_CLEARANCE_M = 0.15
+
+
 def push_target(b: PlanBuilder, p: PersonPlan) -> None:
     """What a push motion pushes, by its description: a door, a shopping cart, else a box."""
     motion = b.recipe.motion.base_motion
@@ -63,7 +67,7 @@ def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> None:
         bottom = 0.01
     else:  # a cart's basket, its handle end at the hands
         half = (0.45, 0.28, max(0.2, (hand_z - 0.15) / 2))
-        bottom = 0.15
+        bottom = CART_CLEARANCE_M
     path = x0 + (reach[:, None] + half[0]) * fwd + lateral * left
     path[:, 2] = ground + bottom + half[2]
     quat = rot_to_quat(yaw_matrix(np.deg2rad(b.recipe.protagonist.heading_deg)))

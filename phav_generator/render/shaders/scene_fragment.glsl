@@ -28,6 +28,10 @@ flat in vec3 v_emission;
 
 #include "outputs.glsl"
 
+#if MATERIALS
+#include "materials.glsl"
+#endif
+
 float sunlit(vec3 n) {
 #if !SHADOWS
     return 1.0;
@@ -38,11 +42,15 @@ float sunlit(vec3 n) {
     return texture(shadow_map, vec3(p.xy, p.z - bias));  // 2×2 percentage-closer (linear filter)
 }
 
-vec3 albedo() {
+vec3 albedo(out vec2 gloss) {
     // A texture image (linear colours), its mip level from derivatives taken outside the branch.
     vec2 du = dFdx(v_uv.xy), dv = dFdy(v_uv.xy);
+    gloss = vec2(0.0);
     if (v_pattern == 4) return textureGrad(textures, v_uv, du, dv).rgb;
     vec3 c = v_colour;
+#if MATERIALS
+    if (v_pattern >= 5) return material(v_pattern, v_uv, c, gloss);
+#endif
     if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
         vec2 cell = floor(v_world.xy * 2.0);
         float h = fract(sin(dot(cell, vec2(12.9898, 78.233))) * 43758.5453);
@@ -54,7 +62,8 @@ vec3 albedo() {
 void main() {
     vec3 n = normalize(v_normal);
     if (!gl_FrontFacing) n = -n;
-    vec3 a = albedo();
+    vec2 gloss;
+    vec3 a = albedo(gloss);
     float reflectivity = 0.0;
 #if WET
     float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
@@ -76,6 +85,16 @@ void main() {
     }
 #endif
     vec3 c = a * light + v_emission;
+#if MATERIALS
+    if (gloss.y > 0.0) {  // glossy assets: the sky (or the dark ground below it) and the sun mirrored
+        vec3 to_eye = normalize(eye - v_world);
+        vec3 mirrored = reflect(-to_eye, n);
+        float f = gloss.x + (1.0 - gloss.x) * pow(1.0 - max(dot(n, to_eye), 0.0), 5.0);
+        vec3 env = mirrored.z > 0.0 ? sky(mirrored) : ground_ambient * 0.25;
+        c = mix(c, env, gloss.y * f);
+        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 120.0) * 2.0 * gloss.y * shade;
+    }
+#endif
 #if WET
     if (wet > 0.0) {
         vec3 to_eye = normalize(eye - v_world);

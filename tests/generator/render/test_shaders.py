@@ -11,10 +11,10 @@ import pytest
 
 from phav_generator.render.shaders import shader_source, with_features
 
-SNIPPETS = ("models.glsl", "outputs.glsl", "sky.glsl", "tone.glsl")
+SNIPPETS = ("materials.glsl", "models.glsl", "outputs.glsl", "sky.glsl", "tone.glsl")
 #: Each program's stages and the feature switches its fragment stage takes (None: no switches).
 PROGRAMS = {
-    "scene": ("scene_vertex.glsl", "scene_fragment.glsl", ("LAMPS", "SHADOWS", "WET")),
+    "scene": ("scene_vertex.glsl", "scene_fragment.glsl", ("LAMPS", "MATERIALS", "SHADOWS", "WET")),
     "sky": ("fullscreen_vertex.glsl", "sky_fragment.glsl", None),
     "shadow": ("shadow_vertex.glsl", "shadow_fragment.glsl", None),
     "rain": ("rain_vertex.glsl", "rain_fragment.glsl", None),

@@ -1,4 +1,4 @@
-"""The render tests' GL context: Mesa's llvmpipe, the renderer of record, one per module."""
+"""The generator tests' GL context: Mesa's llvmpipe, the renderer of record, one per module."""
 
 from __future__ import annotations
 

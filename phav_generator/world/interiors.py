@@ -1,0 +1,425 @@
+"""Furniture and fittings of a room, each fitted into its collision box (the box's frame:
+origin at its centre, +z up; ``front`` is the box side a chair's or sofa's sitter faces, a
+shelf's or screen's open side, as a unit axis in that frame)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from phav_generator.world.materials import FABRICS, LEATHERS, WOODS, Material, pick
+from phav_generator.world.parts import LAMP_GLOW, VIEW_GLOW, Asset, Parts, rotation
+
+Axis = tuple[float, float]  # (x, y) unit vector in the box's frame
+
+_WHITE_GOODS = (0.88, 0.88, 0.86)
+_BLACK = (0.03, 0.03, 0.035)
+_BOOKS = ((0.55, 0.10, 0.08), (0.10, 0.20, 0.40), (0.15, 0.35, 0.18), (0.85, 0.75, 0.55), (0.12, 0.12, 0.12),
+          (0.75, 0.45, 0.10), (0.50, 0.50, 0.55))  # fmt: skip
+
+
+def _frame(half, front: Axis):
+    """(depth half, width half, yaw) of a box whose sitter or opening faces ``front``: the
+    parts are modelled facing +x and turned by yaw."""
+    hx, hy, _ = half
+    yaw = math.atan2(front[1], front[0])
+    depth, width = (hx, hy) if abs(front[0]) > 0.5 else (hy, hx)
+    return depth, width, rotation(yaw)
+
+
+def _turned(p: Parts, rot, name, cls, material, colour, lo, hi, **kw) -> None:
+    """An axis-aligned box (in the facing +x frame) between ``lo`` and ``hi``, turned by ``rot``."""
+    lo_, hi_ = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
+    centre = (lo_ + hi_) / 2
+    c = rot @ centre
+    p.box(name, cls, material, colour, (float(c[0]), float(c[1]), float(c[2])), tuple((hi_ - lo_) / 2), rot=rot, **kw)
+
+
+def chair(
+    half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0), seat: float | None = None
+) -> Asset:
+    """A wooden chair: four legs, a seat at ``seat`` (default 0.46 m above the box's bottom,
+    or its top when lower) and a back of two uprights and rails up to the box's top."""
+    d, w, rot = _frame(half, front)
+    hz = half[2]
+    p = Parts(level)
+    wood = pick(WOODS, rng)
+    s = min(-hz + (seat if seat is not None else 0.46), hz)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    box("seat", "chair", Material.WOOD, wood, (-d, -w, s - 0.04), (d, w, s))
+    leg = 0.022
+    for x in (-d + leg, d - leg):
+        for y in (-w + leg, w - leg):
+            box(
+                f"leg{x:+.2f}{y:+.2f}",
+                "chair",
+                Material.WOOD,
+                wood,
+                (x - leg, y - leg, -hz),
+                (x + leg, y + leg, s - 0.04),
+            )
+    if hz - s > 0.15:  # a back: uprights on the far side from the sitter, rails between them
+        for y in (-w + leg, w - leg):
+            box(f"upright{y:+.2f}", "chair", Material.WOOD, wood, (-d, y - leg, s), (-d + 2 * leg, y + leg, hz))
+        rails = 3 if p.fine else 1
+        for k in range(rails):
+            z = hz - 0.04 - k * 0.1
+            box(f"rail{k}", "chair", Material.WOOD, wood, (-d, -w + leg, z - 0.05), (-d + 0.02, w - leg, z))
+    return p.build()
+
+
+def table(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A table: a top with an apron on four legs."""
+    hx, hy, hz = half
+    p = Parts(level)
+    wood = pick(WOODS, rng)
+    p.span("top", "table", Material.WOOD, wood, (-hx, -hy, hz - 0.035), (hx, hy, hz))
+    p.span(
+        "apron", "table", Material.WOOD, wood, (-hx + 0.06, -hy + 0.06, hz - 0.12), (hx - 0.06, hy - 0.06, hz - 0.035)
+    )
+    leg = 0.03
+    for x in (-hx + 0.06, hx - 0.06):
+        for y in (-hy + 0.06, hy - 0.06):
+            p.span(
+                f"leg{x:+.2f}{y:+.2f}",
+                "table",
+                Material.WOOD,
+                wood,
+                (x - leg, y - leg, -hz),
+                (x + leg, y + leg, hz - 0.035),
+            )
+    return p.build()
+
+
+def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+    """A sofa: a base on feet, seat cushions, back cushions and arms, in fabric or leather."""
+    d, w, rot = _frame(half, front)
+    hz = half[2]
+    p = Parts(level)
+    leather = rng.random() < 0.3
+    cover, material = (pick(LEATHERS, rng), Material.LEATHER) if leather else (pick(FABRICS, rng), Material.FABRIC)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    z0, seat = -hz + 0.08, -hz + 0.43
+    arm = 0.16
+    box("base", "sofa", material, cover, (-d, -w + arm, z0), (d, w - arm, seat - 0.12))
+    for sgn in (-1.0, 1.0):
+        y0, y1 = (-w, -w + arm) if sgn < 0 else (w - arm, w)
+        box(f"arm{sgn:+.0f}", "sofa", material, cover, (-d, y0, z0), (d, y1, -hz + 0.62))
+    box("back", "sofa", material, cover, (-d, -w + arm, z0), (-d + 0.22, w - arm, hz))
+    cushions = 3 if p.fine and w > 0.9 else (2 if p.fine else 1)
+    span = (2 * (w - arm)) / cushions
+    for k in range(cushions):
+        y0 = -w + arm + k * span
+        box(
+            f"cushion{k}",
+            "sofa",
+            material,
+            cover,
+            (-d + 0.22, y0 + 0.005, seat - 0.12),
+            (d - 0.02, y0 + span - 0.005, seat),
+        )
+        if p.fine:
+            box(f"back_cushion{k}", "sofa", material, cover, (-d + 0.22, y0 + 0.01, seat),
+                (-d + 0.36, y0 + span - 0.01, hz - 0.06))  # fmt: skip
+    for x in (-d + 0.05, d - 0.05):
+        for y in (-w + 0.05, w - 0.05):
+            box(
+                f"foot{x:+.1f}{y:+.1f}",
+                "sofa",
+                Material.WOOD,
+                WOODS[1],
+                (x - 0.03, y - 0.03, -hz),
+                (x + 0.03, y + 0.03, z0),
+            )
+    return p.build()
+
+
+def bed(half, rng: np.random.Generator, level: int = 0, *, head: Axis = (0.0, -1.0)) -> Asset:
+    """A bed: a wooden frame, a mattress, a duvet, pillows at the head end and a low
+    headboard."""
+    d, w, rot = _frame(half, (-head[0], -head[1]))  # modelled with the head at −x
+    hz = half[2]
+    p = Parts(level)
+    wood, duvet = pick(WOODS, rng), pick(FABRICS, rng)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    box("frame", "bed", Material.WOOD, wood, (-d, -w, -hz + 0.12), (d, w, -hz + 0.3))
+    for x in (-d + 0.04, d - 0.04):
+        for y in (-w + 0.04, w - 0.04):
+            box(
+                f"leg{x:+.1f}{y:+.1f}",
+                "bed",
+                Material.WOOD,
+                wood,
+                (x - 0.04, y - 0.04, -hz),
+                (x + 0.04, y + 0.04, -hz + 0.12),
+            )
+    box("headboard", "bed", Material.WOOD, wood, (-d, -w, -hz + 0.3), (-d + 0.05, w, hz))
+    box(
+        "mattress",
+        "bed",
+        Material.FABRIC,
+        (0.92, 0.92, 0.90),
+        (-d + 0.05, -w + 0.03, -hz + 0.3),
+        (d - 0.02, w - 0.03, hz - 0.07),
+    )
+    box("duvet", "bed", Material.FABRIC, duvet, (-d + 0.55, -w + 0.01, hz - 0.12), (d, w - 0.01, hz - 0.04))
+    n = 2 if w > 0.6 else 1
+    for k in range(n):
+        y0 = -w + 0.08 + k * (2 * w - 0.16) / n
+        box(f"pillow{k}", "bed", Material.FABRIC, (0.95, 0.95, 0.93), (-d + 0.08, y0 + 0.02, hz - 0.12),
+            (-d + 0.48, y0 + (2 * w - 0.16) / n - 0.02, hz))  # fmt: skip
+    return p.build()
+
+
+def shelf(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+    """Shelving by its size: a bookcase with books when tall, else a cabinet with doors and
+    handles (a counter, a TV cabinet, a wall cupboard)."""
+    d, w, rot = _frame(half, front)
+    hz = half[2]
+    p = Parts(level)
+    wood = pick(WOODS, rng)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    t = 0.02
+    if 2 * hz >= 1.5:
+        box("back", "shelf", Material.WOOD, wood, (-d, -w, -hz), (-d + t, w, hz))
+        for sgn in (-1.0, 1.0):
+            box(f"side{sgn:+.0f}", "shelf", Material.WOOD, wood, (-d, sgn * w - (t if sgn > 0 else 0.0), -hz),
+                (d, sgn * w + (t if sgn < 0 else 0.0), hz))  # fmt: skip
+        boards = 5
+        step = (2 * hz - t) / boards
+        for k in range(boards + 1):
+            z = -hz + k * step
+            box(f"board{k}", "shelf", Material.WOOD, wood, (-d + t, -w + t, z), (d, w - t, z + t))
+            if k == boards or not p.fine:
+                continue
+            y = -w + t + 0.01
+            while True:  # books of varied thickness and height, left to right
+                thick = 0.025 + 0.03 * float(rng.random())
+                if y + thick > w - t - 0.01:
+                    break
+                tall = min(0.18 + 0.12 * float(rng.random()), step - t - 0.02)
+                colour = _BOOKS[int(rng.integers(0, len(_BOOKS)))]
+                box(f"book{k}_{y:.3f}", "shelf", Material.PLAIN, colour, (-d + t + 0.01, y, z + t),
+                    (-d + t + min(2 * d - t - 0.02, 0.2), y + thick, z + t + tall))  # fmt: skip
+                y += thick + 0.002
+        return p.build()
+    box("carcass", "shelf", Material.WOOD, wood, (-d, -w, -hz), (d - 0.02, w, hz - 0.03))
+    box("top", "shelf", Material.WOOD, pick(WOODS, rng), (-d, -w, hz - 0.03), (d, w, hz))
+    doors = max(1, round(w / 0.3))
+    span = 2 * w / doors
+    for k in range(doors):
+        y0 = -w + k * span
+        box(
+            f"door{k}",
+            "shelf",
+            Material.WOOD,
+            wood,
+            (d - 0.02, y0 + 0.003, -hz + 0.05),
+            (d, y0 + span - 0.003, hz - 0.05),
+        )
+        if p.fine:
+            y = y0 + (span - 0.05 if k % 2 == 0 else 0.05)
+            box(
+                f"handle{k}",
+                "shelf",
+                Material.CHROME,
+                (0.8, 0.8, 0.82),
+                (d, y - 0.008, hz - 0.2),
+                (d + 0.015, y + 0.008, hz - 0.08),
+            )
+    return p.build()
+
+
+def screen(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+    """A flat television: a thin black bezel around a dark glass panel, a slim body behind."""
+    d, w, rot = _frame(half, front)
+    hz = half[2]
+    p = Parts(level)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    box("body", "screen", Material.PLASTIC, _BLACK, (-d, -w + 0.1, -hz + 0.1), (d - 0.03, w - 0.1, hz - 0.1))
+    box("bezel", "screen", Material.PLASTIC, (0.05, 0.05, 0.055), (d - 0.03, -w, -hz), (d - 0.005, w, hz))
+    box(
+        "panel",
+        "screen",
+        Material.GLASS,
+        (0.02, 0.025, 0.03),
+        (d - 0.005, -w + 0.02, -hz + 0.02),
+        (d, w - 0.02, hz - 0.02),
+    )
+    return p.build()
+
+
+def fridge(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+    """A fridge-freezer: a white body, two doors with a seam and long handles."""
+    d, w, rot = _frame(half, front)
+    hz = half[2]
+    p = Parts(level)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    box("body", "fridge", Material.PAINT, _WHITE_GOODS, (-d, -w, -hz), (d - 0.05, w, hz))
+    split = hz - 0.75
+    box("fridge_door", "fridge", Material.PAINT, _WHITE_GOODS, (d - 0.05, -w, split + 0.01), (d - 0.01, w, hz))
+    box("freezer_door", "fridge", Material.PAINT, _WHITE_GOODS, (d - 0.05, -w, -hz + 0.06), (d - 0.01, w, split - 0.01))
+    box("plinth", "fridge", Material.PLASTIC, (0.2, 0.2, 0.2), (d - 0.06, -w, -hz), (d - 0.03, w, -hz + 0.06))
+    for z0, z1 in ((split + 0.1, split + 0.5), (split - 0.5, split - 0.1)):
+        box(
+            f"handle{z0:+.1f}", "fridge", Material.CHROME, (0.8, 0.8, 0.82), (d - 0.01, w - 0.08, z0), (d, w - 0.05, z1)
+        )
+    return p.build()
+
+
+def fireplace(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+    """A fireplace: a stone surround with a mantel shelf and a dark firebox opening."""
+    d, w, rot = _frame(half, front)
+    hz = half[2]
+    p = Parts(level)
+    stone = (0.72, 0.68, 0.62)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    box("surround", "fireplace", Material.CONCRETE, stone, (-d, -w, -hz), (d - 0.06, w, hz - 0.08))
+    box("mantel", "fireplace", Material.WOOD, WOODS[1], (-d, -w, hz - 0.08), (d, w, hz))
+    box("hearth", "fireplace", Material.CONCRETE, (0.3, 0.3, 0.3), (d - 0.06, -w + 0.1, -hz), (d, w - 0.1, -hz + 0.05))
+    box(
+        "opening",
+        "fireplace",
+        Material.PLAIN,
+        (0.04, 0.03, 0.03),
+        (d - 0.061, -0.55 * w, -hz + 0.05),
+        (d - 0.058, 0.55 * w, 0.3 * hz),
+    )
+    return p.build()
+
+
+def chimney(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A chimney breast: a plastered column."""
+    p = Parts(level)
+    p.span("breast", "fireplace", Material.CONCRETE, (0.85, 0.83, 0.80), tuple(-h for h in half), tuple(half))
+    return p.build()
+
+
+def lamp(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A lamp part by its shape: a thin stem; a shade (a lit fabric cone); or a table lamp
+    (a base and a shade) when it is about as tall as it is wide."""
+    hx, hy, hz = half
+    p = Parts(level)
+    r = min(hx, hy)
+    if 2 * hz > 4 * r:  # a floor lamp's stem
+        p.cylinder("stem", "lamp", Material.METAL, (0.2, 0.2, 0.2), (0.0, 0.0, -hz), (0.0, 0.0, hz), 0.3 * r)
+        p.cylinder("foot", "lamp", Material.METAL, (0.2, 0.2, 0.2), (0.0, 0.0, -hz), (0.0, 0.0, -hz + 0.02), r)
+        return p.build()
+    shade = (0.95, 0.9, 0.8)
+    if hz > 0.2:  # a table lamp: a ceramic base, a shade on top
+        p.frustum("base", "lamp", Material.PLASTIC, (0.6, 0.5, 0.4), (0.0, 0.0, -hz), (0.0, 0.0, 0.0), 0.5 * r, 0.3 * r)
+        p.frustum("shade", "lamp", Material.FABRIC, shade, (0.0, 0.0, 0.0), (0.0, 0.0, hz), r, 0.65 * r, glow=LAMP_GLOW)
+        return p.build()
+    p.frustum("shade", "lamp", Material.FABRIC, shade, (0.0, 0.0, -hz), (0.0, 0.0, hz), r, 0.6 * r, glow=LAMP_GLOW)
+    return p.build()
+
+
+def window(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A window through a wall: a white frame, a sill, mullions and panes that show the light
+    outside (``VIEW_GLOW``)."""
+    hx, hy, hz = half
+    p = Parts(level)
+    white = (0.93, 0.93, 0.91)
+    along_x = hx >= hy
+    L, T = (hx, hy) if along_x else (hy, hx)
+    rot = rotation(0.0 if along_x else math.pi / 2)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    f = 0.06
+    box(
+        "pane",
+        "window",
+        Material.GLASS,
+        (0.6, 0.65, 0.7),
+        (-L + f, -0.01, -hz + f),
+        (L - f, 0.01, hz - f),
+        glow=VIEW_GLOW,
+    )
+    for name, lo, hi in (("head", (-L, -T, hz - f), (L, T, hz)), ("sill", (-L, -T, -hz), (L, T, -hz + f)),
+                         ("jamb_l", (-L, -T, -hz), (-L + f, T, hz)), ("jamb_r", (L - f, -T, -hz), (L, T, hz)),
+                         ("mullion", (-0.025, -0.04, -hz), (0.025, 0.04, hz))):  # fmt: skip
+        box(name, "window", Material.PLASTIC, white, lo, hi)
+    return p.build()
+
+
+def door(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A door in its frame: a panelled wooden leaf, a frame and a handle on each face."""
+    hx, hy, hz = half
+    p = Parts(level)
+    wood = pick(WOODS, rng)
+    along_x = hx >= hy
+    L, T = (hx, hy) if along_x else (hy, hx)
+    rot = rotation(0.0 if along_x else math.pi / 2)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    f = 0.07
+    box("leaf", "door", Material.WOOD, wood, (-L + f, -0.025, -hz), (L - f, 0.025, hz - f))
+    for name, lo, hi in (("head", (-L, -T, hz - f), (L, T, hz)), ("jamb_l", (-L, -T, -hz), (-L + f, T, hz)),
+                         ("jamb_r", (L - f, -T, -hz), (L, T, hz))):  # fmt: skip
+        box(name, "door", Material.WOOD, (0.9, 0.9, 0.88), lo, hi)
+    if p.fine:
+        for sgn in (-1.0, 1.0):
+            y0, y1 = sorted((sgn * 0.025, sgn * 0.045))
+            for k, (z0, z1) in enumerate(((-hz + 0.15, -0.05), (0.1, hz - f - 0.15))):
+                box(f"panel{k}{sgn:+.0f}", "door", Material.WOOD, wood, (-L + f + 0.1, y0, z0), (L - f - 0.1, y1, z1))
+            y0, y1 = sorted((sgn * 0.025, sgn * 0.08))
+            box(
+                f"handle{sgn:+.0f}",
+                "door",
+                Material.CHROME,
+                (0.8, 0.78, 0.7),
+                (L - f - 0.14, y0, -0.02),
+                (L - f - 0.06, y1, 0.0),
+            )
+    return p.build()
+
+
+def curtain(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A curtain hanging in folds: pleats of fabric turned alternately, filling the box."""
+    hx, hy, hz = half
+    p = Parts(level)
+    cloth = pick(FABRICS, rng)
+    along_x = hx >= hy
+    L, T = (hx, hy) if along_x else (hy, hx)
+    folds = 8 if p.fine else 4
+    width = 2 * L / folds
+    angle = math.atan2(2 * T * 0.8, width)
+    for k in range(folds):
+        a = -L + (k + 0.5) * width
+        tilt = angle if k % 2 == 0 else -angle
+        seg = width / 2 / math.cos(angle)
+        centre, yaw = ((a, 0.0, 0.0), tilt) if along_x else ((0.0, a, 0.0), math.pi / 2 + tilt)
+        p.box(f"fold{k}", "curtain", Material.FABRIC, cloth, centre, (seg, 0.008, hz), rot=rotation(yaw))
+    return p.build()
+
+
+def step(half, rng: np.random.Generator, level: int = 0, *, up: Axis = (1.0, 0.0), indoor: bool = True) -> Asset:
+    """A step of a flight (its box stands on the floor): a wooden or stone tread with a
+    nosing on a painted or concrete riser block."""
+    d, w, rot = _frame(half, up)
+    hz = half[2]
+    p = Parts(level)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    tread, riser = ((Material.WOOD, WOODS[0]), (Material.PLAIN, (0.9, 0.9, 0.88))) if indoor else \
+        ((Material.CONCRETE, (0.62, 0.61, 0.58)), (Material.CONCRETE, (0.55, 0.54, 0.52)))  # fmt: skip
+    box("block", "stairs", riser[0], riser[1], (-d, -w, -hz), (d, w, hz - 0.03))
+    box("tread", "stairs", tread[0], tread[1], (-d, -w, hz - 0.03), (d, w, hz))
+    return p.build()
+
+
+def chair_back(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A chair's back standing on its seat: two uprights and rails, filling a thin box along
+    its longer horizontal axis."""
+    hx, hy, hz = half
+    p = Parts(level)
+    wood = pick(WOODS, rng)
+    along_x = hx >= hy
+    L, T = (hx, hy) if along_x else (hy, hx)
+    rot = rotation(0.0 if along_x else math.pi / 2)
+    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    leg = 0.022
+    for a in (-L + leg, L - leg):
+        box(f"upright{a:+.2f}", "chair", Material.WOOD, wood, (a - leg, -T, -hz), (a + leg, T, hz))
+    for k in range(3 if p.fine else 1):
+        z = hz - 0.02 - k * 0.12
+        box(f"rail{k}", "chair", Material.WOOD, wood, (-L + leg, -0.6 * T, z - 0.06), (L - leg, 0.6 * T, z))
+    return p.build()

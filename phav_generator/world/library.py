@@ -1,0 +1,261 @@
+"""Which asset stands in each collider of an environment, and the asset library's identity.
+
+An environment's colliders (``phav_spec.scene``) stay the one source of what physics and
+the failures check collide with: each object's asset is built to fit its box (its drawn
+shape inside the box, touching its faces where a person or a car meets it). Classes the
+library does not model yet (buildings, trees, hedges, roads, terraces, walls, ceilings:
+the places) return None and stay boxes. The look of an environment's objects is fixed by
+the environment (seeded from its name and the collider's index), as the paper's scenes
+were; a vehicle's from the stream it is given.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Callable
+from functools import cache, lru_cache
+from importlib.resources import files
+
+import numpy as np
+
+from phav_generator.world import interiors, props, street, vehicles
+from phav_generator.world.materials import Material
+from phav_generator.world.parts import LEVELS, Asset, Parts
+from phav_generator.world.vehicles import Vehicle
+from phav_spec.scene import ENVIRONMENT_SCENES, Collider
+from phav_spec.seeding import stream
+
+#: Bumped when an asset's shape, materials or choice changes what existing recipes render.
+WORLD_LIBRARY_VERSION = 1
+#: Classes the library models (the objects); every other static class stays a box.
+MODELLED_CLASSES: tuple[str, ...] = (
+    "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
+    "chair", "table", "sofa", "bed", "shelf", "screen", "fridge", "fireplace", "lamp", "window", "door", "curtain",
+)  # fmt: skip
+#: A pole at least this tall (m) is a floodlight mast; a pole collider this far above the
+#: ground is a floodlight's head.
+MAST_M = 15.0
+HEAD_ABOVE_M = 10.0
+#: Projected size (pixels, the bounding sphere's radius) down to which a level is used.
+LEVEL_PX = (60.0, 15.0)
+
+
+def world_library_sha256() -> str:
+    """sha256 over the asset library's version and the source of its modules (their
+    parameters are code): what the renderer fingerprint records for the world."""
+    h = hashlib.sha256(f"phav-world {WORLD_LIBRARY_VERSION}\n".encode())
+    for entry in sorted(files("phav_generator.world").iterdir(), key=lambda e: e.name):
+        if entry.name.endswith(".py"):
+            h.update(entry.name.encode())
+            h.update(entry.read_bytes())
+    return h.hexdigest()
+
+
+def level_for(radius_m: float, distance_m: float, focal_px: float) -> int:
+    """The level of detail of an object of bounding radius ``radius_m`` seen from at least
+    ``distance_m`` with focal length ``focal_px``: 0 close up, coarser as it shrinks."""
+    px = focal_px * radius_m / max(distance_m, 1e-3)
+    for level, floor_px in enumerate(LEVEL_PX):
+        if px >= floor_px:
+            return level
+    return LEVELS - 1
+
+
+def _local(c: Collider, direction: np.ndarray) -> tuple[float, float]:
+    """A world horizontal direction in the collider's frame, snapped to its nearest axis."""
+    yaw = math.radians(c.yaw_deg)
+    x = direction[0] * math.cos(yaw) + direction[1] * math.sin(yaw)
+    y = -direction[0] * math.sin(yaw) + direction[1] * math.cos(yaw)
+    return (math.copysign(1.0, x), 0.0) if abs(x) >= abs(y) else (0.0, math.copysign(1.0, y))
+
+
+def _room(env_name: str) -> tuple[float, float, float, float]:
+    """An environment's footprint (x0, y0, x1, y1) over all its colliders."""
+    env = ENVIRONMENT_SCENES[env_name]
+    corners = np.array([pt for c in env.colliders for pt in c.footprint()])
+    return (
+        float(corners[:, 0].min()),
+        float(corners[:, 1].min()),
+        float(corners[:, 0].max()),
+        float(corners[:, 1].max()),
+    )
+
+
+def _away_from_wall(env_name: str, c: Collider) -> np.ndarray:
+    """The world direction from the room's nearest outer wall towards ``c``'s front."""
+    x0, y0, x1, y1 = _room(env_name)
+    pts = np.array(c.footprint())
+    gaps = {(1.0, 0.0): pts[:, 0].min() - x0, (-1.0, 0.0): x1 - pts[:, 0].max(),
+            (0.0, 1.0): pts[:, 1].min() - y0, (0.0, -1.0): y1 - pts[:, 1].max()}  # fmt: skip
+    return np.array(min(gaps, key=lambda k: (gaps[k], k)))
+
+
+def _towards_table(env_name: str, c: Collider) -> np.ndarray:
+    """The world direction from a chair to its nearest table (or away from the wall)."""
+    env = ENVIRONMENT_SCENES[env_name]
+    tables = [t for t in env.colliders if t.pixel_class == "table"]
+    if not tables:
+        return _away_from_wall(env_name, c)
+    near = min(tables, key=lambda t: math.dist(t.center[:2], c.center[:2]))
+    return np.array(near.center[:2]) - np.array(c.center[:2])
+
+
+def _stands_on_pole(env_name: str, c: Collider) -> bool:
+    """Whether a signal head or sign plate sits on the pole collider ``c``."""
+    env = ENVIRONMENT_SCENES[env_name]
+    return any(o.pixel_class in ("traffic_light", "traffic_sign") and math.dist(o.center[:2], c.center[:2]) < 0.5
+               for o in env.colliders)  # fmt: skip
+
+
+def is_light(env_name: str, index: int) -> bool:
+    """Whether pole collider ``index`` holds a light: a lamp post's lantern (a pole carrying
+    no sign or signal) or a floodlight's head, not the mast under it."""
+    env = ENVIRONMENT_SCENES[env_name]
+    c = env.colliders[index]
+    if c.pixel_class != "pole":
+        return False
+    if c.bottom - env.ground_z > HEAD_ABOVE_M:
+        return True
+    return c.top - c.bottom < MAST_M and not _stands_on_pole(env_name, c)
+
+
+def collider_asset(env_name: str, index: int, level: int) -> Asset | Vehicle | None:
+    """The asset that stands in collider ``index`` of environment ``env_name`` at ``level``
+    (cached per process), or None where the class stays a box."""
+    return _collider_asset(env_name, index, level)
+
+
+@lru_cache(maxsize=4096)
+def _collider_asset(env_name: str, index: int, level: int) -> Asset | Vehicle | None:
+    env = ENVIRONMENT_SCENES[env_name]
+    c = env.colliders[index]
+    rng = stream(0, f"world/{env_name}/{index}")
+    half, cls = c.half_size, c.pixel_class
+    if cls == "pole":
+        if c.bottom - env.ground_z > HEAD_ABOVE_M:
+            return street.floodlight_head(half, rng, level)
+        if c.top - c.bottom >= MAST_M:
+            return street.mast(half, rng, level)
+        return street.post(half, rng, level, lantern=not _stands_on_pole(env_name, c))
+    if cls == "traffic_light":
+        return street.traffic_light(half, rng, level)
+    if cls == "traffic_sign":
+        return street.sign_plate(half, rng, level)
+    if cls == "bench":
+        thin = min(half[0], half[1]) < 0.1
+        return (street.bench_back if thin else street.bench_seat)(half, rng, level)
+    if cls == "guard_rail":
+        return street.guard_rail(half, rng, level)
+    if cls in ("car", "truck", "bus"):
+        return vehicle(cls, half, rng, level)
+    if cls == "stairs":
+        return interiors.step(half, rng, level, indoor=env.indoor)
+    if cls == "chair":
+        return interiors.chair(half, rng, level, front=_local(c, _towards_table(env_name, c)))
+    if cls == "table":
+        return interiors.table(half, rng, level)
+    if cls in ("sofa", "shelf", "screen", "fridge"):
+        build = {"sofa": interiors.sofa, "shelf": interiors.shelf, "screen": interiors.screen,
+                 "fridge": interiors.fridge}[cls]  # fmt: skip
+        return build(half, rng, level, front=_local(c, _away_from_wall(env_name, c)))
+    if cls == "fireplace":
+        if c.bottom - env.ground_z > 0.5:
+            return interiors.chimney(half, rng, level)
+        return interiors.fireplace(half, rng, level, front=_local(c, _away_from_wall(env_name, c)))
+    if cls == "bed":
+        return interiors.bed(half, rng, level, head=_local(c, -_away_from_wall(env_name, c)))
+    if cls == "lamp":
+        return interiors.lamp(half, rng, level)
+    if cls in ("window", "door", "curtain"):
+        return {"window": interiors.window, "door": interiors.door, "curtain": interiors.curtain}[cls](half, rng, level)
+    return None
+
+
+def vehicle(kind: str, half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
+    """A vehicle of ``kind`` (car, truck, bus) filling a box of half extents ``half``."""
+    if kind == "car":
+        return vehicles.car(half, rng, level, below=below)
+    if kind == "truck":
+        return vehicles.truck(half, rng, level, below=below)
+    if kind == "bus":
+        return vehicles.bus(half, rng, level, below=below)
+    raise ValueError(f"{kind!r} is not a vehicle (car, truck, bus)")
+
+
+@cache
+def modelled_indices(env_name: str) -> tuple[int, ...]:
+    """The indices of an environment's colliders the library draws as assets."""
+    env = ENVIRONMENT_SCENES[env_name]
+    return tuple(i for i, c in enumerate(env.colliders) if c.pixel_class in MODELLED_CLASSES)
+
+
+#: Materials and colours of an action's plain boxes (a door's frame, a pull-up bar's posts).
+_BOX_LOOKS = {"door": ("WOOD", (0.92, 0.92, 0.90)), "misc": ("METAL", (0.55, 0.56, 0.58))}
+
+
+def box_asset(cls: str, half, rng: np.random.Generator, level: int = 0, *, indoor: bool) -> Asset:
+    """The asset of a box an action adds (``Trajectory.boxes``): a chair's seat (legs under a
+    seat at the box's top) or back (a thin box standing on the seat), a step of a flight, or
+    a plain box in its class's material."""
+    if cls == "chair":
+        if min(half[0], half[1]) < 0.1:
+            return interiors.chair_back(half, rng, level)
+        return interiors.chair(half, rng, level, seat=2 * half[2])
+    if cls == "stairs":
+        return interiors.step(half, rng, level, indoor=indoor)
+    material, colour = _BOX_LOOKS.get(cls, ("PLAIN", (0.5, 0.5, 0.5)))
+    p = Parts(level)
+    p.box(cls, cls, Material[material], colour, (0.0, 0.0, 0.0), half)
+    return p.build()
+
+
+#: Every kind of object at a typical size, with its triangle budget per level of detail:
+#: the gallery's subjects and what the tests hold each kind to.
+CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle], tuple[int, int, int]]] = {
+    "hatchback": (lambda rng, lv: vehicles.car((2.0, 0.875, 0.74), rng, lv, body="hatchback"), (2500, 2000, 1000)),
+    "sedan": (lambda rng, lv: vehicles.car((2.35, 0.9, 0.725), rng, lv, body="sedan"), (2500, 2000, 1000)),
+    "suv": (lambda rng, lv: vehicles.car((2.35, 0.95, 0.85), rng, lv, body="suv"), (2500, 2000, 1000)),
+    "van": (lambda rng, lv: vehicles.car((2.6, 1.0, 1.1), rng, lv, body="van"), (2500, 2000, 1000)),
+    "truck": (lambda rng, lv: vehicles.truck((3.6, 1.2, 1.6), rng, lv), (3500, 2500, 1200)),
+    "bus": (lambda rng, lv: vehicles.bus((6.0, 1.2, 1.5), rng, lv), (3000, 2500, 1000)),
+    "lamp_post": (lambda rng, lv: street.post((0.1, 0.1, 3.5), rng, lv, lantern=True), (400, 300, 200)),
+    "sign_post": (lambda rng, lv: street.post((0.1, 0.1, 1.3), rng, lv), (100, 80, 60)),
+    "floodlight_mast": (lambda rng, lv: street.mast((0.3, 0.3, 12.5), rng, lv), (100, 80, 60)),
+    "floodlight_head": (lambda rng, lv: street.floodlight_head((3.0, 0.5, 1.5), rng, lv), (300, 300, 120)),
+    "traffic_light": (lambda rng, lv: street.traffic_light((0.175, 0.175, 0.5), rng, lv), (700, 500, 300)),
+    "traffic_sign": (lambda rng, lv: street.sign_plate((0.35, 0.03, 0.35), rng, lv), (200, 150, 100)),
+    "bench_seat": (lambda rng, lv: street.bench_seat((0.9, 0.25, 0.225), rng, lv), (200, 200, 120)),
+    "bench_back": (lambda rng, lv: street.bench_back((0.9, 0.04, 0.2), rng, lv), (120, 120, 60)),
+    "guard_rail": (lambda rng, lv: street.guard_rail((14.0, 0.05, 0.45), rng, lv), (250, 250, 250)),
+    "chair": (lambda rng, lv: interiors.chair((0.225, 0.225, 0.45), rng, lv), (200, 200, 120)),
+    "chair_back": (lambda rng, lv: interiors.chair_back((0.02, 0.22, 0.21), rng, lv), (100, 100, 60)),
+    "table": (lambda rng, lv: interiors.table((0.8, 0.45, 0.375), rng, lv), (120, 120, 120)),
+    "sofa": (lambda rng, lv: interiors.sofa((1.1, 0.45, 0.425), rng, lv, front=(0.0, -1.0)), (250, 250, 150)),
+    "bed": (lambda rng, lv: interiors.bed((0.8, 1.0, 0.275), rng, lv), (200, 200, 200)),
+    "bookcase": (lambda rng, lv: interiors.shelf((0.2, 1.2, 1.0), rng, lv), (4000, 4000, 200)),
+    "cabinet": (lambda rng, lv: interiors.shelf((1.5, 0.3, 0.45), rng, lv, front=(0.0, 1.0)), (250, 250, 150)),
+    "screen": (lambda rng, lv: interiors.screen((0.05, 0.7, 0.4), rng, lv), (60, 60, 60)),
+    "fridge": (lambda rng, lv: interiors.fridge((0.4, 0.35, 0.95), rng, lv), (100, 100, 100)),
+    "fireplace": (lambda rng, lv: interiors.fireplace((0.3, 0.8, 0.55), rng, lv), (60, 60, 60)),
+    "chimney": (lambda rng, lv: interiors.chimney((0.2, 0.6, 0.85), rng, lv), (12, 12, 12)),
+    "floor_lamp_stem": (lambda rng, lv: interiors.lamp((0.05, 0.05, 0.75), rng, lv), (150, 100, 60)),
+    "table_lamp": (lambda rng, lv: interiors.lamp((0.25, 0.25, 0.3), rng, lv), (150, 100, 60)),
+    "lamp_shade": (lambda rng, lv: interiors.lamp((0.2, 0.2, 0.15), rng, lv), (80, 50, 30)),
+    "window": (lambda rng, lv: interiors.window((1.0, 0.15, 0.7), rng, lv), (80, 80, 80)),
+    "door": (lambda rng, lv: interiors.door((0.15, 0.5, 1.05), rng, lv), (150, 150, 60)),
+    "curtain": (lambda rng, lv: interiors.curtain((0.25, 0.05, 1.2), rng, lv), (100, 100, 50)),
+    "step": (lambda rng, lv: interiors.step((0.15, 0.65, 0.5), rng, lv), (24, 24, 24)),
+    "ball": (lambda rng, lv: props.ball(0.11, rng, lv), (600, 300, 120)),
+    "baseball_bat": (lambda rng, lv: props.bat(0.03, 0.42, rng, lv), (300, 200, 120)),
+    "golf_club": (lambda rng, lv: props.golf_club(0.015, 0.5, rng, lv), (400, 250, 150)),
+    "bow": (lambda rng, lv: props.bow(0.015, 0.7, rng, lv), (300, 250, 250)),
+    "hair_brush": (lambda rng, lv: props.brush(0.02, 0.1, rng, lv), (300, 200, 120)),
+    "cup": (lambda rng, lv: props.cup(0.04, 0.04, rng, lv), (200, 120, 80)),
+    "bottle": (lambda rng, lv: props.bottle(0.035, 0.1, rng, lv), (400, 250, 150)),
+    "gun": (lambda rng, lv: props.gun((0.11, 0.02, 0.06), rng, lv), (60, 60, 60)),
+    "crate": (lambda rng, lv: props.crate((0.3, 0.35, 0.5), rng, lv), (60, 60, 60)),
+    "shopping_cart": (lambda rng, lv: props.cart((0.45, 0.28, 0.35), rng, lv), (600, 500, 400)),
+    "door_leaf": (lambda rng, lv: props.door_leaf((0.02, 0.45, 1.0), rng, lv), (100, 100, 12)),
+    "pull_up_bar": (lambda rng, lv: props.bar(0.02, 0.6, rng, lv), (80, 60, 40)),
+}

@@ -1,0 +1,75 @@
+"""Materials of the asset library and the colour palettes they are drawn from.
+
+A material is computed in the scene shader from the surface's position in its object's own
+frame (``render/shaders/materials.glsl``): grain, weave, speckle and gloss from integer
+hashes, so it sticks to the surface as it moves (exact flow), costs no texture memory and
+gives the same bytes on every CPU. The values are the shader's pattern codes (0 plain;
+3 and 4 are the ground's speckle and the people's texture images).
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+RGB = tuple[float, float, float]
+
+
+class Material(IntEnum):
+    """A surface's material: its pattern code in the scene shader."""
+
+    PLAIN = 0  # flat matte paint
+    PAINT = 5  # glossy painted metal (car bodies, lamp posts, fridges)
+    GLASS = 6  # dark, reflects the sky
+    CHROME = 7  # bright, reflects the sky
+    RUBBER = 8  # tyres, seals: dark, fine grain
+    WOOD = 9  # grain along the object's long axis
+    FABRIC = 10  # weave
+    LEATHER = 11  # mottled, a little gloss
+    PLASTIC = 12  # a little gloss
+    CONCRETE = 13  # speckle at two scales
+    METAL = 14  # galvanised or brushed metal: streaks, a little gloss
+
+
+#: Car paints, display colours weighted towards what parks on real streets (white, grey,
+#: black, silver first).
+CAR_PAINTS: tuple[tuple[RGB, float], ...] = (
+    ((0.92, 0.92, 0.90), 0.24), ((0.55, 0.56, 0.58), 0.18), ((0.06, 0.06, 0.07), 0.20),
+    ((0.75, 0.76, 0.78), 0.12), ((0.55, 0.07, 0.06), 0.08), ((0.10, 0.18, 0.42), 0.08),
+    ((0.20, 0.28, 0.22), 0.03), ((0.48, 0.36, 0.22), 0.03), ((0.85, 0.60, 0.10), 0.02),
+    ((0.95, 0.95, 0.97), 0.02),
+)  # fmt: skip
+#: Wood tones: oak, walnut, pine, beech, painted white.
+WOODS: tuple[RGB, ...] = ((0.62, 0.45, 0.28), (0.36, 0.23, 0.14), (0.78, 0.62, 0.42), (0.70, 0.52, 0.36),
+                          (0.88, 0.86, 0.82))  # fmt: skip
+#: Upholstery fabrics.
+FABRICS: tuple[RGB, ...] = ((0.45, 0.47, 0.50), (0.30, 0.34, 0.45), (0.58, 0.52, 0.44), (0.35, 0.40, 0.30),
+                            (0.55, 0.30, 0.28), (0.70, 0.68, 0.62))  # fmt: skip
+#: Leathers: black, brown, tan.
+LEATHERS: tuple[RGB, ...] = ((0.08, 0.07, 0.07), (0.30, 0.17, 0.10), (0.55, 0.36, 0.20))
+#: Street metal: dark green-grey, black, galvanised grey.
+STREET_METALS: tuple[RGB, ...] = ((0.20, 0.24, 0.22), (0.10, 0.10, 0.11), (0.55, 0.57, 0.58))
+
+TYRE: RGB = (0.06, 0.06, 0.06)
+RIM: RGB = (0.70, 0.71, 0.73)
+GLASS_TINT: RGB = (0.10, 0.12, 0.14)
+CHROME_TINT: RGB = (0.80, 0.80, 0.82)
+HEADLIGHT: RGB = (0.92, 0.92, 0.88)
+TAIL_LIGHT: RGB = (0.70, 0.05, 0.04)
+PLATE: RGB = (0.93, 0.93, 0.90)
+TRIM: RGB = (0.08, 0.08, 0.09)
+
+
+def pick(options: tuple[RGB, ...], rng) -> RGB:
+    """One of ``options``, equally likely, from ``rng.integers``."""
+    return options[int(rng.integers(0, len(options)))]
+
+
+def pick_weighted(options: tuple[tuple[RGB, float], ...], rng) -> RGB:
+    """One of ``options`` ((colour, weight) pairs) by weight, from one uniform double (no numpy
+    distribution method, so the draw survives numpy releases)."""
+    u = float(rng.random()) * sum(w for _, w in options)
+    for colour, weight in options:
+        u -= weight
+        if u < 0.0:
+            return colour
+    return options[-1][0]

@@ -1,0 +1,271 @@
+"""Vehicles: cars of four body types (hatchback, sedan, SUV, van), a rigid truck and a city
+bus, each fitted into its collision box, with glass, lights, bumpers, plates and wheels
+that turn (the wheels are their own asset, placed at ``Vehicle.axles``).
+
+The frame is the box's: origin at its centre, +x forward, +z up; the ground is ``below``
+metres under the box's bottom (a car whose box is lifted for its clearance).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from phav_generator.world.materials import (
+    CAR_PAINTS,
+    CHROME_TINT,
+    GLASS_TINT,
+    HEADLIGHT,
+    PLATE,
+    RIM,
+    TAIL_LIGHT,
+    TRIM,
+    TYRE,
+    Material,
+    pick_weighted,
+)  # fmt: skip
+from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
+
+CAR_BODIES: tuple[str, ...] = ("hatchback", "sedan", "suv", "van")
+#: Truck box and cab colours; bus liveries.
+_TRUCK_BOXES = ((0.92, 0.92, 0.90), (0.80, 0.80, 0.78), (0.70, 0.12, 0.10), (0.15, 0.30, 0.55))
+_BUS_LIVERIES = ((0.85, 0.12, 0.10), (0.92, 0.75, 0.10), (0.15, 0.40, 0.25), (0.90, 0.90, 0.88), (0.12, 0.30, 0.60))
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """A vehicle's body, one wheel (axle along y, centred on the origin) and where each wheel's
+    centre sits in the body's frame."""
+
+    body: Asset
+    wheel: Asset
+    axles: np.ndarray  # (k, 3) wheel centres
+    wheel_radius: float
+
+
+@dataclass(frozen=True)
+class _Shape:
+    """A car body type's proportions, as fractions of the box's length and height."""
+
+    hood_front: float  # height of the hood's front edge / total height
+    belt: float  # height of the beltline (bottom of the side windows) / total height
+    hood: float  # hood length / length
+    trunk: float  # trunk-deck length / length (0: a hatch or van back)
+    windshield: float  # windshield's run / length
+    rear_window: float  # rear window's run / length
+    wheelbase: float  # / length
+
+
+_SHAPES = {
+    "hatchback": _Shape(0.50, 0.62, 0.22, 0.02, 0.16, 0.08, 0.64),
+    "sedan": _Shape(0.50, 0.64, 0.24, 0.17, 0.15, 0.13, 0.60),
+    "suv": _Shape(0.56, 0.60, 0.20, 0.02, 0.12, 0.05, 0.62),
+    "van": _Shape(0.48, 0.50, 0.10, 0.0, 0.12, 0.01, 0.64),
+}
+
+
+def wheel(radius: float, width: float, level: int, cls: str = "car") -> Asset:
+    """A tyre with a rim and five spokes on each face (so its turning shows), axle along y,
+    labelled with its vehicle's class."""
+    p = Parts(level)
+    y = width / 2
+    p.cylinder("tyre", cls, Material.RUBBER, TYRE, (0.0, -y, 0.0), (0.0, y, 0.0), radius, segments=p.round + 4)
+    rim = 0.62 * radius
+    for side in (-1.0, 1.0):
+        face = side * (y + 0.004)
+        p.cylinder(f"rim{side:+.0f}", cls, Material.CHROME, RIM, (0.0, side * (y - 0.01), 0.0), (0.0, face, 0.0),
+                   rim, segments=p.round)  # fmt: skip
+        if p.fine:
+            for k, (c, s) in enumerate(circle(5)):
+                centre = (0.55 * rim * c, face + side * 0.006, 0.55 * rim * s)
+                p.box(f"spoke{k}{side:+.0f}", cls, Material.METAL, (0.30, 0.30, 0.32), centre,
+                      (0.45 * rim, 0.006, 0.035), rot=rotation(pitch=-math.atan2(s, c)))  # fmt: skip
+    return p.build()
+
+
+def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = None, below: float = 0.0) -> Vehicle:
+    """A car filling the box of half extents ``half``; ``body`` one of ``CAR_BODIES`` (drawn
+    from ``rng`` when None), its paint drawn from ``CAR_PAINTS``."""
+    kind = body if body is not None else CAR_BODIES[int(rng.integers(0, len(CAR_BODIES)))]
+    shape = _SHAPES[kind]
+    paint = pick_weighted(CAR_PAINTS, rng)
+    hx, hy, hz = (float(h) for h in half)
+    length, height = 2 * hx, 2 * hz + below
+    p = Parts(level)
+    g = -hz - below  # the ground's height in the box frame
+    radius = min(0.34, 0.22 * height)
+    z0 = g + max(0.17, below + 0.02)  # the body's bottom, above the box's bottom
+    zh, zb, zt = g + shape.hood_front * height, g + shape.belt * height, hz
+    bumper = 0.07
+    front, rear = hx - bumper, -hx + bumper
+    x_ws = front - shape.hood * length
+    x_rw = rear + shape.trunk * length
+    side = hy - 0.05
+    lower = [(rear + 0.06, z0), (front - 0.06, z0), (front, z0 + 0.12), (front, zh - 0.06), (front - 0.08, zh),
+             (x_ws, zb), (x_rw, zb), (rear, zb - 0.08), (rear, z0 + 0.10)]  # fmt: skip
+    if kind == "van":
+        lower = [(rear + 0.04, z0), (front - 0.06, z0), (front, z0 + 0.12), (front, zh - 0.05), (front - 0.06, zh),
+                 (x_ws, zb), (rear, zb), (rear, z0 + 0.04)]  # fmt: skip
+    p.prism("body", "car", Material.PAINT, paint, lower, -side, side)
+    # The greenhouse: glass leaning in towards the roof, a painted roof and pillars.
+    x_roof_front = x_ws - shape.windshield * length
+    x_roof_rear = x_rw + shape.rear_window * length
+    lean = 0.10 if kind != "van" else 0.04
+    taper = lambda z: lean * (z - zb) / max(zt - zb, 1e-6)  # noqa: E731
+    cabin = [(x_ws, zb), (x_roof_front, zt - 0.05), (x_roof_rear, zt - 0.05), (x_rw, zb)]
+    p.prism("glass", "car", Material.GLASS, GLASS_TINT, cabin, -side + 0.01, side - 0.01, taper=taper)
+    roof_w = side * (1.0 - lean)
+    roof = [(x_roof_front + 0.03, zt - 0.06), (x_roof_front - 0.02, zt), (x_roof_rear + 0.02, zt),
+            (x_roof_rear - 0.03, zt - 0.06)]  # fmt: skip
+    p.prism("roof", "car", Material.PAINT, paint, roof, -roof_w - 0.005, roof_w + 0.005)
+    tilt = math.atan2(lean * side, zt - zb)
+    pillar_x = [(x_ws + x_roof_front) / 2, (x_roof_front + x_roof_rear) / 2, (x_rw + x_roof_rear) / 2]
+    pillar_run = [x_ws - x_roof_front, 0.0, x_roof_rear - x_rw]
+    for k, (x, run) in enumerate(zip(pillar_x, pillar_run, strict=True)):
+        if k == 1 and x_roof_front - x_roof_rear < 1.0:
+            continue  # a short cabin has no B pillar
+        for sgn in (-1.0, 1.0):
+            y = sgn * (side - 0.005 - lean * side / 2)
+            pitch = math.atan2(run, zt - zb) * (-1.0 if k == 0 else 1.0)
+            p.box(f"pillar{k}{sgn:+.0f}", "car", Material.PAINT, paint, (x, y, (zb + zt) / 2 - 0.02),
+                  (0.05, 0.02, (zt - zb) / 2 / max(math.cos(pitch), 0.3)),
+                  rot=rotation(pitch=pitch, roll=sgn * tilt))  # fmt: skip
+    # Bumpers, lights, grille, plates, wheel arches and mirrors.
+    trim = TRIM if rng.random() < 0.5 else paint
+    for x, sgn in ((hx - bumper / 2 - 0.005, 1.0), (-hx + bumper / 2 + 0.005, -1.0)):
+        p.box(
+            f"bumper{sgn:+.0f}",
+            "car",
+            Material.PLASTIC,
+            trim,
+            (x, 0.0, z0 + 0.14),
+            (bumper / 2 + 0.005, hy - 0.08, 0.12),
+        )
+        plate_x = x + sgn * (bumper / 2 + 0.008)
+        p.box(f"plate{sgn:+.0f}", "car", Material.PLAIN, PLATE, (plate_x, 0.0, z0 + 0.16), (0.006, 0.26, 0.06))
+    lamp_z = zh - 0.10
+    for sgn in (-1.0, 1.0):
+        y = sgn * (side - 0.16)
+        p.box(f"headlight{sgn:+.0f}", "car", Material.CHROME, HEADLIGHT, (front + 0.004, y, lamp_z), (0.01, 0.14, 0.05),
+              glow=LAMP_GLOW)  # fmt: skip
+        tail_z = (zb - 0.14) if kind != "van" else (z0 + 0.45)
+        p.box(
+            f"taillight{sgn:+.0f}", "car", Material.PLASTIC, TAIL_LIGHT, (rear - 0.004, y, tail_z), (0.01, 0.13, 0.05)
+        )
+    p.box("grille", "car", Material.PLASTIC, TRIM, (front + 0.003, 0.0, lamp_z - 0.02), (0.01, side - 0.34, 0.06))
+    base = shape.wheelbase * length
+    axle_x = ((front + rear) / 2 + base / 2 - 0.05 * length * (shape.hood - 0.2), 0.0)
+    axle_x = (axle_x[0], axle_x[0] - base)
+    wheel_w = 0.2
+    axles = []
+    for x in axle_x:
+        for sgn in (-1.0, 1.0):
+            axles.append((x, sgn * (hy - wheel_w / 2 - 0.005), g + radius))
+            arch = [(x + (radius + 0.06) * c, g + radius + (radius + 0.06) * s) for c, s in circle(12)[:7]]
+            y = sgn * (side + 0.003)
+            p.panel(f"arch{x:+.1f}{sgn:+.0f}", "car", Material.RUBBER, TRIM,
+                    [(ax, y, az) for ax, az in (arch if sgn < 0 else arch[::-1])])  # fmt: skip
+    if p.fine:
+        for sgn in (-1.0, 1.0):
+            p.box(f"mirror{sgn:+.0f}", "car", Material.PAINT, paint, (x_ws - 0.08, sgn * (side + 0.02), zb + 0.08),
+                  (0.05, 0.025, 0.05))  # fmt: skip
+            y = sgn * (side + 0.004)
+            p.box(f"handle{sgn:+.0f}", "car", Material.CHROME, CHROME_TINT, (x_ws - 0.5, y, zb - 0.12),
+                  (0.08, 0.006, 0.015))  # fmt: skip
+    return Vehicle(p.build(), wheel(radius, wheel_w, level), np.array(axles), radius)
+
+
+def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
+    """A rigid box truck: a cab with a windscreen and side windows, a cargo box, a chassis and
+    three axles."""
+    hx, hy, hz = (float(h) for h in half)
+    height = 2 * hz + below
+    g = -hz - below
+    p = Parts(level)
+    cab_paint = pick_weighted(CAR_PAINTS, rng)
+    box_paint = _TRUCK_BOXES[int(rng.integers(0, len(_TRUCK_BOXES)))]
+    radius = min(0.50, 0.14 * height)
+    cab_len = min(2.2, 0.3 * 2 * hx)
+    front, rear = hx, -hx
+    cab_back = front - cab_len
+    z_frame = g + radius + 0.25
+    p.span(
+        "chassis",
+        "truck",
+        Material.METAL,
+        TRIM,
+        (rear + 0.3, -hy + 0.35, g + radius * 0.8),
+        (front - 0.2, hy - 0.35, z_frame),
+    )
+    cab_top = g + 0.78 * height
+    cab = [(cab_back, z_frame), (front - 0.02, z_frame), (front, z_frame + 0.3), (front, cab_top - 0.55),
+           (front - 0.25, cab_top), (cab_back, cab_top)]  # fmt: skip
+    p.prism("cab", "truck", Material.PAINT, cab_paint, cab, -hy + 0.02, hy - 0.02)
+    ws = [(front + 0.005, -hy + 0.15, cab_top - 0.58), (front + 0.005, hy - 0.15, cab_top - 0.58),
+          (front - 0.22, hy - 0.15, cab_top - 0.06), (front - 0.22, -hy + 0.15, cab_top - 0.06)]  # fmt: skip
+    p.panel("windscreen", "truck", Material.GLASS, GLASS_TINT, ws)
+    for sgn in (-1.0, 1.0):
+        y = sgn * (hy - 0.015)
+        win = [(cab_back + 0.3, y, cab_top - 0.75), (front - 0.35, y, cab_top - 0.75), (front - 0.35, y, cab_top - 0.15),
+               (cab_back + 0.3, y, cab_top - 0.15)]  # fmt: skip
+        p.panel(f"side_window{sgn:+.0f}", "truck", Material.GLASS, GLASS_TINT, win if sgn < 0 else win[::-1])
+        p.box(f"headlight{sgn:+.0f}", "truck", Material.CHROME, HEADLIGHT, (front + 0.005, sgn * (hy - 0.3), z_frame + 0.25),
+              (0.01, 0.15, 0.07), glow=LAMP_GLOW)  # fmt: skip
+    p.box("grille", "truck", Material.PLASTIC, TRIM, (front + 0.004, 0.0, z_frame + 0.6), (0.01, hy - 0.5, 0.3))
+    p.box("bumper", "truck", Material.PLASTIC, TRIM, (front - 0.08, 0.0, z_frame + 0.05), (0.08, hy - 0.05, 0.15))
+    p.span("cargo", "truck", Material.PLAIN, box_paint, (rear, -hy, z_frame + 0.05), (cab_back - 0.1, hy, hz))
+    if p.fine:
+        for sgn in (-1.0, 1.0):
+            p.box(f"mirror{sgn:+.0f}", "truck", Material.PLASTIC, TRIM, (front - 0.3, sgn * (hy - 0.03), cab_top - 0.5),
+                  (0.04, 0.025, 0.2))  # fmt: skip
+        p.box("rear_door_seam", "truck", Material.METAL, (0.5, 0.5, 0.5), (rear - 0.004, 0.0, (z_frame + hz) / 2),
+              (0.006, 0.02, (hz - z_frame) / 2 - 0.1))  # fmt: skip
+    axles = []
+    for x in (front - 0.6 * cab_len, rear + 1.6, rear + 0.6):
+        for sgn in (-1.0, 1.0):
+            axles.append((x, sgn * (hy - 0.17), g + radius))
+    return Vehicle(p.build(), wheel(radius, 0.3, level, "truck"), np.array(axles), radius)
+
+
+def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
+    """A city bus: a long body in its livery, a band of side windows, a windscreen and doors,
+    two axles."""
+    hx, hy, hz = (float(h) for h in half)
+    height = 2 * hz + below
+    g = -hz - below
+    p = Parts(level)
+    livery = _BUS_LIVERIES[int(rng.integers(0, len(_BUS_LIVERIES)))]
+    radius = min(0.50, 0.16 * height)
+    z0 = g + 0.3
+    body = [(-hx, z0), (hx - 0.05, z0), (hx, z0 + 0.2), (hx, hz - 0.15), (hx - 0.15, hz), (-hx + 0.1, hz),
+            (-hx, hz - 0.1)]  # fmt: skip
+    p.prism("body", "bus", Material.PAINT, livery, body, -hy + 0.02, hy - 0.02)
+    belt, top = g + 0.42 * height, hz - 0.3
+    ws = [(hx + 0.005, -hy + 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, top + 0.15),
+          (hx + 0.005, -hy + 0.12, top + 0.15)]  # fmt: skip
+    p.panel("windscreen", "bus", Material.GLASS, GLASS_TINT, ws)
+    for sgn in (-1.0, 1.0):
+        y = sgn * (hy - 0.015)
+        band = [(-hx + 0.5, y, belt), (hx - 0.4, y, belt), (hx - 0.4, y, top), (-hx + 0.5, y, top)]
+        p.panel(f"windows{sgn:+.0f}", "bus", Material.GLASS, GLASS_TINT, band if sgn < 0 else band[::-1])
+        if p.fine:
+            for k in range(1, int((2 * hx - 0.9) / 1.4)):
+                x = -hx + 0.5 + 1.4 * k
+                p.box(f"mullion{k}{sgn:+.0f}", "bus", Material.PAINT, livery, (x, y + sgn * 0.004, (belt + top) / 2),
+                      (0.04, 0.006, (top - belt) / 2))  # fmt: skip
+        p.box(f"headlight{sgn:+.0f}", "bus", Material.CHROME, HEADLIGHT, (hx + 0.005, sgn * (hy - 0.3), z0 + 0.35),
+              (0.01, 0.15, 0.07), glow=LAMP_GLOW)  # fmt: skip
+    for x in (hx - 1.4, -0.5):  # doors on the kerb side (right-hand traffic: −y)
+        y = -(hy - 0.01)
+        door = [(x - 0.6, y, z0 + 0.05), (x + 0.6, y, z0 + 0.05), (x + 0.6, y, top), (x - 0.6, y, top)]
+        p.panel(f"door{x:+.1f}", "bus", Material.GLASS, (0.16, 0.18, 0.20), door)
+    p.box("bumper", "bus", Material.PLASTIC, TRIM, (hx - 0.06, 0.0, z0 + 0.1), (0.07, hy - 0.04, 0.12))
+    p.box("destination", "bus", Material.PLASTIC, (0.9, 0.6, 0.1), (hx + 0.004, 0.0, top + 0.02), (0.01, hy - 0.4, 0.1),
+          glow=LAMP_GLOW)  # fmt: skip
+    axles = []
+    for x in (hx - 2.6, -hx + 3.2):
+        for sgn in (-1.0, 1.0):
+            axles.append((x, sgn * (hy - 0.17), g + radius))
+    return Vehicle(p.build(), wheel(radius, 0.3, level, "bus"), np.array(axles), radius)

@@ -1,0 +1,202 @@
+"""The asset library: every kind deterministic (also at numpy's SIMD baseline), its meshes
+valid and within budget at each level, labelled with its own classes only, and fitted to
+the colliders it stands in."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from phav_generator.world.library import CATALOGUE, MODELLED_CLASSES, collider_asset, modelled_indices
+from phav_generator.world.parts import LEVELS, Asset
+from phav_generator.world.vehicles import Vehicle
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.seeding import stream
+from phav_spec.vocab import PIXEL_CLASSES
+
+#: How far (m) a drawn shape may stray outside the box it stands in.
+FIT_M = 0.02
+KINDS = sorted(CATALOGUE)
+
+
+def _assets(built: Asset | Vehicle) -> list[Asset]:
+    return [built.body, built.wheel] if isinstance(built, Vehicle) else [built]
+
+
+def _build(kind: str, level: int = 0) -> Asset | Vehicle:
+    return CATALOGUE[kind][0](stream(3, f"test/{kind}"), level)
+
+
+def _catalogue_digest() -> str:
+    h = hashlib.sha256()
+    for kind in KINDS:
+        for level in range(LEVELS):
+            for asset in _assets(_build(kind, level)):
+                h.update(asset.digest_bytes())
+    return h.hexdigest()
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_the_same_parameters_and_seed_give_the_same_bytes(kind):
+    first, second = _assets(_build(kind)), _assets(_build(kind))
+    assert [a.digest_bytes() for a in first] == [a.digest_bytes() for a in second]
+    other = _assets(CATALOGUE[kind][0](stream(4, f"test/{kind}"), 0))
+    assert len(other) == len(first)
+
+
+def test_the_catalogue_gives_the_same_bytes_at_numpys_simd_baseline():
+    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+
+    above = " ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f))
+    if not above:
+        pytest.skip("numpy dispatches nothing above its baseline on this CPU")
+    code = "import sys; sys.path.insert(0, sys.argv[1]); from test_assets import _catalogue_digest; print(_catalogue_digest())"
+    run = subprocess.run([sys.executable, "-c", code, os.path.dirname(__file__)], capture_output=True, text=True,
+                         env=os.environ | {"NPY_DISABLE_CPU_FEATURES": above}, check=True)  # fmt: skip
+    assert run.stdout.strip() == _catalogue_digest()
+
+
+def _closed_edges_pair_up(positions: np.ndarray, triangles: np.ndarray) -> bool:
+    """Whether every directed edge of a closed part (vertices welded by position) is met by
+    its reverse exactly once: a watertight, consistently wound surface."""
+    _, weld = np.unique(np.round(positions.astype(np.float64), 6), axis=0, return_inverse=True)
+    t = weld.reshape(-1)[triangles]
+    edges = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    edges = edges[edges[:, 0] != edges[:, 1]]
+    forward = {tuple(e) for e in edges.tolist()}
+    return len(forward) == len(edges) and all((b, a) in forward for a, b in forward)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("level", range(LEVELS))
+def test_meshes_are_valid_and_within_their_triangle_budget(kind, level):
+    built = _build(kind, level)
+    budget = CATALOGUE[kind][1][level]
+    triangles = sum(a.n_triangles for a in _assets(built)) if not isinstance(built, Vehicle) else \
+        built.body.n_triangles + len(built.axles) * built.wheel.n_triangles  # fmt: skip
+    assert triangles <= budget, f"{kind} at level {level}: {triangles} triangles, budget {budget}"
+    if level:
+        coarser = triangles
+        finer = _build(kind, level - 1)
+        finer_n = sum(a.n_triangles for a in _assets(finer)) if not isinstance(finer, Vehicle) else \
+            finer.body.n_triangles + len(finer.axles) * finer.wheel.n_triangles  # fmt: skip
+        assert coarser <= finer_n
+    for asset in _assets(built):
+        p, tri = asset.positions.astype(np.float64), asset.triangles.astype(np.int64)
+        assert np.isfinite(p).all()
+        a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+        cross = np.cross(b - a, c - a)
+        area = 0.5 * np.linalg.norm(cross, axis=1)
+        assert area.min() > 1e-8, f"{kind}: a degenerate triangle"
+        # Winding agrees with the normals: no triangle turned inside out.
+        n = asset.normals[tri].astype(np.float64).sum(axis=1)
+        assert (np.einsum("ij,ij->i", cross, n) > 0).all(), f"{kind}: an inverted triangle"
+        for name, first, end, closed in asset.parts:
+            if closed:
+                assert _closed_edges_pair_up(p, tri[first:end]), f"{kind}: part {name} is not closed"
+
+
+def _classes_of(built: Asset | Vehicle) -> set[str]:
+    return {c for a in _assets(built) for c in a.pixel_classes()}
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_an_asset_rendered_alone_shows_its_classes_and_nothing_else(ctx, kind):
+    from phav_generator.render.assets import asset_drawable, turntable, vehicle_drawables
+
+    built = _build(kind)
+    still = np.broadcast_to(np.eye(4), (2, 4, 4))
+    drawables = vehicle_drawables(built, still) if isinstance(built, Vehicle) else [asset_drawable(built, still)]
+    frames = turntable(ctx, drawables, built.body if isinstance(built, Vehicle) else built, height=96)
+    seen = {PIXEL_CLASSES.names[int(i)] for f in frames for i in np.unique(f.class_id)}
+    own = _classes_of(built)
+    assert seen - {"sky"} <= own, f"{kind} shows {seen - own - {'sky'}}"
+    assert own <= seen, f"{kind} never shows {own - seen}"
+    assert all((f.instance == 0).all() for f in frames)
+
+
+def _box_gaps(asset: Asset, half) -> tuple[float, np.ndarray]:
+    """How far the asset strays outside a box of ``half`` around its origin, and the gap
+    between each box face (−x, +x, −y, +y, −z, +z) and the asset's nearest vertex."""
+    p = asset.positions.astype(np.float64)
+    h = np.asarray(half, dtype=np.float64)
+    outside = float(np.max(np.abs(p) - h, initial=0.0))
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    gaps = np.array([lo[0] + h[0], h[0] - hi[0], lo[1] + h[1], h[1] - hi[1], lo[2] + h[2], h[2] - hi[2]])
+    return outside, gaps
+
+
+#: Faces people and vehicles meet, per class: the drawn shape reaches them (−x, +x, −y, +y, −z, +z).
+_TOUCHED = {"car": (0, 1, 2, 3, 5), "truck": (0, 1, 2, 3, 5), "bus": (0, 1, 2, 3, 5), "bench": (0, 1, 5),
+            "chair": (5,), "table": (0, 1, 2, 3, 4, 5), "sofa": (4, 5), "bed": (0, 1, 2, 3, 4), "stairs": (0, 1, 2, 3, 4, 5),
+            "fridge": (4, 5), "shelf": (4, 5), "guard_rail": (0, 1, 4, 5), "fireplace": (4, 5)}  # fmt: skip
+
+FITTED = [(name, i) for name in ENVIRONMENT_SCENES.names for i in modelled_indices(name)]
+
+
+@pytest.mark.parametrize(("env", "index"), FITTED, ids=[f"{e}-{i}" for e, i in FITTED])
+def test_each_drawn_shape_fits_its_collider(env, index):
+    c = ENVIRONMENT_SCENES[env].colliders[index]
+    built = collider_asset(env, index, 0)
+    for asset in [built.body] if isinstance(built, Vehicle) else [built]:
+        outside, gaps = _box_gaps(asset, c.half_size)
+        assert outside <= FIT_M, f"{c}: drawn {outside:.3f} m outside its box"
+        for face in _TOUCHED.get(c.pixel_class, ()):
+            assert gaps[face] <= FIT_M, f"{c}: face {face} is {gaps[face]:.3f} m from the drawn shape"
+    if isinstance(built, Vehicle):  # its wheels stand on the ground inside the box's footprint
+        wheel_bottom = built.axles[:, 2] - built.wheel_radius
+        assert np.allclose(wheel_bottom, -c.half_size[2], atol=1e-6)
+        assert (
+            np.abs(built.axles[:, :2]) + built.wheel_radius * np.array([1.0, 0.0]) <= np.array(c.half_size[:2])
+        ).all()
+
+
+def test_every_modelled_class_is_drawn_somewhere_and_boxes_stay_for_the_places():
+    drawn = {ENVIRONMENT_SCENES[e].colliders[i].pixel_class for e, i in FITTED}
+    assert drawn == set(MODELLED_CLASSES) - {"truck", "bus"}  # those two only drive
+    for env in ENVIRONMENT_SCENES.names:
+        for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
+            if c.pixel_class not in MODELLED_CLASSES:
+                assert collider_asset(env, i, 0) is None
+
+
+def test_the_renderer_fingerprint_names_the_asset_library(ctx):
+    from phav_generator.dataset.fingerprint import WORLD_LIBRARY_KEY, renderer_fingerprint
+    from phav_generator.render.context import gl_strings
+    from phav_generator.world.library import world_library_sha256
+
+    versions = renderer_fingerprint(gl_strings(ctx)).versions
+    assert versions[WORLD_LIBRARY_KEY] == world_library_sha256()
+    assert len(versions[WORLD_LIBRARY_KEY]) == 64
+
+
+#: Props and the physics shape they move as: (shape, size) — and how far (m) each may be
+#: drawn outside it: a bow's limbs recurve behind its straight capsule, a club's head sits off its shaft, a cart's castors
+#: stand below its floating basket, a ball's seams and a mug's handle stand proud.
+PROP_SHAPES = {
+    "ball": ("sphere", (0.11,), FIT_M), "baseball_bat": ("capsule", (0.03, 0.42), FIT_M),
+    "golf_club": ("capsule", (0.015, 0.5), 0.08), "bow": ("capsule", (0.015, 0.7), 0.13),
+    "hair_brush": ("capsule", (0.02, 0.1), FIT_M), "cup": ("capsule", (0.04, 0.04), FIT_M),
+    "bottle": ("capsule", (0.035, 0.1), FIT_M), "gun": ("box", (0.11, 0.02, 0.06), FIT_M),
+    "crate": ("box", (0.3, 0.35, 0.5), FIT_M), "shopping_cart": ("box", (0.45, 0.28, 0.35), 0.16),
+    "door_leaf": ("box", (0.02, 0.45, 1.0), 0.06), "pull_up_bar": ("capsule", (0.02, 0.6), FIT_M),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("kind", sorted(PROP_SHAPES))
+def test_each_prop_is_drawn_within_its_physics_shape(kind):
+    shape, size, allowance = PROP_SHAPES[kind]
+    p = _build(kind).positions.astype(np.float64)
+    if shape == "sphere":
+        outside = np.linalg.norm(p, axis=1) - size[0]
+    elif shape == "capsule":
+        along = np.clip(p[:, 2], -size[1], size[1])
+        outside = np.linalg.norm(p - np.stack([0 * along, 0 * along, along], axis=1), axis=1) - size[0]
+    else:
+        outside = np.max(np.abs(p) - np.asarray(size), axis=1)
+    assert outside.max() <= allowance, f"{kind}: drawn {outside.max():.3f} m outside its {shape}"
