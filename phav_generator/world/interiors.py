@@ -326,18 +326,13 @@ def window(half, rng: np.random.Generator, level: int = 0) -> Asset:
     rot = rotation(0.0 if along_x else math.pi / 2)
     box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     f = 0.06
-    box(
-        "pane",
-        "window",
-        Material.GLASS,
-        (0.6, 0.65, 0.7),
-        (-L + f, -0.01, -hz + f),
-        (L - f, 0.01, hz - f),
-        glow=VIEW_GLOW,
-    )
+    for sgn in (-1.0, 1.0):  # a pane near each face: the box runs through a thinner wall
+        y0, y1 = sorted((sgn * (T - 0.03), sgn * (T - 0.02)))
+        box(f"pane{sgn:+.0f}", "window", Material.GLASS, (0.6, 0.65, 0.7), (-L + f, y0, -hz + f), (L - f, y1, hz - f),
+            glow=VIEW_GLOW)  # fmt: skip
     for name, lo, hi in (("head", (-L, -T, hz - f), (L, T, hz)), ("sill", (-L, -T, -hz), (L, T, -hz + f)),
                          ("jamb_l", (-L, -T, -hz), (-L + f, T, hz)), ("jamb_r", (L - f, -T, -hz), (L, T, hz)),
-                         ("mullion", (-0.025, -0.04, -hz), (0.025, 0.04, hz))):  # fmt: skip
+                         ("mullion", (-0.025, -T, -hz), (0.025, T, hz))):  # fmt: skip
         box(name, "window", Material.PLASTIC, white, lo, hi)
     return p.build()
 
@@ -352,16 +347,17 @@ def door(half, rng: np.random.Generator, level: int = 0) -> Asset:
     rot = rotation(0.0 if along_x else math.pi / 2)
     box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     f = 0.07
-    box("leaf", "door", Material.WOOD, wood, (-L + f, -0.025, -hz), (L - f, 0.025, hz - f))
+    leaf = T - 0.02  # the leaf fills the box's depth: the box runs through a thinner wall
+    box("leaf", "door", Material.WOOD, wood, (-L + f, -leaf, -hz), (L - f, leaf, hz - f))
     for name, lo, hi in (("head", (-L, -T, hz - f), (L, T, hz)), ("jamb_l", (-L, -T, -hz), (-L + f, T, hz)),
                          ("jamb_r", (L - f, -T, -hz), (L, T, hz))):  # fmt: skip
         box(name, "door", Material.WOOD, (0.9, 0.9, 0.88), lo, hi)
     if p.fine:
         for sgn in (-1.0, 1.0):
-            y0, y1 = sorted((sgn * 0.025, sgn * 0.045))
+            y0, y1 = sorted((sgn * leaf, sgn * (leaf + 0.008)))
             for k, (z0, z1) in enumerate(((-hz + 0.15, -0.05), (0.1, hz - f - 0.15))):
                 box(f"panel{k}{sgn:+.0f}", "door", Material.WOOD, wood, (-L + f + 0.1, y0, z0), (L - f - 0.1, y1, z1))
-            y0, y1 = sorted((sgn * 0.025, sgn * 0.08))
+            y0, y1 = sorted((sgn * leaf, sgn * T))
             box(
                 f"handle{sgn:+.0f}",
                 "door",

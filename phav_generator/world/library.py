@@ -242,7 +242,7 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "floor_lamp_stem": (lambda rng, lv: interiors.lamp((0.05, 0.05, 0.75), rng, lv), (150, 100, 60)),
     "table_lamp": (lambda rng, lv: interiors.lamp((0.25, 0.25, 0.3), rng, lv), (150, 100, 60)),
     "lamp_shade": (lambda rng, lv: interiors.lamp((0.2, 0.2, 0.15), rng, lv), (80, 50, 30)),
-    "window": (lambda rng, lv: interiors.window((1.0, 0.15, 0.7), rng, lv), (80, 80, 80)),
+    "window": (lambda rng, lv: interiors.window((1.0, 0.15, 0.7), rng, lv), (100, 100, 100)),
     "door": (lambda rng, lv: interiors.door((0.15, 0.5, 1.05), rng, lv), (150, 150, 60)),
     "curtain": (lambda rng, lv: interiors.curtain((0.25, 0.05, 1.2), rng, lv), (100, 100, 50)),
     "step": (lambda rng, lv: interiors.step((0.15, 0.65, 0.5), rng, lv), (24, 24, 24)),

@@ -163,7 +163,8 @@ class Parts:
         self.box(name, cls, material, colour, (lo_ + hi_) / 2, (hi_ - lo_) / 2, glow=glow)
 
     def frustum(self, name: str, cls: str, material: Material, colour, a, b, r_a: float, r_b: float, *,
-                segments: int | None = None, caps: bool = True, glow: int = NO_GLOW, phase: float = 0.0) -> None:  # fmt: skip
+                segments: int | None = None, caps: bool = True, glow: int = NO_GLOW,
+                phase: float = 0.0) -> None:  # fmt: skip
         """A truncated cone (a cylinder where the radii agree) from ``a`` to ``b``, smooth
         sides, flat caps (a point where a radius is 0)."""
         s = segments or self.round

@@ -183,8 +183,9 @@ def cart(half, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> A
         for y in (-hy + 0.05, hy - 0.05):
             p.cylinder(f"leg{x:+.1f}{y:+.1f}", cls, Material.CHROME, wire, (x, y, -hz - CART_CLEARANCE_M + 0.05),
                        (x, y, -hz), 0.01, segments=6)  # fmt: skip
-            p.cylinder(f"castor{x:+.1f}{y:+.1f}", cls, Material.RUBBER, _BLACK, (x, y - 0.015, -hz - CART_CLEARANCE_M + 0.05),
-                       (x, y + 0.015, -hz - CART_CLEARANCE_M + 0.05), 0.05, segments=8)  # fmt: skip
+            axle = -hz - CART_CLEARANCE_M + 0.05
+            p.cylinder(f"castor{x:+.1f}{y:+.1f}", cls, Material.RUBBER, _BLACK, (x, y - 0.015, axle),
+                       (x, y + 0.015, axle), 0.05, segments=8)  # fmt: skip
     return p.build()
 
 

@@ -46,8 +46,8 @@ def mast(half, rng: np.random.Generator, level: int = 0) -> Asset:
 
 
 def floodlight_head(half, rng: np.random.Generator, level: int = 0) -> Asset:
-    """A floodlight head: a frame holding rows of lamps that face along the box's −x (turned
-    to the pitch by the collider's yaw... the lamps face both long sides)."""
+    """A floodlight head: a frame holding rows of lamps that show on both its faces across
+    the box's x (the collider's yaw turns them to the pitch)."""
     hx, hy, hz = half
     p = Parts(level)
     p.box("frame", "pole", Material.METAL, (0.5, 0.5, 0.52), (0.0, 0.0, 0.0), (0.6 * hx, 0.6 * hy, 0.9 * hz))

@@ -108,7 +108,18 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
     if kind == "van":
         lower = [(rear + 0.04, z0), (front - 0.06, z0), (front, z0 + 0.12), (front, zh - 0.05), (front - 0.06, zh),
                  (x_ws, zb), (rear, zb), (rear, z0 + 0.04)]  # fmt: skip
-    p.prism("body", "car", Material.PAINT, paint, lower, -side, side)
+    # The body's sides tuck in under the sills and round over the shoulder line.
+    body_taper = lambda z: 0.07 * max(0.0, (z0 + 0.1 - z) / 0.1) + 0.05 * max(0.0, (z - zb + 0.15) / 0.15)  # noqa: E731
+    p.prism("body", "car", Material.PAINT, paint, lower, -side, side, taper=body_taper)
+    # The dark underside between the wheels: what shades the road under a car.
+    p.span(
+        "underbody",
+        "car",
+        Material.RUBBER,
+        TRIM,
+        (rear + 0.3, -side + 0.1, g + 0.04),
+        (front - 0.3, side - 0.1, z0 + 0.02),
+    )
     # The greenhouse: glass leaning in towards the roof, a painted roof and pillars.
     x_roof_front = x_ws - shape.windshield * length
     x_roof_rear = x_rw + shape.rear_window * length
@@ -208,11 +219,11 @@ def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0)
     p.panel("windscreen", "truck", Material.GLASS, GLASS_TINT, ws)
     for sgn in (-1.0, 1.0):
         y = sgn * (hy - 0.015)
-        win = [(cab_back + 0.3, y, cab_top - 0.75), (front - 0.35, y, cab_top - 0.75), (front - 0.35, y, cab_top - 0.15),
-               (cab_back + 0.3, y, cab_top - 0.15)]  # fmt: skip
+        win = [(cab_back + 0.3, y, cab_top - 0.75), (front - 0.35, y, cab_top - 0.75),
+               (front - 0.35, y, cab_top - 0.15), (cab_back + 0.3, y, cab_top - 0.15)]  # fmt: skip
         p.panel(f"side_window{sgn:+.0f}", "truck", Material.GLASS, GLASS_TINT, win if sgn < 0 else win[::-1])
-        p.box(f"headlight{sgn:+.0f}", "truck", Material.CHROME, HEADLIGHT, (front + 0.005, sgn * (hy - 0.3), z_frame + 0.25),
-              (0.01, 0.15, 0.07), glow=LAMP_GLOW)  # fmt: skip
+        p.box(f"headlight{sgn:+.0f}", "truck", Material.CHROME, HEADLIGHT,
+              (front + 0.005, sgn * (hy - 0.3), z_frame + 0.25), (0.01, 0.15, 0.07), glow=LAMP_GLOW)  # fmt: skip
     p.box("grille", "truck", Material.PLASTIC, TRIM, (front + 0.004, 0.0, z_frame + 0.6), (0.01, hy - 0.5, 0.3))
     p.box("bumper", "truck", Material.PLASTIC, TRIM, (front - 0.08, 0.0, z_frame + 0.05), (0.08, hy - 0.05, 0.15))
     p.span("cargo", "truck", Material.PLAIN, box_paint, (rear, -hy, z_frame + 0.05), (cab_back - 0.1, hy, hz))
@@ -243,8 +254,8 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
             (-hx, hz - 0.1)]  # fmt: skip
     p.prism("body", "bus", Material.PAINT, livery, body, -hy + 0.02, hy - 0.02)
     belt, top = g + 0.42 * height, hz - 0.3
-    ws = [(hx + 0.005, -hy + 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, top + 0.15),
-          (hx + 0.005, -hy + 0.12, top + 0.15)]  # fmt: skip
+    ws = [(hx + 0.005, -hy + 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, belt - 0.3),
+          (hx + 0.005, hy - 0.12, top + 0.15), (hx + 0.005, -hy + 0.12, top + 0.15)]  # fmt: skip
     p.panel("windscreen", "bus", Material.GLASS, GLASS_TINT, ws)
     for sgn in (-1.0, 1.0):
         y = sgn * (hy - 0.015)

@@ -63,19 +63,29 @@ def chair_under_pelvis(b: PlanBuilder, p: PersonPlan) -> None:
     legs = ("left_lower_leg", "right_lower_leg", "left_foot", "right_foot")
     if seat_top - ground < 0.25 or box_meets_bones(box, p.dims, rot, pos, legs):
         aside = pelvis[0] + 1.2 * (yaw_matrix(np.deg2rad(heading)) @ np.array([0.0, 1.0, 0.0]))
-        b.boxes.append(chair(aside, ground + 0.45))
+        seat = chair(aside, ground + 0.45)
+        b.boxes.append(seat)
+        _chair_back(b, p, seat, back, rot, pos)
         return
     b.boxes.append(box)
-    # A back on the seat's rear edge, where the sitter's torso, arms and head stay clear of it.
-    back_centre = np.array(box.center[:2]) + (half - CHAIR_BACK_HALF_M) * back[:2]
-    rest = StaticBox("chair", (float(back_centre[0]), float(back_centre[1]), seat_top + CHAIR_BACK_M / 2),
-                     (CHAIR_BACK_HALF_M, half, CHAIR_BACK_M / 2), heading)  # fmt: skip
-    torso = ("pelvis", "chest", "head", "left_upper_arm", "right_upper_arm", "left_lower_arm", "right_lower_arm")
-    if not box_meets_bones(rest, p.dims, rot, pos, torso):
-        b.boxes.append(rest)
+    _chair_back(b, p, box, back, rot, pos)
     b.manipulations.append(
         Manipulation("chair", p.person_id, "pelvis", "hold", float(b.times[i]) - 0.5, float(b.times[i]) + 0.5)
     )
+
+
+def _chair_back(
+    b: PlanBuilder, p: PersonPlan, seat: StaticBox, back: np.ndarray, rot: np.ndarray, pos: np.ndarray
+) -> None:
+    """A back on a chair seat's rear edge (``back``: the world direction behind it), where the
+    person's torso, arms and head stay clear of it; none where they would meet it."""
+    half, seat_top = seat.half_size[1], seat.center[2] + seat.half_size[2]
+    centre = np.array(seat.center[:2]) + (half - CHAIR_BACK_HALF_M) * back[:2]
+    rest = StaticBox("chair", (float(centre[0]), float(centre[1]), float(seat_top + CHAIR_BACK_M / 2)),
+                     (CHAIR_BACK_HALF_M, half, CHAIR_BACK_M / 2), seat.yaw_deg)  # fmt: skip
+    torso = ("pelvis", "chest", "head", "left_upper_arm", "right_upper_arm", "left_lower_arm", "right_lower_arm")
+    if not box_meets_bones(rest, p.dims, rot, pos, torso):
+        b.boxes.append(rest)
 
 
 def pull_up_bar(b: PlanBuilder, p: PersonPlan) -> None:

@@ -21,8 +21,8 @@ float cell_noise(vec3 p, float scale) {
 // environment the surface reflects) of material `pattern` at object position p.
 vec3 material(int pattern, vec3 p, vec3 c, out vec2 gloss) {
     gloss = vec2(0.0);
-    if (pattern == 5) {  // painted metal
-        gloss = vec2(0.05, 0.55);
+    if (pattern == 5) {  // painted metal: a clear coat over the paint
+        gloss = vec2(0.12, 0.6);
         return c * (0.97 + 0.06 * cell_noise(p, 60.0));
     }
     if (pattern == 6) {  // glass

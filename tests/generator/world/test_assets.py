@@ -55,7 +55,8 @@ def test_the_catalogue_gives_the_same_bytes_at_numpys_simd_baseline():
     above = " ".join(f for f in __cpu_dispatch__ if __cpu_features__.get(f))
     if not above:
         pytest.skip("numpy dispatches nothing above its baseline on this CPU")
-    code = "import sys; sys.path.insert(0, sys.argv[1]); from test_assets import _catalogue_digest; print(_catalogue_digest())"
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); "
+            "from test_assets import _catalogue_digest; print(_catalogue_digest())")  # fmt: skip
     run = subprocess.run([sys.executable, "-c", code, os.path.dirname(__file__)], capture_output=True, text=True,
                          env=os.environ | {"NPY_DISABLE_CPU_FEATURES": above}, check=True)  # fmt: skip
     assert run.stdout.strip() == _catalogue_digest()
@@ -133,8 +134,9 @@ def _box_gaps(asset: Asset, half) -> tuple[float, np.ndarray]:
 
 #: Faces people and vehicles meet, per class: the drawn shape reaches them (−x, +x, −y, +y, −z, +z).
 _TOUCHED = {"car": (0, 1, 2, 3, 5), "truck": (0, 1, 2, 3, 5), "bus": (0, 1, 2, 3, 5), "bench": (0, 1, 5),
-            "chair": (5,), "table": (0, 1, 2, 3, 4, 5), "sofa": (4, 5), "bed": (0, 1, 2, 3, 4), "stairs": (0, 1, 2, 3, 4, 5),
-            "fridge": (4, 5), "shelf": (4, 5), "guard_rail": (0, 1, 4, 5), "fireplace": (4, 5)}  # fmt: skip
+            "chair": (5,), "table": (0, 1, 2, 3, 4, 5), "sofa": (4, 5), "bed": (0, 1, 2, 3, 4),
+            "stairs": (0, 1, 2, 3, 4, 5), "fridge": (4, 5), "shelf": (4, 5), "guard_rail": (0, 1, 4, 5),
+            "fireplace": (4, 5)}  # fmt: skip
 
 FITTED = [(name, i) for name in ENVIRONMENT_SCENES.names for i in modelled_indices(name)]
 
@@ -176,8 +178,8 @@ def test_the_renderer_fingerprint_names_the_asset_library(ctx):
 
 
 #: Props and the physics shape they move as: (shape, size) — and how far (m) each may be
-#: drawn outside it: a bow's limbs recurve behind its straight capsule, a club's head sits off its shaft, a cart's castors
-#: stand below its floating basket, a ball's seams and a mug's handle stand proud.
+#: drawn outside it: a bow's limbs recurve behind its straight capsule, a club's head sits
+#: off its shaft, a cart's castors stand below its floating basket.
 PROP_SHAPES = {
     "ball": ("sphere", (0.11,), FIT_M), "baseball_bat": ("capsule", (0.03, 0.42), FIT_M),
     "golf_club": ("capsule", (0.015, 0.5), 0.08), "bow": ("capsule", (0.015, 0.7), 0.13),
