@@ -13,7 +13,7 @@ import numpy as np
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
 from phav_generator.physics.plan.car_hit import CAR_CLEARANCE_M
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
-from phav_generator.render.assets import asset_drawable, vehicle_drawables
+from phav_generator.render.assets import WET_CLASSES, asset_drawable, vehicle_drawables
 from phav_generator.render.gl import GROUND, SPECKLE, WATER, Drawable
 from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
@@ -40,13 +40,7 @@ _CLASS_COLOURS: dict[str, tuple[float, float, float]] = {
     "building": (0.62, 0.58, 0.52),
     "vegetation": (0.25, 0.55, 0.20),
     "tree": (0.20, 0.45, 0.15),
-    "car": (0.70, 0.15, 0.12),
-    "truck": (0.85, 0.85, 0.80),
-    "bus": (0.90, 0.70, 0.10),
-    "stairs": (0.60, 0.60, 0.58),
 }
-#: Classes whose upward faces are ground: they get wet in the rain.
-_GROUND_CLASSES = {"terrain", "road", "floor", "stairs"}
 #: Open water's colour (deep green-blue; the sky's reflection does the rest).
 _WATER_COLOUR = (0.04, 0.10, 0.12)
 #: Warm emission of a lamp's head when the lamps are on.
@@ -62,7 +56,7 @@ def class_id(name: str) -> int:
 
 
 def _static(mesh, transform: np.ndarray, cls: str, n: int, **look) -> Drawable:
-    material = GROUND if cls in _GROUND_CLASSES else look.pop("material", 0)
+    material = GROUND if cls in WET_CLASSES else look.pop("material", 0)
     return Drawable(mesh, np.broadcast_to(transform, (n, 4, 4)), class_id(cls), 0,
                     look.pop("colour", _CLASS_COLOURS.get(cls, (0.5,) * 3)), material=material, **look)  # fmt: skip
 
@@ -149,12 +143,12 @@ def build_drawables(
     ground_mesh = ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M)
     out = [_static(ground_mesh, eye, env.ground_pixel_class, n, pattern=SPECKLE)]
     focal = trajectory.intrinsics[1]
-    eye = trajectory.cam_to_world[:, :3, 3]
+    eyes = trajectory.cam_to_world[:, :3, 3]
     view = tuple(0.9 * x for x in lighting.fog_colour) if lighting is not None else (0.0, 0.0, 0.0)
     for i, c in enumerate(env.colliders):
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
         radius = float(np.linalg.norm(c.half_size))
-        nearest = float(np.linalg.norm(eye - np.array(c.center), axis=1).min()) - radius
+        nearest = float(np.linalg.norm(eyes - np.array(c.center), axis=1).min()) - radius
         asset = collider_asset(recipe.environment.name, i, level_for(radius, nearest, focal))
         if isinstance(asset, Vehicle):
             out += vehicle_drawables(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow)

@@ -23,11 +23,11 @@ def post(half, rng: np.random.Generator, level: int = 0, *, lantern: bool = Fals
     metal = pick(STREET_METALS, rng)
     r = 0.8 * min(hx, hy)
     if not lantern:
-        p.cylinder("post", "pole", Material.METAL, (0.55, 0.57, 0.58), (0.0, 0.0, -hz), (0.0, 0.0, hz), 0.45 * r)
+        p.cylinder("post", "pole", Material.METAL, (0.55, 0.57, 0.58), (0.0, 0.0, -hz), (0.0, 0.0, hz), 0.7 * r)
         return p.build()
     top = hz - 0.35
-    p.frustum("base", "pole", Material.PAINT, metal, (0.0, 0.0, -hz), (0.0, 0.0, -hz + 0.6), r, 0.7 * r)
-    p.frustum("shaft", "pole", Material.PAINT, metal, (0.0, 0.0, -hz + 0.6), (0.0, 0.0, top), 0.6 * r, 0.4 * r)
+    p.frustum("base", "pole", Material.PAINT, metal, (0.0, 0.0, -hz), (0.0, 0.0, -hz + 0.6), r, 0.85 * r)
+    p.frustum("shaft", "pole", Material.PAINT, metal, (0.0, 0.0, -hz + 0.6), (0.0, 0.0, top), 0.8 * r, 0.6 * r)
     p.cylinder("collar", "pole", Material.PAINT, metal, (0.0, 0.0, top), (0.0, 0.0, top + 0.05), 0.7 * r)
     p.frustum("lantern", "pole", Material.GLASS, (0.9, 0.85, 0.7), (0.0, 0.0, top + 0.05), (0.0, 0.0, hz - 0.06),
               0.6 * r, r, segments=6, glow=LAMP_GLOW)  # fmt: skip
