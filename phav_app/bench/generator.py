@@ -171,38 +171,48 @@ def _edges(semantic: np.ndarray, depth: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class BodyShare:
-    """What the people cost per frame: the same frames rendered with and without them."""
+    """What the people and the world's assets cost per frame: the same frames rendered with
+    everything, without the people, and with the objects drawn as their colliders' boxes."""
 
     frames: int
-    render_s: float  # render_labels + render_rgb, with the people
-    render_without_s: float  # the same without them
+    render_s: float  # render_labels + render_rgb, with the people and the assets
+    render_without_s: float  # the same without the people
     build_s: float  # the scenes' drawables, with the people (meshes cached per process)
     build_without_s: float
+    render_boxes_s: float  # with the people, the objects as boxes
+    build_boxes_s: float
 
     @property
     def share(self) -> float:
         """The people's share of the frame's render time."""
         return (self.render_s - self.render_without_s) / max(self.render_s, 1e-9)
 
+    @property
+    def asset_share(self) -> float:
+        """The assets' share of the frame's render time (over drawing their boxes)."""
+        return (self.render_s - self.render_boxes_s) / max(self.render_s, 1e-9)
+
 
 def bench_bodies(recipes: list, trajectories: list, ctx, *, supersample: int = 2,
                  max_frames: int | None = None) -> BodyShare:  # fmt: skip
-    """Render every recipe's frames twice, with and without its people, in one context."""
-    times = {"render": 0.0, "render_without": 0.0, "build": 0.0, "build_without": 0.0}
+    """Render every recipe's frames three times in one context: as generated, without its
+    people, and with its objects drawn as their colliders' boxes."""
+    times = dict.fromkeys(("render", "render_without", "render_boxes", "build", "build_without", "build_boxes"), 0.0)
     frames = 0
     for r, tr in zip(recipes, trajectories, strict=True):
         n = min(r.n_frames, max_frames or r.n_frames)
         frames += n
-        for people, key in ((True, ""), (False, "_without")):
+        for people, assets, key in ((True, True, ""), (False, True, "_without"), (True, False, "_boxes")):
             t0 = time.perf_counter()
-            renderer = scene_renderer(r, tr, ctx, supersample=supersample, people=people)
+            renderer = scene_renderer(r, tr, ctx, supersample=supersample, people=people, assets=assets)
             times["build" + key] += time.perf_counter() - t0
             with renderer:
                 t0 = time.perf_counter()
                 for f in range(n):
                     renderer.render(f, tr.cam_to_world[f], tr.cam_to_world[f + 1], tr.intrinsics)
                 times["render" + key] += time.perf_counter() - t0
-    return BodyShare(frames, times["render"], times["render_without"], times["build"], times["build_without"])
+    return BodyShare(frames, times["render"], times["render_without"], times["build"], times["build_without"],
+                     times["render_boxes"], times["build_boxes"])  # fmt: skip
 
 
 def bench_render(

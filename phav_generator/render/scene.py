@@ -130,11 +130,18 @@ def _upper_storey(env: EnvironmentScene, n: int) -> list[Drawable]:
 
 
 def build_drawables(
-    recipe: Recipe, trajectory: Trajectory, lighting: Lighting | None = None, *, people: bool = True
+    recipe: Recipe,
+    trajectory: Trajectory,
+    lighting: Lighting | None = None,
+    *,
+    people: bool = True,
+    assets: bool = True,
 ) -> list[Drawable]:
     """Everything the camera may see in this video, static world first (lamps glow when
     ``lighting`` switches them on; windows show its sky, through the fog when there is fog);
-    ``people=False`` leaves the people out (the bench measures what they cost)."""
+    ``people=False`` leaves the people out, ``assets=False`` draws the objects as their
+    colliders' boxes and the props as their physics shapes (the bench measures what each
+    costs)."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     n = len(trajectory.times)
     eye = np.eye(4)
@@ -149,7 +156,7 @@ def build_drawables(
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
         radius = float(np.linalg.norm(c.half_size))
         nearest = float(np.linalg.norm(eyes - np.array(c.center), axis=1).min()) - radius
-        asset = collider_asset(recipe.environment.name, i, level_for(radius, nearest, focal))
+        asset = collider_asset(recipe.environment.name, i, level_for(radius, nearest, focal)) if assets else None
         if isinstance(asset, Vehicle):
             out += vehicle_drawables(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow)
             continue
@@ -165,20 +172,22 @@ def build_drawables(
         out.append(_static(ground(1.0, level), pose @ np.diag([(x1 - x0) / 2, (y1 - y0) / 2, 1.0, 1.0]), "misc", n,
                            colour=_WATER_COLOUR, material=WATER, casts_shadow=False))  # fmt: skip
     for k, (cls, center, half, yaw) in enumerate(trajectory.boxes):
-        pose = np.broadcast_to(_pose(yaw_matrix(np.deg2rad(yaw)), center), (n, 4, 4))
+        pose = _pose(yaw_matrix(np.deg2rad(yaw)), center)
+        if not assets:
+            out.append(_static(box(half), pose, cls, n))
+            continue
         rng = stream(recipe.seeds.physics, f"world/box{k}")
-        out.append(asset_drawable(box_asset(cls, half, rng, 0, indoor=env.indoor), pose))
+        out.append(asset_drawable(box_asset(cls, half, rng, 0, indoor=env.indoor), np.broadcast_to(pose, (n, 4, 4))))
     for prop in trajectory.props:
         transforms = _pose(quat_to_matrix(prop.quat), prop.pos)
-        if prop.object in VEHICLE_HALF_SIZES:
+        if assets and prop.object in VEHICLE_HALF_SIZES:
             seed = recipe.seeds.physics if prop.name == "car" else recipe.seeds.background
             below = CAR_CLEARANCE_M if prop.name == "car" else 0.0
             found = vehicle(prop.object, prop.size, stream(seed, f"world/{prop.name}"), below=below)
             out += vehicle_drawables(found, transforms, lamp_glow=glow)
             continue
-        look = props.prop(
-            prop.object, prop.pixel_class, prop.shape, prop.size, stream(recipe.seeds.physics, f"world/{prop.name}")
-        )
+        rng = stream(recipe.seeds.physics, f"world/{prop.name}")
+        look = props.prop(prop.object, prop.pixel_class, prop.shape, prop.size, rng) if assets else None
         if look is not None:
             out.append(asset_drawable(look, transforms))
             continue

@@ -60,11 +60,13 @@ def scene_inputs(
     supersample: int | None = None,
     post: PostSettings | None = None,
     people: bool = True,
+    assets: bool = True,
 ) -> SceneInputs:
     """One video's world, light and weather, focused on the protagonist, with the recipe's
     render settings (θ's ``render``: supersampling of the RGB modality and its post effects)
     unless ``supersample`` or ``post`` override them (the bench does); ``people=False``:
-    without the people, for the bench."""
+    without the people, ``assets=False``: the objects as their colliders' boxes, for the
+    bench."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     lighting = lighting_for(recipe.world, indoor=env.indoor)
     protagonist = trajectory.person(recipe.protagonist.person_id)
@@ -72,8 +74,9 @@ def scene_inputs(
     focus = protagonist.body_pos[:, 0].mean(axis=0)
     if len(lamps):  # the lamps nearest the action light it
         lamps = lamps[np.argsort(np.linalg.norm(lamps - focus, axis=1), kind="stable")]
+    drawables = build_drawables(recipe, trajectory, lighting, people=people, assets=assets)
     return SceneInputs(
-        recipe.video.width, recipe.video.height, build_drawables(recipe, trajectory, lighting, people=people),
+        recipe.video.width, recipe.video.height, drawables,
         lighting, lamps, focus, recipe.render.supersampling if supersample is None else supersample,
         PostSettings.from_render(recipe.render) if post is None else post, recipe.seeds.render,
     )  # fmt: skip
@@ -87,10 +90,11 @@ def scene_renderer(
     supersample: int | None = None,
     post: PostSettings | None = None,
     people: bool = True,
+    assets: bool = True,
 ) -> FrameRenderer:
     """A renderer for one video in ``ctx``: ``scene_inputs`` (same arguments) drawn by a
     ``FrameRenderer``."""
-    s = scene_inputs(recipe, trajectory, supersample=supersample, post=post, people=people)
+    s = scene_inputs(recipe, trajectory, supersample=supersample, post=post, people=people, assets=assets)
     return FrameRenderer(
         ctx, s.width, s.height, s.drawables, sky_class=class_id("sky"), lighting=s.lighting, lamps=s.lamps,
         focus=s.focus, supersample=s.supersample, post=s.post, rain_seed=s.rain_seed,

@@ -38,3 +38,19 @@ def test_frames_of_a_simulated_video(ctx, action: str, environment: str):
             assert ground.any() and np.all(np.isfinite(frame.depth_m[ground]))
     finally:
         renderer.release()
+
+
+def test_the_world_s_objects_are_assets_unless_asked_for_their_boxes():
+    recipe = recipe_for("car_hit", "urban", seconds=1.0, variation="none")
+    tr = simulate(recipe, keep_state=False)
+    drawn = build_drawables(recipe, tr)
+    boxes = build_drawables(recipe, tr, assets=False)
+    car = class_id("car")
+    # Every parked and hitting car, as a body and its wheels; as boxes, one box each.
+    cars_as_assets = [d for d in drawn if d.part_look is not None and car in d.part_look.class_ids]
+    cars_as_boxes = [d for d in boxes if d.class_id == car]
+    assert len(cars_as_assets) == 2 * len(cars_as_boxes) > 0
+    assert all(d.part_look is None for d in boxes)
+    assert sum(d.mesh.n_triangles for d in drawn) > sum(d.mesh.n_triangles for d in boxes)
+    # The people and the ground are the same either way.
+    assert sum(d.instance_id > 0 for d in drawn) == sum(d.instance_id > 0 for d in boxes)
