@@ -5,7 +5,8 @@ For every person and frame of a dataset: its 13 joints and the midpoints of its 
 environment's colliders (the ground plane excluded): with ``--drawn boxes`` the collider
 boxes themselves (how a dataset made before the asset library drew them), with
 ``--drawn assets`` the asset library's meshes (convex parts: boxes, cylinders, cones,
-ellipsoids, convex prisms; open panels have no inside). Prints the share of person-frames
+ellipsoids, convex prisms; open panels have no inside); ``--objects-only`` leaves out the
+places' boxes (terraces, buildings, trees). Prints the share of person-frames
 with a point more than 1, 2, 5 and 8 cm inside, and depth quantiles.
 
     python docs/measure/static_penetration.py DATA --drawn assets
@@ -20,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 
-from phav_generator.world.library import collider_asset
+from phav_generator.world.library import MODELLED_CLASSES, collider_asset
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES
@@ -53,8 +54,9 @@ def _planes(env: str) -> list[tuple[np.ndarray, np.ndarray]]:
     return out
 
 
-def depth_assets(env: str, points: np.ndarray) -> np.ndarray:
-    """Deepest depth (m) of each point (..., 3) inside any drawn part (−inf: none)."""
+def depth_assets(env: str, points: np.ndarray, *, objects_only: bool = False) -> np.ndarray:
+    """Deepest depth (m) of each point (..., 3) inside any drawn part (−inf: none); with
+    ``objects_only`` inside the library's objects only, not the places' boxes."""
     flat = points.reshape(-1, 3)
     best = np.full(len(flat), -np.inf)
     modelled = {i for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders) if collider_asset(env, i, 0) is not None}
@@ -62,20 +64,29 @@ def depth_assets(env: str, points: np.ndarray) -> np.ndarray:
         best = np.maximum(best, (d[None, :] - flat @ n.T).min(axis=1))
     unmodelled = boxes(env)
     keep = [i for i in range(len(unmodelled.colliders)) if i not in modelled]
-    if keep:
+    if keep and not objects_only:
         depth = (unmodelled.half[keep] - np.abs(unmodelled.local(flat)[:, keep])).min(axis=-1)
         best = np.maximum(best, depth.max(axis=1))
     return best.reshape(points.shape[:-1])
 
 
-def depth_boxes(env: str, points: np.ndarray) -> np.ndarray:
-    return boxes(env).depth_inside(points)[0]
+def depth_boxes(env: str, points: np.ndarray, *, objects_only: bool = False) -> np.ndarray:
+    """Deepest depth (m) of each point inside a collider box; with ``objects_only`` the
+    boxes of the classes the library models only."""
+    box = boxes(env)
+    if not objects_only:
+        return box.depth_inside(points)[0]
+    keep = [i for i, c in enumerate(box.colliders) if c.pixel_class in MODELLED_CLASSES]
+    if not keep:
+        return np.full(points.shape[:-1], -np.inf)
+    return (box.half[keep] - np.abs(box.local(points)[..., keep, :])).min(axis=-1).max(axis=-1)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("data", type=Path)
     parser.add_argument("--drawn", choices=("boxes", "assets"), required=True)
+    parser.add_argument("--objects-only", action="store_true", help="the library's objects, not the places' boxes")
     args = parser.parse_args()
     envs = dict(zip(*[read_recipe_table(args.data / "recipes.parquet").table.column(c).to_pylist()
                       for c in ("video_id", "environment")], strict=True))  # fmt: skip
@@ -86,9 +97,11 @@ def main() -> None:
         for person in people:
             j = person.joints
             pts = np.concatenate([j, 0.5 * (j[:, [a for a, _ in _LIMBS]] + j[:, [b for _, b in _LIMBS]])], axis=1)
-            deepest.append(np.nan_to_num(depth_of(envs[vid], pts), nan=-np.inf).max(axis=1))
+            depth = depth_of(envs[vid], pts, objects_only=args.objects_only)
+            deepest.append(np.nan_to_num(depth, nan=-np.inf).max(axis=1))
     d = np.concatenate(deepest)
-    print(f"{args.data}: {len(d)} person-frames, drawn as {args.drawn}")
+    what = "the objects" if args.objects_only else "every static collider"
+    print(f"{args.data}: {len(d)} person-frames against {what}, drawn as {args.drawn}")
     for t in THRESHOLDS_M:
         print(f"  deeper than {t * 100:.0f} cm: {100 * np.mean(d > t):.2f} %")
     inside = d[d > 0]
