@@ -45,7 +45,7 @@ def main() -> None:
     for k, name in enumerate(args.sheets.split(",")):
         for x, when in ((4, "before"), (WIDTH + 4, "after")):
             text = f"{name}, {when}"
-            draw.text((x + 1, k * HEIGHT + 4), text, fill=(0, 0, 0))
+            draw.rectangle(draw.textbbox((x, k * HEIGHT + 3), text), fill=(0, 0, 0))
             draw.text((x, k * HEIGHT + 3), text, fill=(255, 255, 255))
     image.save(args.out, quality=85)
 
