@@ -25,7 +25,7 @@ from phav_generator.world.library import MODELLED_CLASSES, collider_asset
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES
-from phav_validators.checks.failures import _LIMBS, boxes, people_series
+from phav_validators.checks.failures import boxes, people_series, probe_points
 
 THRESHOLDS_M = (0.01, 0.02, 0.05, 0.08)
 
@@ -95,9 +95,7 @@ def main() -> None:
     deepest = []
     for vid, people in sorted(series.items()):
         for person in people:
-            j = person.joints
-            pts = np.concatenate([j, 0.5 * (j[:, [a for a, _ in _LIMBS]] + j[:, [b for _, b in _LIMBS]])], axis=1)
-            depth = depth_of(envs[vid], pts, objects_only=args.objects_only)
+            depth = depth_of(envs[vid], probe_points(person.joints), objects_only=args.objects_only)
             deepest.append(np.nan_to_num(depth, nan=-np.inf).max(axis=1))
     d = np.concatenate(deepest)
     what = "the objects" if args.objects_only else "every static collider"

@@ -48,6 +48,13 @@ RIGID_PAIRS: tuple[tuple[int, int], ...] = tuple(
 _LIMBS = RIGID_PAIRS[3:7] + RIGID_PAIRS[8:] + ((_J["neck"], _J["left_hip"]), (_J["neck"], _J["right_hip"]))
 
 
+def probe_points(joints: np.ndarray) -> np.ndarray:
+    """The points tested against the geometry: the joints (..., 13, 3) and the midpoints of
+    the limbs between them, (..., 13 + limbs, 3)."""
+    mid = 0.5 * (joints[..., [a for a, _ in _LIMBS], :] + joints[..., [b for _, b in _LIMBS], :])
+    return np.concatenate([joints, mid], axis=-2)
+
+
 #: How a measure reports a failure: its reason and a message saying what crossed which threshold.
 _Fail = Callable[[Reason, str], None]
 
@@ -312,7 +319,7 @@ def _interpenetration(
     j = person.joints
     box = boxes(environment)
     ground = ENVIRONMENT_SCENES[environment].ground_z
-    points = np.concatenate([j, 0.5 * (j[:, [a for a, _ in _LIMBS]] + j[:, [b for _, b in _LIMBS]])], axis=1)
+    points = probe_points(j)
     depth, which = box.depth_inside(points)
     below = ground - points[..., 2]
     deepest = float(max(depth.max(), below.max()))
