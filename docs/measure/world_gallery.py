@@ -65,16 +65,10 @@ def main() -> None:
                 rgb += [f.rgb for f in frames]
                 labels += [palette[f.class_id] for f in frames]
             rows += [np.concatenate(rgb, axis=1), np.concatenate(labels, axis=1)]
-            levels = [_triangles(build(stream(7, f"gallery/{kind}/0"), level)) for level in range(LEVELS)]
+            levels = [build(stream(7, f"gallery/{kind}/0"), level).n_triangles for level in range(LEVELS)]
             print(f"{kind}: triangles at levels 0-{LEVELS - 1}: {levels}")
         sheet = np.concatenate(rows, axis=0)[..., ::-1]
         cv2.imwrite(str(args.out / f"{page}.jpg"), sheet, [cv2.IMWRITE_JPEG_QUALITY, 85])
-
-
-def _triangles(built) -> int:
-    if isinstance(built, Vehicle):
-        return built.body.n_triangles + len(built.axles) * built.wheel.n_triangles
-    return built.n_triangles
 
 
 if __name__ == "__main__":

@@ -5,11 +5,12 @@ shelf's or screen's open side, as a unit axis in that frame)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
 from phav_generator.world.materials import FABRICS, LEATHERS, WOODS, Material, pick
-from phav_generator.world.parts import LAMP_GLOW, VIEW_GLOW, Asset, Parts, rotation
+from phav_generator.world.parts import LAMP_GLOW, VIEW_GLOW, Asset, Parts, rotation, transform_points
 
 Axis = tuple[float, float]  # (x, y) unit vector in the box's frame
 
@@ -19,21 +20,37 @@ _BOOKS = ((0.55, 0.10, 0.08), (0.10, 0.20, 0.40), (0.15, 0.35, 0.18), (0.85, 0.7
           (0.75, 0.45, 0.10), (0.50, 0.50, 0.55))  # fmt: skip
 
 
-def _frame(half, front: Axis):
-    """(depth half, width half, yaw) of a box whose sitter or opening faces ``front``: the
-    parts are modelled facing +x and turned by yaw."""
+def _turned_boxes(p: Parts, rot: np.ndarray) -> Callable[..., None]:
+    """``box(name, cls, material, colour, lo, hi, **kw)``: adds to ``p`` an axis-aligned box
+    between corners ``lo`` and ``hi`` of the object's modelling frame, turned by ``rot``."""
+
+    def box(name, cls, material, colour, lo, hi, **kw) -> None:
+        lo_, hi_ = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
+        c = transform_points(((lo_ + hi_) / 2)[None], rot, (0.0, 0.0, 0.0))[0]
+        p.box(
+            name, cls, material, colour, (float(c[0]), float(c[1]), float(c[2])), tuple((hi_ - lo_) / 2), rot=rot, **kw
+        )
+
+    return box
+
+
+def _frame(p: Parts, half, front: Axis) -> tuple[float, float, Callable[..., None]]:
+    """(depth half, width half, box) of a box whose sitter or opening faces ``front``: the
+    parts are modelled facing +x and ``box`` turns them to face ``front``."""
     hx, hy, _ = half
     yaw = math.atan2(front[1], front[0])
     depth, width = (hx, hy) if abs(front[0]) > 0.5 else (hy, hx)
-    return depth, width, rotation(yaw)
+    return depth, width, _turned_boxes(p, rotation(yaw))
 
 
-def _turned(p: Parts, rot, name, cls, material, colour, lo, hi, **kw) -> None:
-    """An axis-aligned box (in the facing +x frame) between ``lo`` and ``hi``, turned by ``rot``."""
-    lo_, hi_ = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
-    centre = (lo_ + hi_) / 2
-    c = rot @ centre
-    p.box(name, cls, material, colour, (float(c[0]), float(c[1]), float(c[2])), tuple((hi_ - lo_) / 2), rot=rot, **kw)
+def _lengthwise(p: Parts, half) -> tuple[float, float, bool, Callable[..., None]]:
+    """(length half, thickness half, whether the length runs along x, box) of a thin box (a
+    window, a door, a curtain, a chair's back): the parts are modelled along x and ``box``
+    turns them to the box's longer horizontal axis."""
+    hx, hy, _ = half
+    along_x = hx >= hy
+    length, thick = (hx, hy) if along_x else (hy, hx)
+    return length, thick, along_x, _turned_boxes(p, rotation(0.0 if along_x else math.pi / 2))
 
 
 def chair(
@@ -41,12 +58,11 @@ def chair(
 ) -> Asset:
     """A wooden chair: four legs, a seat at ``seat`` (default 0.46 m above the box's bottom,
     or its top when lower) and a back of two uprights and rails up to the box's top."""
-    d, w, rot = _frame(half, front)
     hz = half[2]
     p = Parts(level)
+    d, w, box = _frame(p, half, front)
     wood = pick(WOODS, rng)
     s = min(-hz + (seat if seat is not None else 0.46), hz)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     box("seat", "chair", Material.WOOD, wood, (-d, -w, s - 0.04), (d, w, s))
     leg = 0.022
     for x in (-d + leg, d - leg):
@@ -94,12 +110,11 @@ def table(half, rng: np.random.Generator, level: int = 0) -> Asset:
 
 def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A sofa: a base on feet, seat cushions, back cushions and arms, in fabric or leather."""
-    d, w, rot = _frame(half, front)
     hz = half[2]
     p = Parts(level)
+    d, w, box = _frame(p, half, front)
     leather = rng.random() < 0.3
     cover, material = (pick(LEATHERS, rng), Material.LEATHER) if leather else (pick(FABRICS, rng), Material.FABRIC)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     z0, seat = -hz + 0.08, -hz + 0.43
     arm = 0.16
     box("base", "sofa", material, cover, (-d, -w + arm, z0), (d, w - arm, seat - 0.12))
@@ -138,11 +153,10 @@ def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 
 def bed(half, rng: np.random.Generator, level: int = 0, *, head: Axis = (0.0, -1.0)) -> Asset:
     """A bed: a wooden frame, a mattress, a duvet, pillows at the head end and a low
     headboard."""
-    d, w, rot = _frame(half, (-head[0], -head[1]))  # modelled with the head at −x
     hz = half[2]
     p = Parts(level)
+    d, w, box = _frame(p, half, (-head[0], -head[1]))  # modelled with the head at −x
     wood, duvet = pick(WOODS, rng), pick(FABRICS, rng)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     box("frame", "bed", Material.WOOD, wood, (-d, -w, -hz + 0.12), (d, w, -hz + 0.3))
     for x in (-d + 0.04, d - 0.04):
         for y in (-w + 0.04, w - 0.04):
@@ -175,11 +189,10 @@ def bed(half, rng: np.random.Generator, level: int = 0, *, head: Axis = (0.0, -1
 def shelf(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """Shelving by its size: a bookcase with books when tall, else a cabinet with doors and
     handles (a counter, a TV cabinet, a wall cupboard)."""
-    d, w, rot = _frame(half, front)
     hz = half[2]
     p = Parts(level)
+    d, w, box = _frame(p, half, front)
     wood = pick(WOODS, rng)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     t = 0.02
     if 2 * hz >= 1.5:
         box("back", "shelf", Material.WOOD, wood, (-d, -w, -hz), (-d + t, w, hz))
@@ -233,10 +246,9 @@ def shelf(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0,
 
 def screen(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A flat television: a thin black bezel around a dark glass panel, a slim body behind."""
-    d, w, rot = _frame(half, front)
     hz = half[2]
     p = Parts(level)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    d, w, box = _frame(p, half, front)
     box("body", "screen", Material.PLASTIC, _BLACK, (-d, -w + 0.1, -hz + 0.1), (d - 0.03, w - 0.1, hz - 0.1))
     box("bezel", "screen", Material.PLASTIC, (0.05, 0.05, 0.055), (d - 0.03, -w, -hz), (d - 0.005, w, hz))
     box(
@@ -252,10 +264,9 @@ def screen(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0
 
 def fridge(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A fridge-freezer: a white body, two doors with a seam and long handles."""
-    d, w, rot = _frame(half, front)
     hz = half[2]
     p = Parts(level)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    d, w, box = _frame(p, half, front)
     box("body", "fridge", Material.PAINT, _WHITE_GOODS, (-d, -w, -hz), (d - 0.05, w, hz))
     split = hz - 0.75
     box("fridge_door", "fridge", Material.PAINT, _WHITE_GOODS, (d - 0.05, -w, split + 0.01), (d - 0.01, w, hz))
@@ -270,11 +281,10 @@ def fridge(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0
 
 def fireplace(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A fireplace: a stone surround with a mantel shelf and a dark firebox opening."""
-    d, w, rot = _frame(half, front)
     hz = half[2]
     p = Parts(level)
+    d, w, box = _frame(p, half, front)
     stone = (0.72, 0.68, 0.62)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
     box("surround", "fireplace", Material.CONCRETE, stone, (-d, -w, -hz), (d - 0.06, w, hz - 0.08))
     box("mantel", "fireplace", Material.WOOD, WOODS[1], (-d, -w, hz - 0.08), (d, w, hz))
     box("hearth", "fireplace", Material.CONCRETE, (0.3, 0.3, 0.3), (d - 0.06, -w + 0.1, -hz), (d, w - 0.1, -hz + 0.05))
@@ -318,13 +328,10 @@ def lamp(half, rng: np.random.Generator, level: int = 0) -> Asset:
 def window(half, rng: np.random.Generator, level: int = 0) -> Asset:
     """A window through a wall: a white frame, a sill, mullions and panes that show the light
     outside (``VIEW_GLOW``)."""
-    hx, hy, hz = half
+    hz = half[2]
     p = Parts(level)
     white = (0.93, 0.93, 0.91)
-    along_x = hx >= hy
-    L, T = (hx, hy) if along_x else (hy, hx)
-    rot = rotation(0.0 if along_x else math.pi / 2)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    L, T, _, box = _lengthwise(p, half)
     f = 0.06
     for sgn in (-1.0, 1.0):  # a pane near each face: the box runs through a thinner wall
         y0, y1 = sorted((sgn * (T - 0.03), sgn * (T - 0.02)))
@@ -339,13 +346,10 @@ def window(half, rng: np.random.Generator, level: int = 0) -> Asset:
 
 def door(half, rng: np.random.Generator, level: int = 0) -> Asset:
     """A door in its frame: a panelled wooden leaf, a frame and a handle on each face."""
-    hx, hy, hz = half
+    hz = half[2]
     p = Parts(level)
     wood = pick(WOODS, rng)
-    along_x = hx >= hy
-    L, T = (hx, hy) if along_x else (hy, hx)
-    rot = rotation(0.0 if along_x else math.pi / 2)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    L, T, _, box = _lengthwise(p, half)
     f = 0.07
     leaf = T - 0.02  # the leaf fills the box's depth: the box runs through a thinner wall
     box("leaf", "door", Material.WOOD, wood, (-L + f, -leaf, -hz), (L - f, leaf, hz - f))
@@ -371,11 +375,10 @@ def door(half, rng: np.random.Generator, level: int = 0) -> Asset:
 
 def curtain(half, rng: np.random.Generator, level: int = 0) -> Asset:
     """A curtain hanging in folds: pleats of fabric turned alternately, filling the box."""
-    hx, hy, hz = half
+    hz = half[2]
     p = Parts(level)
     cloth = pick(FABRICS, rng)
-    along_x = hx >= hy
-    L, T = (hx, hy) if along_x else (hy, hx)
+    L, T, along_x, _ = _lengthwise(p, half)
     folds = 8 if p.fine else 4
     width = 2 * L / folds
     angle = math.atan2(2 * T * 0.8, width)
@@ -391,10 +394,9 @@ def curtain(half, rng: np.random.Generator, level: int = 0) -> Asset:
 def step(half, rng: np.random.Generator, level: int = 0, *, up: Axis = (1.0, 0.0), indoor: bool = True) -> Asset:
     """A step of a flight (its box stands on the floor): a wooden or stone tread with a
     nosing on a painted or concrete riser block."""
-    d, w, rot = _frame(half, up)
     hz = half[2]
     p = Parts(level)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    d, w, box = _frame(p, half, up)
     tread, riser = ((Material.WOOD, WOODS[0]), (Material.PLAIN, (0.9, 0.9, 0.88))) if indoor else \
         ((Material.CONCRETE, (0.62, 0.61, 0.58)), (Material.CONCRETE, (0.55, 0.54, 0.52)))  # fmt: skip
     box("block", "stairs", riser[0], riser[1], (-d, -w, -hz), (d, w, hz - 0.03))
@@ -405,13 +407,10 @@ def step(half, rng: np.random.Generator, level: int = 0, *, up: Axis = (1.0, 0.0
 def chair_back(half, rng: np.random.Generator, level: int = 0) -> Asset:
     """A chair's back standing on its seat: two uprights and rails, filling a thin box along
     its longer horizontal axis."""
-    hx, hy, hz = half
+    hz = half[2]
     p = Parts(level)
     wood = pick(WOODS, rng)
-    along_x = hx >= hy
-    L, T = (hx, hy) if along_x else (hy, hx)
-    rot = rotation(0.0 if along_x else math.pi / 2)
-    box = lambda *a, **k: _turned(p, rot, *a, **k)  # noqa: E731
+    L, T, _, box = _lengthwise(p, half)
     leg = 0.022
     for a in (-L + leg, L - leg):
         box(f"upright{a:+.2f}", "chair", Material.WOOD, wood, (a - leg, -T, -hz), (a + leg, T, hz))

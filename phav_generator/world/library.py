@@ -191,7 +191,7 @@ def modelled_indices(env_name: str) -> tuple[int, ...]:
 
 
 #: Materials and colours of an action's plain boxes (a door's frame, a pull-up bar's posts).
-_BOX_LOOKS = {"door": ("WOOD", (0.92, 0.92, 0.90)), "misc": ("METAL", (0.55, 0.56, 0.58))}
+_BOX_LOOKS = {"door": (Material.WOOD, (0.92, 0.92, 0.90)), "misc": (Material.METAL, (0.55, 0.56, 0.58))}
 
 
 def box_asset(cls: str, half, rng: np.random.Generator, level: int = 0, *, indoor: bool) -> Asset:
@@ -204,9 +204,9 @@ def box_asset(cls: str, half, rng: np.random.Generator, level: int = 0, *, indoo
         return interiors.chair(half, rng, level, seat=2 * half[2])
     if cls == "stairs":
         return interiors.step(half, rng, level, indoor=indoor)
-    material, colour = _BOX_LOOKS.get(cls, ("PLAIN", (0.5, 0.5, 0.5)))
+    material, colour = _BOX_LOOKS.get(cls, (Material.PLAIN, (0.5, 0.5, 0.5)))
     p = Parts(level)
-    p.box(cls, cls, Material[material], colour, (0.0, 0.0, 0.0), half)
+    p.box(cls, cls, material, colour, (0.0, 0.0, 0.0), half)
     return p.build()
 
 

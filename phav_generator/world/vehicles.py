@@ -44,6 +44,11 @@ class Vehicle:
     axles: np.ndarray  # (k, 3) wheel centres
     wheel_radius: float
 
+    @property
+    def n_triangles(self) -> int:
+        """Its body's triangles and every wheel's."""
+        return self.body.n_triangles + len(self.axles) * self.wheel.n_triangles
+
 
 @dataclass(frozen=True)
 class _Shape:
@@ -64,6 +69,11 @@ _SHAPES = {
     "suv": _Shape(0.56, 0.60, 0.20, 0.02, 0.12, 0.05, 0.62),
     "van": _Shape(0.48, 0.50, 0.10, 0.0, 0.12, 0.01, 0.64),
 }
+
+
+def _axle_pairs(xs, y: float, z: float) -> np.ndarray:
+    """Wheel centres (2·len(xs), 3): a wheel each side (∓y) of every axle at x in ``xs``."""
+    return np.array([(x, sgn * y, z) for x in xs for sgn in (-1.0, 1.0)])
 
 
 def wheel(radius: float, width: float, level: int, cls: str = "car") -> Asset:
@@ -170,10 +180,9 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
     axle_x = ((front + rear) / 2 + base / 2 - 0.05 * length * (shape.hood - 0.2), 0.0)
     axle_x = (axle_x[0], axle_x[0] - base)
     wheel_w = 0.2
-    axles = []
+    axles = _axle_pairs(axle_x, hy - wheel_w / 2 - 0.005, g + radius)
     for x in axle_x:
         for sgn in (-1.0, 1.0):
-            axles.append((x, sgn * (hy - wheel_w / 2 - 0.005), g + radius))
             arch = [(x + (radius + 0.06) * c, g + radius + (radius + 0.06) * s) for c, s in circle(12)[:7]]
             y = sgn * (side + 0.003)
             p.panel(f"arch{x:+.1f}{sgn:+.0f}", "car", Material.RUBBER, TRIM,
@@ -185,7 +194,7 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
             y = sgn * (side + 0.004)
             p.box(f"handle{sgn:+.0f}", "car", Material.CHROME, CHROME_TINT, (x_ws - 0.5, y, zb - 0.12),
                   (0.08, 0.006, 0.015))  # fmt: skip
-    return Vehicle(p.build(), wheel(radius, wheel_w, level), np.array(axles), radius)
+    return Vehicle(p.build(), wheel(radius, wheel_w, level), axles, radius)
 
 
 def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
@@ -233,11 +242,8 @@ def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0)
                   (0.04, 0.025, 0.2))  # fmt: skip
         p.box("rear_door_seam", "truck", Material.METAL, (0.5, 0.5, 0.5), (rear - 0.004, 0.0, (z_frame + hz) / 2),
               (0.006, 0.02, (hz - z_frame) / 2 - 0.1))  # fmt: skip
-    axles = []
-    for x in (front - 0.6 * cab_len, rear + 1.6, rear + 0.6):
-        for sgn in (-1.0, 1.0):
-            axles.append((x, sgn * (hy - 0.17), g + radius))
-    return Vehicle(p.build(), wheel(radius, 0.3, level, "truck"), np.array(axles), radius)
+    axles = _axle_pairs((front - 0.6 * cab_len, rear + 1.6, rear + 0.6), hy - 0.17, g + radius)
+    return Vehicle(p.build(), wheel(radius, 0.3, level, "truck"), axles, radius)
 
 
 def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
@@ -275,8 +281,5 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
     p.box("bumper", "bus", Material.PLASTIC, TRIM, (hx - 0.06, 0.0, z0 + 0.1), (0.07, hy - 0.04, 0.12))
     p.box("destination", "bus", Material.PLASTIC, (0.9, 0.6, 0.1), (hx + 0.004, 0.0, top + 0.02), (0.01, hy - 0.4, 0.1),
           glow=LAMP_GLOW)  # fmt: skip
-    axles = []
-    for x in (hx - 2.6, -hx + 3.2):
-        for sgn in (-1.0, 1.0):
-            axles.append((x, sgn * (hy - 0.17), g + radius))
-    return Vehicle(p.build(), wheel(radius, 0.3, level, "bus"), np.array(axles), radius)
+    axles = _axle_pairs((hx - 2.6, -hx + 3.2), hy - 0.17, g + radius)
+    return Vehicle(p.build(), wheel(radius, 0.3, level, "bus"), axles, radius)

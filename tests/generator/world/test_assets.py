@@ -76,15 +76,10 @@ def _closed_edges_pair_up(positions: np.ndarray, triangles: np.ndarray) -> bool:
 def test_meshes_are_valid_and_within_their_triangle_budget(kind, level):
     built = _build(kind, level)
     budget = CATALOGUE[kind][1][level]
-    triangles = sum(a.n_triangles for a in _assets(built)) if not isinstance(built, Vehicle) else \
-        built.body.n_triangles + len(built.axles) * built.wheel.n_triangles  # fmt: skip
+    triangles = built.n_triangles
     assert triangles <= budget, f"{kind} at level {level}: {triangles} triangles, budget {budget}"
     if level:
-        coarser = triangles
-        finer = _build(kind, level - 1)
-        finer_n = sum(a.n_triangles for a in _assets(finer)) if not isinstance(finer, Vehicle) else \
-            finer.body.n_triangles + len(finer.axles) * finer.wheel.n_triangles  # fmt: skip
-        assert coarser <= finer_n
+        assert triangles <= _build(kind, level - 1).n_triangles
     for asset in _assets(built):
         p, tri = asset.positions.astype(np.float64), asset.triangles.astype(np.int64)
         assert np.isfinite(p).all()
