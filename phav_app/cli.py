@@ -876,7 +876,7 @@ def _bench_render_table(theta: Theta, *, seed: int, videos: int, max_frames: int
                   f"({100 * bodies.share:.0f} %); building the scenes: {bodies.build_s:.2f} s with them, "
                   f"{bodies.build_without_s:.2f} s without ({len(recipes)} videos)")  # fmt: skip
     assets_ms = 1000 * (bodies.render_s - bodies.render_boxes_s) / bodies.frames
-    console.print(f"the world's objects as assets, 2×: {assets_ms:.1f} "
+    console.print(f"the world's objects and places as assets, 2×: {assets_ms:.1f} "
                   f"of {1000 * bodies.render_s / bodies.frames:.1f} ms of render + post per frame over their boxes "
                   f"({100 * bodies.asset_share:.0f} %); building the scenes: {bodies.build_s:.2f} s with them, "
                   f"{bodies.build_boxes_s:.2f} s as boxes")  # fmt: skip

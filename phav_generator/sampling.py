@@ -51,7 +51,7 @@ from phav_spec.scene import (
     EnvironmentScene,
     Vec3,
 )
-from phav_spec.seeding import PartStreams, runtime_seeds
+from phav_spec.seeding import PartStreams, named_seed, runtime_seeds
 from phav_spec.theta import SEXES, PeopleTheta, Theta
 from phav_spec.vocab import (
     ACTIONS,
@@ -280,6 +280,7 @@ class RecipeSampler:
                     "indoor": env.indoor,
                     "waypoint_index": wp,
                     "waypoint": position,
+                    "look_seed": named_seed(self._streams.key, "look") if theta.world_variety == "video" else None,
                 },
                 "background_actors": background,
                 "camera": camera,

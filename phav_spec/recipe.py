@@ -33,7 +33,7 @@ from phav_spec.vocab import (
     Registry,
 )
 
-RECIPE_SCHEMA_VERSION = 2
+RECIPE_SCHEMA_VERSION = 3
 _FROZEN = ConfigDict(extra="forbid", frozen=True)
 Vec3 = tuple[float, float, float]
 RGB = tuple[
@@ -245,6 +245,9 @@ class EnvironmentSpec(BaseModel):
     indoor: bool
     waypoint_index: int = Field(ge=0)
     waypoint: Vec3
+    #: The seed of this video's own look of the environment (θ's ``world_variety: video``);
+    #: None: the environment's one fixed look.
+    look_seed: Seed | None = None
 
 
 class WorldSpec(BaseModel):
@@ -283,10 +286,10 @@ class VideoSpec(BaseModel):
 
 
 class Recipe(BaseModel):
-    """A procedural recipe for one video (schema version 2)."""
+    """A procedural recipe for one video (schema version 3)."""
 
     model_config = _FROZEN
-    schema_version: Literal[2] = RECIPE_SCHEMA_VERSION
+    schema_version: Literal[3] = RECIPE_SCHEMA_VERSION
     video_id: str = Field(pattern=r"^v\d{6,}$")
     index: int = Field(ge=0)
     dataset_seed: int = Field(ge=0)
@@ -357,8 +360,18 @@ def _people_v1_to_v2(data: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _looks_v2_to_v3(data: dict[str, Any]) -> dict[str, Any]:
+    """Schema 2 → 3: the environment gains ``look_seed``; a version-2 recipe had the
+    environment's one fixed look (None), so it renders as it did."""
+    out = dict(data)
+    if isinstance(out.get("environment"), Mapping):
+        out["environment"] = {**out["environment"], "look_seed": None}
+    out["schema_version"] = 3
+    return out
+
+
 #: Upgrades from schema version v to v + 1, keyed by v. Version 1 is the first release.
-RECIPE_MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _people_v1_to_v2}
+RECIPE_MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _people_v1_to_v2, 2: _looks_v2_to_v3}
 
 
 def upgrade_recipe(

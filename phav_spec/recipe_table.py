@@ -109,11 +109,14 @@ COLUMNS: tuple[Column, ...] = (
     Column("top_fabric", "string", lambda r: r.protagonist.human.outfit.top.fabric, "its fabric"),
     Column("bottom", "string", lambda r: r.protagonist.human.outfit.bottom.kind, "protagonist's bottom"),
     Column("bottom_fabric", "string", lambda r: r.protagonist.human.outfit.bottom.fabric, "its fabric"),
+    Column("look_seed", "int64", lambda r: r.environment.look_seed,
+           "the video's own look of its environment (null: the environment's fixed look)"),
 )  # fmt: skip
 COLUMN_NAMES: tuple[str, ...] = tuple(c.name for c in COLUMNS)
 RECIPE_COLUMN = "recipe"
-#: Schema-1 tables end their stable columns after ``n_varied_muscles``.
-_COLUMNS_OF_VERSION_1 = COLUMN_NAMES.index("n_varied_muscles") + 1
+#: Schema-1 tables end their stable columns after ``n_varied_muscles``, schema-2 tables
+#: after ``bottom_fabric``.
+_COLUMNS_OF_VERSION = {1: COLUMN_NAMES.index("n_varied_muscles") + 1, 2: COLUMN_NAMES.index("bottom_fabric") + 1}
 
 
 class RecipeRows:
@@ -240,7 +243,7 @@ def read_recipe_table(path: str | Path) -> RecipeTable:
             source=str(path),
             field="phav.recipe_schema_version",
         )
-    required = COLUMN_NAMES[:_COLUMNS_OF_VERSION_1] if version < 2 else COLUMN_NAMES
+    required = COLUMN_NAMES[: _COLUMNS_OF_VERSION.get(version, len(COLUMN_NAMES))]
     missing = [name for name in (*required, RECIPE_COLUMN) if name not in table.column_names]
     if missing:
         raise PhavUserError("missing column (not a phav recipes table?)", source=str(path), field=missing[0])

@@ -76,12 +76,14 @@ def part_rng(dataset_seed: int, index: int, part: str) -> np.random.Generator:
     return streams[part]
 
 
+def named_seed(key: bytes, name: str) -> int:
+    """A 32-bit seed hashed from the video key and a name (no draws)."""
+    return int.from_bytes(hashlib.sha256(key + b"/seed:" + name.encode()).digest()[:4], "little")
+
+
 def runtime_seeds(key: bytes) -> dict[str, int]:
     """32-bit seeds for the run-time stages, hashed from the video key by name (no draws)."""
-    return {
-        name: int.from_bytes(hashlib.sha256(key + b"/seed:" + name.encode()).digest()[:4], "little")
-        for name in RUNTIME_SEEDS
-    }
+    return {name: named_seed(key, name) for name in RUNTIME_SEEDS}
 
 
 def stream(seed: int, name: str) -> np.random.Generator:

@@ -633,6 +633,11 @@ class Theta(BaseModel):
     variations: VariationsTheta
     people: PeopleTheta | None = None
     render: RenderSettings = RenderSettings()
+    #: Which looks the environments' objects and places take (facades, tree species, parked
+    #: cars' models and paints, furniture's woods and fabrics): ``environment``, one fixed look
+    #: per environment as in the paper's scenes, or ``video``, a look of its own per video
+    #: (its seed in the recipe). The layouts, and so physics and placement, stay the same.
+    world_variety: Literal["environment", "video"] = "environment"
 
     @model_validator(mode="before")
     @classmethod
@@ -760,11 +765,13 @@ class Theta(BaseModel):
         )
 
     def _absent(self) -> dict[str, Any]:
-        """Optional parts left out: a θ without ``people``, or with the uniform clip start,
-        is written (and hashed) as before the part existed."""
+        """Optional parts left out: a θ without ``people``, with the uniform clip start or
+        with one look per environment is written (and hashed) as before the part existed."""
         absent: dict[str, Any] = {"people": True} if self.people is None else {}
         if self.motion.start == "uniform":
             absent["motion"] = {"start"}
+        if self.world_variety == "environment":
+            absent["world_variety"] = True
         return absent
 
     @property

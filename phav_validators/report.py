@@ -216,7 +216,7 @@ def realism_html(result: RealismResult) -> list[str]:
     for judge in ("pascal_voc", "cityscapes"):
         keys = [k for k in result.figures if k.startswith(f"iou|{judge}|")]
         ours = sorted({k.split("|")[2] for k in keys})
-        envs = sorted({k.split("|")[3] for k in keys} - {"all"})
+        envs = sorted({k.split("|")[3] for k in keys if k.split("|")[3].startswith("environment=")})
         if not ours:
             continue
         head = "".join(f"<th>IoU {esc(e.removeprefix('environment='))}</th>" for e in envs)
@@ -228,7 +228,13 @@ def realism_html(result: RealismResult) -> list[str]:
         out.append("</table>")
     if fig("cityscapes_miou") is not None:
         m = fig("cityscapes_miou")
-        out.append(f"<p>Cityscapes mIoU over its classes present: {m.value:.2f} ({m.low:.2f}–{m.high:.2f}).</p>")
+        out.append(f"<p>Cityscapes mIoU over its classes present: {m.value:.2f} ({m.low:.2f}–{m.high:.2f}).")
+        for kind in ("weather", "day_phase"):
+            parts = [f"{k.split('=')[1]} {result.figures[k].value:.2f}" for k in sorted(result.figures)
+                     if k.startswith(f"cityscapes_miou|{kind}=")]  # fmt: skip
+            if parts:
+                out.append(f" By {kind.replace('_', ' ')}: {', '.join(parts)}.")
+        out.append("</p>")
     if result.examples:
         out.append(
             "<h4>Judged frames</h4><p>The frame with our box and joints (white, green), the detector's person region "

@@ -1,9 +1,10 @@
 """The asset library's gallery: every kind of object alone on a turntable, three variants
 each from two sides, RGB above its semantic labels (docs/world.md).
 
-    .venv/bin/python docs/measure/world_gallery.py docs/images/world
+    .venv/bin/python docs/measure/world_gallery.py docs/images/world [--pages buildings,trees]
 
-writes one JPEG per page of kinds into the folder and prints each kind's triangles per level.
+writes one JPEG per page of kinds (all pages, or those named) into the folder and prints
+each kind's triangles per level.
 """
 
 from __future__ import annotations
@@ -35,9 +36,15 @@ PAGES = {
     "fittings": ("door", "window", "curtain", "step"),
     "props": ("ball", "baseball_bat", "golf_club", "bow", "hair_brush", "cup", "bottle", "gun", "crate",
               "shopping_cart", "door_leaf", "pull_up_bar"),
+    "buildings": ("urban_block", "suburban_house", "stadium_wall"),
+    "trees": ("broadleaf_crown", "conifer_crown", "birch_crown", "trunk", "birch_trunk"),
+    "plants": ("hedge", "bush", "planter"),
+    "ground": ("carriageway", "pavement", "grass_terrace", "pitch"),
 }  # fmt: skip
 VARIANTS = 3
 ANGLES = (35.0, 215.0)
+#: Pages seen from higher up than the usual 15°: the flat slabs and grounds.
+ELEVATION = {"ground": 55.0}
 
 
 def drawables_of(built):
@@ -50,18 +57,20 @@ def drawables_of(built):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", type=Path)
+    parser.add_argument("--pages", default=",".join(PAGES), help=f"comma-separated, of {', '.join(PAGES)}")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     ctx = gl_context()
     palette = np.array([PIXEL_CLASSES[n].rgb for n in PIXEL_CLASSES.names], dtype=np.uint8)
-    for page, kinds in PAGES.items():
+    for page in args.pages.split(","):
+        kinds = PAGES[page]
         rows = []
         for kind in kinds:
             build, _ = CATALOGUE[kind]
             rgb, labels = [], []
             for variant in range(VARIANTS):
                 drawables, asset = drawables_of(build(stream(7, f"gallery/{kind}/{variant}"), 0))
-                frames = turntable(ctx, drawables, asset, ANGLES, height=120)
+                frames = turntable(ctx, drawables, asset, ANGLES, height=120, elevation_deg=ELEVATION.get(page, 15.0))
                 rgb += [f.rgb for f in frames]
                 labels += [palette[f.class_id] for f in frames]
             rows += [np.concatenate(rgb, axis=1), np.concatenate(labels, axis=1)]

@@ -100,14 +100,16 @@ def turntable_camera(asset: Asset, angle_deg: float, *, elevation_deg: float = 1
     return c2w, (fy, fy, width / 2, height / 2)
 
 
-def turntable(ctx, drawables: list[Drawable], asset: Asset, angles=(30.0, 120.0, 210.0, 300.0), *, height: int = 192):
-    """Frames of ``drawables`` (one asset, alone) from ``angles`` round it: a list of
-    ``gl.Frame``s with their RGB."""
+def turntable(ctx, drawables: list[Drawable], asset: Asset, angles=(30.0, 120.0, 210.0, 300.0), *, height: int = 192,
+              elevation_deg: float = 15.0):  # fmt: skip
+    """Frames of ``drawables`` (one asset, alone) from ``angles`` round it, seen from
+    ``elevation_deg`` above its middle: a list of ``gl.Frame``s with their RGB."""
     width = height * 4 // 3
     frames = []
     with FrameRenderer(ctx, width, height, drawables, sky_class=PIXEL_CLASSES["sky"].class_id,
                        focus=np.zeros(3)) as renderer:  # fmt: skip
         for angle in angles:
-            c2w, intrinsics = turntable_camera(asset, angle, fy=height * 1.2, height=height)
+            c2w, intrinsics = turntable_camera(asset, angle, elevation_deg=elevation_deg, fy=1.2 * height,
+                                               height=height)  # fmt: skip
             frames.append(renderer.render(0, c2w, c2w, intrinsics))
     return frames

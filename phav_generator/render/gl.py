@@ -428,6 +428,7 @@ class FrameRenderer:
             for name in ("sky_zenith", "sky_horizon", "sun_dir", "sun_colour", "fog_colour"):
                 _set(prog, name, getattr(lt, name))
             _set(prog, "fog_per_m", float(lt.fog_per_m))
+            _set(prog, "cloud_cover", float(lt.cloud_cover))
             _set(prog, "exposure", EXPOSURE)
         for p in (self.program, self.colour_program):
             _set(p, "sky_ambient", lt.sky_ambient)
@@ -454,6 +455,7 @@ class FrameRenderer:
         q = self.post_prog
         _set(q, "motion_blur", float(ps.motion_blur))
         _set(q, "ao_strength", float(ps.ambient_occlusion))
+        _set(q, "fog_per_m", float(self.lighting.fog_per_m))
         _set(q, "bloom", float(ps.bloom))
         _set(q, "vignette", float(ps.vignette))
         _set(q, "grade_gain", tuple(float(x) for x in ps.grade_gain))
@@ -695,7 +697,7 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
         m, look = d.mesh, d.vertex_look
         v = np.zeros(len(m.positions), dtype=_VERTEX_DTYPE)
         v["pos"], v["normal"] = m.positions, m.normals
-        v["ids"] = (i, d.class_id, d.instance_id, d.material * 16 + d.pattern)
+        v["ids"] = (i, d.class_id, d.instance_id, d.material * 256 + d.pattern)
         if m.bones is not None and m.weights is not None:
             v["bones"], v["weights"] = row + m.bones, m.weights
         else:
@@ -707,12 +709,12 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
             if layer == len(textures):
                 textures.append(look.texture)
             v["ids"][:, 1] = look.class_ids
-            v["ids"][:, 3] = d.material * 16 + TEXTURED
+            v["ids"][:, 3] = d.material * 256 + TEXTURED
             v["uv"][:, :2], v["uv"][:, 2] = look.uvs, layer
         elif d.part_look is not None:
             parts_ = d.part_look
             v["ids"][:, 1] = parts_.class_ids
-            v["ids"][:, 3] = parts_.surfaces.astype(np.uint32) * 16 + parts_.patterns
+            v["ids"][:, 3] = parts_.surfaces.astype(np.uint32) * 256 + parts_.patterns
             v["colour"] = linear_colour(parts_.colours)
             v["emission"] = parts_.emission
             v["uv"] = m.positions  # the materials' coordinates: the mesh's own frame

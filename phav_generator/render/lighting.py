@@ -65,6 +65,7 @@ class Lighting:
     rain: float  # 0 … 1: streak density
     lamp_intensity: float  # street/indoor lamps, 0 off
     daylight: float  # 0 night … 1 full day (exposure hint)
+    cloud_cover: float = 0.0  # 0 clear … 1 overcast: how much of the sky the clouds drawn in it cover
 
     @property
     def shadows(self) -> bool:
@@ -89,7 +90,9 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
     zenith = _mix((0.02, 0.03, 0.07), (0.22, 0.42, 0.85), daylight)
     horizon = _mix(_mix((0.03, 0.04, 0.08), (0.68, 0.78, 0.92), daylight), (0.95, 0.55, 0.3), 0.7 * twilight)
     grey = np.array([0.62, 0.64, 0.67]) * daylight
-    zenith, horizon = _mix(zenith, grey, clouds), _mix(horizon, grey * 1.05, clouds)
+    # Broken cloud leaves the sky between the clouds blue (the sky shader draws the clouds);
+    # only an overcast sky turns grey.
+    zenith, horizon = _mix(zenith, grey, clouds**2), _mix(horizon, grey * 1.05, clouds**2)
     # Ambient: the sky's light, flatter and relatively stronger under cloud.
     level = world.ambient_luminosity * (0.04 + 0.5 * daylight) * (1.0 + 0.4 * clouds)
     sky_ambient = _mix(zenith / max(float(zenith.max()), 1e-6), np.ones(3), 0.5 + 0.5 * clouds) * level
@@ -114,4 +117,5 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         rain=0.0 if indoor else rain,
         lamp_intensity=lamps,
         daylight=daylight,
+        cloud_cover=clouds,
     )

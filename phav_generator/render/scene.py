@@ -19,7 +19,7 @@ from phav_generator.render.lighting import Lighting
 from phav_generator.render.meshes import box, capsule, ground, sphere
 from phav_generator.render.people import level_of_detail, person_drawables
 from phav_generator.world import props
-from phav_generator.world.library import box_asset, collider_asset, is_light, level_for, vehicle
+from phav_generator.world.library import box_asset, collider_asset, ground_asset, is_light, level_for, vehicle
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.recipe import HumanSpec, Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, EnvironmentScene
@@ -139,16 +139,20 @@ def build_drawables(
 ) -> list[Drawable]:
     """Everything the camera may see in this video, static world first (lamps glow when
     ``lighting`` switches them on; windows show its sky, through the fog when there is fog);
-    ``people=False`` leaves the people out, ``assets=False`` draws the objects as their
-    colliders' boxes and the props as their physics shapes (the bench measures what each
-    costs)."""
-    env = ENVIRONMENT_SCENES[recipe.environment.name]
+    ``people=False`` leaves the people out, ``assets=False`` draws the objects and places
+    as their colliders' boxes on a plain ground and the props as their physics shapes (the
+    bench measures what each costs)."""
+    env_name = recipe.environment.name
+    env = ENVIRONMENT_SCENES[env_name]
     n = len(trajectory.times)
     eye = np.eye(4)
     lamps_on = lighting is not None and lighting.lamp_intensity > 0.01
     glow = tuple(lighting.lamp_intensity * e for e in _LAMP_EMISSION) if lamps_on else (0.0, 0.0, 0.0)
-    ground_mesh = ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M)
-    out = [_static(ground_mesh, eye, env.ground_pixel_class, n, pattern=SPECKLE)]
+    if assets:
+        out = [asset_drawable(ground_asset(env_name, GROUND_HALF_M, GROUND_DROP_M), np.broadcast_to(eye, (n, 4, 4)))]
+    else:
+        ground_mesh = ground(GROUND_HALF_M, env.ground_z - GROUND_DROP_M)
+        out = [_static(ground_mesh, eye, env.ground_pixel_class, n, pattern=SPECKLE)]
     focal = trajectory.intrinsics[1]
     eyes = trajectory.cam_to_world[:, :3, 3]
     view = tuple(0.9 * x for x in lighting.fog_colour) if lighting is not None else (0.0, 0.0, 0.0)
@@ -156,7 +160,8 @@ def build_drawables(
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
         radius = float(np.linalg.norm(c.half_size))
         nearest = float(np.linalg.norm(eyes - np.array(c.center), axis=1).min()) - radius
-        asset = collider_asset(recipe.environment.name, i, level_for(radius, nearest, focal)) if assets else None
+        level = level_for(radius, nearest, focal)
+        asset = collider_asset(env_name, i, level, recipe.environment.look_seed) if assets else None
         if isinstance(asset, Vehicle):
             out += vehicle_drawables(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow)
             continue

@@ -65,8 +65,8 @@ def scene_inputs(
     """One video's world, light and weather, focused on the protagonist, with the recipe's
     render settings (θ's ``render``: supersampling of the RGB modality and its post effects)
     unless ``supersample`` or ``post`` override them (the bench does); ``people=False``:
-    without the people, ``assets=False``: the objects as their colliders' boxes, for the
-    bench."""
+    without the people, ``assets=False``: the objects and places as their colliders' boxes
+    (and a plain ground), for the bench."""
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     lighting = lighting_for(recipe.world, indoor=env.indoor)
     protagonist = trajectory.person(recipe.protagonist.person_id)

@@ -2,11 +2,12 @@
 
 An environment's colliders (``phav_spec.scene``) stay the one source of what physics and
 the failures check collide with: each object's asset is built to fit its box (its drawn
-shape inside the box, touching its faces where a person or a car meets it). Classes the
-library does not model yet (buildings, trees, hedges, roads, terraces, walls, ceilings:
-the places) return None and stay boxes. The look of an environment's objects is fixed by
-the environment (seeded from its name and the collider's index), as the paper's scenes
-were; a vehicle's from the stream it is given.
+shape inside the box, touching its faces where a person or a car meets it), and so is each
+place (buildings, trees, hedges, roads, pavements, terraces: ``places``). Classes the
+library does not model (the house's walls and ceilings, ``misc``) return None and stay
+boxes. The look of an environment's objects is fixed by the environment (seeded from its
+name and the collider's index), as the paper's scenes were; a vehicle's from the stream it
+is given.
 """
 
 from __future__ import annotations
@@ -15,11 +16,10 @@ import hashlib
 import math
 from collections.abc import Callable
 from functools import cache, lru_cache
-from importlib.resources import files
 
 import numpy as np
 
-from phav_generator.world import interiors, props, street, vehicles
+from phav_generator.world import interiors, places, props, street, vehicles
 from phav_generator.world.materials import Material
 from phav_generator.world.parts import LEVELS, Asset, Parts
 from phav_generator.world.vehicles import Vehicle
@@ -27,11 +27,12 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 1
-#: Classes the library models (the objects); every other static class stays a box.
+WORLD_LIBRARY_VERSION = 2
+#: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
     "chair", "table", "sofa", "bed", "shelf", "screen", "fridge", "fireplace", "lamp", "window", "door", "curtain",
+    "building", "tree", "vegetation", "road", "terrain",
 )  # fmt: skip
 #: A pole at least this tall (m) is a floodlight mast; a pole collider this far above the
 #: ground is a floodlight's head.
@@ -41,14 +42,29 @@ HEAD_ABOVE_M = 10.0
 LEVEL_PX = (60.0, 15.0)
 
 
+@cache
 def world_library_sha256() -> str:
-    """sha256 over the asset library's version and the source of its modules (their
-    parameters are code): what the renderer fingerprint records for the world."""
+    """sha256 of what the asset library builds: its version, every environment's assets in
+    its fixed look at every level of detail, its ground, and every catalogue kind at every
+    level. The renderer fingerprint records it for the world: a refactor that leaves every
+    mesh, material and colour as it was keeps it; a change to any of them moves it."""
     h = hashlib.sha256(f"phav-world {WORLD_LIBRARY_VERSION}\n".encode())
-    for entry in sorted(files("phav_generator.world").iterdir(), key=lambda e: e.name):
-        if entry.name.endswith(".py"):
-            h.update(entry.name.encode())
-            h.update(entry.read_bytes())
+
+    def add(built: Asset | Vehicle | None) -> None:
+        if isinstance(built, Vehicle):
+            h.update(built.body.digest_bytes() + built.wheel.digest_bytes() + built.axles.tobytes())
+        elif built is not None:
+            h.update(built.digest_bytes())
+
+    for env_name in ENVIRONMENT_SCENES.names:
+        env = ENVIRONMENT_SCENES[env_name]
+        add(places.ground(1.0, env.ground_z, indoor=env.indoor, pitch=_PITCHES.get(env_name)))
+        for index in range(len(env.colliders)):
+            for level in range(LEVELS):
+                add(collider_asset(env_name, index, level))
+    for kind in sorted(CATALOGUE):
+        for level in range(LEVELS):
+            add(CATALOGUE[kind][0](stream(0, f"fingerprint/{kind}"), level))
     return h.hexdigest()
 
 
@@ -120,17 +136,26 @@ def is_light(env_name: str, index: int) -> bool:
     return c.top - c.bottom < MAST_M and not _stands_on_pole(env_name, c)
 
 
-def collider_asset(env_name: str, index: int, level: int) -> Asset | Vehicle | None:
+def look_stream(env_name: str, name: str, look_seed: int | None) -> np.random.Generator:
+    """The stream a look of environment ``env_name`` is drawn from: its one fixed look
+    (``look_seed`` None) or a video's own (a recipe's ``environment.look_seed``)."""
+    if look_seed is None:
+        return stream(0, f"world/{env_name}/{name}")
+    return stream(look_seed, f"world/look/{env_name}/{name}")
+
+
+def collider_asset(env_name: str, index: int, level: int, look_seed: int | None = None) -> Asset | Vehicle | None:
     """The asset that stands in collider ``index`` of environment ``env_name`` at ``level``
-    (cached per process), or None where the class stays a box."""
-    return _collider_asset(env_name, index, level)
+    in the look of ``look_seed`` (None: the environment's fixed look), cached per process;
+    None where the class stays a box."""
+    return _collider_asset(env_name, index, level, look_seed)
 
 
 @lru_cache(maxsize=4096)
-def _collider_asset(env_name: str, index: int, level: int) -> Asset | Vehicle | None:
+def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None) -> Asset | Vehicle | None:
     env = ENVIRONMENT_SCENES[env_name]
     c = env.colliders[index]
-    rng = stream(0, f"world/{env_name}/{index}")
+    rng = look_stream(env_name, str(index), look_seed)
     half, cls = c.half_size, c.pixel_class
     if cls == "pole":
         if c.bottom - env.ground_z > HEAD_ABOVE_M:
@@ -169,7 +194,66 @@ def _collider_asset(env_name: str, index: int, level: int) -> Asset | Vehicle | 
         return interiors.lamp(half, rng, level)
     if cls in ("window", "door", "curtain"):
         return {"window": interiors.window, "door": interiors.door, "curtain": interiors.curtain}[cls](half, rng, level)
+    if cls == "building":
+        style = _BUILDING_STYLES.get(env_name, "urban")
+        road = _local(c, -np.array([0.0, c.center[1]])) if style == "suburban" else None
+        return places.building(half, rng, level, style=style, street=road)
+    if cls == "tree":
+        # trunk and crown are two colliders: the tree's species and bark come from where it stands
+        tree = look_stream(env_name, f"tree/{c.center[0]:.2f},{c.center[1]:.2f}", look_seed)
+        species = places.species_of(tree)
+        bark = places.bark_of(species, tree)
+        if min(half[0], half[1]) < TRUNK_HALF_M:
+            return places.trunk(half, rng, level, species=species, bark=bark)
+        return places.crown(half, rng, level, species=species, bark=bark)
+    if cls == "vegetation":
+        return places.shrub(half, rng, level, planter=env_name == "urban")
+    if cls == "road":
+        lanes, crossings = _carriageway(env_name, c)
+        if not lanes:
+            return places.slab(half, rng, level, cls="road", surface=places.PAVING[0], colour=places.PAVING[1])
+        return places.slab(half, rng, level, cls="road", surface=places.ASPHALT[0], colour=places.ASPHALT[1],
+                           markings=places.road_markings(half, lanes, crossings))  # fmt: skip
+    if cls == "terrain":
+        return places.slab(half, rng, level, cls="terrain", surface=places.GRASS[0], colour=places.GRASS[1])
     return None
+
+
+#: The building style of each environment with buildings (``places.STYLES``).
+_BUILDING_STYLES = {"urban": "urban", "middle": "suburban", "stadium": "stadium"}
+#: A tree collider narrower than this (half width, m) is its trunk; wider, its crown.
+TRUNK_HALF_M = 0.5
+
+
+def _carriageway(env_name: str, c: Collider) -> tuple[list[float], list[float]]:
+    """The lanes (their centres across the slab, local y) that run along road slab ``c``, and
+    where (local x) a signalled crossing meets it: empty for a pavement or plaza."""
+    env = ENVIRONMENT_SCENES[env_name]
+    lanes = []
+    for lane in env.lanes:
+        _, ay = c.to_local(lane.start[0], lane.start[1])
+        _, by = c.to_local(lane.end[0], lane.end[1])
+        if abs(ay - by) < 1e-6 and abs(ay) < c.half_size[1]:
+            lanes.append(ay)
+    crossings = []
+    if lanes:
+        for o in env.colliders:
+            x, y = c.to_local(o.center[0], o.center[1])
+            if o.pixel_class == "traffic_light" and abs(x) < c.half_size[0] and abs(y) < c.half_size[1] + 2.0:
+                crossings.append(round(x, 6))
+    return sorted(set(lanes)), sorted(set(crossings))
+
+
+@cache
+def ground_asset(env_name: str, half_extent: float, drop: float) -> Asset:
+    """Environment ``env_name``'s ground plane: ``half_extent`` round the origin, ``drop``
+    below its ground height (cached per process)."""
+    env = ENVIRONMENT_SCENES[env_name]
+    return places.ground(half_extent, env.ground_z - drop, indoor=env.indoor, pitch=_PITCHES.get(env_name))
+
+
+#: Football pitches (length, width, m) marked on an environment's ground at its middle.
+_PITCHES = {"stadium": (100.0, 54.0)}
 
 
 def vehicle(kind: str, half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
@@ -208,6 +292,17 @@ def box_asset(cls: str, half, rng: np.random.Generator, level: int = 0, *, indoo
     p = Parts(level)
     p.box(cls, cls, material, colour, (0.0, 0.0, 0.0), half)
     return p.build()
+
+
+def _slab_kind(kind: str, rng: np.random.Generator, level: int) -> Asset:
+    """The catalogue's slabs: a two-lane carriageway with a crossing, a pavement, a terrace."""
+    if kind == "carriageway":
+        half = (30.0, 4.5, 0.05)
+        return places.slab(half, rng, level, cls="road", surface=places.ASPHALT[0], colour=places.ASPHALT[1],
+                           markings=places.road_markings(half, [-1.25, 1.25], [0.0]))  # fmt: skip
+    if kind == "pavement":
+        return places.slab((30.0, 4.0, 0.05), rng, level, cls="road", surface=places.PAVING[0], colour=places.PAVING[1])
+    return places.slab((8.0, 6.0, 0.1), rng, level, cls="terrain", surface=places.GRASS[0], colour=places.GRASS[1])
 
 
 #: Every kind of object at a typical size, with its triangle budget per level of detail:
@@ -258,4 +353,24 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "shopping_cart": (lambda rng, lv: props.cart((0.45, 0.28, 0.35), rng, lv), (600, 500, 400)),
     "door_leaf": (lambda rng, lv: props.door_leaf((0.02, 0.45, 1.0), rng, lv), (100, 100, 12)),
     "pull_up_bar": (lambda rng, lv: props.bar(0.02, 0.6, rng, lv), (80, 60, 40)),
+    "urban_block": (lambda rng, lv: places.building((19.0, 9.0, 9.0), rng, lv, style="urban"), (3000, 2400, 400)),
+    "suburban_house": (
+        lambda rng, lv: places.building((5.0, 6.0, 3.5), rng, lv, style="suburban", street=(0.0, -1.0)),
+        (450, 350, 80),
+    ),
+    "stadium_wall": (lambda rng, lv: places.building((32.0, 1.0, 6.0), rng, lv, style="stadium"), (400, 300, 60)),
+    "trunk": (lambda rng, lv: places.trunk((0.2, 0.2, 1.5), rng, lv), (150, 100, 60)),
+    "birch_trunk": (lambda rng, lv: places.trunk((0.2, 0.2, 1.5), rng, lv, species="birch"), (150, 100, 60)),
+    "broadleaf_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv), (900, 400, 150)),
+    "conifer_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="conifer"), (180, 110, 60)),
+    "birch_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="birch"), (900, 400, 150)),
+    "hedge": (lambda rng, lv: places.shrub((2.0, 0.5, 0.5), rng, lv), (500, 280, 110)),
+    "bush": (lambda rng, lv: places.shrub((0.75, 0.75, 0.45), rng, lv), (150, 80, 60)),
+    "planter": (lambda rng, lv: places.shrub((1.0, 0.6, 0.4), rng, lv, planter=True), (340, 190, 120)),
+    "carriageway": (lambda rng, lv: _slab_kind("carriageway", rng, lv), (60, 60, 60)),
+    "pavement": (lambda rng, lv: _slab_kind("pavement", rng, lv), (12, 12, 12)),
+    "grass_terrace": (lambda rng, lv: _slab_kind("grass_terrace", rng, lv), (12, 12, 12)),
+    "ground": (lambda rng, lv: places.ground(60.0, 0.0, indoor=False), (2, 2, 2)),
+    "pitch": (lambda rng, lv: places.ground(90.0, 0.0, indoor=False, pitch=(100.0, 54.0)), (160, 160, 160)),
+    "floor": (lambda rng, lv: places.ground(20.0, 0.0, indoor=True), (2, 2, 2)),
 }

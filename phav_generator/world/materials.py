@@ -28,6 +28,15 @@ class Material(IntEnum):
     PLASTIC = 12  # a little gloss
     CONCRETE = 13  # speckle at two scales
     METAL = 14  # galvanised or brushed metal: streaks, a little gloss
+    LEAVES = 15  # foliage: clumps of light and shadow at two scales, hue from yellow to blue green
+    GRASS = 16  # blades and patches, greener and drier
+    ASPHALT = 17  # dark aggregate, worn patches
+    PAVING = 18  # square slabs with joints, a tone per slab
+    BRICK = 19  # running bond: bricks with a tone each, mortar joints
+    PLASTER = 20  # rendered wall: fine grain, broad stains
+    BARK = 21  # furrows along the trunk
+    TILES = 22  # roof tiles: courses along the slope
+    PITCH = 23  # mown grass: stripes across the pitch
 
 
 #: Car paints, display colours weighted towards what parks on real streets (white, grey,
@@ -48,6 +57,22 @@ FABRICS: tuple[RGB, ...] = ((0.45, 0.47, 0.50), (0.30, 0.34, 0.45), (0.58, 0.52,
 LEATHERS: tuple[RGB, ...] = ((0.08, 0.07, 0.07), (0.30, 0.17, 0.10), (0.55, 0.36, 0.20))
 #: Street metal: dark green-grey, black, galvanised grey.
 STREET_METALS: tuple[RGB, ...] = ((0.20, 0.24, 0.22), (0.10, 0.10, 0.11), (0.55, 0.57, 0.58))
+
+#: Facades: render and paint (cream, white, grey, ochre, pale blue), brick (red, brown, yellow).
+PLASTERS: tuple[RGB, ...] = ((0.86, 0.80, 0.68), (0.90, 0.89, 0.85), (0.66, 0.65, 0.62), (0.80, 0.64, 0.42),
+                             (0.70, 0.76, 0.80), (0.78, 0.70, 0.64))  # fmt: skip
+BRICKS: tuple[RGB, ...] = ((0.55, 0.25, 0.17), (0.45, 0.30, 0.22), (0.78, 0.66, 0.45))
+ROOFS: tuple[RGB, ...] = ((0.22, 0.22, 0.24), (0.52, 0.22, 0.14), (0.36, 0.26, 0.20))
+#: Foliage: broadleaf, conifer, birch greens; bark: brown-grey, dark, birch white.
+LEAF_GREENS: tuple[RGB, ...] = ((0.20, 0.36, 0.10), (0.12, 0.26, 0.10), (0.22, 0.38, 0.13))
+BARKS: tuple[RGB, ...] = ((0.30, 0.25, 0.20), (0.22, 0.18, 0.15), (0.82, 0.80, 0.76))
+GRASS_GREEN: RGB = (0.22, 0.36, 0.12)
+ASPHALT_GREY: RGB = (0.32, 0.32, 0.33)
+PAVING_GREY: RGB = (0.50, 0.49, 0.47)
+MARKING_WHITE: RGB = (0.85, 0.85, 0.82)
+#: What a window shows behind its glass: a dark room, blinds, curtains.
+WINDOW_TINTS: tuple[RGB, ...] = ((0.05, 0.06, 0.07), (0.10, 0.11, 0.12), (0.35, 0.33, 0.30), (0.45, 0.40, 0.32))
+FRAMES: tuple[RGB, ...] = ((0.92, 0.92, 0.90), (0.15, 0.15, 0.16), (0.40, 0.28, 0.18))
 
 TYRE: RGB = (0.06, 0.06, 0.06)
 RIM: RGB = (0.70, 0.71, 0.73)

@@ -277,6 +277,9 @@ def _thetas(draw: st.DrawFn) -> Theta:
     reach, zero_rows = _draw_actions(draw, data)
     _draw_human_models(draw, data, reach)
     _draw_people(draw, data)
+    if draw(st.booleans()):
+        data["world_variety"] = "video"
+        event("theta: a look of its own per video")
     phases = _draw_weather_and_day_phases(draw, data)
     data["clock_hours"] = {d: draw(_clock_hour(d, d in phases)) for d in DAY_PHASES.names}
     _draw_base_motions(draw, data, reach)
@@ -752,6 +755,9 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
     n_people = 1 + len(supporting)
     background = _background_actors(draw, env_name, first_person_id=n_people)
     world = _world(draw)
+    # the environment's look: as θ says (one per environment, or a video's own seed); either without θ
+    looks = st.none() | _SEED if theta is None else _SEED if theta.world_variety == "video" else st.none()
+    look_seed = draw(looks)
     data = {
         "video_id": video_id(index),
         "index": index,
@@ -775,7 +781,13 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
             "heading_deg": heading,
         },
         "supporting_characters": supporting,
-        "environment": {"name": env_name, "indoor": env.indoor, "waypoint_index": wp, "waypoint": position},
+        "environment": {
+            "name": env_name,
+            "indoor": env.indoor,
+            "waypoint_index": wp,
+            "waypoint": position,
+            "look_seed": look_seed,
+        },
         "background_actors": background,
         "camera": draw(_camera(env.indoor, position)),
         "world": world,

@@ -253,10 +253,10 @@ def parse_minimums(text: str | None) -> dict[str, float]:
     return out
 
 
-def _miou(tally: Tally, seed: int) -> Figure | None:
-    """Cityscapes mIoU over the judge classes present: the mean of their IoUs, its interval
-    from the same bootstrap draw of videos for every class."""
-    keys = [k for k in sorted(tally.parts) if k.startswith("class_iou|cityscapes|") and k.endswith("|all")]
+def _miou(tally: Tally, seed: int, group: str = "all") -> Figure | None:
+    """Cityscapes mIoU over the judge classes present in ``group``: the mean of their IoUs,
+    its interval from the same bootstrap draw of videos for every class."""
+    keys = [k for k in sorted(tally.parts) if k.startswith("class_iou|cityscapes|") and k.endswith(f"|{group}")]
     videos = sorted({v for k in keys for v, (_, d) in tally.parts[k].items() if d > 0})
     if not keys or not videos:
         return None
@@ -267,7 +267,8 @@ def _miou(tally: Tally, seed: int) -> Figure | None:
         d = den[:, sel].sum(axis=1)
         return float(np.mean(num[:, sel].sum(axis=1)[d > 0] / d[d > 0]))
 
-    draws = stream(seed, "realism/bootstrap/cityscapes_miou").integers(0, len(videos), (RESAMPLES, len(videos)))
+    name = "cityscapes_miou" if group == "all" else f"cityscapes_miou|{group}"
+    draws = stream(seed, f"realism/bootstrap/{name}").integers(0, len(videos), (RESAMPLES, len(videos)))
     boot = [mean_iou(d) for d in draws]
     low, high = np.percentile(boot, [2.5, 97.5])
     return Figure(mean_iou(np.arange(len(videos))), float(low), float(high), float(len(keys)), len(videos))
@@ -280,6 +281,11 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
     table = read_recipe_table(root / "recipes.parquet")
     actions = dict(zip(table.column("video_id"), table.column("action"), strict=True))
     environments = dict(zip(table.column("video_id"), table.column("environment"), strict=True))
+    # the world's figures per environment, weather and day phase: fog, rain and dusk hide
+    # what a judge trained on clear daytime streets knows
+    weathers, phases = table.column("weather"), table.column("day_phase")
+    conditions = {v: (f"weather={w}", f"day_phase={d}")
+                  for v, w, d in zip(table.column("video_id"), weathers, phases, strict=True)}  # fmt: skip
     chosen = sample_frames(reader, opts.frames, opts.seed)
     advance = progress("realism: judging frames", sum(len(f) for f in chosen.values())) if progress else None
     lut = class_lut()[0]
@@ -293,7 +299,7 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
             for k, f in enumerate(frames):
                 rgb = clip["rgb"][k]
                 classes = lut[rgb_code(clip["semantic"][k])]
-                where = ("all", f"environment={env}")
+                where = ("all", f"environment={env}", *conditions[video])
                 voc = judges.segmenters["pascal_voc"].labels(rgb)
                 judge_world(voc, classes, judges.segmenters["pascal_voc"].classes, tally, video, where)
                 city = None
@@ -319,6 +325,9 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
     figures = tally.figures(opts.seed)
     if (miou := _miou(tally, opts.seed)) is not None:
         figures["cityscapes_miou"] = miou
+    for group in sorted({g for v in chosen for g in conditions[v]}):
+        if (miou := _miou(tally, opts.seed, group)) is not None:
+            figures[f"cityscapes_miou|{group}"] = miou
     return RealismResult(figures, sum(len(f) for f in chosen.values()), people, len(chosen), judges.files, opts,
                          examples)  # fmt: skip
 

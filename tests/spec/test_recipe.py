@@ -24,6 +24,7 @@ from phav_spec.theta import load_preset
 from tests.helpers import run_cli
 
 V1_RECIPES = sorted((Path(__file__).parent / "data").glob("recipe-v1-*.json"))
+V2_RECIPES = sorted((Path(__file__).parent / "data").glob("recipe-v2-*.json"))
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +76,11 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
     path.write_text(json.dumps(data), encoding="utf-8")
     with pytest.raises(PhavUserError) as info:
         load_recipe(path)
-    assert str(info.value) == f"{path}: schema_version: version 3 is newer than this phav supports (2); upgrade phav"
+    v = RECIPE_SCHEMA_VERSION
+    assert (
+        str(info.value)
+        == f"{path}: schema_version: version {v + 1} is newer than this phav supports ({v}); upgrade phav"
+    )
 
 
 @pytest.mark.parametrize(
@@ -115,7 +120,7 @@ def test_non_json_is_a_user_error():
 
 def test_json_schema_lists_vocabularies_and_validates_structure():
     schema = recipe_json_schema()
-    assert schema["properties"]["schema_version"]["const"] == 2
+    assert schema["properties"]["schema_version"]["const"] == RECIPE_SCHEMA_VERSION
     text = json.dumps(schema)
     assert "walk_holding_hands" in text and "house_interior" in text and "muscle_weakening" in text
     cli = run_cli("spec", "schema")
@@ -146,10 +151,25 @@ def test_a_version_1_recipe_upgrades_to_the_same_fixed_models(path):
         }
     new = json.loads(recipe.model_dump_json())
     for key in old:
-        if key not in ("schema_version", "protagonist", "supporting_characters", "background_actors"):
+        if key not in ("schema_version", "protagonist", "supporting_characters", "background_actors", "environment"):
             assert new[key] == old[key], key
+    assert new["environment"] == {**old["environment"], "look_seed": None}
     cli = run_cli("recipe", "check", str(path))
     assert cli.returncode == 0, cli.stderr
+
+
+@pytest.mark.parametrize("path", V2_RECIPES, ids=lambda p: p.stem)
+def test_a_version_2_recipe_upgrades_to_its_environment_s_fixed_look(path):
+    """v2 recipes (phav-v1 golden recipes of seed 0 as released before v3) load with the
+    environment's one fixed look (``look_seed`` None), everything else as it was."""
+    old = json.loads(path.read_text(encoding="utf-8"))
+    assert old["schema_version"] == 2 and "look_seed" not in old["environment"]
+    new = json.loads(load_recipe(path).model_dump_json())
+    assert new["schema_version"] == RECIPE_SCHEMA_VERSION
+    assert new["environment"] == {**old["environment"], "look_seed": None}
+    assert {k: v for k, v in new.items() if k not in ("schema_version", "environment")} == {
+        k: v for k, v in old.items() if k not in ("schema_version", "environment")
+    }
 
 
 def test_a_version_1_person_with_an_unknown_model_is_reported_after_the_upgrade():

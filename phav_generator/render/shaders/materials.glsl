@@ -17,9 +17,37 @@ float cell_noise(vec3 p, float scale) {
     return float(hash_u(ivec3(floor(p * scale)))) * (1.0 / 4294967296.0);
 }
 
+// Smooth value noise in [0, 1): the cells' values blended across each cell (broad patches
+// without edges).
+float smooth_noise(vec3 p, float scale) {
+    vec3 q = p * scale;
+    vec3 i = floor(q);
+    vec3 f = q - i;
+    f = f * f * (3.0 - 2.0 * f);
+    float v = 0.0;
+    for (int k = 0; k < 8; ++k) {
+        vec3 o = vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        vec3 w = mix(1.0 - f, f, o);
+        v += w.x * w.y * w.z * float(hash_u(ivec3(i + o))) * (1.0 / 4294967296.0);
+    }
+    return v;
+}
+
+// Zero-mean noise of cells 1/scale metres wide, faded out where a cell is under about a
+// pixel (fw: the pixel's footprint in metres), so fine patterns do not alias far away.
+float octave(vec3 p, float scale, float fw) {
+    return (cell_noise(p, scale) - 0.5) * clamp(2.0 - 2.0 * fw * scale, 0.0, 1.0);
+}
+
+// A joint line of width w (metres) at every multiple of `period` along x, faded like octave.
+float joint(float x, float period, float w, float fw) {
+    float d = abs(fract(x / period + 0.5) - 0.5) * period;
+    return (1.0 - smoothstep(0.5 * w, 0.5 * w + fw, d)) * clamp(2.0 - 2.0 * fw / w, 0.0, 1.0);
+}
+
 // Albedo (linear) and gloss (x: reflectance at normal incidence, y: how much of the
 // environment the surface reflects) of material `pattern` at object position p.
-vec3 material(int pattern, vec3 p, vec3 c, out vec2 gloss) {
+vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     gloss = vec2(0.0);
     if (pattern == 5) {  // painted metal: a clear coat over the paint
         gloss = vec2(0.12, 0.6);
@@ -52,6 +80,49 @@ vec3 material(int pattern, vec3 p, vec3 c, out vec2 gloss) {
     if (pattern == 14) {  // metal: vertical streaks
         gloss = vec2(0.2, 0.35);
         return c * (0.90 + 0.18 * cell_noise(vec3(p.x, p.y, p.z * 0.05), 80.0));
+    }
+    if (pattern == 15) {  // leaves: lit clumps, shadowed gaps, a hue drifting from yellow to blue green
+        float v = 1.0 + 1.1 * octave(p, 9.0, fw) + 0.7 * octave(p, 3.0, fw) + 0.6 * octave(p, 28.0, fw);
+        vec3 hue = mix(vec3(1.15, 1.05, 0.6), vec3(0.8, 1.0, 1.2), smooth_noise(p, 1.5));
+        return c * hue * max(v, 0.15);
+    }
+    if (pattern == 16 || pattern == 23) {  // grass: blades, tufts, drier patches; a pitch mown in 5 m stripes
+        float v = 1.0 + 0.5 * octave(p, 40.0, fw) + 0.3 * (smooth_noise(p, 6.0) - 0.5) + 0.25 * (smooth_noise(p, 1.2) - 0.5);
+        float patch = smooth_noise(p, 0.25) * 0.7 + smooth_noise(p, 1.1) * 0.3;
+        vec3 dry = vec3(0.42, 0.38, 0.18);
+        float stripe = pattern == 23 ? 0.92 + 0.16 * mod(floor(p.x / 5.0), 2.0) : 1.0;
+        return mix(c, dry, (pattern == 23 ? 0.15 : 0.35) * smoothstep(0.55, 0.9, patch)) * v * stripe;
+    }
+    if (pattern == 17) {  // asphalt: aggregate, worn and patched areas
+        gloss = vec2(0.02, 0.08);
+        float wear = smooth_noise(p, 0.3);
+        return c * (1.0 + 0.45 * octave(p, 160.0, fw) + 0.2 * octave(p, 12.0, fw)) * (0.85 + 0.3 * wear);
+    }
+    if (pattern == 18) {  // paving: 0.5 m slabs, a tone each, dark joints
+        float slab = 0.9 + 0.2 * cell_noise(vec3(floor(p.xy * 2.0), 7.0), 1.0);
+        float j = max(joint(p.x, 0.5, 0.012, fw), joint(p.y, 0.5, 0.012, fw));
+        return c * slab * (1.0 + 0.3 * octave(p, 90.0, fw)) * (1.0 - 0.5 * j);
+    }
+    if (pattern == 19) {  // brick, running bond on any vertical wall (along x + y), light mortar
+        float along = p.x + p.y;
+        float course = floor(p.z / 0.075);
+        float shifted = along + 0.12 * mod(course, 2.0);
+        float tone = 0.8 + 0.35 * cell_noise(vec3(floor(shifted / 0.24), course, 3.0), 1.0);
+        float mortar = max(joint(p.z, 0.075, 0.012, fw), joint(shifted, 0.24, 0.012, fw));
+        return mix(c * tone * (1.0 + 0.3 * octave(p, 120.0, fw)), vec3(0.62, 0.60, 0.56), 0.8 * mortar);
+    }
+    if (pattern == 20) {  // plaster: fine grain, broad stains running down from the top
+        float stain = cell_noise(vec3(p.x * 0.7, p.y * 0.7, p.z * 0.15), 1.0);
+        return c * (1.0 + 0.12 * octave(p, 60.0, fw) + 0.08 * octave(p, 5.0, fw)) * (0.9 + 0.12 * stain);
+    }
+    if (pattern == 21) {  // bark: furrows along the trunk
+        float furrow = octave(vec3(p.x, p.y, p.z * 0.12), 45.0, fw);
+        return c * (1.0 + 0.9 * furrow + 0.3 * octave(p, 8.0, fw));
+    }
+    if (pattern == 22) {  // roof tiles: courses along the slope, a tone per tile
+        float course = floor(p.z / 0.18);
+        float tone = 0.85 + 0.25 * cell_noise(vec3(floor((p.x + p.y) / 0.3), course, 5.0), 1.0);
+        return c * tone * (1.0 - 0.45 * joint(p.z, 0.18, 0.02, fw));
     }
     return c;
 }

@@ -9,6 +9,7 @@ uniform mat3 cam_rot;
 uniform vec3 up_cam;          // world +Z in camera coordinates
 uniform float motion_blur;    // shutter fraction of a frame
 uniform float ao_strength;
+uniform float fog_per_m;      // the fog's extinction: occlusion darkens only the light that comes through it
 uniform float bloom;
 uniform float vignette;
 uniform vec3 grade_gain;
@@ -87,7 +88,7 @@ void main() {
             float crease = d - 2.0 / (1.0 / a + 1.0 / b);
             occluded += (d - min(a, b) < 0.8) ? smoothstep(0.02, 0.25, crease) : 0.0;
         }
-        c *= 1.0 - ao_strength * occluded / 4.0;
+        c *= 1.0 - ao_strength * occluded / 4.0 * exp(-fog_per_m * d);
     }
 #endif
 #if BLOOM

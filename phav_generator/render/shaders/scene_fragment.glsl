@@ -45,11 +45,12 @@ float sunlit(vec3 n) {
 vec3 albedo(out vec2 gloss) {
     // A texture image (linear colours), its mip level from derivatives taken outside the branch.
     vec2 du = dFdx(v_uv.xy), dv = dFdy(v_uv.xy);
+    float fw = length(fwidth(v_uv));  // the pixel's footprint (m) for the materials' fine detail
     gloss = vec2(0.0);
     if (v_pattern == 4) return textureGrad(textures, v_uv, du, dv).rgb;
     vec3 c = v_colour;
 #if MATERIALS
-    if (v_pattern >= 5) return material(v_pattern, v_uv, c, gloss);
+    if (v_pattern >= 5) return material(v_pattern, v_uv, c, fw, gloss);
 #endif
     if (v_pattern == 3) {  // speckle noise (ground grain), from the world position
         vec2 cell = floor(v_world.xy * 2.0);
@@ -59,9 +60,20 @@ vec3 albedo(out vec2 gloss) {
     return c;
 }
 
+// Open water's surface normal: ripples at two scales, from the sky's integer-hash noise over
+// the world position (still water: the waves do not move, so the flow stays exact).
+vec3 ripples(vec2 q) {
+    const float e = 0.04;
+    float h0 = sky_noise(q * 1.3) + 0.5 * sky_noise(q * 3.7);
+    float hx = sky_noise((q + vec2(e, 0.0)) * 1.3) + 0.5 * sky_noise((q + vec2(e, 0.0)) * 3.7);
+    float hy = sky_noise((q + vec2(0.0, e)) * 1.3) + 0.5 * sky_noise((q + vec2(0.0, e)) * 3.7);
+    return normalize(vec3(-0.06 * (hx - h0) / e, -0.06 * (hy - h0) / e, 1.0));
+}
+
 void main() {
     vec3 n = normalize(v_normal);
     if (!gl_FrontFacing) n = -n;
+    if (v_material == 2) n = ripples(v_world.xy);
     vec2 gloss;
     vec3 a = albedo(gloss);
     float reflectivity = 0.0;
@@ -100,10 +112,12 @@ void main() {
         vec3 to_eye = normalize(eye - v_world);
         float cosv = max(dot(n, to_eye), 0.0);
         float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
-        reflectivity = wet * mix(0.25, 1.0, fresnel);
+        // Water pools on hard ground; wet grass darkens but does not turn into a mirror.
+        float pools = (v_pattern == 16 || v_pattern == 23) ? 0.15 : 1.0;
+        reflectivity = wet * pools * mix(0.25, 1.0, fresnel);
         vec3 mirrored = reflect(-to_eye, n);
         c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
-        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * shade;
+        c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * pools * shade;
     }
 #endif
     c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));

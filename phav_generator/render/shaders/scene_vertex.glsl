@@ -6,7 +6,7 @@ uniform mat4 proj;
 uniform mat4 light_vp;
 in vec3 in_pos;
 in vec3 in_normal;
-in uvec4 in_ids;  // drawable, pixel class, instance, material × 16 + pattern
+in uvec4 in_ids;  // drawable, pixel class, instance, material × 256 + pattern
 in uvec4 in_bones;  // rows of the models texture
 in vec4 in_weights;
 in vec3 in_colour;
@@ -43,8 +43,8 @@ void main() {
 #endif
     v_class = in_ids.y;
     v_instance = in_ids.z;
-    v_material = int(in_ids.w / 16u);
-    v_pattern = int(in_ids.w % 16u);
+    v_material = int(in_ids.w / 256u);
+    v_pattern = int(in_ids.w % 256u);
     v_colour = in_colour;
     v_emission = in_emission;
     gl_Position = proj * cam;

@@ -4,10 +4,42 @@ uniform vec3 sun_dir;
 uniform vec3 sun_colour;
 uniform vec3 fog_colour;
 uniform float fog_per_m;
+uniform float cloud_cover;  // 0 clear … 1 overcast
+
+// Smooth value noise over the cloud layer's plane, from integer hashes (the same on every CPU).
+float sky_noise(vec2 p) {
+    vec2 i = floor(p);
+    vec2 f = p - i;
+    f = f * f * (3.0 - 2.0 * f);
+    float v = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        vec2 o = vec2(k & 1, k >> 1);
+        uvec2 c = uvec2(ivec2(i + o) + 65536);
+        uint h = (c.x * 1597334677u) ^ (c.y * 3812015801u);
+        h ^= h >> 15;
+        h *= 2246822519u;
+        h ^= h >> 13;
+        vec2 w = mix(1.0 - f, f, o);
+        v += w.x * w.y * float(h) * (1.0 / 4294967296.0);
+    }
+    return v;
+}
+
 vec3 sky(vec3 dir) {
     float up = clamp(dir.z, -0.2, 1.0);
     vec3 c = mix(sky_horizon, sky_zenith, smoothstep(0.0, 0.6, up));
     if (up < 0.0) c = sky_horizon * 0.8;
+    if (cloud_cover > 0.0 && dir.z > 0.01) {
+        // A layer of cloud 1 km up: four octaves over where the ray meets it, its cover
+        // growing with the θ's cloud intensity, lit on top and grey beneath, thinning to the horizon.
+        vec2 at = dir.xy / dir.z * 1.0;
+        float n = 0.5 * sky_noise(at * 1.5) + 0.25 * sky_noise(at * 3.1) + 0.15 * sky_noise(at * 6.3)
+                  + 0.1 * sky_noise(at * 12.7);
+        float cover = smoothstep(1.0 - cloud_cover - 0.05, 1.0 - cloud_cover + 0.25, n);
+        vec3 lit = max(max(sky_horizon.r, sky_horizon.g), sky_horizon.b) * vec3(1.08, 1.08, 1.1);
+        vec3 cloud = mix(lit, lit * 0.62, smoothstep(0.45, 0.95, n));
+        c = mix(c, cloud, cover * smoothstep(0.0, 0.04, dir.z));
+    }
     float sd = dot(dir, sun_dir);
     c += sun_colour * (smoothstep(0.9994, 0.9997, sd) * 8.0 + pow(max(sd, 0.0), 64.0) * 0.25);
     float fogged = 1.0 - exp(-fog_per_m * 180.0);  // the sky is seen through the fog

@@ -81,18 +81,31 @@ def test_meshes_are_valid_and_within_their_triangle_budget(kind, level):
     if level:
         assert triangles <= _build(kind, level - 1).n_triangles
     for asset in _assets(built):
-        p, tri = asset.positions.astype(np.float64), asset.triangles.astype(np.int64)
-        assert np.isfinite(p).all()
-        a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
-        cross = np.cross(b - a, c - a)
-        area = 0.5 * np.linalg.norm(cross, axis=1)
-        assert area.min() > 1e-8, f"{kind}: a degenerate triangle"
-        # Winding agrees with the normals: no triangle turned inside out.
-        n = asset.normals[tri].astype(np.float64).sum(axis=1)
-        assert (np.einsum("ij,ij->i", cross, n) > 0).all(), f"{kind}: an inverted triangle"
-        for name, first, end, closed in asset.parts:
-            if closed:
-                assert _closed_edges_pair_up(p, tri[first:end]), f"{kind}: part {name} is not closed"
+        _assert_valid(asset, kind)
+
+
+def _assert_valid(asset: Asset, what: str) -> None:
+    """Finite, no degenerate or inside-out triangle, every closed part watertight."""
+    p, tri = asset.positions.astype(np.float64), asset.triangles.astype(np.int64)
+    assert np.isfinite(p).all()
+    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    cross = np.cross(b - a, c - a)
+    area = 0.5 * np.linalg.norm(cross, axis=1)
+    assert area.min() > 1e-8, f"{what}: a degenerate triangle"
+    # Winding agrees with the normals: no triangle turned inside out.
+    n = asset.normals[tri].astype(np.float64).sum(axis=1)
+    assert (np.einsum("ij,ij->i", cross, n) > 0).all(), f"{what}: an inverted triangle"
+    for name, first, end, closed in asset.parts:
+        if closed:
+            assert _closed_edges_pair_up(p, tri[first:end]), f"{what}: part {name} is not closed"
+
+
+@pytest.mark.parametrize("env", ENVIRONMENT_SCENES.names)
+def test_every_asset_of_every_environment_is_valid_at_every_level(env):
+    for index in modelled_indices(env):
+        for level in range(LEVELS):
+            for asset in _assets(collider_asset(env, index, level)):
+                _assert_valid(asset, f"{env} collider {index} at level {level}")
 
 
 def _classes_of(built: Asset | Vehicle) -> set[str]:
@@ -129,7 +142,8 @@ def _box_gaps(asset: Asset, half) -> tuple[float, np.ndarray]:
 _TOUCHED = {"car": (0, 1, 2, 3, 5), "truck": (0, 1, 2, 3, 5), "bus": (0, 1, 2, 3, 5), "bench": (0, 1, 5),
             "chair": (5,), "table": (0, 1, 2, 3, 4, 5), "sofa": (4, 5), "bed": (0, 1, 2, 3, 4),
             "stairs": (0, 1, 2, 3, 4, 5), "fridge": (4, 5), "shelf": (4, 5), "guard_rail": (0, 1, 4, 5),
-            "fireplace": (4, 5)}  # fmt: skip
+            "fireplace": (4, 5), "building": (0, 1, 2, 3, 4, 5), "road": (0, 1, 2, 3, 5),
+            "terrain": (0, 1, 2, 3, 5)}  # fmt: skip
 
 FITTED = [(name, i) for name in ENVIRONMENT_SCENES.names for i in modelled_indices(name)]
 

@@ -42,6 +42,12 @@ def test_the_check_judges_people_and_world_with_intervals(judged):
     # The shared set's scenes: urban and stadium outdoors (judged by Cityscapes), "simple" too.
     assert any(k.startswith("iou|cityscapes|") for k in judged.figures)
     assert "cityscapes_miou" in judged.figures
+    # ... and per weather and day phase, each condition's own mean over its classes present
+    by_condition = [
+        k for k in judged.figures if k.startswith(("cityscapes_miou|weather=", "cityscapes_miou|day_phase="))
+    ]
+    assert by_condition and all(0 <= judged.figures[k].value <= 1 for k in by_condition)
+    assert {k.split("|")[1].split("=")[0] for k in by_condition} == {"weather", "day_phase"}
     # People are scored as one class, never as parts.
     assert not any("|head|" in k or "|chest|" in k for k in judged.figures)
     # The sample's frames add up: every judged frame is in one of the three videos' groups.

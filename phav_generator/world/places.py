@@ -1,0 +1,498 @@
+"""The places, each fitted into its collision box (the box's frame: origin at its centre,
++z up): buildings from a facade grammar, trees and hedges, roads with their markings,
+pavements, grass terraces and the ground.
+
+A building's walls lie on its box's faces, its windows recessed into them; a tree's trunk
+fills its trunk box and its crown its crown box; a slab's top face is its box's top, the
+markings a few millimetres above it. Nothing stands out of its box by more than that, so
+physics and the failures check keep reading the boxes of ``phav_spec.scene``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from phav_generator.world import materials as looks
+from phav_generator.world.materials import Material, pick
+from phav_generator.world.parts import Asset, Parts, circle
+
+Vec = np.ndarray
+UP = np.array([0.0, 0.0, 1.0])
+#: How far (m) windows are set back into a wall, and road markings stand above their road.
+WINDOW_DEPTH_M = 0.18
+MARKING_M = 0.004
+#: Building styles: the urban block, the suburban house, the stadium's concrete.
+STYLES = ("urban", "suburban", "stadium")
+#: Tree species.
+SPECIES = ("broadleaf", "conifer", "birch")
+
+
+@dataclass
+class Quads:
+    """Flat quads gathered by look, added to an asset as one part per look (a facade has
+    hundreds of windows: one part each would be thousands of parts)."""
+
+    groups: dict[tuple[str, str, int, tuple[float, float, float]], list[Vec]] = field(default_factory=dict)
+
+    def add(self, name: str, cls: str, material: Material, colour, corners, facing) -> None:
+        """A quad of four corners (or a triangle of three; any winding), wound to face ``facing``."""
+        c = np.asarray(corners, dtype=np.float64)
+        normal = np.cross(c[1] - c[0], c[2] - c[0])
+        if float(normal @ np.asarray(facing, dtype=np.float64)) < 0.0:
+            c = c[::-1]
+        if len(c) == 3:
+            c = np.concatenate([c, c[2:]])  # a triangle: its second half collapses, and is left out
+        key = (name, cls, int(material), tuple(float(v) for v in colour))
+        self.groups.setdefault(key, []).append(c)
+
+    def into(self, p: Parts) -> None:
+        for (name, cls, material, colour), quads in self.groups.items():
+            pos = np.concatenate(quads)
+            tri = []
+            for k, c in enumerate(quads):
+                tri.append((4 * k, 4 * k + 1, 4 * k + 2))
+                if not np.array_equal(c[2], c[3]):
+                    tri.append((4 * k, 4 * k + 2, 4 * k + 3))
+            p.add(name, cls, Material(material), colour, pos, tri, closed=False)
+
+
+@dataclass(frozen=True)
+class Face:
+    """A vertical wall face of a box: its bottom-left corner seen from outside, the axis
+    along it (to the right seen from outside), its outward normal, width and height."""
+
+    corner: Vec
+    along: Vec
+    normal: Vec
+    width: float
+    height: float
+
+    def at(self, s: float, z: float, depth: float = 0.0) -> Vec:
+        """The point ``s`` along, ``z`` up and ``depth`` in from the face."""
+        return self.corner + s * self.along + z * UP - depth * self.normal
+
+
+def box_faces(half, bottom: float | None = None, top: float | None = None) -> list[Face]:
+    """The four vertical faces of a box of half extents ``half`` (between ``bottom`` and
+    ``top``, default its own), +x, +y, −x, −y."""
+    hx, hy, hz = half
+    z0 = -hz if bottom is None else bottom
+    z1 = hz if top is None else top
+    out = []
+    for n, h_n, w in (((1.0, 0.0, 0.0), hx, 2 * hy), ((0.0, 1.0, 0.0), hy, 2 * hx),
+                      ((-1.0, 0.0, 0.0), hx, 2 * hy), ((0.0, -1.0, 0.0), hy, 2 * hx)):  # fmt: skip
+        normal = np.array(n)
+        along = np.cross(UP, normal)
+        corner = normal * h_n - along * (w / 2) + UP * z0
+        out.append(Face(corner, along, normal, w, z1 - z0))
+    return out
+
+
+def _level_rect(x0: float, y0: float, x1: float, y1: float, z: float) -> list[tuple[float, float, float]]:
+    """The corners of a level rectangle at height ``z``."""
+    return [(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]
+
+
+def _rect(q: Quads, face: Face, name: str, cls: str, material: Material, colour, s0, s1, z0, z1, depth=0.0) -> None:
+    """A rectangle on ``face`` from ``s0`` to ``s1`` along and ``z0`` to ``z1`` up, ``depth``
+    in from it (nothing where it has no area: a row of openings flush with the wall's end)."""
+    if s1 - s0 <= 1e-9 or z1 - z0 <= 1e-9:
+        return
+    q.add(name, cls, material, colour, [face.at(s0, z0, depth), face.at(s1, z0, depth), face.at(s1, z1, depth),
+                                        face.at(s0, z1, depth)], face.normal)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Opening:
+    """A window or shop front in a face: from ``s0`` to ``s1`` along it, ``z0`` to ``z1`` up."""
+
+    s0: float
+    s1: float
+    z0: float
+    z1: float
+
+
+def _columns(width: float, bay: float, opening: float, margin: float) -> list[tuple[float, float]]:
+    """Openings ``opening`` wide, one per bay of about ``bay`` metres, centred across a
+    face of ``width`` with ``margin`` clear at each end."""
+    n = max(int((width - 2 * margin) // bay), 0)
+    if n == 0:
+        return []
+    step = (width - 2 * margin) / n
+    return [(margin + (k + 0.5) * step - opening / 2, margin + (k + 0.5) * step + opening / 2) for k in range(n)]
+
+
+def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[Material, tuple], rng,
+           *, frame, recessed: bool, z_base: float = 0.0) -> None:  # fmt: skip
+    """A wall face with its openings: the wall around them, and in each a pane set back by
+    ``WINDOW_DEPTH_M`` with its reveals, a sill and a frame's mullion and transom
+    (``recessed``; else panes laid on the wall, for far away). Openings sharing a band of
+    height are cut as one row, with the wall between them as piers."""
+    material, colour = wall
+    rows: dict[tuple[float, float], list[Opening]] = {}
+    for o in openings:
+        rows.setdefault((o.z0, o.z1), []).append(o)
+    if not recessed:
+        _rect(q, face, "wall", "building", material, colour, 0.0, face.width, z_base, face.height)
+    z = z_base
+    for (z0, z1), row in sorted(rows.items()):
+        if recessed:
+            _rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, z0)
+            s = 0.0
+            for o in sorted(row, key=lambda o: o.s0):
+                _rect(q, face, "wall", "building", material, colour, s, o.s0, z0, z1)
+                s = o.s1
+            _rect(q, face, "wall", "building", material, colour, s, face.width, z0, z1)
+        z = z1
+        for o in row:
+            tint = pick(looks.WINDOW_TINTS, rng)
+            depth = WINDOW_DEPTH_M if recessed else -0.01
+            _rect(q, face, "pane", "building", Material.GLASS, tint, o.s0, o.s1, o.z0, o.z1, depth)
+            if not recessed:
+                continue
+            d = WINDOW_DEPTH_M
+            for a, b, facing in ((face.at(o.s0, o.z0), face.at(o.s0, o.z1), face.along),
+                                 (face.at(o.s1, o.z0), face.at(o.s1, o.z1), -face.along)):  # fmt: skip
+                q.add("reveal", "building", material, colour, [a, b, b - d * face.normal, a - d * face.normal], facing)
+            for name, zz, facing, look in (("sill", o.z0, UP, _SILL), ("reveal", o.z1, -UP, wall)):
+                a, b = face.at(o.s0, zz), face.at(o.s1, zz)
+                q.add(name, "building", look[0], look[1], [a, b, b - d * face.normal, a - d * face.normal], facing)
+            if p.level == 0:  # a frame: mullion and transom just in front of the pane
+                mid, bar = (o.s0 + o.s1) / 2, 0.03
+                t = o.z0 + 0.68 * (o.z1 - o.z0)
+                _rect(q, face, "frame", "building", Material.PLASTIC, frame, mid - bar, mid + bar, o.z0, o.z1, d - 0.02)
+                _rect(q, face, "frame", "building", Material.PLASTIC, frame, o.s0, o.s1, t - bar, t + bar, d - 0.02)
+    if recessed:
+        _rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, face.height)
+
+
+#: A window's sill: the bottom of its opening.
+_SILL = (Material.CONCRETE, (0.75, 0.74, 0.71))
+
+
+def _wall_look(rng, style: str) -> tuple[Material, tuple]:
+    if style == "stadium":
+        return Material.CONCRETE, (0.66, 0.65, 0.62)
+    if float(rng.random()) < (0.35 if style == "urban" else 0.3):
+        return Material.BRICK, pick(looks.BRICKS, rng)
+    return Material.PLASTER, pick(looks.PLASTERS, rng)
+
+
+def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "urban",
+             street: tuple[float, float] | None = None) -> Asset:  # fmt: skip
+    """A building filling its box: ``urban`` (a ground floor of shop fronts under a sign
+    band, storeys of windows, a cornice, a flat roof), ``suburban`` (two storeys under a
+    gable roof along its longer side, a door towards ``street``, a local direction) or
+    ``stadium`` (concrete walls with bands of openings). Faces under 4 m wide stay plain."""
+    if style not in STYLES:
+        raise ValueError(f"building style must be one of {STYLES}, got {style!r}")
+    hx, hy, hz = half
+    p = Parts(level)
+    q = Quads()
+    wall = _wall_look(rng, style)
+    frame = pick(looks.FRAMES, rng)
+    recessed = level < 2
+    height = 2 * hz
+    if style == "suburban":
+        eaves = min(height - 1.5, 6.2)
+        storey = eaves / 2
+        faces = box_faces(half, top=-hz + eaves)
+    else:
+        storey = 3.0 + 0.5 * float(rng.random()) if style == "urban" else 4.0
+        faces = box_faces(half)
+    for face in faces:
+        openings: list[Opening] = []
+        if face.width >= 4.0 and face.height >= 3.0:
+            if style == "urban":
+                ground = 4.2
+                shop = _columns(face.width, 5.0, 3.4, 0.8)
+                openings += [Opening(s0, s1, 0.35, 3.1) for s0, s1 in shop]
+                cols = _columns(face.width, 2.8 + 0.6 * float(rng.random()), 1.3, 0.7)
+                k = 0
+                while ground + (k + 1) * storey <= height - 1.0:
+                    z0 = ground + k * storey + 0.85
+                    openings += [Opening(s0, s1, z0, z0 + 1.55) for s0, s1 in cols]
+                    k += 1
+            elif style == "suburban":
+                cols = _columns(face.width, 3.2, 1.2, 0.9)
+                for k in range(2):
+                    z0 = k * storey + 0.9
+                    openings += [Opening(s0, s1, z0, min(z0 + 1.3, (k + 1) * storey - 0.3)) for s0, s1 in cols]
+            else:
+                cols = _columns(face.width, 6.0, 4.0, 2.0)
+                openings += [Opening(s0, s1, face.height - 2.4, face.height - 1.4) for s0, s1 in cols]
+        facade(p, q, face, openings, wall, rng, frame=frame, recessed=recessed)
+        if style == "urban" and face.width >= 4.0 and face.height >= 6.0:
+            sign = (0.35 + 0.6 * float(rng.random()), 0.2 + 0.6 * float(rng.random()), 0.2 + 0.6 * float(rng.random()))
+            _rect(q, face, "sign", "building", Material.PLASTIC, sign, 0.5, face.width - 0.5, 3.3, 4.0, -0.01)
+            _rect(q, face, "cornice", "building", Material.CONCRETE, (0.80, 0.79, 0.75), 0.0, face.width,
+                  face.height - 0.5, face.height, -0.005)  # fmt: skip
+        if style == "suburban" and street is not None and float(face.normal[:2] @ np.array(street)) > 0.5:
+            mid = face.width / 2 + (face.width / 4 if face.width > 8 else 0.0)
+            door = pick(looks.FRAMES, rng)
+            _rect(q, face, "door", "building", Material.WOOD, door, mid - 0.5, mid + 0.5, 0.0, 2.1, -0.01)
+    if style == "suburban":
+        _gable_roof(q, half, -hz + 2 * storey, wall, pick(looks.ROOFS, rng))
+    else:
+        q.add("roof", "building", Material.CONCRETE, (0.42, 0.42, 0.43), _level_rect(-hx, -hy, hx, hy, hz), UP)
+    q.into(p)
+    return p.build()
+
+
+def _gable_roof(q: Quads, half, eaves_z: float, wall, colour) -> None:
+    """A gable roof from the walls' top (``eaves_z``) to a ridge at the box's top along its
+    longer horizontal axis, with the wall's triangles closing the ends."""
+    hx, hy, hz = half
+    long_x = hx >= hy
+    L, W = (hx, hy) if long_x else (hy, hx)
+
+    def pt(a: float, b: float, z: float) -> Vec:  # a along the ridge, b across it
+        return np.array([a, b, z]) if long_x else np.array([b, a, z])
+
+    for side in (-1.0, 1.0):
+        out = pt(0.0, side, 0.0)
+        slope = out * (hz - eaves_z) / W + UP
+        eave, ridge = [pt(-L, side * W, eaves_z), pt(L, side * W, eaves_z)], [pt(L, 0.0, hz), pt(-L, 0.0, hz)]
+        q.add("roof", "building", Material.TILES, colour, eave + ridge, slope)
+        q.add("gable", "building", wall[0], wall[1], [pt(side * L, -W, eaves_z), pt(side * L, W, eaves_z),
+                                                      pt(side * L, 0.0, hz)], pt(side, 0.0, 0.0))  # fmt: skip
+    q.add("soffit", "building", wall[0], wall[1],
+          [pt(-L, -W, eaves_z), pt(L, -W, eaves_z), pt(L, W, eaves_z), pt(-L, W, eaves_z)], -UP)  # fmt: skip
+
+
+def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, radii, rng, *, segments: int,
+          rough: float) -> None:  # fmt: skip
+    """A lumpy ellipsoid, flat-shaded (a clump of leaves): each vertex pushed out or in by
+    up to ``rough`` of its radius."""
+    rings = max(segments // 2, 3)
+    around = circle(segments, float(rng.random()) * 2 * math.pi)
+    pts = [(0.0, 0.0, -1.0)]
+    for i in range(1, rings):
+        lat = -math.pi / 2 + math.pi * i / rings
+        pts += [(math.cos(lat) * c, math.cos(lat) * s, math.sin(lat)) for c, s in around]
+    pts.append((0.0, 0.0, 1.0))
+    unit = np.array(pts)
+    scale = 1.0 - rough + rough * rng.random(len(unit))
+    pos = unit * (np.asarray(radii, dtype=np.float64) * scale[:, None])
+    top = len(pts) - 1
+
+    def ring(r: int, k: int) -> int:
+        return 1 + r * segments + k % segments
+
+    tri = [(0, ring(0, k + 1), ring(0, k)) for k in range(segments)]
+    for r in range(rings - 2):
+        for k in range(segments):
+            tri += [(ring(r, k), ring(r, k + 1), ring(r + 1, k + 1)), (ring(r, k), ring(r + 1, k + 1), ring(r + 1, k))]
+    tri += [(ring(rings - 2, k), ring(rings - 2, k + 1), top) for k in range(segments)]
+    p.add(name, cls, material, colour, pos, tri, closed=True, offset=centre)
+
+
+#: Segments round a leaf clump at each level of detail.
+_CLUMP_SEGMENTS = (9, 7, 5)
+
+
+def species_of(rng: np.random.Generator) -> str:
+    """A tree's species: broadleaf most often."""
+    u = float(rng.random())
+    return "broadleaf" if u < 0.5 else ("conifer" if u < 0.75 else "birch")
+
+
+def bark_of(species: str, rng: np.random.Generator) -> tuple[float, float, float]:
+    """A tree's bark colour: a birch's white, else one of the browns."""
+    return looks.BARKS[2] if species == "birch" else pick(looks.BARKS[:2], rng)
+
+
+def trunk(half, rng: np.random.Generator, level: int = 0, *, species: str = "broadleaf", bark=None) -> Asset:
+    """A trunk filling its box's height: tapered, with a root flare, in its species' ``bark``
+    (drawn from ``rng`` when not given)."""
+    hx, hy, hz = half
+    p = Parts(level)
+    r = min(hx, hy)
+    bark = bark_of(species, rng) if bark is None else bark
+    thin = 0.55 if species == "birch" else 0.75
+    p.frustum("flare", "tree", Material.BARK, bark, (0.0, 0.0, -hz), (0.0, 0.0, -hz + 0.4), r, thin * r)
+    p.frustum("trunk", "tree", Material.BARK, bark, (0.0, 0.0, -hz + 0.4), (0.0, 0.0, hz), thin * r, 0.6 * thin * r)
+    return p.build()
+
+
+def crown(half, rng: np.random.Generator, level: int = 0, *, species: str = "broadleaf", bark=None) -> Asset:
+    """A tree's crown filling its box: clumps of leaves round the top of the trunk and its
+    boughs in its ``bark`` (broadleaf, birch: narrower and lighter) or tiers of needles
+    (conifer)."""
+    if species not in SPECIES:
+        raise ValueError(f"species must be one of {SPECIES}, got {species!r}")
+    hx, hy, hz = half
+    p = Parts(level)
+    segments = _CLUMP_SEGMENTS[level]
+    green = looks.LEAF_GREENS[SPECIES.index(species)]
+    bark = bark_of(species, rng) if bark is None else bark
+    if species == "conifer":
+        tiers = (4, 3, 2)[level]
+        for k in range(tiers):
+            z0 = -hz + k * 2 * hz / (tiers + 0.5)
+            r = min(hx, hy) * (1.0 - 0.75 * k / tiers)
+            shade = tuple(c * (0.85 + 0.3 * float(rng.random())) for c in green)
+            p.frustum(f"tier{k}", "tree", Material.LEAVES, shade, (0.0, 0.0, z0), (0.0, 0.0, hz if k == tiers - 1 else
+                      z0 + 2.2 * 2 * hz / (tiers + 0.5)), r, 0.0, segments=segments + 2)  # fmt: skip
+        p.cylinder("stem", "tree", Material.BARK, bark, (0.0, 0.0, -hz), (0.0, 0.0, 0.3 * hz), 0.08)
+        return p.build()
+    narrow = 0.7 if species == "birch" else 1.0
+    n = (12, 8, 5)[level]
+    p.frustum("stem", "tree", Material.BARK, bark, (0.0, 0.0, -hz), (0.0, 0.0, 0.2 * hz), 0.1, 0.05)
+    for k in range(n):
+        a = 2 * math.pi * (k / n + 0.15 * float(rng.random()))
+        size = 0.42 + 0.18 * float(rng.random())
+        rx, ry, rz = size * hx * narrow, size * hy * narrow, size * hz * (1.1 if species == "birch" else 0.9)
+        reach = (1.0 - size) * (0.35 + 0.65 * float(rng.random()))
+        x, y = reach * hx * narrow * math.cos(a), reach * hy * narrow * math.sin(a)
+        z = -hz + rz + (2 * hz - 2 * rz) * (0.25 + 0.75 * float(rng.random()))
+        if level < 2 and k % 3 == 0:  # a bough from the stem out to the clump
+            p.frustum(f"bough{k}", "tree", Material.BARK, bark, (0.0, 0.0, -0.8 * hz), (0.7 * x, 0.7 * y, z - 0.5 * rz),
+                      0.06, 0.03, segments=5)  # fmt: skip
+        shade = tuple(c * (0.8 + 0.4 * float(rng.random())) for c in green)
+        _blob(p, f"clump{k}", "tree", Material.LEAVES, shade, (x, y, z), (rx, ry, rz), rng, segments=segments,
+              rough=0.25)  # fmt: skip
+    return p.build()
+
+
+def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = False) -> Asset:
+    """A hedge or bush filling its box: a leafy core under lumpy clumps (a long box is a
+    clipped hedge); in a concrete ``planter`` when asked."""
+    hx, hy, hz = half
+    p = Parts(level)
+    bottom = -hz
+    if planter:
+        top = -hz + 0.45
+        p.span("planter", "vegetation", Material.CONCRETE, (0.62, 0.61, 0.58), (-hx, -hy, -hz), (hx, hy, top))
+        bottom, hx, hy = top, hx - 0.1, hy - 0.1
+    green = pick(looks.LEAF_GREENS, rng)
+    height = hz - bottom
+    core = (0.85 * hx, 0.85 * hy, 0.4 * height)
+    p.box("core", "vegetation", Material.LEAVES, green, (0.0, 0.0, bottom + core[2]), core)
+    long_side = max(hx, hy)
+    n = max(2, min(int(2 * long_side / min(hx, hy, height)), 8 if p.fine else 4))
+    along_x = hx >= hy
+    r_across = min(hx, hy)
+    r_along = long_side / n * 1.25
+    for k in range(n):
+        a = -long_side + (k + 0.5) * 2 * long_side / n
+        r_z = 0.5 * height
+        rx, ry = (min(r_along, hx), r_across) if along_x else (r_across, min(r_along, hy))
+        centre = (a, 0.0, bottom + height - r_z) if along_x else (0.0, a, bottom + height - r_z)
+        cx = max(min(centre[0], hx - rx), -hx + rx)
+        cy = max(min(centre[1], hy - ry), -hy + ry)
+        shade = tuple(c * (0.85 + 0.3 * float(rng.random())) for c in green)
+        _blob(p, f"clump{k}", "vegetation", Material.LEAVES, shade, (cx, cy, centre[2]), (rx, ry, r_z), rng,
+              segments=_CLUMP_SEGMENTS[level], rough=0.15)  # fmt: skip
+    return p.build()
+
+
+def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, surface: Material, colour,
+         markings: list[tuple[float, float, float, float]] = ()) -> Asset:  # fmt: skip
+    """A road, pavement or grass slab filling its box (its top face the box's top, its sides
+    the box's sides, no bottom: it stands on the ground), with flat ``markings`` (x0, y0, x1,
+    y1 rectangles in the box's frame, painted white a few millimetres above the top)."""
+    hx, hy, hz = half
+    p = Parts(level)
+    q = Quads()
+    q.add("top", cls, surface, colour, _level_rect(-hx, -hy, hx, hy, hz), UP)
+    side = Material.CONCRETE if cls == "road" else surface
+    side_colour = (0.58, 0.57, 0.55) if cls == "road" else tuple(0.8 * c for c in colour)
+    for face in box_faces(half):
+        _rect(q, face, "side", cls, side, side_colour, 0.0, face.width, 0.0, face.height)
+    z = hz + MARKING_M
+    for x0, y0, x1, y1 in markings:
+        q.add("marking", cls, Material.CONCRETE, looks.MARKING_WHITE, _level_rect(x0, y0, x1, y1, z), UP)
+    q.into(p)
+    return p.build()
+
+
+def road_markings(half, lanes_y: list[float], crossings_x: list[float], *, dash: float = 3.0, gap: float = 6.0,
+                  width: float = 0.12) -> list[tuple[float, float, float, float]]:  # fmt: skip
+    """Markings of a straight carriageway along its box's x: a dashed line between each pair
+    of neighbouring lanes (``lanes_y``, their centres across it), solid edge lines, and zebra
+    crossings at ``crossings_x``."""
+    hx, hy, _ = half
+    out: list[tuple[float, float, float, float]] = []
+    edge = hy - 0.3
+    clear = [(x - 2.5, x + 2.5) for x in crossings_x]
+
+    def runs(x0: float, x1: float) -> list[tuple[float, float]]:
+        cuts = sorted(c for c in clear if c[1] > x0 and c[0] < x1)
+        out_, x = [], x0
+        for a, b in cuts:
+            if a > x:
+                out_.append((x, a))
+            x = max(x, b)
+        if x < x1:
+            out_.append((x, x1))
+        return out_
+
+    for y in (-edge, edge):
+        out += [(a, y - width / 2, b, y + width / 2) for a, b in runs(-hx, hx)]
+    ys = sorted(lanes_y)
+    for y0, y1 in itertools.pairwise(ys):
+        y = (y0 + y1) / 2
+        x = -hx
+        while x + dash <= hx:
+            out += [(a, y - width / 2, b, y + width / 2) for a, b in runs(x, x + dash)]
+            x += dash + gap
+    for cx in crossings_x:
+        for k in range(int((2 * edge) // 1.0)):
+            y = -edge + 0.25 + k * 1.0
+            out.append((cx - 2.0, y, cx + 2.0, y + 0.5))
+    return out
+
+
+#: Looks of the ground slabs: (material, colour) by pixel class and role.
+ASPHALT = (Material.ASPHALT, looks.ASPHALT_GREY)
+PAVING = (Material.PAVING, looks.PAVING_GREY)
+GRASS = (Material.GRASS, looks.GRASS_GREEN)
+
+
+def ground(half_extent: float, z: float, *, indoor: bool, pitch: tuple[float, float] | None = None) -> Asset:
+    """The ground under an environment, a square of ``half_extent`` at height ``z``: grass
+    (``terrain``) outdoors, a wooden floor (``floor``) indoors; with a mown football
+    ``pitch`` (length, width) and its lines at the middle when asked."""
+    p = Parts(0)
+    q = Quads()
+    h = half_extent
+    cls, (material, colour) = ("floor", (Material.WOOD, (0.55, 0.40, 0.26))) if indoor else ("terrain", GRASS)
+    if pitch is None:
+        q.add("ground", cls, material, colour, _level_rect(-h, -h, h, h, z), UP)
+    else:
+        # the grass round the pitch, then the pitch itself mown in stripes, 3 m past its lines
+        px, py = pitch[0] / 2 + 3.0, pitch[1] / 2 + 3.0
+        for x0, y0, x1, y1 in ((-h, -h, h, -py), (-h, py, h, h), (-h, -py, -px, py), (px, -py, h, py)):
+            q.add("ground", cls, material, colour, _level_rect(x0, y0, x1, y1, z), UP)
+        q.add("pitch", cls, Material.PITCH, looks.GRASS_GREEN, _level_rect(-px, -py, px, py, z), UP)
+        for quad in pitch_lines(*pitch):
+            q.add("line", cls, Material.PLAIN, looks.MARKING_WHITE, [(x, y, z + MARKING_M) for x, y in quad], UP)
+    q.into(p)
+    return p.build()
+
+
+def pitch_lines(length: float, width: float, w: float = 0.12) -> list[tuple[tuple[float, float], ...]]:
+    """A football pitch's lines as quads (four (x, y) corners, ``w`` wide) centred on the
+    origin, its length along x: touch and goal lines, the halfway line, the centre circle,
+    the penalty and goal areas."""
+    L, W = length / 2, width / 2
+    rects = [(-L, -W, L, -W + w), (-L, W - w, L, W), (-L, -W, -L + w, W), (L - w, -W, L, W), (-w / 2, -W, w / 2, W)]
+    for s in (-1.0, 1.0):
+        for depth, half_width in ((16.5, min(20.15, W - 1.0)), (5.5, 9.15)):
+            x_in = s * (L - depth)
+            x0, x1 = sorted((s * L, x_in))
+            rects += [(x0, -half_width, x1, -half_width + w), (x0, half_width - w, x1, half_width),
+                      (x_in - w / 2, -half_width, x_in + w / 2, half_width)]  # fmt: skip
+    out = [((x0, y0), (x1, y0), (x1, y1), (x0, y1)) for x0, y0, x1, y1 in rects]
+    r, pieces = 9.15, 48
+    ring = circle(pieces)
+    for k in range(pieces):
+        (ca, sa), (cb, sb) = ring[k], ring[(k + 1) % pieces]
+        out.append(((ca * (r - w / 2), sa * (r - w / 2)), (cb * (r - w / 2), sb * (r - w / 2)),
+                    (cb * (r + w / 2), sb * (r + w / 2)), (ca * (r + w / 2), sa * (r + w / 2))))  # fmt: skip
+    return out

@@ -1,0 +1,168 @@
+"""The places: a facade's wall and openings tile its face, windows sit back in it; a road's
+markings follow its lanes and leave its crossings to the zebra; pitch lines lie on the
+pitch; each environment's slabs, buildings and trees take the look their role asks for;
+the materials past the first sixteen reach the shader; clouds cover as much sky as θ says."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from phav_generator.motion.rotations import look_at
+from phav_generator.world import places
+from phav_generator.world.library import _carriageway, collider_asset
+from phav_generator.world.materials import Material
+from phav_generator.world.parts import Parts
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.seeding import stream
+from phav_spec.vocab import PIXEL_CLASSES
+
+
+def _quad_area(c: np.ndarray) -> float:
+    return 0.5 * float(np.linalg.norm(np.cross(c[1] - c[0], c[2] - c[0]) + np.cross(c[2] - c[0], c[3] - c[0])))
+
+
+def test_a_facade_s_wall_and_openings_tile_its_face_and_windows_sit_back():
+    face = places.box_faces((6.0, 4.0, 5.0))[1]  # +y, 12 m wide, 10 m tall
+    openings = [places.Opening(s0, s1, z0, z0 + 1.5) for s0, s1 in places._columns(face.width, 3.0, 1.2, 0.8)
+                for z0 in (1.0, 4.0, 7.0)]  # fmt: skip
+    q = places.Quads()
+    places.facade(Parts(0), q, face, openings, (Material.PLASTER, (0.8, 0.8, 0.8)), stream(0, "t"),
+                  frame=(1.0, 1.0, 1.0), recessed=True)  # fmt: skip
+    walls = np.array([c for (name, *_), quads in q.groups.items() if name == "wall" for c in quads])
+    panes = np.array([c for (name, *_), quads in q.groups.items() if name == "pane" for c in quads])
+    wall_area = sum(_quad_area(c) for c in walls)
+    open_area = sum((o.s1 - o.s0) * (o.z1 - o.z0) for o in openings)
+    assert len(panes) == len(openings) == 9  # three bays of 3.5 m, three storeys
+    assert wall_area + open_area == pytest.approx(face.width * face.height)
+    assert np.allclose(walls[..., 1], 4.0)  # the wall lies on the box's face
+    assert np.allclose(panes[..., 1], 4.0 - places.WINDOW_DEPTH_M)  # each pane set back into it
+    assert all((np.cross(c[1] - c[0], c[2] - c[0]) @ face.normal) > 0 for c in walls)  # facing out
+
+
+def test_every_urban_and_suburban_facade_has_windows_and_the_houses_face_the_street():
+    for env, style in (("urban", "urban"), ("middle", "suburban")):
+        for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
+            if c.pixel_class != "building":
+                continue
+            asset = collider_asset(env, i, 0)
+            names = {name for name, *_ in asset.parts}
+            assert {"wall", "pane", "reveal", "sill", "frame"} <= names, f"{env} building {i}: {names}"
+            if style == "suburban":
+                assert {"roof", "gable", "door"} <= names
+                door = next(k for k, (name, *_) in enumerate(asset.parts) if name == "door")
+                _, first, end, _ = asset.parts[door]
+                y = asset.positions[asset.triangles[first:end].reshape(-1), 1].mean()
+                assert math.copysign(1.0, y) == -math.copysign(1.0, c.center[1])  # on the side of the road (y = 0)
+
+
+def test_the_urban_carriageway_has_its_two_lanes_and_the_signalled_crossing():
+    env = ENVIRONMENT_SCENES["urban"]
+    roads = [(i, c) for i, c in enumerate(env.colliders) if c.pixel_class == "road"]
+    found = {i: _carriageway("urban", c) for i, c in roads}
+    carriageways = [i for i, (lanes, _) in found.items() if lanes]
+    assert len(carriageways) == 1  # the pavements and the plaza have none
+    lanes, crossings = found[carriageways[0]]
+    assert lanes == [-1.25, 1.25] and crossings == [-18.0]
+
+
+def test_road_markings_follow_the_lanes_and_leave_the_crossing_to_the_zebra():
+    half = (30.0, 4.5, 0.05)
+    marks = np.array(places.road_markings(half, [-1.25, 1.25], [0.0]))
+    assert (marks[:, 0] >= -half[0]).all() and (marks[:, 2] <= half[0]).all()
+    assert (np.abs(marks[:, [1, 3]]) <= half[1]).all()
+    centre = marks[np.isclose((marks[:, 1] + marks[:, 3]) / 2, 0.0) & (marks[:, 3] - marks[:, 1] < 0.2)]
+    assert len(centre) >= 5 and ((centre[:, 2] - centre[:, 0]) <= 3.0 + 1e-9).all()  # a dashed centre line
+    lines = marks[marks[:, 3] - marks[:, 1] < 0.2]
+    assert not ((lines[:, 0] < 2.5) & (lines[:, 2] > -2.5)).any()  # no line runs through the crossing
+    zebra = marks[(marks[:, 0] == -2.0) & (marks[:, 2] == 2.0)]
+    assert len(zebra) >= 6 and np.allclose(zebra[:, 3] - zebra[:, 1], 0.5)
+
+
+def test_pitch_lines_lie_on_the_pitch_and_the_centre_circle_is_round():
+    quads = np.array(places.pitch_lines(100.0, 54.0))
+    assert (np.abs(quads[..., 0]) <= 50.0 + 1e-9).all() and (np.abs(quads[..., 1]) <= 27.0 + 1e-9).all()
+    radii = np.linalg.norm(quads[-48:], axis=2)
+    assert np.allclose(radii.mean(axis=1), 9.15, atol=0.01)
+
+
+def test_places_take_the_look_of_their_role():
+    looks = {}
+    for env in ("urban", "green", "middle", "stadium"):
+        for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
+            if c.pixel_class in ("road", "terrain"):
+                asset = collider_asset(env, i, 0)
+                top = next(k for k, (name, *_) in enumerate(asset.parts) if name == "top")
+                first = asset.parts[top][1]
+                looks.setdefault((env, c.pixel_class, bool(_carriageway(env, c)[0])), set()).add(
+                    int(asset.materials[asset.triangles[first, 0]])
+                )
+    assert looks[("urban", "road", True)] == {Material.ASPHALT}
+    assert looks[("urban", "road", False)] == {Material.PAVING}
+    assert looks[("green", "terrain", False)] == {Material.GRASS}
+    ground = places.ground(50.0, 0.0, indoor=False, pitch=(100.0, 54.0))
+    assert {int(m) for m in np.unique(ground.materials)} == {Material.GRASS, Material.PITCH, Material.PLAIN}
+    assert ground.pixel_classes() == ("terrain",)
+
+
+def test_trees_come_in_several_species_and_a_tree_s_trunk_and_crown_agree():
+    barks = {}
+    for env in ENVIRONMENT_SCENES.names:
+        for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
+            if c.pixel_class == "tree":
+                asset = collider_asset(env, i, 0)
+                bark = asset.colours[asset.materials == Material.BARK]
+                barks.setdefault((env, c.center[0], c.center[1]), set()).add(tuple(np.round(bark[0], 3)))
+    assert all(len(b) == 1 for b in barks.values())  # the crown's boughs in its trunk's bark
+    assert len({next(iter(b)) for b in barks.values()}) >= 2
+
+
+def test_no_material_code_outgrows_the_vertex_packing():
+    assert max(Material) < 256  # gl packs surface × 256 + pattern into one integer
+
+
+def _plain_quad_frame(ctx, material: Material):
+    from phav_generator.render.assets import asset_drawable, turntable
+
+    asset = places.slab((2.0, 2.0, 0.05), stream(0, "q"), 0, cls="terrain", surface=material, colour=(0.3, 0.5, 0.2))
+    still = np.broadcast_to(np.eye(4), (2, 4, 4))
+    return turntable(ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=128)[0]
+
+
+def test_the_later_materials_reach_the_shader(ctx):
+    plain = _plain_quad_frame(ctx, Material.PLAIN)
+    grass = _plain_quad_frame(ctx, Material.GRASS)
+    top = plain.class_id == PIXEL_CLASSES["terrain"].class_id
+    pairs = top[:, 1:] & top[:, :-1]
+    assert pairs.sum() > 1000
+
+    def grain(frame) -> float:  # mean colour step between neighbouring pixels of the slab
+        c = frame.colour.astype(np.float64)
+        return float(np.abs(c[:, 1:] - c[:, :-1]).sum(axis=2)[pairs].mean())
+
+    assert grain(grass) > 2.0 * grain(plain)  # the grass pattern (code 16) is drawn, not lost in packing
+
+
+def _sky(ctx, cover: float) -> np.ndarray:
+    from phav_generator.render.assets import asset_drawable
+    from phav_generator.render.gl import FrameRenderer, _default_lighting
+
+    lighting = dataclasses.replace(_default_lighting(), cloud_cover=cover)
+    c2w = np.eye(4)
+    c2w[:3, :3] = look_at(np.zeros(3), np.array([0.0, 1.0, 0.5]))  # 27° above the horizon
+    below = places.ground(5.0, -100.0, indoor=False)  # out of view: the renderer wants something to draw
+    drawables = [asset_drawable(below, np.broadcast_to(np.eye(4), (1, 4, 4)))]
+    with FrameRenderer(ctx, 96, 64, drawables, sky_class=PIXEL_CLASSES["sky"].class_id, focus=np.zeros(3),
+                       lighting=lighting) as renderer:  # fmt: skip
+        return renderer.render(0, c2w, c2w, (80.0, 80.0, 48.0, 32.0)).colour.astype(np.float64)
+
+
+def test_clouds_cover_the_sky_as_theta_s_cloud_intensity_says(ctx):
+    clear, broken, overcast = (_sky(ctx, c) for c in (0.0, 0.5, 0.95))
+    grey = np.abs(broken - broken.mean(axis=2, keepdims=True)).sum(axis=2) < 6  # cloud is grey-white
+    grey_clear = np.abs(clear - clear.mean(axis=2, keepdims=True)).sum(axis=2) < 6
+    grey_overcast = np.abs(overcast - overcast.mean(axis=2, keepdims=True)).sum(axis=2) < 6
+    assert grey_clear.mean() < 0.05 < grey.mean() < grey_overcast.mean()
