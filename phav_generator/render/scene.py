@@ -83,6 +83,25 @@ def _pose(rotation: np.ndarray, translation) -> np.ndarray:
     return out
 
 
+def _bounding_radius(shape: str, size: tuple[float, ...]) -> float:
+    """The bounding radius of a physics shape: a box's half extents, a sphere's radius, a
+    capsule's radius and half length."""
+    if shape == "box":
+        return float(np.linalg.norm(size))
+    if shape == "capsule":
+        return float(size[0] + size[1])
+    return float(size[0])
+
+
+def _level_along(positions: np.ndarray, radius: float, eyes: np.ndarray, focal: float) -> int:
+    """The level of detail of something of bounding ``radius`` at ``positions`` (one, or one
+    per frame) seen from the camera's ``eyes``: by its nearest approach over the video."""
+    n = min(len(positions), len(eyes)) if len(positions) > 1 else len(eyes)
+    at = positions[:n] if len(positions) > 1 else positions
+    nearest = float(np.linalg.norm(eyes[:n] - at, axis=1).min()) - radius
+    return level_for(radius, nearest, focal)
+
+
 def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
     """Every person's human model in the recipe, by person id."""
     out = {recipe.protagonist.person_id: recipe.protagonist.human}
@@ -182,17 +201,20 @@ def build_drawables(
             out.append(_static(box(half), pose, cls, n))
             continue
         rng = stream(recipe.seeds.physics, f"world/box{k}")
-        out.append(asset_drawable(box_asset(cls, half, rng, 0, indoor=env.indoor), np.broadcast_to(pose, (n, 4, 4))))
+        level = _level_along(np.array(center)[None], float(np.linalg.norm(half)), eyes, focal)
+        built = box_asset(cls, half, rng, level, indoor=env.indoor)
+        out.append(asset_drawable(built, np.broadcast_to(pose, (n, 4, 4))))
     for prop in trajectory.props:
         transforms = _pose(quat_to_matrix(prop.quat), prop.pos)
+        level = _level_along(prop.pos, _bounding_radius(prop.shape, prop.size), eyes, focal)
         if assets and prop.object in VEHICLE_HALF_SIZES:
             seed = recipe.seeds.physics if prop.name == "car" else recipe.seeds.background
             below = CAR_CLEARANCE_M if prop.name == "car" else 0.0
-            found = vehicle(prop.object, prop.size, stream(seed, f"world/{prop.name}"), below=below)
+            found = vehicle(prop.object, prop.size, stream(seed, f"world/{prop.name}"), level, below=below)
             out += vehicle_drawables(found, transforms, lamp_glow=glow)
             continue
         rng = stream(recipe.seeds.physics, f"world/{prop.name}")
-        look = props.prop(prop.object, prop.pixel_class, prop.shape, prop.size, rng) if assets else None
+        look = props.prop(prop.object, prop.pixel_class, prop.shape, prop.size, rng, level) if assets else None
         if look is not None:
             out.append(asset_drawable(look, transforms))
             continue

@@ -54,3 +54,18 @@ def test_the_world_s_objects_are_assets_unless_asked_for_their_boxes():
     assert sum(d.mesh.n_triangles for d in drawn) > sum(d.mesh.n_triangles for d in boxes)
     # The people and the ground are the same either way.
     assert sum(d.instance_id > 0 for d in drawn) == sum(d.instance_id > 0 for d in boxes)
+
+
+def test_moving_things_are_drawn_as_finely_as_their_nearest_approach_asks():
+    from phav_generator.render.scene import _bounding_radius, _level_along
+
+    eyes = np.zeros((30, 3))
+    far = np.tile([100.0, 0.0, 0.0], (30, 1))
+    assert _level_along(far, 2.0, eyes, 300.0) == 2  # a car 100 m away all along: 6 px
+    passing = far.copy()
+    passing[17] = (4.0, 0.0, 0.0)
+    assert _level_along(passing, 2.0, eyes, 300.0) == 0  # ... until it passes 4 m from the camera
+    assert _level_along(np.array([[30.0, 0.0, 0.0]]), 2.0, eyes, 300.0) == 1  # a box 30 m off: 21 px
+    assert _bounding_radius("box", (3.0, 4.0, 0.0)) == 5.0
+    assert _bounding_radius("capsule", (0.1, 0.4)) == pytest.approx(0.5)
+    assert _bounding_radius("sphere", (0.11,)) == 0.11
