@@ -14,8 +14,10 @@ from phav_generator.physics.plan.scene_plan import PersonPlan
 from phav_spec.scene import MAX_STEP_M, walkable_heights
 from phav_spec.vocab import MUSCLES
 
-#: How far ahead of and behind its pelvis a background walker's feet reach (m).
+#: How far ahead of and behind its pelvis a background walker's feet reach (m), and how
+#: far to either side of its path (a foot's width off the hip's line).
 BACKGROUND_REACH_M = 0.5
+BACKGROUND_SIDE_M = 0.2
 
 
 def background_people(b: PlanBuilder) -> list[PersonPlan]:
@@ -43,13 +45,16 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
         along = delta / max(dist, 1e-9)
         root = start[None, :] + travelled[:, None] * along[None, :]
         # Walkers step up onto kerbs and terraces on their way instead of wading through them:
-        # the highest surface within a stride ahead of or behind the pelvis, where the feet
-        # reach (the pelvis alone stepped up only once the front foot was in the kerb).
+        # the highest surface within a stride ahead of or behind the pelvis and a foot's
+        # width to either side, where the feet reach (the pelvis alone stepped up only once
+        # the front foot was in the kerb; a path along a terrace's edge put one foot in it).
         reach = max(start[2], dest[2]) + MAX_STEP_M
+        side = np.array([-along[1], along[0]])
         root[:, 2] = np.max(
             [
-                walkable_heights(r.environment.name, *(root[:, :2] + o * along[:2]).T, reach)
+                walkable_heights(r.environment.name, *(root[:, :2] + o * along[:2] + w * side).T, reach)
                 for o in (-BACKGROUND_REACH_M, -BACKGROUND_REACH_M / 2, 0.0, BACKGROUND_REACH_M / 2, BACKGROUND_REACH_M)
+                for w in (-BACKGROUND_SIDE_M, 0.0, BACKGROUND_SIDE_M)
             ],
             axis=0,
         )
