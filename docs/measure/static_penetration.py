@@ -5,9 +5,11 @@ For every person and frame of a dataset: its 13 joints and the midpoints of its 
 environment's colliders (the ground plane excluded): with ``--drawn boxes`` the collider
 boxes themselves (how a dataset made before the asset library drew them), with
 ``--drawn assets`` the asset library's meshes (convex parts: boxes, cylinders, cones,
-ellipsoids, convex prisms; open panels have no inside); ``--objects-only`` leaves out the
-places' boxes (terraces, buildings, trees). Prints the share of person-frames
-with a point more than 1, 2, 5 and 8 cm inside, and depth quantiles.
+ellipsoids, convex prisms); an asset drawn with open panels only (a building's walls on
+its box's faces, a slab's top) has no inside of its own and counts as its box.
+``--objects-only`` leaves out the places (terraces, roads, buildings, trees, hedges).
+Prints the share of person-frames with a point more than 1, 2, 5 and 8 cm inside, and
+depth quantiles.
 
     python docs/measure/static_penetration.py DATA --drawn assets
 """
@@ -21,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 
-from phav_generator.world.library import MODELLED_CLASSES, collider_asset
+from phav_generator.world.library import MODELLED_CLASSES, PLACE_CLASSES, collider_asset
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES
@@ -30,10 +32,17 @@ from phav_validators.checks.failures import boxes, people_series, probe_points
 THRESHOLDS_M = (0.01, 0.02, 0.05, 0.08)
 
 
+def _closed_parts(env: str, index: int) -> bool:
+    """Whether collider ``index``'s asset has a closed part (an inside to be in)."""
+    built = collider_asset(env, index, 0)
+    asset = built.body if isinstance(built, Vehicle) else built
+    return asset is not None and any(closed for *_, closed in asset.parts)
+
+
 @cache
-def _planes(env: str) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Per closed convex part of the drawn statics: its faces' outward normals (k, 3) and
-    offsets (k,), in world coordinates."""
+def _planes(env: str) -> list[tuple[int, np.ndarray, np.ndarray]]:
+    """Per closed convex part of the drawn statics: its collider's index, its faces' outward
+    normals (k, 3) and offsets (k,), in world coordinates."""
     out = []
     for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
         built = collider_asset(env, i, 0)
@@ -50,7 +59,7 @@ def _planes(env: str) -> list[tuple[np.ndarray, np.ndarray]]:
             a, b, cc = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
             n = np.cross(b - a, cc - a)
             n /= np.linalg.norm(n, axis=1, keepdims=True)
-            out.append((n, np.einsum("ij,ij->i", n, a)))
+            out.append((i, n, np.einsum("ij,ij->i", n, a)))
     return out
 
 
@@ -59,11 +68,14 @@ def depth_assets(env: str, points: np.ndarray, *, objects_only: bool = False) ->
     ``objects_only`` inside the library's objects only, not the places' boxes."""
     flat = points.reshape(-1, 3)
     best = np.full(len(flat), -np.inf)
-    modelled = {i for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders) if collider_asset(env, i, 0) is not None}
-    for n, d in _planes(env):
+    colliders = ENVIRONMENT_SCENES[env].colliders
+    solid = {i for i in range(len(colliders)) if _closed_parts(env, i)}
+    for i, n, d in _planes(env):
+        if objects_only and colliders[i].pixel_class in PLACE_CLASSES:
+            continue
         best = np.maximum(best, (d[None, :] - flat @ n.T).min(axis=1))
     unmodelled = boxes(env)
-    keep = [i for i in range(len(unmodelled.colliders)) if i not in modelled]
+    keep = [i for i in range(len(colliders)) if i not in solid]
     if keep and not objects_only:
         depth = (unmodelled.half[keep] - np.abs(unmodelled.local(flat)[:, keep])).min(axis=-1)
         best = np.maximum(best, depth.max(axis=1))
@@ -76,7 +88,8 @@ def depth_boxes(env: str, points: np.ndarray, *, objects_only: bool = False) -> 
     box = boxes(env)
     if not objects_only:
         return box.depth_inside(points)[0]
-    keep = [i for i, c in enumerate(box.colliders) if c.pixel_class in MODELLED_CLASSES]
+    keep = [i for i, c in enumerate(box.colliders) if c.pixel_class in MODELLED_CLASSES and
+            c.pixel_class not in PLACE_CLASSES]  # fmt: skip
     if not keep:
         return np.full(points.shape[:-1], -np.inf)
     return (box.half[keep] - np.abs(box.local(points)[..., keep, :])).min(axis=-1).max(axis=-1)
@@ -86,7 +99,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("data", type=Path)
     parser.add_argument("--drawn", choices=("boxes", "assets"), required=True)
-    parser.add_argument("--objects-only", action="store_true", help="the library's objects, not the places' boxes")
+    parser.add_argument("--objects-only", action="store_true", help="the library's objects, not the places")
     args = parser.parse_args()
     envs = dict(zip(*[read_recipe_table(args.data / "recipes.parquet").table.column(c).to_pylist()
                       for c in ("video_id", "environment")], strict=True))  # fmt: skip

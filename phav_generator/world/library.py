@@ -5,9 +5,9 @@ the failures check collide with: each object's asset is built to fit its box (it
 shape inside the box, touching its faces where a person or a car meets it), and so is each
 place (buildings, trees, hedges, roads, pavements, terraces: ``places``). Classes the
 library does not model (the house's walls and ceilings, ``misc``) return None and stay
-boxes. The look of an environment's objects is fixed by the environment (seeded from its
-name and the collider's index), as the paper's scenes were; a vehicle's from the stream it
-is given.
+boxes. The look of an environment's objects and places is fixed by the environment
+(seeded from its name and the collider's index), as the paper's scenes were, or a video's
+own (``look_seed``, θ's ``world_variety: video``); a vehicle's from the stream it is given.
 """
 
 from __future__ import annotations
@@ -34,6 +34,8 @@ MODELLED_CLASSES: tuple[str, ...] = (
     "chair", "table", "sofa", "bed", "shelf", "screen", "fridge", "fireplace", "lamp", "window", "door", "curtain",
     "building", "tree", "vegetation", "road", "terrain",
 )  # fmt: skip
+#: Of those, the places (``places``); the rest are the objects.
+PLACE_CLASSES: tuple[str, ...] = ("building", "tree", "vegetation", "road", "terrain")
 #: A pole at least this tall (m) is a floodlight mast; a pole collider this far above the
 #: ground is a floodlight's head.
 MAST_M = 15.0
@@ -117,6 +119,20 @@ def _towards_table(env_name: str, c: Collider) -> np.ndarray:
     return np.array(near.center[:2]) - np.array(c.center[:2])
 
 
+def _towards_road(env_name: str, c: Collider) -> tuple[float, float] | None:
+    """The direction, in ``c``'s frame snapped to an axis, from ``c`` across the nearest road
+    slab's width towards it (where a house's door faces); None without a road."""
+    env = ENVIRONMENT_SCENES[env_name]
+    roads = [r for r in env.colliders if r.pixel_class == "road"]
+    if not roads:
+        return None
+    near = min(roads, key=lambda r: (r.xy_distance(c.center[0], c.center[1]), r.center))
+    _, across = near.to_local(c.center[0], c.center[1])
+    yaw = math.radians(near.yaw_deg)
+    side = -math.copysign(1.0, across)  # from the building back across to the road
+    return _local(c, np.array([-math.sin(yaw) * side, math.cos(yaw) * side]))
+
+
 def _stands_on_pole(env_name: str, c: Collider) -> bool:
     """Whether a signal head or sign plate sits on the pole collider ``c``."""
     env = ENVIRONMENT_SCENES[env_name]
@@ -196,7 +212,7 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
         return {"window": interiors.window, "door": interiors.door, "curtain": interiors.curtain}[cls](half, rng, level)
     if cls == "building":
         style = _BUILDING_STYLES.get(env_name, "urban")
-        road = _local(c, -np.array([0.0, c.center[1]])) if style == "suburban" else None
+        road = _towards_road(env_name, c) if style == "suburban" else None
         return places.building(half, rng, level, style=style, street=road)
     if cls == "tree":
         # trunk and crown are two colliders: the tree's species and bark come from where it stands
