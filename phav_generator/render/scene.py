@@ -177,9 +177,7 @@ def build_drawables(
     view = tuple(0.9 * x for x in lighting.fog_colour) if lighting is not None else (0.0, 0.0, 0.0)
     for i, c in enumerate(env.colliders):
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
-        radius = float(np.linalg.norm(c.half_size))
-        nearest = float(np.linalg.norm(eyes - np.array(c.center), axis=1).min()) - radius
-        level = level_for(radius, nearest, focal)
+        level = _level_along(np.array(c.center)[None], float(np.linalg.norm(c.half_size)), eyes, focal)
         asset = collider_asset(env_name, i, level, recipe.environment.look_seed) if assets else None
         if isinstance(asset, Vehicle):
             out += vehicle_drawables(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow)

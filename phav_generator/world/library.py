@@ -227,11 +227,11 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
     if cls == "road":
         lanes, crossings = _carriageway(env_name, c)
         if not lanes:
-            return places.slab(half, rng, level, cls="road", surface=places.PAVING[0], colour=places.PAVING[1])
-        return places.slab(half, rng, level, cls="road", surface=places.ASPHALT[0], colour=places.ASPHALT[1],
-                           markings=places.road_markings(half, lanes, crossings))  # fmt: skip
+            return places.slab(half, rng, level, cls="road", look=places.PAVING)
+        markings = places.road_markings(half, lanes, crossings)
+        return places.slab(half, rng, level, cls="road", look=places.ASPHALT, markings=markings)
     if cls == "terrain":
-        return places.slab(half, rng, level, cls="terrain", surface=places.GRASS[0], colour=places.GRASS[1])
+        return places.slab(half, rng, level, cls="terrain", look=places.GRASS)
     return None
 
 
@@ -314,11 +314,11 @@ def _slab_kind(kind: str, rng: np.random.Generator, level: int) -> Asset:
     """The catalogue's slabs: a two-lane carriageway with a crossing, a pavement, a terrace."""
     if kind == "carriageway":
         half = (30.0, 4.5, 0.05)
-        return places.slab(half, rng, level, cls="road", surface=places.ASPHALT[0], colour=places.ASPHALT[1],
-                           markings=places.road_markings(half, [-1.25, 1.25], [0.0]))  # fmt: skip
+        markings = places.road_markings(half, [-1.25, 1.25], [0.0])
+        return places.slab(half, rng, level, cls="road", look=places.ASPHALT, markings=markings)
     if kind == "pavement":
-        return places.slab((30.0, 4.0, 0.05), rng, level, cls="road", surface=places.PAVING[0], colour=places.PAVING[1])
-    return places.slab((8.0, 6.0, 0.1), rng, level, cls="terrain", surface=places.GRASS[0], colour=places.GRASS[1])
+        return places.slab((30.0, 4.0, 0.05), rng, level, cls="road", look=places.PAVING)
+    return places.slab((8.0, 6.0, 0.1), rng, level, cls="terrain", look=places.GRASS)
 
 
 #: Every kind of object at a typical size, with its triangle budget per level of detail:

@@ -98,6 +98,22 @@ def circle(segments: int, phase: float = 0.0) -> list[tuple[float, float]]:
             for k in range(segments)]  # fmt: skip
 
 
+def sphere_triangles(segments: int, rings: int) -> list[tuple[int, int, int]]:
+    """The triangles of a sphere's grid, counter-clockwise from outside: vertex 0 the bottom
+    pole, then ``rings`` − 1 rings of ``segments`` vertices from the bottom up, then the top."""
+    top = 1 + (rings - 1) * segments
+
+    def ring(r: int, k: int) -> int:
+        return 1 + r * segments + k % segments
+
+    tri = [(0, ring(0, k + 1), ring(0, k)) for k in range(segments)]
+    for r in range(rings - 2):
+        for k in range(segments):
+            tri += [(ring(r, k), ring(r, k + 1), ring(r + 1, k + 1)), (ring(r, k), ring(r + 1, k + 1), ring(r + 1, k))]
+    tri += [(ring(rings - 2, k), ring(rings - 2, k + 1), top) for k in range(segments)]
+    return tri
+
+
 @dataclass
 class Parts:
     """Parts being assembled into one asset, at level of detail ``level`` (0 the finest)."""
@@ -227,16 +243,7 @@ class Parts:
                 nrm.append((cl * c / rx, cl * sn / ry, sl / rz))
         pos.append((0.0, 0.0, rz))
         nrm.append((0.0, 0.0, 1.0))
-        top = len(pos) - 1
-        ring = lambda r, k: 1 + r * s + k % s  # noqa: E731
-        tri = [(0, ring(0, k + 1), ring(0, k)) for k in range(s)]
-        for r in range(rings - 2):
-            for k in range(s):
-                tri += [
-                    (ring(r, k), ring(r, k + 1), ring(r + 1, k + 1)),
-                    (ring(r, k), ring(r + 1, k + 1), ring(r + 1, k)),
-                ]
-        tri += [(ring(rings - 2, k), ring(rings - 2, k + 1), top) for k in range(s)]
+        tri = sphere_triangles(s, rings)
         self.add(name, cls, material, colour, pos, tri, normals=nrm, closed=True, glow=glow, rot=rot, offset=centre)
 
     def prism(self, name: str, cls: str, material: Material, colour, profile, y0: float, y1: float, *,

@@ -18,7 +18,7 @@ import numpy as np
 
 from phav_generator.world import materials as looks
 from phav_generator.world.materials import Material, pick
-from phav_generator.world.parts import Asset, Parts, circle
+from phav_generator.world.parts import Asset, Parts, circle, sphere_triangles
 
 Vec = np.ndarray
 UP = np.array([0.0, 0.0, 1.0])
@@ -33,31 +33,27 @@ SPECIES = ("broadleaf", "conifer", "birch")
 
 @dataclass
 class Quads:
-    """Flat quads gathered by look, added to an asset as one part per look (a facade has
-    hundreds of windows: one part each would be thousands of parts)."""
+    """Flat quads (and triangles) gathered by look, added to an asset as one part per look
+    (a facade has hundreds of windows: one part each would be thousands of parts)."""
 
     groups: dict[tuple[str, str, int, tuple[float, float, float]], list[Vec]] = field(default_factory=dict)
 
     def add(self, name: str, cls: str, material: Material, colour, corners, facing) -> None:
-        """A quad of four corners (or a triangle of three; any winding), wound to face ``facing``."""
+        """A flat convex polygon (a quad, or a gable's triangle; any winding), wound to face ``facing``."""
         c = np.asarray(corners, dtype=np.float64)
         normal = np.cross(c[1] - c[0], c[2] - c[0])
         if float(normal @ np.asarray(facing, dtype=np.float64)) < 0.0:
             c = c[::-1]
-        if len(c) == 3:
-            c = np.concatenate([c, c[2:]])  # a triangle: its second half collapses, and is left out
         key = (name, cls, int(material), tuple(float(v) for v in colour))
         self.groups.setdefault(key, []).append(c)
 
     def into(self, p: Parts) -> None:
-        for (name, cls, material, colour), quads in self.groups.items():
-            pos = np.concatenate(quads)
-            tri = []
-            for k, c in enumerate(quads):
-                tri.append((4 * k, 4 * k + 1, 4 * k + 2))
-                if not np.array_equal(c[2], c[3]):
-                    tri.append((4 * k, 4 * k + 2, 4 * k + 3))
-            p.add(name, cls, Material(material), colour, pos, tri, closed=False)
+        for (name, cls, material, colour), polygons in self.groups.items():
+            tri, first = [], 0
+            for c in polygons:  # a fan from each polygon's first corner
+                tri += [(first, first + k, first + k + 1) for k in range(1, len(c) - 1)]
+                first += len(c)
+            p.add(name, cls, Material(material), colour, np.concatenate(polygons), tri, closed=False)
 
 
 @dataclass(frozen=True)
@@ -278,17 +274,7 @@ def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, rad
     unit = np.array(pts)
     scale = 1.0 - rough + rough * rng.random(len(unit))
     pos = unit * (np.asarray(radii, dtype=np.float64) * scale[:, None])
-    top = len(pts) - 1
-
-    def ring(r: int, k: int) -> int:
-        return 1 + r * segments + k % segments
-
-    tri = [(0, ring(0, k + 1), ring(0, k)) for k in range(segments)]
-    for r in range(rings - 2):
-        for k in range(segments):
-            tri += [(ring(r, k), ring(r, k + 1), ring(r + 1, k + 1)), (ring(r, k), ring(r + 1, k + 1), ring(r + 1, k))]
-    tri += [(ring(rings - 2, k), ring(rings - 2, k + 1), top) for k in range(segments)]
-    p.add(name, cls, material, colour, pos, tri, closed=True, offset=centre)
+    p.add(name, cls, material, colour, pos, sphere_triangles(segments, rings), closed=True, offset=centre)
 
 
 #: Segments round a leaf clump at each level of detail.
@@ -391,11 +377,13 @@ def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = Fal
     return p.build()
 
 
-def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, surface: Material, colour,
+def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tuple[Material, tuple],
          markings: list[tuple[float, float, float, float]] = ()) -> Asset:  # fmt: skip
     """A road, pavement or grass slab filling its box (its top face the box's top, its sides
     the box's sides, no bottom: it stands on the ground), with flat ``markings`` (x0, y0, x1,
-    y1 rectangles in the box's frame, painted white a few millimetres above the top)."""
+    y1 rectangles in the box's frame, painted white a few millimetres above the top); ``look``
+    is its top's material and colour (``ASPHALT``, ``PAVING``, ``GRASS``)."""
+    surface, colour = look
     hx, hy, hz = half
     p = Parts(level)
     q = Quads()

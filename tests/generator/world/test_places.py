@@ -127,7 +127,7 @@ def test_no_material_code_outgrows_the_vertex_packing():
 def _plain_quad_frame(ctx, material: Material):
     from phav_generator.render.assets import asset_drawable, turntable
 
-    asset = places.slab((2.0, 2.0, 0.05), stream(0, "q"), 0, cls="terrain", surface=material, colour=(0.3, 0.5, 0.2))
+    asset = places.slab((2.0, 2.0, 0.05), stream(0, "q"), 0, cls="terrain", look=(material, (0.3, 0.5, 0.2)))
     still = np.broadcast_to(np.eye(4), (2, 4, 4))
     return turntable(ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=128)[0]
 
