@@ -3,14 +3,16 @@
 Each of our pixel classes is either *judged as* one of the judge's classes — the class a
 person would name it by (a bench is judged as a chair, a truck by the VOC model as a car) —
 or *not judged*, with the reason. A figure is always reported under our class: a bench
-judged as chair stays a bench, never pooled into chair. The judges' label lists are in
-their output ids' order.
+judged as chair stays a bench, never pooled into chair. Where a judge splits what the
+paper's class table keeps as one class, its finer answers count as the class they belong
+to (*merged*: Cityscapes' sidewalk is the paper's road, which has no pavement class of its
+own). The judges' label lists are in their output ids' order.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 
 from phav_spec.vocab import PIXEL_CLASSES, PixelGroup
@@ -27,9 +29,15 @@ class JudgeClasses:
     judged_as: Mapping[str, str]
     #: Our class → why the judge does not judge it.
     not_judged: Mapping[str, str]
+    #: A judge class finer than ours → the judge class its answers count as.
+    merged: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
 
     def label_id(self, name: str) -> int:
         return self.labels.index(name)
+
+    def answer_ids(self, name: str) -> tuple[int, ...]:
+        """The judge's output ids that answer ``name``: its own and those merged into it."""
+        return (self.label_id(name), *(self.label_id(k) for k, v in sorted(self.merged.items()) if v == name))
 
 
 def _people(name: str) -> dict[str, str]:
@@ -100,6 +108,8 @@ CITYSCAPES = JudgeClasses(
             "no Cityscapes class (an indoor class or a prop)",
         )
     ),
+    # Our road is the paper's: carriageways and the pavements beside them.
+    merged=MappingProxyType({"sidewalk": "road"}),
 )
 
 #: The segmenters' class tables by judge name.

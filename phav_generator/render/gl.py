@@ -9,14 +9,15 @@ camera axis at t and the flow as where the same surface point lands in frame t +
 affine in the vertex position and interpolate perspective-correctly. Labels, depth and
 flow come from one sample per pixel and are never blended.
 
-Per frame: a sun shadow map (depth only), the labelled pass at 1× (its colour is raw RGB),
-rain streaks into colour only, then ``supersample`` fully shaded colour samples per pixel
-(SSAA: one jittered colour-only pass per sample, side by side in one wide target, averaged
-by a resolve pass), and a full-screen post pass (motion blur along the flow, screen-space
-reflections on water and wet ground, ambient occlusion from depth, bloom, colour grading,
-vignette). ``FrameRenderer.render`` is ``render_labels`` (everything up to the labelled
-targets' read-back) then ``render_rgb`` (supersampling and post): ``phav bench`` times them
-apart. The GLSL lives in ``render/shaders``; the GL context comes from ``render.context``.
+Per frame: a sun shadow map (depth only), the labelled pass at 1×, then ``supersample``
+fully shaded colour samples per pixel with rain streaks in colour only (SSAA: one jittered
+colour-only pass per sample, side by side in one wide target, averaged by a resolve pass:
+the raw RGB; at one sample the labelled pass shades it itself), and a full-screen post pass
+(motion blur along the flow, screen-space reflections on water and wet ground, ambient
+occlusion from depth, bloom, colour grading, vignette). ``FrameRenderer.render`` is
+``render_labels`` (everything up to the labelled targets' read-back) then ``render_rgb``
+(supersampling and post): ``phav bench`` times them apart. The GLSL lives in
+``render/shaders``; the GL context comes from ``render.context``.
 """
 
 from __future__ import annotations
@@ -120,7 +121,7 @@ class Drawable:
 class Frame:
     """One rendered frame: image rows top to bottom, columns left to right."""
 
-    colour: np.ndarray  # (H, W, 3) uint8: raw RGB, before post-processing
+    colour: np.ndarray | None  # (H, W, 3) uint8: raw RGB, before post-processing (the samples' mean)
     class_id: np.ndarray  # (H, W) uint16 pixel-class ids
     instance: np.ndarray  # (H, W) uint16 person ids + 1, 0 for no person
     depth_m: np.ndarray  # (H, W) float32, +inf for sky
@@ -265,11 +266,17 @@ class FrameRenderer:
         features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet, "MATERIALS": materials}
         # Two builds of the scene program: the labelled pass places each vertex at t + 1 too
         # (its flow); the colour passes skip that work (llvmpipe runs both sides of a branch).
+        # Supersampled, the raw colour is the samples' mean: the labelled pass does not shade.
         vertex = shader_source("scene_vertex.glsl").replace("#version 330\n", "", 1)
-        fragment = with_features(shader_source("scene_fragment.glsl"), features)
-        self.program = ctx.program(vertex_shader=with_features(vertex, {"FLOW": True}), fragment_shader=fragment)
-        self.colour_program = ctx.program(vertex_shader=with_features(vertex, {"FLOW": False}),
-                                          fragment_shader=fragment)  # fmt: skip
+        fragment = shader_source("scene_fragment.glsl")
+        self.program = ctx.program(
+            vertex_shader=with_features(vertex, {"FLOW": True}),
+            fragment_shader=with_features(fragment, {**features, "COLOUR": self.supersample == 1}),
+        )
+        self.colour_program = ctx.program(
+            vertex_shader=with_features(vertex, {"FLOW": False}),
+            fragment_shader=with_features(fragment, {**features, "COLOUR": True}),
+        )
         fullscreen = shader_source("fullscreen_vertex.glsl")
         self.sky = ctx.program(vertex_shader=fullscreen, fragment_shader=shader_source("sky_fragment.glsl"))
         self.shadow_prog = ctx.program(
@@ -370,10 +377,10 @@ class FrameRenderer:
         self.vbo = ctx.buffer(vertices.tobytes() if drawables else bytes(_VERTEX_DTYPE.itemsize))
         total = sum(len(i) for i in self._indices)
         self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
-        layout = [(self.vbo, "3f 3f 4u 4u 4f 3f 3f 3f", "in_pos", "in_normal", "in_ids", "in_bones", "in_weights",
-                   "in_colour", "in_emission", "in_uv")]  # fmt: skip
-        self.vao = ctx.vertex_array(self.program, layout, self.index_buffer, index_element_size=4)
-        self.colour_vao = ctx.vertex_array(self.colour_program, layout, self.index_buffer, index_element_size=4)
+        self.vao = ctx.vertex_array(self.program, _layout(self.vbo, self.program), self.index_buffer,
+                                    index_element_size=4)  # fmt: skip
+        self.colour_vao = ctx.vertex_array(self.colour_program, _layout(self.vbo, self.colour_program),
+                                           self.index_buffer, index_element_size=4)  # fmt: skip
         self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao, self.colour_vao]
         self.textures = _texture_array(ctx, textures)
         self._objects.append(self.textures)
@@ -381,11 +388,8 @@ class FrameRenderer:
         self.shadow_vao = None
         if self.use_shadow:
             self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
-            self.shadow_vao = ctx.vertex_array(
-                self.shadow_prog, [(self.vbo, "3f 12x 16x 4u 4f 36x", "in_pos", "in_bones", "in_weights")],
-                self.shadow_ibo,
-                index_element_size=4,
-            )  # fmt: skip
+            self.shadow_vao = ctx.vertex_array(self.shadow_prog, _layout(self.vbo, self.shadow_prog), self.shadow_ibo,
+                                               index_element_size=4)  # fmt: skip
             self._objects += [self.shadow_ibo, self.shadow_vao]
 
     def _build_bounds(self) -> None:
@@ -481,8 +485,9 @@ class FrameRenderer:
         cam_to_world_next: np.ndarray,
         intrinsics: tuple[float, float, float, float],
     ) -> Frame:
-        """The labelled 1× pass of a frame, read back: raw RGB, classes, instances, depth and
-        flow (``rgb`` is None until ``render_rgb`` adds it)."""
+        """The labelled 1× pass of a frame, read back: classes, instances, depth and flow, and
+        unsupersampled its raw RGB (``rgb``, and supersampled ``colour``, are None until
+        ``render_rgb`` adds them)."""
         ctx, p = self.ctx, self.program
         ctx.disable(moderngl.CULL_FACE | moderngl.BLEND)
         last = len(self._columns) - 1
@@ -504,14 +509,17 @@ class FrameRenderer:
         rain = self._rain_lines(frame, cam_to_world[:3, 3]) if self.rain_vao is not None else None
         rot = tuple(float(x) for x in cam_to_world[:3, :3].T.reshape(9))  # column-major mat3
         _set(self.sky, "cam_rot", rot)
-        # Labelled pass at 1×, then rain into its colour only.
+        # Labelled pass at 1×; unsupersampled, it shades the raw colour too, and rain goes
+        # into that colour only.
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self._scene_pass(len(indices), intrinsics, 0, labelled=True)
-        if rain is not None:
-            self._rain_pass(self.colour_fbo, rain, intrinsics, 0)
-        # Read as the frame keeps them (RGB without alpha): a channel slice would cost a copy.
-        raw = self._read(self.fbo, 0, 3, "f1", np.uint8)
+        raw = None
+        if self.fbo_ss is None:
+            if rain is not None:
+                self._rain_pass(self.colour_fbo, rain, intrinsics, 0)
+            # Read as the frame keeps them (RGB without alpha): a channel slice would cost a copy.
+            raw = self._read(self.fbo, 0, 3, "f1", np.uint8)
         class_id = self._read(self.fbo, 1, 1, "u2", np.uint16)[..., 0]
         instance = self._read(self.fbo, 2, 1, "u2", np.uint16)[..., 0]
         depth = self._read(self.fbo, 3, 1, "f4", np.float32)[..., 0]
@@ -528,14 +536,17 @@ class FrameRenderer:
         return labels
 
     def render_rgb(self, labels: Frame) -> Frame:
-        """``labels`` (what ``render_labels`` returned last) with its RGB modality: the frame's
-        supersampled colour, post-processed (motion blur, reflections, occlusion, grading)."""
+        """``labels`` (what ``render_labels`` returned last) with its RGB modalities: the
+        frame's supersampled colour (raw RGB), post-processed (motion blur, reflections,
+        occlusion, grading)."""
         done = self._labelled
         if done is None or done.labels is not labels:
             raise ValueError("render_rgb finishes the frame render_labels returned last")
+        raw = labels.colour
         if self.fbo_ss is not None:
             self._supersample(done.n_indices, done.intrinsics, done.rain)
-        return replace(labels, rgb=self._post(done.intrinsics, done.cam_to_world))
+            raw = self._read(self.resolve_fbo, 0, 3, "f1", np.uint8)
+        return replace(labels, colour=raw, rgb=self._post(done.intrinsics, done.cam_to_world))
 
     def _shadow_pass(self) -> None:
         """The sun's depth map of this frame's shadow casters."""
@@ -636,11 +647,9 @@ class FrameRenderer:
         ctx.viewport = (0, 0, w, h)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         self.colour_ss.use(location=1)
-        self.colour_1x.use(location=2)
         self.depth_tex.use(location=3)
         self.flow_tex.use(location=4)
         _set(q, "colour_ss", 1)
-        _set(q, "colour_1x", 2)
         _set(q, "depth_1x", 3)
         _set(q, "flow_1x", 4)
         _set(q, "intrinsics", tuple(float(x) for x in intrinsics))
@@ -681,6 +690,20 @@ def _sun_matrix(sun_dir: np.ndarray, focus: np.ndarray) -> np.ndarray:
 _VERTEX_DTYPE = np.dtype([("pos", "<f4", 3), ("normal", "<f4", 3), ("ids", "<u4", 4), ("bones", "<u4", 4),
                           ("weights", "<f4", 4), ("colour", "<f4", 3), ("emission", "<f4", 3),
                           ("uv", "<f4", 3)])  # fmt: skip
+
+
+def _layout(vbo: moderngl.Buffer, program: moderngl.Program) -> list[tuple]:
+    """The vertex buffer's layout for ``program``: each ``_VERTEX_DTYPE`` field as its
+    ``in_<field>`` attribute, skipped as padding where the program's build does not read it."""
+    formats, names = [], []
+    for name in _VERTEX_DTYPE.names:
+        base, shape = _VERTEX_DTYPE[name].subdtype
+        if f"in_{name}" in program:
+            formats.append(f"{shape[0]}{'f' if base.kind == 'f' else 'u'}")
+            names.append(f"in_{name}")
+        else:
+            formats.append(f"{base.itemsize * shape[0]}x")
+    return [(vbo, " ".join(formats), *names)]
 
 
 def linear_colour(colour) -> np.ndarray:

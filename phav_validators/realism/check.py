@@ -182,9 +182,10 @@ def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, ta
 
     Our class c judged as m: its IoU is |c ∩ m| / |c ∪ (m outside every class judged as m)|,
     so that a bench judged as chair is not blamed for the chairs beside it. Per judge class,
-    the plain IoU against the union of our classes judged as it (mIoU over those present)."""
+    the plain IoU against the union of our classes judged as it (mIoU over those present).
+    The judge's answers merged into m (``JudgeClasses.merged``) count as m."""
     for m, ours in _judged_groups(judge.judge).items():
-        said = labels == judge.label_id(m)
+        said = np.isin(labels, judge.answer_ids(m))
         truth = np.isin(classes, [i for ids in ours.values() for i in ids])
         extra = float((said & ~truth).sum())
         if truth.any():

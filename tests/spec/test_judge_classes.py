@@ -39,3 +39,18 @@ def test_a_bench_is_judged_as_a_chair_and_a_truck_by_its_judge():
     assert PASCAL_VOC.judged_as["bench"] == "chair" and "bench" in CITYSCAPES.not_judged
     assert PASCAL_VOC.judged_as["truck"] == "car" and CITYSCAPES.judged_as["truck"] == "truck"
     assert CITYSCAPES.judged_as["tree"] == "vegetation" and "tree" in PASCAL_VOC.not_judged
+
+
+@pytest.mark.parametrize("judge", list(JUDGE_CLASSES.values()), ids=list(JUDGE_CLASSES))
+def test_a_merged_judge_class_counts_as_one_of_ours_and_is_nothing_else(judge):
+    judged = set(judge.judged_as.values())
+    for finer, coarser in judge.merged.items():
+        assert finer in judge.labels and coarser in judged and finer not in judged
+        assert judge.label_id(finer) in judge.answer_ids(coarser)
+    assert all(judge.answer_ids(m)[0] == judge.label_id(m) for m in judged)
+
+
+def test_cityscapes_sidewalk_is_the_papers_road():
+    assert CITYSCAPES.answer_ids("road") == (CITYSCAPES.label_id("road"), CITYSCAPES.label_id("sidewalk"))
+    assert CITYSCAPES.answer_ids("building") == (CITYSCAPES.label_id("building"),)
+    assert PASCAL_VOC.merged == {}

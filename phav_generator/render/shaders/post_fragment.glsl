@@ -1,6 +1,5 @@
 
-uniform sampler2D colour_ss;   // supersampled (resolved) colour, linear filtering
-uniform sampler2D colour_1x;   // raw colour; alpha = reflectivity
+uniform sampler2D colour_ss;   // raw colour (supersampled, resolved), linear filtering; alpha = reflectivity
 uniform sampler2D depth_1x;    // metres along the axis, inf = sky
 uniform sampler2D flow_1x;     // image-convention pixels, z = valid
 uniform vec4 intrinsics;
@@ -52,7 +51,7 @@ void main() {
 #endif
     float d = depth_at(px);
 #if SSR
-    float reflectivity = texture(colour_1x, uv).a;
+    float reflectivity = texture(colour_ss, uv).a;
     if (reflectivity > 0.01 && d < 1e30) {
         vec3 p = cam_point(px, d);
         vec3 r = reflect(normalize(p), normalize(up_cam));

@@ -71,6 +71,19 @@ vec3 ripples(vec2 q) {
 }
 
 void main() {
+    out_class = v_class;
+    out_instance = v_instance;
+    out_depth = v_depth;
+    if (v_clip1.w > 1e-6) {
+        vec2 window1 = (v_clip1.xy / v_clip1.w * 0.5 + 0.5) * size;
+        vec2 d = window1 - gl_FragCoord.xy;
+        out_flow = vec4(d.x, -d.y, 1.0, 0.0);  // image rows grow downwards
+    } else {
+        out_flow = vec4(0.0);  // behind the camera at t + 1: invalid
+    }
+#if !COLOUR
+    out_colour = vec4(0.0);  // labels only: the supersampled passes shade the raw colour
+#else
     vec3 n = normalize(v_normal);
     if (!gl_FrontFacing) n = -n;
     if (v_material == 2) n = ripples(v_world.xy);
@@ -122,14 +135,5 @@ void main() {
 #endif
     c = mix(c, fog_colour, 1.0 - exp(-fog_per_m * v_depth));
     out_colour = vec4(tone(c), reflectivity);
-    out_class = v_class;
-    out_instance = v_instance;
-    out_depth = v_depth;
-    if (v_clip1.w > 1e-6) {
-        vec2 window1 = (v_clip1.xy / v_clip1.w * 0.5 + 0.5) * size;
-        vec2 d = window1 - gl_FragCoord.xy;
-        out_flow = vec4(d.x, -d.y, 1.0, 0.0);  // image rows grow downwards
-    } else {
-        out_flow = vec4(0.0);  // behind the camera at t + 1: invalid
-    }
+#endif
 }

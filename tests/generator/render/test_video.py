@@ -78,9 +78,9 @@ def test_rgb_warped_by_the_flow_matches_the_next_frame_on_static_pixels(ctx):
 
 
 def test_the_recipes_render_settings_reach_the_renderer(ctx):
-    """θ's ``render`` section, carried by each recipe, decides the RGB modality: one sample a
-    pixel or every post effect off changes it; labels, depth, flow and raw RGB (one sample,
-    before post) stay identical to the bit."""
+    """θ's ``render`` section, carried by each recipe, decides the RGB modalities: one sample
+    a pixel or every post effect off changes the RGB; the raw RGB (the samples' mean, before
+    post) changes with the samples only; labels, depth and flow stay identical to the bit."""
     base = recipe_for("walk", "urban", seconds=0.2, variation="none")
     assert base.render.supersampling == 2
     one_sample = base.model_copy(update={"render": base.render.model_copy(update={"supersampling": 1})})
@@ -91,6 +91,11 @@ def test_the_recipes_render_settings_reach_the_renderer(ctx):
             (("base", base), ("one_sample", one_sample), ("plain", plain))}  # fmt: skip
     for name in ("one_sample", "plain"):
         for a, b in zip(runs["base"], runs[name], strict=True):
-            for m in ("raw_rgb", "semantic", "instance", "depth", "flow"):
+            for m in ("semantic", "instance", "depth", "flow"):
                 assert np.array_equal(a[m], b[m]), (name, m)
         assert not all(np.array_equal(a["rgb"], b["rgb"]) for a, b in zip(runs["base"], runs[name], strict=True))
+    pairs = {name: list(zip(runs["base"], runs[name], strict=True)) for name in ("one_sample", "plain")}
+    assert all(np.array_equal(a["raw_rgb"], b["raw_rgb"]) for a, b in pairs["plain"])
+    # One sample a pixel: the same picture, its edges aliased rather than averaged.
+    diffs = [np.abs(a["raw_rgb"].astype(int) - b["raw_rgb"].astype(int)) for a, b in pairs["one_sample"]]
+    assert all(d.max() > 0 for d in diffs) and np.mean([d.mean() for d in diffs]) < 3.0

@@ -136,8 +136,11 @@ def test_the_later_materials_reach_the_shader(ctx):
     plain = _plain_quad_frame(ctx, Material.PLAIN)
     grass = _plain_quad_frame(ctx, Material.GRASS)
     top = plain.class_id == PIXEL_CLASSES["terrain"].class_id
-    pairs = top[:, 1:] & top[:, :-1]
-    assert pairs.sum() > 1000
+    # Inside the slab: the raw colour is anti-aliased, so its edge pixels blend in the sky.
+    inner = top.copy()
+    inner[1:-1, 1:-1] &= top[:-2, 1:-1] & top[2:, 1:-1] & top[1:-1, :-2] & top[1:-1, 2:]
+    pairs = inner[:, 1:] & inner[:, :-1]
+    assert pairs.sum() > 500
 
     def grain(frame) -> float:  # mean colour step between neighbouring pixels of the slab
         c = frame.colour.astype(np.float64)

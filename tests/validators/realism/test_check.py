@@ -17,6 +17,7 @@ from phav_validators.realism.check import (
     HEADLINES,
     RealismOptions,
     Tally,
+    judge_world,
     parse_minimums,
     realism_check,
     run_realism,
@@ -89,6 +90,23 @@ def test_a_ratio_is_of_sums_over_videos_with_a_seeded_interval():
     assert fig.value == pytest.approx(15 / 25) and fig.videos == 3 and fig.count == 25
     assert fig.low < fig.value < fig.high
     assert tally.figure("x", seed=0) == fig and tally.figure("y", seed=0) is None
+
+
+def test_a_judges_answer_merged_into_a_class_counts_as_it():
+    from phav_spec.judge_classes import CITYSCAPES
+    from phav_spec.vocab import PIXEL_CLASSES
+
+    road, building = PIXEL_CLASSES["road"].class_id, PIXEL_CLASSES["building"].class_id
+    classes = np.full((4, 4), road, np.uint8)
+    classes[:, 3] = building
+    answers = np.full((4, 4), CITYSCAPES.label_id("road"))
+    answers[:2, :3] = CITYSCAPES.label_id("sidewalk")  # pavement, to the judge
+    answers[:, 3] = CITYSCAPES.label_id("sidewalk")  # a building called sidewalk stays wrong
+    tally = Tally()
+    judge_world(answers, classes, CITYSCAPES, tally, "v", ("all",))
+    assert tally.figure("recall|cityscapes|road|all", seed=0).value == 1.0
+    assert tally.figure("iou|cityscapes|road|all", seed=0).value == pytest.approx(12 / 16)
+    assert tally.figure("recall|cityscapes|building|all", seed=0).value == 0.0
 
 
 def _person(facing_deg: float) -> dict:
