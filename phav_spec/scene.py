@@ -361,12 +361,22 @@ class EnvironmentScene:
                 )
 
     @property
+    def room_colliders(self) -> tuple[Collider, ...]:
+        """Indoors, the colliders of the room (its walls and what stands within them), not the
+        garden its windows look out on (``GARDEN_CLASSES``); outdoors, all of them."""
+        if not self.indoor:
+            return self.colliders
+        return tuple(c for c in self.colliders if c.pixel_class not in GARDEN_CLASSES)
+
+    @property
     def ground_pixel_class(self) -> str:
         """The pixel class of the ground plane."""
         return "floor" if self.indoor else "terrain"
 
 
 _OUTDOOR_BASE = ("sky", "terrain", "misc")
+#: The classes of what an indoor scene's windows look out on (outside its walls).
+GARDEN_CLASSES = ("terrain", "vegetation", "tree", "building")
 
 
 def _grid(xs: tuple[float, ...], ys: tuple[float, ...], z: float = 0.0) -> tuple[Vec3, ...]:
@@ -640,7 +650,44 @@ def _house_colliders() -> tuple[Collider, ...]:
         _box("chair", 7.1, -5.65, 0.0, 0.45, 0.45, 0.9),
     )
     staircase = _steps("stairs", 8.85, 4.1, 0.0, 1.3, 0.3, 0.2, 13, 90.0)  # up the east wall to y = 8
-    return shell + living + sleeping + kitchen + staircase
+    return (
+        shell + living + sleeping + kitchen + staircase + _garden_colliders(x0 - 0.25, y0 - 0.25, x1 + 0.25, y1 + 0.25)
+    )
+
+
+def _garden_colliders(x0: float, y0: float, x1: float, y1: float) -> tuple[Collider, ...]:
+    # What the house's windows look out on, round its walls and the frames set in them
+    # ((x0, y0)–(x1, y1)): a lawn
+    # 2 cm above the floor's plane, hedges, trees and the neighbours' houses. Nobody walks
+    # there; the renderer draws it from these boxes as it draws every other place.
+    r = 40.0
+    lawn = (
+        _flat("terrain", 0.0, (-r + y0) / 2, 0.02, 2 * r, y0 + r),
+        _flat("terrain", 0.0, (y1 + r) / 2, 0.02, 2 * r, r - y1),
+        _flat("terrain", (-r + x0) / 2, (y0 + y1) / 2, 0.02, x0 + r, y1 - y0),
+        _flat("terrain", (x1 + r) / 2, (y0 + y1) / 2, 0.02, r - x1, y1 - y0),
+    )
+    # The hedges stand far enough out that the lawn shows under a window's sill from the room.
+    hedges = (
+        _box("vegetation", 0.0, -25.0, 0.02, 36.0, 0.9, 1.5),
+        _box("vegetation", 3.0, 26.0, 0.02, 34.0, 0.9, 1.5),
+        _box("vegetation", 26.0, 0.0, 0.02, 0.9, 30.0, 1.5),
+    )
+    trees = (
+        *_tree(-7.0, -19.0, 0.02, 7.0, 3.0),
+        *_tree(6.0, -21.0, 0.02, 8.0, 3.5),
+        *_tree(1.0, 20.0, 0.02, 7.0, 3.0),
+        *_tree(12.0, 21.0, 0.02, 6.0, 2.5),
+        *_tree(20.0, -6.0, 0.02, 7.0, 3.0),
+        *_tree(21.0, 7.0, 0.02, 6.0, 2.5),
+        *_tree(-18.0, -6.0, 0.02, 7.0, 3.0),
+    )
+    neighbours = (
+        _box("building", 0.0, -33.0, 0.02, 14.0, 9.0, 8.5),
+        _box("building", 6.0, 34.0, 0.02, 12.0, 9.0, 8.5),
+        _box("building", 35.0, 0.0, 0.02, 9.0, 14.0, 8.5),
+    )
+    return lawn + hedges + trees + neighbours
 
 
 #: Environments in ENVIRONMENTS order; coordinates in metres, MuJoCo world frame (+Z up).
@@ -821,6 +868,12 @@ ENVIRONMENT_SCENES: Registry[EnvironmentScene] = Registry(
                     "screen",
                     "fridge",
                     "misc",
+                    # the garden seen through the windows
+                    "sky",
+                    "terrain",
+                    "vegetation",
+                    "tree",
+                    "building",
                 ),
                 protagonist_waypoints=(
                     (0.0, 0.0, 0.0),

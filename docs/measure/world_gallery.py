@@ -51,7 +51,7 @@ def drawables_of(built):
     """A built object's drawables, standing still."""
     if isinstance(built, Vehicle):
         return vehicle_drawables(built, _STILL), built.body
-    return [asset_drawable(built, _STILL, lamp_glow=(1.0, 0.8, 0.5), view_glow=(0.7, 0.8, 0.9))], built
+    return [asset_drawable(built, _STILL, lamp_glow=(1.0, 0.8, 0.5))], built
 
 
 def main() -> None:

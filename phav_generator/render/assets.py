@@ -11,7 +11,7 @@ import numpy as np
 from phav_generator.motion.rotations import look_at
 from phav_generator.render.gl import EMISSIVE, GROUND, MATTE, Drawable, FrameRenderer, PartLook
 from phav_generator.render.meshes import Mesh
-from phav_generator.world.parts import LAMP_GLOW, VIEW_GLOW, Asset
+from phav_generator.world.parts import LAMP_GLOW, Asset
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.vocab import PIXEL_CLASSES
 
@@ -24,13 +24,12 @@ def asset_mesh(asset: Asset) -> Mesh:
     return Mesh(asset.positions, asset.normals, asset.triangles)
 
 
-def asset_look(asset: Asset, *, lamp_glow=(0.0, 0.0, 0.0), view_glow=(0.0, 0.0, 0.0)) -> PartLook:
-    """An asset's per-vertex look: parts that glow are emissive (lamps with ``lamp_glow``,
-    windows with ``view_glow``, the light outside), ground classes get wet."""
+def asset_look(asset: Asset, *, lamp_glow=(0.0, 0.0, 0.0)) -> PartLook:
+    """An asset's per-vertex look: parts that glow are emissive (lamps with ``lamp_glow``),
+    ground classes get wet."""
     glowing = asset.glow != 0
     emission = np.zeros((len(asset.glow), 3), dtype=np.float32)
     emission[asset.glow == LAMP_GLOW] = lamp_glow
-    emission[asset.glow == VIEW_GLOW] = view_glow
     lit = glowing & (emission.max(axis=1) > 0.0)
     surfaces = np.where(np.isin(asset.class_ids, _WET_IDS), GROUND, MATTE).astype(np.uint8)
     surfaces[lit] = EMISSIVE

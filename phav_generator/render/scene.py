@@ -132,8 +132,8 @@ def _person(track: PersonTrack, human: HumanSpec, trajectory: Trajectory) -> lis
 def _upper_storey(env: EnvironmentScene, n: int) -> list[Drawable]:
     """The storey above an interior: walls and a ceiling around the whole house, so a
     stairwell shows the floor above, never the sky."""
-    lo = np.min([np.array(c.center) - np.array(c.half_size) for c in env.colliders], axis=0)
-    hi = np.max([np.array(c.center) + np.array(c.half_size) for c in env.colliders], axis=0)
+    lo = np.min([np.array(c.center) - np.array(c.half_size) for c in env.room_colliders], axis=0)
+    hi = np.max([np.array(c.center) + np.array(c.half_size) for c in env.room_colliders], axis=0)
     mid, half = (hi + lo) / 2, (hi - lo) / 2
     top = hi[2] + _UPPER_STOREY_M
     z, hz = (hi[2] + top) / 2 - 0.2, (top - hi[2]) / 2 + 0.2
@@ -157,7 +157,7 @@ def build_drawables(
     assets: bool = True,
 ) -> list[Drawable]:
     """Everything the camera may see in this video, static world first (lamps glow when
-    ``lighting`` switches them on; windows show its sky, through the fog when there is fog);
+    ``lighting`` switches them on);
     ``people=False`` leaves the people out, ``assets=False`` draws the objects and places
     as their colliders' boxes on a plain ground and the props as their physics shapes (the
     bench measures what each costs)."""
@@ -174,7 +174,6 @@ def build_drawables(
         out = [_static(ground_mesh, eye, env.ground_pixel_class, n, pattern=SPECKLE)]
     focal = trajectory.intrinsics[1]
     eyes = trajectory.cam_to_world[:, :3, 3]
-    view = tuple(0.9 * x for x in lighting.fog_colour) if lighting is not None else (0.0, 0.0, 0.0)
     for i, c in enumerate(env.colliders):
         pose = _pose(yaw_matrix(np.deg2rad(c.yaw_deg)), c.center)
         level = _level_along(np.array(c.center)[None], float(np.linalg.norm(c.half_size)), eyes, focal)
@@ -183,7 +182,7 @@ def build_drawables(
             out += vehicle_drawables(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow)
             continue
         if asset is not None:
-            out.append(asset_drawable(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow, view_glow=view))
+            out.append(asset_drawable(asset, np.broadcast_to(pose, (n, 4, 4)), lamp_glow=glow))
             continue
         out.append(_static(box(c.half_size), pose, c.pixel_class, n))
     if env.indoor:

@@ -9,8 +9,10 @@ from collections.abc import Callable
 
 import numpy as np
 
+from phav_generator.world import materials as looks
 from phav_generator.world.materials import FABRICS, LEATHERS, WOODS, Material, pick
-from phav_generator.world.parts import LAMP_GLOW, VIEW_GLOW, Asset, Parts, rotation, transform_points
+from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, rotation, transform_points
+from phav_generator.world.places import Opening, Quads, box_faces, holed, level_rect, rect
 
 Axis = tuple[float, float]  # (x, y) unit vector in the box's frame
 
@@ -326,21 +328,74 @@ def lamp(half, rng: np.random.Generator, level: int = 0) -> Asset:
 
 
 def window(half, rng: np.random.Generator, level: int = 0) -> Asset:
-    """A window through a wall: a white frame, a sill, mullions and panes that show the light
-    outside (``VIEW_GLOW``)."""
+    """An open window through a wall: a white frame lining the opening (head, sill, jambs)
+    and a mullion and transom; no pane, so what is outside is seen, and labelled, as itself."""
     hz = half[2]
     p = Parts(level)
     white = (0.93, 0.93, 0.91)
     L, T, _, box = _lengthwise(p, half)
     f = 0.06
-    for sgn in (-1.0, 1.0):  # a pane near each face: the box runs through a thinner wall
-        y0, y1 = sorted((sgn * (T - 0.03), sgn * (T - 0.02)))
-        box(f"pane{sgn:+.0f}", "window", Material.GLASS, (0.6, 0.65, 0.7), (-L + f, y0, -hz + f), (L - f, y1, hz - f),
-            glow=VIEW_GLOW)  # fmt: skip
+    transom = -hz + 0.68 * 2 * hz
     for name, lo, hi in (("head", (-L, -T, hz - f), (L, T, hz)), ("sill", (-L, -T, -hz), (L, T, -hz + f)),
                          ("jamb_l", (-L, -T, -hz), (-L + f, T, hz)), ("jamb_r", (L - f, -T, -hz), (L, T, hz)),
-                         ("mullion", (-0.025, -T, -hz), (0.025, T, hz))):  # fmt: skip
+                         ("mullion", (-0.025, -0.03, -hz), (0.025, 0.03, hz)),
+                         ("transom", (-L, -0.03, transom - 0.025), (L, 0.03, transom + 0.025))):  # fmt: skip
         box(name, "window", Material.PLASTIC, white, lo, hi)
+    return p.build()
+
+
+#: A room's skirting board: its height and how far it stands proud of the wall (m); the
+#: wall's surface is set back this far into its box so the board stays inside it.
+SKIRTING_M = (0.1, 0.012)
+
+
+def wall_look(rng: np.random.Generator) -> tuple[Material, tuple[float, float, float]]:
+    """A room's walls: painted (two rooms in three) or papered."""
+    if float(rng.random()) < 0.35:
+        return Material.WALLPAPER, pick(looks.WALLPAPERS, rng)
+    return Material.PLASTER, pick(looks.WALL_PAINTS, rng)
+
+
+def room_wall(half, rng: np.random.Generator, level: int = 0, *, inside: Axis, openings: list[Opening],
+              look: tuple[Material, tuple[float, float, float]]) -> Asset:  # fmt: skip
+    """A room's wall filling its box: the face towards ``inside`` (an axis of the box's
+    frame) in ``look`` above a painted skirting board, the face away from it rendered, both
+    cut around ``openings`` (along the inner face from its left end seen from the room, up
+    from the box's bottom; their frames, a window's or a door's own collider, line them)."""
+    hz = half[2]
+    p = Parts(level)
+    q = Quads()
+    faces = box_faces(half)
+    inner = next(f for f in faces if float(f.normal[:2] @ np.array(inside)) > 0.5)
+    outer = next(f for f in faces if float(f.normal[:2] @ np.array(inside)) < -0.5)
+    material, colour = look
+    skirt_h, proud = SKIRTING_M
+    holed(q, inner, openings, "wall", "misc", material, colour, z_base=skirt_h, depth=proud)
+    board = (0.93, 0.92, 0.89)
+    doors = sorted((o.s0, o.s1) for o in openings if o.z0 < skirt_h)
+    s = 0.0
+    for s0, s1 in [*doors, (inner.width, inner.width)]:
+        rect(q, inner, "skirting", "misc", Material.WOOD, board, s, s0, 0.0, skirt_h)
+        if s0 - s > 1e-9:
+            a, b = inner.at(s, skirt_h), inner.at(s0, skirt_h)
+            q.add("skirting", "misc", Material.WOOD, board, [a, b, b - proud * inner.normal, a - proud * inner.normal],
+                  (0.0, 0.0, 1.0))  # fmt: skip
+        s = max(s, s1)
+    mirrored = [Opening(outer.width - o.s1, outer.width - o.s0, o.z0, o.z1) for o in openings]
+    holed(q, outer, mirrored, "outside", "misc", Material.PLASTER, (0.86, 0.84, 0.80))
+    for f in faces:
+        if f is not inner and f is not outer:  # the ends, under the walls across them
+            rect(q, f, "end", "misc", Material.PLASTER, colour, 0.0, f.width, 0.0, f.height)
+    hx, hy = half[0], half[1]
+    q.add("top", "misc", Material.PLASTER, colour, level_rect(-hx, -hy, hx, hy, hz), (0.0, 0.0, 1.0))
+    q.into(p)
+    return p.build()
+
+
+def ceiling(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A ceiling slab filling its box, in white paint (its underside is what the room sees)."""
+    p = Parts(level)
+    p.box("slab", "ceiling", Material.PLASTER, (0.92, 0.92, 0.90), (0.0, 0.0, 0.0), tuple(half))
     return p.build()
 
 

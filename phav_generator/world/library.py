@@ -27,15 +27,15 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 2
+WORLD_LIBRARY_VERSION = 3
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
     "chair", "table", "sofa", "bed", "shelf", "screen", "fridge", "fireplace", "lamp", "window", "door", "curtain",
-    "building", "tree", "vegetation", "road", "terrain",
+    "building", "tree", "vegetation", "road", "terrain", "misc", "ceiling",
 )  # fmt: skip
 #: Of those, the places (``places``); the rest are the objects.
-PLACE_CLASSES: tuple[str, ...] = ("building", "tree", "vegetation", "road", "terrain")
+PLACE_CLASSES: tuple[str, ...] = ("building", "tree", "vegetation", "road", "terrain", "misc", "ceiling")
 #: A pole at least this tall (m) is a floodlight mast; a pole collider this far above the
 #: ground is a floodlight's head.
 MAST_M = 15.0
@@ -89,9 +89,9 @@ def _local(c: Collider, direction: np.ndarray) -> tuple[float, float]:
 
 
 def _room(env_name: str) -> tuple[float, float, float, float]:
-    """An environment's footprint (x0, y0, x1, y1) over all its colliders."""
+    """An environment's footprint (x0, y0, x1, y1) over its room's colliders (outdoors, all)."""
     env = ENVIRONMENT_SCENES[env_name]
-    corners = np.array([pt for c in env.colliders for pt in c.footprint()])
+    corners = np.array([pt for c in env.room_colliders for pt in c.footprint()])
     return (
         float(corners[:, 0].min()),
         float(corners[:, 1].min()),
@@ -107,6 +107,15 @@ def _away_from_wall(env_name: str, c: Collider) -> np.ndarray:
     gaps = {(1.0, 0.0): pts[:, 0].min() - x0, (-1.0, 0.0): x1 - pts[:, 0].max(),
             (0.0, 1.0): pts[:, 1].min() - y0, (0.0, -1.0): y1 - pts[:, 1].max()}  # fmt: skip
     return np.array(min(gaps, key=lambda k: (gaps[k], k)))
+
+
+def _into_room(env_name: str, wall: Collider) -> tuple[float, float]:
+    """The axis across ``wall`` (its thinner one, in its frame) that points into the room."""
+    x0, y0, x1, y1 = _room(env_name)
+    lx, ly = wall.to_local((x0 + x1) / 2, (y0 + y1) / 2)
+    if wall.half_size[0] < wall.half_size[1]:
+        return (math.copysign(1.0, lx), 0.0)
+    return (0.0, math.copysign(1.0, ly))
 
 
 def _towards_table(env_name: str, c: Collider) -> np.ndarray:
@@ -131,6 +140,22 @@ def _towards_road(env_name: str, c: Collider) -> tuple[float, float] | None:
     yaw = math.radians(near.yaw_deg)
     side = -math.copysign(1.0, across)  # from the building back across to the road
     return _local(c, np.array([-math.sin(yaw) * side, math.cos(yaw) * side]))
+
+
+def _openings(env_name: str, wall: Collider, inside: tuple[float, float]) -> list[places.Opening]:
+    """The windows and doors set into ``wall``, as openings of its face towards ``inside``
+    (along it from its left end seen from the room, up from the wall's bottom)."""
+    env = ENVIRONMENT_SCENES[env_name]
+    normal = np.array([inside[0], inside[1], 0.0])
+    along = np.cross(places.UP, normal)[:2]
+    width = 2.0 * float(abs(along @ np.array(wall.half_size[:2])))
+    out = []
+    for o in env.colliders:
+        if o.pixel_class not in ("window", "door") or not wall.contains_xy(o.center[0], o.center[1]):
+            continue
+        s = [float(along @ np.array(wall.to_local(x, y))) + width / 2 for x, y in o.footprint()]
+        out.append(places.Opening(max(min(s), 0.0), min(max(s), width), o.bottom - wall.bottom, o.top - wall.bottom))
+    return sorted(out, key=lambda o: (o.s0, o.z0))
 
 
 def _stands_on_pole(env_name: str, c: Collider) -> bool:
@@ -208,6 +233,13 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
         return interiors.bed(half, rng, level, head=_local(c, -_away_from_wall(env_name, c)))
     if cls == "lamp":
         return interiors.lamp(half, rng, level)
+    if cls == "misc":  # a room's wall, cut round its windows and doors
+        inside = _into_room(env_name, c)
+        walls = look_stream(env_name, "walls", look_seed)
+        return interiors.room_wall(half, rng, level, inside=inside, openings=_openings(env_name, c, inside),
+                                   look=interiors.wall_look(walls))  # fmt: skip
+    if cls == "ceiling":
+        return interiors.ceiling(half, rng, level)
     if cls in ("window", "door", "curtain"):
         return {"window": interiors.window, "door": interiors.door, "curtain": interiors.curtain}[cls](half, rng, level)
     if cls == "building":
@@ -236,7 +268,7 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
 
 
 #: The building style of each environment with buildings (``places.STYLES``).
-_BUILDING_STYLES = {"urban": "urban", "middle": "suburban", "stadium": "stadium"}
+_BUILDING_STYLES = {"urban": "urban", "middle": "suburban", "stadium": "stadium", "house_interior": "suburban"}
 #: A tree collider narrower than this (half width, m) is its trunk; wider, its crown.
 TRUNK_HALF_M = 0.5
 
@@ -356,6 +388,22 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "window": (lambda rng, lv: interiors.window((1.0, 0.15, 0.7), rng, lv), (100, 100, 100)),
     "door": (lambda rng, lv: interiors.door((0.15, 0.5, 1.05), rng, lv), (150, 150, 60)),
     "curtain": (lambda rng, lv: interiors.curtain((0.25, 0.05, 1.2), rng, lv), (100, 100, 50)),
+    "room_wall": (
+        lambda rng, lv: interiors.room_wall(
+            (8.95, 0.1, 1.4),
+            rng,
+            lv,
+            inside=(0.0, 1.0),
+            openings=[
+                places.Opening(1.0, 2.0, 0.0, 2.1),
+                places.Opening(3.5, 5.5, 0.9, 2.3),
+                places.Opening(10.0, 12.0, 0.9, 2.3),
+            ],
+            look=interiors.wall_look(rng),
+        ),
+        (200, 200, 200),
+    ),
+    "ceiling": (lambda rng, lv: interiors.ceiling((8.0, 7.95, 0.1), rng, lv), (12, 12, 12)),
     "step": (lambda rng, lv: interiors.step((0.15, 0.65, 0.5), rng, lv), (24, 24, 24)),
     "ball": (lambda rng, lv: props.ball(0.11, rng, lv), (600, 300, 120)),
     "baseball_bat": (lambda rng, lv: props.bat(0.03, 0.42, rng, lv), (300, 200, 120)),

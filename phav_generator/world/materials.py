@@ -37,6 +37,7 @@ class Material(IntEnum):
     BARK = 21  # furrows along the trunk
     TILES = 22  # roof tiles: courses along the slope
     PITCH = 23  # mown grass: stripes across the pitch
+    WALLPAPER = 24  # printed paper: stripes of two tones and a fine print, seams between its lengths
 
 
 #: Car paints, display colours weighted towards what parks on real streets (white, grey,
@@ -63,6 +64,11 @@ PLASTERS: tuple[RGB, ...] = ((0.86, 0.80, 0.68), (0.90, 0.89, 0.85), (0.66, 0.65
                              (0.70, 0.76, 0.80), (0.78, 0.70, 0.64))  # fmt: skip
 BRICKS: tuple[RGB, ...] = ((0.55, 0.25, 0.17), (0.45, 0.30, 0.22), (0.78, 0.66, 0.45))
 ROOFS: tuple[RGB, ...] = ((0.22, 0.22, 0.24), (0.52, 0.22, 0.14), (0.36, 0.26, 0.20))
+#: A room's walls: paints (white, warm white, grey, sage, pale blue, ochre) and wallpapers.
+WALL_PAINTS: tuple[RGB, ...] = ((0.90, 0.89, 0.86), (0.88, 0.84, 0.76), (0.72, 0.72, 0.70), (0.66, 0.72, 0.62),
+                                (0.68, 0.76, 0.82), (0.84, 0.72, 0.50))  # fmt: skip
+WALLPAPERS: tuple[RGB, ...] = ((0.80, 0.74, 0.62), (0.62, 0.70, 0.66), (0.74, 0.62, 0.60), (0.64, 0.66, 0.76),
+                               (0.86, 0.84, 0.78))  # fmt: skip
 #: Foliage: broadleaf, conifer, birch greens; bark: brown-grey, dark, birch white.
 LEAF_GREENS: tuple[RGB, ...] = ((0.20, 0.36, 0.10), (0.12, 0.26, 0.10), (0.22, 0.38, 0.13))
 BARKS: tuple[RGB, ...] = ((0.30, 0.25, 0.20), (0.22, 0.18, 0.15), (0.82, 0.80, 0.76))

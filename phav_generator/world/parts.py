@@ -18,8 +18,8 @@ from phav_spec.vocab import PIXEL_CLASSES
 
 Vec3 = tuple[float, float, float]
 
-#: What a part's surface gives off: nothing, the lamps' light, or the view through a window.
-NO_GLOW, LAMP_GLOW, VIEW_GLOW = 0, 1, 2
+#: What a part's surface gives off: nothing or the lamps' light.
+NO_GLOW, LAMP_GLOW = 0, 1
 #: Segments round a curved part at each level of detail (0 the finest).
 ROUND_SEGMENTS = (16, 10, 6)
 LEVELS = len(ROUND_SEGMENTS)
@@ -37,7 +37,7 @@ class Asset:
     class_ids: np.ndarray  # (N,) uint16
     materials: np.ndarray  # (N,) uint8, Material values
     colours: np.ndarray  # (N, 3) float32
-    glow: np.ndarray  # (N,) uint8: NO_GLOW, LAMP_GLOW or VIEW_GLOW
+    glow: np.ndarray  # (N,) uint8: NO_GLOW or LAMP_GLOW
     parts: tuple[tuple[str, int, int, bool], ...]  # (name, first triangle, end, closed)
 
     @property

@@ -88,12 +88,12 @@ def box_faces(half, bottom: float | None = None, top: float | None = None) -> li
     return out
 
 
-def _level_rect(x0: float, y0: float, x1: float, y1: float, z: float) -> list[tuple[float, float, float]]:
+def level_rect(x0: float, y0: float, x1: float, y1: float, z: float) -> list[tuple[float, float, float]]:
     """The corners of a level rectangle at height ``z``."""
     return [(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]
 
 
-def _rect(q: Quads, face: Face, name: str, cls: str, material: Material, colour, s0, s1, z0, z1, depth=0.0) -> None:
+def rect(q: Quads, face: Face, name: str, cls: str, material: Material, colour, s0, s1, z0, z1, depth=0.0) -> None:
     """A rectangle on ``face`` from ``s0`` to ``s1`` along and ``z0`` to ``z1`` up, ``depth``
     in from it (nothing where it has no area: a row of openings flush with the wall's end)."""
     if s1 - s0 <= 1e-9 or z1 - z0 <= 1e-9:
@@ -110,6 +110,21 @@ class Opening:
     s1: float
     z0: float
     z1: float
+
+
+def holed(q: Quads, face: Face, openings: list[Opening], name: str, cls: str, material: Material, colour,
+          *, z_base: float = 0.0, depth: float = 0.0) -> None:  # fmt: skip
+    """``face`` from ``z_base`` up, ``depth`` in from it, with ``openings`` (which may overlap
+    in height, as a door beside a window does) left open: the face cut into bands at every
+    opening's top and bottom, each band's runs between openings one rectangle."""
+    zs = sorted({z_base, face.height, *(min(max(z, z_base), face.height) for o in openings for z in (o.z0, o.z1))})
+    for z0, z1 in itertools.pairwise(zs):
+        cut = sorted((o.s0, o.s1) for o in openings if o.z0 < z1 - 1e-9 and o.z1 > z0 + 1e-9)
+        s = 0.0
+        for s0, s1 in cut:
+            rect(q, face, name, cls, material, colour, s, s0, z0, z1, depth)
+            s = max(s, s1)
+        rect(q, face, name, cls, material, colour, s, face.width, z0, z1, depth)
 
 
 def _columns(width: float, bay: float, opening: float, margin: float) -> list[tuple[float, float]]:
@@ -133,21 +148,21 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
     for o in openings:
         rows.setdefault((o.z0, o.z1), []).append(o)
     if not recessed:
-        _rect(q, face, "wall", "building", material, colour, 0.0, face.width, z_base, face.height)
+        rect(q, face, "wall", "building", material, colour, 0.0, face.width, z_base, face.height)
     z = z_base
     for (z0, z1), row in sorted(rows.items()):
         if recessed:
-            _rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, z0)
+            rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, z0)
             s = 0.0
             for o in sorted(row, key=lambda o: o.s0):
-                _rect(q, face, "wall", "building", material, colour, s, o.s0, z0, z1)
+                rect(q, face, "wall", "building", material, colour, s, o.s0, z0, z1)
                 s = o.s1
-            _rect(q, face, "wall", "building", material, colour, s, face.width, z0, z1)
+            rect(q, face, "wall", "building", material, colour, s, face.width, z0, z1)
         z = z1
         for o in row:
             tint = pick(looks.WINDOW_TINTS, rng)
             depth = WINDOW_DEPTH_M if recessed else -0.01
-            _rect(q, face, "pane", "building", Material.GLASS, tint, o.s0, o.s1, o.z0, o.z1, depth)
+            rect(q, face, "pane", "building", Material.GLASS, tint, o.s0, o.s1, o.z0, o.z1, depth)
             if not recessed:
                 continue
             d = WINDOW_DEPTH_M
@@ -160,10 +175,10 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
             if p.level == 0:  # a frame: mullion and transom just in front of the pane
                 mid, bar = (o.s0 + o.s1) / 2, 0.03
                 t = o.z0 + 0.68 * (o.z1 - o.z0)
-                _rect(q, face, "frame", "building", Material.PLASTIC, frame, mid - bar, mid + bar, o.z0, o.z1, d - 0.02)
-                _rect(q, face, "frame", "building", Material.PLASTIC, frame, o.s0, o.s1, t - bar, t + bar, d - 0.02)
+                rect(q, face, "frame", "building", Material.PLASTIC, frame, mid - bar, mid + bar, o.z0, o.z1, d - 0.02)
+                rect(q, face, "frame", "building", Material.PLASTIC, frame, o.s0, o.s1, t - bar, t + bar, d - 0.02)
     if recessed:
-        _rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, face.height)
+        rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, face.height)
 
 
 #: A window's sill: the bottom of its opening.
@@ -224,17 +239,17 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
         facade(p, q, face, openings, wall, rng, frame=frame, recessed=recessed)
         if style == "urban" and face.width >= 4.0 and face.height >= 6.0:
             sign = (0.35 + 0.6 * float(rng.random()), 0.2 + 0.6 * float(rng.random()), 0.2 + 0.6 * float(rng.random()))
-            _rect(q, face, "sign", "building", Material.PLASTIC, sign, 0.5, face.width - 0.5, 3.3, 4.0, -0.01)
-            _rect(q, face, "cornice", "building", Material.CONCRETE, (0.80, 0.79, 0.75), 0.0, face.width,
+            rect(q, face, "sign", "building", Material.PLASTIC, sign, 0.5, face.width - 0.5, 3.3, 4.0, -0.01)
+            rect(q, face, "cornice", "building", Material.CONCRETE, (0.80, 0.79, 0.75), 0.0, face.width,
                   face.height - 0.5, face.height, -0.005)  # fmt: skip
         if style == "suburban" and street is not None and float(face.normal[:2] @ np.array(street)) > 0.5:
             mid = face.width / 2 + (face.width / 4 if face.width > 8 else 0.0)
             door = pick(looks.FRAMES, rng)
-            _rect(q, face, "door", "building", Material.WOOD, door, mid - 0.5, mid + 0.5, 0.0, 2.1, -0.01)
+            rect(q, face, "door", "building", Material.WOOD, door, mid - 0.5, mid + 0.5, 0.0, 2.1, -0.01)
     if style == "suburban":
         _gable_roof(q, half, -hz + 2 * storey, wall, pick(looks.ROOFS, rng))
     else:
-        q.add("roof", "building", Material.CONCRETE, (0.42, 0.42, 0.43), _level_rect(-hx, -hy, hx, hy, hz), UP)
+        q.add("roof", "building", Material.CONCRETE, (0.42, 0.42, 0.43), level_rect(-hx, -hy, hx, hy, hz), UP)
     q.into(p)
     return p.build()
 
@@ -387,14 +402,14 @@ def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tupl
     hx, hy, hz = half
     p = Parts(level)
     q = Quads()
-    q.add("top", cls, surface, colour, _level_rect(-hx, -hy, hx, hy, hz), UP)
+    q.add("top", cls, surface, colour, level_rect(-hx, -hy, hx, hy, hz), UP)
     side = Material.CONCRETE if cls == "road" else surface
     side_colour = (0.58, 0.57, 0.55) if cls == "road" else tuple(0.8 * c for c in colour)
     for face in box_faces(half):
-        _rect(q, face, "side", cls, side, side_colour, 0.0, face.width, 0.0, face.height)
+        rect(q, face, "side", cls, side, side_colour, 0.0, face.width, 0.0, face.height)
     z = hz + MARKING_M
     for x0, y0, x1, y1 in markings:
-        q.add("marking", cls, Material.CONCRETE, looks.MARKING_WHITE, _level_rect(x0, y0, x1, y1, z), UP)
+        q.add("marking", cls, Material.CONCRETE, looks.MARKING_WHITE, level_rect(x0, y0, x1, y1, z), UP)
     q.into(p)
     return p.build()
 
@@ -451,13 +466,13 @@ def ground(half_extent: float, z: float, *, indoor: bool, pitch: tuple[float, fl
     h = half_extent
     cls, (material, colour) = ("floor", (Material.WOOD, (0.55, 0.40, 0.26))) if indoor else ("terrain", GRASS)
     if pitch is None:
-        q.add("ground", cls, material, colour, _level_rect(-h, -h, h, h, z), UP)
+        q.add("ground", cls, material, colour, level_rect(-h, -h, h, h, z), UP)
     else:
         # the grass round the pitch, then the pitch itself mown in stripes, 3 m past its lines
         px, py = pitch[0] / 2 + 3.0, pitch[1] / 2 + 3.0
         for x0, y0, x1, y1 in ((-h, -h, h, -py), (-h, py, h, h), (-h, -py, -px, py), (px, -py, h, py)):
-            q.add("ground", cls, material, colour, _level_rect(x0, y0, x1, y1, z), UP)
-        q.add("pitch", cls, Material.PITCH, looks.GRASS_GREEN, _level_rect(-px, -py, px, py, z), UP)
+            q.add("ground", cls, material, colour, level_rect(x0, y0, x1, y1, z), UP)
+        q.add("pitch", cls, Material.PITCH, looks.GRASS_GREEN, level_rect(-px, -py, px, py, z), UP)
         for quad in pitch_lines(*pitch):
             q.add("line", cls, Material.PLAIN, looks.MARKING_WHITE, [(x, y, z + MARKING_M) for x, y in quad], UP)
     q.into(p)

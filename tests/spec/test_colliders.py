@@ -29,7 +29,9 @@ SUPPORT_TOLERANCE_M = 1e-3
 #: A background pedestrian's body: radius and height.
 BODY_RADIUS_M = 0.35
 BODY_HEIGHT_M = 1.8
-MAX_COLLIDERS = 60
+#: At most this many static boxes a scene (the house with its garden has 74): the physics
+#: broad phase and the renderer take one geom and one drawable each.
+MAX_COLLIDERS = 80
 
 #: Classes that need no collider: sky, the ground plane's classes, catch-all misc, and the
 #: vehicles, which drive (dynamic); parked cars may still be colliders.

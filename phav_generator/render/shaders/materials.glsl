@@ -124,5 +124,12 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         float tone = 0.85 + 0.25 * cell_noise(vec3(floor((p.x + p.y) / 0.3), course, 5.0), 1.0);
         return c * tone * (1.0 - 0.45 * joint(p.z, 0.18, 0.02, fw));
     }
+    if (pattern == 24) {  // wallpaper: stripes of two tones along any wall (x + y), a fine print, seams
+        float along = p.x + p.y;
+        float band = abs(fract(along / 0.16) - 0.5) * 0.16;  // metres from the nearest stripe's middle
+        float stripe = (1.0 - smoothstep(0.035, 0.035 + fw, band)) * clamp(2.0 - 2.0 * fw / 0.04, 0.0, 1.0);
+        float print = octave(vec3(along, 0.0, p.z), 70.0, fw);
+        return c * (1.0 - 0.12 * stripe + 0.12 * print) * (1.0 - 0.25 * joint(along, 0.53, 0.003, fw));
+    }
     return c;
 }

@@ -143,7 +143,7 @@ _TOUCHED = {"car": (0, 1, 2, 3, 5), "truck": (0, 1, 2, 3, 5), "bus": (0, 1, 2, 3
             "chair": (5,), "table": (0, 1, 2, 3, 4, 5), "sofa": (4, 5), "bed": (0, 1, 2, 3, 4),
             "stairs": (0, 1, 2, 3, 4, 5), "fridge": (4, 5), "shelf": (4, 5), "guard_rail": (0, 1, 4, 5),
             "fireplace": (4, 5), "building": (0, 1, 2, 3, 4, 5), "road": (0, 1, 2, 3, 5),
-            "terrain": (0, 1, 2, 3, 5)}  # fmt: skip
+            "terrain": (0, 1, 2, 3, 5), "misc": (0, 1, 2, 3, 4, 5), "ceiling": (0, 1, 2, 3, 4, 5)}  # fmt: skip
 
 FITTED = [(name, i) for name in ENVIRONMENT_SCENES.names for i in modelled_indices(name)]
 
