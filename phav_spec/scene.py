@@ -595,7 +595,18 @@ def _stadium_colliders() -> tuple[Collider, ...]:
         )
     )
     benches = (*_bench(-12.0, -31.5, g), *_bench(12.0, -31.5, g))  # the teams' benches
-    return north + south + sides + lights + benches
+    return north + south + sides + lights + benches + _goal(-50.0, g) + _goal(50.0, g)
+
+
+def _goal(x: float, g: float) -> tuple[Collider, ...]:
+    # A football goal on the goal line at x: 7.32 m between the posts, 2.44 m under the bar,
+    # 12 cm bars (no net: it would be a cut-out). Its pixels are misc.
+    w, h, bar = 7.32, 2.44, 0.12
+    return (
+        _box("misc", x, -(w + bar) / 2, g, bar, bar, h),
+        _box("misc", x, (w + bar) / 2, g, bar, bar, h),
+        _box("misc", x, 0.0, g + h - bar, bar, w, bar),
+    )
 
 
 def _house_colliders() -> tuple[Collider, ...]:

@@ -350,10 +350,11 @@ SKIRTING_M = (0.1, 0.012)
 
 
 def wall_look(rng: np.random.Generator) -> tuple[Material, tuple[float, float, float]]:
-    """A room's walls: painted (two rooms in three) or papered."""
+    """A room's walls: painted (two rooms in three; emulsion is flat, unlike a facade's
+    render) or papered."""
     if float(rng.random()) < 0.35:
         return Material.WALLPAPER, pick(looks.WALLPAPERS, rng)
-    return Material.PLASTER, pick(looks.WALL_PAINTS, rng)
+    return Material.PLAIN, pick(looks.WALL_PAINTS, rng)
 
 
 def room_wall(half, rng: np.random.Generator, level: int = 0, *, inside: Axis, openings: list[Opening],

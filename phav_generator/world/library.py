@@ -20,7 +20,8 @@ from functools import cache, lru_cache
 import numpy as np
 
 from phav_generator.world import interiors, places, props, street, vehicles
-from phav_generator.world.materials import Material
+from phav_generator.world import materials as looks
+from phav_generator.world.materials import Material, pick
 from phav_generator.world.parts import LEVELS, Asset, Parts
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.scene import ENVIRONMENT_SCENES, Collider
@@ -216,6 +217,9 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
     if cls in ("car", "truck", "bus"):
         return vehicle(cls, half, rng, level)
     if cls == "stairs":
+        if env_name == "stadium" and max(half[:2]) > 10.0 and min(half[:2]) <= 1.0:  # a stand's tier
+            seats = pick(looks.SEAT_COLOURS, look_stream(env_name, "seats", look_seed))
+            return places.tier(half, rng, level, front=_local(c, -np.array(c.center[:2])), seats=seats)
         return interiors.step(half, rng, level, indoor=env.indoor)
     if cls == "chair":
         return interiors.chair(half, rng, level, front=_local(c, _towards_table(env_name, c)))
@@ -233,6 +237,8 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
         return interiors.bed(half, rng, level, head=_local(c, -_away_from_wall(env_name, c)))
     if cls == "lamp":
         return interiors.lamp(half, rng, level)
+    if cls == "misc" and not env.indoor:  # a goal's post or crossbar
+        return places.goal_frame(half, rng, level)
     if cls == "misc":  # a room's wall, cut round its windows and doors
         inside = _into_room(env_name, c)
         walls = look_stream(env_name, "walls", look_seed)
@@ -404,6 +410,11 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
         (200, 200, 200),
     ),
     "ceiling": (lambda rng, lv: interiors.ceiling((8.0, 7.95, 0.1), rng, lv), (12, 12, 12)),
+    "stand_tier": (
+        lambda rng, lv: places.tier((30.0, 0.75, 1.0), rng, lv, front=(0.0, -1.0), seats=pick(looks.SEAT_COLOURS, rng)),
+        (12, 12, 12),
+    ),
+    "goal_bar": (lambda rng, lv: places.goal_frame((0.06, 0.06, 1.22), rng, lv), (80, 60, 30)),
     "step": (lambda rng, lv: interiors.step((0.15, 0.65, 0.5), rng, lv), (24, 24, 24)),
     "ball": (lambda rng, lv: props.ball(0.11, rng, lv), (600, 300, 120)),
     "baseball_bat": (lambda rng, lv: props.bat(0.03, 0.42, rng, lv), (300, 200, 120)),

@@ -38,6 +38,7 @@ class Material(IntEnum):
     TILES = 22  # roof tiles: courses along the slope
     PITCH = 23  # mown grass: stripes across the pitch
     WALLPAPER = 24  # printed paper: stripes of two tones and a fine print, seams between its lengths
+    SEATS = 25  # a stand's row of seats seen from the pitch: moulded shells 0.5 m apart, dark gaps
 
 
 #: Car paints, display colours weighted towards what parks on real streets (white, grey,
@@ -69,6 +70,9 @@ WALL_PAINTS: tuple[RGB, ...] = ((0.90, 0.89, 0.86), (0.88, 0.84, 0.76), (0.72, 0
                                 (0.68, 0.76, 0.82), (0.84, 0.72, 0.50))  # fmt: skip
 WALLPAPERS: tuple[RGB, ...] = ((0.80, 0.74, 0.62), (0.62, 0.70, 0.66), (0.74, 0.62, 0.60), (0.64, 0.66, 0.76),
                                (0.86, 0.84, 0.78))  # fmt: skip
+#: A stadium's seats: blue, red, green, yellow, grey.
+SEAT_COLOURS: tuple[RGB, ...] = ((0.08, 0.20, 0.55), (0.62, 0.08, 0.08), (0.10, 0.40, 0.18), (0.85, 0.70, 0.10),
+                                 (0.55, 0.56, 0.58))  # fmt: skip
 #: Foliage: broadleaf, conifer, birch greens; bark: brown-grey, dark, birch white.
 LEAF_GREENS: tuple[RGB, ...] = ((0.20, 0.36, 0.10), (0.12, 0.26, 0.10), (0.22, 0.38, 0.13))
 BARKS: tuple[RGB, ...] = ((0.30, 0.25, 0.20), (0.22, 0.18, 0.15), (0.82, 0.80, 0.76))

@@ -392,6 +392,41 @@ def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = Fal
     return p.build()
 
 
+#: How tall (m) a stand's seats are, seen on the front of their tier.
+SEAT_M = 0.42
+
+
+def tier(half, rng: np.random.Generator, level: int = 0, *, front: tuple[float, float], seats) -> Asset:
+    """A stand's tier filling its box: concrete, its front (``front``, an axis of the box's
+    frame) topped by a row of seats in ``seats``' colour, drawn as the material of the face's
+    top ``SEAT_M`` (a row of shells seen from the pitch; it stays inside the box, and the
+    box's class)."""
+    hx, hy, hz = half
+    p = Parts(level)
+    q = Quads()
+    concrete = (Material.CONCRETE, (0.62, 0.61, 0.58))
+    q.add("top", "stairs", *concrete, level_rect(-hx, -hy, hx, hy, hz), UP)
+    for face in box_faces(half):
+        if float(face.normal[:2] @ np.array(front)) > 0.5:
+            top = min(SEAT_M, face.height)
+            rect(q, face, "riser", "stairs", *concrete, 0.0, face.width, 0.0, face.height - top)
+            rect(q, face, "seats", "stairs", Material.SEATS, seats, 0.0, face.width, face.height - top, face.height)
+        else:
+            rect(q, face, "side", "stairs", *concrete, 0.0, face.width, 0.0, face.height)
+    q.into(p)
+    return p.build()
+
+
+def goal_frame(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A goal's post or crossbar filling its box: a white round bar along its longest axis."""
+    axis = int(np.argmax(half))
+    a, b = np.zeros(3), np.zeros(3)
+    a[axis], b[axis] = -half[axis], half[axis]
+    p = Parts(level)
+    p.cylinder("bar", "misc", Material.PAINT, (0.95, 0.95, 0.93), a, b, float(min(half)))
+    return p.build()
+
+
 def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tuple[Material, tuple],
          markings: list[tuple[float, float, float, float]] = ()) -> Asset:  # fmt: skip
     """A road, pavement or grass slab filling its box (its top face the box's top, its sides

@@ -127,9 +127,16 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     if (pattern == 24) {  // wallpaper: stripes of two tones along any wall (x + y), a fine print, seams
         float along = p.x + p.y;
         float band = abs(fract(along / 0.16) - 0.5) * 0.16;  // metres from the nearest stripe's middle
-        float stripe = (1.0 - smoothstep(0.035, 0.035 + fw, band)) * clamp(2.0 - 2.0 * fw / 0.04, 0.0, 1.0);
+        float stripe = (1.0 - smoothstep(0.035, 0.035 + fw, band)) * clamp(2.0 - 2.0 * fw / 0.08, 0.0, 1.0);
         float print = octave(vec3(along, 0.0, p.z), 70.0, fw);
         return c * (1.0 - 0.12 * stripe + 0.12 * print) * (1.0 - 0.25 * joint(along, 0.53, 0.003, fw));
+    }
+    if (pattern == 25) {  // seats: a shell every 0.5 m along the row, each a little faded, dark gaps between
+        float along = p.x + p.y;
+        float seat = floor(along / 0.5);
+        float tone = 0.88 + 0.2 * cell_noise(vec3(seat, p.z * 0.0, 11.0), 1.0);
+        gloss = vec2(0.04, 0.2);
+        return c * tone * (1.0 - 0.8 * joint(along + 0.25, 0.5, 0.07, fw));
     }
     return c;
 }

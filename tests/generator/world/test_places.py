@@ -129,12 +129,14 @@ def _plain_quad_frame(ctx, material: Material):
 
     asset = places.slab((2.0, 2.0, 0.05), stream(0, "q"), 0, cls="terrain", look=(material, (0.3, 0.5, 0.2)))
     still = np.broadcast_to(np.eye(4), (2, 4, 4))
-    return turntable(ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=128)[0]
+    # The top seen from above, large enough that the finest patterns are not faded out.
+    return turntable(ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=256, elevation_deg=60.0)[0]
 
 
-def test_the_later_materials_reach_the_shader(ctx):
+@pytest.mark.parametrize("material", [Material.GRASS, Material.WALLPAPER, Material.SEATS], ids=lambda m: m.name)
+def test_the_later_materials_reach_the_shader(ctx, material):
     plain = _plain_quad_frame(ctx, Material.PLAIN)
-    grass = _plain_quad_frame(ctx, Material.GRASS)
+    grass = _plain_quad_frame(ctx, material)
     top = plain.class_id == PIXEL_CLASSES["terrain"].class_id
     # Inside the slab: the raw colour is anti-aliased, so its edge pixels blend in the sky.
     inner = top.copy()
@@ -146,7 +148,7 @@ def test_the_later_materials_reach_the_shader(ctx):
         c = frame.colour.astype(np.float64)
         return float(np.abs(c[:, 1:] - c[:, :-1]).sum(axis=2)[pairs].mean())
 
-    assert grain(grass) > 2.0 * grain(plain)  # the grass pattern (code 16) is drawn, not lost in packing
+    assert grain(grass) > 2.0 * grain(plain)  # the pattern (code 16 and up) is drawn, not lost in packing
 
 
 def _sky(ctx, cover: float) -> np.ndarray:
@@ -169,3 +171,33 @@ def test_clouds_cover_the_sky_as_theta_s_cloud_intensity_says(ctx):
     grey_clear = np.abs(clear - clear.mean(axis=2, keepdims=True)).sum(axis=2) < 6
     grey_overcast = np.abs(overcast - overcast.mean(axis=2, keepdims=True)).sum(axis=2) < 6
     assert grey_clear.mean() < 0.05 < grey.mean() < grey_overcast.mean()
+
+
+def test_a_stand_s_tiers_show_their_seats_to_the_pitch():
+    env = ENVIRONMENT_SCENES["stadium"]
+    tiers = [i for i, c in enumerate(env.colliders) if c.pixel_class == "stairs" and min(c.half_size[:2]) <= 1.0]
+    assert len(tiers) == 4 + 4 + 6  # north, south and both sides
+    for i in tiers:
+        c = env.colliders[i]
+        tier = collider_asset("stadium", i, 0)
+        seats = np.isin(tier.triangles, np.flatnonzero(tier.materials == Material.SEATS)).all(axis=1)
+        assert seats.any() and set(tier.pixel_classes()) == {"stairs"}
+        t = tier.positions[tier.triangles[seats]]
+        normal = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+        to_pitch = -np.array(c.to_local(0.0, 0.0))  # the box's centre seen from the pitch's, in its frame
+        assert np.all(normal[:, :2] @ -to_pitch > 0)  # facing the pitch
+        assert t[..., 2].min() == pytest.approx(c.half_size[2] - places.SEAT_M, abs=1e-5)  # the face's top
+
+
+def test_each_goal_stands_on_its_goal_line_and_is_drawn_as_white_bars():
+    env = ENVIRONMENT_SCENES["stadium"]
+    bars = [(i, c) for i, c in enumerate(env.colliders) if c.pixel_class == "misc"]
+    assert sorted({c.center[0] for _, c in bars}) == [-50.0, 50.0]  # the pitch is 100 m long
+    for x in (-50.0, 50.0):
+        posts = sorted(c.center[1] for _, c in bars if c.center[0] == x and c.half_size[2] > 1.0)
+        assert posts[1] - posts[0] - 0.12 == pytest.approx(7.32)  # between the posts' inner faces
+    for i, c in bars:
+        bar = collider_asset("stadium", i, 0)
+        lo, hi = bar.bounds()
+        assert np.allclose(hi - lo, 2 * np.array(c.half_size), atol=0.01)
+        assert set(bar.pixel_classes()) == {"misc"} and np.all(bar.colours.min(axis=1) > 0.9)

@@ -78,7 +78,7 @@ def test_the_room_has_one_wall_look_and_the_seed_may_paper_it():
                  if w.parts and _part_of(w, k) == "wall"}  # fmt: skip
         assert len(inner) == 1  # every wall of the room alike
         looks |= inner
-    assert {m for m, _ in looks} == {int(Material.PLASTER), int(Material.WALLPAPER)}
+    assert {m for m, _ in looks} == {int(Material.PLAIN), int(Material.WALLPAPER)}
 
 
 def _part_of(asset, vertex: int) -> str:
