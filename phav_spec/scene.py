@@ -554,7 +554,14 @@ def _lake_colliders() -> tuple[Collider, ...]:
         _box("vegetation", -28.0, 10.0, 0.3, 1.5, 3.0, 1.0),
         _box("vegetation", 15.0, 18.0, 0.3, 2.0, 2.0, 1.2),
     )
-    return banks + park
+    # Reeds in the shallows off the promenade, standing on the lake bed, where no background
+    # walker's straight path between its waypoints crosses the water.
+    reeds = (
+        _box("vegetation", -5.0, -6.7, g, 3.0, 0.6, 1.6),
+        _box("vegetation", 0.3, -6.7, g, 2.4, 0.6, 1.4),
+        _box("vegetation", 4.0, -6.75, g, 2.0, 0.5, 1.7),
+    )
+    return banks + park + reeds
 
 
 def _stadium_colliders() -> tuple[Collider, ...]:

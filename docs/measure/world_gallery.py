@@ -38,8 +38,9 @@ PAGES = {
               "shopping_cart", "door_leaf", "pull_up_bar"),
     "buildings": ("urban_block", "suburban_house", "stadium_wall"),
     "trees": ("broadleaf_crown", "conifer_crown", "birch_crown", "trunk", "birch_trunk"),
-    "plants": ("hedge", "bush", "planter"),
+    "plants": ("hedge", "bush", "planter", "reeds"),
     "ground": ("carriageway", "pavement", "grass_terrace", "pitch"),
+    "rooms_stands": ("room_wall", "ceiling", "stand_tier", "goal_bar"),
 }  # fmt: skip
 VARIANTS = 3
 ANGLES = (35.0, 215.0)

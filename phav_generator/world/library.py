@@ -159,6 +159,12 @@ def _openings(env_name: str, wall: Collider, inside: tuple[float, float]) -> lis
     return sorted(out, key=lambda o: (o.s0, o.z0))
 
 
+def _in_water(water: tuple[float, float, float, float, float], c: Collider) -> bool:
+    """Whether collider ``c`` stands in open water (its centre over the water's rectangle)."""
+    x0, y0, x1, y1, _ = water
+    return x0 <= c.center[0] <= x1 and y0 <= c.center[1] <= y1
+
+
 def _stands_on_pole(env_name: str, c: Collider) -> bool:
     """Whether a signal head or sign plate sits on the pole collider ``c``."""
     env = ENVIRONMENT_SCENES[env_name]
@@ -261,6 +267,8 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
             return places.trunk(half, rng, level, species=species, bark=bark)
         return places.crown(half, rng, level, species=species, bark=bark)
     if cls == "vegetation":
+        if env.water is not None and _in_water(env.water, c):
+            return places.reeds(half, rng, level)
         return places.shrub(half, rng, level, planter=env_name == "urban")
     if cls == "road":
         lanes, crossings = _carriageway(env_name, c)
@@ -415,6 +423,7 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
         (12, 12, 12),
     ),
     "goal_bar": (lambda rng, lv: places.goal_frame((0.06, 0.06, 1.22), rng, lv), (80, 60, 30)),
+    "reeds": (lambda rng, lv: places.reeds((1.5, 0.3, 0.8), rng, lv), (300, 120, 50)),
     "step": (lambda rng, lv: interiors.step((0.15, 0.65, 0.5), rng, lv), (24, 24, 24)),
     "ball": (lambda rng, lv: props.ball(0.11, rng, lv), (600, 300, 120)),
     "baseball_bat": (lambda rng, lv: props.bat(0.03, 0.42, rng, lv), (300, 200, 120)),

@@ -427,6 +427,46 @@ def goal_frame(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
+#: Reed blades a square metre of a bed holds at each level of detail, and their widths at
+#: the foot (m): coarser levels have fewer, wider blades covering as much of the view.
+REED_DENSITY = (150.0, 60.0, 25.0)
+REED_WIDTH_M = (0.035, 0.08, 0.18)
+#: Reed greens and last year's straw.
+_REED_COLOURS = ((0.26, 0.36, 0.12), (0.34, 0.42, 0.16), (0.58, 0.52, 0.32))
+
+
+def reeds(half, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A bed of reeds filling its box from the bottom (the lake bed): thin blades, each one
+    tall triangle leaning a little from its foot, their tips kept inside the box."""
+    hx, hy, hz = half
+    p = Parts(level)
+    n = max(int(REED_DENSITY[min(level, len(REED_DENSITY) - 1)] * 4 * hx * hy), 8)
+    u = rng.random((n, 8))
+    feet = np.column_stack([(2 * u[:, 0] - 1) * hx * 0.95, (2 * u[:, 1] - 1) * hy * 0.95, np.full(n, -hz)])
+    heights = 2 * hz * (0.55 + 0.45 * u[:, 2])
+    lean = 0.2 * u[:, 3]
+    angle = 2 * math.pi * u[:, 4]
+    # math's cos and sin per blade: numpy's are dispatched by CPU feature, and the bytes must not be.
+    cos = np.array([math.cos(a) for a in angle])
+    sin = np.array([math.sin(a) for a in angle])
+    tips = feet + np.column_stack([lean * cos, lean * sin, heights])
+    tips[:, 0] = np.clip(tips[:, 0], -hx, hx)
+    tips[:, 1] = np.clip(tips[:, 1], -hy, hy)
+    width = REED_WIDTH_M[min(level, len(REED_WIDTH_M) - 1)] * (0.7 + 0.6 * u[:, 5])
+    side = np.column_stack([-sin, cos, np.zeros(n)])  # across the blade, level
+    shade = np.minimum((u[:, 6] * len(_REED_COLOURS)).astype(int), len(_REED_COLOURS) - 1)
+    for k, colour in enumerate(_REED_COLOURS):
+        pick_ = np.flatnonzero(shade == k)
+        if len(pick_) == 0:
+            continue
+        w = (width[pick_] / 2)[:, None] * side[pick_]
+        corners = np.stack([feet[pick_] - w, feet[pick_] + w, tips[pick_]], axis=1).reshape(-1, 3)
+        corners[:, :2] = np.clip(corners[:, :2], [-hx, -hy], [hx, hy])
+        tri = [(3 * j, 3 * j + 1, 3 * j + 2) for j in range(len(pick_))]
+        p.add(f"blades{k}", "vegetation", Material.PLAIN, colour, corners, tri, closed=False)
+    return p.build()
+
+
 def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tuple[Material, tuple],
          markings: list[tuple[float, float, float, float]] = ()) -> Asset:  # fmt: skip
     """A road, pavement or grass slab filling its box (its top face the box's top, its sides

@@ -1,11 +1,14 @@
 """The places: a facade's wall and openings tile its face, windows sit back in it; a road's
 markings follow its lanes and leave its crossings to the zebra; pitch lines lie on the
 pitch; each environment's slabs, buildings and trees take the look their role asks for;
-the materials past the first sixteen reach the shader; clouds cover as much sky as θ says."""
+the materials past the first sixteen reach the shader; clouds cover as much sky as θ says;
+a stand's tiers show their seats to the pitch, its goals stand on the goal lines, and the
+lake's reeds stand in its shallows off every walker's path."""
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import numpy as np
@@ -201,3 +204,26 @@ def test_each_goal_stands_on_its_goal_line_and_is_drawn_as_white_bars():
         lo, hi = bar.bounds()
         assert np.allclose(hi - lo, 2 * np.array(c.half_size), atol=0.01)
         assert set(bar.pixel_classes()) == {"misc"} and np.all(bar.colours.min(axis=1) > 0.9)
+
+
+def test_reeds_stand_in_the_lake_s_shallows_off_every_walker_s_path():
+    env = ENVIRONMENT_SCENES["lake"]
+    x0, y0, x1, y1, level = env.water
+    beds = [(i, c) for i, c in enumerate(env.colliders) if c.pixel_class == "vegetation" and x0 <= c.center[0] <= x1
+            and y0 <= c.center[1] <= y1]  # fmt: skip
+    assert len(beds) == 3
+    graph = np.array(env.background_waypoints)[:, :2]
+    for i, c in beds:
+        assert c.bottom == env.ground_z and c.top > level + 1.0  # on the bed, well out of the water
+        reeds = collider_asset("lake", i, 0)
+        assert set(reeds.pixel_classes()) == {"vegetation"}
+        lo, hi = reeds.bounds()
+        assert np.all(lo >= -np.array(c.half_size) - 1e-5) and np.all(hi <= np.array(c.half_size) + 1e-5)
+        for a, b in itertools.combinations(graph, 2):  # background walkers go straight between waypoints
+            along = [a + t * (b - a) for t in np.linspace(0.0, 1.0, 400)]
+            assert min(c.xy_distance(*pt) for pt in along) > 0.5
+    for level_ in range(1, 3):  # coarser levels: fewer blades
+        assert (
+            collider_asset("lake", beds[0][0], level_).n_triangles
+            < collider_asset("lake", beds[0][0], level_ - 1).n_triangles
+        )
