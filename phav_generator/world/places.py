@@ -1,6 +1,6 @@
 """The places, each fitted into its collision box (the box's frame: origin at its centre,
-+z up): buildings from a facade grammar, trees and hedges, roads with their markings,
-pavements, grass terraces and the ground.
++z up): buildings from a facade grammar, trees, hedges and reeds, roads with their
+markings, pavements, grass terraces and the ground, a stand's tiers and a goal's bars.
 
 A building's walls lie on its box's faces, its windows recessed into them; a tree's trunk
 fills its trunk box and its crown its crown box; a slab's top face is its box's top, the
@@ -456,13 +456,13 @@ def reeds(half, rng: np.random.Generator, level: int = 0) -> Asset:
     side = np.column_stack([-sin, cos, np.zeros(n)])  # across the blade, level
     shade = np.minimum((u[:, 6] * len(_REED_COLOURS)).astype(int), len(_REED_COLOURS) - 1)
     for k, colour in enumerate(_REED_COLOURS):
-        pick_ = np.flatnonzero(shade == k)
-        if len(pick_) == 0:
+        blades = np.flatnonzero(shade == k)
+        if len(blades) == 0:
             continue
-        w = (width[pick_] / 2)[:, None] * side[pick_]
-        corners = np.stack([feet[pick_] - w, feet[pick_] + w, tips[pick_]], axis=1).reshape(-1, 3)
+        w = (width[blades] / 2)[:, None] * side[blades]
+        corners = np.stack([feet[blades] - w, feet[blades] + w, tips[blades]], axis=1).reshape(-1, 3)
         corners[:, :2] = np.clip(corners[:, :2], [-hx, -hy], [hx, hy])
-        tri = [(3 * j, 3 * j + 1, 3 * j + 2) for j in range(len(pick_))]
+        tri = [(3 * j, 3 * j + 1, 3 * j + 2) for j in range(len(blades))]
         p.add(f"blades{k}", "vegetation", Material.PLAIN, colour, corners, tri, closed=False)
     return p.build()
 

@@ -19,6 +19,7 @@ from phav_generator.physics.plan.camera import anchor_point, clear_camera_start
 from phav_generator.physics.plan.car_hit import car_hit
 from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
 from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
+from phav_generator.physics.plan.obstacles import let_go_at_obstacles
 from phav_generator.physics.plan.people import plan_person
 from phav_generator.physics.plan.push import push_target
 from phav_generator.physics.plan.ragdoll_rules import dive_floor, limp, stagger
@@ -40,6 +41,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     protagonist = _protagonist_rules(b, _protagonist(b))
     _action_props(b, protagonist)
     people = loosen_tied_arms([protagonist, *supporting_people(b, protagonist)], b.ties)
+    people = [let_go_at_obstacles(b, person) for person in people]
     people = (*people, *background_people(b))
     camera_target = _camera_target(recipe, people[0])
     shift = None if camera_target is None else np.array(camera_target) - np.array(recipe.camera.target)
