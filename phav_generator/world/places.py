@@ -147,18 +147,8 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
     rows: dict[tuple[float, float], list[Opening]] = {}
     for o in openings:
         rows.setdefault((o.z0, o.z1), []).append(o)
-    if not recessed:
-        rect(q, face, "wall", "building", material, colour, 0.0, face.width, z_base, face.height)
-    z = z_base
-    for (z0, z1), row in sorted(rows.items()):
-        if recessed:
-            rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, z0)
-            s = 0.0
-            for o in sorted(row, key=lambda o: o.s0):
-                rect(q, face, "wall", "building", material, colour, s, o.s0, z0, z1)
-                s = o.s1
-            rect(q, face, "wall", "building", material, colour, s, face.width, z0, z1)
-        z = z1
+    holed(q, face, openings if recessed else [], "wall", "building", material, colour, z_base=z_base)
+    for _, row in sorted(rows.items()):
         for o in row:
             tint = pick(looks.WINDOW_TINTS, rng)
             depth = WINDOW_DEPTH_M if recessed else -0.01
@@ -177,8 +167,6 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
                 t = o.z0 + 0.68 * (o.z1 - o.z0)
                 rect(q, face, "frame", "building", Material.PLASTIC, frame, mid - bar, mid + bar, o.z0, o.z1, d - 0.02)
                 rect(q, face, "frame", "building", Material.PLASTIC, frame, o.s0, o.s1, t - bar, t + bar, d - 0.02)
-    if recessed:
-        rect(q, face, "wall", "building", material, colour, 0.0, face.width, z, face.height)
 
 
 #: A window's sill: the bottom of its opening.
