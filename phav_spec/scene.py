@@ -190,8 +190,9 @@ class Collider:
     def top(self) -> float:
         return self.center[2] + self.half_size[2]
 
-    def to_local(self, x: float, y: float) -> tuple[float, float]:
-        """World (x, y) in the box's own horizontal frame (origin at its centre)."""
+    def to_local(self, x: Any, y: Any) -> tuple[Any, Any]:
+        """World (x, y) in the box's own horizontal frame (origin at its centre): floats, or
+        numpy arrays of points."""
         yaw = math.radians(self.yaw_deg)
         c, s = math.cos(yaw), math.sin(yaw)
         dx, dy = x - self.center[0], y - self.center[1]
@@ -202,10 +203,15 @@ class Collider:
         lx, ly = self.to_local(x, y)
         return abs(lx) <= self.half_size[0] - margin and abs(ly) <= self.half_size[1] - margin
 
+    def xy_gaps(self, x: Any, y: Any) -> tuple[Any, Any]:
+        """How far (m) (x, y) lies beyond the footprint along the box's own x and y (0 within
+        it): floats, or numpy arrays of points."""
+        lx, ly = self.to_local(x, y)
+        return np.maximum(np.abs(lx) - self.half_size[0], 0.0), np.maximum(np.abs(ly) - self.half_size[1], 0.0)
+
     def xy_distance(self, x: float, y: float) -> float:
         """Horizontal distance from (x, y) to the footprint (0 inside it)."""
-        lx, ly = self.to_local(x, y)
-        return math.hypot(max(abs(lx) - self.half_size[0], 0.0), max(abs(ly) - self.half_size[1], 0.0))
+        return math.hypot(*self.xy_gaps(x, y))
 
     def footprint(self) -> tuple[tuple[float, float], ...]:
         """The footprint's four corners, counter-clockwise."""

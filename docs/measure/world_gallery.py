@@ -39,7 +39,7 @@ PAGES = {
     "buildings": ("urban_block", "suburban_house", "stadium_wall"),
     "trees": ("broadleaf_crown", "conifer_crown", "birch_crown", "trunk", "birch_trunk"),
     "plants": ("hedge", "bush", "planter", "reeds"),
-    "ground": ("carriageway", "pavement", "grass_terrace", "pitch"),
+    "ground": ("carriageway", "pavement", "grass_terrace", "lake_bank", "pitch"),
     "rooms_stands": ("room_wall", "ceiling", "stand_tier", "goal_bar"),
 }  # fmt: skip
 VARIANTS = 3

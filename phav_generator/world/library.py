@@ -28,7 +28,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 3
+WORLD_LIBRARY_VERSION = 4
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
@@ -61,7 +61,8 @@ def world_library_sha256() -> str:
 
     for env_name in ENVIRONMENT_SCENES.names:
         env = ENVIRONMENT_SCENES[env_name]
-        add(places.ground(1.0, env.ground_z, indoor=env.indoor, pitch=_PITCHES.get(env_name)))
+        add(places.ground(1.0, env.ground_z, indoor=env.indoor, pitch=_PITCHES.get(env_name),
+                          tiled=_TILED.get(env_name)))
         for index in range(len(env.colliders)):
             for level in range(LEVELS):
                 add(collider_asset(env_name, index, level))
@@ -163,6 +164,30 @@ def _in_water(water: tuple[float, float, float, float, float], c: Collider) -> b
     """Whether collider ``c`` stands in open water (its centre over the water's rectangle)."""
     x0, y0, x1, y1, _ = water
     return x0 <= c.center[0] <= x1 and y0 <= c.center[1] <= y1
+
+
+def _shores(water: tuple[float, float, float, float, float], c: Collider) -> list[tuple[int, float, float]]:
+    """The stretches of bank ``c``'s sides (``places.box_faces`` order, from s0 to s1 along
+    each) that meet the open ``water``: a side on one of its edges, facing into it."""
+    if c.yaw_deg % 360.0 != 0.0:
+        return []
+    lo, hi = np.array(water[:2]), np.array(water[2:4])
+    centre, half = np.array(c.center[:2]), np.array(c.half_size[:2])
+    out = []
+    for i, face in enumerate(places.box_faces(c.half_size)):
+        axis = 0 if abs(face.normal[0]) > 0.5 else 1
+        facing = face.normal[axis] > 0.0
+        side = centre[axis] + (half[axis] if facing else -half[axis])
+        if abs(side - (lo if facing else hi)[axis]) > 1e-6:
+            continue
+        other = 1 - axis
+        a = max(centre[other] - half[other], lo[other]) - centre[other]
+        b = min(centre[other] + half[other], hi[other]) - centre[other]
+        if b <= a:
+            continue
+        s0, s1 = sorted(float((v - face.corner[other]) * face.along[other]) for v in (a, b))
+        out.append((i, s0, s1))
+    return out
 
 
 def _stands_on_pole(env_name: str, c: Collider) -> bool:
@@ -277,7 +302,8 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
         markings = places.road_markings(half, lanes, crossings)
         return places.slab(half, rng, level, cls="road", look=places.ASPHALT, markings=markings)
     if cls == "terrain":
-        return places.slab(half, rng, level, cls="terrain", look=places.GRASS)
+        shores = _shores(env.water, c) if env.water is not None else []
+        return places.slab(half, rng, level, cls="terrain", look=places.GRASS, shores=shores)
     return None
 
 
@@ -311,11 +337,14 @@ def ground_asset(env_name: str, half_extent: float, drop: float) -> Asset:
     """Environment ``env_name``'s ground plane: ``half_extent`` round the origin, ``drop``
     below its ground height (cached per process)."""
     env = ENVIRONMENT_SCENES[env_name]
-    return places.ground(half_extent, env.ground_z - drop, indoor=env.indoor, pitch=_PITCHES.get(env_name))
+    return places.ground(half_extent, env.ground_z - drop, indoor=env.indoor, pitch=_PITCHES.get(env_name),
+                         tiled=_TILED.get(env_name))
 
 
 #: Football pitches (length, width, m) marked on an environment's ground at its middle.
 _PITCHES = {"stadium": (100.0, 54.0)}
+#: Tiled floors (x0, y0, x1, y1): the house's kitchen, round its counter, fridge and table.
+_TILED = {"house_interior": (4.6, -7.5, 9.5, -3.0)}
 
 
 def vehicle(kind: str, half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
@@ -454,7 +483,9 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "carriageway": (lambda rng, lv: _slab_kind("carriageway", rng, lv), (60, 60, 60)),
     "pavement": (lambda rng, lv: _slab_kind("pavement", rng, lv), (12, 12, 12)),
     "grass_terrace": (lambda rng, lv: _slab_kind("grass_terrace", rng, lv), (12, 12, 12)),
+    "lake_bank": (lambda rng, lv: places.slab((8.0, 6.0, 0.15), rng, lv, cls="terrain", look=places.GRASS,
+                                              shores=[(1, 2.0, 16.0), (2, 0.0, 6.0)]), (24, 24, 24)),
     "ground": (lambda rng, lv: places.ground(60.0, 0.0, indoor=False), (2, 2, 2)),
     "pitch": (lambda rng, lv: places.ground(90.0, 0.0, indoor=False, pitch=(100.0, 54.0)), (160, 160, 160)),
-    "floor": (lambda rng, lv: places.ground(20.0, 0.0, indoor=True), (2, 2, 2)),
+    "floor": (lambda rng, lv: places.ground(20.0, 0.0, indoor=True, tiled=(4.0, -8.0, 9.0, -3.0)), (10, 10, 10)),
 }

@@ -39,6 +39,8 @@ class Material(IntEnum):
     PITCH = 23  # mown grass: stripes across the pitch
     WALLPAPER = 24  # printed paper: stripes of two tones and a fine print, seams between its lengths
     SEATS = 25  # a stand's row of seats seen from the pitch: moulded shells 0.5 m apart, dark gaps
+    FLOOR_TILES = 26  # ceramic floor tiles: 30 cm squares, a tone each, grout joints
+    SHORE = 27  # a lake's shore: sand and pebbles, a tone per pebble
 
 
 #: Car paints, display colours weighted towards what parks on real streets (white, grey,
@@ -80,6 +82,9 @@ GRASS_GREEN: RGB = (0.22, 0.36, 0.12)
 ASPHALT_GREY: RGB = (0.32, 0.32, 0.33)
 PAVING_GREY: RGB = (0.50, 0.49, 0.47)
 MARKING_WHITE: RGB = (0.85, 0.85, 0.82)
+FLOOR_TILE: RGB = (0.78, 0.76, 0.72)
+SAND: RGB = (0.50, 0.45, 0.36)
+MUD: RGB = (0.28, 0.24, 0.19)
 #: What a window shows behind its glass: a dark room, blinds, curtains.
 WINDOW_TINTS: tuple[RGB, ...] = ((0.05, 0.06, 0.07), (0.10, 0.11, 0.12), (0.35, 0.33, 0.30), (0.45, 0.40, 0.32))
 FRAMES: tuple[RGB, ...] = ((0.92, 0.92, 0.90), (0.15, 0.15, 0.16), (0.40, 0.28, 0.18))

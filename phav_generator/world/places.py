@@ -455,12 +455,19 @@ def reeds(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
+#: How wide (m) the strip of shore along a bank's edge on open water is.
+SHORE_M = 1.2
+
+
 def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tuple[Material, tuple],
-         markings: list[tuple[float, float, float, float]] = ()) -> Asset:  # fmt: skip
+         markings: list[tuple[float, float, float, float]] = (),
+         shores: list[tuple[int, float, float]] = ()) -> Asset:  # fmt: skip
     """A road, pavement or grass slab filling its box (its top face the box's top, its sides
     the box's sides, no bottom: it stands on the ground), with flat ``markings`` (x0, y0, x1,
     y1 rectangles in the box's frame, painted white a few millimetres above the top); ``look``
-    is its top's material and colour (``ASPHALT``, ``PAVING``, ``GRASS``)."""
+    is its top's material and colour (``ASPHALT``, ``PAVING``, ``GRASS``). ``shores`` are the
+    stretches of its sides on open water (a side of ``box_faces``, from s0 to s1 along it): a
+    strip of sand and pebbles runs along the top there, and the side is wet mud."""
     surface, colour = look
     hx, hy, hz = half
     p = Parts(level)
@@ -468,11 +475,22 @@ def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tupl
     q.add("top", cls, surface, colour, level_rect(-hx, -hy, hx, hy, hz), UP)
     side = Material.CONCRETE if cls == "road" else surface
     side_colour = (0.58, 0.57, 0.55) if cls == "road" else tuple(0.8 * c for c in colour)
-    for face in box_faces(half):
-        rect(q, face, "side", cls, side, side_colour, 0.0, face.width, 0.0, face.height)
+    wet = {i: (s0, s1) for i, s0, s1 in shores}
+    for i, face in enumerate(box_faces(half)):
+        s0, s1 = wet.get(i, (face.width, face.width))
+        rect(q, face, "side", cls, side, side_colour, 0.0, s0, 0.0, face.height)
+        rect(q, face, "side", cls, side, side_colour, s1, face.width, 0.0, face.height)
+        rect(q, face, "mud", cls, Material.SHORE, looks.MUD, s0, s1, 0.0, face.height)
     z = hz + MARKING_M
     for x0, y0, x1, y1 in markings:
         q.add("marking", cls, Material.CONCRETE, looks.MARKING_WHITE, level_rect(x0, y0, x1, y1, z), UP)
+    faces = box_faces(half)
+    for i, s0, s1 in shores:
+        f = faces[i]
+        width = min(SHORE_M, (hy if abs(f.normal[0]) > 0.5 else hx))  # never past the slab's middle
+        h = f.height + MARKING_M
+        q.add("shore", cls, Material.SHORE, looks.SAND, [f.at(s0, h), f.at(s1, h), f.at(s1, h, width),
+                                                          f.at(s0, h, width)], UP)  # fmt: skip
     q.into(p)
     return p.build()
 
@@ -520,24 +538,30 @@ PAVING = (Material.PAVING, looks.PAVING_GREY)
 GRASS = (Material.GRASS, looks.GRASS_GREEN)
 
 
-def ground(half_extent: float, z: float, *, indoor: bool, pitch: tuple[float, float] | None = None) -> Asset:
+def ground(half_extent: float, z: float, *, indoor: bool, pitch: tuple[float, float] | None = None,
+           tiled: tuple[float, float, float, float] | None = None) -> Asset:  # fmt: skip
     """The ground under an environment, a square of ``half_extent`` at height ``z``: grass
     (``terrain``) outdoors, a wooden floor (``floor``) indoors; with a mown football
-    ``pitch`` (length, width) and its lines at the middle when asked."""
+    ``pitch`` (length, width) and its lines at the middle, or a ``tiled`` rectangle
+    (x0, y0, x1, y1: a kitchen's floor tiles), when asked."""
     p = Parts(0)
     q = Quads()
     h = half_extent
     cls, (material, colour) = ("floor", (Material.WOOD, (0.55, 0.40, 0.26))) if indoor else ("terrain", GRASS)
-    if pitch is None:
+    # the pitch is mown 3 m past its lines
+    zone = (-pitch[0] / 2 - 3.0, -pitch[1] / 2 - 3.0, pitch[0] / 2 + 3.0, pitch[1] / 2 + 3.0) if pitch else tiled
+    if zone is None:
         q.add("ground", cls, material, colour, level_rect(-h, -h, h, h, z), UP)
     else:
-        # the grass round the pitch, then the pitch itself mown in stripes, 3 m past its lines
-        px, py = pitch[0] / 2 + 3.0, pitch[1] / 2 + 3.0
-        for x0, y0, x1, y1 in ((-h, -h, h, -py), (-h, py, h, h), (-h, -py, -px, py), (px, -py, h, py)):
-            q.add("ground", cls, material, colour, level_rect(x0, y0, x1, y1, z), UP)
-        q.add("pitch", cls, Material.PITCH, looks.GRASS_GREEN, level_rect(-px, -py, px, py, z), UP)
-        for quad in pitch_lines(*pitch):
-            q.add("line", cls, Material.PLAIN, looks.MARKING_WHITE, [(x, y, z + MARKING_M) for x, y in quad], UP)
+        x0, y0, x1, y1 = zone
+        for rect in ((-h, -h, h, y0), (-h, y1, h, h), (-h, y0, x0, y1), (x1, y0, h, y1)):  # the ground round it
+            q.add("ground", cls, material, colour, level_rect(*rect, z), UP)
+        if pitch is None:
+            q.add("tiles", cls, Material.FLOOR_TILES, looks.FLOOR_TILE, level_rect(*zone, z), UP)
+        else:
+            q.add("pitch", cls, Material.PITCH, looks.GRASS_GREEN, level_rect(*zone, z), UP)
+            for quad in pitch_lines(*pitch):
+                q.add("line", cls, Material.PLAIN, looks.MARKING_WHITE, [(x, y, z + MARKING_M) for x, y in quad], UP)
     q.into(p)
     return p.build()
 

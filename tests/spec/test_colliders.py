@@ -7,6 +7,7 @@ import dataclasses
 import itertools
 import math
 
+import numpy as np
 import pytest
 
 from phav_spec.scene import (
@@ -91,6 +92,11 @@ def test_collider_geometry_follows_its_yaw():
     assert c.xy_distance(10.0, 0.0) == 0.0
     assert c.xy_distance(13.0, 0.0) == pytest.approx(2.0)
     assert c.xy_distance(12.0, 7.0) == pytest.approx(math.hypot(1.0, 3.0))
+    # many points at once (the physics plan's obstacles): each as xy_distance says, bit for bit
+    px, py = np.array([10.0, 13.0, 12.0, 8.5]), np.array([0.0, 0.0, 7.0, -4.5])
+    gx, gy = c.xy_gaps(px, py)
+    each = [c.xy_distance(x, y) for x, y in zip(px, py, strict=True)]
+    assert [math.hypot(a, b) for a, b in zip(gx, gy, strict=True)] == each
     xs, ys = zip(*c.footprint(), strict=True)
     assert (min(xs), max(xs), min(ys), max(ys)) == pytest.approx((9.0, 11.0, -4.0, 4.0))
     assert hash(c) == hash(Collider("building", (10.0, 0.0, 5.0), (4.0, 1.0, 5.0), 90.0))

@@ -8,8 +8,6 @@ body meets it as a ragdoll: it hits or trips, falls and stays outside.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from phav_generator.physics.plan.builder import PlanBuilder
@@ -44,11 +42,9 @@ def first_contact(b: PlanBuilder, p: PersonPlan) -> int | None:
     chest = root[:, 2] + CHEST_ABOVE_PELVIS_M
     near = np.zeros(len(root), dtype=bool)
     for c in obstacles(b.recipe.environment.name):
-        # math's cos and sin, and squared distances: no CPU-dispatched transcendental decides a step.
-        cos, sin = math.cos(math.radians(c.yaw_deg)), math.sin(math.radians(c.yaw_deg))
-        dx, dy = root[:, 0] - c.center[0], root[:, 1] - c.center[1]
-        gx = np.maximum(np.abs(dx * cos + dy * sin) - c.half_size[0], 0.0)
-        gy = np.maximum(np.abs(-dx * sin + dy * cos) - c.half_size[1], 0.0)
+        # squared distances (the box's frame from math's cos and sin): no CPU-dispatched
+        # transcendental decides a step
+        gx, gy = c.xy_gaps(root[:, 0], root[:, 1])
         near |= (gx * gx + gy * gy <= REACH_M**2) & (c.bottom < chest) & (c.top > feet + STEP_OVER_M)
     hits = np.flatnonzero(near)
     if hits.size == 0 or hits[0] == 0:

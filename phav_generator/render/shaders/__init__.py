@@ -1,9 +1,11 @@
 """The renderer's GLSL, one ``.glsl`` file per shader stage, read from package data.
 
-A line ``#include "name.glsl"`` is replaced by that file's text (GLSL 3.30 has no include),
-so the pieces several shaders share are written once:
+A line ``#include "name.glsl"`` is replaced by that file's text (GLSL 3.30 has no include);
+a file already included in the same shader is left out, so the pieces several shaders share
+are written once:
 
 - ``outputs.glsl``: the five render targets in attachment order (scene and sky shaders);
+- ``hash.glsl``: the integer hash behind the materials' and the clouds' noise;
 - ``tone.glsl``: the tone curve ``1 − exp(−exposure·c)`` and display gamma;
 - ``sky.glsl``: the sky's colour along a direction, seen through the fog;
 - ``models.glsl``: every drawable's model matrices at t and t + 1, one texture row per
@@ -32,9 +34,15 @@ _INCLUDE = re.compile(r'^#include "([a-z_]+\.glsl)"\n', re.MULTILINE)
 
 @cache
 def shader_source(name: str) -> str:
-    """The GLSL of ``name`` (a ``.glsl`` file of this package) with its includes expanded."""
+    """The GLSL of ``name`` (a ``.glsl`` file of this package) with its includes expanded,
+    each file once (where it is first included)."""
+    return _expanded(name, set())
+
+
+def _expanded(name: str, seen: set[str]) -> str:
+    seen.add(name)
     text = files(__name__).joinpath(name).read_text(encoding="utf-8")
-    return _INCLUDE.sub(lambda m: shader_source(m.group(1)), text)
+    return _INCLUDE.sub(lambda m: "" if m.group(1) in seen else _expanded(m.group(1), seen), text)
 
 
 def with_features(source: str, flags: dict[str, bool]) -> str:

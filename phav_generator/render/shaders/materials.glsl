@@ -1,16 +1,7 @@
 // The asset library's materials (phav_generator.world.materials.Material), computed from the
 // surface's position in its mesh's own frame (v_uv carries it): integer hashes only, so the
 // same surface point gets the same value on every CPU and as it moves.
-uint hash_u(ivec3 c) {
-    uvec3 v = uvec3(c + 65536);
-    uint h = (v.x * 1597334677u) ^ (v.y * 3812015801u) ^ (v.z * 2798796415u);
-    h ^= h >> 15;
-    h *= 2246822519u;
-    h ^= h >> 13;
-    h *= 3266489917u;
-    h ^= h >> 16;
-    return h;
-}
+#include "hash.glsl"
 
 // A value in [0, 1) per cell of 1/scale metres.
 float cell_noise(vec3 p, float scale) {
@@ -130,6 +121,18 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         float stripe = (1.0 - smoothstep(0.035, 0.035 + fw, band)) * clamp(2.0 - 2.0 * fw / 0.08, 0.0, 1.0);
         float print = octave(vec3(along, 0.0, p.z), 70.0, fw);
         return c * (1.0 - 0.12 * stripe + 0.12 * print) * (1.0 - 0.25 * joint(along, 0.53, 0.003, fw));
+    }
+    if (pattern == 27) {  // shore: sand in broad patches with fine grain, grey pebbles scattered on it
+        vec3 sand = c * (0.85 + 0.3 * smooth_noise(p, 2.5)) * (1.0 + 0.3 * octave(p, 120.0, fw));
+        vec2 in_cell = fract(p.xy * 16.0) - 0.5;  // a round pebble in some of the 6 cm cells
+        float stone = step(0.85, cell_noise(p, 16.0)) * step(length(in_cell), 0.38);
+        vec3 pebble = c * vec3(0.85, 0.9, 0.95) * (0.6 + 0.5 * cell_noise(p + 3.0, 16.0));
+        return mix(sand, pebble, 0.8 * stone * clamp(2.0 - 2.0 * fw * 16.0, 0.0, 1.0));
+    }
+    if (pattern == 26) {  // floor tiles: 0.3 m squares, a tone each, grey grout joints
+        float tone = 0.9 + 0.14 * cell_noise(vec3(floor(p.xy / 0.3), 13.0), 1.0);
+        float j = max(joint(p.x, 0.3, 0.005, fw), joint(p.y, 0.3, 0.005, fw));
+        return mix(c * tone * (1.0 + 0.08 * octave(p, 70.0, fw)), vec3(0.45, 0.44, 0.42), 0.8 * j);
     }
     if (pattern == 25) {  // seats: a shell every 0.5 m along the row, each a little faded, dark gaps between
         float along = p.x + p.y;

@@ -6,6 +6,8 @@ uniform vec3 fog_colour;
 uniform float fog_per_m;
 uniform float cloud_cover;  // 0 clear … 1 overcast
 
+#include "hash.glsl"
+
 // Smooth value noise over the cloud layer's plane, from integer hashes (the same on every CPU).
 float sky_noise(vec2 p) {
     vec2 i = floor(p);
@@ -14,13 +16,8 @@ float sky_noise(vec2 p) {
     float v = 0.0;
     for (int k = 0; k < 4; ++k) {
         vec2 o = vec2(k & 1, k >> 1);
-        uvec2 c = uvec2(ivec2(i + o) + 65536);
-        uint h = (c.x * 1597334677u) ^ (c.y * 3812015801u);
-        h ^= h >> 15;
-        h *= 2246822519u;
-        h ^= h >> 13;
         vec2 w = mix(1.0 - f, f, o);
-        v += w.x * w.y * float(h) * (1.0 / 4294967296.0);
+        v += w.x * w.y * float(hash_u(ivec3(i + o, 0))) * (1.0 / 4294967296.0);
     }
     return v;
 }

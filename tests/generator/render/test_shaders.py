@@ -11,7 +11,7 @@ import pytest
 
 from phav_generator.render.shaders import shader_source, with_features
 
-SNIPPETS = ("materials.glsl", "models.glsl", "outputs.glsl", "sky.glsl", "tone.glsl")
+SNIPPETS = ("hash.glsl", "materials.glsl", "models.glsl", "outputs.glsl", "sky.glsl", "tone.glsl")
 #: Each program's stages and the feature switches its fragment stage takes (None: no switches).
 PROGRAMS = {
     "scene": ("scene_vertex.glsl", "scene_fragment.glsl", ("LAMPS", "MATERIALS", "SHADOWS", "WET")),
@@ -35,6 +35,8 @@ def test_includes_are_replaced_by_the_snippets_text():
     for snippet in ("sky.glsl", "tone.glsl", "outputs.glsl"):
         assert shader_source(snippet) in scene
     assert shader_source("models.glsl") in shader_source("scene_vertex.glsl")
+    # the sky and the materials both include the hash: the scene gets it once, where the sky brings it
+    assert scene.count("uint hash_u(") == 1 and shader_source("sky_fragment.glsl").count("uint hash_u(") == 1
     text = files("phav_generator.render.shaders").joinpath("rain_vertex.glsl").read_text(encoding="utf-8")
     assert shader_source("rain_vertex.glsl") == text  # no include: the file as shipped
 

@@ -2,8 +2,8 @@
 markings follow its lanes and leave its crossings to the zebra; pitch lines lie on the
 pitch; each environment's slabs, buildings and trees take the look their role asks for;
 the materials past the first sixteen reach the shader; clouds cover as much sky as θ says;
-a stand's tiers show their seats to the pitch, its goals stand on the goal lines, and the
-lake's reeds stand in its shallows off every walker's path."""
+a stand's tiers show their seats to the pitch, its goals stand on the goal lines, the
+lake's reeds stand in its shallows off every walker's path and its banks have a shore."""
 
 from __future__ import annotations
 
@@ -136,7 +136,9 @@ def _plain_quad_frame(ctx, material: Material):
     return turntable(ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=256, elevation_deg=60.0)[0]
 
 
-@pytest.mark.parametrize("material", [Material.GRASS, Material.WALLPAPER, Material.SEATS], ids=lambda m: m.name)
+@pytest.mark.parametrize(
+    "material", [Material.GRASS, Material.WALLPAPER, Material.SEATS, Material.FLOOR_TILES], ids=lambda m: m.name
+)
 def test_the_later_materials_reach_the_shader(ctx, material):
     plain = _plain_quad_frame(ctx, Material.PLAIN)
     grass = _plain_quad_frame(ctx, material)
@@ -227,3 +229,32 @@ def test_reeds_stand_in_the_lake_s_shallows_off_every_walker_s_path():
             collider_asset("lake", beds[0][0], level_).n_triangles
             < collider_asset("lake", beds[0][0], level_ - 1).n_triangles
         )
+
+
+def test_the_lake_s_banks_have_a_shore_along_the_water_and_nowhere_else():
+    env = ENVIRONMENT_SCENES["lake"]
+    x0, y0, x1, y1, _ = env.water
+    banks = [(i, c) for i, c in enumerate(env.colliders) if c.pixel_class == "terrain"]
+    assert len(banks) == 4
+    for i, c in banks:
+        bank = collider_asset("lake", i, 0)
+        p = bank.positions.astype(np.float64)[bank.materials == Material.SHORE] + np.array(c.center)  # not turned
+        top = p[p[:, 2] > c.top]  # the strip on the bank (the rest is its muddy side)
+        assert len(top) and np.all(top[:, 2] - c.top < 0.01)
+        # the strip lies outside the water and within SHORE_M of it ...
+        dx = np.maximum(np.maximum(x0 - top[:, 0], top[:, 0] - x1), 0.0)
+        dy = np.maximum(np.maximum(y0 - top[:, 1], top[:, 1] - y1), 0.0)
+        assert np.all(np.hypot(dx, dy) <= places.SHORE_M + 1e-4)
+        # ... and its water side runs the whole length where the bank's side meets the water
+        (lo_x, lo_y), (hi_x, hi_y) = np.array(c.center[:2]) - c.half_size[:2], np.array(c.center[:2]) + c.half_size[:2]
+        if abs(hi_x - x0) < 1e-6 or abs(lo_x - x1) < 1e-6:  # a west or east bank
+            on = np.isclose(top[:, 0], x0 if abs(hi_x - x0) < 1e-6 else x1)
+            assert np.ptp(top[on, 1]) == pytest.approx(min(hi_y, y1) - max(lo_y, y0))
+        else:  # a south or north bank
+            on = np.isclose(top[:, 1], y0 if abs(hi_y - y0) < 1e-6 else y1)
+            assert np.ptp(top[on, 0]) == pytest.approx(min(hi_x, x1) - max(lo_x, x0))
+    for name in ENVIRONMENT_SCENES.names:
+        if ENVIRONMENT_SCENES[name].water is None:
+            for i, c in enumerate(ENVIRONMENT_SCENES[name].colliders):
+                if c.pixel_class == "terrain":
+                    assert not (collider_asset(name, i, 0).materials == Material.SHORE).any()

@@ -6,9 +6,10 @@ own geometry (furniture facing, the storey above) never counts as part of the ro
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from phav_generator.world import interiors, places
-from phav_generator.world.library import _into_room, _openings, _room, collider_asset, modelled_indices
+from phav_generator.world.library import _into_room, _openings, _room, collider_asset, ground_asset, modelled_indices
 from phav_generator.world.materials import Material
 from phav_spec.scene import ENVIRONMENT_SCENES, GARDEN_CLASSES
 
@@ -119,3 +120,22 @@ def test_the_garden_is_outside_the_room():
             assert fx.max() <= x0 + 1e-9 or fx.min() >= x1 - 1e-9 or fy.max() <= y0 + 1e-9 or fy.min() >= y1 - 1e-9
     classes = {env.colliders[i].pixel_class for i in modelled_indices(HOUSE)}
     assert {"misc", "ceiling", "building", "tree", "vegetation", "terrain"} <= classes
+
+
+def test_the_kitchen_floor_is_tiled_and_the_rest_of_the_room_is_wood():
+    floor = ground_asset("house_interior", 400.0, 0.02)
+    tiles = floor.materials == Material.FLOOR_TILES
+    lo, hi = floor.positions[tiles].min(axis=0), floor.positions[tiles].max(axis=0)
+    room = ENVIRONMENT_SCENES["house_interior"].room_colliders
+    kitchen = [c for c in room if c.pixel_class in ("fridge", "table", "chair") and c.center[1] < -3.0]
+    assert kitchen and all(
+        lo[0] - 1e-4 <= x <= hi[0] + 1e-4 and lo[1] - 1e-4 <= y <= hi[1] + 1e-4
+        for c in kitchen
+        for x, y in c.footprint()
+    )
+    # the tiles and the wood round them cover the ground once: no overlap, no gap
+    p = floor.positions.astype(np.float64)
+    tri = floor.triangles
+    area = 0.5 * np.abs(np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])[:, 2]).sum()
+    assert area == pytest.approx(800.0**2, rel=1e-6)
+    assert set(floor.pixel_classes()) == {"floor"} and (floor.materials[~tiles] == Material.WOOD).all()
