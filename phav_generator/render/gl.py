@@ -64,8 +64,6 @@ SKINNED_REACH = 1.6
 RAIN_STREAKS = 1800
 RAIN_BOX_M = 12.0
 RAIN_SPEED_MPS = 9.0
-#: Exposure of the tone curve (1 − exp(−exposure·c)): fixed, so night stays darker than day.
-EXPOSURE = 1.6
 
 
 @dataclass(frozen=True)
@@ -433,7 +431,7 @@ class FrameRenderer:
                 _set(prog, name, getattr(lt, name))
             _set(prog, "fog_per_m", float(lt.fog_per_m))
             _set(prog, "cloud_cover", float(lt.cloud_cover))
-            _set(prog, "exposure", EXPOSURE)
+            _set(prog, "exposure", float(lt.exposure))
         for p in (self.program, self.colour_program):
             _set(p, "sky_ambient", lt.sky_ambient)
             _set(p, "ground_ambient", lt.ground_ambient)

@@ -26,6 +26,15 @@ HAZE_PER_M = 0.0015
 FOG_PER_M = 0.09
 #: Most lamps the shader takes (the nearest to the action are kept).
 MAX_LAMPS = 16
+#: The tone curve's exposure (1 − exp(−exposure·c)) in good light.
+EXPOSURE = 1.6
+#: The camera meters the light, as a real one does: where the light on a white horizontal
+#: surface (the luminance of the sky's ambient and the direct sun) falls below ``METER_KEY``
+#: (an overcast day's), it opens up to bring it there, by at most ``MAX_GAIN`` (three stops).
+#: Its reserve runs out as the sun sinks from 8° to 18° below the horizon: night stays dark.
+METER_KEY = 0.4
+MAX_GAIN = 8.0
+_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
 def _smoothstep(e0: float, e1: float, x: float) -> float:
@@ -66,6 +75,7 @@ class Lighting:
     lamp_intensity: float  # street/indoor lamps, 0 off
     daylight: float  # 0 night … 1 full day (exposure hint)
     cloud_cover: float = 0.0  # 0 clear … 1 overcast: how much of the sky the clouds drawn in it cover
+    exposure: float = EXPOSURE  # the tone curve's, as the camera metered the light
 
     @property
     def shadows(self) -> bool:
@@ -104,9 +114,10 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         sky_ambient = sky_ambient * 0.4 + np.array([0.22, 0.2, 0.17])
         ground_ambient = ground_ambient * 0.4 + np.array([0.08, 0.075, 0.07])
     wetness = 0.0 if indoor else (1.0 if world.wet_ground else 0.0) * (0.6 + 0.4 * max(rain, 0.5))
+    sun_colour = sun_colour if not indoor else sun_colour * 0.35
     return Lighting(
         sun_dir=sun,
-        sun_colour=sun_colour if not indoor else sun_colour * 0.35,
+        sun_colour=sun_colour,
         sky_ambient=sky_ambient,
         ground_ambient=ground_ambient,
         sky_zenith=zenith,
@@ -118,4 +129,14 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         lamp_intensity=lamps,
         daylight=daylight,
         cloud_cover=clouds,
+        exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation),
     )
+
+
+def metered_exposure(sky_ambient: np.ndarray, sun_colour: np.ndarray, sun: np.ndarray, elevation_deg: float) -> float:
+    """The tone curve's exposure the camera sets for a scene lit by ``sky_ambient`` and the
+    sun (``sun_colour`` from direction ``sun``, ``elevation_deg`` above the horizon): constant
+    over a video, as its light is."""
+    key = float((np.asarray(sky_ambient) + np.asarray(sun_colour) * max(float(sun[2]), 0.0)) @ _LUMINANCE)
+    reserve = 1.0 + (MAX_GAIN - 1.0) * _smoothstep(-18.0, -8.0, elevation_deg)
+    return EXPOSURE * min(max(METER_KEY / max(key, 1e-6), 1.0), reserve)

@@ -3,13 +3,15 @@ should (fog, night, rain, each weather element) and each environment shows its c
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from phav_generator.motion.rotations import look_at
 from phav_generator.physics.simulate import simulate
-from phav_generator.render.gl import EXPOSURE, FrameRenderer
-from phav_generator.render.lighting import lighting_for, sun_direction
+from phav_generator.render.gl import FrameRenderer
+from phav_generator.render.lighting import EXPOSURE, MAX_GAIN, METER_KEY, lighting_for, sun_direction
 from phav_generator.render.scene import build_drawables, class_id
 from phav_generator.vary import parse_settings, vary
 from phav_spec.errors import PhavUserError
@@ -49,10 +51,10 @@ def test_vary_changes_only_the_named_variables_and_what_follows_from_them():
         vary(a, theta_for("run", "urban", seconds=SECONDS, variation="none"), {"weather": "fog"})
 
 
-def _linear(rgb: np.ndarray) -> np.ndarray:
-    """Undo the renderer's tone curve: display values → linear light."""
+def _linear(rgb: np.ndarray, exposure: float) -> np.ndarray:
+    """Undo the renderer's tone curve at the camera's ``exposure``: display values → linear light."""
     v = (rgb.astype(np.float64) / 255.0) ** 2.2
-    return -np.log(np.clip(1.0 - v, 1e-4, 1.0)) / EXPOSURE
+    return -np.log(np.clip(1.0 - v, 1e-4, 1.0)) / exposure
 
 
 @pytest.mark.parametrize("env", ["simple", "urban"])
@@ -62,11 +64,12 @@ def test_fog_lowers_contrast_more_at_greater_depth(ctx, env):
     clear, fog = _pair("walk", env, {"weather": "fog", "fog": False}, {"weather": "fog", "fog": True,
                                                                      "fog_intensity": 0.8})  # fmt: skip
     fog_colour = lighting_for(fog.world, indoor=False).fog_colour
+    ea, eb = (lighting_for(r.world, indoor=False).exposure for r in (clear, fog))
     a, b = _frames(clear, ctx)[0], _frames(fog, ctx)[0]
     depth = a["depth"].astype(np.float64) / 100.0
     for key in ("raw_rgb", "rgb"):
-        ca = np.abs(_linear(a[key]) - fog_colour).sum(axis=-1)
-        cb = np.abs(_linear(b[key]) - fog_colour).sum(axis=-1)
+        ca = np.abs(_linear(a[key], ea) - fog_colour).sum(axis=-1)
+        cb = np.abs(_linear(b[key], eb) - fog_colour).sum(axis=-1)
         ratios = []
         for lo, hi in ((0.5, 6.0), (6.0, 12.0), (12.0, 30.0)):
             band = (depth >= lo) & (depth < hi) & (ca > 0.02)
@@ -140,3 +143,31 @@ def test_each_environment_shows_its_declared_classes(ctx, env):
     missing = set(scene.pixel_classes) - names - dynamic
     assert not missing, missing
     assert names <= set(scene.pixel_classes) | dynamic
+
+
+def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
+    """Day keeps the base exposure; at dusk the camera opens up until the light on a white
+    horizontal surface reaches METER_KEY (three stops at most); at night it has nothing left.
+    Metering changes RGB only: labels, depth and flow stay as they were."""
+    base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
+    theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
+    settings = {"weather": "clear", "clouds": False, "fog": False, "rain": False, "wet_ground": False}
+    at = {hour: vary(base, theta, {**settings, "day_phase": phase, "clock_hour": hour})
+          for phase, hour in (("day", 13.0), ("dusk", 17.7), ("night", 23.0))}  # fmt: skip
+    light = {hour: lighting_for(r.world, indoor=False) for hour, r in at.items()}
+    assert light[13.0].exposure == EXPOSURE and light[23.0].exposure == EXPOSURE
+    dusk = light[17.7]
+    key = float((dusk.sky_ambient + dusk.sun_colour * max(dusk.sun_dir[2], 0.0)) @ [0.2126, 0.7152, 0.0722])
+    assert 2.0 < dusk.exposure / EXPOSURE <= MAX_GAIN
+    assert key * dusk.exposure / EXPOSURE == pytest.approx(METER_KEY)
+    tr = simulate(at[17.7], keep_state=False)
+    frames = {}
+    for name, lighting in (("metered", dusk), ("fixed", dataclasses.replace(dusk, exposure=EXPOSURE))):
+        drawables = build_drawables(at[17.7], tr, lighting)
+        with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky"), lighting=lighting) as renderer:
+            frames[name] = renderer.render(0, tr.cam_to_world[0], tr.cam_to_world[1], tr.intrinsics)
+    m, f = frames["metered"], frames["fixed"]
+    assert np.array_equal(m.class_id, f.class_id) and np.array_equal(m.depth_m, f.depth_m)
+    assert np.array_equal(m.flow, f.flow)
+    ground = m.class_id != class_id("sky")
+    assert _luma(m.colour)[ground].mean() > 1.5 * _luma(f.colour)[ground].mean()
