@@ -34,7 +34,7 @@ EXPOSURE = 1.6
 #: Its reserve runs out as the sun sinks from 8° to 18° below the horizon: night stays dark.
 METER_KEY = 0.4
 MAX_GAIN = 8.0
-_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+_LUMINANCE = (0.2126, 0.7152, 0.0722)
 
 
 def _smoothstep(e0: float, e1: float, x: float) -> float:
@@ -73,7 +73,7 @@ class Lighting:
     wetness: float  # 0 dry … 1 soaked ground (darker, mirror-like)
     rain: float  # 0 … 1: streak density
     lamp_intensity: float  # street/indoor lamps, 0 off
-    daylight: float  # 0 night … 1 full day (exposure hint)
+    daylight: float  # 0 night … 1 full day
     cloud_cover: float = 0.0  # 0 clear … 1 overcast: how much of the sky the clouds drawn in it cover
     exposure: float = EXPOSURE  # the tone curve's, as the camera metered the light
 
@@ -137,6 +137,8 @@ def metered_exposure(sky_ambient: np.ndarray, sun_colour: np.ndarray, sun: np.nd
     """The tone curve's exposure the camera sets for a scene lit by ``sky_ambient`` and the
     sun (``sun_colour`` from direction ``sun``, ``elevation_deg`` above the horizon): constant
     over a video, as its light is."""
-    key = float((np.asarray(sky_ambient) + np.asarray(sun_colour) * max(float(sun[2]), 0.0)) @ _LUMINANCE)
+    up = max(float(sun[2]), 0.0)
+    # scalar products in a fixed order: no BLAS or SIMD summation decides the exposure's bits
+    key = sum(w * (float(a) + float(s) * up) for w, a, s in zip(_LUMINANCE, sky_ambient, sun_colour, strict=True))
     reserve = 1.0 + (MAX_GAIN - 1.0) * _smoothstep(-18.0, -8.0, elevation_deg)
     return EXPOSURE * min(max(METER_KEY / max(key, 1e-6), 1.0), reserve)

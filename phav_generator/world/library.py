@@ -61,8 +61,7 @@ def world_library_sha256() -> str:
 
     for env_name in ENVIRONMENT_SCENES.names:
         env = ENVIRONMENT_SCENES[env_name]
-        add(places.ground(1.0, env.ground_z, indoor=env.indoor, pitch=_PITCHES.get(env_name),
-                          tiled=_TILED.get(env_name)))
+        add(ground_asset(env_name, 1.0, 0.0))
         for index in range(len(env.colliders)):
             for level in range(LEVELS):
                 add(collider_asset(env_name, index, level))
@@ -338,7 +337,7 @@ def ground_asset(env_name: str, half_extent: float, drop: float) -> Asset:
     below its ground height (cached per process)."""
     env = ENVIRONMENT_SCENES[env_name]
     return places.ground(half_extent, env.ground_z - drop, indoor=env.indoor, pitch=_PITCHES.get(env_name),
-                         tiled=_TILED.get(env_name))
+                         tiled=_TILED.get(env_name))  # fmt: skip
 
 
 #: Football pitches (length, width, m) marked on an environment's ground at its middle.
@@ -386,13 +385,17 @@ def box_asset(cls: str, half, rng: np.random.Generator, level: int = 0, *, indoo
 
 
 def _slab_kind(kind: str, rng: np.random.Generator, level: int) -> Asset:
-    """The catalogue's slabs: a two-lane carriageway with a crossing, a pavement, a terrace."""
+    """The catalogue's slabs: a two-lane carriageway with a crossing, a pavement, a terrace,
+    a lake's bank with its shore."""
     if kind == "carriageway":
         half = (30.0, 4.5, 0.05)
         markings = places.road_markings(half, [-1.25, 1.25], [0.0])
         return places.slab(half, rng, level, cls="road", look=places.ASPHALT, markings=markings)
     if kind == "pavement":
         return places.slab((30.0, 4.0, 0.05), rng, level, cls="road", look=places.PAVING)
+    if kind == "lake_bank":  # its +y side on the water from 2 m to 16 m along, its −x side all along
+        shores = [(1, 2.0, 16.0), (2, 0.0, 12.0)]
+        return places.slab((8.0, 6.0, 0.15), rng, level, cls="terrain", look=places.GRASS, shores=shores)
     return places.slab((8.0, 6.0, 0.1), rng, level, cls="terrain", look=places.GRASS)
 
 
@@ -483,8 +486,7 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "carriageway": (lambda rng, lv: _slab_kind("carriageway", rng, lv), (60, 60, 60)),
     "pavement": (lambda rng, lv: _slab_kind("pavement", rng, lv), (12, 12, 12)),
     "grass_terrace": (lambda rng, lv: _slab_kind("grass_terrace", rng, lv), (12, 12, 12)),
-    "lake_bank": (lambda rng, lv: places.slab((8.0, 6.0, 0.15), rng, lv, cls="terrain", look=places.GRASS,
-                                              shores=[(1, 2.0, 16.0), (2, 0.0, 6.0)]), (24, 24, 24)),
+    "lake_bank": (lambda rng, lv: _slab_kind("lake_bank", rng, lv), (24, 24, 24)),
     "ground": (lambda rng, lv: places.ground(60.0, 0.0, indoor=False), (2, 2, 2)),
     "pitch": (lambda rng, lv: places.ground(90.0, 0.0, indoor=False, pitch=(100.0, 54.0)), (160, 160, 160)),
     "floor": (lambda rng, lv: places.ground(20.0, 0.0, indoor=True, tiled=(4.0, -8.0, 9.0, -3.0)), (10, 10, 10)),
