@@ -456,7 +456,8 @@ def generate(
     """Sample N recipes from θ and render them into WebDataset shards with metadata and a
     manifest. Rerun the same command on the same --out to resume an interrupted run: the
     videos and shards its journal records are kept, and the result is byte for byte the
-    uninterrupted one."""
+    uninterrupted one. A finished run is left as it is; another finished dataset in --out
+    is refused."""
 
     _check_name(name)
     th = load_theta(theta)
@@ -467,6 +468,10 @@ def generate(
                                gl=gl)  # fmt: skip
     m = result.manifest
     frames = sum(v.n_frames for v in m.videos)
+    if result.already_finished:
+        console.print(f"nothing to do: {escape(str(out))} already holds this run's {len(m.videos)} videos "
+                      f"({frames:,} frames); θ {escape(th.name)} {th.hash[:12]}…, seed {seed}")  # fmt: skip
+        return
     resumed = f", {result.resumed_videos} video(s) already finished" if result.resumed_videos else ""
     console.print(
         f"wrote {len(m.videos)} videos ({frames:,} frames) in {len(m.shards)} shard(s) to {escape(str(out))}"

@@ -36,10 +36,10 @@ from phav_generator.render.context import check_gl_kind, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write
-from phav_spec.manifest import MANIFEST_VERSION, DatasetManifest, ShardEntry, VideoEntry, dump_manifest
+from phav_spec.manifest import MANIFEST_VERSION, DatasetManifest, ShardEntry, VideoEntry, dump_manifest, load_manifest
 from phav_spec.metadata import arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
-from phav_spec.recipe_table import RecipeRows, write_recipe_table
+from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import Theta
 
 WORK_DIR = ".phav-work"
@@ -71,6 +71,8 @@ class DatasetResult:
     resumed_shards: int
     rendered_videos: int = 0
     resumed_videos: int = 0
+    #: The directory held this run finished already: nothing was written.
+    already_finished: bool = False
 
 
 class _Run:
@@ -205,6 +207,10 @@ def write_dataset(
     tasks = [VideoTask(n, r.video_id, r.model_dump_json(), gl)
              for n, recipes in zip(names, shards, strict=True) for r in recipes]  # fmt: skip
     work = out / WORK_DIR
+    finished = _finished(out, names, tasks, name=name, theta=theta, dataset_seed=dataset_seed)
+    if finished is not None:
+        return DatasetResult(finished, rendered_shards=0, resumed_shards=len(names), resumed_videos=len(tasks),
+                             already_finished=True)  # fmt: skip
     try:
         (work / PARTS_DIR).mkdir(parents=True, exist_ok=True)
         with exclusive(work):
@@ -215,6 +221,35 @@ def write_dataset(
         raise e.with_hint(RESUME_HINT) from None
     except OSError as e:
         raise WriteError(e, str(e.filename or out), RESUME_HINT) from None
+
+
+def _finished(out: Path, names: list[str], tasks: list[VideoTask], *, name: str, theta: Theta | None,
+              dataset_seed: int) -> DatasetManifest | None:  # fmt: skip
+    """The manifest of this very run if ``out`` holds it finished (every shard in place at
+    its size), None if ``out`` holds no finished run or one short of a shard (rendered
+    again). A finished run with other settings is refused: running over it would replace
+    another dataset's files."""
+    if not (out / "manifest.json").is_file() or (out / WORK_DIR).exists():
+        return None
+    manifest = load_manifest(out / "manifest.json")
+    recipes = [r.model_dump_json() for r in read_recipe_table(out / "recipes.parquet").recipes()]
+    differs = [field for field, same in (
+        ("name", manifest.name == name),
+        ("theta_hash", manifest.theta_hash == (theta.hash if theta is not None else None)),
+        ("dataset_seed", manifest.dataset_seed == dataset_seed),
+        ("shard_names", [sh.name for sh in manifest.shards] == names),
+        ("recipes", recipes == [t.recipe for t in tasks]),
+    ) if not same]  # fmt: skip
+    if differs:
+        raise PhavUserError(
+            f"the directory holds a finished dataset with other settings ({', '.join(differs)} differ); "
+            "use another --out, or delete the directory to make this one",
+            source=str(out),
+            field=differs[0],
+        )
+    if not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
+        return None
+    return manifest
 
 
 def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], tasks: list[VideoTask], *,

@@ -476,7 +476,8 @@ def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tupl
     side = Material.CONCRETE if cls == "road" else surface
     side_colour = (0.58, 0.57, 0.55) if cls == "road" else tuple(0.8 * c for c in colour)
     wet = {i: (s0, s1) for i, s0, s1 in shores}
-    for i, face in enumerate(box_faces(half)):
+    faces = box_faces(half)
+    for i, face in enumerate(faces):
         s0, s1 = wet.get(i, (face.width, face.width))
         rect(q, face, "side", cls, side, side_colour, 0.0, s0, 0.0, face.height)
         rect(q, face, "side", cls, side, side_colour, s1, face.width, 0.0, face.height)
@@ -484,7 +485,6 @@ def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tupl
     z = hz + MARKING_M
     for x0, y0, x1, y1 in markings:
         q.add("marking", cls, Material.CONCRETE, looks.MARKING_WHITE, level_rect(x0, y0, x1, y1, z), UP)
-    faces = box_faces(half)
     for i, s0, s1 in shores:
         f = faces[i]
         width = min(SHORE_M, (hy if abs(f.normal[0]) > 0.5 else hx))  # never past the slab's middle

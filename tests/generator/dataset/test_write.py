@@ -153,3 +153,29 @@ def test_a_directory_holding_another_run_is_refused(small_recipes, small_theta, 
     with pytest.raises(PhavUserError, match=r"\(gl differ\)"):
         write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED, engine="ray",
                       gl="egl-gpu")  # fmt: skip
+
+
+def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(small_dataset_copy, small_recipes,
+                                                                           small_theta):  # fmt: skip
+    """Rerunning a finished run (the shared dataset's, copied) renders nothing and leaves every
+    file as it was; a run with other settings is refused before it touches a file; a finished
+    run missing a shard is made again."""
+    out = small_dataset_copy
+    shards = chunk(small_recipes, SMALL_SHARD_SIZE)
+    before = file_bytes(out)
+    times = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    again = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert again.already_finished and (again.rendered_videos, again.resumed_videos) == (0, len(small_recipes))
+    assert again.manifest == load_manifest(out / "manifest.json")
+    assert file_bytes(out) == before and {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == times
+    assert not (out / WORK_DIR).exists()
+    with pytest.raises(PhavUserError, match=r"finished dataset with other settings \(dataset_seed differ\)"):
+        write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED + 1)
+    with pytest.raises(PhavUserError, match=r"\(shard_names, recipes differ\)"):
+        write_dataset(chunk(small_recipes[:2], SMALL_SHARD_SIZE), out, name="phav", theta=small_theta,
+                      dataset_seed=SMALL_SEED)  # fmt: skip
+    assert file_bytes(out) == before
+    (out / "phav-000001.tar").unlink()
+    remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
+    assert file_bytes(out) == before
