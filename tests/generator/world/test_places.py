@@ -137,7 +137,9 @@ def _plain_quad_frame(ctx, material: Material):
 
 
 @pytest.mark.parametrize(
-    "material", [Material.GRASS, Material.WALLPAPER, Material.SEATS, Material.FLOOR_TILES], ids=lambda m: m.name
+    "material",
+    [Material.GRASS, Material.WALLPAPER, Material.SEATS, Material.FLOOR_TILES, Material.SHORE],
+    ids=lambda m: m.name,
 )
 def test_the_later_materials_reach_the_shader(ctx, material):
     plain = _plain_quad_frame(ctx, Material.PLAIN)

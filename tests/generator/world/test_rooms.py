@@ -127,7 +127,7 @@ def test_the_kitchen_floor_is_tiled_and_the_rest_of_the_room_is_wood():
     tiles = floor.materials == Material.FLOOR_TILES
     lo, hi = floor.positions[tiles].min(axis=0), floor.positions[tiles].max(axis=0)
     room = ENVIRONMENT_SCENES["house_interior"].room_colliders
-    kitchen = [c for c in room if c.pixel_class in ("fridge", "table", "chair") and c.center[1] < -3.0]
+    kitchen = [c for c in room if c.pixel_class in ("fridge", "shelf", "table", "chair") and c.center[1] < -3.0]
     assert kitchen and all(
         lo[0] - 1e-4 <= x <= hi[0] + 1e-4 and lo[1] - 1e-4 <= y <= hi[1] + 1e-4
         for c in kitchen
