@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
+import os
 import queue
+import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -28,6 +31,8 @@ from phav_spec.errors import PhavUserError
 ENGINES = ("local", "ray")
 #: Object store for a Ray started here (bytes): records are small, pixels go to disk.
 LOCAL_OBJECT_STORE_BYTES = 128 * 1024**2
+#: How often (s) a local pool worker checks that the process that started it still runs.
+PARENT_POLL_S = 0.5
 
 #: Called with (tasks finished, frames finished) increments as work completes.
 Progress = Callable[[int, int], None]
@@ -68,9 +73,24 @@ def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, 
 _worker_events: Any = None
 
 
-def _init_worker(events: Any) -> None:
+def _init_worker(events: Any, parent: int) -> None:
     global _worker_events
     _worker_events = events
+    exit_with_parent(parent)
+
+
+def exit_with_parent(parent: int) -> None:
+    """In a local pool's worker (``parent`` the pid that started it): end this process once
+    ``parent`` is gone (killed, or stopped by a signal before it could shut its pool down),
+    instead of working on for nobody. A watching daemon thread; what the worker left half
+    written is a temporary the next run removes."""
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(PARENT_POLL_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="phav-parent-watch", daemon=True).start()
 
 
 def _report(videos: int, frames: int) -> None:
@@ -87,7 +107,7 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
     mp = multiprocessing.get_context("spawn")
     events = mp.Queue()
     with ProcessPoolExecutor(
-        max_workers=min(workers, len(tasks)), mp_context=mp, initializer=_init_worker, initargs=(events,)
+        max_workers=min(workers, len(tasks)), mp_context=mp, initializer=_init_worker, initargs=(events, os.getpid())
     ) as pool:
         futures: dict[Future, int] = {pool.submit(_pool_call, stage, t): i for i, t in enumerate(tasks)}
         pending = set(futures)

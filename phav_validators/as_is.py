@@ -15,6 +15,7 @@ import dataclasses
 import itertools
 import math
 import multiprocessing
+import os
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -27,7 +28,7 @@ import cv2
 import numpy as np
 import pyarrow.parquet as pq
 
-from phav_generator.engines import RayPool
+from phav_generator.engines import RayPool, exit_with_parent
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS
@@ -215,11 +216,14 @@ def _ids_in(path: Path, recipes: Mapping[str, Recipe]) -> list[str]:
     return list(seen)
 
 
-def _init_worker() -> None:
-    """One thread per worker process: OpenCV's own pool would fight the other workers."""
+def _init_worker(parent: int | None = None) -> None:
+    """One thread per worker process: OpenCV's own pool would fight the other workers; a
+    local pool's worker ends with the process that started it (``parent``)."""
 
     cv2.setNumThreads(1)
     tune_allocator()
+    if parent is not None:
+        exit_with_parent(parent)
 
 
 def _ready() -> None:
@@ -232,7 +236,7 @@ def _start_pool(workers: int, engine: str = "local", address: str | None = None)
     if engine == "ray":
         return RayPool(workers, address, initializer=_init_worker)  # type: ignore[return-value]
     mp = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=mp, initializer=_init_worker)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=mp, initializer=_init_worker, initargs=(os.getpid(),))
     for _ in range(workers):
         pool.submit(_ready)
     return pool

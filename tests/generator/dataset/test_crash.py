@@ -4,12 +4,14 @@ The uninterrupted run is the shared `small_dataset`: these runs ask `phav genera
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import resource
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -124,3 +126,53 @@ def test_an_unwritable_output_directory_is_a_clear_error(generate, tmp_path):
     finally:
         out.chmod(0o755)
     assert result.returncode == 2 and "not writable" in result.stderr and "Traceback" not in result.stderr
+
+
+def _workers_of(pid: int) -> list[int]:
+    """The pool workers a process spawned (children running multiprocessing's spawn_main)."""
+    out = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                ppid = int(next(li for li in (entry / "status").read_text().splitlines() if li.startswith("PPid:"))[5:])
+                cmd = (entry / "cmdline").read_bytes()
+            except (OSError, StopIteration, ValueError):
+                continue
+            if ppid == pid and b"spawn_main" in cmd:
+                out.append(int(entry.name))
+    return out
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = next(li for li in Path(f"/proc/{pid}/status").read_text().splitlines() if li.startswith("State:"))
+    except (OSError, StopIteration):
+        return False
+    return "Z" not in state.split()[1]  # a zombie has ended
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads processes from /proc")
+def test_the_workers_end_with_a_killed_run(small_dataset, tmp_path):
+    """A run SIGKILLed while its two workers render: the workers end within seconds instead
+    of rendering on for nobody (they watch the process that started them)."""
+    args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
+            "--shard-size", str(SMALL_SHARD_SIZE), "--workers", "2", "--out", str(tmp_path / "data"))  # fmt: skip
+    run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "generate", *args], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL, env={"PATH": "", "COLUMNS": "200"})  # fmt: skip
+    workers: list[int] = []
+    try:
+        deadline = time.monotonic() + 120.0
+        while len(workers := _workers_of(run.pid)) < 2:
+            assert run.poll() is None and time.monotonic() < deadline, "the run never started two workers"
+            time.sleep(0.1)
+        run.kill()
+        run.wait()
+        deadline = time.monotonic() + 10.0
+        while any(_running(w) for w in workers) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert not any(_running(w) for w in workers), "a worker outlived its run"
+    finally:  # nothing outlives the test, whatever it found
+        run.kill()
+        for w in workers:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(w, signal.SIGKILL)
