@@ -17,11 +17,9 @@ import numpy as np
 
 from phav_generator.physics.simulate import simulate
 from phav_generator.render.context import gl_context
-from phav_generator.render.gl import FrameRenderer
 from phav_generator.render.lighting import EXPOSURE
 from phav_generator.render.modalities import encode_frame
-from phav_generator.render.scene import class_id
-from phav_generator.render.video import scene_inputs
+from phav_generator.render.video import inputs_renderer, scene_inputs
 from phav_generator.sampling import sample_recipes
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import load_preset
@@ -45,10 +43,8 @@ def main() -> None:
         s = scene_inputs(recipe, trajectory)
         row = []
         for exposure in (EXPOSURE, s.lighting.exposure):
-            lighting = dataclasses.replace(s.lighting, exposure=exposure)
-            with FrameRenderer(ctx, s.width, s.height, s.drawables, sky_class=class_id("sky"), lighting=lighting,
-                               lamps=s.lamps, focus=s.focus, supersample=s.supersample, post=s.post,
-                               rain_seed=s.rain_seed) as renderer:  # fmt: skip
+            metered = dataclasses.replace(s, lighting=dataclasses.replace(s.lighting, exposure=exposure))
+            with inputs_renderer(metered, ctx) as renderer:
                 frame = renderer.render(middle, trajectory.cam_to_world[middle], trajectory.cam_to_world[middle + 1],
                                         trajectory.intrinsics)  # fmt: skip
             rgb = np.ascontiguousarray(encode_frame(frame)["rgb"])

@@ -95,6 +95,12 @@ def scene_renderer(
     """A renderer for one video in ``ctx``: ``scene_inputs`` (same arguments) drawn by a
     ``FrameRenderer``."""
     s = scene_inputs(recipe, trajectory, supersample=supersample, post=post, people=people, assets=assets)
+    return inputs_renderer(s, ctx)
+
+
+def inputs_renderer(s: SceneInputs, ctx: moderngl.Context) -> FrameRenderer:
+    """A ``FrameRenderer`` in ``ctx`` drawing scene inputs ``s`` (changed ones too: another
+    lighting, say)."""
     return FrameRenderer(
         ctx, s.width, s.height, s.drawables, sky_class=class_id("sky"), lighting=s.lighting, lamps=s.lamps,
         focus=s.focus, supersample=s.supersample, post=s.post, rain_seed=s.rain_seed,
