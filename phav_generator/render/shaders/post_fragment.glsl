@@ -74,20 +74,30 @@ void main() {
 #endif
 #if AO
     if (d < 1e30) {
-        // Pairs of opposite taps: where both come nearer than the surface through this
-        // pixel (a crease, a foot on the floor, a wall's corner) light is occluded. Comparing
-        // against the line through the pair (linear in inverse depth for planes) rather than
-        // against this pixel's depth keeps slanted ground from darkening itself, and a much
-        // nearer object (> 0.8 m) occludes nothing, so silhouettes get no halo.
+        // Each tap nearer than the plane through this pixel occludes it, fading with the
+        // tap's distance in space: a wall's corner, a fold or a foot on the floor darken what
+        // is near them, and a thin chair leg does not print a copy of itself on floor half a
+        // metre before or behind it (a depth test alone cannot tell that floor from a crease).
+        // Inverse depth is affine in window coordinates on a plane; its slope comes from the
+        // neighbour on each axis that agrees better, so a silhouette does not bend it.
+        float iz = 1.0 / d;
+        vec2 ahead = vec2(1.0 / depth_at(px + vec2(1.0, 0.0)), 1.0 / depth_at(px + vec2(0.0, 1.0))) - iz;
+        vec2 behind = iz - vec2(1.0 / depth_at(px - vec2(1.0, 0.0)), 1.0 / depth_at(px - vec2(0.0, 1.0)));
+        vec2 slope = mix(behind, ahead, lessThan(abs(ahead), abs(behind)));
+        vec3 p = cam_point(px, d);
         float radius = clamp(0.45 * intrinsics.x / d, 2.0, 10.0);
+        float reach = radius * d / intrinsics.x;  // the taps' span in metres
         float occluded = 0.0;
-        for (int i = 0; i < 4; ++i) {
-            float a = depth_at(px + radius * AO_TAPS[i]);
-            float b = depth_at(px - radius * AO_TAPS[i]);
-            float crease = d - 2.0 / (1.0 / a + 1.0 / b);
-            occluded += (d - min(a, b) < 0.8) ? smoothstep(0.02, 0.25, crease) : 0.0;
+        for (int i = 0; i < 8; ++i) {
+            // Whole-pixel offsets: the depth is read unfiltered, at pixel centres.
+            vec2 off = floor(radius * (i < 4 ? AO_TAPS[i] : -AO_TAPS[i - 4]) + 0.5);
+            float a = min(depth_at(px + off), 1e6);  // the sky: far, not infinite
+            float plane = iz + dot(slope, off);
+            float nearer = plane > 0.0 ? 1.0 / plane - a : 1e6;
+            float apart = length(cam_point(px + off, a) - p);
+            occluded += smoothstep(0.02, 0.1, nearer) * (1.0 - smoothstep(0.5 * reach, 1.5 * reach, apart));
         }
-        c *= 1.0 - ao_strength * occluded / 4.0 * exp(-fog_per_m * d);
+        c *= 1.0 - ao_strength * min(occluded / 6.0, 1.0) * exp(-fog_per_m * d);
     }
 #endif
 #if BLOOM

@@ -226,3 +226,37 @@ def test_post_settings_follow_the_recipes_render_switches():
     off = PostSettings.from_render(RenderSettings(bloom=False, color_grading=False))
     assert (off.bloom, off.grading) == (0.0, False)
     assert off.motion_blur == PostSettings().motion_blur and off.reflections and off.vignette > 0.0
+
+
+def _ao_darkening(ctx, drawables, cam) -> tuple[np.ndarray, FrameRenderer]:
+    """How much ambient occlusion alone darkens each pixel (0..1), the other effects off."""
+    quiet = PostSettings(motion_blur=0.0, bloom=0.0, vignette=0.0, grading=False)
+    frames = []
+    for post in (quiet, PostSettings(motion_blur=0.0, bloom=0.0, vignette=0.0, grading=False, ambient_occlusion=0.0)):
+        with FrameRenderer(ctx, W, H, drawables, sky_class=SKY, post=post) as r:
+            frames.append(r.render(0, cam, cam, INTRINSICS))
+    with_ao, without = (f.rgb.astype(float).mean(axis=-1) for f in frames)
+    return 1.0 - with_ao / np.maximum(without, 1.0), frames[1]
+
+
+def test_occlusion_darkens_a_corner_and_a_foot_but_leaves_no_copy_of_a_thin_post(ctx):
+    """A wall meeting the floor darkens the floor beside it, and a 4 cm post the floor at its
+    foot; floor more than 0.4 m from either keeps its light, however the post's silhouette
+    lies over it on screen (a sparse tap pattern used to print shifted copies of thin things)."""
+    floor, wall = _pose(translation=(0.0, 0.0, -0.05)), _pose(translation=(0.0, 4.0, 1.5))
+    post = _pose(translation=(0.0, 1.0, 0.5))
+    items = [Drawable(box((10, 10, 0.05)), np.stack([floor, floor]), 2),
+             Drawable(box((10, 0.05, 1.5)), np.stack([wall, wall]), 3),
+             Drawable(box((0.02, 0.02, 0.5)), np.stack([post, post]), 5)]  # fmt: skip
+    cam = _look((0.4, -2.5, 1.6), (0.0, 2.0, 0.3))
+    dark, frame = _ao_darkening(ctx, items, cam)
+    points = _pixel_points(frame.depth_m, cam)
+    on_floor = frame.class_id == 2
+    from_post = np.hypot(points[..., 0], points[..., 1] - 1.0)
+    from_wall = 3.95 - points[..., 1]
+    assert dark[on_floor & (from_wall < 0.1)].mean() > 0.05  # the corner
+    assert dark[on_floor & (from_post < 0.1) & (from_post > 0.02)].mean() > 0.005  # the foot
+    away = on_floor & (from_post > 0.4) & (from_wall > 0.4)
+    behind_post = away & (np.abs(points[..., 0]) < 0.3)  # floor the post's silhouette crosses on screen
+    assert behind_post.sum() > 500
+    assert np.percentile(dark[away], 99.5) < 0.01
