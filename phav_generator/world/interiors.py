@@ -22,16 +22,24 @@ _BOOKS = ((0.55, 0.10, 0.08), (0.10, 0.20, 0.40), (0.15, 0.35, 0.18), (0.85, 0.7
           (0.75, 0.45, 0.10), (0.50, 0.50, 0.55))  # fmt: skip
 
 
-def _turned_boxes(p: Parts, rot: np.ndarray) -> Callable[..., None]:
-    """``box(name, cls, material, colour, lo, hi, **kw)``: adds to ``p`` an axis-aligned box
-    between corners ``lo`` and ``hi`` of the object's modelling frame, turned by ``rot``."""
+#: Segments round a cushion (a superellipsoid): its corners are rounded, not its sides.
+CUSHION_SEGMENTS = 8
 
-    def box(name, cls, material, colour, lo, hi, **kw) -> None:
+
+def _turned_boxes(p: Parts, rot: np.ndarray) -> Callable[..., None]:
+    """``box(name, cls, material, colour, lo, hi, cushion=None, **kw)``: adds to ``p`` an
+    axis-aligned box between corners ``lo`` and ``hi`` of the object's modelling frame, turned
+    by ``rot`` (with ``cushion``, the superellipsoid of that squareness filling the box)."""
+
+    def box(name, cls, material, colour, lo, hi, *, cushion: float | None = None, **kw) -> None:
         lo_, hi_ = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
         c = transform_points(((lo_ + hi_) / 2)[None], rot, (0.0, 0.0, 0.0))[0]
-        p.box(
-            name, cls, material, colour, (float(c[0]), float(c[1]), float(c[2])), tuple((hi_ - lo_) / 2), rot=rot, **kw
-        )
+        centre, half = (float(c[0]), float(c[1]), float(c[2])), tuple((hi_ - lo_) / 2)
+        if cushion is None:
+            p.box(name, cls, material, colour, centre, half, rot=rot, **kw)
+        else:  # a soft part: the box's superellipsoid, ``cushion`` its squareness
+            p.ellipsoid(name, cls, material, colour, centre, half, rot=rot, squareness=cushion,
+                        segments=CUSHION_SEGMENTS, **kw)  # fmt: skip
 
     return box
 
@@ -111,34 +119,37 @@ def table(half, rng: np.random.Generator, level: int = 0) -> Asset:
 
 
 def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
-    """A sofa: a base on feet, seat cushions, back cushions and arms, in fabric or leather."""
+    """A sofa: a base on feet, seat cushions, back cushions and rolled arms, in fabric or
+    leather, with two cushions of another fabric at its ends; the soft parts are rounded
+    (superellipsoids) where small details are modelled, boxes farther down the levels."""
     hz = half[2]
     p = Parts(level)
     d, w, box = _frame(p, half, front)
     leather = rng.random() < 0.3
     cover, material = (pick(LEATHERS, rng), Material.LEATHER) if leather else (pick(FABRICS, rng), Material.FABRIC)
+    soft = 0.3 if p.fine else None
     z0, seat = -hz + 0.08, -hz + 0.43
     arm = 0.16
     box("base", "sofa", material, cover, (-d, -w + arm, z0), (d, w - arm, seat - 0.12))
     for sgn in (-1.0, 1.0):
         y0, y1 = (-w, -w + arm) if sgn < 0 else (w - arm, w)
-        box(f"arm{sgn:+.0f}", "sofa", material, cover, (-d, y0, z0), (d, y1, -hz + 0.62))
-    box("back", "sofa", material, cover, (-d, -w + arm, z0), (-d + 0.22, w - arm, hz))
+        box(f"arm{sgn:+.0f}", "sofa", material, cover, (-d, y0, z0), (d, y1, -hz + 0.64), cushion=soft)
+    box("back", "sofa", material, cover, (-d, -w + arm, z0), (-d + 0.22, w - arm, hz - (0.1 if p.fine else 0.0)))
     cushions = 3 if p.fine and w > 0.9 else (2 if p.fine else 1)
     span = (2 * (w - arm)) / cushions
     for k in range(cushions):
         y0 = -w + arm + k * span
-        box(
-            f"cushion{k}",
-            "sofa",
-            material,
-            cover,
-            (-d + 0.22, y0 + 0.005, seat - 0.12),
-            (d - 0.02, y0 + span - 0.005, seat),
-        )
+        box(f"cushion{k}", "sofa", material, cover, (-d + 0.2, y0 + 0.005, seat - 0.14),
+            (d - 0.02, y0 + span - 0.005, seat + 0.02 * p.fine), cushion=soft)  # fmt: skip
         if p.fine:
-            box(f"back_cushion{k}", "sofa", material, cover, (-d + 0.22, y0 + 0.01, seat),
-                (-d + 0.36, y0 + span - 0.01, hz - 0.06))  # fmt: skip
+            box(f"back_cushion{k}", "sofa", material, cover, (-d + 0.12, y0 + 0.01, seat - 0.04),
+                (-d + 0.4, y0 + span - 0.01, hz), cushion=0.35)  # fmt: skip
+    if p.fine:  # throw cushions leaning on the back at both ends, in another cover
+        accent = pick(FABRICS, rng)
+        for sgn in (-1.0, 1.0):
+            y = sgn * (w - arm - 0.24)
+            box(f"pillow{sgn:+.0f}", "sofa", Material.FABRIC, accent, (-d + 0.38, y - 0.21, seat),
+                (-d + 0.52, y + 0.21, seat + 0.4), cushion=0.5)  # fmt: skip
     for x in (-d + 0.05, d - 0.05):
         for y in (-w + 0.05, w - 0.05):
             box(

@@ -28,7 +28,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 4
+WORLD_LIBRARY_VERSION = 5
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
@@ -420,7 +420,7 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "chair": (lambda rng, lv: interiors.chair((0.225, 0.225, 0.45), rng, lv), (200, 200, 120)),
     "chair_back": (lambda rng, lv: interiors.chair_back((0.02, 0.22, 0.21), rng, lv), (100, 100, 60)),
     "table": (lambda rng, lv: interiors.table((0.8, 0.45, 0.375), rng, lv), (120, 120, 120)),
-    "sofa": (lambda rng, lv: interiors.sofa((1.1, 0.45, 0.425), rng, lv, front=(0.0, -1.0)), (250, 250, 150)),
+    "sofa": (lambda rng, lv: interiors.sofa((1.1, 0.45, 0.425), rng, lv, front=(0.0, -1.0)), (600, 600, 150)),
     "bed": (lambda rng, lv: interiors.bed((0.8, 1.0, 0.275), rng, lv), (200, 200, 200)),
     "bookcase": (lambda rng, lv: interiors.shelf((0.2, 1.2, 1.0), rng, lv), (4000, 4000, 200)),
     "cabinet": (lambda rng, lv: interiors.shelf((1.5, 0.3, 0.45), rng, lv, front=(0.0, 1.0)), (250, 250, 150)),

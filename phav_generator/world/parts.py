@@ -228,19 +228,30 @@ class Parts:
         self.frustum(name, cls, material, colour, a, b, radius, radius, **kw)
 
     def ellipsoid(self, name: str, cls: str, material: Material, colour, centre, radii, *,
-                  segments: int | None = None, rot=None, glow: int = NO_GLOW) -> None:  # fmt: skip
-        """An ellipsoid (a sphere where the radii agree): smooth, one vertex at each pole."""
+                  segments: int | None = None, rot=None, glow: int = NO_GLOW,
+                  squareness: float = 1.0) -> None:  # fmt: skip
+        """An ellipsoid (a sphere where the radii agree): smooth, one vertex at each pole.
+        ``squareness`` below 1 flattens it towards its box (a superellipsoid: a cushion at
+        about 0.3, a box at 0)."""
         s = segments or self.round
         rings = max(s // 2, 3)
         rx, ry, rz = (float(r) for r in radii)
+        e = float(squareness)
+
+        def shape(w: float) -> float:  # sign(w)·|w|^e, exactly w for the plain ellipsoid
+            return w if e == 1.0 else math.copysign(abs(w) ** e, w)
+
+        def slope(w: float) -> float:  # the normal's factor: sign(w)·|w|^(2 − e)
+            return w if e == 1.0 else math.copysign(abs(w) ** (2.0 - e), w)
+
         pos, nrm = [(0.0, 0.0, -rz)], [(0.0, 0.0, -1.0)]
         around = circle(s)
         for i in range(1, rings):
             lat = -math.pi / 2 + math.pi * i / rings
             cl, sl = math.cos(lat), math.sin(lat)
             for c, sn in around:
-                pos.append((rx * cl * c, ry * cl * sn, rz * sl))
-                nrm.append((cl * c / rx, cl * sn / ry, sl / rz))
+                pos.append((rx * shape(cl) * shape(c), ry * shape(cl) * shape(sn), rz * shape(sl)))
+                nrm.append((slope(cl) * slope(c) / rx, slope(cl) * slope(sn) / ry, slope(sl) / rz))
         pos.append((0.0, 0.0, rz))
         nrm.append((0.0, 0.0, 1.0))
         tri = sphere_triangles(s, rings)

@@ -214,3 +214,28 @@ def test_each_prop_is_drawn_within_its_physics_shape(kind):
 def test_the_seed_chooses_a_car_s_look():
     looks = {CATALOGUE["sedan"][0](stream(seed, "look"), 0).body.colours.tobytes() for seed in range(8)}
     assert len(looks) > 1
+
+
+def test_a_cushion_fills_its_box_with_rounded_corners():
+    """Squareness 1 is the ellipsoid, vertex for vertex; a cushion's (0.3) vertices stay in
+    the same box but reach far nearer its corners, and its normals still point outwards."""
+    from phav_generator.world.materials import Material
+    from phav_generator.world.parts import Parts
+
+    def built(**kw) -> Asset:
+        p = Parts(0)
+        p.ellipsoid("c", "sofa", Material.FABRIC, (0.5, 0.5, 0.5), (0.0, 0.0, 0.0), (0.4, 0.3, 0.1), **kw)
+        return p.build()
+
+    plain, same, cushion = built(), built(squareness=1.0), built(squareness=0.3)
+    assert plain.digest_bytes() == same.digest_bytes()
+    half = np.array([0.4, 0.3, 0.1], np.float32)
+    for asset in (plain, cushion):
+        assert np.all(np.abs(asset.positions) <= half + 1e-6)
+        assert np.all(np.sum(asset.normals * asset.positions, axis=1) > 0.0)
+
+    # How far into the corner octant each gets: the largest min over axes of |x| / half.
+    def reach(asset: Asset) -> float:
+        return float(np.max(np.min(np.abs(asset.positions) / half, axis=1)))
+
+    assert reach(plain) < 0.6 < 0.8 < reach(cushion)

@@ -1,0 +1,117 @@
+"""How the PASCAL VOC judge answers on each object kind alone, at the sizes a frame shows it:
+every kind the judge has a class for, three variants from two sides, standing on a plain
+floor under the sky, seen from 15° up at four distances (docs/world.md). It tells an object
+the judge cannot recognise from one it does not recognise at the size our frames show it.
+
+    .venv/bin/python docs/measure/judged_alone.py [--kinds sofa,table] [--threads 2]
+
+prints, per kind and distance, the object's height on screen, the judge's IoU and recall
+on the object's pixels and what it names most of them.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections import Counter
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+from world_gallery import drawables_of
+
+from phav_generator.render.assets import turntable_camera
+from phav_generator.render.context import gl_context
+from phav_generator.render.gl import SPECKLE, Drawable, FrameRenderer
+from phav_generator.render.meshes import box, ground
+from phav_generator.world.library import CATALOGUE
+from phav_spec.judge_classes import PASCAL_VOC
+from phav_spec.seeding import stream
+from phav_spec.vocab import PIXEL_CLASSES
+from phav_validators.realism.judges import load_judges
+
+#: Each kind and the judge's class for it (the realism check's mapping).
+KINDS = {"hatchback": "car", "sedan": "car", "suv": "car", "van": "car", "truck": "car", "bus": "bus",
+         "chair": "chair", "bench_seat": "chair", "sofa": "sofa", "table": "diningtable",
+         "screen": "tvmonitor"}  # fmt: skip
+#: The judge's classes for things indoors: they stand in front of a wall, the rest under the sky.
+INDOORS = ("chair", "sofa", "diningtable", "tvmonitor")
+WALL_BEHIND_M = 1.5
+#: How much farther than the distance at which the object fills the frame.
+FARTHER = (1.0, 2.0, 4.0, 8.0)
+WIDTH, HEIGHT = 340, 256
+VARIANTS, ANGLES = 3, (35.0, 215.0)
+
+
+def _behind(asset, cam_to_world: np.ndarray, *, indoors: bool) -> list[Drawable]:
+    """A room's wall ``WALL_BEHIND_M`` behind the object, across the camera's view, indoors."""
+    if not indoors:
+        return []
+    lo, hi = asset.bounds()
+    away = (lo + hi) / 2 - cam_to_world[:3, 3]
+    away[2] = 0.0
+    away /= np.linalg.norm(away)
+    pose = np.eye(4)
+    pose[:3, :3] = np.array([[-away[1], away[0], 0.0], away, [0.0, 0.0, 1.0]]).T
+    reach = float(np.linalg.norm(hi[:2] - lo[:2])) / 2
+    pose[:3, 3] = (lo + hi) / 2 + away * (reach + WALL_BEHIND_M)
+    pose[2, 3] = lo[2] + 1.5
+    return [Drawable(box((8.0, 0.05, 1.5)), np.stack([pose, pose]), PIXEL_CLASSES["building"].class_id,
+                     colour=(0.78, 0.72, 0.62))]  # fmt: skip
+
+
+def _judged(ctx, judge, kind: str, answer: str):
+    """(farther, object height px, IoU, recall, names) over the variants and sides."""
+    said_id = PASCAL_VOC.label_id(answer)
+    floor_id = PIXEL_CLASSES["floor"].class_id
+    rows = []
+    for farther in FARTHER:
+        inter = union = hit = size = 0.0
+        heights, names = [], Counter()
+        for variant in range(VARIANTS):
+            drawables, asset = drawables_of(CATALOGUE[kind][0](stream(7, f"judged/{kind}/{variant}"), 0))
+            lo, _ = asset.bounds()
+            under = np.eye(4)
+            under[2, 3] = lo[2]
+            floor = Drawable(ground(60.0), np.stack([under, under]), floor_id, colour=(0.52, 0.47, 0.42),
+                             pattern=SPECKLE)  # fmt: skip
+            for angle in ANGLES:
+                c2w, intrinsics = turntable_camera(asset, angle, fy=1.2 * HEIGHT, height=HEIGHT)
+                centre = (asset.bounds()[0] + asset.bounds()[1]) / 2
+                c2w[:3, 3] = centre + farther * (c2w[:3, 3] - centre)
+                intrinsics = (intrinsics[0], intrinsics[1], WIDTH / 2, HEIGHT / 2)
+                scene = [*drawables, floor, *_behind(asset, c2w, indoors=KINDS[kind] in INDOORS)]
+                with FrameRenderer(ctx, WIDTH, HEIGHT, scene, sky_class=PIXEL_CLASSES["sky"].class_id,
+                                   focus=np.zeros(3)) as renderer:  # fmt: skip
+                    frame = renderer.render(0, c2w, c2w, intrinsics)
+                    labels = judge.labels(frame.rgb)
+                    mask = np.isin(frame.class_id, asset.class_ids)
+                    said = labels == said_id
+                    inter += float((said & mask).sum())
+                    union += float((said | mask).sum())
+                    hit += float((said & mask).sum())
+                    size += float(mask.sum())
+                    rows_on = np.flatnonzero(mask.any(axis=1))
+                    heights.append(int(rows_on[-1] - rows_on[0] + 1) if rows_on.size else 0)
+                    names.update(PASCAL_VOC.labels[i] for i in labels[mask])
+        top = ", ".join(f"{n} {c / max(sum(names.values()), 1):.2f}" for n, c in names.most_common(2))
+        rows.append((farther, int(np.median(heights)), inter / max(union, 1.0), hit / max(size, 1.0), top))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--kinds", default=",".join(KINDS), help="comma-separated")
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args()
+    ctx = gl_context()
+    judge = load_judges(None, args.threads).segmenters["pascal_voc"]
+    table = Table("kind", "judged as", "distance", "height (px)", "IoU", "recall", "named most")
+    for kind in args.kinds.split(","):
+        answer = KINDS[kind]
+        for farther, height, iou, recall, top in _judged(ctx, judge, kind, answer):
+            table.add_row(kind, answer, f"{farther:g}×", str(height), f"{iou:.2f}", f"{recall:.2f}", top)
+    Console(width=140).print(table)
+
+
+if __name__ == "__main__":
+    main()
