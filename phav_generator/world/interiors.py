@@ -140,11 +140,11 @@ def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 
     for k in range(cushions):
         y0 = -w + arm + k * span
         box(f"cushion{k}", "sofa", material, cover, (-d + 0.2, y0 + 0.005, seat - 0.14),
-            (d - 0.02, y0 + span - 0.005, seat + 0.02 * p.fine), cushion=soft)  # fmt: skip
+            (d - 0.02, y0 + span - 0.005, seat + (0.02 if p.fine else 0.0)), cushion=soft)  # fmt: skip
         if p.fine:
             box(f"back_cushion{k}", "sofa", material, cover, (-d + 0.12, y0 + 0.01, seat - 0.04),
                 (-d + 0.4, y0 + span - 0.01, hz), cushion=0.35)  # fmt: skip
-    if p.fine:  # throw cushions leaning on the back at both ends, in another cover
+    if p.fine:  # throw cushions against the back cushions at both ends, in another cover
         accent = pick(FABRICS, rng)
         for sgn in (-1.0, 1.0):
             y = sgn * (w - arm - 0.24)
