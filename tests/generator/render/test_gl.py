@@ -11,7 +11,7 @@ import pytest
 
 from phav_generator.motion.rotations import axis_angle_matrix, look_at
 from phav_generator.render.camera import project
-from phav_generator.render.gl import Drawable, FrameRenderer, PostSettings
+from phav_generator.render.gl import Drawable, Frame, FrameRenderer, PostSettings
 from phav_generator.render.meshes import box, capsule
 from phav_generator.render.modalities import encode_frame
 from phav_spec.encoding import DEPTH_MAX_CODE, decode_flow, encode_depth
@@ -228,8 +228,9 @@ def test_post_settings_follow_the_recipes_render_switches():
     assert off.motion_blur == PostSettings().motion_blur and off.reflections and off.vignette > 0.0
 
 
-def _ao_darkening(ctx, drawables, cam) -> tuple[np.ndarray, FrameRenderer]:
-    """How much ambient occlusion alone darkens each pixel (0..1), the other effects off."""
+def _ao_darkening(ctx, drawables, cam) -> tuple[np.ndarray, Frame]:
+    """How much ambient occlusion alone darkens each pixel (0..1), the other effects off, and
+    the frame without it."""
     quiet = PostSettings(motion_blur=0.0, bloom=0.0, vignette=0.0, grading=False)
     frames = []
     for post in (quiet, PostSettings(motion_blur=0.0, bloom=0.0, vignette=0.0, grading=False, ambient_occlusion=0.0)):
@@ -242,7 +243,7 @@ def _ao_darkening(ctx, drawables, cam) -> tuple[np.ndarray, FrameRenderer]:
 def test_occlusion_darkens_a_corner_and_a_foot_but_leaves_no_copy_of_a_thin_post(ctx):
     """A wall meeting the floor darkens the floor beside it, and a 4 cm post the floor at its
     foot; floor more than 0.4 m from either keeps its light, however the post's silhouette
-    lies over it on screen (a sparse tap pattern used to print shifted copies of thin things)."""
+    lies over it on screen: a thin thing prints no shifted copies of itself."""
     floor, wall = _pose(translation=(0.0, 0.0, -0.05)), _pose(translation=(0.0, 4.0, 1.5))
     post = _pose(translation=(0.0, 1.0, 0.5))
     items = [Drawable(box((10, 10, 0.05)), np.stack([floor, floor]), 2),

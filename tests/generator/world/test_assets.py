@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from phav_generator.world.library import CATALOGUE, MODELLED_CLASSES, collider_asset, modelled_indices
-from phav_generator.world.parts import LEVELS, Asset
+from phav_generator.world.materials import Material
+from phav_generator.world.parts import LEVELS, Asset, Parts
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
@@ -219,8 +220,6 @@ def test_the_seed_chooses_a_car_s_look():
 def test_a_cushion_fills_its_box_with_rounded_corners():
     """Squareness 1 is the ellipsoid, vertex for vertex; a cushion's (0.3) vertices stay in
     the same box but reach far nearer its corners, and its normals still point outwards."""
-    from phav_generator.world.materials import Material
-    from phav_generator.world.parts import Parts
 
     def built(**kw) -> Asset:
         p = Parts(0)
