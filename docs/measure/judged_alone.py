@@ -1,7 +1,8 @@
 """How the PASCAL VOC judge answers on each object kind alone, at the sizes a frame shows it:
 every kind the judge has a class for, three variants from two sides, standing on a plain
-floor under the sky, seen from 15° up at four distances (docs/world.md). It tells an object
-the judge cannot recognise from one it does not recognise at the size our frames show it.
+floor (the indoor kinds in front of a wall), seen from 15° up at four distances
+(docs/realism.md). It tells an object the judge cannot recognise from one it does not
+recognise at the size our frames show it.
 
     .venv/bin/python docs/measure/judged_alone.py [--kinds sofa,table] [--threads 2]
 
@@ -65,7 +66,7 @@ def _judged(ctx, judge, kind: str, answer: str):
     floor_id = PIXEL_CLASSES["floor"].class_id
     rows = []
     for farther in FARTHER:
-        inter = union = hit = size = 0.0
+        inter = union = size = 0.0
         heights, names = [], Counter()
         for variant in range(VARIANTS):
             drawables, asset = drawables_of(CATALOGUE[kind][0](stream(7, f"judged/{kind}/{variant}"), 0))
@@ -88,13 +89,12 @@ def _judged(ctx, judge, kind: str, answer: str):
                     said = labels == said_id
                     inter += float((said & mask).sum())
                     union += float((said | mask).sum())
-                    hit += float((said & mask).sum())
                     size += float(mask.sum())
                     rows_on = np.flatnonzero(mask.any(axis=1))
                     heights.append(int(rows_on[-1] - rows_on[0] + 1) if rows_on.size else 0)
                     names.update(PASCAL_VOC.labels[i] for i in labels[mask])
         top = ", ".join(f"{n} {c / max(sum(names.values()), 1):.2f}" for n, c in names.most_common(2))
-        rows.append((farther, int(np.median(heights)), inter / max(union, 1.0), hit / max(size, 1.0), top))
+        rows.append((farther, int(np.median(heights)), inter / max(union, 1.0), inter / max(size, 1.0), top))
     return rows
 
 
