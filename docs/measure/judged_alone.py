@@ -1,8 +1,8 @@
 """How the PASCAL VOC judge answers on each object kind alone, at the sizes a frame shows it:
-every kind the judge has a class for, three variants from two sides, standing on a plain
-floor (the indoor kinds in front of a wall), seen from 15° up at four distances
-(docs/realism.md). It tells an object the judge cannot recognise from one it does not
-recognise at the size our frames show it.
+every kind the judge has a class for and a table amid chairs, three variants from two
+sides, on a plain floor (the indoor kinds in front of a wall), seen from 15° up at four
+distances (docs/realism.md). It tells an object the judge cannot recognise from one it does
+not recognise at the size our frames show it.
 
     .venv/bin/python docs/measure/judged_alone.py [--kinds sofa,table] [--threads 2]
 
@@ -13,6 +13,7 @@ on the object's pixels and what it names most of them.
 from __future__ import annotations
 
 import argparse
+import math
 from collections import Counter
 
 import numpy as np
@@ -20,11 +21,13 @@ from rich.console import Console
 from rich.table import Table
 from world_gallery import drawables_of
 
-from phav_generator.render.assets import turntable_camera
+from phav_generator.render.assets import asset_drawable, turntable_camera
 from phav_generator.render.context import gl_context
 from phav_generator.render.gl import SPECKLE, Drawable, FrameRenderer
 from phav_generator.render.meshes import box, ground
+from phav_generator.world import interiors
 from phav_generator.world.library import CATALOGUE
+from phav_generator.world.parts import Asset
 from phav_spec.judge_classes import PASCAL_VOC
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
@@ -33,7 +36,9 @@ from phav_validators.realism.judges import load_judges
 #: Each kind and the judge's class for it (the realism check's mapping).
 KINDS = {"hatchback": "car", "sedan": "car", "suv": "car", "van": "car", "truck": "car", "bus": "bus",
          "chair": "chair", "bench_seat": "chair", "sofa": "sofa", "table": "diningtable",
-         "screen": "tvmonitor"}  # fmt: skip
+         "dining_set": "diningtable", "screen": "tvmonitor"}  # fmt: skip
+#: The dining set's chairs round its table: (x, y) of each in the table's frame, facing it.
+CHAIRS_AT = ((-0.45, -0.65), (0.45, -0.65), (-0.45, 0.65), (0.45, 0.65))
 #: The judge's classes for things indoors: they stand in front of a wall, the rest under the sky.
 INDOORS = ("chair", "sofa", "diningtable", "tvmonitor")
 WALL_BEHIND_M = 1.5
@@ -60,6 +65,23 @@ def _behind(asset, cam_to_world: np.ndarray, *, indoors: bool) -> list[Drawable]
                      colour=(0.78, 0.72, 0.62))]  # fmt: skip
 
 
+def _subject(kind: str, variant: int) -> tuple[list[Drawable], Asset]:
+    """The drawables of ``kind``'s variant and the asset judged: a dining set is a table (the
+    one judged) with four chairs drawn round it."""
+    rng = stream(7, f"judged/{kind}/{variant}")
+    if kind != "dining_set":
+        return drawables_of(CATALOGUE[kind][0](rng, 0))
+    drawables, table = drawables_of(CATALOGUE["table"][0](rng, 0))
+    floor = table.bounds()[0][2]
+    for k, (x, y) in enumerate(CHAIRS_AT):
+        chair = interiors.chair((0.225, 0.225, 0.45), stream(7, f"judged/{kind}/{variant}/{k}"), 0,
+                                front=(0.0, -math.copysign(1.0, y)))  # fmt: skip
+        pose = np.eye(4)
+        pose[:3, 3] = (x, y, floor + 0.45)
+        drawables.append(asset_drawable(chair, np.stack([pose, pose])))
+    return drawables, table
+
+
 def _judged(ctx, judge, kind: str, answer: str):
     """(farther, object height px, IoU, recall, names) over the variants and sides."""
     said_id = PASCAL_VOC.label_id(answer)
@@ -69,7 +91,7 @@ def _judged(ctx, judge, kind: str, answer: str):
         inter = union = size = 0.0
         heights, names = [], Counter()
         for variant in range(VARIANTS):
-            drawables, asset = drawables_of(CATALOGUE[kind][0](stream(7, f"judged/{kind}/{variant}"), 0))
+            drawables, asset = _subject(kind, variant)
             lo, _ = asset.bounds()
             under = np.eye(4)
             under[2, 3] = lo[2]
