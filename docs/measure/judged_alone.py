@@ -86,23 +86,26 @@ def _judged(ctx, judge, kind: str, answer: str):
     """(farther, object height px, IoU, recall, names) over the variants and sides."""
     said_id = PASCAL_VOC.label_id(answer)
     floor_id = PIXEL_CLASSES["floor"].class_id
+    subjects = []  # each variant built once, with the floor it stands on
+    for variant in range(VARIANTS):
+        drawables, asset = _subject(kind, variant)
+        under = np.eye(4)
+        under[2, 3] = asset.bounds()[0][2]
+        floor = Drawable(ground(60.0), np.stack([under, under]), floor_id, colour=(0.52, 0.47, 0.42),
+                         pattern=SPECKLE)  # fmt: skip
+        subjects.append(([*drawables, floor], asset))
     rows = []
     for farther in FARTHER:
         inter = union = size = 0.0
         heights, names = [], Counter()
-        for variant in range(VARIANTS):
-            drawables, asset = _subject(kind, variant)
-            lo, _ = asset.bounds()
-            under = np.eye(4)
-            under[2, 3] = lo[2]
-            floor = Drawable(ground(60.0), np.stack([under, under]), floor_id, colour=(0.52, 0.47, 0.42),
-                             pattern=SPECKLE)  # fmt: skip
+        for drawn, asset in subjects:
+            lo, hi = asset.bounds()
             for angle in ANGLES:
                 c2w, intrinsics = turntable_camera(asset, angle, fy=1.2 * HEIGHT, height=HEIGHT)
-                centre = (asset.bounds()[0] + asset.bounds()[1]) / 2
+                centre = (lo + hi) / 2
                 c2w[:3, 3] = centre + farther * (c2w[:3, 3] - centre)
                 intrinsics = (intrinsics[0], intrinsics[1], WIDTH / 2, HEIGHT / 2)
-                scene = [*drawables, floor, *_behind(asset, c2w, indoors=KINDS[kind] in INDOORS)]
+                scene = [*drawn, *_behind(asset, c2w, indoors=KINDS[kind] in INDOORS)]
                 with FrameRenderer(ctx, WIDTH, HEIGHT, scene, sky_class=PIXEL_CLASSES["sky"].class_id,
                                    focus=np.zeros(3)) as renderer:  # fmt: skip
                     frame = renderer.render(0, c2w, c2w, intrinsics)

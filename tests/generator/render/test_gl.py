@@ -3,6 +3,7 @@ a moving camera, a moving object and a rotating limb, sky and points behind the 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import moderngl
@@ -233,7 +234,7 @@ def _ao_darkening(ctx, drawables, cam) -> tuple[np.ndarray, Frame]:
     the frame without it."""
     quiet = PostSettings(motion_blur=0.0, bloom=0.0, vignette=0.0, grading=False)
     frames = []
-    for post in (quiet, PostSettings(motion_blur=0.0, bloom=0.0, vignette=0.0, grading=False, ambient_occlusion=0.0)):
+    for post in (quiet, dataclasses.replace(quiet, ambient_occlusion=0.0)):
         with FrameRenderer(ctx, W, H, drawables, sky_class=SKY, post=post) as r:
             frames.append(r.render(0, cam, cam, INTRINSICS))
     with_ao, without = (f.rgb.astype(float).mean(axis=-1) for f in frames)
