@@ -185,6 +185,21 @@ def _set(prog: moderngl.Program, name: str, value) -> None:
         member.value = value
 
 
+@dataclass
+class _ShadowMap:
+    """One of the sun's depth maps: of the casters that move (drawn every frame), or of those
+    that hold still for the whole video (drawn once: neither they nor the sun move)."""
+
+    uniform: str  # the scene shader's sampler
+    location: int  # its texture unit
+    casters: list[int]  # indices into the drawables
+    every_frame: bool
+    texture: moderngl.Texture
+    framebuffer: moderngl.Framebuffer
+    vao: moderngl.VertexArray | None = None
+    drawn: bool = False
+
+
 @dataclass(frozen=True)
 class _LabelledPass:
     """What the RGB passes need of the labelled pass they finish (``render_labels``)."""
@@ -231,7 +246,10 @@ class FrameRenderer:
         self.lamps = lamps[:MAX_LAMPS] if self.lighting.lamp_intensity > 0.01 else np.zeros((0, 3))
         self.focus = np.zeros(3) if focus is None else np.asarray(focus, dtype=np.float64)
         self.sky_class = sky_class
-        self.use_shadow = self.lighting.shadows and any(d.casts_shadow for d in drawables)
+        casters = [i for i, d in enumerate(drawables) if d.casts_shadow] if self.lighting.shadows else []
+        self._still_casters = [i for i in casters if _holds_still(drawables[i])]
+        self._moving_casters = [i for i in casters if not _holds_still(drawables[i])]
+        self.use_shadow = bool(casters)
         #: The GL objects this renderer made, and its programs: ``release`` frees both.
         self._objects: list = []
         self._programs: list[moderngl.Program] = []
@@ -261,7 +279,8 @@ class FrameRenderer:
         ctx, ps = self.ctx, self.post_settings
         wet = self.lighting.wetness > 0.0 or any(d.material == WATER for d in self.drawables)
         materials = any(d.part_look is not None for d in self.drawables)
-        features = {"SHADOWS": self.use_shadow, "LAMPS": len(self.lamps) > 0, "WET": wet, "MATERIALS": materials}
+        features = {"SHADOWS": bool(self._moving_casters), "STILL_SHADOWS": bool(self._still_casters),
+                    "LAMPS": len(self.lamps) > 0, "WET": wet, "MATERIALS": materials}  # fmt: skip
         # Two builds of the scene program: the labelled pass places each vertex at t + 1 too
         # (its flow); the colour passes skip that work (llvmpipe runs both sides of a branch).
         # Supersampled, the raw colour is the samples' mean: the labelled pass does not shade.
@@ -347,17 +366,20 @@ class FrameRenderer:
         self._objects += [self.out_rb, self.out_fbo]
 
     def _build_shadow_map(self) -> None:
-        """The sun's depth map around the focus, where the scene casts shadows."""
-        if self.use_shadow:
-            ctx = self.ctx
-            self.shadow_tex = ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE))
-            self.shadow_tex.compare_func = "<="
-            self.shadow_tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            self.shadow_fbo = ctx.framebuffer(depth_attachment=self.shadow_tex)
-            self._objects += [self.shadow_tex, self.shadow_fbo]
-            self.light_vp = _sun_matrix(self.lighting.sun_dir, self.focus)
-        else:
-            self.light_vp = np.eye(4)
+        """The sun's depth maps around the focus, where the scene casts shadows: one of the
+        casters that move, one of those that hold still (the shader takes the darker)."""
+        self._shadow_maps: list[_ShadowMap] = []
+        self.light_vp = _sun_matrix(self.lighting.sun_dir, self.focus) if self.use_shadow else np.eye(4)
+        maps = (("shadow_map", 0, self._moving_casters, True), ("still_shadow_map", 2, self._still_casters, False))
+        for uniform, location, casters, every_frame in maps:
+            if not casters:
+                continue
+            texture = self.ctx.depth_texture((SHADOW_SIZE, SHADOW_SIZE))
+            texture.compare_func = "<="
+            texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            framebuffer = self.ctx.framebuffer(depth_attachment=texture)
+            self._objects += [texture, framebuffer]
+            self._shadow_maps.append(_ShadowMap(uniform, location, casters, every_frame, texture, framebuffer))
 
     def _build_geometry(self) -> None:
         """Every drawable in one vertex buffer, drawn with one call per pass through a
@@ -382,13 +404,11 @@ class FrameRenderer:
         self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao, self.colour_vao]
         self.textures = _texture_array(ctx, textures)
         self._objects.append(self.textures)
-        casters = [self._indices[i] for i, d in enumerate(drawables) if d.casts_shadow]
-        self.shadow_vao = None
-        if self.use_shadow:
-            self.shadow_ibo = ctx.buffer(np.concatenate(casters).tobytes())
-            self.shadow_vao = ctx.vertex_array(self.shadow_prog, _layout(self.vbo, self.shadow_prog), self.shadow_ibo,
-                                               index_element_size=4)  # fmt: skip
-            self._objects += [self.shadow_ibo, self.shadow_vao]
+        for shadow in self._shadow_maps:
+            ibo = ctx.buffer(np.concatenate([self._indices[i] for i in shadow.casters]).tobytes())
+            shadow.vao = ctx.vertex_array(self.shadow_prog, _layout(self.vbo, self.shadow_prog), ibo,
+                                          index_element_size=4)  # fmt: skip
+            self._objects += [ibo, shadow.vao]
 
     def _build_bounds(self) -> None:
         """Bounding spheres (local centre, radius) for frustum culling of the camera passes,
@@ -444,12 +464,12 @@ class FrameRenderer:
                 _write(p, "lamp_pos", padded.tobytes())
             _set(p, "models", 6)
             _set(p, "textures", 7)
+            for shadow in self._shadow_maps:
+                _set(p, shadow.uniform, shadow.location)
             if self.use_shadow:
-                _set(p, "shadow_map", 0)
                 _write(p, "light_vp", _gl(self.light_vp))
         _set(self.shadow_prog, "models", 6)
         if self.use_shadow:
-            self.shadow_tex.use(location=0)
             self.shadow_prog["light_vp"].write(_gl(self.light_vp))
         _set(self.rain_prog, "rain_colour", (0.78, 0.8, 0.84))
         _set(self.rain_prog, "rain_alpha", 0.35)
@@ -547,16 +567,18 @@ class FrameRenderer:
         return replace(labels, colour=raw, rgb=self._post(done.intrinsics, done.cam_to_world))
 
     def _shadow_pass(self) -> None:
-        """The sun's depth map of this frame's shadow casters."""
-        if self.shadow_vao is None:
-            return
+        """The sun's depth maps: of this frame's moving casters, and of the still ones at the
+        first frame drawn (the models texture holds their one pose at every frame)."""
         ctx = self.ctx
-        self.shadow_fbo.use()
-        ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
-        self.shadow_fbo.clear(depth=1.0)
-        ctx.enable(moderngl.DEPTH_TEST)
-        self.shadow_vao.render(moderngl.TRIANGLES)
-        self.shadow_tex.use(location=0)
+        for shadow in self._shadow_maps:
+            if shadow.every_frame or not shadow.drawn:
+                shadow.framebuffer.use()
+                ctx.viewport = (0, 0, SHADOW_SIZE, SHADOW_SIZE)
+                shadow.framebuffer.clear(depth=1.0)
+                ctx.enable(moderngl.DEPTH_TEST)
+                shadow.vao.render(moderngl.TRIANGLES)
+                shadow.drawn = True
+            shadow.texture.use(location=shadow.location)
 
     def _scene_pass(self, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
         """Draw the scene (the first ``n_indices`` of the frame's index buffer) into the bound
@@ -763,6 +785,11 @@ def _texture_array(ctx: moderngl.Context, textures: list[np.ndarray]) -> moderng
     array.build_mipmaps(max_level=MAX_MIP_LEVEL)
     array.filter = (moderngl.LINEAR_MIPMAP_NEAREST, moderngl.LINEAR)  # bilinear in the nearest level
     return array
+
+
+def _holds_still(drawable: Drawable) -> bool:
+    """Whether ``drawable`` has the same world transforms at every frame."""
+    return bool((drawable.transforms == drawable.transforms[:1]).all())
 
 
 def _stack_transforms(drawables: list[Drawable]) -> np.ndarray:

@@ -14,11 +14,11 @@ are written once:
 The stages: ``scene_vertex`` / ``scene_fragment`` (the labelled geometry pass and the
 supersampled colour passes), ``fullscreen_vertex`` (a triangle covering the viewport, for
 the sky, resolve and post passes), ``sky_fragment`` (the background in every target),
-``shadow_*`` (the sun's depth map), ``rain_*`` (streaks), ``resolve_fragment`` (the mean of
+``shadow_*`` (the sun's depth maps), ``rain_*`` (streaks), ``resolve_fragment`` (the mean of
 the colour samples) and ``post_fragment`` (the RGB modality's post-processing).
 
 ``scene_fragment`` and ``post_fragment`` carry no ``#version``: ``with_features`` puts it
-first, followed by the renderer's feature switches (``SHADOWS``, ``LAMPS``, ``WET``;
+first, followed by the renderer's feature switches (``SHADOWS``, ``STILL_SHADOWS``, ``LAMPS``, ``WET``;
 ``MOTION_BLUR``, ``SSR``, ``AO``, ``BLOOM``): llvmpipe runs both sides of a branch, so work
 a scene lacks is compiled out rather than skipped at run time.
 """

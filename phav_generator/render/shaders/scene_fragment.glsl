@@ -4,7 +4,8 @@ uniform vec3 ground_ambient;
 uniform float wetness;
 uniform vec3 eye;
 uniform vec2 size;
-uniform sampler2DShadow shadow_map;
+uniform sampler2DShadow shadow_map;  // the sun's depth map of what moves, drawn every frame
+uniform sampler2DShadow still_shadow_map;  // ... of what holds still, drawn once
 uniform sampler2DArray textures;  // people's clothes, one layer per outfit
 uniform int lamp_count;
 uniform vec3 lamp_pos[16];
@@ -33,13 +34,21 @@ flat in vec3 v_emission;
 #endif
 
 float sunlit(vec3 n) {
-#if !SHADOWS
+#if !SHADOWS && !STILL_SHADOWS
     return 1.0;
 #endif
     vec3 p = v_light.xyz / v_light.w * 0.5 + 0.5;
     if (p.x <= 0.0 || p.x >= 1.0 || p.y <= 0.0 || p.y >= 1.0 || p.z >= 1.0) return 1.0;
     float bias = 0.0015 + 0.004 * (1.0 - abs(dot(n, sun_dir)));
-    return texture(shadow_map, vec3(p.xy, p.z - bias));  // 2×2 percentage-closer (linear filter)
+    vec3 q = vec3(p.xy, p.z - bias);
+    float lit = 1.0;  // 2×2 percentage-closer (linear filter) in each map; the darker wins
+#if SHADOWS
+    lit = texture(shadow_map, q);
+#endif
+#if STILL_SHADOWS
+    lit = min(lit, texture(still_shadow_map, q));
+#endif
+    return lit;
 }
 
 vec3 albedo(out vec2 gloss) {

@@ -220,6 +220,47 @@ def test_the_context_manager_releases_every_gl_object_on_an_exception(ctx):
     assert held and all(_released(o) for o in held)
 
 
+class _CountedDraws:
+    """A vertex array that counts its draws."""
+
+    def __init__(self, vao: moderngl.VertexArray):
+        self.vao, self.draws = vao, 0
+
+    def render(self, mode: int) -> None:
+        self.draws += 1
+        self.vao.render(mode)
+
+
+def _brightness(frame: Frame) -> np.ndarray:
+    return frame.colour.astype(int).sum(axis=-1)
+
+
+def test_what_holds_still_is_drawn_into_its_shadow_map_once_and_shadows_every_frame(ctx):
+    """A still box's shadow comes from a map drawn at the first frame rendered and is there
+    at every frame; a moving box's shadow follows it; a frame is the same whichever frame
+    the renderer drew first."""
+    ground, still = _pose(translation=(0.0, 0.0, -0.05)), _pose(translation=(-1.5, 0.0, 0.75))
+    moving = np.stack([_pose(translation=(1.5, y, 0.75)) for y in (0.0, 1.0, 2.0)])
+    floor = Drawable(box((10, 10, 0.1)), np.stack([ground] * 3), 2)
+    mover = Drawable(box((0.8, 0.8, 1.5)), moving, 22, 1)
+    items = [floor, Drawable(box((0.8, 0.8, 1.5)), np.stack([still] * 3), 5), mover]
+    cam = _look((-3.0, 5.0, 7.0), (0.0, 0.5, 0.0))
+    with FrameRenderer(ctx, W, H, items, sky_class=SKY) as r:
+        [still_map] = [m for m in r._shadow_maps if not m.every_frame]
+        still_map.vao = counted = _CountedDraws(still_map.vao)
+        frames = [r.render(f, cam, cam, INTRINSICS) for f in range(3)]
+    assert counted.draws == 1
+    with FrameRenderer(ctx, W, H, items, sky_class=SKY) as r:
+        np.testing.assert_array_equal(r.render(2, cam, cam, INTRINSICS).rgb, frames[2].rgb)
+    with FrameRenderer(ctx, W, H, [floor, mover], sky_class=SKY) as r:
+        bare = [r.render(f, cam, cam, INTRINSICS) for f in range(3)]
+    for with_still, without in zip(frames, bare, strict=True):
+        on_ground = (with_still.class_id == 2) & (without.class_id == 2)
+        assert (on_ground & (_brightness(with_still) < _brightness(without) - 60)).sum() > 300
+    on_ground = (bare[0].class_id == 2) & (bare[2].class_id == 2)
+    assert (on_ground & (_brightness(bare[0]) < _brightness(bare[2]) - 60)).sum() > 300  # left behind
+
+
 def test_post_settings_follow_the_recipes_render_switches():
     """θ's defaults switch every effect on at its default strength; each switch turns off
     only its own effect."""

@@ -14,7 +14,7 @@ from phav_generator.render.shaders import shader_source, with_features
 SNIPPETS = ("hash.glsl", "materials.glsl", "models.glsl", "outputs.glsl", "sky.glsl", "tone.glsl")
 #: Each program's stages and the feature switches its fragment stage takes (None: no switches).
 PROGRAMS = {
-    "scene": ("scene_vertex.glsl", "scene_fragment.glsl", ("LAMPS", "MATERIALS", "SHADOWS", "WET")),
+    "scene": ("scene_vertex.glsl", "scene_fragment.glsl", ("LAMPS", "MATERIALS", "SHADOWS", "STILL_SHADOWS", "WET")),
     "sky": ("fullscreen_vertex.glsl", "sky_fragment.glsl", None),
     "shadow": ("shadow_vertex.glsl", "shadow_fragment.glsl", None),
     "rain": ("rain_vertex.glsl", "rain_fragment.glsl", None),
