@@ -1,0 +1,138 @@
+"""The Cityscapes judge on real photographs at our frames' size, beside our frames: the
+closest real frames to be had offline, for the targets our frames miss (docs/realism.md).
+The photographs are OpenCV's sample data, from Debian's opencv-doc package (not shipped):
+
+    apt-get download opencv-doc && dpkg-deb -x opencv-doc_*.deb opencv-doc
+    .venv/bin/python docs/measure/judged_real.py opencv-doc/usr/share/doc/opencv-doc/examples/data --ours r52
+
+Each photograph is scaled to cover 340 × 256 and centre-cropped, as a frame is; inside boxes
+drawn by hand that hold one class only, it prints the share of pixels the judge names as
+that class (its recall there) and what it names most. With --ours DATASET, the same share
+over our frames' pixels of each class at least 4 px from any other class (the realism
+check's sample of outdoor frames): all of them, and the clear or overcast daytime ones.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections import Counter, defaultdict
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from phav_spec.clips import ClipReader
+from phav_spec.judge_classes import CITYSCAPES
+from phav_spec.recipe_table import read_recipe_table
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.vocab import PIXEL_CLASSES
+from phav_validators.checks.scan import class_lut, rgb_code
+from phav_validators.realism.check import sample_frames
+from phav_validators.realism.judges import load_judges
+
+W, H = 340, 256
+#: Pixels of margin an interior pixel keeps from any other class, in our frames.
+MARGIN_PX = 4
+#: Hand-drawn boxes (x0, y0, x1, y1 in the 340 × 256 crop) that hold one class each.
+REGIONS: dict[str, list[tuple[str, tuple[int, int, int, int]]]] = {
+    "building.jpg": [("building", (120, 20, 330, 150)), ("sky", (5, 80, 45, 135)),
+                     ("vegetation", (5, 160, 80, 198)), ("vegetation", (70, 210, 145, 225)),
+                     ("terrain", (0, 234, 340, 256))],
+    "leuvenA.jpg": [("sky", (100, 5, 220, 70)), ("building", (0, 100, 50, 190)),
+                    ("building", (270, 75, 340, 165)), ("road", (0, 210, 240, 256))],
+    "leuvenB.jpg": [("sky", (220, 20, 320, 90)), ("building", (0, 90, 170, 170)), ("road", (60, 225, 340, 256))],
+    "messi5.jpg": [("person", (125, 100, 180, 165)), ("terrain", (0, 205, 120, 256))],
+    "licenseplate_motion.jpg": [("car", (10, 40, 330, 250))],
+}  # fmt: skip
+#: Most-named classes shown per row.
+SHOWN = 3
+
+
+def as_frame(path: Path) -> np.ndarray:
+    """A photograph scaled to cover 340 × 256 and centre-cropped: (256, 340, 3) uint8."""
+    with Image.open(path) as im:
+        im = im.convert("RGB")
+        scale = max(W / im.width, H / im.height)
+        im = im.resize((round(im.width * scale), round(im.height * scale)), Image.Resampling.LANCZOS)
+        left, top = (im.width - W) // 2, (im.height - H) // 2
+        return np.asarray(im.crop((left, top, left + W, top + H)))
+
+
+def named(counts: Counter, names: tuple[str, ...]) -> str:
+    total = sum(counts.values())
+    top = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))[:SHOWN]
+    return ", ".join(f"{names[k]} {n / total:.2f}" for k, n in top)
+
+
+def interior(labels: np.ndarray, margin: int) -> np.ndarray:
+    """Pixels whose (2·margin + 1)² window holds their label only."""
+    padded = np.pad(labels, margin, mode="edge")
+    out = np.ones(labels.shape, dtype=bool)
+    for dy in range(2 * margin + 1):
+        for dx in range(2 * margin + 1):
+            out &= padded[dy : dy + labels.shape[0], dx : dx + labels.shape[1]] == labels
+    return out
+
+
+def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counter]]:
+    """Per judge class and sample ("all", "clear day"): the judge's answers on our interior pixels."""
+    targets = sorted(set(CITYSCAPES.judged_as.values()))
+    to_target = np.full(65536, -1, dtype=np.int32)
+    for ours, m in CITYSCAPES.judged_as.items():
+        to_target[PIXEL_CLASSES[ours].class_id] = targets.index(m)
+    table = read_recipe_table(root / "recipes.parquet")
+    looks = {v: (e, w in ("clear", "overcast") and d == "day") for v, e, w, d in zip(
+        table.column("video_id"), table.column("environment"), table.column("weather"), table.column("day_phase"),
+        strict=True)}  # fmt: skip
+    answers: dict[str, dict[str, Counter]] = defaultdict(lambda: defaultdict(Counter))
+    lut = class_lut()[0]
+    reader = ClipReader(root)
+    try:
+        for video, chosen in sample_frames(reader, frames, 0).items():
+            environment, clear_day = looks[video]
+            if ENVIRONMENT_SCENES[environment].indoor:
+                continue
+            clip = reader.read(video, chosen, ("rgb", "semantic"))
+            for rgb, semantic in zip(clip["rgb"], clip["semantic"], strict=True):
+                target = to_target[lut[rgb_code(semantic)]]
+                inside = interior(target, MARGIN_PX) & (target >= 0)
+                said = segmenter.labels(rgb)
+                for t in np.unique(target[inside]):
+                    values, counts = np.unique(said[inside & (target == t)], return_counts=True)
+                    for sample in ("all", "clear day") if clear_day else ("all",):
+                        answers[targets[t]][sample].update(dict(zip(values.tolist(), counts.tolist(), strict=True)))
+    finally:
+        reader.close()
+    return answers
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("photos", type=Path, help="the directory of OpenCV's sample data")
+    parser.add_argument("--ours", type=Path, help="a dataset: the same figure on its frames")
+    parser.add_argument("--frames", type=int, default=400)
+    args = parser.parse_args()
+    segmenter = load_judges(threads=2).segmenters["cityscapes"]
+    names = segmenter.classes.labels
+    print("| photograph | class | box (x0, y0, x1, y1) | named as the class | named most |")
+    print("| --- | --- | --- | ---: | --- |")
+    for photo, regions in REGIONS.items():
+        said = segmenter.labels(as_frame(args.photos / photo))
+        for m, (x0, y0, x1, y1) in regions:
+            inside = said[y0:y1, x0:x1]
+            share = float(np.isin(inside, CITYSCAPES.answer_ids(m)).mean())
+            answers = Counter(dict(zip(*(a.tolist() for a in np.unique(inside, return_counts=True)), strict=True)))
+            print(f"| {photo} | {m} | {x0}, {y0}, {x1}, {y1} | {share:.2f} | {named(answers, names)} |")
+    if args.ours is None:
+        return
+    print(f"\n| our class (≥ {MARGIN_PX} px inside) | frames | pixels | named as the class | named most |")
+    print("| --- | --- | ---: | ---: | --- |")
+    for m, samples in sorted(judge_ours(args.ours, segmenter, args.frames).items()):
+        for sample, answers in sorted(samples.items()):
+            total = sum(answers.values())
+            hit = sum(answers[i] for i in CITYSCAPES.answer_ids(m))
+            print(f"| {m} | {sample} | {total:,} | {hit / total:.2f} | {named(answers, names)} |")
+
+
+if __name__ == "__main__":
+    main()
