@@ -229,7 +229,7 @@ def realism_html(result: RealismResult) -> list[str]:
     if fig("cityscapes_miou") is not None:
         m = fig("cityscapes_miou")
         out.append(f"<p>Cityscapes mIoU over its classes present: {m.value:.2f} ({m.low:.2f}–{m.high:.2f}).")
-        for kind in ("weather", "day_phase"):
+        for kind in ("weather", "day_phase", "light"):
             parts = [f"{k.split('=')[1]} {result.figures[k].value:.2f}" for k in sorted(result.figures)
                      if k.startswith(f"cityscapes_miou|{kind}=")]  # fmt: skip
             if parts:

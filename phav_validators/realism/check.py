@@ -129,6 +129,18 @@ def sample_frames(reader: ClipReader, n: int, seed: int) -> dict[str, list[int]]
     return out
 
 
+#: Weathers of the light the street model was trained in (Cityscapes: daytime, fair weather).
+FAIR_WEATHERS = ("clear", "overcast")
+
+
+def conditions_of(weather: str, day_phase: str) -> tuple[str, ...]:
+    """A video's condition groups for the world's figures: its weather and day phase, and
+    ``light=fair_day`` in clear or overcast daytime. Fog, rain and dusk hide what a judge
+    trained on fair daytime streets knows; the fair-day figures show the looks alone."""
+    fair = weather in FAIR_WEATHERS and day_phase == "day"
+    return (f"weather={weather}", f"day_phase={day_phase}", *(("light=fair_day",) if fair else ()))
+
+
 def judge_person(judges: Judges, tally: Tally, video: str, rgb: np.ndarray, person: Mapping[str, Any],
                  groups: tuple[str, ...]) -> dict[str, Any]:  # fmt: skip
     """Detector and landmarks on one person; counts added under each of ``groups`` (e.g.
@@ -282,11 +294,8 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
     table = read_recipe_table(root / "recipes.parquet")
     actions = dict(zip(table.column("video_id"), table.column("action"), strict=True))
     environments = dict(zip(table.column("video_id"), table.column("environment"), strict=True))
-    # the world's figures per environment, weather and day phase: fog, rain and dusk hide
-    # what a judge trained on clear daytime streets knows
     weathers, phases = table.column("weather"), table.column("day_phase")
-    conditions = {v: (f"weather={w}", f"day_phase={d}")
-                  for v, w, d in zip(table.column("video_id"), weathers, phases, strict=True)}  # fmt: skip
+    conditions = {v: conditions_of(w, d) for v, w, d in zip(table.column("video_id"), weathers, phases, strict=True)}
     chosen = sample_frames(reader, opts.frames, opts.seed)
     advance = progress("realism: judging frames", sum(len(f) for f in chosen.values())) if progress else None
     lut = class_lut()[0]

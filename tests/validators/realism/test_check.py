@@ -17,6 +17,7 @@ from phav_validators.realism.check import (
     HEADLINES,
     RealismOptions,
     Tally,
+    conditions_of,
     judge_world,
     parse_minimums,
     realism_check,
@@ -53,6 +54,13 @@ def test_the_check_judges_people_and_world_with_intervals(judged):
     assert not any("|head|" in k or "|chest|" in k for k in judged.figures)
     # The sample's frames add up: every judged frame is in one of the three videos' groups.
     assert sum(f.count for k, f in judged.figures.items() if k.startswith("person_found|view=")) <= judged.people
+
+
+def test_clear_or_overcast_daytime_videos_form_the_fair_day_group():
+    assert conditions_of("overcast", "day") == ("weather=overcast", "day_phase=day", "light=fair_day")
+    assert conditions_of("clear", "day")[-1] == "light=fair_day"
+    for weather, phase in (("fog", "day"), ("rain", "day"), ("clear", "dusk"), ("overcast", "night")):
+        assert conditions_of(weather, phase) == (f"weather={weather}", f"day_phase={phase}")
 
 
 def test_the_same_seed_gives_the_same_figures_and_another_seed_other_frames(small_dataset, judged):
