@@ -18,9 +18,9 @@ the sky, resolve and post passes), ``sky_fragment`` (the background in every tar
 the colour samples) and ``post_fragment`` (the RGB modality's post-processing).
 
 ``scene_fragment`` and ``post_fragment`` carry no ``#version``: ``with_features`` puts it
-first, followed by the renderer's feature switches (``SHADOWS``, ``STILL_SHADOWS``, ``LAMPS``, ``WET``;
-``MOTION_BLUR``, ``SSR``, ``AO``, ``BLOOM``): llvmpipe runs both sides of a branch, so work
-a scene lacks is compiled out rather than skipped at run time.
+first, followed by the renderer's feature switches (``SHADOWS``, ``STILL_SHADOWS``,
+``LAMPS``, ``WET``; ``MOTION_BLUR``, ``SSR``, ``AO``, ``BLOOM``): llvmpipe runs both sides of
+a branch, so work a scene lacks is compiled out rather than skipped at run time.
 """
 
 from __future__ import annotations
