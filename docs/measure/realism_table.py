@@ -1,6 +1,6 @@
 """Markdown tables of realism figures from `phav-validate --checks realism --json` reports,
-one column per report (docs/realism.md): the headline figures, people per view, and the
-world per our class for each judge.
+one column per report (docs/realism.md): the headline figures, people per view, the
+world per our class for each judge, and the street model by weather, day phase and light.
 
     python docs/measure/realism_table.py today=realism-today.json capsules=realism-capsules.json
 """
@@ -60,6 +60,12 @@ def main() -> None:
         ours = sorted({k.split("|")[2] for r in runs.values() for k in r["figures"] if k.startswith(f"iou|{judge}|")})
         rows = [(c, f"iou|{judge}|{c}|all") for c in ours]
         print("\n".join(table(f"{judge}: IoU of our class", rows, runs)) + "\n")
+    # The street model per weather, day phase and in fair daylight, the light it was trained in.
+    groups = sorted({k.split("|")[1] for r in runs.values() for k in r["figures"] if k.startswith("cityscapes_miou|")})
+    rows = [(g, f"cityscapes_miou|{g}") for g in groups]
+    rows += [(f"light=fair_day: IoU of {m}", f"class_iou|cityscapes|{m}|light=fair_day")
+             for m in ("road", "building", "vegetation", "terrain", "car", "sky", "person")]  # fmt: skip
+    print("\n".join(table("cityscapes: mIoU by conditions", rows, runs)) + "\n")
     # Per environment and per action (where at least MIN_VIDEOS videos were judged).
     for judge, c in (("pascal_voc", "person"), ("cityscapes", "person"), ("cityscapes", "road"),
                      ("cityscapes", "building"), ("cityscapes", "terrain")):  # fmt: skip
