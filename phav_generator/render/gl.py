@@ -247,8 +247,9 @@ class FrameRenderer:
         self.focus = np.zeros(3) if focus is None else np.asarray(focus, dtype=np.float64)
         self.sky_class = sky_class
         casters = [i for i, d in enumerate(drawables) if d.casts_shadow] if self.lighting.shadows else []
-        self._still_casters = [i for i in casters if _holds_still(drawables[i])]
-        self._moving_casters = [i for i in casters if not _holds_still(drawables[i])]
+        still = [_holds_still(drawables[i]) for i in casters]
+        self._still_casters = [i for i, s in zip(casters, still, strict=True) if s]
+        self._moving_casters = [i for i, s in zip(casters, still, strict=True) if not s]
         self.use_shadow = bool(casters)
         #: The GL objects this renderer made, and its programs: ``release`` frees both.
         self._objects: list = []
