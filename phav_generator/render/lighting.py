@@ -16,10 +16,13 @@ import numpy as np
 from phav_spec.recipe import WorldSpec
 
 #: Where and when the sun is computed: latitude 45° N, solar declination −10° (an autumn
-#: day: sunrise ≈ 6:40, sunset ≈ 17:20, so dawn 7–10 h and dusk 17–20 h are low sun and
-#: twilight, night 20–7 h dark).
+#: day), on a clock whose solar noon is 13:30 (summer time west in its zone). θ's dawn and
+#: dusk hours (7–10 h, mode 9; 17–20 h, mode 18) mirror each other about 13:30, so on this
+#: clock they are the same light: sunrise ≈ 8:10 and sunset ≈ 18:50, each phase low sun and
+#: twilight down to 12° below the horizon, and night (20–7 h) dark.
 LATITUDE_DEG = 45.0
 DECLINATION_DEG = -10.0
+SOLAR_NOON_H = 13.5
 #: Fog extinction per metre: a light haze always, plus this much at fog intensity 1
 #: (contrast halves within ~8 m in the densest fog).
 HAZE_PER_M = 0.0015
@@ -34,6 +37,9 @@ EXPOSURE = 1.6
 #: Its reserve runs out as the sun sinks from 8° to 18° below the horizon: night stays dark.
 METER_KEY = 0.4
 MAX_GAIN = 8.0
+#: In fog the camera sees the fog's own light as much as the lit scene: the meter weighs the
+#: fog colour by how much of it lies between the camera and a subject this far away (m).
+METER_DISTANCE_M = 15.0
 _LUMINANCE = (0.2126, 0.7152, 0.0722)
 
 
@@ -49,7 +55,7 @@ def _mix(a, b, t: float) -> np.ndarray:
 def sun_direction(clock_hour: float) -> np.ndarray:
     """Unit vector towards the sun in the world frame (+X east, +Y north, +Z up)."""
     phi, delta = math.radians(LATITUDE_DEG), math.radians(DECLINATION_DEG)
-    h = math.radians(15.0 * (clock_hour - 12.0))
+    h = math.radians(15.0 * (clock_hour - SOLAR_NOON_H))
     v = np.array([
         -math.cos(delta) * math.sin(h),
         math.sin(delta) * math.cos(phi) - math.cos(delta) * math.sin(phi) * math.cos(h),
@@ -115,6 +121,7 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         ground_ambient = ground_ambient * 0.4 + np.array([0.08, 0.075, 0.07])
     wetness = 0.0 if indoor else (1.0 if world.wet_ground else 0.0) * (0.6 + 0.4 * max(rain, 0.5))
     sun_colour = sun_colour if not indoor else sun_colour * 0.35
+    fog_per_m = HAZE_PER_M + (0.0 if indoor else FOG_PER_M * fog)  # no fog or rain inside a house
     return Lighting(
         sun_dir=sun,
         sun_colour=sun_colour,
@@ -123,22 +130,27 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         sky_zenith=zenith,
         sky_horizon=horizon,
         fog_colour=fog_colour,
-        fog_per_m=HAZE_PER_M + (0.0 if indoor else FOG_PER_M * fog),  # no fog or rain inside a house
+        fog_per_m=fog_per_m,
         wetness=wetness,
         rain=0.0 if indoor else rain,
         lamp_intensity=lamps,
         daylight=daylight,
         cloud_cover=clouds,
-        exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation),
+        exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation, fog=(fog_colour, fog_per_m)),
     )
 
 
-def metered_exposure(sky_ambient: np.ndarray, sun_colour: np.ndarray, sun: np.ndarray, elevation_deg: float) -> float:
+def metered_exposure(sky_ambient: np.ndarray, sun_colour: np.ndarray, sun: np.ndarray, elevation_deg: float,
+                     *, fog: tuple[np.ndarray, float] | None = None) -> float:  # fmt: skip
     """The tone curve's exposure the camera sets for a scene lit by ``sky_ambient`` and the
-    sun (``sun_colour`` from direction ``sun``, ``elevation_deg`` above the horizon): constant
-    over a video, as its light is."""
+    sun (``sun_colour`` from direction ``sun``, ``elevation_deg`` above the horizon), seen
+    through ``fog`` (its colour and extinction per metre, if any): constant over a video, as
+    its light is."""
     up = max(float(sun[2]), 0.0)
     # scalar products in a fixed order: no BLAS or SIMD summation decides the exposure's bits
     key = sum(w * (float(a) + float(s) * up) for w, a, s in zip(_LUMINANCE, sky_ambient, sun_colour, strict=True))
+    if fog is not None:
+        seen = math.exp(-fog[1] * METER_DISTANCE_M)
+        key = key * seen + sum(w * float(c) for w, c in zip(_LUMINANCE, fog[0], strict=True)) * (1.0 - seen)
     reserve = 1.0 + (MAX_GAIN - 1.0) * _smoothstep(-18.0, -8.0, elevation_deg)
     return EXPOSURE * min(max(METER_KEY / max(key, 1e-6), 1.0), reserve)

@@ -4,6 +4,7 @@ should (fog, night, rain, each weather element) and each environment shows its c
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -11,7 +12,14 @@ import pytest
 from phav_generator.motion.rotations import look_at
 from phav_generator.physics.simulate import simulate
 from phav_generator.render.gl import FrameRenderer
-from phav_generator.render.lighting import EXPOSURE, MAX_GAIN, METER_KEY, lighting_for, sun_direction
+from phav_generator.render.lighting import (
+    EXPOSURE,
+    MAX_GAIN,
+    METER_DISTANCE_M,
+    METER_KEY,
+    lighting_for,
+    sun_direction,
+)
 from phav_generator.render.scene import build_drawables, class_id
 from phav_generator.vary import parse_settings, vary
 from phav_spec.errors import PhavUserError
@@ -112,6 +120,21 @@ def test_the_sun_follows_the_clock():
     assert sun_direction(12.0)[1] < 0  # south at noon, 45° N
 
 
+def _elevation(clock_hour: float) -> float:
+    return math.degrees(math.asin(float(sun_direction(clock_hour)[2])))
+
+
+def test_dawn_and_dusk_hours_are_the_same_light():
+    """θ's dawn (7–10 h, mode 9) and dusk (17–20 h, mode 18) mirror each other about the
+    clock's solar noon: the sun stands as high at each pair of mirrored hours, low at the
+    modes, and neither phase reaches night's darkness (the sun 12° down at most)."""
+    for dawn, dusk in ((7.0, 20.0), (9.0, 18.0), (10.0, 17.0)):
+        assert _elevation(dawn) == pytest.approx(_elevation(dusk), abs=1e-9)
+    assert 0.0 < _elevation(9.0) < 15.0
+    assert _elevation(7.0) > -13.0
+    assert _elevation(0.0) < -30.0 and _elevation(13.5) > 30.0
+
+
 @pytest.mark.parametrize("env", sorted(ENVIRONMENT_SCENES))
 def test_each_environment_shows_its_declared_classes(ctx, env):
     """Looking around from the protagonist's waypoint (and down on it) shows every class
@@ -145,6 +168,32 @@ def test_each_environment_shows_its_declared_classes(ctx, env):
     assert names <= set(scene.pixel_classes) | dynamic
 
 
+def _seen_key(light) -> float:
+    """The light on a white horizontal surface, seen through the fog at the meter's distance."""
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    lit = float((light.sky_ambient + light.sun_colour * max(light.sun_dir[2], 0.0)) @ lum)
+    seen = math.exp(-light.fog_per_m * METER_DISTANCE_M)
+    return lit * seen + float(light.fog_colour @ lum) * (1.0 - seen)
+
+
+def test_in_fog_the_camera_meters_the_fogs_light_too():
+    """Fog between the camera and its subject is bright (it scatters the sky's light): the
+    camera that meters it opens up less than in clear air at the same hour, and by day it
+    keeps the base exposure."""
+    base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
+    theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
+
+    def light(weather: str, phase: str, hour: float):
+        settings = {"weather": weather, "day_phase": phase, "clock_hour": hour, "rain": False, "wet_ground": False}
+        return lighting_for(vary(base, theta, settings).world, indoor=False)
+
+    clear, foggy = light("clear", "dusk", 19.2), light("fog", "dusk", 19.2)
+    assert foggy.fog_per_m > 10 * clear.fog_per_m
+    assert EXPOSURE < foggy.exposure < 0.8 * clear.exposure
+    assert _seen_key(foggy) * foggy.exposure / EXPOSURE == pytest.approx(METER_KEY)
+    assert light("fog", "day", 13.0).exposure == EXPOSURE
+
+
 def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
     """Day keeps the base exposure; at dusk the camera opens up until the light on a white
     horizontal surface reaches METER_KEY (three stops at most); at night it has nothing left.
@@ -153,17 +202,16 @@ def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
     theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
     settings = {"weather": "clear", "clouds": False, "fog": False, "rain": False, "wet_ground": False}
     at = {hour: vary(base, theta, {**settings, "day_phase": phase, "clock_hour": hour})
-          for phase, hour in (("day", 13.0), ("dusk", 17.7), ("night", 23.0))}  # fmt: skip
+          for phase, hour in (("day", 13.0), ("dusk", 19.2), ("night", 23.0))}  # fmt: skip
     light = {hour: lighting_for(r.world, indoor=False) for hour, r in at.items()}
     assert light[13.0].exposure == EXPOSURE and light[23.0].exposure == EXPOSURE
-    dusk = light[17.7]
-    key = float((dusk.sky_ambient + dusk.sun_colour * max(dusk.sun_dir[2], 0.0)) @ [0.2126, 0.7152, 0.0722])
+    dusk = light[19.2]
     assert 2.0 < dusk.exposure / EXPOSURE <= MAX_GAIN
-    assert key * dusk.exposure / EXPOSURE == pytest.approx(METER_KEY)
-    tr = simulate(at[17.7], keep_state=False)
+    assert _seen_key(dusk) * dusk.exposure / EXPOSURE == pytest.approx(METER_KEY)
+    tr = simulate(at[19.2], keep_state=False)
     frames = {}
     for name, lighting in (("metered", dusk), ("fixed", dataclasses.replace(dusk, exposure=EXPOSURE))):
-        drawables = build_drawables(at[17.7], tr, lighting)
+        drawables = build_drawables(at[19.2], tr, lighting)
         with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky"), lighting=lighting) as renderer:
             frames[name] = renderer.render(0, tr.cam_to_world[0], tr.cam_to_world[1], tr.intrinsics)
     m, f = frames["metered"], frames["fixed"]
