@@ -6,6 +6,18 @@ versions of phav, side by side (docs/world.md, README.md).
     phav sheets --by environment,action --seed 0 --out sheets-after
     python docs/measure/world_before_after.py sheets-before sheets-after OUT.jpg --sheets environment-urban,...
 
+The pictures in the docs, "before" being be2cb92's sheets or (the places) 25e2d83's:
+
+    world-environments-before-after.jpg  be2cb92  environment-simple,environment-urban,environment-middle,
+                                                   environment-green,environment-lake,environment-stadium,
+                                                   environment-house_interior
+    world-actions-before-after.jpg       be2cb92  action-car_hit,action-sit,action-push,action-golf,
+                                                   action-pour,action-shoot_bow,action-climb_stairs
+    world-before-after.jpg               be2cb92  action-car_hit
+    world-places-before-after.jpg        25e2d83  environment-urban,environment-middle,environment-stadium,
+                                                   environment-simple
+    world-parks-before-after.jpg         25e2d83  action-clap,action-crawl,action-hop,action-catch
+
 Each row: one sheet's recipe, before on the left, after on the right, with its name.
 """
 
