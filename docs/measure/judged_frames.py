@@ -27,20 +27,10 @@ from phav_generator.render.video import inputs_renderer, scene_inputs
 from phav_generator.sampling import sample_recipes
 from phav_generator.vary import parse_settings, vary
 from phav_spec.scene import ENVIRONMENT_SCENES
-from phav_spec.seeding import stream
 from phav_spec.theta import load_preset
 from phav_validators.checks.scan import class_lut, rgb_code
-from phav_validators.realism.check import Tally, _miou, conditions_of, judge_world
+from phav_validators.realism.check import Tally, _miou, conditions_of, draw_frames, judge_world
 from phav_validators.realism.judges import load_judges
-
-
-def chosen_frames(recipes, n: int, seed: int) -> dict[str, list[int]]:
-    """The frames ``sample_frames`` draws from the dataset these recipes make."""
-    pairs = [(r.video_id, f) for r in recipes for f in range(r.n_frames)]
-    out: dict[str, list[int]] = {}
-    for i in sorted(stream(seed, "realism/frames").permutation(len(pairs))[: min(n, len(pairs))]):
-        out.setdefault(pairs[i][0], []).append(pairs[i][1])
-    return out
 
 
 def main() -> None:
@@ -56,7 +46,7 @@ def main() -> None:
     theta = load_preset(args.theta)
     forced = parse_settings(args.set)
     recipes = list(sample_recipes(theta, n=args.videos, seed=args.seed))
-    chosen = chosen_frames(recipes, args.frames, args.check_seed)
+    chosen = draw_frames(((r.video_id, r.n_frames) for r in recipes), args.frames, args.check_seed)
     city = load_judges().segmenters["cityscapes"]
     lut = class_lut()[0]
     ctx = gl_context()

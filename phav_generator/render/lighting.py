@@ -136,21 +136,20 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         lamp_intensity=lamps,
         daylight=daylight,
         cloud_cover=clouds,
-        exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation, fog=(fog_colour, fog_per_m)),
+        exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation, fog_colour, fog_per_m),
     )
 
 
 def metered_exposure(sky_ambient: np.ndarray, sun_colour: np.ndarray, sun: np.ndarray, elevation_deg: float,
-                     *, fog: tuple[np.ndarray, float] | None = None) -> float:  # fmt: skip
+                     fog_colour: np.ndarray, fog_per_m: float) -> float:  # fmt: skip
     """The tone curve's exposure the camera sets for a scene lit by ``sky_ambient`` and the
     sun (``sun_colour`` from direction ``sun``, ``elevation_deg`` above the horizon), seen
-    through ``fog`` (its colour and extinction per metre, if any): constant over a video, as
-    its light is."""
+    through fog of ``fog_colour`` and extinction ``fog_per_m``: constant over a video, as its
+    light is."""
     up = max(float(sun[2]), 0.0)
     # scalar products in a fixed order: no BLAS or SIMD summation decides the exposure's bits
     key = sum(w * (float(a) + float(s) * up) for w, a, s in zip(_LUMINANCE, sky_ambient, sun_colour, strict=True))
-    if fog is not None:
-        seen = math.exp(-fog[1] * METER_DISTANCE_M)
-        key = key * seen + sum(w * float(c) for w, c in zip(_LUMINANCE, fog[0], strict=True)) * (1.0 - seen)
+    seen = math.exp(-fog_per_m * METER_DISTANCE_M)
+    key = key * seen + sum(w * float(c) for w, c in zip(_LUMINANCE, fog_colour, strict=True)) * (1.0 - seen)
     reserve = 1.0 + (MAX_GAIN - 1.0) * _smoothstep(-18.0, -8.0, elevation_deg)
     return EXPOSURE * min(max(METER_KEY / max(key, 1e-6), 1.0), reserve)

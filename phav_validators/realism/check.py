@@ -11,7 +11,7 @@ one video are not independent). A figure never fails a dataset unless a minimum 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -121,7 +121,13 @@ def view_of(person: Mapping[str, Any], camera: Mapping[str, Any]) -> str | None:
 
 def sample_frames(reader: ClipReader, n: int, seed: int) -> dict[str, list[int]]:
     """``n`` frames (all when fewer) drawn with ``seed`` from every video's frames, by video."""
-    pairs = [(v, f) for v in reader.video_ids for f in range(reader.n_frames[v])]
+    return draw_frames(((v, reader.n_frames[v]) for v in reader.video_ids), n, seed)
+
+
+def draw_frames(videos: Iterable[tuple[str, int]], n: int, seed: int) -> dict[str, list[int]]:
+    """``sample_frames`` on (video id, frame count) pairs in the dataset's video order: the
+    frames the check judges, known before the videos are rendered."""
+    pairs = [(v, f) for v, count in videos for f in range(count)]
     chosen = stream(seed, "realism/frames").permutation(len(pairs))[: min(n, len(pairs))]
     out: dict[str, list[int]] = {}
     for i in sorted(chosen):
