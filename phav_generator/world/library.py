@@ -480,7 +480,7 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "broadleaf_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv), (900, 400, 150)),
     "conifer_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="conifer"), (180, 110, 60)),
     "birch_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="birch"), (900, 400, 150)),
-    "hedge": (lambda rng, lv: places.shrub((2.0, 0.5, 0.5), rng, lv), (500, 280, 110)),
+    "hedge": (lambda rng, lv: places.shrub((2.0, 0.5, 0.5), rng, lv), (500, 280, 120)),
     "bush": (lambda rng, lv: places.shrub((0.75, 0.75, 0.45), rng, lv), (150, 80, 60)),
     "planter": (lambda rng, lv: places.shrub((1.0, 0.6, 0.4), rng, lv, planter=True), (340, 190, 120)),
     "carriageway": (lambda rng, lv: _slab_kind("carriageway", rng, lv), (60, 60, 60)),

@@ -349,8 +349,9 @@ def crown(half, rng: np.random.Generator, level: int = 0, *, species: str = "bro
 
 
 def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = False) -> Asset:
-    """A hedge or bush filling its box: a leafy core under lumpy clumps (a long box is a
-    clipped hedge); in a concrete ``planter`` when asked."""
+    """A hedge or bush filling its box: a row of leafy mounds over a low core, smaller mounds
+    between them on top (a lumpy outline, never a flat-topped box), in a hedge's dark green;
+    in a concrete ``planter`` when asked."""
     hx, hy, hz = half
     p = Parts(level)
     bottom = -hz
@@ -358,25 +359,33 @@ def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = Fal
         top = -hz + 0.45
         p.span("planter", "vegetation", Material.CONCRETE, (0.62, 0.61, 0.58), (-hx, -hy, -hz), (hx, hy, top))
         bottom, hx, hy = top, hx - 0.1, hy - 0.1
-    green = pick(looks.LEAF_GREENS, rng)
+    green = pick(looks.HEDGE_GREENS, rng)
     height = hz - bottom
-    core = (0.85 * hx, 0.85 * hy, 0.4 * height)
+    core = (0.7 * hx, 0.7 * hy, 0.3 * height)
     p.box("core", "vegetation", Material.LEAVES, green, (0.0, 0.0, bottom + core[2]), core)
     long_side = max(hx, hy)
-    n = max(2, min(int(2 * long_side / min(hx, hy, height)), 8 if p.fine else 4))
-    along_x = hx >= hy
     r_across = min(hx, hy)
-    r_along = long_side / n * 1.25
-    for k in range(n):
-        a = -long_side + (k + 0.5) * 2 * long_side / n
-        r_z = 0.5 * height
-        rx, ry = (min(r_along, hx), r_across) if along_x else (r_across, min(r_along, hy))
-        centre = (a, 0.0, bottom + height - r_z) if along_x else (0.0, a, bottom + height - r_z)
-        cx = max(min(centre[0], hx - rx), -hx + rx)
-        cy = max(min(centre[1], hy - ry), -hy + ry)
+    n = max(1, min(round(long_side / r_across), 8 if p.fine else 4))
+    along_x = hx >= hy
+    segments = _CLUMP_SEGMENTS[level]
+
+    def clump(name: str, a: float, r_along: float, r_side: float, r_z: float, z: float) -> None:
+        a = max(min(a, long_side - r_along), -long_side + r_along)
+        centre, radii = ((a, 0.0, z), (r_along, r_side, r_z)) if along_x else ((0.0, a, z), (r_side, r_along, r_z))
         shade = tuple(c * (0.85 + 0.3 * float(rng.random())) for c in green)
-        _blob(p, f"clump{k}", "vegetation", Material.LEAVES, shade, (cx, cy, centre[2]), (rx, ry, r_z), rng,
-              segments=_CLUMP_SEGMENTS[level], rough=0.15)  # fmt: skip
+        _blob(p, name, "vegetation", Material.LEAVES, shade, centre, radii, rng, segments=segments, rough=0.2)
+
+    # A row of mounds from the ground to 85 % of the height, a row of smaller ones between
+    # them up to the top: a lumpy outline, never a flat-topped box.
+    base_r = min(long_side / n * 1.3, long_side)
+    for k in range(n):
+        clump(f"clump{k}", -long_side + (k + 0.5) * 2 * long_side / n, base_r, r_across, 0.425 * height,
+              bottom + 0.425 * height)  # fmt: skip
+    top_r = 0.6 * r_across
+    m = max(1, n - 1) if p.fine else max(1, (n - 1) // 2)
+    for k in range(m):
+        clump(f"top{k}", -long_side + (k + 1) * 2 * long_side / (m + 1), min(0.8 * base_r, long_side), top_r,
+              0.3 * height, bottom + 0.7 * height)  # fmt: skip
     return p.build()
 
 

@@ -30,6 +30,27 @@ float octave(vec3 p, float scale, float fw) {
     return (cell_noise(p, scale) - 0.5) * clamp(2.0 - 2.0 * fw * scale, 0.0, 1.0);
 }
 
+// Leaf clumps about 1/scale metres apart: each the cell's hashed point grown into a ball lit
+// from above (cellular noise), the gaps between the balls in shadow. Mean about 1.
+float leaf_clumps(vec3 p, float scale) {
+    vec3 q = p * scale;
+    vec3 i = floor(q);
+    vec3 f = q - i;
+    vec4 best = vec4(9.0);
+    for (int k = 0; k < 27; ++k) {
+        vec3 o = vec3(k % 3, (k / 3) % 3, k / 9) - 1.0;
+        uint h = hash_u(ivec3(i + o));
+        vec3 d = f - o - vec3(h & 1023u, (h >> 10) & 1023u, (h >> 20) & 1023u) * (1.0 / 1024.0);
+        float dd = dot(d, d);
+        if (dd < best.x) best = vec4(dd, d);
+    }
+    const float R = 0.75;  // a clump's radius in cells
+    float r = sqrt(best.x) / R;
+    if (r >= 1.0) return 0.12;
+    vec3 n = best.yzw / R + vec3(0.0, 0.0, sqrt(1.0 - r * r));  // the ball's normal, lifted to face up
+    return 0.12 + 1.8 * max(dot(normalize(n), vec3(0.3, 0.2, 0.93)), 0.0);
+}
+
 // A joint line of width w (metres) at every multiple of `period` along x, faded like octave.
 float joint(float x, float period, float w, float fw) {
     float d = abs(fract(x / period + 0.5) - 0.5) * period;
@@ -73,9 +94,11 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         return c * (0.90 + 0.18 * cell_noise(vec3(p.x, p.y, p.z * 0.05), 80.0));
     }
     if (pattern == 15) {  // leaves: lit clumps, shadowed gaps, a hue drifting from yellow to blue green
-        float v = 1.0 + 1.1 * octave(p, 9.0, fw) + 0.7 * octave(p, 3.0, fw) + 0.6 * octave(p, 28.0, fw);
+        float v = mix(1.0, leaf_clumps(p, 4.5), clamp(2.0 - 2.0 * fw * 4.5, 0.0, 1.0));
+        v *= mix(1.0, leaf_clumps(p, 14.0), clamp(2.0 - 2.0 * fw * 14.0, 0.0, 1.0) * 0.5);
+        v *= 0.75 + 0.5 * smooth_noise(p, 2.0);
         vec3 hue = mix(vec3(1.15, 1.05, 0.6), vec3(0.8, 1.0, 1.2), smooth_noise(p, 1.5));
-        return c * hue * max(v, 0.15);
+        return c * hue * v;
     }
     if (pattern == 16 || pattern == 23) {  // grass: blades, tufts, drier patches; a pitch mown in 5 m stripes
         float v = 1.0 + 0.5 * octave(p, 40.0, fw) + 0.3 * (smooth_noise(p, 6.0) - 0.5) + 0.25 * (smooth_noise(p, 1.2) - 0.5);
@@ -108,7 +131,8 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     }
     if (pattern == 21) {  // bark: furrows along the trunk
         float furrow = octave(vec3(p.x, p.y, p.z * 0.12), 45.0, fw);
-        return c * (1.0 + 0.9 * furrow + 0.3 * octave(p, 8.0, fw));
+        vec3 moss = mix(c, vec3(0.20, 0.24, 0.10), 0.6 * smoothstep(0.5, 0.8, smooth_noise(p, 3.0)));
+        return moss * (1.0 + 0.9 * furrow + 0.3 * octave(p, 8.0, fw));
     }
     if (pattern == 22) {  // roof tiles: courses along the slope, a tone per tile
         float course = floor(p.z / 0.18);

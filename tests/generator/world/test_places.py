@@ -158,6 +158,19 @@ def test_the_later_materials_reach_the_shader(ctx, material):
     assert grain(grass) > 2.0 * grain(plain)  # the pattern (code 16 and up) is drawn, not lost in packing
 
 
+def test_foliage_is_lit_clumps_with_shadowed_gaps_and_keeps_its_colour_s_brightness(ctx):
+    plain = _plain_quad_frame(ctx, Material.PLAIN)
+    leaves = _plain_quad_frame(ctx, Material.LEAVES)
+    top = plain.class_id == PIXEL_CLASSES["terrain"].class_id
+    inner = top.copy()
+    inner[1:-1, 1:-1] &= top[:-2, 1:-1] & top[2:, 1:-1] & top[1:-1, :-2] & top[1:-1, 2:]
+    ratio = leaves.colour.astype(np.float64).sum(axis=2)[inner] / plain.colour.astype(np.float64).sum(axis=2)[inner]
+    assert inner.sum() > 5000
+    assert 0.85 < ratio.mean() < 1.2  # the clumps' light and the gaps' shadow average out
+    assert 0.05 < (ratio < 0.5).mean() < 0.35  # gaps in shadow between the clumps ...
+    assert np.median(ratio) > 1.0  # ... and most of the surface a lit clump
+
+
 def _sky(ctx, cover: float) -> np.ndarray:
     from phav_generator.render.assets import asset_drawable
     from phav_generator.render.gl import FrameRenderer, _default_lighting
