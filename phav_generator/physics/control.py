@@ -2,9 +2,10 @@
 
 Each physics step sets the pins (driven pelvis poses) and servo targets from the plan, the
 servo gains and gravity compensation from the muscle strengths, the inverse-dynamics
-feed-forward, the perturbation pulls and the camera anchor; grips switch on and off at
-their times; a car's touch releases the protagonist. A step that produces NaN or a runaway
-velocity stops the physics: the frame is marked and the last good state is held.
+feed-forward, the perturbation pulls, the camera anchor and the push that keeps a spring
+camera out of the people it films; grips switch on and off at their times; a car's touch
+releases the protagonist. A step that produces NaN or a runaway velocity stops the
+physics: the frame is marked and the last good state is held.
 """
 
 from __future__ import annotations
@@ -28,6 +29,13 @@ from phav_spec.seeding import stream
 MAX_SPEED = 500.0
 #: Perturbation pull stiffness, as an angular frequency of the pulled body (rad/s).
 PERTURBATION_OMEGA = 40.0
+#: A spring camera keeps this far (m) from every body origin of the simulated people: within
+#: it a push on the camera alone (people feel nothing) springs it back, as an operator steps
+#: back from someone coming at them. Body origins are joint centres, so a limb's surface
+#: stays about 0.7 m away; a close-up films from 1.3 m or more.
+CAMERA_ROOM_M = 0.8
+#: The push's stiffness, as an angular frequency of the camera's mass (rad/s).
+CAMERA_ROOM_OMEGA = 12.0
 #: What MuJoCo state is saved and restored: all of it.
 FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
 
@@ -292,6 +300,22 @@ class SimulationRun:
         if cam is not None:
             kind = self.plan.recipe.camera.kind
             d.mocap_pos[cam.anchor_mocap] = anchor_point(kind, d.xpos[self.scene.people[0].bodies])
+            d.xfrc_applied[cam.camera_body, :3] += self._camera_room_push()
+
+    def _camera_room_push(self) -> np.ndarray:
+        """The push (N) that keeps a spring camera ``CAMERA_ROOM_M`` from each simulated
+        person's nearest body origin: a spring on the camera alone, away from that origin."""
+        d, cam = self.d, self.scene.camera
+        at = d.xpos[cam.camera_body]
+        push = np.zeros(3)
+        for h in self.scene.people:
+            away = at - d.xpos[h.bodies]
+            dist = np.linalg.norm(away, axis=1)
+            b = int(np.argmin(dist))
+            if dist[b] < CAMERA_ROOM_M:
+                unit = away[b] / dist[b] if dist[b] > 1e-6 else np.array([0.0, 0.0, 1.0])
+                push += unit * (CAMERA_ROOM_M - dist[b])
+        return push * self.m.body_mass[cam.camera_body] * CAMERA_ROOM_OMEGA**2
 
     def _pin_pose(self, h, ref: _Reference, j: int, weight: float) -> None:
         """Put the pin body on the animated pelvis at plan step j, moving and accelerating

@@ -23,9 +23,15 @@ def anchor_point(kind: str, body_pos: np.ndarray) -> np.ndarray:
     return sum(w * body_pos[..., BONE_INDEX[b], :] for b, w in weights.items())
 
 
-def _inside(colliders, point: np.ndarray, clearance: float) -> bool:
+#: How far (m) a camera start inside something is first lifted to clear it.
+LIFT_M = 1.0
+
+
+def _inside(colliders, point: np.ndarray, clearance: float, floor: float = -np.inf) -> bool:
     x, y, z = (float(v) for v in point)
-    return any(c.xy_distance(x, y) < clearance and c.bottom - clearance < z < c.top + clearance for c in colliders)
+    return z < floor + clearance or any(
+        c.xy_distance(x, y) < clearance and c.bottom - clearance < z < c.top + clearance for c in colliders
+    )
 
 
 def clear_camera_start(
@@ -34,19 +40,26 @@ def clear_camera_start(
     """The camera's start, slid towards its target until it is clear of the environment's walls.
 
     The sampler places C_xyz around the protagonist without looking at the geometry, so a
-    start inside a building or behind a wall is moved, deterministically, to the first
-    point on the segment to the target (5 cm steps) with ``clearance`` metres of room.
+    start inside something is moved, deterministically, up to ``LIFT_M`` straight up (over
+    the ground, a bench or a car) or else to the first point on the segment to the target
+    (through a wall), in 5 cm steps, to the first with ``clearance`` metres of room.
     ``shift`` moves camera and target together first (a spring camera's rig put on the
-    protagonist's actual first pose).
+    protagonist's actual first pose): a rig lowered onto a seated or lying body can put the
+    camera into the ground, where the slide would end on the body itself.
     """
-    colliders = ENVIRONMENT_SCENES[recipe.environment.name].colliders
+    env = ENVIRONMENT_SCENES[recipe.environment.name]
+    colliders, floor = env.colliders, float(getattr(env, "ground_z", 0.0))
     offset = np.zeros(3) if shift is None else np.asarray(shift, dtype=np.float64)
     start = np.array(recipe.camera.position, dtype=np.float64) + offset
     target = np.array(recipe.camera.target, dtype=np.float64) + offset
+    for j in range(round(LIFT_M / 0.05) + 1):
+        lifted = start + np.array([0.0, 0.0, 0.05 * j])
+        if not _inside(colliders, lifted, clearance, floor):
+            return (float(lifted[0]), float(lifted[1]), float(lifted[2]))
     length = float(np.linalg.norm(target - start))
     steps = max(1, int(length / 0.05))
     for k in range(steps + 1):
         point = start + (target - start) * (k / steps)
-        if not _inside(colliders, point, clearance):
+        if not _inside(colliders, point, clearance, floor):
             return (float(point[0]), float(point[1]), float(point[2]))
     return tuple(float(v) for v in target)  # type: ignore[return-value]

@@ -1,17 +1,20 @@
 """Spring cameras start on the protagonist's actual first pose: the kite's target on the
 pelvis, the close-up's on the upper chest, so that a seated brush_hair keeps its head and
-hands in the frame (docs/framing.md)."""
+hands in the frame (docs/framing.md). A rig lowered into the ground lifts its camera clear,
+and the camera keeps its room from the people it films."""
 
 from __future__ import annotations
 
 import copy
+import dataclasses
 
 import numpy as np
 
 from phav_generator.body.model import rest_body
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX, capsule_points, forward_kinematics
-from phav_generator.physics.plan.camera import anchor_point
+from phav_generator.physics.control import CAMERA_ROOM_M
+from phav_generator.physics.plan.camera import anchor_point, clear_camera_start
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
 from phav_generator.render.camera import project
@@ -56,3 +59,27 @@ def test_closeup_frames_head_and_hands_of_seated_brush_hair() -> None:
         inside = np.isfinite(uv).all(axis=1) & (uv >= 0).all(axis=1)
         inside &= (uv[:, 0] < recipe.video.width) & (uv[:, 1] < recipe.video.height)
         assert inside.all(), f"frame {f}: head, left and right hand at {np.round(uv, 1)}"
+
+
+def test_a_rig_lowered_into_the_ground_lifts_its_camera_clear_rather_than_onto_the_body() -> None:
+    recipe = recipe_for("sit", "simple", seconds=0.5)
+    down = np.array([0.0, 0.0, -recipe.camera.position[2]])  # the camera on the ground's plane
+    start = np.array(clear_camera_start(recipe, 0.25, shift=down))
+    wanted = np.array(recipe.camera.position) + down
+    np.testing.assert_allclose(start[:2], wanted[:2], atol=1e-12)  # straight up, not slid
+    assert 0.25 <= start[2] <= 0.30  # the first 5 cm step clear of the ground
+    assert np.linalg.norm(start - (np.array(recipe.camera.target) + down)) > 1.0
+
+
+def test_a_spring_camera_started_against_the_protagonist_backs_off_and_keeps_its_room() -> None:
+    recipe = recipe_for("wave", "simple", seconds=1.5)
+    assert recipe.camera.springs is not None
+    plan = plan_scene(recipe)
+    pelvis = np.array(plan.camera_target)
+    # Half a metre in front of the pelvis, at its height: inside the room the camera keeps.
+    plan = dataclasses.replace(plan, camera_start=tuple(pelvis + np.array([0.5, 0.0, 0.0])))
+    tr = simulate_plan(plan, keep_state=False)
+    cams = tr.cam_to_world[:, :3, 3]
+    nearest = np.linalg.norm(np.asarray(tr.people[0].body_pos) - cams[:, None, :], axis=2).min(axis=1)
+    assert nearest[0] < 0.6
+    assert (nearest[15:] > 0.9 * CAMERA_ROOM_M).all(), np.round(nearest, 2)
