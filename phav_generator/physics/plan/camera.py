@@ -37,7 +37,8 @@ def _inside(colliders, point: np.ndarray, clearance: float, floor: float = -np.i
 def clear_camera_start(
     recipe: Recipe, clearance: float = 0.25, *, shift: np.ndarray | None = None
 ) -> tuple[float, float, float]:
-    """The camera's start, slid towards its target until it is clear of the environment's walls.
+    """The camera's start, moved clear of the environment's geometry: lifted, or slid
+    towards its target.
 
     The sampler places C_xyz around the protagonist without looking at the geometry, so a
     start inside something is moved, deterministically, up to ``LIFT_M`` straight up (over
