@@ -136,6 +136,15 @@ def _plain_quad_frame(ctx, material: Material):
     return turntable(ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=256, elevation_deg=60.0)[0]
 
 
+def _inner_top(frame) -> np.ndarray:
+    """The slab's top pixels away from its edge: the raw colour is anti-aliased, so its edge
+    pixels blend in the sky."""
+    top = frame.class_id == PIXEL_CLASSES["terrain"].class_id
+    inner = top.copy()
+    inner[1:-1, 1:-1] &= top[:-2, 1:-1] & top[2:, 1:-1] & top[1:-1, :-2] & top[1:-1, 2:]
+    return inner
+
+
 @pytest.mark.parametrize(
     "material",
     [Material.GRASS, Material.WALLPAPER, Material.SEATS, Material.FLOOR_TILES, Material.SHORE],
@@ -144,10 +153,7 @@ def _plain_quad_frame(ctx, material: Material):
 def test_the_later_materials_reach_the_shader(ctx, material):
     plain = _plain_quad_frame(ctx, Material.PLAIN)
     grass = _plain_quad_frame(ctx, material)
-    top = plain.class_id == PIXEL_CLASSES["terrain"].class_id
-    # Inside the slab: the raw colour is anti-aliased, so its edge pixels blend in the sky.
-    inner = top.copy()
-    inner[1:-1, 1:-1] &= top[:-2, 1:-1] & top[2:, 1:-1] & top[1:-1, :-2] & top[1:-1, 2:]
+    inner = _inner_top(plain)
     pairs = inner[:, 1:] & inner[:, :-1]
     assert pairs.sum() > 500
 
@@ -161,9 +167,7 @@ def test_the_later_materials_reach_the_shader(ctx, material):
 def test_foliage_is_lit_clumps_with_shadowed_gaps_and_keeps_its_colour_s_brightness(ctx):
     plain = _plain_quad_frame(ctx, Material.PLAIN)
     leaves = _plain_quad_frame(ctx, Material.LEAVES)
-    top = plain.class_id == PIXEL_CLASSES["terrain"].class_id
-    inner = top.copy()
-    inner[1:-1, 1:-1] &= top[:-2, 1:-1] & top[2:, 1:-1] & top[1:-1, :-2] & top[1:-1, 2:]
+    inner = _inner_top(plain)
     ratio = leaves.colour.astype(np.float64).sum(axis=2)[inner] / plain.colour.astype(np.float64).sum(axis=2)[inner]
     assert inner.sum() > 5000
     assert 0.85 < ratio.mean() < 1.2  # the clumps' light and the gaps' shadow average out
