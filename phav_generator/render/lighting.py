@@ -23,10 +23,14 @@ from phav_spec.recipe import WorldSpec
 LATITUDE_DEG = 45.0
 DECLINATION_DEG = -10.0
 SOLAR_NOON_H = 13.5
-#: Fog extinction per metre: a light haze always, plus this much at fog intensity 1
-#: (contrast halves within ~8 m in the densest fog).
+#: Fog extinction per metre: a light haze always (a dark object fades out 2 km away), plus
+#: fog. Fog is what keeps one from seeing a kilometre (the meteorologists' definition); θ's
+#: fog intensity runs evenly in the logarithm of that visibility from light fog at 0 to dense
+#: fog at 1, in which a dark object is lost 40 m away.
 HAZE_PER_M = 0.0015
-FOG_PER_M = 0.09
+FOG_VISIBILITY_M = (1000.0, 40.0)
+#: Koschmieder's law: a dark object's contrast falls to 5 % at ``VISIBILITY_CONTRAST / β``.
+VISIBILITY_CONTRAST = 3.0
 #: Most lamps the shader takes (the nearest to the action are kept).
 MAX_LAMPS = 16
 #: The tone curve's exposure (1 − exp(−exposure·c)) in good light.
@@ -76,7 +80,7 @@ class Lighting:
     sky_horizon: np.ndarray  # (3,)
     fog_colour: np.ndarray  # (3,)
     fog_per_m: float  # extinction coefficient
-    wetness: float  # 0 dry … 1 soaked ground (darker, mirror-like)
+    wetness: float  # 0 dry … 1 soaked ground (darker, reflecting as water does)
     rain: float  # 0 … 1: streak density
     lamp_intensity: float  # street/indoor lamps, 0 off
     daylight: float  # 0 night … 1 full day
@@ -121,7 +125,8 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         ground_ambient = ground_ambient * 0.4 + np.array([0.08, 0.075, 0.07])
     wetness = 0.0 if indoor else (1.0 if world.wet_ground else 0.0) * (0.6 + 0.4 * max(rain, 0.5))
     sun_colour = sun_colour if not indoor else sun_colour * 0.35
-    fog_per_m = HAZE_PER_M + (0.0 if indoor else FOG_PER_M * fog)  # no fog or rain inside a house
+    foggy = world.fog and not indoor  # no fog or rain inside a house
+    fog_per_m = HAZE_PER_M + (fog_extinction(world.fog_intensity) if foggy else 0.0)
     return Lighting(
         sun_dir=sun,
         sun_colour=sun_colour,
@@ -138,6 +143,12 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         cloud_cover=clouds,
         exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation, fog_colour, fog_per_m),
     )
+
+
+def fog_extinction(intensity: float) -> float:
+    """Extinction per metre (β) of fog of θ's ``intensity`` in [0, 1], from its visibility."""
+    light, dense = FOG_VISIBILITY_M
+    return VISIBILITY_CONTRAST / (light * (dense / light) ** intensity)
 
 
 def metered_exposure(sky_ambient: np.ndarray, sun_colour: np.ndarray, sun: np.ndarray, elevation_deg: float,

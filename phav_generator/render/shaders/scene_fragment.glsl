@@ -102,7 +102,10 @@ void main() {
 #if WET
     float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
     if (v_material == 2) wet = 1.0;
-    a *= 1.0 - 0.45 * wet;
+    // Water fills the pores of asphalt, soil and stone and darkens them; it beads on the
+    // waxy blades of grass, which darken little, and pools only on hard ground.
+    bool grass = v_pattern == 16 || v_pattern == 23;
+    a *= 1.0 - (grass ? 0.15 : 0.45) * wet;
 #else
     float wet = 0.0;
 #endif
@@ -133,10 +136,11 @@ void main() {
     if (wet > 0.0) {
         vec3 to_eye = normalize(eye - v_world);
         float cosv = max(dot(n, to_eye), 0.0);
-        float fresnel = 0.03 + 0.97 * pow(1.0 - cosv, 5.0);
-        // Water pools on hard ground; wet grass darkens but does not turn into a mirror.
-        float pools = (v_pattern == 16 || v_pattern == 23) ? 0.15 : 1.0;
-        reflectivity = wet * pools * mix(0.25, 1.0, fresnel);
+        // Water's reflectance (Schlick, 2 % head-on): a wet road is dark under the camera
+        // and shines only towards the horizon.
+        float fresnel = 0.02 + 0.98 * pow(1.0 - cosv, 5.0);
+        float pools = grass ? 0.15 : 1.0;
+        reflectivity = wet * pools * fresnel;
         vec3 mirrored = reflect(-to_eye, n);
         c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);
         c += sun_colour * pow(max(dot(mirrored, sun_dir), 0.0), 200.0) * 3.0 * wet * pools * shade;

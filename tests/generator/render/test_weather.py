@@ -17,6 +17,7 @@ from phav_generator.render.lighting import (
     MAX_GAIN,
     METER_DISTANCE_M,
     METER_KEY,
+    fog_extinction,
     lighting_for,
     sun_direction,
 )
@@ -103,6 +104,62 @@ def test_rain_changes_rgb_but_not_labels_depth_or_flow(ctx):
         for name in LABELS:
             assert np.array_equal(a[name], b[name]), name
         assert np.abs(a["rgb"].astype(int) - b["rgb"].astype(int)).mean() > 2.0
+
+
+def test_fog_intensity_runs_evenly_in_visibility_from_light_to_dense_fog():
+    """Visibility (where a dark object's contrast falls to 5 %): 1 km at θ's fog intensity 0,
+    the meteorologists' bound of fog, 40 m at 1, their geometric mean halfway; no fog flag,
+    or indoors, leaves only the haze."""
+
+    def visibility(intensity: float) -> float:
+        return math.log(20.0) / fog_extinction(intensity)
+
+    assert visibility(0.0) == pytest.approx(1000.0, rel=0.01)
+    assert visibility(0.5) == pytest.approx(200.0, rel=0.01)
+    assert visibility(1.0) == pytest.approx(40.0, rel=0.01)
+    seen = [visibility(i) for i in np.linspace(0.0, 1.0, 11)]
+    assert np.all(np.diff(seen) < 0.0)
+    base = recipe_for("walk", "urban", seconds=SECONDS, variation="none")
+    theta = theta_for("walk", "urban", seconds=SECONDS, variation="none")
+    foggy = vary(base, theta, {"weather": "fog", "fog": True, "fog_intensity": 0.5})
+    clear = vary(base, theta, {"weather": "fog", "fog": False, "fog_intensity": 0.5})
+    haze = lighting_for(clear.world, indoor=False).fog_per_m
+    assert lighting_for(foggy.world, indoor=False).fog_per_m == pytest.approx(haze + fog_extinction(0.5))
+    assert lighting_for(foggy.world, indoor=True).fog_per_m == haze
+
+
+def test_a_wet_road_is_dark_below_the_camera_and_shines_towards_the_horizon(ctx):
+    """Water reflects 2 % head-on and most at grazing angles (Fresnel): wet, the road seen
+    steeply from above is darker than dry, and the road seen at a grazing angle brighter;
+    a lawn, which water does not soak, darkens less."""
+    dry, wet = _pair("walk", "simple", {"weather": "overcast", "rain": False, "wet_ground": False},
+                     {"wet_ground": True})  # fmt: skip
+    tr = simulate(dry, keep_state=False)
+    eye = np.array([0.0, 4.0, 1.6])  # over the simple road's edge (y ∈ [-4, 4], its top at z = 0), lawn beyond
+    pose = np.eye(4)
+    pose[:3, :3], pose[:3, 3] = look_at(eye, np.array([2.0, 4.0, 0.0])), eye
+    fx, fy, cx, cy = intrinsics = (120.0, 120.0, 170.0, 128.0)
+    frames = {}
+    for name, recipe in (("dry", dry), ("wet", wet)):
+        lighting = lighting_for(recipe.world, indoor=False)
+        world = [d for d in build_drawables(recipe, tr, lighting) if d.instance_id == 0]  # no people
+        with FrameRenderer(ctx, 340, 256, world, sky_class=class_id("sky"), lighting=lighting,
+                           supersample=1) as renderer:  # fmt: skip
+            frames[name] = renderer.render(0, pose, pose, intrinsics)
+    v, u = np.mgrid[0:256, 0:340] + 0.5
+    distance = frames["dry"].depth_m * np.sqrt(1.0 + ((u - cx) / fx) ** 2 + ((v - cy) / fy) ** 2)
+    elevation = np.degrees(np.arcsin(np.clip(eye[2] / distance, 0.0, 1.0)))  # of the eye, from the road
+    road = frames["dry"].class_id == class_id("road")
+    steep, grazing = road & (elevation > 45.0), road & (elevation < 10.0)
+    assert steep.sum() > 1000 and grazing.sum() > 1000
+    luma = {name: _luma(f.colour) for name, f in frames.items()}
+    assert luma["wet"][steep].mean() < 0.93 * luma["dry"][steep].mean()
+    assert luma["wet"][grazing].mean() > luma["dry"][grazing].mean()
+    # Water beads on grass: a wet lawn seen steeply darkens less than the road.
+    lawn = (frames["dry"].class_id == class_id("terrain")) & (elevation > 30.0)
+    assert lawn.sum() > 1000
+    ratio = {name: luma["wet"][m].mean() / luma["dry"][m].mean() for name, m in (("road", steep), ("lawn", lawn))}
+    assert ratio["lawn"] > ratio["road"] + 0.05
 
 
 @pytest.mark.parametrize("element", ["rain", "fog", "clouds", "wet_ground"])
