@@ -24,10 +24,15 @@ float smooth_noise(vec3 p, float scale) {
     return v;
 }
 
-// Zero-mean noise of cells 1/scale metres wide, faded out where a cell is under about a
-// pixel (fw: the pixel's footprint in metres), so fine patterns do not alias far away.
+// 1 where cells 1/scale metres wide span two pixels or more, falling to 0 where a cell is
+// under about a pixel (fw: the pixel's footprint in metres), so fine patterns do not alias.
+float fade(float fw, float scale) {
+    return clamp(2.0 - 2.0 * fw * scale, 0.0, 1.0);
+}
+
+// Zero-mean noise of cells 1/scale metres wide, faded out far away.
 float octave(vec3 p, float scale, float fw) {
-    return (cell_noise(p, scale) - 0.5) * clamp(2.0 - 2.0 * fw * scale, 0.0, 1.0);
+    return (cell_noise(p, scale) - 0.5) * fade(fw, scale);
 }
 
 // Leaf clumps about 1/scale metres apart: each the cell's hashed point grown into a ball lit
@@ -94,8 +99,8 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         return c * (0.90 + 0.18 * cell_noise(vec3(p.x, p.y, p.z * 0.05), 80.0));
     }
     if (pattern == 15) {  // leaves: lit clumps, shadowed gaps, a hue drifting from yellow to blue green
-        float v = mix(1.0, leaf_clumps(p, 4.5), clamp(2.0 - 2.0 * fw * 4.5, 0.0, 1.0));
-        v *= mix(1.0, leaf_clumps(p, 14.0), clamp(2.0 - 2.0 * fw * 14.0, 0.0, 1.0) * 0.5);
+        float v = mix(1.0, leaf_clumps(p, 4.5), fade(fw, 4.5));
+        v *= mix(1.0, leaf_clumps(p, 14.0), fade(fw, 14.0) * 0.5);
         v *= 0.75 + 0.5 * smooth_noise(p, 2.0);
         vec3 hue = mix(vec3(1.15, 1.05, 0.6), vec3(0.8, 1.0, 1.2), smooth_noise(p, 1.5));
         return c * hue * v;
@@ -151,7 +156,7 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         vec2 in_cell = fract(p.xy * 16.0) - 0.5;  // a round pebble in some of the 6 cm cells
         float stone = step(0.85, cell_noise(p, 16.0)) * step(length(in_cell), 0.38);
         vec3 pebble = c * vec3(0.85, 0.9, 0.95) * (0.6 + 0.5 * cell_noise(p + 3.0, 16.0));
-        return mix(sand, pebble, 0.8 * stone * clamp(2.0 - 2.0 * fw * 16.0, 0.0, 1.0));
+        return mix(sand, pebble, 0.8 * stone * fade(fw, 16.0));
     }
     if (pattern == 26) {  // floor tiles: 0.3 m squares, a tone each, grey grout joints
         float tone = 0.9 + 0.14 * cell_noise(vec3(floor(p.xy / 0.3), 13.0), 1.0);
