@@ -22,6 +22,7 @@ occlusion from depth, bloom, colour grading, vignette). ``FrameRenderer.render``
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 import moderngl
@@ -40,6 +41,8 @@ MATTE, GROUND, WATER, EMISSIVE = 0, 1, 2, 3
 #: Patterns of the shader (``Drawable.pattern``): plain colour, speckled by world position
 #: (the ground's grain), and a texture image (a ``VertexLook``'s, set by it).
 PLAIN, SPECKLE, TEXTURED = 0, 3, 4
+#: Patterns from this one on are the asset library's materials (``materials.glsl``).
+FIRST_MATERIAL = 5
 #: The coarsest mip level of texture images (texels 2^level wide).
 MAX_MIP_LEVEL = 3
 #: Shadow map: texels per side and the half extent (m) of the square it covers.
@@ -206,6 +209,7 @@ class _LabelledPass:
 
     labels: Frame
     n_indices: int  # the frame's visible triangles' indices, in the index buffer
+    n_near: int  # how many of them, first, are not large slabs
     intrinsics: tuple[float, float, float, float]
     cam_to_world: np.ndarray
     rain: np.ndarray | None  # streak end points (2N, 3), or None without rain
@@ -256,12 +260,12 @@ class FrameRenderer:
         self._programs: list[moderngl.Program] = []
         self._labelled: _LabelledPass | None = None
         try:  # GL objects are made in this order: programs, targets, geometry, rain
+            self._build_bounds()
             self._build_programs()
             self._build_label_targets()
             self._build_colour_targets()
             self._build_shadow_map()
             self._build_geometry()
-            self._build_bounds()
             self._build_rain(rain_seed)
             self._set_static_uniforms()
         except BaseException:
@@ -289,11 +293,20 @@ class FrameRenderer:
         fragment = shader_source("scene_fragment.glsl")
         self.program = ctx.program(
             vertex_shader=with_features(vertex, {"FLOW": True}),
-            fragment_shader=with_features(fragment, {**features, "COLOUR": self.supersample == 1}),
-        )
-        self.colour_program = ctx.program(
-            vertex_shader=with_features(vertex, {"FLOW": False}),
-            fragment_shader=with_features(fragment, {**features, "COLOUR": True}),
+            fragment_shader=with_features(fragment, {**features, "COLOUR": self.supersample == 1,
+                                                     **_material_flags(self.drawables)}),
+        )  # fmt: skip
+        # The colour passes draw the scene nearest first, then the large slabs (ground,
+        # terrain, roads), each with a program holding only the materials it shows: llvmpipe
+        # pays for every material a program holds, on every pixel it shades.
+        near = _material_flags(d for d, large in zip(self.drawables, self._large, strict=True) if not large)
+        far = _material_flags(d for d, large in zip(self.drawables, self._large, strict=True) if large)
+        self.colour_program, self.colour_program_far = (
+            ctx.program(
+                vertex_shader=with_features(vertex, {"FLOW": False}),
+                fragment_shader=with_features(fragment, {**features, "COLOUR": True, **shown}),
+            )
+            for shown in (near, far)
         )
         fullscreen = shader_source("fullscreen_vertex.glsl")
         self.sky = ctx.program(vertex_shader=fullscreen, fragment_shader=shader_source("sky_fragment.glsl"))
@@ -308,8 +321,8 @@ class FrameRenderer:
         self.post_prog = ctx.program(
             vertex_shader=fullscreen, fragment_shader=with_features(shader_source("post_fragment.glsl"), post_features)
         )
-        self._programs += [self.program, self.colour_program, self.sky, self.shadow_prog, self.rain_prog,
-                           self.post_prog]  # fmt: skip
+        self._scene_programs = (self.program, self.colour_program, self.colour_program_far)
+        self._programs += [*self._scene_programs, self.sky, self.shadow_prog, self.rain_prog, self.post_prog]
         tri = np.array([-1.0, -1.0, 3.0, -1.0, -1.0, 3.0], dtype=np.float32)
         self._tri = ctx.buffer(tri.tobytes())
         self.sky_vao = ctx.vertex_array(self.sky, [(self._tri, "2f", "in_xy")])
@@ -387,6 +400,7 @@ class FrameRenderer:
         per-frame index buffer (the visible drawables, nearest first); the models texture."""
         ctx, drawables = self.ctx, self.drawables
         vertices, self._indices, textures = _pack(drawables)
+        self._n_indices = np.array([len(i) for i in self._indices], dtype=np.int64)
         self._world = _stack_transforms(drawables)  # (L, rows, 4, 4) world transforms per frame
         rows = self._world.shape[1]
         #: Each drawable's first row: a rigid drawable's transform, a skinned one's root bone.
@@ -400,9 +414,11 @@ class FrameRenderer:
         self.index_buffer = ctx.buffer(reserve=max(total, 3) * 4, dynamic=True)
         self.vao = ctx.vertex_array(self.program, _layout(self.vbo, self.program), self.index_buffer,
                                     index_element_size=4)  # fmt: skip
-        self.colour_vao = ctx.vertex_array(self.colour_program, _layout(self.vbo, self.colour_program),
-                                           self.index_buffer, index_element_size=4)  # fmt: skip
-        self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao, self.colour_vao]
+        self.colour_vaos = tuple(
+            ctx.vertex_array(p, _layout(self.vbo, p), self.index_buffer, index_element_size=4)
+            for p in (self.colour_program, self.colour_program_far)
+        )
+        self._objects += [self.models_tex, self.vbo, self.index_buffer, self.vao, *self.colour_vaos]
         self.textures = _texture_array(ctx, textures)
         self._objects.append(self.textures)
         for shadow in self._shadow_maps:
@@ -447,13 +463,13 @@ class FrameRenderer:
 
     def _set_static_uniforms(self) -> None:
         lt, w, h = self.lighting, *self.size
-        for prog in (self.program, self.colour_program, self.sky):
+        for prog in (*self._scene_programs, self.sky):
             for name in ("sky_zenith", "sky_horizon", "sun_dir", "sun_colour", "fog_colour"):
                 _set(prog, name, getattr(lt, name))
             _set(prog, "fog_per_m", float(lt.fog_per_m))
             _set(prog, "cloud_cover", float(lt.cloud_cover))
             _set(prog, "exposure", float(lt.exposure))
-        for p in (self.program, self.colour_program):
+        for p in self._scene_programs:
             _set(p, "sky_ambient", lt.sky_ambient)
             _set(p, "ground_ambient", lt.ground_ambient)
             _set(p, "wetness", float(lt.wetness))
@@ -518,9 +534,10 @@ class FrameRenderer:
         world_to_cam = view(cam_to_world)
         order = self._draw_order(at, world_to_cam, intrinsics)  # the same at every supersampling
         indices = np.concatenate([self._indices[i] for i in order]) if len(order) else np.zeros(0, np.uint32)
+        n_near = int(self._n_indices[order][~self._large[order]].sum())  # the large slabs come last
         self.index_buffer.write(indices.tobytes())
         self.triangles_drawn += int(self._n_triangles[order].sum())
-        for prog in (p, self.colour_program):
+        for prog in self._scene_programs:
             _write(prog, "view_t", _gl(world_to_cam))
             _set(prog, "eye", tuple(float(x) for x in cam_to_world[:3, 3]))
         p["view_t1"].write(_gl(view(cam_to_world_next)))
@@ -532,7 +549,7 @@ class FrameRenderer:
         # into that colour only.
         self.fbo.use()
         self.fbo.clear(depth=1.0)
-        self._scene_pass(len(indices), intrinsics, 0, labelled=True)
+        self._scene_pass(n_near, len(indices), intrinsics, 0, labelled=True)
         raw = None
         if self.fbo_ss is None:
             if rain is not None:
@@ -551,7 +568,7 @@ class FrameRenderer:
             flow=flow[..., :2],  # a view: its readers take strided arrays
             flow_valid=flow[..., 2] > 0.5,
         )
-        self._labelled = _LabelledPass(labels, len(indices), intrinsics, cam_to_world, rain)
+        self._labelled = _LabelledPass(labels, len(indices), n_near, intrinsics, cam_to_world, rain)
         return labels
 
     def render_rgb(self, labels: Frame) -> Frame:
@@ -563,7 +580,7 @@ class FrameRenderer:
             raise ValueError("render_rgb finishes the frame render_labels returned last")
         raw = labels.colour
         if self.fbo_ss is not None:
-            self._supersample(done.n_indices, done.intrinsics, done.rain)
+            self._supersample(done.n_near, done.n_indices, done.intrinsics, done.rain)
             raw = self._read(self.resolve_fbo, 0, 3, "f1", np.uint8)
         return replace(labels, colour=raw, rgb=self._post(done.intrinsics, done.cam_to_world))
 
@@ -581,19 +598,26 @@ class FrameRenderer:
                 shadow.drawn = True
             shadow.texture.use(location=shadow.location)
 
-    def _scene_pass(self, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
-        """Draw the scene (the first ``n_indices`` of the frame's index buffer) into the bound
-        framebuffer's ``slot``-th frame-sized viewport."""
+    def _scene_pass(self, n_near: int, n_indices: int, intrinsics, slot: int, *, labelled: bool) -> None:
+        """Draw the scene (the first ``n_indices`` of the frame's index buffer, the first
+        ``n_near`` of them not large slabs) into the bound framebuffer's ``slot``-th
+        frame-sized viewport: the labelled pass in one call, the colour passes in two (the
+        same order, a program each)."""
         ctx = self.ctx
-        p, vao = (self.program, self.vao) if labelled else (self.colour_program, self.colour_vao)
         w, h = self.size
         ctx.viewport = (slot * w, 0, w, h)
         ctx.disable(moderngl.BLEND)
         ctx.enable(moderngl.DEPTH_TEST)
-        p["proj"].write(_gl(projection(*intrinsics, w, h)))
-        _set(p, "size", (float(w), float(h)))
-        if n_indices:
-            vao.render(moderngl.TRIANGLES, vertices=n_indices)
+        if labelled:
+            draws = [(self.program, self.vao, 0, n_indices)]
+        else:
+            near, far = self.colour_vaos
+            draws = [(self.colour_program, near, 0, n_near), (self.colour_program_far, far, n_near, n_indices - n_near)]
+        for p, vao, first, count in draws:
+            p["proj"].write(_gl(projection(*intrinsics, w, h)))
+            _set(p, "size", (float(w), float(h)))
+            if count:
+                vao.render(moderngl.TRIANGLES, vertices=count, first=first)
         # The sky last, only where no surface was drawn (it sits on the far plane).
         _set(self.sky, "intrinsics", tuple(float(x) for x in intrinsics))
         _set(self.sky, "size", (float(w), float(h)))
@@ -627,14 +651,14 @@ class FrameRenderer:
         bottom = top + fall * (0.5 / 30.0)  # half a frame of motion: a streak
         return np.stack([top, bottom], axis=1).reshape(-1, 3).astype(np.float32)
 
-    def _supersample(self, n_indices: int, intrinsics, rain: np.ndarray | None) -> None:
+    def _supersample(self, n_near: int, n_indices: int, intrinsics, rain: np.ndarray | None) -> None:
         """One jittered colour-only pass per sample of the pattern, then their mean at 1×."""
         fx, fy, cx, cy = intrinsics
         self.fbo_ss.use()
         self.fbo_ss.clear(depth=1.0)
         for slot, (dx, dy) in enumerate(SAMPLE_PATTERNS[self.supersample]):
             # Pixel centre (u + ½) of this sample's image sees image point u + ½ + dx.
-            self._scene_pass(n_indices, (fx, fy, cx - dx, cy - dy), slot, labelled=False)
+            self._scene_pass(n_near, n_indices, (fx, fy, cx - dx, cy - dy), slot, labelled=False)
         if rain is not None:
             for slot, (dx, dy) in enumerate(SAMPLE_PATTERNS[self.supersample]):
                 self._rain_pass(self.fbo_ss, rain, (fx, fy, cx - dx, cy - dy), slot)
@@ -767,6 +791,18 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
         offset += len(v)
         row += d.n_bones
     return (np.concatenate(parts) if parts else np.zeros(0, _VERTEX_DTYPE)), indices, textures
+
+
+def _material_flags(drawables: Iterable[Drawable]) -> dict[str, bool]:
+    """``MATERIAL_n`` for each material pattern n the drawables show: the scene shader
+    compiles in only those."""
+    shown: set[int] = set()
+    for d in drawables:
+        if d.part_look is not None:
+            shown.update(int(n) for n in np.unique(d.part_look.patterns))
+        elif d.vertex_look is None:
+            shown.add(d.pattern)
+    return {f"MATERIAL_{n}": True for n in sorted(shown) if n >= FIRST_MATERIAL}
 
 
 def _texture_array(ctx: moderngl.Context, textures: list[np.ndarray]) -> moderngl.TextureArray:

@@ -63,41 +63,64 @@ float joint(float x, float period, float w, float fw) {
 }
 
 // Albedo (linear) and gloss (x: reflectance at normal incidence, y: how much of the
-// environment the surface reflects) of material `pattern` at object position p.
+// environment the surface reflects) of material `pattern` at object position p. llvmpipe
+// runs the body of every `if` below for every pixel (masked), so a program is compiled with
+// only the materials its draws show (MATERIAL_n, n the pattern).
 vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     gloss = vec2(0.0);
+#ifdef MATERIAL_5
     if (pattern == 5) {  // painted metal: a clear coat over the paint
         gloss = vec2(0.12, 0.6);
         return c * (0.97 + 0.06 * cell_noise(p, 60.0));
     }
+#endif
+#ifdef MATERIAL_6
     if (pattern == 6) {  // glass
         gloss = vec2(0.06, 1.0);
         return c;
     }
+#endif
+#ifdef MATERIAL_7
     if (pattern == 7) {  // chrome
         gloss = vec2(0.55, 0.9);
         return c * 0.6;
     }
+#endif
+#ifdef MATERIAL_8
     if (pattern == 8) return c * (0.85 + 0.3 * cell_noise(p, 150.0));  // rubber
+#endif
+#ifdef MATERIAL_9
     if (pattern == 9) {  // wood: grain across the planks, knots of darker cells
         float grain = fract(dot(p, vec3(0.7, 9.0, 13.0)) + 0.35 * cell_noise(vec3(p.x * 0.25, p.y, p.z), 30.0));
         gloss = vec2(0.03, 0.15);
         return c * (0.80 + 0.22 * grain) * (0.94 + 0.12 * cell_noise(p, 8.0));
     }
+#endif
+#ifdef MATERIAL_10
     if (pattern == 10) return c * (0.86 + 0.14 * cell_noise(p, 120.0)) * (0.95 + 0.1 * cell_noise(p, 6.0));  // fabric
+#endif
+#ifdef MATERIAL_11
     if (pattern == 11) {  // leather
         gloss = vec2(0.04, 0.25);
         return c * (0.90 + 0.16 * cell_noise(p, 35.0));
     }
+#endif
+#ifdef MATERIAL_12
     if (pattern == 12) {  // plastic
         gloss = vec2(0.04, 0.25);
         return c * (0.96 + 0.08 * cell_noise(p, 120.0));
     }
+#endif
+#ifdef MATERIAL_13
     if (pattern == 13) return c * (0.84 + 0.16 * cell_noise(p, 25.0)) * (0.9 + 0.2 * cell_noise(p, 180.0));  // concrete
+#endif
+#ifdef MATERIAL_14
     if (pattern == 14) {  // metal: vertical streaks
         gloss = vec2(0.2, 0.35);
         return c * (0.90 + 0.18 * cell_noise(vec3(p.x, p.y, p.z * 0.05), 80.0));
     }
+#endif
+#ifdef MATERIAL_15
     if (pattern == 15) {  // leaves: lit clumps, shadowed gaps, a hue drifting from yellow to blue green
         float v = mix(1.0, leaf_clumps(p, 4.5), fade(fw, 4.5));
         v *= mix(1.0, leaf_clumps(p, 14.0), fade(fw, 14.0) * 0.5);
@@ -105,6 +128,8 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         vec3 hue = mix(vec3(1.15, 1.05, 0.6), vec3(0.8, 1.0, 1.2), smooth_noise(p, 1.5));
         return c * hue * v;
     }
+#endif
+#if defined(MATERIAL_16) || defined(MATERIAL_23)
     if (pattern == 16 || pattern == 23) {  // grass: blades, tufts, drier patches; a pitch mown in 5 m stripes
         float v = 1.0 + 0.5 * octave(p, 40.0, fw) + 0.3 * (smooth_noise(p, 6.0) - 0.5) + 0.25 * (smooth_noise(p, 1.2) - 0.5);
         float patch = smooth_noise(p, 0.25) * 0.7 + smooth_noise(p, 1.1) * 0.3;
@@ -112,16 +137,22 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         float stripe = pattern == 23 ? 0.92 + 0.16 * mod(floor(p.x / 5.0), 2.0) : 1.0;
         return mix(c, dry, (pattern == 23 ? 0.15 : 0.35) * smoothstep(0.55, 0.9, patch)) * v * stripe;
     }
+#endif
+#ifdef MATERIAL_17
     if (pattern == 17) {  // asphalt: aggregate, worn and patched areas
         gloss = vec2(0.02, 0.08);
         float wear = smooth_noise(p, 0.3);
         return c * (1.0 + 0.45 * octave(p, 160.0, fw) + 0.2 * octave(p, 12.0, fw)) * (0.85 + 0.3 * wear);
     }
+#endif
+#ifdef MATERIAL_18
     if (pattern == 18) {  // paving: 0.5 m slabs, a tone each, dark joints
         float slab = 0.9 + 0.2 * cell_noise(vec3(floor(p.xy * 2.0), 7.0), 1.0);
         float j = max(joint(p.x, 0.5, 0.012, fw), joint(p.y, 0.5, 0.012, fw));
         return c * slab * (1.0 + 0.3 * octave(p, 90.0, fw)) * (1.0 - 0.5 * j);
     }
+#endif
+#ifdef MATERIAL_19
     if (pattern == 19) {  // brick, running bond on any vertical wall (along x + y), light mortar
         float along = p.x + p.y;
         float course = floor(p.z / 0.075);
@@ -130,20 +161,28 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         float mortar = max(joint(p.z, 0.075, 0.012, fw), joint(shifted, 0.24, 0.012, fw));
         return mix(c * tone * (1.0 + 0.3 * octave(p, 120.0, fw)), vec3(0.62, 0.60, 0.56), 0.8 * mortar);
     }
+#endif
+#ifdef MATERIAL_20
     if (pattern == 20) {  // plaster: fine grain, broad stains running down from the top
         float stain = cell_noise(vec3(p.x * 0.7, p.y * 0.7, p.z * 0.15), 1.0);
         return c * (1.0 + 0.12 * octave(p, 60.0, fw) + 0.08 * octave(p, 5.0, fw)) * (0.9 + 0.12 * stain);
     }
+#endif
+#ifdef MATERIAL_21
     if (pattern == 21) {  // bark: furrows along the trunk
         float furrow = octave(vec3(p.x, p.y, p.z * 0.12), 45.0, fw);
         vec3 moss = mix(c, vec3(0.20, 0.24, 0.10), 0.6 * smoothstep(0.5, 0.8, smooth_noise(p, 3.0)));
         return moss * (1.0 + 0.9 * furrow + 0.3 * octave(p, 8.0, fw));
     }
+#endif
+#ifdef MATERIAL_22
     if (pattern == 22) {  // roof tiles: courses along the slope, a tone per tile
         float course = floor(p.z / 0.18);
         float tone = 0.85 + 0.25 * cell_noise(vec3(floor((p.x + p.y) / 0.3), course, 5.0), 1.0);
         return c * tone * (1.0 - 0.45 * joint(p.z, 0.18, 0.02, fw));
     }
+#endif
+#ifdef MATERIAL_24
     if (pattern == 24) {  // wallpaper: stripes of two tones along any wall (x + y), a fine print, seams
         float along = p.x + p.y;
         float band = abs(fract(along / 0.16) - 0.5) * 0.16;  // metres from the nearest stripe's middle
@@ -151,6 +190,8 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         float print = octave(vec3(along, 0.0, p.z), 70.0, fw);
         return c * (1.0 - 0.12 * stripe + 0.12 * print) * (1.0 - 0.25 * joint(along, 0.53, 0.003, fw));
     }
+#endif
+#ifdef MATERIAL_27
     if (pattern == 27) {  // shore: sand in broad patches with fine grain, grey pebbles scattered on it
         vec3 sand = c * (0.85 + 0.3 * smooth_noise(p, 2.5)) * (1.0 + 0.3 * octave(p, 120.0, fw));
         vec2 in_cell = fract(p.xy * 16.0) - 0.5;  // a round pebble in some of the 6 cm cells
@@ -158,11 +199,15 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         vec3 pebble = c * vec3(0.85, 0.9, 0.95) * (0.6 + 0.5 * cell_noise(p + 3.0, 16.0));
         return mix(sand, pebble, 0.8 * stone * fade(fw, 16.0));
     }
+#endif
+#ifdef MATERIAL_26
     if (pattern == 26) {  // floor tiles: 0.3 m squares, a tone each, grey grout joints
         float tone = 0.9 + 0.14 * cell_noise(vec3(floor(p.xy / 0.3), 13.0), 1.0);
         float j = max(joint(p.x, 0.3, 0.005, fw), joint(p.y, 0.3, 0.005, fw));
         return mix(c * tone * (1.0 + 0.08 * octave(p, 70.0, fw)), vec3(0.45, 0.44, 0.42), 0.8 * j);
     }
+#endif
+#ifdef MATERIAL_25
     if (pattern == 25) {  // seats: a shell every 0.5 m along the row, each a little faded, dark gaps between
         float along = p.x + p.y;
         float seat = floor(along / 0.5);
@@ -170,5 +215,6 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         gloss = vec2(0.04, 0.2);
         return c * tone * (1.0 - 0.8 * joint(along + 0.25, 0.5, 0.07, fw));
     }
+#endif
     return c;
 }

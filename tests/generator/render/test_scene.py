@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 
 from phav_generator.physics.simulate import simulate
+from phav_generator.render import gl
 from phav_generator.render.gl import FrameRenderer
 from phav_generator.render.scene import build_drawables, class_id
+from phav_generator.world.materials import Material
 from phav_spec.vocab import PIXEL_CLASSES
 from tests.generator.physics.support import recipe_for
 
@@ -69,3 +71,27 @@ def test_moving_things_are_drawn_as_finely_as_their_nearest_approach_asks():
     assert _bounding_radius("box", (3.0, 4.0, 0.0)) == 5.0
     assert _bounding_radius("capsule", (0.1, 0.4)) == pytest.approx(0.5)
     assert _bounding_radius("sphere", (0.11,)) == 0.11
+
+
+def test_each_colour_program_holds_only_the_materials_of_its_draws_and_no_pixel_changes(ctx, monkeypatch):
+    """The colour passes draw the near drawables, then the large slabs, each with a program
+    compiled with only the materials they show; every program holding every material gives
+    the same bytes."""
+    recipe = recipe_for("walk", "middle", seconds=0.2, variation="none")  # grass, asphalt, houses, trees
+    tr = simulate(recipe, keep_state=False)
+    drawables = build_drawables(recipe, tr)
+
+    def frame_and_flags():
+        with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky")) as r:
+            near = gl._material_flags(d for d, large in zip(drawables, r._large, strict=True) if not large)
+            far = gl._material_flags(d for d, large in zip(drawables, r._large, strict=True) if large)
+            return r.render(0, tr.cam_to_world[0], tr.cam_to_world[1], tr.intrinsics), near, far
+
+    split, near, far = frame_and_flags()
+    assert f"MATERIAL_{Material.GRASS.value}" in far and f"MATERIAL_{Material.LEAVES.value}" not in far
+    assert f"MATERIAL_{Material.LEAVES.value}" in near and f"MATERIAL_{Material.PLASTER.value}" in near
+    every = {f"MATERIAL_{m.value}": True for m in Material if m.value >= gl.FIRST_MATERIAL}
+    monkeypatch.setattr(gl, "_material_flags", lambda _: every)
+    whole, _, _ = frame_and_flags()
+    np.testing.assert_array_equal(split.rgb, whole.rgb)
+    np.testing.assert_array_equal(split.colour, whole.colour)
