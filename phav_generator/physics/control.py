@@ -29,10 +29,10 @@ from phav_spec.seeding import stream
 MAX_SPEED = 500.0
 #: Perturbation pull stiffness, as an angular frequency of the pulled body (rad/s).
 PERTURBATION_OMEGA = 40.0
-#: A spring camera keeps this far (m) from every body origin of the simulated people: within
-#: it a push on the camera alone (people feel nothing) springs it back, as an operator steps
-#: back from someone coming at them. Body origins are joint centres, so a limb's surface
-#: stays about 0.7 m away; a close-up films from 1.3 m or more.
+#: A spring camera keeps this far (m) from every body origin of every person (background
+#: walkers as animated): within it a push on the camera alone (people feel nothing) springs
+#: it back, as an operator steps back from someone coming at them. Body origins are joint
+#: centres, so a limb's surface stays about 0.7 m away; a close-up films from 1.3 m or more.
 CAMERA_ROOM_M = 0.8
 #: The push's stiffness, as an angular frequency of the camera's mass (rad/s).
 CAMERA_ROOM_OMEGA = 12.0
@@ -169,6 +169,12 @@ class SimulationRun:
         self.d = mujoco.MjData(self.m)
         physical = [p for p in plan.people if p.physical]
         self.physical = physical
+        # Background people are animated, not simulated: their bodies at every frame, up front
+        # (the camera keeps its room from them too; the recording writes their tracks).
+        self.background = [p for p in plan.people if not p.physical]
+        self.background_fk = [
+            forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q) for p in self.background
+        ]
         self.target_body_pos = []
         for p in physical:
             pos, _ = forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q)
@@ -300,16 +306,20 @@ class SimulationRun:
         if cam is not None:
             kind = self.plan.recipe.camera.kind
             d.mocap_pos[cam.anchor_mocap] = anchor_point(kind, d.xpos[self.scene.people[0].bodies])
-            d.xfrc_applied[cam.camera_body, :3] += self._camera_room_push()
+            d.xfrc_applied[cam.camera_body, :3] += self._camera_room_push(k)
 
-    def _camera_room_push(self) -> np.ndarray:
-        """The push (N) that keeps a spring camera ``CAMERA_ROOM_M`` from each simulated
-        person's nearest body origin: a spring on the camera alone, away from that origin."""
+    def _camera_room_push(self, k: int) -> np.ndarray:
+        """The push (N) at plan step k that keeps a spring camera ``CAMERA_ROOM_M`` from each
+        person's nearest body origin (a background walker's as animated at the frame the step
+        ends at): a spring on the camera alone, away from that origin."""
         d, cam = self.d, self.scene.camera
         at = d.xpos[cam.camera_body]
+        f = -(-k // self.plan.substeps)
+        people = [d.xpos[h.bodies] for h in self.scene.people]
+        people += [pos[min(f, len(pos) - 1)] for pos, _ in self.background_fk]
         push = np.zeros(3)
-        for h in self.scene.people:
-            away = at - d.xpos[h.bodies]
+        for bodies in people:
+            away = at - bodies
             dist = np.linalg.norm(away, axis=1)
             b = int(np.argmin(dist))
             if dist[b] < CAMERA_ROOM_M:

@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 from phav_generator.motion.rotations import look_at, matrix_to_quat
-from phav_generator.motion.skeleton import BONES, LOWER, UPPER, forward_kinematics
+from phav_generator.motion.skeleton import BONES, LOWER, UPPER
 from phav_generator.physics.control import FULL_STATE, SimulationRun
 from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_generator.physics.traffic import Traffic, footprint_points
@@ -57,11 +57,7 @@ class FrameRecorder:
         self.energy = np.zeros(n_out)
         self.contacts = {"car_protagonist": np.zeros(n_out, bool), "protagonist_ground": np.zeros(n_out, bool)}
         self.states = np.zeros((n_out, mujoco.mj_stateSize(run.m, FULL_STATE))) if keep_state else None
-        # Background people are animated, not simulated: their bodies at every frame, up front.
-        self.background = [p for p in plan.people if not p.physical]
-        self.background_fk = [
-            forward_kinematics(p.dims, p.targets.root_pos, p.targets.root_quat, p.targets.q) for p in self.background
-        ]
+        self.background, self.background_fk = run.background, run.background_fk  # animated, not simulated
         self.vehicle_pos = np.zeros((len(plan.traffic), n_out, 3))
         self.vehicle_quat = np.zeros((len(plan.traffic), n_out, 4))
         self.clearance = np.zeros(n_out)

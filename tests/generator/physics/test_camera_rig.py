@@ -83,3 +83,26 @@ def test_a_spring_camera_started_against_the_protagonist_backs_off_and_keeps_its
     nearest = np.linalg.norm(np.asarray(tr.people[0].body_pos) - cams[:, None, :], axis=2).min(axis=1)
     assert nearest[0] < 0.6
     assert (nearest[15:] > 0.9 * CAMERA_ROOM_M).all(), np.round(nearest, 2)
+
+
+def test_a_spring_camera_keeps_its_room_from_a_background_walker_who_walks_at_it() -> None:
+    """Background people are animated, not simulated; the camera's push keeps it from them
+    too. A walker sent straight through where the camera waits comes no nearer than half the
+    room to it (through the camera without the push)."""
+    recipe = recipe_for("wave", "simple", seconds=1.5, index=1)
+    plan = plan_scene(recipe)
+    [k] = [i for i, p in enumerate(plan.people) if p.role == "background"]
+    walker = plan.people[k]
+    n = len(walker.targets.root_pos)
+    cam = np.array(plan.camera_start)
+    # Along x at 1.4 m/s, the walker's pelvis passing the camera's start at its height.
+    root = cam + np.outer(np.linspace(-1.0, 1.0, n) * 1.4 * recipe.duration_s / 2, [1.0, 0.0, 0.0])
+    quat = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    targets = dataclasses.replace(walker.targets, root_pos=root, root_quat=quat)
+    people = list(plan.people)
+    people[k] = dataclasses.replace(walker, targets=targets)
+    tr = simulate_plan(dataclasses.replace(plan, people=tuple(people)), keep_state=False)
+    cams = tr.cam_to_world[:, :3, 3]
+    [seen] = [p for p in tr.people if p.role == "background"]
+    nearest = np.linalg.norm(np.asarray(seen.body_pos) - cams[:, None, :], axis=2).min(axis=1)
+    assert nearest.min() > 0.5 * CAMERA_ROOM_M, np.round(nearest, 2)
