@@ -291,16 +291,15 @@ class FrameRenderer:
         # Supersampled, the raw colour is the samples' mean: the labelled pass does not shade.
         vertex = shader_source("scene_vertex.glsl").replace("#version 330\n", "", 1)
         fragment = shader_source("scene_fragment.glsl")
-        self.program = ctx.program(
-            vertex_shader=with_features(vertex, {"FLOW": True}),
-            fragment_shader=with_features(fragment, {**features, "COLOUR": self.supersample == 1,
-                                                     **_material_flags(self.drawables)}),
-        )  # fmt: skip
         # The colour passes draw the scene nearest first, then the large slabs (ground,
         # terrain, roads), each with a program holding only the materials it shows: llvmpipe
         # pays for every material a program holds, on every pixel it shades.
         near = _material_flags(d for d, large in zip(self.drawables, self._large, strict=True) if not large)
         far = _material_flags(d for d, large in zip(self.drawables, self._large, strict=True) if large)
+        self.program = ctx.program(
+            vertex_shader=with_features(vertex, {"FLOW": True}),
+            fragment_shader=with_features(fragment, {**features, "COLOUR": self.supersample == 1, **near, **far}),
+        )
         self.colour_program, self.colour_program_far = (
             ctx.program(
                 vertex_shader=with_features(vertex, {"FLOW": False}),
