@@ -139,10 +139,13 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     }
 #endif
 #ifdef MATERIAL_17
-    if (pattern == 17) {  // asphalt: aggregate, worn and patched areas
+    if (pattern == 17) {  // asphalt: aggregate, coarser stones and binder, stains, worn areas
+        // The mottle between the aggregate (6 mm) and the wear (3 m) is what tells a road
+        // from the smooth painted panel of a car's bonnet, which it otherwise resembles.
         gloss = vec2(0.02, 0.08);
         float wear = smooth_noise(p, 0.3);
-        return c * (1.0 + 0.45 * octave(p, 160.0, fw) + 0.2 * octave(p, 12.0, fw)) * (0.85 + 0.3 * wear);
+        float grain = 0.45 * octave(p, 160.0, fw) + 0.5 * octave(p, 40.0, fw) + 0.3 * octave(p, 12.0, fw);
+        return c * (1.0 + grain + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
     }
 #endif
 #ifdef MATERIAL_18

@@ -139,7 +139,11 @@ void main() {
         // Water's reflectance (Schlick, 2 % head-on): a wet road is dark under the camera
         // and shines only towards the horizon.
         float fresnel = 0.02 + 0.98 * pow(1.0 - cosv, 5.0);
-        float pools = grass ? 0.15 : 1.0;
+        // Water stands in puddles in the road's dips and mirrors the sky there; between them
+        // damp asphalt, rough, reflects a blurred third as much. A film over the whole road
+        // would be a mirror as uniform as a car's bonnet.
+        float dips = smoothstep(0.5, 0.62, 0.7 * sky_noise(v_world.xy * 0.35) + 0.3 * sky_noise(v_world.xy * 1.3));
+        float pools = grass ? 0.15 : (v_material == 2 ? 1.0 : mix(0.35, 1.0, dips));  // open water: all of it
         reflectivity = wet * pools * fresnel;
         vec3 mirrored = reflect(-to_eye, n);
         c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);

@@ -160,6 +160,13 @@ def test_a_wet_road_is_dark_below_the_camera_and_shines_towards_the_horizon(ctx)
     assert lawn.sum() > 1000
     ratio = {name: luma["wet"][m].mean() / luma["dry"][m].mean() for name, m in (("road", steep), ("lawn", lawn))}
     assert ratio["lawn"] > ratio["road"] + 0.05
+    # Puddles mirror the sky, the damp asphalt between them a third as much: at one grazing
+    # angle the road's shine is patchy (a film over all of it varies only with the angle).
+    band = road & (elevation > 5.0) & (elevation < 10.0)
+    assert band.sum() > 1000
+    shine = luma["wet"][band] - luma["dry"][band]
+    low, high = np.percentile(shine, [10, 90])
+    assert 0.0 < low and high > 3.0 * low
 
 
 @pytest.mark.parametrize("element", ["rain", "fog", "clouds", "wet_ground"])
