@@ -103,7 +103,8 @@ void main() {
     float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
     if (v_material == 2) wet = 1.0;
     // Water fills the pores of asphalt, soil and stone and darkens them; it beads on the
-    // waxy blades of grass, which darken little, and pools only on hard ground.
+    // waxy blades of grass, which darken little and, facing every way, scatter its
+    // reflection (a lawn that mirrored the sky read as a hedge); it pools on hard ground.
     bool grass = v_pattern == 16 || v_pattern == 23;
     a *= 1.0 - (grass ? 0.15 : 0.45) * wet;
 #else
@@ -133,7 +134,7 @@ void main() {
     }
 #endif
 #if WET
-    if (wet > 0.0) {
+    if (wet > 0.0 && !grass) {
         vec3 to_eye = normalize(eye - v_world);
         float cosv = max(dot(n, to_eye), 0.0);
         // Water's reflectance (Schlick, 2 % head-on): a wet road is dark under the camera
@@ -143,7 +144,7 @@ void main() {
         // damp asphalt, rough, reflects a blurred third as much. A film over the whole road
         // would be a mirror as uniform as a car's bonnet.
         float dips = smoothstep(0.5, 0.62, 0.7 * sky_noise(v_world.xy * 0.35) + 0.3 * sky_noise(v_world.xy * 1.3));
-        float pools = grass ? 0.15 : (v_material == 2 ? 1.0 : mix(0.35, 1.0, dips));  // open water: all of it
+        float pools = v_material == 2 ? 1.0 : mix(0.35, 1.0, dips);  // open water: all of it
         reflectivity = wet * pools * fresnel;
         vec3 mirrored = reflect(-to_eye, n);
         c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);

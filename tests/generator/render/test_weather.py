@@ -160,6 +160,10 @@ def test_a_wet_road_is_dark_below_the_camera_and_shines_towards_the_horizon(ctx)
     assert lawn.sum() > 1000
     ratio = {name: luma["wet"][m].mean() / luma["dry"][m].mean() for name, m in (("road", steep), ("lawn", lawn))}
     assert ratio["lawn"] > ratio["road"] + 0.05
+    # Its blades, facing every way, scatter the water's reflection: no sheen at grazing angles.
+    far_lawn = (frames["dry"].class_id == class_id("terrain")) & (elevation < 10.0)
+    assert far_lawn.sum() > 1000
+    assert luma["wet"][far_lawn].mean() < luma["dry"][far_lawn].mean()
     # Puddles mirror the sky, the damp asphalt between them a third as much: at one grazing
     # angle the road's shine is patchy (a film over all of it varies only with the angle).
     band = road & (elevation > 5.0) & (elevation < 10.0)
