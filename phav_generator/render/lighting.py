@@ -9,7 +9,7 @@ Colours are linear RGB in [0, 1] before the renderer's tone curve.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -77,7 +77,7 @@ class Lighting:
     sky_ambient: np.ndarray  # (3,) light from the upper hemisphere
     ground_ambient: np.ndarray  # (3,) light bounced from below
     sky_zenith: np.ndarray  # (3,)
-    sky_horizon: np.ndarray  # (3,)
+    sky_horizon: np.ndarray  # (3,) away from the sun
     fog_colour: np.ndarray  # (3,)
     fog_per_m: float  # extinction coefficient
     wetness: float  # 0 dry … 1 soaked ground (darker, reflecting as water does)
@@ -85,6 +85,7 @@ class Lighting:
     lamp_intensity: float  # street/indoor lamps, 0 off
     daylight: float  # 0 night … 1 full day
     cloud_cover: float = 0.0  # 0 clear … 1 overcast: how much of the sky the clouds drawn in it cover
+    sky_glow: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) added low towards the sun
     exposure: float = EXPOSURE  # the tone curve's, as the camera metered the light
 
     @property
@@ -105,19 +106,26 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
     warm = _mix((1.0, 0.55, 0.3), (1.0, 0.96, 0.9), _smoothstep(0.0, 25.0, elevation))
     veil = (1.0 - 0.85 * clouds) * (1.0 - 0.6 * fog) * (1.0 - 0.5 * rain)
     sun_colour = warm * (1.1 * world.sun_brightness * above * veil)
-    # Sky: blue by day, orange at the horizon near sunset, dark blue at night; clouds grey it.
+    # Sky: blue by day, dark blue at night; near sunrise and sunset an orange glow low in the
+    # sun's quarter (the sky shader spreads it by azimuth) and a faint pink band opposite, the
+    # sky above both still blue. Clouds grey it.
     twilight = _smoothstep(-10.0, 3.0, elevation) * (1.0 - _smoothstep(3.0, 20.0, elevation))
     zenith = _mix((0.02, 0.03, 0.07), (0.22, 0.42, 0.85), daylight)
-    horizon = _mix(_mix((0.03, 0.04, 0.08), (0.68, 0.78, 0.92), daylight), (0.95, 0.55, 0.3), 0.7 * twilight)
+    clear_horizon = _mix((0.03, 0.04, 0.08), (0.68, 0.78, 0.92), daylight)
+    glowing = _mix(clear_horizon, (0.95, 0.55, 0.3), 0.7 * twilight)  # fog, lit by the low sun, takes this colour
+    horizon = _mix(clear_horizon, (0.9, 0.72, 0.75), 0.2 * twilight)
     grey = np.array([0.62, 0.64, 0.67]) * daylight
     # Broken cloud leaves the sky between the clouds blue (the sky shader draws the clouds);
     # only an overcast sky turns grey.
-    zenith, horizon = _mix(zenith, grey, clouds**2), _mix(horizon, grey * 1.05, clouds**2)
+    overcast = clouds**2
+    zenith, horizon = _mix(zenith, grey, overcast), _mix(horizon, grey * 1.05, overcast)
+    glowing = _mix(glowing, grey * 1.05, overcast)
+    glow = (glowing - horizon) * 1.3  # straight towards the sun, more than the fog's average
     # Ambient: the sky's light, flatter and relatively stronger under cloud.
     level = world.ambient_luminosity * (0.04 + 0.5 * daylight) * (1.0 + 0.4 * clouds)
     sky_ambient = _mix(zenith / max(float(zenith.max()), 1e-6), np.ones(3), 0.5 + 0.5 * clouds) * level
     ground_ambient = np.array([0.45, 0.42, 0.38]) * level * 0.5
-    fog_colour = _mix(horizon, grey + 0.05 * daylight, 0.6) if fog else horizon
+    fog_colour = _mix(glowing, grey + 0.05 * daylight, 0.6) if fog else glowing
     lamps = 1.0 - _smoothstep(-4.0, 8.0, elevation)  # on from dusk, full at night
     if indoor:
         lamps = 1.0
@@ -141,6 +149,7 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         lamp_intensity=lamps,
         daylight=daylight,
         cloud_cover=clouds,
+        sky_glow=glow,
         exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation, fog_colour, fog_per_m),
     )
 

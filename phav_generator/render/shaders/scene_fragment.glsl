@@ -106,7 +106,7 @@ void main() {
     // waxy blades of grass, which darken little and, facing every way, scatter its
     // reflection (a lawn that mirrored the sky read as a hedge); it pools on hard ground.
     bool grass = v_pattern == 16 || v_pattern == 23;
-    a *= 1.0 - (grass ? 0.15 : 0.45) * wet;
+    a *= 1.0 - (grass ? 0.05 : 0.45) * wet;
 #else
     float wet = 0.0;
 #endif

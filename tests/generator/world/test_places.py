@@ -1,7 +1,8 @@
 """The places: a facade's wall and openings tile its face, windows sit back in it; a road's
 markings follow its lanes and leave its crossings to the zebra; pitch lines lie on the
 pitch; each environment's slabs, buildings and trees take the look their role asks for;
-the materials past the first sixteen reach the shader; clouds cover as much sky as θ says;
+the materials past the first sixteen reach the shader; clouds cover as much sky as θ says,
+a sunset glows only in the sun's quarter;
 a stand's tiers show their seats to the pitch, its goals stand on the goal lines, the
 lake's reeds stand in its shallows off every walker's path and its banks have a shore."""
 
@@ -175,13 +176,14 @@ def test_foliage_is_lit_clumps_with_shadowed_gaps_and_keeps_its_colour_s_brightn
     assert np.median(ratio) > 1.0  # ... and most of the surface a lit clump
 
 
-def _sky(ctx, cover: float) -> np.ndarray:
+def _sky(ctx, cover: float, lighting=None, towards=(0.0, 1.0, 0.5)) -> np.ndarray:
+    """The sky seen ``towards`` a direction (27° above the horizon by default)."""
     from phav_generator.render.assets import asset_drawable
     from phav_generator.render.gl import FrameRenderer, _default_lighting
 
-    lighting = dataclasses.replace(_default_lighting(), cloud_cover=cover)
+    lighting = dataclasses.replace(lighting or _default_lighting(), cloud_cover=cover)
     c2w = np.eye(4)
-    c2w[:3, :3] = look_at(np.zeros(3), np.array([0.0, 1.0, 0.5]))  # 27° above the horizon
+    c2w[:3, :3] = look_at(np.zeros(3), np.asarray(towards, dtype=np.float64))
     below = places.ground(5.0, -100.0, indoor=False)  # out of view: the renderer wants something to draw
     drawables = [asset_drawable(below, np.broadcast_to(np.eye(4), (1, 4, 4)))]
     with FrameRenderer(ctx, 96, 64, drawables, sky_class=PIXEL_CLASSES["sky"].class_id, focus=np.zeros(3),
@@ -195,6 +197,24 @@ def test_clouds_cover_the_sky_as_theta_s_cloud_intensity_says(ctx):
     grey_clear = np.abs(clear - clear.mean(axis=2, keepdims=True)).sum(axis=2) < 6
     grey_overcast = np.abs(overcast - overcast.mean(axis=2, keepdims=True)).sum(axis=2) < 6
     assert grey_clear.mean() < 0.05 < grey.mean() < grey_overcast.mean()
+
+
+def test_a_clear_sunset_glows_low_in_the_sun_s_quarter_and_stays_blue_above_and_opposite(ctx):
+    from phav_generator.render.lighting import lighting_for
+    from phav_generator.vary import vary
+    from tests.generator.physics.support import recipe_for, theta_for
+
+    dusk = {"weather": "clear", "clouds": False, "fog": False, "rain": False, "day_phase": "dusk", "clock_hour": 18.0}
+    world = vary(recipe_for("walk", "simple"), theta_for("walk", "simple"), dusk).world
+    lighting = lighting_for(world, indoor=False)
+    sun = lighting.sun_dir[:2] / np.linalg.norm(lighting.sun_dir[:2])
+    up = math.tan(math.radians(5.0))
+    rb = {}  # red minus blue, where the camera looks
+    for name, d in (("towards", (*sun, up)), ("opposite", (*-sun, up)), ("above", (*sun, 2.0))):
+        sky = _sky(ctx, 0.0, lighting, d)
+        rb[name] = float((sky[..., 0] - sky[..., 2]).mean())
+    assert rb["towards"] > 0.0  # warm near the sun
+    assert rb["opposite"] < rb["towards"] - 10.0 and rb["above"] < -30.0  # blue elsewhere
 
 
 def test_a_stand_s_tiers_show_their_seats_to_the_pitch():
