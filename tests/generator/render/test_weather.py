@@ -244,6 +244,21 @@ def _seen_key(light) -> float:
     return lit * seen + float(light.fog_colour @ lum) * (1.0 - seen)
 
 
+def test_an_overcast_sky_lights_the_ground_brighter_than_it_looks_at_the_horizon():
+    """Under full cloud the whole dome lights the ground, brightest overhead: the light on a
+    white horizontal surface outshines the sky at the horizon (2.3× for the CIE's overcast
+    sky), as it does not under a clear sky, whose light is mostly the sun's."""
+    base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
+    theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    settings = {"weather": "overcast", "day_phase": "day", "clock_hour": 13.0, "cloud_intensity": 1.0,
+                "ambient_luminosity": 1.0}  # fmt: skip
+    overcast = lighting_for(vary(base, theta, settings).world, indoor=False)
+    assert lum @ overcast.sky_ambient > 1.3 * (lum @ overcast.sky_horizon)
+    clear = lighting_for(vary(base, theta, {**settings, "weather": "clear", "clouds": False}).world, indoor=False)
+    assert lum @ clear.sky_ambient < lum @ clear.sky_horizon
+
+
 def test_in_fog_the_camera_meters_the_fogs_light_too():
     """Fog between the camera and its subject is bright (it scatters the sky's light): the
     camera that meters it opens up less than in clear air at the same hour, and by day it
