@@ -112,7 +112,7 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
     twilight = _smoothstep(-10.0, 3.0, elevation) * (1.0 - _smoothstep(3.0, 20.0, elevation))
     zenith = _mix((0.02, 0.03, 0.07), (0.22, 0.42, 0.85), daylight)
     clear_horizon = _mix((0.03, 0.04, 0.08), (0.68, 0.78, 0.92), daylight)
-    glowing = _mix(clear_horizon, (0.95, 0.55, 0.3), 0.7 * twilight)  # fog, lit by the low sun, takes this colour
+    glowing = _mix(clear_horizon, (0.95, 0.55, 0.3), 0.7 * twilight)
     horizon = _mix(clear_horizon, (0.9, 0.72, 0.75), 0.2 * twilight)
     grey = np.array([0.62, 0.64, 0.67]) * daylight
     # Broken cloud leaves the sky between the clouds blue (the sky shader draws the clouds);
@@ -120,14 +120,16 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
     overcast = clouds**2
     zenith, horizon = _mix(zenith, grey, overcast), _mix(horizon, grey * 1.05, overcast)
     glowing = _mix(glowing, grey * 1.05, overcast)
-    glow = (glowing - horizon) * 1.3  # straight towards the sun, more than the fog's average
+    glow = (glowing - horizon) * 1.3  # straight towards the sun, more than the haze's average
     # Ambient: the sky's light, flatter and stronger under cloud: an overcast sky lights the
     # ground from its whole dome, brightest overhead (a white lawn-level surface outshines the
     # sky at the horizon; with less, a dark lawn under grey cloud was taken for a hedge).
     level = world.ambient_luminosity * (0.04 + 0.5 * daylight) * (1.0 + 0.8 * clouds)
     sky_ambient = _mix(zenith / max(float(zenith.max()), 1e-6), np.ones(3), 0.5 + 0.5 * clouds) * level
     ground_ambient = np.array([0.45, 0.42, 0.38]) * level * 0.5
-    fog_colour = _mix(glowing, grey + 0.05 * daylight, 0.6) if fog else glowing
+    # Fog scatters the whole sky's light: the glow fills a quarter of the horizon, the fog
+    # takes the colour of the rest. Without fog, the haze keeps the glow's.
+    fog_colour = _mix(horizon, grey + 0.05 * daylight, 0.6) if fog else glowing
     lamps = 1.0 - _smoothstep(-4.0, 8.0, elevation)  # on from dusk, full at night
     if indoor:
         lamps = 1.0

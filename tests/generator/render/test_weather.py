@@ -262,7 +262,7 @@ def test_an_overcast_sky_lights_the_ground_brighter_than_it_looks_at_the_horizon
 def test_in_fog_the_camera_meters_the_fogs_light_too():
     """Fog between the camera and its subject is bright (it scatters the sky's light): the
     camera that meters it opens up less than in clear air at the same hour, and by day it
-    keeps the base exposure."""
+    keeps the base exposure. At dusk it takes the colour of the sky away from the sunset."""
     base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
     theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
 
@@ -275,6 +275,9 @@ def test_in_fog_the_camera_meters_the_fogs_light_too():
     assert EXPOSURE < foggy.exposure < 0.8 * clear.exposure
     assert _seen_key(foggy) * foggy.exposure / EXPOSURE == pytest.approx(METER_KEY)
     assert light("fog", "day", 13.0).exposure == EXPOSURE
+    # The sunset's glow fills only the sun's quarter of the sky: the fog scattering the whole
+    # sky's light is no warmer than it is blue, and the clear air's haze keeps the glow.
+    assert foggy.fog_colour[0] <= foggy.fog_colour[2] and clear.fog_colour[0] > clear.fog_colour[2]
 
 
 def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
