@@ -35,13 +35,14 @@ vec3 sky(vec3 dir) {
     if (up < 0.0) c = horizon * 0.8;
     if (cloud_cover > 0.0 && dir.z > 0.01) {
         // A layer of cloud 1 km up: four octaves over where the ray meets it, its cover
-        // growing with the θ's cloud intensity, lit on top and grey beneath, thinning to the horizon.
+        // growing with the θ's cloud intensity, lit on top and grey beneath, thinning to the
+        // horizon. Closing up, it thickens into an overcast deck without bellies (stratus).
         vec2 at = dir.xy / dir.z * 1.0;
         float n = 0.5 * sky_noise(at * 1.5) + 0.25 * sky_noise(at * 3.1) + 0.15 * sky_noise(at * 6.3)
                   + 0.1 * sky_noise(at * 12.7);
         float cover = smoothstep(1.0 - cloud_cover - 0.05, 1.0 - cloud_cover + 0.25, n);
         vec3 lit = max(max(horizon.r, horizon.g), horizon.b) * vec3(1.08, 1.08, 1.1);
-        vec3 cloud = mix(lit, lit * 0.62, smoothstep(0.45, 0.95, n));
+        vec3 cloud = mix(lit, lit * mix(0.62, 1.0, smoothstep(0.6, 0.9, cloud_cover)), smoothstep(0.45, 0.95, n));
         c = mix(c, cloud, cover * smoothstep(0.0, 0.04, dir.z));
     }
     float sd = dot(dir, sun_dir);
