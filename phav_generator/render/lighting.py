@@ -122,8 +122,8 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
     glowing = _mix(glowing, grey * 1.05, overcast)
     glow = (glowing - horizon) * 1.3  # straight towards the sun, more than the haze's average
     # Ambient: the sky's light, flatter and stronger under cloud: an overcast sky lights the
-    # ground from its whole dome, brightest overhead (a white lawn-level surface outshines the
-    # sky at the horizon; with less, a dark lawn under grey cloud was taken for a hedge).
+    # ground from its whole dome, brightest overhead, so a white surface on the ground
+    # outshines the sky at the horizon (2.3× under the CIE's overcast sky).
     level = world.ambient_luminosity * (0.04 + 0.5 * daylight) * (1.0 + 0.8 * clouds)
     sky_ambient = _mix(zenith / max(float(zenith.max()), 1e-6), np.ones(3), 0.5 + 0.5 * clouds) * level
     ground_ambient = np.array([0.45, 0.42, 0.38]) * level * 0.5
