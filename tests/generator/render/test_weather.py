@@ -250,13 +250,12 @@ def test_an_overcast_sky_lights_the_ground_brighter_than_it_looks_at_the_horizon
     sky), as it does not under a clear sky, whose light is mostly the sun's."""
     base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
     theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
-    lum = np.array([0.2126, 0.7152, 0.0722])
     settings = {"weather": "overcast", "day_phase": "day", "clock_hour": 13.0, "cloud_intensity": 1.0,
                 "ambient_luminosity": 1.0}  # fmt: skip
     overcast = lighting_for(vary(base, theta, settings).world, indoor=False)
-    assert lum @ overcast.sky_ambient > 1.3 * (lum @ overcast.sky_horizon)
+    assert _luma(overcast.sky_ambient) > 1.3 * _luma(overcast.sky_horizon)
     clear = lighting_for(vary(base, theta, {**settings, "weather": "clear", "clouds": False}).world, indoor=False)
-    assert lum @ clear.sky_ambient < lum @ clear.sky_horizon
+    assert _luma(clear.sky_ambient) < _luma(clear.sky_horizon)
 
 
 def test_in_fog_the_camera_meters_the_fogs_light_too():
