@@ -1,9 +1,11 @@
 """How segmenters trained on real photographs name our pixel classes (the realism check).
 
-Each of our pixel classes is either *judged as* one of the judge's classes — the class a
-person would name it by (a bench is judged as a chair, a truck by the VOC model as a car) —
-or *not judged*, with the reason. A figure is always reported under our class: a bench
-judged as chair stays a bench, never pooled into chair. Where a judge splits what the
+Each of our pixel classes is either *judged as* one of the judge's classes — the class its
+annotators were told to name it by — or *not judged*, with the reason: PASCAL VOC's
+annotation guidelines leave lorries and trucks out of `car` and benches out of `chair`, so
+a model trained on them is right to call either background, and neither is judged by it
+(Cityscapes judges trucks; no judge has a bench class). A figure is always reported under
+our class: a truck judged as Cityscapes' truck stays a truck, never pooled into car. Where a judge splits what the
 paper's class table keeps as one class, its finer answers count as the class they belong
 to (*merged*: Cityscapes' sidewalk is the paper's road, which has no pavement class of its
 own). The judges' label lists are in their output ids' order.
@@ -56,8 +58,8 @@ _VOC_LABELS = (
 )  # fmt: skip
 
 _VOC_JUDGED = {
-    "car": "car", "truck": "car", "bus": "bus",
-    "chair": "chair", "bench": "chair", "sofa": "sofa", "table": "diningtable", "screen": "tvmonitor",
+    "car": "car", "bus": "bus",
+    "chair": "chair", "sofa": "sofa", "table": "diningtable", "screen": "tvmonitor",
     **_people("person"),
 }  # fmt: skip
 
@@ -72,6 +74,8 @@ PASCAL_VOC = JudgeClasses(
             {
                 "unlabeled": "void",
                 "misc": "mixed objects (cups, bottles, boxes, carts, bars)",
+                "truck": "VOC's car leaves out lorries and trucks (its annotation guidelines)",
+                "bench": "VOC's chair leaves out benches (its annotation guidelines)",
                 "vegetation": "no VOC class (pottedplant is a plant in a pot)",
                 "tree": "no VOC class (pottedplant is a plant in a pot)",
             },

@@ -1,13 +1,14 @@
-"""How the PASCAL VOC judge answers on each object kind alone, at the sizes a frame shows it:
-every kind the judge has a class for and a table amid chairs, three variants from two
-sides, on a plain floor (the indoor kinds in front of a wall), seen from 15° up at four
-distances (docs/realism.md). It tells an object the judge cannot recognise from one it does
-not recognise at the size our frames show it.
+"""How the judges answer on each object kind alone, at the sizes a frame shows it: every kind
+a judge has a class for (PASCAL VOC: cars, buses and furniture, and a table amid chairs;
+Cityscapes: the vehicles), three variants from two sides, on a plain floor (the indoor
+kinds in front of a wall), seen from 15° up at four distances (docs/realism.md). It tells
+an object a judge cannot recognise from one it does not recognise at the size our frames
+show it.
 
-    .venv/bin/python docs/measure/judged_alone.py [--kinds sofa,table] [--threads 2]
+    .venv/bin/python docs/measure/judged_alone.py [--kinds sofa,table] [--judges cityscapes] [--threads 2]
 
-prints, per kind and distance, the object's height on screen, the judge's IoU and recall
-on the object's pixels and what it names most of them.
+prints, per kind, judge and distance, the object's height on screen, the judge's IoU and
+recall on the object's pixels and what it names most of them.
 """
 
 from __future__ import annotations
@@ -28,15 +29,17 @@ from phav_generator.render.meshes import box, ground
 from phav_generator.world import interiors
 from phav_generator.world.library import CATALOGUE
 from phav_generator.world.parts import Asset
-from phav_spec.judge_classes import PASCAL_VOC
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
 from phav_validators.realism.judges import load_judges
 
-#: Each kind and the judge's class for it (the realism check's mapping).
-KINDS = {"hatchback": "car", "sedan": "car", "suv": "car", "van": "car", "truck": "car", "bus": "bus",
-         "chair": "chair", "bench_seat": "chair", "sofa": "sofa", "table": "diningtable",
-         "dining_set": "diningtable", "screen": "tvmonitor"}  # fmt: skip
+#: Each kind, the judges that have a class for it and that class (the realism check's mapping).
+KINDS = {
+    **{body: {"pascal_voc": "car", "cityscapes": "car"} for body in ("hatchback", "sedan", "suv", "van")},
+    "truck": {"cityscapes": "truck"}, "bus": {"pascal_voc": "bus", "cityscapes": "bus"},
+    "chair": {"pascal_voc": "chair"}, "sofa": {"pascal_voc": "sofa"}, "table": {"pascal_voc": "diningtable"},
+    "dining_set": {"pascal_voc": "diningtable"}, "screen": {"pascal_voc": "tvmonitor"},
+}  # fmt: skip
 #: The dining set's chairs round its table: (x, y) of each in the table's frame, facing it.
 CHAIRS_AT = ((-0.45, -0.65), (0.45, -0.65), (-0.45, 0.65), (0.45, 0.65))
 #: The judge's classes for things indoors: they stand in front of a wall, the rest under the sky.
@@ -84,7 +87,8 @@ def _subject(kind: str, variant: int) -> tuple[list[Drawable], Asset]:
 
 def _judged(ctx, judge, kind: str, answer: str):
     """(farther, object height px, IoU, recall, names) over the variants and sides."""
-    said_id = PASCAL_VOC.label_id(answer)
+    classes = judge.classes
+    said_id = classes.label_id(answer)
     floor_id = PIXEL_CLASSES["floor"].class_id
     subjects = []  # each variant built once, with the floor it stands on
     for variant in range(VARIANTS):
@@ -105,7 +109,7 @@ def _judged(ctx, judge, kind: str, answer: str):
                 centre = (lo + hi) / 2
                 c2w[:3, 3] = centre + farther * (c2w[:3, 3] - centre)
                 intrinsics = (intrinsics[0], intrinsics[1], WIDTH / 2, HEIGHT / 2)
-                scene = [*drawn, *_behind(asset, c2w, indoors=KINDS[kind] in INDOORS)]
+                scene = [*drawn, *_behind(asset, c2w, indoors=answer in INDOORS)]
                 with FrameRenderer(ctx, WIDTH, HEIGHT, scene, sky_class=PIXEL_CLASSES["sky"].class_id,
                                    focus=np.zeros(3)) as renderer:  # fmt: skip
                     frame = renderer.render(0, c2w, c2w, intrinsics)
@@ -117,7 +121,7 @@ def _judged(ctx, judge, kind: str, answer: str):
                     size += float(mask.sum())
                     rows_on = np.flatnonzero(mask.any(axis=1))
                     heights.append(int(rows_on[-1] - rows_on[0] + 1) if rows_on.size else 0)
-                    names.update(PASCAL_VOC.labels[i] for i in labels[mask])
+                    names.update(classes.labels[i] for i in labels[mask])
         top = ", ".join(f"{n} {c / max(sum(names.values()), 1):.2f}" for n, c in names.most_common(2))
         rows.append((farther, int(np.median(heights)), inter / max(union, 1.0), inter / max(size, 1.0), top))
     return rows
@@ -126,15 +130,18 @@ def _judged(ctx, judge, kind: str, answer: str):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--kinds", default=",".join(KINDS), help="comma-separated")
+    parser.add_argument("--judges", default="pascal_voc,cityscapes", help="comma-separated")
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args()
     ctx = gl_context()
-    judge = load_judges(None, args.threads).segmenters["pascal_voc"]
-    table = Table("kind", "judged as", "distance", "height (px)", "IoU", "recall", "named most")
+    segmenters = load_judges(None, args.threads).segmenters
+    table = Table("kind", "judge", "judged as", "distance", "height (px)", "IoU", "recall", "named most")
     for kind in args.kinds.split(","):
-        answer = KINDS[kind]
-        for farther, height, iou, recall, top in _judged(ctx, judge, kind, answer):
-            table.add_row(kind, answer, f"{farther:g}×", str(height), f"{iou:.2f}", f"{recall:.2f}", top)
+        for name, answer in KINDS[kind].items():
+            if name not in args.judges.split(","):
+                continue
+            for farther, height, iou, recall, top in _judged(ctx, segmenters[name], kind, answer):
+                table.add_row(kind, name, answer, f"{farther:g}×", str(height), f"{iou:.2f}", f"{recall:.2f}", top)
     Console(width=140).print(table)
 
 

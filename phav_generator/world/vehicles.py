@@ -29,6 +29,8 @@ from phav_generator.world.materials import (
 from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
 
 CAR_BODIES: tuple[str, ...] = ("hatchback", "sedan", "suv", "van")
+#: A box body's aluminium posts and rails.
+RAIL: tuple[float, float, float] = (0.62, 0.63, 0.65)
 #: Truck box and cab colours; bus liveries.
 _TRUCK_BOXES = ((0.92, 0.92, 0.90), (0.80, 0.80, 0.78), (0.70, 0.12, 0.10), (0.15, 0.30, 0.55))
 _BUS_LIVERIES = ((0.85, 0.12, 0.10), (0.92, 0.75, 0.10), (0.15, 0.40, 0.25), (0.90, 0.90, 0.88), (0.12, 0.30, 0.60))
@@ -235,13 +237,38 @@ def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0)
               (front + 0.005, sgn * (hy - 0.3), z_frame + 0.25), (0.01, 0.15, 0.07), glow=LAMP_GLOW)  # fmt: skip
     p.box("grille", "truck", Material.PLASTIC, TRIM, (front + 0.004, 0.0, z_frame + 0.6), (0.01, hy - 0.5, 0.3))
     p.box("bumper", "truck", Material.PLASTIC, TRIM, (front - 0.08, 0.0, z_frame + 0.05), (0.08, hy - 0.05, 0.15))
-    p.span("cargo", "truck", Material.PLAIN, box_paint, (rear, -hy, z_frame + 0.05), (cab_back - 0.1, hy, hz))
+    box_front, box_bottom = cab_back - 0.1, z_frame + 0.05
+    # A box body is panels between aluminium posts and rails, not one slab: a plain white
+    # block is what a street model calls a wall.
+    p.span("cargo", "truck", Material.METAL, box_paint, (rear, -hy + 0.03, box_bottom), (box_front, hy - 0.03, hz))
+    for sgn in (-1.0, 1.0):
+        y = sgn * (hy - 0.02)
+        for rail, z0, z1 in (("top", hz - 0.1, hz), ("bottom", box_bottom, box_bottom + 0.2)):
+            p.span(f"{rail}_rail{sgn:+.0f}", "truck", Material.METAL, RAIL, (rear, y - 0.02, z0),
+                   (box_front, y + 0.02, z1))  # fmt: skip
     if p.fine:
         for sgn in (-1.0, 1.0):
+            y = sgn * (hy - 0.02)
             p.box(f"mirror{sgn:+.0f}", "truck", Material.PLASTIC, TRIM, (front - 0.3, sgn * (hy - 0.03), cab_top - 0.5),
                   (0.04, 0.025, 0.2))  # fmt: skip
+            n_posts = max(2, round((box_front - rear) / 0.6))
+            for k in range(1, n_posts):
+                x = rear + (box_front - rear) * k / n_posts
+                p.span(f"post{k}{sgn:+.0f}", "truck", Material.METAL, RAIL, (x - 0.03, y - 0.015, box_bottom + 0.2),
+                       (x + 0.03, y + 0.015, hz - 0.1))  # fmt: skip
+            # The side guard between the axles and the rear lights.
+            for z in (g + 0.45, g + 0.72):
+                p.span(f"guard{z:.2f}{sgn:+.0f}", "truck", Material.METAL, RAIL, (rear + 2.2, y - 0.12, z - 0.03),
+                       (front - cab_len + 0.3, y - 0.08, z + 0.03))  # fmt: skip
+            p.box(f"tail_light{sgn:+.0f}", "truck", Material.PLASTIC, TAIL_LIGHT,
+                  (rear - 0.01, sgn * (hy - 0.25), g + 0.75), (0.01, 0.12, 0.06), glow=LAMP_GLOW)  # fmt: skip
+            x, z = rear - 0.01, (box_bottom + hz) / 2 + 0.05
+            p.box(f"lock_bar{sgn:+.0f}", "truck", Material.CHROME, CHROME_TINT, (x, sgn * 0.35, z),
+                  (0.01, 0.02, (hz - box_bottom) / 2 - 0.2))  # fmt: skip
         p.box("rear_door_seam", "truck", Material.METAL, (0.5, 0.5, 0.5), (rear - 0.004, 0.0, (z_frame + hz) / 2),
               (0.006, 0.02, (hz - z_frame) / 2 - 0.1))  # fmt: skip
+        p.span("underride_bar", "truck", Material.METAL, TRIM, (rear + 0.05, -hy + 0.15, g + 0.4),
+               (rear + 0.2, hy - 0.15, g + 0.55))  # fmt: skip
     axles = _axle_pairs((front - 0.6 * cab_len, rear + 1.6, rear + 0.6), hy - 0.17, g + radius)
     return Vehicle(p.build(), wheel(radius, 0.3, level, "truck"), axles, radius)
 

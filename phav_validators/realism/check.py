@@ -199,7 +199,7 @@ def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, ta
     """IoU and recall of each of our classes present against what ``judge`` should call it.
 
     Our class c judged as m: its IoU is |c ∩ m| / |c ∪ (m outside every class judged as m)|,
-    so that a bench judged as chair is not blamed for the chairs beside it. Per judge class,
+    so that a tree judged as vegetation is not blamed for the hedge beside it. Per judge class,
     the plain IoU against the union of our classes judged as it (mIoU over those present).
     The judge's answers merged into m (``JudgeClasses.merged``) count as m."""
     for m, ours in _judged_groups(judge.judge).items():

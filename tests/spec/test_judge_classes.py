@@ -35,9 +35,11 @@ def test_label_ids_are_the_models_output_ids():
         0, 8, 10, 11, 13, 18]  # fmt: skip
 
 
-def test_a_bench_is_judged_as_a_chair_and_a_truck_by_its_judge():
-    assert PASCAL_VOC.judged_as["bench"] == "chair" and "bench" in CITYSCAPES.not_judged
-    assert PASCAL_VOC.judged_as["truck"] == "car" and CITYSCAPES.judged_as["truck"] == "truck"
+def test_trucks_and_benches_are_judged_only_where_the_judges_annotators_named_them():
+    # VOC's annotation guidelines leave trucks out of car and benches out of chair.
+    assert "truck" in PASCAL_VOC.not_judged and CITYSCAPES.judged_as["truck"] == "truck"
+    assert "bench" in PASCAL_VOC.not_judged and "bench" in CITYSCAPES.not_judged
+    assert PASCAL_VOC.judged_as["car"] == "car" and PASCAL_VOC.judged_as["chair"] == "chair"
     assert CITYSCAPES.judged_as["tree"] == "vegetation" and "tree" in PASCAL_VOC.not_judged
 
 
