@@ -5,10 +5,10 @@ annotators were told to name it by — or *not judged*, with the reason: PASCAL 
 annotation guidelines leave lorries and trucks out of `car` and benches out of `chair`, so
 a model trained on them is right to call either background, and neither is judged by it
 (Cityscapes judges trucks; no judge has a bench class). A figure is always reported under
-our class: a truck judged as Cityscapes' truck stays a truck, never pooled into car. Where a judge splits what the
-paper's class table keeps as one class, its finer answers count as the class they belong
-to (*merged*: Cityscapes' sidewalk is the paper's road, which has no pavement class of its
-own). The judges' label lists are in their output ids' order.
+our class: a tree judged as vegetation stays a tree, never pooled into vegetation. Where a
+judge splits what the paper's class table keeps as one class, its finer answers count as
+the class they belong to (*merged*: Cityscapes' sidewalk is the paper's road, which has no
+pavement class of its own). The judges' label lists are in their output ids' order.
 """
 
 from __future__ import annotations
