@@ -283,9 +283,18 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
     livery = _BUS_LIVERIES[int(rng.integers(0, len(_BUS_LIVERIES)))]
     radius = min(0.50, 0.16 * height)
     z0 = g + 0.3
-    body = [(-hx, z0), (hx - 0.05, z0), (hx, z0 + 0.2), (hx, hz - 0.15), (hx - 0.15, hz), (-hx + 0.1, hz),
-            (-hx, hz - 0.1)]  # fmt: skip
+    # The body above the wheel arches, and the skirt between them: a bus shows its wheels in
+    # arches, which a tram or a wall does not.
+    arch_top, arch_half = g + 2 * radius + 0.08, radius + 0.12
+    wheel_xs = (hx - 2.6, -hx + 3.2)
+    body = [(-hx, arch_top), (hx, arch_top), (hx, hz - 0.15), (hx - 0.15, hz), (-hx + 0.1, hz), (-hx, hz - 0.1)]
     p.prism("body", "bus", Material.PAINT, livery, body, -hy + 0.02, hy - 0.02)
+    edges = (-hx, *(e for x in sorted(wheel_xs) for e in (x - arch_half, x + arch_half)), hx)
+    for k, (x0, x1) in enumerate(zip(edges[::2], edges[1::2], strict=True)):
+        p.span(f"skirt{k}", "bus", Material.PAINT, livery, (x0, -hy + 0.02, z0), (x1, hy - 0.02, arch_top))
+    for x in wheel_xs:
+        p.span(f"wheel_well{x:+.1f}", "bus", Material.PLASTIC, TRIM, (x - arch_half, -hy + 0.35, z0),
+               (x + arch_half, hy - 0.35, arch_top))  # fmt: skip
     belt, top = g + 0.42 * height, hz - 0.3
     ws = [(hx + 0.005, -hy + 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, belt - 0.3),
           (hx + 0.005, hy - 0.12, top + 0.15), (hx + 0.005, -hy + 0.12, top + 0.15)]  # fmt: skip
@@ -306,7 +315,14 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
         door = [(x - 0.6, y, z0 + 0.05), (x + 0.6, y, z0 + 0.05), (x + 0.6, y, top), (x - 0.6, y, top)]
         p.panel(f"door{x:+.1f}", "bus", Material.GLASS, (0.16, 0.18, 0.20), door)
     p.box("bumper", "bus", Material.PLASTIC, TRIM, (hx - 0.06, 0.0, z0 + 0.1), (0.07, hy - 0.04, 0.12))
+    back = [(-hx - 0.005, hy - 0.2, belt + 0.3), (-hx - 0.005, -hy + 0.2, belt + 0.3),
+            (-hx - 0.005, -hy + 0.2, top), (-hx - 0.005, hy - 0.2, top)]  # fmt: skip
+    p.panel("rear_window", "bus", Material.GLASS, GLASS_TINT, back)
+    p.box("rear_bumper", "bus", Material.PLASTIC, TRIM, (-hx + 0.06, 0.0, z0 + 0.1), (0.07, hy - 0.04, 0.12))
+    for sgn in (-1.0, 1.0):
+        p.box(f"tail_light{sgn:+.0f}", "bus", Material.PLASTIC, TAIL_LIGHT, (-hx - 0.005, sgn * (hy - 0.2), z0 + 0.5),
+              (0.01, 0.1, 0.2), glow=LAMP_GLOW)  # fmt: skip
     p.box("destination", "bus", Material.PLASTIC, (0.9, 0.6, 0.1), (hx + 0.004, 0.0, top + 0.02), (0.01, hy - 0.4, 0.1),
           glow=LAMP_GLOW)  # fmt: skip
-    axles = _axle_pairs((hx - 2.6, -hx + 3.2), hy - 0.17, g + radius)
+    axles = _axle_pairs(wheel_xs, hy - 0.17, g + radius)
     return Vehicle(p.build(), wheel(radius, 0.3, level, "bus"), axles, radius)
