@@ -4,7 +4,8 @@ Each of our pixel classes is either *judged as* one of the judge's classes — t
 annotators were told to name it by — or *not judged*, with the reason: PASCAL VOC's
 annotation guidelines leave lorries and trucks out of `car` and benches out of `chair`, so
 a model trained on them is right to call either background, and neither is judged by it
-(Cityscapes judges trucks; no judge has a bench class). A figure is always reported under
+(Cityscapes judges trucks; no judge has a bench class); Cityscapes labels guard rails as a
+class of their own that its models are not trained on. A figure is always reported under
 our class: a tree judged as vegetation stays a tree, never pooled into vegetation. Where a
 judge splits what the paper's class table keeps as one class, its finer answers count as
 the class they belong to (*merged*: Cityscapes' sidewalk is the paper's road, which has no
@@ -92,7 +93,7 @@ _CITYSCAPES_LABELS = (
 _CITYSCAPES_JUDGED = {
     "road": "road", "building": "building", "pole": "pole", "traffic_light": "traffic light",
     "traffic_sign": "traffic sign", "vegetation": "vegetation", "tree": "vegetation", "terrain": "terrain",
-    "sky": "sky", "car": "car", "truck": "truck", "bus": "bus", "guard_rail": "fence",
+    "sky": "sky", "car": "car", "truck": "truck", "bus": "bus",
     **_people("person"),
 }  # fmt: skip
 
@@ -108,6 +109,7 @@ CITYSCAPES = JudgeClasses(
                 "unlabeled": "void",
                 "misc": "mixed objects (cups, bottles, boxes, carts, bars)",
                 "bench": "no Cityscapes class",
+                "guard_rail": "Cityscapes labels guard rails as their own class, left out of training (trainId 255)",
             },
             "no Cityscapes class (an indoor class or a prop)",
         )

@@ -40,6 +40,8 @@ def test_trucks_and_benches_are_judged_only_where_the_judges_annotators_named_th
     assert "truck" in PASCAL_VOC.not_judged and CITYSCAPES.judged_as["truck"] == "truck"
     assert "bench" in PASCAL_VOC.not_judged and "bench" in CITYSCAPES.not_judged
     assert PASCAL_VOC.judged_as["car"] == "car" and PASCAL_VOC.judged_as["chair"] == "chair"
+    # Cityscapes labels guard rails apart and trains on none of them (trainId 255).
+    assert "guard_rail" in CITYSCAPES.not_judged and "fence" not in CITYSCAPES.judged_as.values()
     assert CITYSCAPES.judged_as["tree"] == "vegetation" and "tree" in PASCAL_VOC.not_judged
 
 
