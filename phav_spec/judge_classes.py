@@ -34,6 +34,10 @@ class JudgeClasses:
     not_judged: Mapping[str, str]
     #: A judge class finer than ours → the judge class its answers count as.
     merged: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}))
+    #: Whether pixels of the classes it does not judge are void (in no figure), as its own
+    #: benchmark leaves out what it has no class for (Cityscapes' ``ignoreInEval``); VOC's
+    #: annotations call everything outside its classes background, where an answer counts.
+    void_unjudged: bool = False
 
     def label_id(self, name: str) -> int:
         return self.labels.index(name)
@@ -116,6 +120,7 @@ CITYSCAPES = JudgeClasses(
     ),
     # Our road is the paper's: carriageways and the pavements beside them.
     merged=MappingProxyType({"sidewalk": "road"}),
+    void_unjudged=True,
 )
 
 #: The segmenters' class tables by judge name.

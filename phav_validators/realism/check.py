@@ -201,9 +201,15 @@ def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, ta
     Our class c judged as m: its IoU is |c ∩ m| / |c ∪ (m outside every class judged as m)|,
     so that a tree judged as vegetation is not blamed for the hedge beside it. Per judge class,
     the plain IoU against the union of our classes judged as it (mIoU over those present).
-    The judge's answers merged into m (``JudgeClasses.merged``) count as m."""
-    for m, ours in _judged_groups(judge.judge).items():
+    The judge's answers merged into m (``JudgeClasses.merged``) count as m; where the judge's
+    own benchmark leaves out what it has no class for (``JudgeClasses.void_unjudged``), its
+    answers on our classes it does not judge count nowhere."""
+    judged = _judged_groups(judge.judge)
+    scored = np.isin(classes, [i for ours in judged.values() for ids in ours.values() for i in ids])
+    for m, ours in judged.items():
         said = np.isin(labels, judge.answer_ids(m))
+        if judge.void_unjudged:
+            said &= scored
         truth = np.isin(classes, [i for ids in ours.values() for i in ids])
         extra = float((said & ~truth).sum())
         if truth.any():

@@ -117,6 +117,25 @@ def test_a_judges_answer_merged_into_a_class_counts_as_it():
     assert tally.figure("recall|cityscapes|building|all", seed=0).value == 0.0
 
 
+def test_answers_on_a_class_the_judge_does_not_judge_are_void_where_its_benchmark_voids_them():
+    from phav_spec.judge_classes import CITYSCAPES, PASCAL_VOC
+    from phav_spec.vocab import PIXEL_CLASSES
+
+    # Cityscapes leaves guard rails out of its evaluation: a `building` answer on one is not
+    # a false building. VOC calls a truck background: a `car` answer on one is a false car.
+    building, rail, grass = (PIXEL_CLASSES[n].class_id for n in ("building", "guard_rail", "terrain"))
+    classes = np.full((2, 4), building, np.uint8)
+    classes[1, :2], classes[1, 2:] = rail, grass
+    tally = Tally()
+    judge_world(np.full((2, 4), CITYSCAPES.label_id("building")), classes, CITYSCAPES, tally, "v", ("all",))
+    assert tally.figure("iou|cityscapes|building|all", seed=0).value == pytest.approx(4 / 6)
+    car, truck = PIXEL_CLASSES["car"].class_id, PIXEL_CLASSES["truck"].class_id
+    classes = np.array([[car, car, truck, truck]], np.uint8)
+    tally = Tally()
+    judge_world(np.full((1, 4), PASCAL_VOC.label_id("car")), classes, PASCAL_VOC, tally, "v", ("all",))
+    assert tally.figure("iou|pascal_voc|car|all", seed=0).value == pytest.approx(2 / 4)
+
+
 def _person(facing_deg: float) -> dict:
     """A person at the origin facing ``facing_deg`` (0: +x) with hips 0.2 m apart, z up."""
     a = np.radians(facing_deg)
