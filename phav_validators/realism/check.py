@@ -205,10 +205,12 @@ def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, ta
     own benchmark leaves out what it has no class for (``JudgeClasses.void_unjudged``), its
     answers on our classes it does not judge count nowhere."""
     judged = _judged_groups(judge.judge)
-    scored = np.isin(classes, [i for ours in judged.values() for ids in ours.values() for i in ids])
+    scored = None
+    if judge.void_unjudged:
+        scored = np.isin(classes, [i for ours in judged.values() for ids in ours.values() for i in ids])
     for m, ours in judged.items():
         said = np.isin(labels, judge.answer_ids(m))
-        if judge.void_unjudged:
+        if scored is not None:
             said &= scored
         truth = np.isin(classes, [i for ids in ours.values() for i in ids])
         extra = float((said & ~truth).sum())
