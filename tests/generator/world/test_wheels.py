@@ -1,14 +1,15 @@
 """A vehicle's wheels turn as it drives, and their forward flow follows the turning: the
 next frame warped back along the flow matches the frame, where the flow of a wheel that
-only slid along with the car would not."""
+only slid along with the car would not. A bus shows its wheels in arches."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from phav_generator.render.assets import wheel_spin, wheels_drawable
 from phav_generator.render.gl import FrameRenderer
-from phav_generator.world.vehicles import car
+from phav_generator.world.vehicles import bus, car
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
 
@@ -72,3 +73,30 @@ def test_the_forward_flow_of_a_turning_wheel_warps_the_next_frame_onto_this_one(
     slid = np.abs(along_slide - source).max(axis=1)[telling]
     assert np.median(exact) < 0.25 * np.median(slid), f"warped: {np.median(exact):.1f}, slid: {np.median(slid):.1f}"
     assert np.median(np.hypot(u, v) - slide) != 0.0  # the flow is not the sliding one
+
+
+def _first_hit_y(asset, origin: np.ndarray) -> float:
+    """The y of the first triangle of ``asset`` a ray from ``origin`` along −y meets."""
+    p = asset.positions.astype(np.float64)[asset.triangles]
+    a, e1, e2 = p[:, 0], p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    d = np.array([0.0, -1.0, 0.0])
+    h = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    ok = np.abs(det) > 1e-12
+    s = origin - a
+    u = np.einsum("ij,ij->i", s, h) / np.where(ok, det, 1.0)
+    q = np.cross(s, e1)
+    v = (q @ d) / np.where(ok, det, 1.0)
+    t = np.einsum("ij,ij->i", e2, q) / np.where(ok, det, 1.0)
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+    return float(origin[1] - t[hit].min())
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_bus_shows_its_wheels_in_arches(seed):
+    # Seen from the side at a hub's height, the first thing of the body is behind the tyre's
+    # outer face (the dark wheel well), not a panel in front of it.
+    bus_ = bus((6.0, 1.2, 1.5), stream(seed, "bus-arches"), 0)
+    for x, y, z in bus_.axles[bus_.axles[:, 1] > 0]:
+        tyre_face = y + 0.15
+        assert _first_hit_y(bus_.body, np.array([x, 5.0, z])) < tyre_face - 0.05
