@@ -1,5 +1,5 @@
-"""Small shared test helpers: θ variants written to files, running the CLIs, and the
-settings of the shared small dataset (tests/conftest.py ``small_dataset``)."""
+"""Small shared test helpers: θ variants written to files, running the CLIs, the settings of
+the shared small dataset (tests/conftest.py ``small_dataset``) and an image's luminance."""
 
 from __future__ import annotations
 
@@ -14,11 +14,18 @@ from pathlib import Path
 from typing import Any
 from unittest import mock
 
+import numpy as np
 import yaml
 
 from phav_spec.theta import PRESETS_DIR, Theta, parse_theta
 
 PRESET_PATH = PRESETS_DIR / "phav-v1.yaml"
+
+
+def luma(rgb: np.ndarray) -> np.ndarray:
+    """Rec. 709 luminance of the last axis's RGB (any scale), in float64."""
+    return np.asarray(rgb, dtype=np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+
 
 #: The shared small dataset: SMALL_VIDEOS phav-v1-tiny recipes of SMALL_SEED (shoot_bow in
 #: urban, shoot_ball in the stadium, golf in simple: the same scenes as phav-v1-short's seed 3),

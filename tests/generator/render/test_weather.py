@@ -28,6 +28,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.vocab import OBJECTS, PIXEL_CLASSES
 from tests.generator.physics.support import recipe_for, theta_for
 from tests.generator.render.support import render_recipe
+from tests.helpers import luma
 
 SECONDS = 0.2
 LABELS = ("semantic", "instance", "depth", "flow")
@@ -41,10 +42,6 @@ def _pair(action: str, env: str, base: dict, changed: dict):
 
 def _frames(recipe, ctx) -> list[dict[str, np.ndarray]]:
     return [rf.modalities for rf in render_recipe(recipe, ctx)]
-
-
-def _luma(rgb: np.ndarray) -> np.ndarray:
-    return rgb.astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
 
 
 def test_vary_changes_only_the_named_variables_and_what_follows_from_them():
@@ -93,8 +90,8 @@ def test_night_is_darker_than_day(ctx):
     day, night = _pair("walk", "simple", {"day_phase": "day", "clock_hour": 13.0},
                        {"day_phase": "night", "clock_hour": 23.0})  # fmt: skip
     d, n = _frames(day, ctx)[0], _frames(night, ctx)[0]
-    assert _luma(n["rgb"]).mean() < 0.4 * _luma(d["rgb"]).mean()
-    assert _luma(n["raw_rgb"]).mean() < 0.4 * _luma(d["raw_rgb"]).mean()
+    assert luma(n["rgb"]).mean() < 0.4 * luma(d["rgb"]).mean()
+    assert luma(n["raw_rgb"]).mean() < 0.4 * luma(d["raw_rgb"]).mean()
 
 
 def test_rain_changes_rgb_but_not_labels_depth_or_flow(ctx):
@@ -152,23 +149,23 @@ def test_a_wet_road_is_dark_below_the_camera_and_shines_towards_the_horizon(ctx)
     road = frames["dry"].class_id == class_id("road")
     steep, grazing = road & (elevation > 45.0), road & (elevation < 10.0)
     assert steep.sum() > 1000 and grazing.sum() > 1000
-    luma = {name: _luma(f.colour) for name, f in frames.items()}
-    assert luma["wet"][steep].mean() < 0.93 * luma["dry"][steep].mean()
-    assert luma["wet"][grazing].mean() > luma["dry"][grazing].mean()
+    lum = {name: luma(f.colour) for name, f in frames.items()}
+    assert lum["wet"][steep].mean() < 0.93 * lum["dry"][steep].mean()
+    assert lum["wet"][grazing].mean() > lum["dry"][grazing].mean()
     # Water beads on grass: a wet lawn seen steeply darkens less than the road.
     lawn = (frames["dry"].class_id == class_id("terrain")) & (elevation > 30.0)
     assert lawn.sum() > 1000
-    ratio = {name: luma["wet"][m].mean() / luma["dry"][m].mean() for name, m in (("road", steep), ("lawn", lawn))}
+    ratio = {name: lum["wet"][m].mean() / lum["dry"][m].mean() for name, m in (("road", steep), ("lawn", lawn))}
     assert ratio["lawn"] > ratio["road"] + 0.05
     # Its blades, facing every way, scatter the water's reflection: no sheen at grazing angles.
     far_lawn = (frames["dry"].class_id == class_id("terrain")) & (elevation < 10.0)
     assert far_lawn.sum() > 1000
-    assert luma["wet"][far_lawn].mean() < luma["dry"][far_lawn].mean()
+    assert lum["wet"][far_lawn].mean() < lum["dry"][far_lawn].mean()
     # Puddles mirror the sky, the damp asphalt between them a third as much: at one grazing
     # angle the road's shine is patchy (a film over all of it varies only with the angle).
     band = road & (elevation > 5.0) & (elevation < 10.0)
     assert band.sum() > 1000
-    shine = luma["wet"][band] - luma["dry"][band]
+    shine = lum["wet"][band] - lum["dry"][band]
     low, high = np.percentile(shine, [10, 90])
     assert 0.0 < low and high > 3.0 * low
 
@@ -238,10 +235,9 @@ def test_each_environment_shows_its_declared_classes(ctx, env):
 
 def _seen_key(light) -> float:
     """The light on a white horizontal surface, seen through the fog at the meter's distance."""
-    lum = np.array([0.2126, 0.7152, 0.0722])
-    lit = float((light.sky_ambient + light.sun_colour * max(light.sun_dir[2], 0.0)) @ lum)
+    lit = float(luma(light.sky_ambient + light.sun_colour * max(light.sun_dir[2], 0.0)))
     seen = math.exp(-light.fog_per_m * METER_DISTANCE_M)
-    return lit * seen + float(light.fog_colour @ lum) * (1.0 - seen)
+    return lit * seen + float(luma(light.fog_colour)) * (1.0 - seen)
 
 
 def test_an_overcast_sky_lights_the_ground_brighter_than_it_looks_at_the_horizon():
@@ -253,9 +249,9 @@ def test_an_overcast_sky_lights_the_ground_brighter_than_it_looks_at_the_horizon
     settings = {"weather": "overcast", "day_phase": "day", "clock_hour": 13.0, "cloud_intensity": 1.0,
                 "ambient_luminosity": 1.0}  # fmt: skip
     overcast = lighting_for(vary(base, theta, settings).world, indoor=False)
-    assert _luma(overcast.sky_ambient) > 1.3 * _luma(overcast.sky_horizon)
+    assert luma(overcast.sky_ambient) > 1.3 * luma(overcast.sky_horizon)
     clear = lighting_for(vary(base, theta, {**settings, "weather": "clear", "clouds": False}).world, indoor=False)
-    assert _luma(clear.sky_ambient) < _luma(clear.sky_horizon)
+    assert luma(clear.sky_ambient) < luma(clear.sky_horizon)
 
 
 def test_in_fog_the_camera_meters_the_fogs_light_too():
@@ -303,4 +299,4 @@ def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
     assert np.array_equal(m.class_id, f.class_id) and np.array_equal(m.depth_m, f.depth_m)
     assert np.array_equal(m.flow, f.flow)
     ground = m.class_id != class_id("sky")
-    assert _luma(m.colour)[ground].mean() > 1.5 * _luma(f.colour)[ground].mean()
+    assert luma(m.colour)[ground].mean() > 1.5 * luma(f.colour)[ground].mean()

@@ -23,6 +23,7 @@ from phav_generator.world.parts import Parts
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
+from tests.helpers import luma
 
 
 def _quad_area(c: np.ndarray) -> float:
@@ -197,8 +198,7 @@ def test_clouds_cover_the_sky_as_theta_s_cloud_intensity_says(ctx):
     grey_clear = np.abs(clear - clear.mean(axis=2, keepdims=True)).sum(axis=2) < 6
     grey_overcast = np.abs(overcast - overcast.mean(axis=2, keepdims=True)).sum(axis=2) < 6
     assert grey_clear.mean() < 0.05 < grey.mean() < grey_overcast.mean()
-    luma = np.array([0.2126, 0.7152, 0.0722])
-    assert (overcast @ luma).std() < 1.0 < 2.5 < (broken @ luma).std()  # a deck, not bellies
+    assert luma(overcast).std() < 1.0 < 2.5 < luma(broken).std()  # a deck, not bellies
 
 
 def test_a_clear_sunset_glows_low_in_the_sun_s_quarter_and_stays_blue_above_and_opposite(ctx):
