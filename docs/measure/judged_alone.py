@@ -135,10 +135,11 @@ def main() -> None:
     args = parser.parse_args()
     ctx = gl_context()
     segmenters = load_judges(None, args.threads).segmenters
+    judges = args.judges.split(",")
     table = Table("kind", "judge", "judged as", "distance", "height (px)", "IoU", "recall", "named most")
     for kind in args.kinds.split(","):
         for name, answer in KINDS[kind].items():
-            if name not in args.judges.split(","):
+            if name not in judges:
                 continue
             for farther, height, iou, recall, top in _judged(ctx, segmenters[name], kind, answer):
                 table.add_row(kind, name, answer, f"{farther:g}×", str(height), f"{iou:.2f}", f"{recall:.2f}", top)
