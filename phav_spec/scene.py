@@ -441,8 +441,13 @@ def _urban_colliders() -> tuple[Collider, ...]:
         _pole(45.0, -5.0, g, 7.0),
         *_traffic_light(-18.0, 5.2, g),  # a pedestrian crossing at x = -18
         *_traffic_light(-18.0, -5.2, g, 180.0),
+        *_traffic_light(18.0, 5.2, g),  # and one at x = 18
+        *_traffic_light(18.0, -5.2, g, 180.0),
         *_sign(-25.0, 5.2, g),
         *_sign(40.0, -5.2, g, 180.0),
+        *_sign(7.0, 5.2, g),
+        *_sign(0.0, -5.2, g, 180.0),
+        *_sign(11.5, -5.2, g, 180.0),
         _box("guard_rail", -46.0, 4.7, g, 28.0, 0.1, 0.9),  # kerb rails where no background path crosses the street
         _box("guard_rail", -46.0, -4.7, g, 28.0, 0.1, 0.9),
         _box("guard_rail", 53.5, -4.7, g, 13.0, 0.1, 0.9),
@@ -519,6 +524,9 @@ def _middle_colliders() -> tuple[Collider, ...]:
         _box("guard_rail", 0.0, -3.9, g, 32.0, 0.1, 0.9),  # x ∈ [-16, 16]
         *_sign(-10.0, -4.5, g, 180.0),
         *_sign(45.0, 4.5, g),
+        *_sign(5.0, 4.2, g),
+        *_sign(-15.0, 4.2, g),
+        *_sign(25.0, -4.5, g, 180.0),
         _pole(-5.0, 4.2, g, 6.0),
         _pole(15.0, 4.2, g, 6.0),
         _pole(10.0, -4.5, g, 6.0),

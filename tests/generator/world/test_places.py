@@ -64,14 +64,14 @@ def test_every_urban_and_suburban_facade_has_windows_and_the_houses_face_the_str
                 assert math.copysign(1.0, y) == -math.copysign(1.0, c.center[1])  # on the side of the road (y = 0)
 
 
-def test_the_urban_carriageway_has_its_two_lanes_and_the_signalled_crossing():
+def test_the_urban_carriageway_has_its_two_lanes_and_the_signalled_crossings():
     env = ENVIRONMENT_SCENES["urban"]
     roads = [(i, c) for i, c in enumerate(env.colliders) if c.pixel_class == "road"]
     found = {i: _carriageway("urban", c) for i, c in roads}
     carriageways = [i for i, (lanes, _) in found.items() if lanes]
     assert len(carriageways) == 1  # the pavements and the plaza have none
     lanes, crossings = found[carriageways[0]]
-    assert lanes == [-1.25, 1.25] and crossings == [-18.0]
+    assert lanes == [-1.25, 1.25] and crossings == [-18.0, 18.0]
 
 
 def test_road_markings_follow_the_lanes_and_leave_the_crossing_to_the_zebra():
