@@ -227,6 +227,17 @@ def test_simple_is_flat_ground_and_a_road():
     assert all(c.top == pytest.approx(env.ground_z) for c in env.colliders)  # flush with the ground
 
 
+@pytest.mark.parametrize("name", ["urban", "middle"])
+def test_every_street_waypoint_has_a_sign_or_signal_in_view(name):
+    """The camera frames the people, within 10 m of them: a street's signs and signals stand
+    where its protagonists act, not only where nobody is filmed."""
+    env = ENVIRONMENT_SCENES[name]
+    furniture = [c for c in env.colliders if c.pixel_class in ("traffic_sign", "traffic_light")]
+    for x, y, _ in env.protagonist_waypoints:
+        nearest = min(c.xy_distance(x, y) for c in furniture)
+        assert nearest <= 15.0, f"{name} ({x}, {y}): the nearest sign or signal is {nearest:.1f} m away"
+
+
 def test_urban_has_tall_buildings_and_steps_up_to_the_plaza():
     env = ENVIRONMENT_SCENES["urban"]
     heights = [c.top - c.bottom for c in env.colliders if c.pixel_class == "building"]
