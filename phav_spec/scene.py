@@ -459,10 +459,12 @@ def _urban_colliders() -> tuple[Collider, ...]:
         *_bench(-35.0, -11.7, g, 180.0),
         *_bench(10.0, -11.7, g, 180.0),
         *_bench(43.0, 14.8, 0.6),
-        *_tree(-40.0, -10.0, g),
-        *_tree(-15.0, -10.0, g),
-        *_tree(25.0, -10.0, g),
-        *_tree(-30.0, 11.0, g),
+        *_tree(-40.0, -10.0, g, 8.0, 5.0),  # street trees, their crowns over the pavements
+        *_tree(-15.0, -10.0, g, 8.0, 5.0),
+        *_tree(5.0, -10.0, g, 7.5, 4.5),
+        *_tree(25.0, -10.0, g, 8.0, 5.0),
+        *_tree(-30.0, 10.0, g, 8.0, 5.0),
+        *_tree(1.0, 10.0, g, 7.5, 4.5),
         _box("vegetation", -15.0, 11.6, g, 2.0, 1.2, 0.8),  # planters
         _box("vegetation", 20.0, 11.6, g, 2.0, 1.2, 0.8),
         _box("vegetation", 0.0, -11.6, g, 2.0, 1.2, 0.8),
