@@ -10,3 +10,18 @@ uint hash_u(ivec3 c) {
     h ^= h >> 16;
     return h;
 }
+
+// Smooth value noise in [0, 1) over a plane: the cells' hashed values blended across each
+// unit cell (four hashes, half the cost of the 3D kind, for surfaces that lie flat).
+float value_noise2(vec2 p) {
+    vec2 i = floor(p);
+    vec2 f = p - i;
+    f = f * f * (3.0 - 2.0 * f);
+    float v = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        vec2 o = vec2(k & 1, k >> 1);
+        vec2 w = mix(1.0 - f, f, o);
+        v += w.x * w.y * float(hash_u(ivec3(i + o, 0))) * (1.0 / 4294967296.0);
+    }
+    return v;
+}

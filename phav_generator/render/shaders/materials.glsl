@@ -131,8 +131,15 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
 #endif
 #if defined(MATERIAL_16) || defined(MATERIAL_23)
     if (pattern == 16 || pattern == 23) {  // grass: blades, tufts, drier patches; a pitch mown in 5 m stripes
-        float v = 1.0 + 0.5 * octave(p, 40.0, fw) + 0.3 * (smooth_noise(p, 6.0) - 0.5) + 0.25 * (smooth_noise(p, 1.2) - 0.5);
-        float patch = smooth_noise(p, 0.25) * 0.7 + smooth_noise(p, 1.1) * 0.3;
+        // Clutter at every scale from blades to tufts, each octave faded where its cells fall
+        // under a pixel: some grain stays near pixel size at every distance, as in a
+        // photograph of a lawn, where a smooth green reads as paint or fog-grey as asphalt.
+        // A lawn lies flat: its broader octaves are noise over the plane (value_noise2), whose
+        // spread is 1.16 times the 3D kind's (the amplitudes allow for it).
+        float v = 1.0 + 0.45 * octave(p, 80.0, fw) + 0.45 * octave(p, 40.0, fw)
+                + 0.52 * (value_noise2(p.xy * 20.0) - 0.5) * fade(fw, 20.0)
+                + 0.26 * (value_noise2(p.xy * 6.0) - 0.5) + 0.21 * (value_noise2(p.xy * 1.2) - 0.5);
+        float patch = 0.5 + 0.86 * (value_noise2(p.xy * 0.25) * 0.7 + value_noise2(p.xy * 1.1) * 0.3 - 0.5);
         vec3 dry = vec3(0.42, 0.38, 0.18);
         float stripe = pattern == 23 ? 0.92 + 0.16 * mod(floor(p.x / 5.0), 2.0) : 1.0;
         return mix(c, dry, (pattern == 23 ? 0.15 : 0.35) * smoothstep(0.55, 0.9, patch)) * v * stripe;

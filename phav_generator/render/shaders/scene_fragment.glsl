@@ -73,9 +73,9 @@ vec3 albedo(out vec2 gloss) {
 // the world position (still water: the waves do not move, so the flow stays exact).
 vec3 ripples(vec2 q) {
     const float e = 0.04;
-    float h0 = sky_noise(q * 1.3) + 0.5 * sky_noise(q * 3.7);
-    float hx = sky_noise((q + vec2(e, 0.0)) * 1.3) + 0.5 * sky_noise((q + vec2(e, 0.0)) * 3.7);
-    float hy = sky_noise((q + vec2(0.0, e)) * 1.3) + 0.5 * sky_noise((q + vec2(0.0, e)) * 3.7);
+    float h0 = value_noise2(q * 1.3) + 0.5 * value_noise2(q * 3.7);
+    float hx = value_noise2((q + vec2(e, 0.0)) * 1.3) + 0.5 * value_noise2((q + vec2(e, 0.0)) * 3.7);
+    float hy = value_noise2((q + vec2(0.0, e)) * 1.3) + 0.5 * value_noise2((q + vec2(0.0, e)) * 3.7);
     return normalize(vec3(-0.06 * (hx - h0) / e, -0.06 * (hy - h0) / e, 1.0));
 }
 
@@ -143,7 +143,7 @@ void main() {
         // Water stands in puddles in the road's dips and mirrors the sky there; between them
         // damp asphalt, rough, reflects a blurred third as much. A film over the whole road
         // would be a mirror as uniform as a car's bonnet.
-        float dips = smoothstep(0.5, 0.62, 0.7 * sky_noise(v_world.xy * 0.35) + 0.3 * sky_noise(v_world.xy * 1.3));
+        float dips = smoothstep(0.5, 0.62, 0.7 * value_noise2(v_world.xy * 0.35) + 0.3 * value_noise2(v_world.xy * 1.3));
         float pools = v_material == 2 ? 1.0 : mix(0.35, 1.0, dips);  // open water: all of it
         reflectivity = wet * pools * fresnel;
         vec3 mirrored = reflect(-to_eye, n);

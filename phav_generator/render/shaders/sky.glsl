@@ -9,20 +9,6 @@ uniform float cloud_cover;  // 0 clear … 1 overcast
 
 #include "hash.glsl"
 
-// Smooth value noise over the cloud layer's plane, from integer hashes (the same on every CPU).
-float sky_noise(vec2 p) {
-    vec2 i = floor(p);
-    vec2 f = p - i;
-    f = f * f * (3.0 - 2.0 * f);
-    float v = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        vec2 o = vec2(k & 1, k >> 1);
-        vec2 w = mix(1.0 - f, f, o);
-        v += w.x * w.y * float(hash_u(ivec3(i + o, 0))) * (1.0 / 4294967296.0);
-    }
-    return v;
-}
-
 vec3 sky(vec3 dir) {
     float up = clamp(dir.z, -0.2, 1.0);
     // The low sun's glow hugs the horizon in its quarter of the sky: from its full strength
@@ -38,8 +24,8 @@ vec3 sky(vec3 dir) {
         // growing with the θ's cloud intensity, lit on top and grey beneath, thinning to the
         // horizon. Closing up, it thickens into an overcast deck without bellies (stratus).
         vec2 at = dir.xy / dir.z * 1.0;
-        float n = 0.5 * sky_noise(at * 1.5) + 0.25 * sky_noise(at * 3.1) + 0.15 * sky_noise(at * 6.3)
-                  + 0.1 * sky_noise(at * 12.7);
+        float n = 0.5 * value_noise2(at * 1.5) + 0.25 * value_noise2(at * 3.1) + 0.15 * value_noise2(at * 6.3)
+                  + 0.1 * value_noise2(at * 12.7);
         float cover = smoothstep(1.0 - cloud_cover - 0.05, 1.0 - cloud_cover + 0.25, n);
         vec3 lit = max(max(horizon.r, horizon.g), horizon.b) * vec3(1.08, 1.08, 1.1);
         vec3 cloud = mix(lit, lit * mix(0.62, 1.0, smoothstep(0.6, 0.9, cloud_cover)), smoothstep(0.45, 0.95, n));
