@@ -494,6 +494,14 @@ def _green_colliders() -> tuple[Collider, ...]:
         *_tree(14.0, -18.0, g),
         *_tree(-24.0, -16.0, 0.0, 8.0, 4.0),
         *_tree(24.0, 16.0, g),
+        # Trees among the paths, near where people act (their crowns above the walkers).
+        *_tree(-12.0, -9.0, 0.0, 8.5, 5.5),
+        *_tree(-3.0, -17.0, g, 9.0, 6.0),
+        *_tree(-2.0, 14.0, 0.0, 8.5, 5.5),
+        *_tree(4.0, 16.0, g, 9.0, 6.0),
+        *_tree(-12.0, 3.0, 0.0, 8.0, 5.0),
+        *_tree(12.0, 8.0, 0.1, 8.5, 5.5),
+        *_tree(15.0, -7.0, g, 9.0, 6.0),
         _box("vegetation", -4.0, -8.0, g, 2.0, 1.5, 1.0),  # bushes
         _box("vegetation", 4.0, 8.0, g, 1.5, 1.5, 0.9),
         _box("vegetation", -6.5, -10.0, 0.0, 1.6, 2.0, 1.2),
