@@ -28,7 +28,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 8
+WORLD_LIBRARY_VERSION = 9
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
@@ -478,7 +478,7 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "trunk": (lambda rng, lv: places.trunk((0.2, 0.2, 1.5), rng, lv), (150, 100, 60)),
     "birch_trunk": (lambda rng, lv: places.trunk((0.2, 0.2, 1.5), rng, lv, species="birch"), (150, 100, 60)),
     "broadleaf_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv), (900, 400, 150)),
-    "conifer_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="conifer"), (180, 110, 60)),
+    "conifer_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="conifer"), (260, 140, 90)),
     "birch_crown": (lambda rng, lv: places.crown((1.5, 1.5, 1.5), rng, lv, species="birch"), (900, 400, 150)),
     "hedge": (lambda rng, lv: places.shrub((2.0, 0.5, 0.5), rng, lv), (500, 280, 120)),
     "bush": (lambda rng, lv: places.shrub((0.75, 0.75, 0.45), rng, lv), (150, 80, 60)),

@@ -284,6 +284,23 @@ def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, rad
 _CLUMP_SEGMENTS = (9, 7, 5)
 
 
+def _bough_tier(p: Parts, name: str, colour, z0: float, top: float, r: float, tips: int, turn: float) -> None:
+    """A conifer's tier: a closed cone from ``top`` down to a star-shaped rim of ``tips``
+    bough tips at radius ``r`` (drooping below ``z0``) with notches at 0.6 ``r`` between them."""
+    h = top - z0
+    ring = []
+    for i in range(2 * tips):
+        a = turn + math.pi * i / tips
+        tip = i % 2 == 0
+        rad, z = (r, z0 - 0.12 * h) if tip else (0.6 * r, z0 + 0.08 * h)
+        ring.append((rad * math.cos(a), rad * math.sin(a), z))
+    n = len(ring)
+    pos = [*ring, (0.0, 0.0, top), (0.0, 0.0, z0 + 0.05 * h)]
+    apex, base = n, n + 1
+    tri = [(i, (i + 1) % n, apex) for i in range(n)] + [(base, (i + 1) % n, i) for i in range(n)]
+    p.add(name, "tree", Material.LEAVES, colour, pos, tri, closed=True)
+
+
 def species_of(rng: np.random.Generator) -> str:
     """A tree's species: broadleaf most often."""
     u = float(rng.random())
@@ -320,13 +337,16 @@ def crown(half, rng: np.random.Generator, level: int = 0, *, species: str = "bro
     green = looks.LEAF_GREENS[SPECIES.index(species)]
     bark = bark_of(species, rng) if bark is None else bark
     if species == "conifer":
-        tiers = (4, 3, 2)[level]
+        # Tiers of boughs: each a cone whose rim droops to ragged tips, not a smooth cone (a
+        # stack of smooth cones is a roofline's shape).
+        tiers, tips = (6, 4, 3)[level], (8, 6, 5)[level]
+        step = 2 * hz / (tiers + 0.8)
         for k in range(tiers):
-            z0 = -hz + k * 2 * hz / (tiers + 0.5)
-            r = min(hx, hy) * (1.0 - 0.75 * k / tiers)
+            z0 = -hz + (k + 0.25) * step  # the lowest tips droop to the box's bottom
+            r = min(hx, hy) * (1.0 - 0.8 * k / tiers)
             shade = tuple(c * (0.85 + 0.3 * float(rng.random())) for c in green)
-            p.frustum(f"tier{k}", "tree", Material.LEAVES, shade, (0.0, 0.0, z0), (0.0, 0.0, hz if k == tiers - 1 else
-                      z0 + 2.2 * 2 * hz / (tiers + 0.5)), r, 0.0, segments=segments + 2)  # fmt: skip
+            top = hz if k == tiers - 1 else z0 + 2.0 * step
+            _bough_tier(p, f"tier{k}", shade, z0, top, r, tips, float(rng.random()) * 2 * math.pi)
         p.cylinder("stem", "tree", Material.BARK, bark, (0.0, 0.0, -hz), (0.0, 0.0, 0.3 * hz), 0.08)
         return p.build()
     narrow = 0.7 if species == "birch" else 1.0
