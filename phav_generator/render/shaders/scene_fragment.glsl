@@ -69,7 +69,7 @@ vec3 albedo(out vec2 gloss) {
     return c;
 }
 
-// Open water's surface normal: ripples at two scales, from the sky's integer-hash noise over
+// Open water's surface normal: ripples at two scales, from integer-hash value noise over
 // the world position (still water: the waves do not move, so the flow stays exact).
 vec3 ripples(vec2 q) {
     const float e = 0.04;
