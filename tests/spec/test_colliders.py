@@ -238,6 +238,16 @@ def test_every_street_waypoint_has_a_sign_or_signal_in_view(name):
         assert nearest <= 15.0, f"{name} ({x}, {y}): the nearest sign or signal is {nearest:.1f} m away"
 
 
+def test_every_park_waypoint_has_a_tree_near_it():
+    """A park's trees stand among its paths, where its protagonists act and the camera looks,
+    not only round its edge (a crown 30 m off is a few pixels a frame)."""
+    env = ENVIRONMENT_SCENES["green"]
+    trunks = [c for c in env.colliders if c.pixel_class == "tree" and c.half_size[0] < 0.5]
+    for x, y, _ in env.protagonist_waypoints:
+        nearest = min(c.xy_distance(x, y) for c in trunks)
+        assert nearest <= 13.0, f"green ({x}, {y}): the nearest tree is {nearest:.1f} m away"
+
+
 def test_urban_has_tall_buildings_and_steps_up_to_the_plaza():
     env = ENVIRONMENT_SCENES["urban"]
     heights = [c.top - c.bottom for c in env.colliders if c.pixel_class == "building"]
