@@ -241,8 +241,10 @@ def test_every_street_waypoint_has_a_sign_or_signal_in_view(name):
 def test_every_park_waypoint_has_a_tree_near_it():
     """A park's trees stand among its paths, where its protagonists act and the camera looks,
     not only round its edge (a crown 30 m off is a few pixels a frame)."""
+    from phav_generator.world.library import TRUNK_HALF_M  # the library's rule for a trunk
+
     env = ENVIRONMENT_SCENES["green"]
-    trunks = [c for c in env.colliders if c.pixel_class == "tree" and c.half_size[0] < 0.5]
+    trunks = [c for c in env.colliders if c.pixel_class == "tree" and min(c.half_size[:2]) < TRUNK_HALF_M]
     for x, y, _ in env.protagonist_waypoints:
         nearest = min(c.xy_distance(x, y) for c in trunks)
         assert nearest <= 13.0, f"green ({x}, {y}): the nearest tree is {nearest:.1f} m away"
