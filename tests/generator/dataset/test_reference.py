@@ -20,7 +20,9 @@ from phav_generator.dataset.reference import (
     compare,
     first_difference,
     load_reference,
+    promised_stages,
     structure_hash,
+    without_code,
 )
 from phav_generator.regenerate import compare_hashes, plan_regeneration
 from phav_generator.render.context import gl_context, gl_strings
@@ -151,3 +153,37 @@ def test_a_cpu_held_to_avx_renders_the_reference_bytes():
     assert avx.returncode == 0 and "every stage of 2 reference videos is identical" in avx.stdout
     sse = run_cli("fingerprint", "--no-check", env={"GALLIUM_OVERRIDE_CPU_CAPS": "sse4.1"})
     assert sse.returncode == 0 and "differs in cpu_class, gl_renderer" in sse.stdout
+
+
+def test_the_source_hash_moves_with_any_code_or_shader_edit_and_nothing_else(tmp_path):
+    """A shader edit within one phav version changes pixels: the fingerprint must see it."""
+    shaders = Path(fingerprint.__file__).parents[1] / "render" / "shaders"
+    copy = tmp_path / "phav_generator" / "render"
+    shutil.copytree(shaders, copy / "shaders", ignore=shutil.ignore_patterns("__pycache__"))
+    root = tmp_path / "phav_generator"
+    before = fingerprint.tree_sha256([root])
+    (copy / "shaders" / "__pycache__").mkdir()
+    (copy / "shaders" / "__pycache__" / "x.cpython-311.pyc").write_bytes(b"compiled")
+    (copy / "notes.txt").write_text("not code", encoding="utf-8")
+    assert fingerprint.tree_sha256([root]) == before
+    tone = copy / "shaders" / "tone.glsl"
+    tone.write_text(tone.read_text(encoding="utf-8") + "\n", encoding="utf-8")
+    edited = fingerprint.tree_sha256([root])
+    tone.rename(copy / "shaders" / "tone2.glsl")  # the same bytes under another name
+    assert len({before, edited, fingerprint.tree_sha256([root])}) == 3
+    versions = renderer_fingerprint(GL).versions
+    assert versions[fingerprint.SOURCE_KEY] == fingerprint.source_sha256()
+
+
+def test_code_keys_are_compared_where_a_reference_records_them(monkeypatch):
+    """The package's reference records the machine only, so an edit to phav's code is tested
+    by its bytes (the golden render test fails) instead of skipped; another machine's
+    ``--json`` records the code too, and a different code promises nothing."""
+    shipped = load_reference().fingerprint
+    assert not set(shipped.versions) & set(fingerprint.CODE_KEYS)
+    here = renderer_fingerprint(GL)
+    edited = here.model_copy(update={"versions": here.versions | {fingerprint.SOURCE_KEY: "0" * 64}})
+    assert promised_stages(shipped, edited) == promised_stages(shipped, here)
+    assert promised_stages(here, here) == STAGES and promised_stages(here, edited) == ()
+    assert here.differences(edited) == [f"versions.{fingerprint.SOURCE_KEY}"]
+    assert without_code(here).differences(without_code(edited)) == []
