@@ -28,7 +28,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 9
+WORLD_LIBRARY_VERSION = 10
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
@@ -281,7 +281,8 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
     if cls == "building":
         style = _BUILDING_STYLES.get(env_name, "urban")
         road = _towards_road(env_name, c) if style == "suburban" else None
-        return places.building(half, rng, level, style=style, street=road)
+        loggias = places.loggias_of(look_stream(env_name, f"loggias/{index}", look_seed)) if style == "urban" else None
+        return places.building(half, rng, level, style=style, street=road, loggias=loggias)
     if cls == "tree":
         # trunk and crown are two colliders: the tree's species and bark come from where it stands
         tree = look_stream(env_name, f"tree/{c.center[0]:.2f},{c.center[1]:.2f}", look_seed)
@@ -469,7 +470,10 @@ CATALOGUE: dict[str, tuple[Callable[[np.random.Generator, int], Asset | Vehicle]
     "shopping_cart": (lambda rng, lv: props.cart((0.45, 0.28, 0.35), rng, lv), (600, 500, 400)),
     "door_leaf": (lambda rng, lv: props.door_leaf((0.02, 0.45, 1.0), rng, lv), (100, 100, 12)),
     "pull_up_bar": (lambda rng, lv: props.bar(0.02, 0.6, rng, lv), (80, 60, 40)),
-    "urban_block": (lambda rng, lv: places.building((19.0, 9.0, 9.0), rng, lv, style="urban"), (3000, 2400, 400)),
+    "urban_block": (
+        lambda rng, lv: places.building((19.0, 9.0, 9.0), rng, lv, style="urban", loggias=places.loggias_of(rng)),
+        (3400, 2800, 480),
+    ),
     "suburban_house": (
         lambda rng, lv: places.building((5.0, 6.0, 3.5), rng, lv, style="suburban", street=(0.0, -1.0)),
         (450, 350, 80),

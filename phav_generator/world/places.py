@@ -24,6 +24,13 @@ Vec = np.ndarray
 UP = np.array([0.0, 0.0, 1.0])
 #: How far (m) windows are set back into a wall, and road markings stand above their road.
 WINDOW_DEPTH_M = 0.18
+#: A loggia (a balcony recessed into the block, inside its box): its depth, width, height
+#: above its storey's floor and its parapet's height and thickness (m).
+LOGGIA_DEPTH_M = 1.2
+LOGGIA_WIDTH_M = 2.2
+LOGGIA_HEIGHT_M = 2.5
+PARAPET_M = 1.0
+PARAPET_THICK_M = 0.15
 MARKING_M = 0.004
 #: Building styles: the urban block, the suburban house, the stadium's concrete.
 STYLES = ("urban", "suburban", "stadium")
@@ -104,12 +111,16 @@ def rect(q: Quads, face: Face, name: str, cls: str, material: Material, colour, 
 
 @dataclass(frozen=True)
 class Opening:
-    """A window or shop front in a face: from ``s0`` to ``s1`` along it, ``z0`` to ``z1`` up."""
+    """A window or shop front in a face: from ``s0`` to ``s1`` along it, ``z0`` to ``z1`` up,
+    its pane ``depth`` in; a loggia is one ``LOGGIA_DEPTH_M`` deep behind a ``parapet``."""
 
     s0: float
     s1: float
     z0: float
     z1: float
+    depth: float = WINDOW_DEPTH_M
+    #: The height of a parapet across its front (m), 0 for none.
+    parapet: float = 0.0
 
 
 def holed(q: Quads, face: Face, openings: list[Opening], name: str, cls: str, material: Material, colour,
@@ -137,13 +148,15 @@ def _columns(width: float, bay: float, opening: float, margin: float) -> list[tu
     return [(margin + (k + 0.5) * step - opening / 2, margin + (k + 0.5) * step + opening / 2) for k in range(n)]
 
 
-def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[Material, tuple], rng,
-           *, frame, recessed: bool, z_base: float = 0.0) -> None:  # fmt: skip
+def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[Material, tuple], rng, *, frame,
+           recessed: bool, z_base: float = 0.0, parapet: tuple[Material, tuple] | None = None) -> None:  # fmt: skip
     """A wall face with its openings: the wall around them, and in each a pane set back by
-    ``WINDOW_DEPTH_M`` with its reveals, a sill and a frame's mullion and transom
-    (``recessed``; else panes laid on the wall, for far away). Openings sharing a band of
-    height are cut as one row, with the wall between them as piers."""
+    its depth with its reveals, a sill (a loggia: its floor) and a frame's mullion and
+    transom (``recessed``; else panes laid on the wall, for far away); across a loggia's
+    front its parapet, in the ``parapet`` look (default the wall's). Openings sharing a band
+    of height are cut as one row, with the wall between them as piers."""
     material, colour = wall
+    ledge = parapet or wall
     rows: dict[tuple[float, float], list[Opening]] = {}
     for o in openings:
         rows.setdefault((o.z0, o.z1), []).append(o)
@@ -151,18 +164,35 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
     for _, row in sorted(rows.items()):
         for o in row:
             tint = pick(looks.WINDOW_TINTS, rng)
-            depth = WINDOW_DEPTH_M if recessed else -0.01
+            depth = o.depth if recessed else -0.01
             rect(q, face, "pane", "building", Material.GLASS, tint, o.s0, o.s1, o.z0, o.z1, depth)
+            top = o.z0 + o.parapet
             if not recessed:
+                rect(q, face, "parapet", "building", ledge[0], ledge[1], o.s0, o.s1, o.z0, top, -0.02)
                 continue
-            d = WINDOW_DEPTH_M
+            d = o.depth
             for a, b, facing in ((face.at(o.s0, o.z0), face.at(o.s0, o.z1), face.along),
                                  (face.at(o.s1, o.z0), face.at(o.s1, o.z1), -face.along)):  # fmt: skip
                 q.add("reveal", "building", material, colour, [a, b, b - d * face.normal, a - d * face.normal], facing)
-            for name, zz, facing, look in (("sill", o.z0, UP, _SILL), ("reveal", o.z1, -UP, wall)):
+            floor = ("balcony", o.z0, UP, _SILL) if o.parapet else ("sill", o.z0, UP, _SILL)
+            for name, zz, facing, look in (floor, ("reveal", o.z1, -UP, wall)):
                 a, b = face.at(o.s0, zz), face.at(o.s1, zz)
                 q.add(name, "building", look[0], look[1], [a, b, b - d * face.normal, a - d * face.normal], facing)
-            if p.level == 0:  # a frame: mullion and transom just in front of the pane
+            if o.parapet:  # its front in the wall's plane, its top and its inner face
+                w = PARAPET_THICK_M
+                rect(q, face, "parapet", "building", ledge[0], ledge[1], o.s0, o.s1, o.z0, top)
+                a, b = face.at(o.s0, top), face.at(o.s1, top)
+                q.add("parapet", "building", ledge[0], ledge[1], [a, b, b - w * face.normal, a - w * face.normal], UP)
+                a, b = face.at(o.s1, o.z0, w), face.at(o.s0, o.z0, w)
+                q.add("parapet", "building", ledge[0], ledge[1], [a, b, b + (top - o.z0) * UP, a + (top - o.z0) * UP],
+                      -face.normal)  # fmt: skip
+            if p.level == 0 and o.parapet:  # a balcony door beside a window, the window's transom at the parapet
+                door, bar = o.s0 + 0.9, 0.03
+                rect(
+                    q, face, "frame", "building", Material.PLASTIC, frame, door - bar, door + bar, o.z0, o.z1, d - 0.02
+                )
+                rect(q, face, "frame", "building", Material.PLASTIC, frame, door, o.s1, top - bar, top + bar, d - 0.02)
+            elif p.level == 0:  # a frame: mullion and transom just in front of the pane
                 mid, bar = (o.s0 + o.s1) / 2, 0.03
                 t = o.z0 + 0.68 * (o.z1 - o.z0)
                 rect(q, face, "frame", "building", Material.PLASTIC, frame, mid - bar, mid + bar, o.z0, o.z1, d - 0.02)
@@ -181,12 +211,32 @@ def _wall_look(rng, style: str) -> tuple[Material, tuple]:
     return Material.PLASTER, pick(looks.PLASTERS, rng)
 
 
+@dataclass(frozen=True)
+class Loggias:
+    """An urban block's loggias: a stack in every ``period``-th bay, behind parapets in the
+    ``parapet`` look (None: the wall's)."""
+
+    period: int
+    parapet: tuple[Material, tuple] | None
+
+
+def loggias_of(rng: np.random.Generator) -> Loggias | None:
+    """Half the urban blocks have loggias, in every second or third bay, their parapets in
+    the wall's look or painted metal; drawn apart from the block's own stream, so that the
+    rest of its look does not depend on it."""
+    if float(rng.random()) >= 0.5:
+        return None
+    period = 2 + int(2 * float(rng.random()))
+    return Loggias(period, None if float(rng.random()) < 0.5 else (Material.METAL, pick(looks.FRAMES, rng)))
+
+
 def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "urban",
-             street: tuple[float, float] | None = None) -> Asset:  # fmt: skip
+             street: tuple[float, float] | None = None, loggias: Loggias | None = None) -> Asset:  # fmt: skip
     """A building filling its box: ``urban`` (a ground floor of shop fronts under a sign
-    band, storeys of windows, a cornice, a flat roof), ``suburban`` (two storeys under a
-    gable roof along its longer side, a door towards ``street``, a local direction) or
-    ``stadium`` (concrete walls with bands of openings). Faces under 4 m wide stay plain."""
+    band, storeys of windows, in some bays ``loggias``, a cornice, a flat roof),
+    ``suburban`` (two storeys under a gable roof along its longer side, a door towards
+    ``street``, a local direction) or ``stadium`` (concrete walls with bands of openings).
+    Faces under 4 m wide stay plain."""
     if style not in STYLES:
         raise ValueError(f"building style must be one of {STYLES}, got {style!r}")
     hx, hy, hz = half
@@ -196,6 +246,8 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
     frame = pick(looks.FRAMES, rng)
     recessed = level < 2
     height = 2 * hz
+    period = loggias.period if loggias is not None and style == "urban" else 0
+    parapet = loggias.parapet if period else None
     if style == "suburban":
         eaves = min(height - 1.5, 6.2)
         storey = eaves / 2
@@ -214,7 +266,13 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
                 k = 0
                 while ground + (k + 1) * storey <= height - 1.0:
                     z0 = ground + k * storey + 0.85
-                    openings += [Opening(s0, s1, z0, z0 + 1.55) for s0, s1 in cols]
+                    for j, (s0, s1) in enumerate(cols):
+                        if period and j % period == 1:
+                            mid, z = (s0 + s1) / 2, ground + k * storey + 0.1
+                            openings.append(Opening(mid - LOGGIA_WIDTH_M / 2, mid + LOGGIA_WIDTH_M / 2, z,
+                                                    z + LOGGIA_HEIGHT_M, LOGGIA_DEPTH_M, PARAPET_M))  # fmt: skip
+                        else:
+                            openings.append(Opening(s0, s1, z0, z0 + 1.55))
                     k += 1
             elif style == "suburban":
                 cols = _columns(face.width, 3.2, 1.2, 0.9)
@@ -224,7 +282,7 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
             else:
                 cols = _columns(face.width, 6.0, 4.0, 2.0)
                 openings += [Opening(s0, s1, face.height - 2.4, face.height - 1.4) for s0, s1 in cols]
-        facade(p, q, face, openings, wall, rng, frame=frame, recessed=recessed)
+        facade(p, q, face, openings, wall, rng, frame=frame, recessed=recessed, parapet=parapet)
         if style == "urban" and face.width >= 4.0 and face.height >= 6.0:
             sign = (0.35 + 0.6 * float(rng.random()), 0.2 + 0.6 * float(rng.random()), 0.2 + 0.6 * float(rng.random()))
             rect(q, face, "sign", "building", Material.PLASTIC, sign, 0.5, face.width - 0.5, 3.3, 4.0, -0.01)

@@ -48,6 +48,44 @@ def test_a_facade_s_wall_and_openings_tile_its_face_and_windows_sit_back():
     assert all((np.cross(c[1] - c[0], c[2] - c[0]) @ face.normal) > 0 for c in walls)  # facing out
 
 
+def test_a_loggia_sits_deep_in_its_wall_behind_a_parapet_and_stays_inside_the_box():
+    face = places.box_faces((6.0, 4.0, 5.0))[1]  # +y, 12 m wide, 10 m tall
+    loggia = places.Opening(4.9, 7.1, 3.1, 5.6, places.LOGGIA_DEPTH_M, places.PARAPET_M)
+    window = places.Opening(1.0, 2.3, 3.85, 5.4)
+    q = places.Quads()
+    places.facade(Parts(0), q, face, [loggia, window], (Material.PLASTER, (0.8, 0.8, 0.8)), stream(0, "t"),
+                  frame=(1.0, 1.0, 1.0), recessed=True)  # fmt: skip
+    grouped: dict[str, list] = {}
+    for (name, *_), quads in q.groups.items():
+        grouped.setdefault(name, []).extend(quads)
+    parts = {name: np.array(quads) for name, quads in grouped.items()}
+    walls = parts["wall"]
+    open_area = sum((o.s1 - o.s0) * (o.z1 - o.z0) for o in (loggia, window))
+    assert sum(_quad_area(c) for c in walls) + open_area == pytest.approx(face.width * face.height)
+    panes = sorted(float(c[..., 1].mean()) for c in parts["pane"])
+    assert panes == pytest.approx([4.0 - places.LOGGIA_DEPTH_M, 4.0 - places.WINDOW_DEPTH_M])
+    floor = parts["balcony"]
+    assert floor.shape[0] == 1 and np.allclose(floor[0, :, 2], 3.1 - 5.0)  # the storey's floor, box frame
+    assert floor[0, :, 1].min() == pytest.approx(4.0 - places.LOGGIA_DEPTH_M)
+    ledge = parts["parapet"].reshape(-1, 3)
+    assert ledge[:, 2].max() == pytest.approx(3.1 + places.PARAPET_M - 5.0)  # a metre above the floor
+    assert ledge[:, 1].max() == pytest.approx(4.0) and ledge[:, 1].min() == pytest.approx(4.0 - places.PARAPET_THICK_M)
+    everything = np.concatenate([np.array(v).reshape(-1, 3) for v in q.groups.values()])
+    assert np.all(np.abs(everything) <= np.array([6.0, 4.0, 5.0]) + 1e-9)  # nothing outside the box
+
+
+def test_half_the_urban_blocks_have_loggias_and_no_other_building_does():
+    with_loggias = []
+    for env in ("urban", "middle", "stadium"):
+        for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
+            if c.pixel_class == "building":
+                names = {name for name, *_ in collider_asset(env, i, 0).parts}
+                with_loggias.append((env, "balcony" in names and "parapet" in names))
+    urban = [has for env, has in with_loggias if env == "urban"]
+    assert 0 < sum(urban) < len(urban)
+    assert not any(has for env, has in with_loggias if env != "urban")
+
+
 def test_every_urban_and_suburban_facade_has_windows_and_the_houses_face_the_street():
     for env, style in (("urban", "urban"), ("middle", "suburban")):
         for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
