@@ -174,29 +174,33 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
             for a, b, facing in ((face.at(o.s0, o.z0), face.at(o.s0, o.z1), face.along),
                                  (face.at(o.s1, o.z0), face.at(o.s1, o.z1), -face.along)):  # fmt: skip
                 q.add("reveal", "building", material, colour, [a, b, b - d * face.normal, a - d * face.normal], facing)
-            floor = ("balcony", o.z0, UP, _SILL) if o.parapet else ("sill", o.z0, UP, _SILL)
+            floor = ("balcony" if o.parapet else "sill", o.z0, UP, _SILL)
             for name, zz, facing, look in (floor, ("reveal", o.z1, -UP, wall)):
                 a, b = face.at(o.s0, zz), face.at(o.s1, zz)
                 q.add(name, "building", look[0], look[1], [a, b, b - d * face.normal, a - d * face.normal], facing)
-            if o.parapet:  # its front in the wall's plane, its top and its inner face
-                w = PARAPET_THICK_M
-                rect(q, face, "parapet", "building", ledge[0], ledge[1], o.s0, o.s1, o.z0, top)
-                a, b = face.at(o.s0, top), face.at(o.s1, top)
-                q.add("parapet", "building", ledge[0], ledge[1], [a, b, b - w * face.normal, a - w * face.normal], UP)
-                a, b = face.at(o.s1, o.z0, w), face.at(o.s0, o.z0, w)
-                q.add("parapet", "building", ledge[0], ledge[1], [a, b, b + (top - o.z0) * UP, a + (top - o.z0) * UP],
-                      -face.normal)  # fmt: skip
-            if p.level == 0 and o.parapet:  # a balcony door beside a window, the window's transom at the parapet
-                door, bar = o.s0 + 0.9, 0.03
-                rect(
-                    q, face, "frame", "building", Material.PLASTIC, frame, door - bar, door + bar, o.z0, o.z1, d - 0.02
-                )
-                rect(q, face, "frame", "building", Material.PLASTIC, frame, door, o.s1, top - bar, top + bar, d - 0.02)
-            elif p.level == 0:  # a frame: mullion and transom just in front of the pane
-                mid, bar = (o.s0 + o.s1) / 2, 0.03
-                t = o.z0 + 0.68 * (o.z1 - o.z0)
-                rect(q, face, "frame", "building", Material.PLASTIC, frame, mid - bar, mid + bar, o.z0, o.z1, d - 0.02)
-                rect(q, face, "frame", "building", Material.PLASTIC, frame, o.s0, o.s1, t - bar, t + bar, d - 0.02)
+            if o.parapet:
+                _parapet(q, face, o, ledge)
+            if p.level == 0:  # a frame just in front of the pane: an upright and a transom
+                bar = 0.03
+                if o.parapet:  # a balcony door beside a window, whose transom is at the parapet's height
+                    upright, t, s0 = o.s0 + 0.9, top, o.s0 + 0.9
+                else:
+                    upright, t, s0 = (o.s0 + o.s1) / 2, o.z0 + 0.68 * (o.z1 - o.z0), o.s0
+                rect(q, face, "frame", "building", Material.PLASTIC, frame, upright - bar, upright + bar, o.z0, o.z1,
+                     d - 0.02)  # fmt: skip
+                rect(q, face, "frame", "building", Material.PLASTIC, frame, s0, o.s1, t - bar, t + bar, d - 0.02)
+
+
+def _parapet(q: Quads, face: Face, o: Opening, look: tuple[Material, tuple]) -> None:
+    """A loggia's parapet across its front: its face in the wall's plane, its top and its
+    inner face ``PARAPET_THICK_M`` behind."""
+    top, w = o.z0 + o.parapet, PARAPET_THICK_M
+    rect(q, face, "parapet", "building", look[0], look[1], o.s0, o.s1, o.z0, top)
+    a, b = face.at(o.s0, top), face.at(o.s1, top)
+    q.add("parapet", "building", look[0], look[1], [a, b, b - w * face.normal, a - w * face.normal], UP)
+    a, b = face.at(o.s1, o.z0, w), face.at(o.s0, o.z0, w)
+    rise = (top - o.z0) * UP
+    q.add("parapet", "building", look[0], look[1], [a, b, b + rise, a + rise], -face.normal)
 
 
 #: A window's sill: the bottom of its opening.
