@@ -37,6 +37,7 @@ PAGES = {
     "props": ("ball", "baseball_bat", "golf_club", "bow", "hair_brush", "cup", "bottle", "gun", "crate",
               "shopping_cart", "door_leaf", "pull_up_bar"),
     "buildings": ("urban_block", "suburban_house", "stadium_wall"),
+    "facades": ("urban_block",),
     "trees": ("broadleaf_crown", "conifer_crown", "birch_crown", "trunk", "birch_trunk"),
     "plants": ("hedge", "bush", "planter", "reeds"),
     "ground": ("carriageway", "pavement", "grass_terrace", "lake_bank", "pitch"),
@@ -46,6 +47,9 @@ VARIANTS = 3
 ANGLES = (35.0, 215.0)
 #: Pages seen from higher up than the usual 15°: the flat slabs and grounds.
 ELEVATION = {"ground": 55.0}
+#: Pages seen closer than the whole object (zoom, frame height, angles): the urban blocks'
+#: storeys, from the side the depth of their openings shows.
+ZOOM = {"facades": (1.6, 300, (30.0, 210.0))}
 
 
 def drawables_of(built):
@@ -71,7 +75,9 @@ def main() -> None:
             rgb, labels = [], []
             for variant in range(VARIANTS):
                 drawables, asset = drawables_of(build(stream(7, f"gallery/{kind}/{variant}"), 0))
-                frames = turntable(ctx, drawables, asset, ANGLES, height=120, elevation_deg=ELEVATION.get(page, 15.0))
+                zoom, height, angles = ZOOM.get(page, (1.0, 120, ANGLES))
+                frames = turntable(ctx, drawables, asset, angles, height=height, zoom=zoom,
+                                   elevation_deg=ELEVATION.get(page, 15.0))  # fmt: skip
                 rgb += [f.rgb for f in frames]
                 labels += [palette[f.class_id] for f in frames]
             rows += [np.concatenate(rgb, axis=1), np.concatenate(labels, axis=1)]

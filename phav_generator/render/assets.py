@@ -82,14 +82,22 @@ def vehicle_drawables(vehicle: Vehicle, transforms: np.ndarray, **glow) -> list[
     return [asset_drawable(vehicle.body, transforms, **glow), wheels_drawable(vehicle, transforms)]
 
 
-def turntable_camera(asset: Asset, angle_deg: float, *, elevation_deg: float = 15.0, fy: float = 300.0,
-                     height: int = 256) -> tuple[np.ndarray, tuple[float, float, float, float]]:  # fmt: skip
+def turntable_camera(
+    asset: Asset,
+    angle_deg: float,
+    *,
+    elevation_deg: float = 15.0,
+    fy: float = 300.0,
+    height: int = 256,
+    zoom: float = 1.0,
+) -> tuple[np.ndarray, tuple[float, float, float, float]]:
     """A camera looking at ``asset``'s middle from ``angle_deg`` round it, far enough that its
-    bounding sphere fills most of the frame: (cam_to_world, intrinsics) for a 4:3 frame."""
+    bounding sphere fills most of the frame (``zoom`` times closer for a detail):
+    (cam_to_world, intrinsics) for a 4:3 frame."""
     lo, hi = asset.bounds()
     centre = (lo + hi) / 2
     radius = float(np.linalg.norm(hi - lo)) / 2
-    distance = radius / math.tan(math.atan(height / 2 / fy) * 0.85)
+    distance = radius / math.tan(math.atan(height / 2 / fy) * 0.85) / zoom
     a, e = math.radians(angle_deg), math.radians(elevation_deg)
     eye = centre + distance * np.array([math.cos(a) * math.cos(e), math.sin(a) * math.cos(e), math.sin(e)])
     c2w = np.eye(4)
@@ -100,15 +108,16 @@ def turntable_camera(asset: Asset, angle_deg: float, *, elevation_deg: float = 1
 
 
 def turntable(ctx, drawables: list[Drawable], asset: Asset, angles=(30.0, 120.0, 210.0, 300.0), *, height: int = 192,
-              elevation_deg: float = 15.0):  # fmt: skip
+              elevation_deg: float = 15.0, zoom: float = 1.0):  # fmt: skip
     """Frames of ``drawables`` (one asset, alone) from ``angles`` round it, seen from
-    ``elevation_deg`` above its middle: a list of ``gl.Frame``s with their RGB."""
+    ``elevation_deg`` above its middle, ``zoom`` times closer than the whole of it needs: a
+    list of ``gl.Frame``s with their RGB."""
     width = height * 4 // 3
     frames = []
     with FrameRenderer(ctx, width, height, drawables, sky_class=PIXEL_CLASSES["sky"].class_id,
                        focus=np.zeros(3)) as renderer:  # fmt: skip
         for angle in angles:
             c2w, intrinsics = turntable_camera(asset, angle, elevation_deg=elevation_deg, fy=1.2 * height,
-                                               height=height)  # fmt: skip
+                                               height=height, zoom=zoom)  # fmt: skip
             frames.append(renderer.render(0, c2w, c2w, intrinsics))
     return frames

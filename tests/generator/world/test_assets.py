@@ -128,6 +128,17 @@ def test_an_asset_rendered_alone_shows_its_classes_and_nothing_else(ctx, kind):
     assert all((f.instance == 0).all() for f in frames)
 
 
+def test_a_turntable_camera_zoomed_in_stands_that_much_closer_on_the_same_line():
+    from phav_generator.render.assets import turntable_camera
+
+    block = _build("urban_block")
+    centre = np.add(*block.bounds()) / 2
+    (far, k), (near, k2) = (turntable_camera(block, 40.0, zoom=z) for z in (1.0, 2.0))
+    assert k == k2
+    assert np.linalg.norm(near[:3, 3] - centre) == pytest.approx(np.linalg.norm(far[:3, 3] - centre) / 2)
+    assert np.allclose(near[:3, :3], far[:3, :3])  # looking the same way, at the same point
+
+
 def _box_gaps(asset: Asset, half) -> tuple[float, np.ndarray]:
     """How far the asset strays outside a box of ``half`` around its origin, and the gap
     between each box face (−x, +x, −y, +y, −z, +z) and the asset's nearest vertex."""
