@@ -175,7 +175,7 @@ def test_the_source_hash_moves_with_any_code_or_shader_edit_and_nothing_else(tmp
     assert versions[fingerprint.SOURCE_KEY] == fingerprint.source_sha256()
 
 
-def test_code_keys_are_compared_where_a_reference_records_them(monkeypatch):
+def test_code_keys_are_compared_where_a_reference_records_them():
     """The package's reference records the machine only, so an edit to phav's code is tested
     by its bytes (the golden render test fails) instead of skipped; another machine's
     ``--json`` records the code too, and a different code promises nothing."""
