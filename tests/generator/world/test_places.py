@@ -1,4 +1,5 @@
-"""The places: a facade's wall and openings tile its face, windows sit back in it; a road's
+"""The places: a facade's wall and openings tile its face, windows sit back in it, loggias
+deeper behind a parapet inside the box (some urban blocks only); a road's
 markings follow its lanes and leave its crossings to the zebra; pitch lines lie on the
 pitch; each environment's slabs, buildings and trees take the look their role asks for;
 the materials past the first sixteen reach the shader; clouds cover as much sky as θ says,
@@ -74,7 +75,7 @@ def test_a_loggia_sits_deep_in_its_wall_behind_a_parapet_and_stays_inside_the_bo
     assert np.all(np.abs(everything) <= np.array([6.0, 4.0, 5.0]) + 1e-9)  # nothing outside the box
 
 
-def test_half_the_urban_blocks_have_loggias_and_no_other_building_does():
+def test_some_urban_blocks_have_loggias_and_no_other_building_does():
     with_loggias = []
     for env in ("urban", "middle", "stadium"):
         for i, c in enumerate(ENVIRONMENT_SCENES[env].colliders):
