@@ -1,15 +1,20 @@
-"""The PASCAL VOC judge on a real object at the sizes our frames show ours: the closest real
+"""The judges on a real object at the sizes our frames show ours: the closest real
 photographs to be had offline of a class our frames miss. OpenCV's sample data (Debian's
 opencv-doc, see judged_real.py) holds three photographs of an office with a real CRT
-monitor in view (left06, right06, left13 of its stereo calibration set). Each is scaled to
-cover 340 × 256 and centre-cropped, as a frame is, then shrunk to a half and a quarter and
-tiled to fill the frame again, so the judge sees the same real monitor at the heights
+monitor in view (left06, right06, left13 of its stereo calibration set); the ultralytics
+wheel on PyPI holds a photograph of a real city bus in a Madrid street (its
+``assets/bus.jpg``, AGPL-3.0; read here, not shipped). Each is scaled to cover 340 × 256
+and centre-cropped, as a frame is, then shrunk to a half and a quarter and tiled to fill
+the frame again, so the judge sees the same real object at the heights
 docs/measure/judged_alone.py shows ours at.
 
-    .venv/bin/python docs/measure/judged_real_small.py opencv-doc/usr/share/doc/opencv-doc/examples/data
+    pip download --no-deps ultralytics==8.4.190 -d wheels
+    unzip -j wheels/ultralytics-8.4.190-py3-none-any.whl ultralytics/assets/bus.jpg
+    .venv/bin/python docs/measure/judged_real_small.py opencv-doc/usr/share/doc/opencv-doc/examples/data \\
+        [--bus bus.jpg]
 
-prints, per photograph and scale, the height of the hand-drawn box inside the monitor and
-the share of its pixels the judge names `tvmonitor`.
+prints, per photograph, judge and scale, the height of the hand-drawn box inside the object
+and the share of its pixels the judge names as the object's class.
 """
 
 from __future__ import annotations
@@ -25,6 +30,8 @@ from phav_validators.realism.judges import load_judges
 
 #: Boxes (x0, y0, x1, y1 in the 340 × 256 crop) inside the monitor of each photograph.
 MONITORS = {"left06.jpg": (3, 90, 70, 185), "right06.jpg": (2, 95, 45, 200), "left13.jpg": (2, 100, 55, 200)}
+#: A box inside the bus's side, above the people before it and below its roof.
+BUS = (165, 40, 320, 165)
 #: Each photograph at full size, at a half and at a quarter, tiled k × k.
 TILES = (1, 2, 4)
 
@@ -51,17 +58,21 @@ def boxes(box: tuple[int, int, int, int], k: int) -> np.ndarray:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("photos", type=Path, help="the directory of OpenCV's sample data")
+    parser.add_argument("--bus", type=Path, help="ultralytics' assets/bus.jpg")
     args = parser.parse_args()
-    segmenter = load_judges(threads=2).segmenters["pascal_voc"]
-    monitor = segmenter.classes.label_id("tvmonitor")
-    print("| photograph | scale | box height (px) | named `tvmonitor` |")
-    print("| --- | --- | ---: | ---: |")
-    for photo, box in MONITORS.items():
-        frame = as_frame(args.photos / photo)
+    segmenters = load_judges(threads=2).segmenters
+    shown = [(args.photos / photo, "pascal_voc", "tvmonitor", box) for photo, box in MONITORS.items()]
+    if args.bus:
+        shown += [(args.bus, judge, "bus", BUS) for judge in ("pascal_voc", "cityscapes")]
+    print("| photograph | judge | class | scale | box height (px) | named as the class |")
+    print("| --- | --- | --- | --- | ---: | ---: |")
+    for path, judge, name, box in shown:
+        segmenter = segmenters[judge]
+        frame = as_frame(path)
         for k in TILES:
             said = segmenter.labels(np.ascontiguousarray(tiled(frame, k)))
-            share = float((said[boxes(box, k)] == monitor).mean())
-            print(f"| {photo} | 1/{k} | {(box[3] - box[1]) // k} | {share:.2f} |")
+            share = float(np.isin(said[boxes(box, k)], segmenter.classes.answer_ids(name)).mean())
+            print(f"| {path.name} | {judge} | {name} | 1/{k} | {(box[3] - box[1]) // k} | {share:.2f} |")
 
 
 if __name__ == "__main__":

@@ -76,22 +76,27 @@ class Figure:
 
 
 class Tally:
-    """Per-video numerators and denominators of ratios named by key."""
+    """Per-video numerators and denominators of ratios named by key. A ratio is reported once
+    something it is about was seen (``present``): a class's IoU counts the judge's false
+    answers in every frame, but is a figure only where the class is in some frame."""
 
     def __init__(self) -> None:
         self.parts: dict[str, dict[str, list[float]]] = {}
+        self.present: set[str] = set()
 
-    def add(self, key: str, video: str, num: float, den: float) -> None:
+    def add(self, key: str, video: str, num: float, den: float, *, present: bool = True) -> None:
         cell = self.parts.setdefault(key, {}).setdefault(video, [0.0, 0.0])
         cell[0] += num
         cell[1] += den
+        if present:
+            self.present.add(key)
 
     def figure(self, key: str, seed: int) -> Figure | None:
         """The ratio of ``key`` over every video, with a bootstrap over videos (None when
-        nothing was counted)."""
+        nothing was counted or nothing it is about was seen)."""
         cells = self.parts.get(key, {})
         videos = sorted(v for v, (_, d) in cells.items() if d > 0)
-        if not videos:
+        if not videos or key not in self.present:
             return None
         num = np.array([cells[v][0] for v in videos])
         den = np.array([cells[v][1] for v in videos])
@@ -180,7 +185,7 @@ def judge_person(judges: Judges, tally: Tally, video: str, rgb: np.ndarray, pers
 
 
 @cache
-def _judged_groups(judge_name: str) -> dict[str, dict[str, list[int]]]:
+def judged_groups(judge_name: str) -> dict[str, dict[str, list[int]]]:
     """Judge class → our classes judged as it → their class ids; a person's parts and joints
     count as one class, ``person`` (a body is one object, to us as to the judge)."""
     judge = JUDGE_CLASSES[judge_name]
@@ -196,15 +201,17 @@ def _judged_groups(judge_name: str) -> dict[str, dict[str, list[int]]]:
 
 def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, tally: Tally, video: str,
                 groups: tuple[str, ...]) -> None:  # fmt: skip
-    """IoU and recall of each of our classes present against what ``judge`` should call it.
+    """IoU and recall of each of our classes against what ``judge`` should call it.
 
     Our class c judged as m: its IoU is |c ∩ m| / |c ∪ (m outside every class judged as m)|,
     so that a tree judged as vegetation is not blamed for the hedge beside it. Per judge class,
     the plain IoU against the union of our classes judged as it (mIoU over those present).
-    The judge's answers merged into m (``JudgeClasses.merged``) count as m; where the judge's
-    own benchmark leaves out what it has no class for (``JudgeClasses.void_unjudged``), its
+    Both are sums over the whole sample, as the judges' own benchmarks pool their confusion
+    matrices: the judge's m on a frame without any of our m counts against m too. The judge's
+    answers merged into m (``JudgeClasses.merged``) count as m; where the judge's own
+    benchmark leaves out what it has no class for (``JudgeClasses.void_unjudged``), its
     answers on our classes it does not judge count nowhere."""
-    judged = _judged_groups(judge.judge)
+    judged = judged_groups(judge.judge)
     scored = None
     if judge.void_unjudged:
         scored = np.isin(classes, [i for ours in judged.values() for ids in ours.values() for i in ids])
@@ -214,19 +221,21 @@ def judge_world(labels: np.ndarray, classes: np.ndarray, judge: JudgeClasses, ta
             said &= scored
         truth = np.isin(classes, [i for ids in ours.values() for i in ids])
         extra = float((said & ~truth).sum())
-        if truth.any():
+        shown = bool(truth.any())
+        if shown or extra:
             for g in groups:
                 tally.add(f"class_iou|{judge.judge}|{m}|{g}", video, float((said & truth).sum()),
-                          float(truth.sum()) + extra)  # fmt: skip
+                          float(truth.sum()) + extra, present=shown)  # fmt: skip
         for c, ids in ours.items():
             mask = np.isin(classes, ids)
             n = int(mask.sum())
-            if n == 0:
+            if n == 0 and not extra:
                 continue
             hit = float((said & mask).sum())
             for g in groups:
-                tally.add(f"iou|{judge.judge}|{c}|{g}", video, hit, n + extra)
-                tally.add(f"recall|{judge.judge}|{c}|{g}", video, hit, n)
+                tally.add(f"iou|{judge.judge}|{c}|{g}", video, hit, n + extra, present=n > 0)
+                if n:
+                    tally.add(f"recall|{judge.judge}|{c}|{g}", video, hit, n)
 
 
 @dataclass
@@ -280,10 +289,11 @@ def parse_minimums(text: str | None) -> dict[str, float]:
     return out
 
 
-def _miou(tally: Tally, seed: int, group: str = "all") -> Figure | None:
+def cityscapes_miou(tally: Tally, seed: int, group: str = "all") -> Figure | None:
     """Cityscapes mIoU over the judge classes present in ``group``: the mean of their IoUs,
     its interval from the same bootstrap draw of videos for every class."""
-    keys = [k for k in sorted(tally.parts) if k.startswith("class_iou|cityscapes|") and k.endswith(f"|{group}")]
+    keys = [k for k in sorted(tally.parts)
+            if k.startswith("class_iou|cityscapes|") and k.endswith(f"|{group}") and k in tally.present]  # fmt: skip
     videos = sorted({v for k in keys for v, (_, d) in tally.parts[k].items() if d > 0})
     if not keys or not videos:
         return None
@@ -347,10 +357,10 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
     finally:
         reader.close()
     figures = tally.figures(opts.seed)
-    if (miou := _miou(tally, opts.seed)) is not None:
+    if (miou := cityscapes_miou(tally, opts.seed)) is not None:
         figures["cityscapes_miou"] = miou
     for group in sorted({g for v in chosen for g in conditions[v]}):
-        if (miou := _miou(tally, opts.seed, group)) is not None:
+        if (miou := cityscapes_miou(tally, opts.seed, group)) is not None:
             figures[f"cityscapes_miou|{group}"] = miou
     return RealismResult(figures, sum(len(f) for f in chosen.values()), people, len(chosen), judges.files, opts,
                          examples)  # fmt: skip

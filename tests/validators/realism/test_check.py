@@ -17,6 +17,7 @@ from phav_validators.realism.check import (
     HEADLINES,
     RealismOptions,
     Tally,
+    cityscapes_miou,
     conditions_of,
     judge_world,
     parse_minimums,
@@ -115,6 +116,31 @@ def test_a_judges_answer_merged_into_a_class_counts_as_it():
     assert tally.figure("recall|cityscapes|road|all", seed=0).value == 1.0
     assert tally.figure("iou|cityscapes|road|all", seed=0).value == pytest.approx(12 / 16)
     assert tally.figure("recall|cityscapes|building|all", seed=0).value == 0.0
+
+
+def test_false_answers_count_in_every_frame_as_the_benchmarks_pool_them():
+    from phav_spec.judge_classes import CITYSCAPES
+    from phav_spec.vocab import PIXEL_CLASSES
+
+    # a bus named right in one video's frame; the judge's `bus` on grass in another video
+    # counts against it, and `truck`, named on grass where no truck is anywhere, is no figure
+    bus, grass = PIXEL_CLASSES["bus"].class_id, PIXEL_CLASSES["terrain"].class_id
+    tally = Tally()
+    shown = np.array([[bus, bus, grass, grass]], np.uint8)
+    judge_world(np.array([[15, 15, 9, 9]]), shown, CITYSCAPES, tally, "a", ("all",))
+    said = np.full((1, 4), CITYSCAPES.label_id("terrain"))
+    said[0, :2] = CITYSCAPES.label_id("bus")
+    said[0, 3] = CITYSCAPES.label_id("truck")
+    judge_world(said, np.full((1, 4), grass, np.uint8), CITYSCAPES, tally, "b", ("all",))
+    assert CITYSCAPES.label_id("bus") == 15 and CITYSCAPES.label_id("terrain") == 9
+    assert tally.figure("class_iou|cityscapes|bus|all", seed=0).value == pytest.approx(2 / 4)
+    assert tally.figure("iou|cityscapes|bus|all", seed=0).value == pytest.approx(2 / 4)
+    assert tally.figure("recall|cityscapes|bus|all", seed=0).value == 1.0
+    assert tally.figure("class_iou|cityscapes|truck|all", seed=0) is None
+    assert "iou|cityscapes|truck|all" not in tally.figures(seed=0)
+    # the mean is over the classes present: bus 2 of 4, grass 3 of its 6 pixels (no false answers)
+    assert tally.figure("class_iou|cityscapes|terrain|all", seed=0).value == pytest.approx(3 / 6)
+    assert cityscapes_miou(tally, 0).value == pytest.approx((2 / 4 + 3 / 6) / 2)
 
 
 def test_answers_on_a_class_the_judge_does_not_judge_are_void_where_its_benchmark_voids_them():
