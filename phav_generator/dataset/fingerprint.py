@@ -9,14 +9,17 @@ import hashlib
 import importlib
 import os
 import platform
+import re
+import sys
 import tomllib
 from collections.abc import Iterable
 from functools import cache
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
-from phav_generator.body.data import load_body_data
-from phav_generator.world.library import world_library_sha256
+from phav_generator.body.data import cache_root, load_body_data
+from phav_generator.world.library import WORLD_LIBRARY_VERSION, world_library_sha256
+from phav_spec.files import atomic_write
 from phav_spec.host import GALLIUM_CAPS_ENV, cpu_fields, simd_class
 from phav_spec.manifest import FINGERPRINT_VERSION, RendererFingerprint
 
@@ -115,6 +118,34 @@ def source_sha256() -> str:
     return tree_sha256(Path(importlib.import_module(p).__file__ or p).parent for p in SOURCE_PACKAGES)
 
 
+@cache
+def world_sha256() -> str:
+    """``world_library_sha256``, built once per machine and code: building every environment
+    and catalogue kind at every level takes seconds, and each ``phav generate`` and check
+    recorded it anew. Kept under ``<cache>/world/`` by the sha256 of what could change what
+    the library builds (phav's code, numpy's version and numerics, Python's version, the
+    library's version); a file that is missing, unreadable or not a hash is built again."""
+    key = hashlib.sha256(
+        f"{WORLD_LIBRARY_VERSION}\n{source_sha256()}\n{package_version('numpy')}\n{numeric_class()}\n"
+        f"{sys.version}\n{platform.machine()}\n".encode()
+    ).hexdigest()
+    path = cache_root() / "world" / f"{key}.sha256"
+    try:
+        kept = path.read_text(encoding="utf-8").strip()
+    except OSError:
+        kept = ""
+    if re.fullmatch(r"[0-9a-f]{64}", kept):
+        return kept
+    digest = world_library_sha256()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_write(path) as tmp:
+            tmp.write_text(digest + "\n", encoding="utf-8")
+    except OSError:  # a read-only cache: build it again next time
+        pass
+    return digest
+
+
 def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
     """What the bytes depend on: GL strings, the CPU's SIMD class, the versions of the stack and
     the sha256 of the body data the people's meshes come from, of the asset library the
@@ -124,7 +155,7 @@ def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
     model, cls = _cpu()
     versions = {p: package_version(p) for p in ("phav", "numpy", "scipy", "mujoco", "moderngl")}
     versions[BODY_DATA_KEY] = load_body_data().sha256
-    versions[WORLD_LIBRARY_KEY] = world_library_sha256()
+    versions[WORLD_LIBRARY_KEY] = world_sha256()
     versions[SOURCE_KEY] = source_sha256()
     return RendererFingerprint(
         fingerprint_version=FINGERPRINT_VERSION,

@@ -7,6 +7,8 @@ import tomllib
 from importlib.metadata import PackageNotFoundError
 from pathlib import Path
 
+import pytest
+
 from phav_generator.dataset import fingerprint
 from phav_generator.dataset.fingerprint import package_version
 
@@ -38,3 +40,38 @@ def test_the_fingerprint_records_the_first_processors_model_and_simd_class(monke
     monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"Features": "neon fp"})  # ARM names its flags so
     model = fingerprint.platform.processor() or "aarch64"
     assert fingerprint._cpu() == (model, f"aarch64: {model}")  # not measured: its model decides
+
+
+@pytest.fixture
+def uncached_world_sha256():
+    """``world_sha256`` without its in-process cache, before and after (a fake never stays)."""
+    fingerprint.world_sha256.cache_clear()
+    yield fingerprint.world_sha256
+    fingerprint.world_sha256.cache_clear()
+
+
+def test_the_world_librarys_hash_is_built_once_per_machine_and_code(tmp_path, monkeypatch, uncached_world_sha256):
+    from phav_generator.world.library import world_library_sha256
+
+    monkeypatch.setenv("PHAV_CACHE_DIR", str(tmp_path))
+    built = fingerprint.world_sha256()
+    assert built == world_library_sha256()
+    [kept] = (tmp_path / "world").glob("*.sha256")
+    assert kept.read_text().strip() == built
+
+    def unbuildable() -> str:
+        raise AssertionError("built again")
+
+    monkeypatch.setattr(fingerprint, "world_library_sha256", unbuildable)
+    fingerprint.world_sha256.cache_clear()
+    assert fingerprint.world_sha256() == built  # read back, not built
+    # a corrupt file, or other code (another key), builds it again
+    monkeypatch.setattr(fingerprint, "world_library_sha256", lambda: "ab" * 32)
+    kept.write_text("not a hash\n")
+    fingerprint.world_sha256.cache_clear()
+    assert fingerprint.world_sha256() == "ab" * 32 and kept.read_text().strip() == "ab" * 32
+    monkeypatch.setattr(fingerprint, "source_sha256", lambda: "0" * 64)
+    monkeypatch.setattr(fingerprint, "world_library_sha256", lambda: "cd" * 32)
+    fingerprint.world_sha256.cache_clear()
+    assert fingerprint.world_sha256() == "cd" * 32
+    assert len(list((tmp_path / "world").glob("*.sha256"))) == 2
