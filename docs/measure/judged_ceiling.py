@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from judged_frames import dumped
 
 from phav_spec.judge_classes import JUDGE_CLASSES
 from phav_spec.vocab import PIXEL_CLASSES
@@ -94,17 +95,9 @@ def ceilings(frames: Iterable[Frame], group: str = "all") -> tuple[float, list[C
 
 
 def read_dump(folder: Path) -> list[Frame]:
-    """The frames ``judged_frames.py --dump`` wrote, ``v000012-034.npz`` each."""
-    files = sorted(folder.glob("*.npz"))
-    if not files:
-        raise SystemExit(f"{folder}: no .npz frames (run judged_frames.py --dump {folder})")
-    out = []
-    for f in files:
-        with np.load(f) as z:
-            if "said" not in z:  # an indoor frame, judged by PASCAL VOC only
-                continue
-            out.append(Frame(f.stem.split("-")[0], z["ours"], z["said"], tuple(str(g) for g in z["where"])))
-    return out
+    """The frames ``judged_frames.py --dump`` wrote that the Cityscapes judge saw (outdoors)."""
+    return [Frame(video, ours, answers[JUDGE], groups) for video, groups, ours, answers in dumped(folder)
+            if JUDGE in answers]  # fmt: skip
 
 
 def main() -> None:

@@ -55,7 +55,7 @@ def main() -> None:
     parser.add_argument("--rescore", type=Path, help="score the frames a --dump wrote instead of rendering them")
     args = parser.parse_args()
     tally = Tally()
-    frames = _dumped(args.rescore) if args.rescore else _judged(args)
+    frames = dumped(args.rescore) if args.rescore else _judged(args)
     voc = {c for ours in judged_groups("pascal_voc").values() for c in ours}  # our classes VOC judges
     for video, where, ours, answers in frames:
         for judge, said in answers.items():
@@ -118,8 +118,9 @@ def _judged(args: argparse.Namespace) -> Iterator[tuple[str, tuple[str, ...], np
     print(file=sys.stderr)
 
 
-def _dumped(folder: Path) -> Iterator[tuple[str, tuple[str, ...], np.ndarray, dict[str, np.ndarray]]]:
-    """The frames a ``--dump`` wrote, as ``_judged`` yields them."""
+def dumped(folder: Path) -> Iterator[tuple[str, tuple[str, ...], np.ndarray, dict[str, np.ndarray]]]:
+    """The frames a ``--dump`` wrote, as ``_judged`` yields them (judged_ceiling.py reads them
+    so too)."""
     files = sorted(folder.glob("*.npz"))
     if not files:
         raise SystemExit(f"{folder}: no .npz frames (write them with --dump {folder})")

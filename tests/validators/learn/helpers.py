@@ -19,7 +19,10 @@ MEASURE = Path(__file__).parents[3] / "docs" / "measure"
 
 def measure_script(name: str) -> ModuleType:
     """The script ``docs/measure/<name>.py`` imported as module ``name`` (registered in
-    ``sys.modules``, where its dataclasses look themselves up)."""
+    ``sys.modules``, where its dataclasses look themselves up), its folder on ``sys.path`` as
+    when it runs, so that it imports its siblings."""
+    if str(MEASURE) not in sys.path:
+        sys.path.append(str(MEASURE))
     spec = importlib.util.spec_from_file_location(name, MEASURE / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
