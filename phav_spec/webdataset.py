@@ -46,7 +46,7 @@ def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes
             f"{source}: {encoding.name} must be {encoding.dtype} with {encoding.channels} channel(s), "
             f"found {image.dtype} with {channels}"
         )
-    return np.ascontiguousarray(image[..., ::-1]) if channels == 3 else image
+    return cv2.cvtColor(image, cv2.COLOR_BGR2RGB, dst=image) if channels == 3 else image  # in place
 
 
 def phav_decoder(key: str, data: bytes) -> Any:

@@ -118,13 +118,18 @@ def _judged(args: argparse.Namespace) -> Iterator[tuple[str, tuple[str, ...], np
     print(file=sys.stderr)
 
 
+def dump_files(folder: Path) -> list[Path]:
+    """The frame files a ``--dump`` wrote in ``folder``, in order; a clear exit if none."""
+    files = sorted(folder.glob("*.npz"))
+    if not files:
+        raise SystemExit(f"{folder}: no .npz frames (write them with judged_frames.py --dump {folder})")
+    return files
+
+
 def dumped(folder: Path) -> Iterator[tuple[str, tuple[str, ...], np.ndarray, dict[str, np.ndarray]]]:
     """The frames a ``--dump`` wrote, as ``_judged`` yields them (judged_ceiling.py reads them
     so too)."""
-    files = sorted(folder.glob("*.npz"))
-    if not files:
-        raise SystemExit(f"{folder}: no .npz frames (write them with --dump {folder})")
-    for f in files:
+    for f in dump_files(folder):
         with np.load(f) as z:
             answers = {judge: z[name] for name, judge in _DUMP_NAMES.items() if name in z}
             yield f.stem.split("-")[0], tuple(str(g) for g in z["where"]), z["ours"], answers
