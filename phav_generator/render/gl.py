@@ -463,7 +463,7 @@ class FrameRenderer:
     def _set_static_uniforms(self) -> None:
         lt, w, h = self.lighting, *self.size
         for prog in (*self._scene_programs, self.sky):
-            for name in ("sky_zenith", "sky_horizon", "sky_glow", "sun_dir", "sun_colour", "fog_colour"):
+            for name in ("sky_zenith", "sky_horizon", "sky_glow", "sky_tint", "sun_dir", "sun_colour", "fog_colour"):
                 _set(prog, name, getattr(lt, name))
             _set(prog, "fog_per_m", float(lt.fog_per_m))
             _set(prog, "cloud_cover", float(lt.cloud_cover))

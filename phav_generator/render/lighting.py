@@ -45,6 +45,13 @@ MAX_GAIN = 8.0
 #: fog colour by how much of it lies between the camera and a subject this far away (m).
 METER_DISTANCE_M = 15.0
 _LUMINANCE = (0.2126, 0.7152, 0.0722)
+#: An overcast deck's colour through the camera's daylight balance, in linear RGB: the light
+#: of a sky under cloud (6500–7000 K) is bluer than the sun's the camera is balanced for
+#: (about 5500 K), so an overcast sky reads a cool grey, not a neutral one. This is CIE
+#: daylight of about 6300 K seen so (6500 K's would be 0.89, 1, 1.20): the warm end. It
+#: multiplies the sky and its clouds, also where water and gloss mirror them, as cloud closes
+#: over it (with the clouds' cover squared, as the grey does).
+OVERCAST_SKY_TINT = (0.88, 1.0, 1.12)
 
 
 def _smoothstep(e0: float, e1: float, x: float) -> float:
@@ -86,6 +93,7 @@ class Lighting:
     daylight: float  # 0 night … 1 full day
     cloud_cover: float = 0.0  # 0 clear … 1 overcast: how much of the sky the clouds drawn in it cover
     sky_glow: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) added low towards the sun
+    sky_tint: np.ndarray = field(default_factory=lambda: np.ones(3))  # (3,) the sky's and its clouds' colour balance
     exposure: float = EXPOSURE  # the tone curve's, as the camera metered the light
 
     @property
@@ -154,6 +162,7 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
         daylight=daylight,
         cloud_cover=clouds,
         sky_glow=glow,
+        sky_tint=_mix(np.ones(3), OVERCAST_SKY_TINT, overcast),
         exposure=metered_exposure(sky_ambient, sun_colour, sun, elevation, fog_colour, fog_per_m),
     )
 

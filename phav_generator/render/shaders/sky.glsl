@@ -1,6 +1,7 @@
 uniform vec3 sky_zenith;
 uniform vec3 sky_horizon;
 uniform vec3 sky_glow;  // the low sun's, at the horizon in its quarter
+uniform vec3 sky_tint;  // the colour balance of an overcast deck (lighting.py)
 uniform vec3 sun_dir;
 uniform vec3 sun_colour;
 uniform vec3 fog_colour;
@@ -31,6 +32,7 @@ vec3 sky(vec3 dir) {
         vec3 cloud = mix(lit, lit * mix(0.62, 1.0, smoothstep(0.6, 0.9, cloud_cover)), smoothstep(0.45, 0.95, n));
         c = mix(c, cloud, cover * smoothstep(0.0, 0.04, dir.z));
     }
+    c *= sky_tint;
     float sd = dot(dir, sun_dir);
     c += sun_colour * (smoothstep(0.9994, 0.9997, sd) * 8.0 + pow(max(sd, 0.0), 64.0) * 0.25);
     float fogged = 1.0 - exp(-fog_per_m * 180.0);  // the sky is seen through the fog

