@@ -9,7 +9,14 @@ Each photograph is scaled to cover 340 × 256 and centre-cropped, as a frame is;
 drawn by hand that hold one class only, it prints the share of pixels the judge names as
 that class (its recall there) and what it names most. With --ours DATASET, the same share
 over our frames' pixels of each class at least 4 px from any other class (the realism
-check's sample of outdoor frames): all of them, and the clear or overcast daytime ones.
+check's sample of outdoor frames): all of them, and the clear or overcast daytime ones;
+with --dump FOLDER (judged_frames.py --dump) and --group, the same share over its frames
+of one condition group (e.g. weather=fog), from the answers stored there.
+
+With --veil T,T,…, each photograph is also judged through fog: Koschmieder's law at one
+distance, in linear light, its own light times the transmission T and the fog's airlight
+(--airlight, an 8-bit grey: our foggy days' sky) times 1 − T. A real scene under our fog,
+as far as one veil over the whole frame stands for it (near things are veiled less).
 """
 
 from __future__ import annotations
@@ -19,6 +26,7 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 import numpy as np
+from judged_frames import dump_files
 from PIL import Image
 
 from phav_spec.clips import ClipReader
@@ -46,6 +54,8 @@ REGIONS: dict[str, list[tuple[str, tuple[int, int, int, int]]]] = {
 }  # fmt: skip
 #: Most-named classes shown per row.
 SHOWN = 3
+#: The renderer's display curve: a veil is laid in linear light.
+GAMMA = 2.2
 
 
 def as_frame(path: Path) -> np.ndarray:
@@ -56,6 +66,26 @@ def as_frame(path: Path) -> np.ndarray:
         im = im.resize((round(im.width * scale), round(im.height * scale)), Image.Resampling.LANCZOS)
         left, top = (im.width - W) // 2, (im.height - H) // 2
         return np.asarray(im.crop((left, top, left + W, top + H)))
+
+
+def veiled(rgb: np.ndarray, transmission: float, airlight: float) -> np.ndarray:
+    """``rgb`` seen through fog that lets ``transmission`` of its light through and adds
+    the 8-bit grey ``airlight`` for the rest (Koschmieder's law at one distance)."""
+    linear = (rgb.astype(np.float64) / 255.0) ** GAMMA
+    fog = (airlight / 255.0) ** GAMMA
+    out = transmission * linear + (1.0 - transmission) * fog
+    return np.floor(255.0 * out ** (1.0 / GAMMA) + 0.5).astype(np.uint8)
+
+
+def transmissions(text: str) -> list[float]:
+    """``--veil``'s comma-separated transmissions, each in (0, 1]."""
+    try:
+        values = [float(t) for t in text.split(",") if t.strip()]
+    except ValueError:
+        raise SystemExit(f"--veil {text!r}: comma-separated numbers, as in 0.8,0.6") from None
+    if not values or not all(0.0 < t <= 1.0 for t in values):
+        raise SystemExit(f"--veil {text!r}: each transmission is in (0, 1]")
+    return values
 
 
 def named(counts: Counter, names: tuple[str, ...]) -> str:
@@ -74,17 +104,45 @@ def interior(labels: np.ndarray, margin: int) -> np.ndarray:
     return out
 
 
-def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counter]]:
-    """Per judge class and sample ("all", "clear day"): the judge's answers on our interior pixels."""
+def _targets() -> tuple[list[str], np.ndarray]:
+    """The judge classes our classes are judged as, and our class id → index among them (−1: none)."""
     targets = sorted(set(CITYSCAPES.judged_as.values()))
     to_target = np.full(65536, -1, dtype=np.int32)
     for ours, m in CITYSCAPES.judged_as.items():
         to_target[PIXEL_CLASSES[ours].class_id] = targets.index(m)
+    return targets, to_target
+
+
+def _tally(answers: dict[str, Counter], target: np.ndarray, said: np.ndarray, targets: list[str]) -> None:
+    """Add the judge's answers ``said`` on the interior pixels of each class of ``target``."""
+    inside = interior(target, MARGIN_PX) & (target >= 0)
+    for t in np.unique(target[inside]):
+        values, counts = np.unique(said[inside & (target == t)], return_counts=True)
+        answers[targets[t]].update(dict(zip(values.tolist(), counts.tolist(), strict=True)))
+
+
+def judge_dump(folder: Path, group: str) -> dict[str, dict[str, Counter]]:
+    """As ``judge_ours``, from the frames and Cityscapes answers a ``judged_frames.py --dump``
+    stored, over those of condition ``group``."""
+    targets, to_target = _targets()
+    answers: dict[str, Counter] = defaultdict(Counter)
+    for f in dump_files(folder):
+        with np.load(f) as z:
+            if "said" in z and group in (str(g) for g in z["where"]):
+                _tally(answers, to_target[z["ours"]], z["said"], targets)
+    if not answers:
+        raise SystemExit(f"{folder}: no judged outdoor frame of {group} (judged_frames.py --dump {folder})")
+    return {m: {group: a} for m, a in answers.items()}
+
+
+def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counter]]:
+    """Per judge class and sample ("all", "clear day"): the judge's answers on our interior pixels."""
+    targets, to_target = _targets()
     table = read_recipe_table(root / "recipes.parquet")
     looks = {v: (e, w in ("clear", "overcast") and d == "day") for v, e, w, d in zip(
         table.column("video_id"), table.column("environment"), table.column("weather"), table.column("day_phase"),
         strict=True)}  # fmt: skip
-    answers: dict[str, dict[str, Counter]] = defaultdict(lambda: defaultdict(Counter))
+    answers: dict[str, dict[str, Counter]] = defaultdict(dict)
     lut = class_lut()[0]
     reader = ClipReader(root)
     try:
@@ -95,12 +153,12 @@ def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counte
             clip = reader.read(video, chosen, ("rgb", "semantic"))
             for rgb, semantic in zip(clip["rgb"], clip["semantic"], strict=True):
                 target = to_target[lut[rgb_code(semantic)]]
-                inside = interior(target, MARGIN_PX) & (target >= 0)
                 said = segmenter.labels(rgb)
-                for t in np.unique(target[inside]):
-                    values, counts = np.unique(said[inside & (target == t)], return_counts=True)
-                    for sample in ("all", "clear day") if clear_day else ("all",):
-                        answers[targets[t]][sample].update(dict(zip(values.tolist(), counts.tolist(), strict=True)))
+                for sample in ("all", "clear day") if clear_day else ("all",):
+                    per_class: dict[str, Counter] = defaultdict(Counter)
+                    _tally(per_class, target, said, targets)
+                    for m, counts in per_class.items():
+                        answers[m].setdefault(sample, Counter()).update(counts)
     finally:
         reader.close()
     return answers
@@ -111,23 +169,34 @@ def main() -> None:
     parser.add_argument("photos", type=Path, help="the directory of OpenCV's sample data")
     parser.add_argument("--ours", type=Path, help="a dataset: the same figure on its frames")
     parser.add_argument("--frames", type=int, default=400)
+    parser.add_argument("--dump", type=Path, help="judged_frames.py --dump's folder: the same figure on its frames")
+    parser.add_argument("--group", default="all", help="with --dump: the condition group, e.g. weather=fog")
+    parser.add_argument("--veil", default="", help="fog transmissions T,T,… to judge each photograph through")
+    parser.add_argument("--airlight", type=float, default=215.0, help="the fog's 8-bit grey (our foggy days' sky)")
     args = parser.parse_args()
+    veils = transmissions(args.veil) if args.veil else []
+    if not 0.0 <= args.airlight <= 255.0:
+        raise SystemExit(f"--airlight {args.airlight}: an 8-bit grey, 0 to 255")
     segmenter = load_judges(threads=2).segmenters["cityscapes"]
     names = segmenter.classes.labels
-    print("| photograph | class | box (x0, y0, x1, y1) | named as the class | named most |")
-    print("| --- | --- | --- | ---: | --- |")
+    through = "".join(f" through fog, T = {t:g} |" for t in veils)
+    print(f"| photograph | class | box (x0, y0, x1, y1) | named as the class |{through} named most |")
+    print("| --- | --- | --- | ---: |" + " ---: |" * len(veils) + " --- |")
     for photo, regions in REGIONS.items():
-        said = segmenter.labels(as_frame(args.photos / photo))
+        frame = as_frame(args.photos / photo)
+        said, *fogged = (segmenter.labels(f) for f in [frame] + [veiled(frame, t, args.airlight) for t in veils])
         for m, (x0, y0, x1, y1) in regions:
             inside = said[y0:y1, x0:x1]
-            share = float(np.isin(inside, CITYSCAPES.answer_ids(m)).mean())
+            shares = [float(np.isin(s[y0:y1, x0:x1], CITYSCAPES.answer_ids(m)).mean()) for s in (said, *fogged)]
             answers = Counter(dict(zip(*(a.tolist() for a in np.unique(inside, return_counts=True)), strict=True)))
-            print(f"| {photo} | {m} | {x0}, {y0}, {x1}, {y1} | {share:.2f} | {named(answers, names)} |")
-    if args.ours is None:
+            cells = " | ".join(f"{v:.2f}" for v in shares)
+            print(f"| {photo} | {m} | {x0}, {y0}, {x1}, {y1} | {cells} | {named(answers, names)} |")
+    if args.ours is None and args.dump is None:
         return
+    ours = judge_dump(args.dump, args.group) if args.dump else judge_ours(args.ours, segmenter, args.frames)
     print(f"\n| our class (≥ {MARGIN_PX} px inside) | frames | pixels | named as the class | named most |")
     print("| --- | --- | ---: | ---: | --- |")
-    for m, samples in sorted(judge_ours(args.ours, segmenter, args.frames).items()):
+    for m, samples in sorted(ours.items()):
         for sample, answers in sorted(samples.items()):
             total = sum(answers.values())
             hit = sum(answers[i] for i in CITYSCAPES.answer_ids(m))

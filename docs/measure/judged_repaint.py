@@ -14,7 +14,11 @@ Repaints, in linear light (the renderer's 2.2 display curve undone, then applied
 - ``tint:T``: the whole frame's red × (1 − T), blue × (1 + T): a cooler light;
 - ``sky-tint:T``: the same, on our sky only;
 - ``sky-gain:G``: our sky G times brighter (clipped at white);
-- ``sky-grey:V``: our sky one flat grey of 8-bit value V.
+- ``sky-grey:V``: our sky one flat grey of 8-bit value V;
+- ``gain:G``: the whole frame G times brighter (clipped at white);
+- ``grass-chroma:S``: our grass's colour S times as far from its grey (its luminance kept);
+- ``dehaze:A``: the share A of the frame's airlight taken out (the median colour of our sky,
+  or the frame's brightest without one) and the rest stretched back, as a dehazer does.
 """
 
 from __future__ import annotations
@@ -33,7 +37,11 @@ from phav_validators.realism.check import Tally, cityscapes_miou, judge_world
 
 JUDGE = "cityscapes"
 _SKY = PIXEL_CLASSES["sky"].class_id
+_GRASS = PIXEL_CLASSES["terrain"].class_id
 _GAMMA = 2.2
+_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+#: Sky pixels a frame needs for its airlight to be its sky's median colour.
+_SKY_FOR_AIRLIGHT = 500
 
 Repaint = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
@@ -66,9 +74,32 @@ def _where(sky_only: bool, change: Callable[[np.ndarray], np.ndarray]) -> Repain
     return paint
 
 
+def _grass_chroma(scale: float) -> Repaint:
+    def paint(rgb: np.ndarray, ours: np.ndarray) -> np.ndarray:
+        x = _linear(rgb)
+        grey = (x @ _LUMINANCE)[..., None]
+        return np.where((ours == _GRASS)[..., None], _display(grey + scale * (x - grey)), rgb)
+
+    return paint
+
+
+def _dehaze(share: float) -> Repaint:
+    def paint(rgb: np.ndarray, ours: np.ndarray) -> np.ndarray:
+        x = _linear(rgb)
+        sky = ours == _SKY
+        if sky.sum() >= _SKY_FOR_AIRLIGHT:
+            airlight = np.median(x[sky], axis=0)
+        else:
+            airlight = x.reshape(-1, 3)[np.argmax(x.reshape(-1, 3) @ _LUMINANCE)]
+        return _display((x - share * airlight) / (1.0 - share))
+
+    return paint
+
+
 def repaint(spec: str) -> Repaint:
     """The repaint ``spec`` names (``none``, ``tint:T``, ``sky-tint:T``, ``sky-gain:G``,
-    ``sky-grey:V``; the module doc says what each does)."""
+    ``sky-grey:V``, ``gain:G``, ``grass-chroma:S``, ``dehaze:A``; the module doc says what
+    each does)."""
     name, _, arg = spec.partition(":")
     if name == "none" and not arg:
         return lambda rgb, ours: rgb
@@ -89,7 +120,20 @@ def repaint(spec: str) -> Repaint:
         if not 0.0 <= value <= 255.0:
             raise SystemExit(f"repaint {spec!r}: a grey is an 8-bit value, 0 to 255")
         return _where(True, lambda x: np.full_like(x, (value / 255.0) ** _GAMMA))
-    raise SystemExit(f"repaint {spec!r}: not one of none, tint:T, sky-tint:T, sky-gain:G, sky-grey:V")
+    if name == "gain":
+        if value <= 0.0:
+            raise SystemExit(f"repaint {spec!r}: a gain is above 0")
+        return _where(False, lambda x: x * value)
+    if name == "grass-chroma":
+        if value < 0.0:
+            raise SystemExit(f"repaint {spec!r}: a chroma scale is 0 (grey) or above")
+        return _grass_chroma(value)
+    if name == "dehaze":
+        if not 0.0 <= value < 1.0:
+            raise SystemExit(f"repaint {spec!r}: a dehaze's share is in [0, 1)")
+        return _dehaze(value)
+    raise SystemExit(f"repaint {spec!r}: not one of none, tint:T, sky-tint:T, sky-gain:G, sky-grey:V, gain:G, "
+                     "grass-chroma:S, dehaze:A")  # fmt: skip
 
 
 def scores(frames: Iterable[Painted], paint: Repaint, labels: Callable[[np.ndarray], np.ndarray],
@@ -135,7 +179,8 @@ def table(rows: Sequence[tuple[str, float, dict[str, float]]]) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("dump", type=Path, help="the folder judged_frames.py --dump wrote")
-    parser.add_argument("repaints", nargs="+", help="none, tint:T, sky-tint:T, sky-gain:G, sky-grey:V")
+    parser.add_argument("repaints", nargs="+", help="none, tint:T, sky-tint:T, sky-gain:G, sky-grey:V, gain:G, "
+                        "grass-chroma:S, dehaze:A (the module doc says what each does)")  # fmt: skip
     parser.add_argument("--group", default="all", help="only the frames of this group, e.g. weather=rain")
     args = parser.parse_args()
     paints = [(spec, repaint(spec)) for spec in args.repaints]  # every spec checked before judging

@@ -52,7 +52,26 @@ def test_repaints_change_only_what_they_name(script):
     assert (script.repaint("sky-gain:10")(f.rgb, f.ours)[:2] == 255).all()  # clipped at white
 
 
-@pytest.mark.parametrize("spec", ["tint", "tint:x", "tint:1.5", "sky-gain:0", "sky-grey:300", "blur:2"])
+def test_fog_repaints_change_the_grass_or_take_the_airlight_out(script):
+    f = _frame(script)
+    brighter = script.repaint("gain:2")(f.rgb, f.ours)
+    assert (brighter > f.rgb).all() and (script.repaint("gain:100")(f.rgb, f.ours) == 255).all()
+    greener = script.repaint("grass-chroma:2")(f.rgb, f.ours)
+    assert np.array_equal(greener[:2], f.rgb[:2])  # the sky as it was
+    g = greener[2:].astype(int)
+    assert (g[..., 1] - g[..., 0] > 20).all() and (g[..., 1] - g[..., 2] > 40).all()  # farther from grey
+    grey = script.repaint("grass-chroma:0")(f.rgb, f.ours)[2:]
+    assert (grey.max(axis=-1).astype(int) - grey.min(axis=-1) <= 1).all()
+    # a frame mixed half-and-half with its sky's colour is its own again once half of that is out
+    x = script._linear(f.rgb)
+    airlight = x[0, 0]
+    hazed = script._display(0.5 * x + 0.5 * airlight)
+    clear = script.repaint("dehaze:0.5")(hazed, f.ours)
+    assert (np.abs(clear.astype(int) - f.rgb) <= 2).all()
+
+
+@pytest.mark.parametrize("spec", ["tint", "tint:x", "tint:1.5", "sky-gain:0", "sky-grey:300", "blur:2", "gain:0",
+                                  "grass-chroma:-1", "dehaze:1"])  # fmt: skip
 def test_a_bad_repaint_is_one_line(script, spec):
     with pytest.raises(SystemExit, match=re.escape(f"repaint '{spec}'")):
         script.repaint(spec)

@@ -1,0 +1,62 @@
+"""docs/measure/judged_real.py: real photographs through fog, and our dumped frames' answers
+per class (docs/realism.md)."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from phav_spec.judge_classes import JUDGE_CLASSES
+from phav_spec.vocab import PIXEL_CLASSES
+from tests.validators.learn.helpers import measure_script
+
+CITY = JUDGE_CLASSES["cityscapes"]
+SKY, GRASS = PIXEL_CLASSES["sky"].class_id, PIXEL_CLASSES["terrain"].class_id
+
+
+@pytest.fixture(scope="module")
+def script():
+    return measure_script("judged_real")
+
+
+def test_a_veil_mixes_each_pixel_towards_the_airlight_in_linear_light(script):
+    rgb = np.array([[[0, 0, 0], [255, 255, 255], [40, 120, 200]]], np.uint8)
+    assert np.array_equal(script.veiled(rgb, 1.0, 215.0), rgb)  # no fog: the photograph
+    half = script.veiled(rgb, 0.5, 215.0)
+    fog = (215.0 / 255.0) ** script.GAMMA
+    assert (half[0, 0] == np.floor(255.0 * (0.5 * fog) ** (1 / script.GAMMA) + 0.5)).all()  # black: half the fog
+    towards = np.abs(half.astype(int) - 215) <= np.abs(rgb.astype(int) - 215)
+    assert towards.all() and not np.array_equal(half, rgb)
+    assert (np.abs(script.veiled(rgb, 1e-6, 215.0).astype(int) - 215) <= 1).all()  # nothing through: the fog
+
+
+def test_veil_transmissions_parse_or_exit_in_one_line(script):
+    assert script.transmissions("0.8, 0.6,0.4") == [0.8, 0.6, 0.4]
+    for bad in ("0.8,x", "0", "1.5", ","):
+        with pytest.raises(SystemExit, match="--veil"):
+            script.transmissions(bad)
+
+
+def _frame(tmp_path, name: str, groups: tuple[str, ...]) -> None:
+    """12 × 16: sky over grass; the judge says sky on the sky and road on the grass."""
+    ours = np.full((12, 16), GRASS, np.uint8)
+    ours[:6] = SKY
+    said = np.full((12, 16), CITY.label_id("road"), np.uint8)
+    said[:6] = CITY.label_id("sky")
+    np.savez_compressed(tmp_path / name, rgb=np.zeros((12, 16, 3), np.uint8), ours=ours, said=said,
+                        where=np.array(groups))  # fmt: skip
+
+
+def test_the_dump_gives_the_answers_on_each_class_interior_in_one_group(script, tmp_path):
+    _frame(tmp_path, "v000000-001.npz", ("all", "weather=fog"))
+    _frame(tmp_path, "v000001-001.npz", ("all", "weather=clear"))
+    answers = script.judge_dump(tmp_path, "weather=fog")
+    inside = script.interior(np.repeat([0, 1], 6)[:, None] * np.ones((1, 16), int), script.MARGIN_PX)
+    per_half = int(inside[6:].sum())  # the grass rows at least 4 px from the sky and kept by the edge
+    assert answers["terrain"] == {"weather=fog": Counter({CITY.label_id("road"): per_half})}
+    assert answers["sky"] == {"weather=fog": Counter({CITY.label_id("sky"): int(inside[:6].sum())})}
+    assert script.judge_dump(tmp_path, "all")["terrain"]["all"][CITY.label_id("road")] == 2 * per_half
+    with pytest.raises(SystemExit, match="no judged outdoor frame of weather=rain"):
+        script.judge_dump(tmp_path, "weather=rain")
