@@ -153,11 +153,10 @@ def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counte
             clip = reader.read(video, chosen, ("rgb", "semantic"))
             for rgb, semantic in zip(clip["rgb"], clip["semantic"], strict=True):
                 target = to_target[lut[rgb_code(semantic)]]
-                said = segmenter.labels(rgb)
-                for sample in ("all", "clear day") if clear_day else ("all",):
-                    per_class: dict[str, Counter] = defaultdict(Counter)
-                    _tally(per_class, target, said, targets)
-                    for m, counts in per_class.items():
+                per_class: dict[str, Counter] = defaultdict(Counter)
+                _tally(per_class, target, segmenter.labels(rgb), targets)
+                for m, counts in per_class.items():
+                    for sample in ("all", "clear day") if clear_day else ("all",):
                         answers[m].setdefault(sample, Counter()).update(counts)
     finally:
         reader.close()
