@@ -7,16 +7,30 @@ import contextlib
 import hashlib
 import os
 import shutil
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from unittest import mock
 
 import pytest
-from hypothesis import HealthCheck, settings
 
-from phav_spec.recipe import Recipe
-from phav_spec.theta import Theta
-from tests.helpers import (
+#: Environment variables that pick the numeric kernels a process runs: OpenBLAS's CPU type,
+#: numpy's SIMD targets, torch's and MKL's code paths, llvmpipe's. The tests compare what this
+#: process computes with what CLI runs in a bare environment compute, so every process of a
+#: run must run the same kernels: this one drops them too (some hosts set OPENBLAS_CORETYPE
+#: for every process), before numpy loads OpenBLAS. A test sets one for a run it starts.
+NUMERIC_ENV_PREFIXES = ("OPENBLAS_", "NPY_", "ATEN_", "MKL_", "LP_", "GALLIUM_")
+_NUMERIC_SET = sorted(n for n in os.environ if n.startswith(NUMERIC_ENV_PREFIXES))
+if _NUMERIC_SET and "numpy" in sys.modules:
+    raise pytest.UsageError(f"{', '.join(_NUMERIC_SET)} set and numpy already loaded: unset them and run again")
+for _name in _NUMERIC_SET:
+    del os.environ[_name]
+
+from hypothesis import HealthCheck, settings  # noqa: E402 (after the environment above)
+
+from phav_spec.recipe import Recipe  # noqa: E402
+from phav_spec.theta import Theta  # noqa: E402
+from tests.helpers import (  # noqa: E402
     RAY_DELAY_S,
     SMALL_SEED,
     SMALL_SHARD_SIZE,

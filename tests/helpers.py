@@ -67,20 +67,13 @@ def tiny_theta() -> Theta:
     return parse_theta(data, source="<phav-v1-tiny>")
 
 
-#: Environment variables that choose the numeric kernels a process runs (OpenBLAS's CPU
-#: type, numpy's SIMD targets, torch's and MKL's code paths, llvmpipe's): a CLI run keeps
-#: this process's, so that its bytes can be compared with what this process computes.
-NUMERIC_ENV_PREFIXES = ("OPENBLAS_", "NPY_", "ATEN_", "MKL_", "LP_", "GALLIUM_")
-
-
 def _cli_env() -> dict[str, str]:
     """A bare environment for a CLI run, keeping where phav's per-machine cache is (the body
-    data: HOME or PHAV_CACHE_DIR), so no subprocess builds it again, and the numeric kernels'
-    settings (``NUMERIC_ENV_PREFIXES``)."""
+    data: HOME or PHAV_CACHE_DIR), so no subprocess builds it again."""
     env = {"COLUMNS": "200", "PATH": ""}
-    for name, value in os.environ.items():
-        if name in ("HOME", "PHAV_CACHE_DIR") or name.startswith(NUMERIC_ENV_PREFIXES):
-            env[name] = value
+    for name in ("HOME", "PHAV_CACHE_DIR"):
+        if name in os.environ:
+            env[name] = os.environ[name]
     return env
 
 
