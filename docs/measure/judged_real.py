@@ -26,7 +26,8 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 import numpy as np
-from judged_frames import dump_files
+from judged_frames import dumped
+from judged_repaint import display, linear
 from PIL import Image
 
 from phav_spec.clips import ClipReader
@@ -54,8 +55,6 @@ REGIONS: dict[str, list[tuple[str, tuple[int, int, int, int]]]] = {
 }  # fmt: skip
 #: Most-named classes shown per row.
 SHOWN = 3
-#: The renderer's display curve: a veil is laid in linear light.
-GAMMA = 2.2
 
 
 def as_frame(path: Path) -> np.ndarray:
@@ -70,11 +69,8 @@ def as_frame(path: Path) -> np.ndarray:
 
 def veiled(rgb: np.ndarray, transmission: float, airlight: float) -> np.ndarray:
     """``rgb`` seen through fog that lets ``transmission`` of its light through and adds
-    the 8-bit grey ``airlight`` for the rest (Koschmieder's law at one distance)."""
-    linear = (rgb.astype(np.float64) / 255.0) ** GAMMA
-    fog = (airlight / 255.0) ** GAMMA
-    out = transmission * linear + (1.0 - transmission) * fog
-    return np.floor(255.0 * out ** (1.0 / GAMMA) + 0.5).astype(np.uint8)
+    the 8-bit grey ``airlight`` for the rest (Koschmieder's law at one distance), in linear light."""
+    return display(transmission * linear(rgb) + (1.0 - transmission) * linear(np.float64(airlight)))
 
 
 def transmissions(text: str) -> list[float]:
@@ -126,10 +122,9 @@ def judge_dump(folder: Path, group: str) -> dict[str, dict[str, Counter]]:
     stored, over those of condition ``group``."""
     targets, to_target = _targets()
     answers: dict[str, Counter] = defaultdict(Counter)
-    for f in dump_files(folder):
-        with np.load(f) as z:
-            if "said" in z and group in (str(g) for g in z["where"]):
-                _tally(answers, to_target[z["ours"]], z["said"], targets)
+    for _, where, ours, said in dumped(folder):
+        if "cityscapes" in said and group in where:
+            _tally(answers, to_target[ours], said["cityscapes"], targets)
     if not answers:
         raise SystemExit(f"{folder}: no judged outdoor frame of {group} (judged_frames.py --dump {folder})")
     return {m: {group: a} for m, a in answers.items()}

@@ -56,17 +56,19 @@ class Painted:
     groups: tuple[str, ...]
 
 
-def _linear(rgb: np.ndarray) -> np.ndarray:
+def linear(rgb: np.ndarray) -> np.ndarray:
+    """8-bit display values in linear light (the renderer's 2.2 curve undone)."""
     return (rgb.astype(np.float64) / 255.0) ** _GAMMA
 
 
-def _display(x: np.ndarray) -> np.ndarray:
+def display(x: np.ndarray) -> np.ndarray:
+    """Linear light back to 8-bit display values, clipped to [0, 1] first."""
     return np.floor(255.0 * np.clip(x, 0.0, 1.0) ** (1.0 / _GAMMA) + 0.5).astype(np.uint8)
 
 
 def _where(sky_only: bool, change: Callable[[np.ndarray], np.ndarray]) -> Repaint:
     def paint(rgb: np.ndarray, ours: np.ndarray) -> np.ndarray:
-        out = _display(change(_linear(rgb)))
+        out = display(change(linear(rgb)))
         if sky_only:
             out = np.where((ours == _SKY)[..., None], out, rgb)
         return out
@@ -76,22 +78,23 @@ def _where(sky_only: bool, change: Callable[[np.ndarray], np.ndarray]) -> Repain
 
 def _grass_chroma(scale: float) -> Repaint:
     def paint(rgb: np.ndarray, ours: np.ndarray) -> np.ndarray:
-        x = _linear(rgb)
+        x = linear(rgb)
         grey = (x @ _LUMINANCE)[..., None]
-        return np.where((ours == _GRASS)[..., None], _display(grey + scale * (x - grey)), rgb)
+        return np.where((ours == _GRASS)[..., None], display(grey + scale * (x - grey)), rgb)
 
     return paint
 
 
 def _dehaze(share: float) -> Repaint:
     def paint(rgb: np.ndarray, ours: np.ndarray) -> np.ndarray:
-        x = _linear(rgb)
+        x = linear(rgb)
         sky = ours == _SKY
         if sky.sum() >= _SKY_FOR_AIRLIGHT:
             airlight = np.median(x[sky], axis=0)
         else:
-            airlight = x.reshape(-1, 3)[np.argmax(x.reshape(-1, 3) @ _LUMINANCE)]
-        return _display((x - share * airlight) / (1.0 - share))
+            pixels = x.reshape(-1, 3)
+            airlight = pixels[np.argmax(pixels @ _LUMINANCE)]
+        return display((x - share * airlight) / (1.0 - share))
 
     return paint
 

@@ -25,8 +25,8 @@ def test_a_veil_mixes_each_pixel_towards_the_airlight_in_linear_light(script):
     rgb = np.array([[[0, 0, 0], [255, 255, 255], [40, 120, 200]]], np.uint8)
     assert np.array_equal(script.veiled(rgb, 1.0, 215.0), rgb)  # no fog: the photograph
     half = script.veiled(rgb, 0.5, 215.0)
-    fog = (215.0 / 255.0) ** script.GAMMA
-    assert (half[0, 0] == np.floor(255.0 * (0.5 * fog) ** (1 / script.GAMMA) + 0.5)).all()  # black: half the fog
+    fog = (215.0 / 255.0) ** 2.2  # the renderer's display curve, undone
+    assert (half[0, 0] == np.floor(255.0 * (0.5 * fog) ** (1 / 2.2) + 0.5)).all()  # black: half the fog
     towards = np.abs(half.astype(int) - 215) <= np.abs(rgb.astype(int) - 215)
     assert towards.all() and not np.array_equal(half, rgb)
     assert (np.abs(script.veiled(rgb, 1e-6, 215.0).astype(int) - 215) <= 1).all()  # nothing through: the fog

@@ -63,9 +63,9 @@ def test_fog_repaints_change_the_grass_or_take_the_airlight_out(script):
     grey = script.repaint("grass-chroma:0")(f.rgb, f.ours)[2:]
     assert (grey.max(axis=-1).astype(int) - grey.min(axis=-1) <= 1).all()
     # a frame mixed half-and-half with its sky's colour is its own again once half of that is out
-    x = script._linear(f.rgb)
+    x = script.linear(f.rgb)
     airlight = x[0, 0]
-    hazed = script._display(0.5 * x + 0.5 * airlight)
+    hazed = script.display(0.5 * x + 0.5 * airlight)
     clear = script.repaint("dehaze:0.5")(hazed, f.ours)
     assert (np.abs(clear.astype(int) - f.rgb) <= 2).all()
 
