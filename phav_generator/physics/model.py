@@ -316,6 +316,12 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
         # room to stop the camera before the sphere itself reaches the wall.
         g.margin = CAMERA_MARGIN_M if collide else 0.0
         g.solref = [CAMERA_CONTACT_TIMECONST, 1.0]
+        if collide:
+            # Frictionless (its condim wins by priority over the world's): pulled against a
+            # hedge or a wall, the camera slides along it and round its end, as an operator
+            # steps round it, instead of sticking to it while the protagonist walks away.
+            g.condim = 1
+            g.priority = 1
         s = body.add_site()
         s.name = name
     anchor = spec.worldbody.add_body()

@@ -1,10 +1,16 @@
 """Where the camera starts: the recipe's C_xyz and T_xyz, put on the protagonist's actual
-first pose and moved out of the environment's walls; what a spring camera's target holds on to."""
+first pose, moved out of the environment's walls and turned to see past what stands between
+it and the protagonist; what a spring camera's target holds on to."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
 
+from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES
@@ -34,11 +40,84 @@ def _inside(colliders, point: np.ndarray, clearance: float, floor: float = -np.i
     )
 
 
+@dataclass(frozen=True)
+class Blocker:
+    """A box that can stand between the camera and the protagonist: centre, half sizes and
+    the rows of its rotation (world = rows.T @ local), all in plain floats."""
+
+    center: tuple[float, float, float]
+    half: tuple[float, float, float]
+    rows: tuple[tuple[float, float, float], ...]
+
+    @classmethod
+    def of(cls, center: Sequence[float], half: Sequence[float], rotation: np.ndarray) -> Blocker:
+        """From a centre, half sizes and a (3, 3) rotation whose columns are the box's axes."""
+        r = np.asarray(rotation, dtype=np.float64)
+        rows = tuple(tuple(float(v) for v in r[:, k]) for k in range(3))
+        return cls(tuple(float(v) for v in center), tuple(float(v) for v in half[:3]), rows)  # type: ignore[arg-type]
+
+    @classmethod
+    def turned(cls, center: Sequence[float], half: Sequence[float], yaw_deg: float) -> Blocker:
+        """A box turned by ``yaw_deg`` about +z (a collider's or an action's static box)."""
+        c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+        return cls.of(center, half, np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]))
+
+    def crosses(self, a: Sequence[float], b: Sequence[float]) -> bool:
+        """Whether the segment a → b passes through the box (slab test in its own frame).
+
+        Written in Python floats, not numpy products, so the answer cannot depend on the
+        machine's BLAS kernels."""
+        t0, t1 = 0.0, 1.0
+        for row, h in zip(self.rows, self.half, strict=True):
+            pa = sum(r * (x - c) for r, x, c in zip(row, a, self.center, strict=True))
+            pb = sum(r * (x - c) for r, x, c in zip(row, b, self.center, strict=True))
+            d = pb - pa
+            if abs(d) < 1e-12:
+                if abs(pa) > h:
+                    return False
+                continue
+            u0, u1 = sorted(((-h - pa) / d, (h - pa) / d))
+            t0, t1 = max(t0, u0), min(t1, u1)
+            if t0 > t1:
+                return False
+        return True
+
+
+#: A line of sight ends this far (m) short of the anchor: a box the protagonist stands,
+#: sits or leans in does not count as standing between.
+SIGHT_END_M = 0.3
+#: The turns (degrees about the vertical through the target) tried for a clear view, nearest first.
+SIGHT_TURNS_DEG = tuple(s * 10.0 * k for k in range(1, 18) for s in (1.0, -1.0))
+
+
+def sees(start: Sequence[float], target: Sequence[float], blockers: Sequence[Blocker]) -> bool:
+    """Whether nothing in ``blockers`` stands on the line from ``start`` to ``target``."""
+    a, b = np.asarray(start, dtype=np.float64), np.asarray(target, dtype=np.float64)
+    length = math.dist(a, b)
+    if length <= SIGHT_END_M:
+        return True
+    end = [float(x) for x in a + (b - a) * ((length - SIGHT_END_M) / length)]
+    return not any(box.crosses([float(x) for x in a], end) for box in blockers)
+
+
+def hidden(start: Sequence[float], anchors: Sequence[Sequence[float]], blockers: Sequence[Blocker]) -> int:
+    """How many of ``anchors`` (points on the protagonist's planned path) something hides
+    from ``start``."""
+    return sum(not sees(start, a, blockers) for a in anchors)
+
+
 def clear_camera_start(
-    recipe: Recipe, clearance: float = 0.25, *, shift: np.ndarray | None = None
+    recipe: Recipe,
+    clearance: float = 0.25,
+    *,
+    shift: np.ndarray | None = None,
+    blockers: Sequence[Blocker] = (),
+    anchors: Sequence[Sequence[float]] = (),
 ) -> tuple[float, float, float]:
     """The camera's start, moved clear of the environment's geometry: lifted, or slid
-    towards its target.
+    towards its target; then, if something in ``blockers`` stands between it and the
+    protagonist's planned path ``anchors`` (the span its camera must see), turned about the
+    vertical through the target to the nearest view that hides fewest of them.
 
     The sampler places C_xyz around the protagonist without looking at the geometry, so a
     start inside something is moved, deterministically, up to ``LIFT_M`` straight up (over
@@ -47,12 +126,38 @@ def clear_camera_start(
     ``shift`` moves camera and target together first (a spring camera's rig put on the
     protagonist's actual first pose): a rig lowered onto a seated or lying body can put the
     camera into the ground, where the slide would end on the body itself.
+
+    The turn keeps the sampled distance and height to the target (only the azimuth
+    changes) and takes, of ``SIGHT_TURNS_DEG`` whose start is free, the nearest that hides
+    fewest anchors, if fewer than the start does; a start that sees every anchor stays as
+    it is. The recipe keeps the sampled C_xyz: the plan departs from it only where it is
+    blocked, as it does where a start is inside a wall.
     """
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     colliders, floor = env.colliders, float(getattr(env, "ground_z", 0.0))
     offset = np.zeros(3) if shift is None else np.asarray(shift, dtype=np.float64)
     start = np.array(recipe.camera.position, dtype=np.float64) + offset
     target = np.array(recipe.camera.target, dtype=np.float64) + offset
+    cleared = _cleared(colliders, floor, start, target, clearance)
+    best, fewest = cleared, hidden(cleared, anchors, blockers)
+    dx, dy = float(start[0] - target[0]), float(start[1] - target[1])
+    for turn in SIGHT_TURNS_DEG:
+        if fewest == 0:
+            break
+        c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
+        turned = (float(target[0]) + c * dx - s * dy, float(target[1]) + s * dx + c * dy, float(start[2]))
+        if _inside(colliders, np.array(turned), clearance, floor):
+            continue
+        n = hidden(turned, anchors, blockers)
+        if n < fewest:
+            best, fewest = turned, n
+    return best
+
+
+def _cleared(
+    colliders, floor: float, start: np.ndarray, target: np.ndarray, clearance: float
+) -> tuple[float, float, float]:
+    """``start`` lifted, or slid towards ``target``, to the first point ``clearance`` clear."""
     for j in range(round(LIFT_M / 0.05) + 1):
         lifted = start + np.array([0.0, 0.0, 0.05 * j])
         if not _inside(colliders, lifted, clearance, floor):
@@ -64,3 +169,18 @@ def clear_camera_start(
         if not _inside(colliders, point, clearance, floor):
             return (float(point[0]), float(point[1]), float(point[2]))
     return tuple(float(v) for v in target)  # type: ignore[return-value]
+
+
+def view_blockers(colliders, boxes, props) -> tuple[Blocker, ...]:
+    """What can hide the protagonist from a camera's start: the environment's colliders, the
+    action's static boxes and every prop no one holds (a door's leaf, a pushed load, a car),
+    at its first pose."""
+    out = [Blocker.turned(c.center, c.half_size, c.yaw_deg) for c in (*colliders, *boxes)]
+    for prop in props:
+        if prop.shape != "box" or prop.grips:
+            continue
+        rot = quat_to_matrix(np.asarray(prop.quat, dtype=np.float64))
+        centre = [float(p) + sum(float(r) * o for r, o in zip(row, prop.offset, strict=True))
+                  for p, row in zip(prop.pos, rot, strict=True)]  # fmt: skip
+        out.append(Blocker.of(centre, prop.size, rot))
+    return tuple(out)

@@ -15,7 +15,7 @@ import numpy as np
 from phav_generator.motion.skeleton import forward_kinematics
 from phav_generator.physics.plan.background import background_people
 from phav_generator.physics.plan.builder import PlanBuilder
-from phav_generator.physics.plan.camera import anchor_point, clear_camera_start
+from phav_generator.physics.plan.camera import anchor_point, clear_camera_start, view_blockers
 from phav_generator.physics.plan.car_hit import car_hit
 from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
 from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
@@ -30,7 +30,7 @@ from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ, choose_subs
 from phav_generator.physics.plan.variations import apply_variation
 from phav_generator.physics.traffic import footprint_points, plan_traffic
 from phav_spec.recipe import Recipe
-from phav_spec.scene import ACTION_SCENES
+from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 
 
@@ -45,6 +45,9 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     people = (*people, *background_people(b))
     camera_target = _camera_target(recipe, people[0])
     shift = None if camera_target is None else np.array(camera_target) - np.array(recipe.camera.target)
+    anchors = _view_anchors(recipe, people[0], substeps)
+    blockers = () if not anchors else view_blockers(
+        ENVIRONMENT_SCENES[recipe.environment.name].colliders, b.boxes, b.props)  # fmt: skip
     return ScenePlan(
         recipe=recipe,
         fps=recipe.video.fps,
@@ -56,7 +59,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         ties=tuple(b.ties),
         manipulations=tuple(b.manipulations),
         stand_offset_z=b.stand_offset_z,
-        camera_start=clear_camera_start(recipe, shift=shift),
+        camera_start=clear_camera_start(recipe, shift=shift, blockers=blockers, anchors=anchors),
         camera_target=camera_target,
         traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, substeps)),
     )
@@ -70,6 +73,28 @@ def _camera_target(recipe: Recipe, protagonist: PersonPlan) -> tuple[float, floa
     t = protagonist.targets
     pos, _ = forward_kinematics(protagonist.dims, t.root_pos[:1], t.root_quat[:1], t.q[:1])
     return tuple(float(v) for v in anchor_point(recipe.camera.kind, pos[0]))  # type: ignore[return-value]
+
+
+#: The cameras whose start turns to see the protagonist: those whose azimuth θ draws round
+#: the whole circle (a close-up's is drawn in front of the protagonist; turned, it would
+#: film its back), with how long (s) of the planned path each must see: the kite follows
+#: after its first seconds in its springs' dead zones, a fixed mount sees the whole clip.
+VIEW_CHECK_S = {"kite": 3.0, "indoors": math.inf, "static": math.inf}
+#: Every how many frames of the planned path the view is checked.
+VIEW_CHECK_EVERY = 5
+
+
+def _view_anchors(recipe: Recipe, protagonist: PersonPlan, substeps: int) -> tuple[tuple[float, float, float], ...]:
+    """The protagonist's planned pelvis every ``VIEW_CHECK_EVERY`` frames of the span its
+    camera must see (``VIEW_CHECK_S``); none for a camera that is not turned."""
+    seconds = VIEW_CHECK_S.get(recipe.camera.kind)
+    if seconds is None:
+        return ()
+    t = protagonist.targets
+    last = len(t.root_pos) - 1 if math.isinf(seconds) else round(seconds * recipe.video.fps) * substeps
+    steps = slice(0, min(last, len(t.root_pos) - 1) + 1, VIEW_CHECK_EVERY * substeps)
+    pos, _ = forward_kinematics(protagonist.dims, t.root_pos[steps], t.root_quat[steps], t.q[steps])
+    return tuple(tuple(float(v) for v in anchor_point("kite", p)) for p in pos)  # type: ignore[misc]
 
 
 def _protagonist(b: PlanBuilder) -> PersonPlan:

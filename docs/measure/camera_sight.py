@@ -1,0 +1,83 @@
+"""What stands between the kite camera and its protagonist (docs/framing.md): per frame of
+the first N kite videos of (θ, seed), as simulated, whether the line from the camera to the
+protagonist's pelvis passes through a box (an environment's collider, an action's static
+box, or a prop no one holds, at its pose in that frame), and whether the camera trails more
+than ``--trail`` metres beyond its rest length from the pelvis.
+
+    .venv/bin/python docs/measure/camera_sight.py [--theta phav-v1] [--videos 100] [--seed 0]
+
+It prints each video with a hidden or trailing frame (what hid it, and how often), then
+the totals over the kite videos.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+from phav_generator.motion.rotations import quat_to_matrix
+from phav_generator.motion.skeleton import BONE_INDEX
+from phav_generator.physics.plan.camera import Blocker, sees, view_blockers
+from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.physics.simulate import simulate_plan
+from phav_generator.sampling import RecipeSampler
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.theta import load_preset
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--theta", default="phav-v1", help="preset name")
+    parser.add_argument("--videos", type=int, default=100, help="kite videos to measure")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--trail", type=float, default=2.0, help="metres beyond the rest length counted as trailing")
+    parser.add_argument("--json", type=Path)
+    args = parser.parse_args()
+    sampler = RecipeSampler(load_preset(args.theta))
+    rows = []
+    index = 0
+    while len(rows) < args.videos:
+        recipe = sampler.sample(args.seed, index)
+        index += 1
+        if recipe.camera.kind != "kite":
+            continue
+        plan = plan_scene(recipe)
+        tr = simulate_plan(plan, keep_state=False)
+        colliders = (*ENVIRONMENT_SCENES[recipe.environment.name].colliders, *plan.boxes)
+        statics = list(zip((c.pixel_class for c in colliders), view_blockers(colliders, (), ()), strict=True))
+        loose = {p.name for p in plan.props if p.shape == "box" and not p.grips}
+        props = [t for t in tr.props if t.name in loose]
+        pelvis = tr.people[0].body_pos[:, BONE_INDEX["pelvis"]]
+        cams = tr.cam_to_world[:, :3, 3]
+        rest = math.dist(plan.camera_start, plan.camera_target)
+        hid: Counter[str] = Counter()
+        frames = recipe.n_frames
+        for f in range(frames):
+            boxes = [*statics, *((t.name, Blocker.of(t.pos[f], t.size, quat_to_matrix(t.quat[f]))) for t in props)]
+            what = next((name for name, box in boxes if not sees(cams[f], pelvis[f], [box])), None)
+            if what is not None:
+                hid[what] += 1
+        trailing = int(np.sum(np.linalg.norm(cams[:frames] - pelvis[:frames], axis=1) > rest + args.trail))
+        rows.append({"video": recipe.video_id, "action": recipe.action, "environment": recipe.environment.name,
+                     "frames": frames, "hidden": dict(sorted(hid.items())), "trailing": trailing})  # fmt: skip
+        if hid or trailing:
+            print(f"{recipe.video_id} {recipe.action} in {recipe.environment.name}: hidden in {sum(hid.values())} "
+                  f"of {frames} frames {dict(sorted(hid.items()))}, trailing in {trailing}")  # fmt: skip
+    total = sum(r["frames"] for r in rows)
+    hidden = sum(sum(r["hidden"].values()) for r in rows)
+    trailing = sum(r["trailing"] for r in rows)
+    hid_in, trail_in = sum(bool(r["hidden"]) for r in rows), sum(r["trailing"] > 0 for r in rows)
+    print(f"{len(rows)} kite videos, {total:,} frames: the pelvis hidden in {hidden:,} ({hidden / total:.2%}, "
+          f"{hid_in} videos), the camera trailing > {args.trail} m beyond its rest length in {trailing:,} "
+          f"({trailing / total:.2%}, {trail_in} videos)")  # fmt: skip
+    if args.json:
+        args.json.write_text(json.dumps(rows, indent=1), encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()

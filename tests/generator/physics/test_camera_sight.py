@@ -1,0 +1,139 @@
+"""The kite camera sees its protagonist: a start behind something that stands between them
+(a door's leaf, a hedge) is turned about the target to a clear view, and a camera pulled
+against an obstacle slides round it rather than sticking to it (docs/framing.md)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from phav_generator.motion.skeleton import BONE_INDEX
+from phav_generator.physics.plan.camera import Blocker, clear_camera_start, hidden, sees, view_blockers
+from phav_generator.physics.plan.scene import VIEW_CHECK_EVERY, _view_anchors, plan_scene
+from phav_generator.physics.simulate import simulate_plan
+from phav_generator.sampling import RecipeSampler, sample_recipes
+from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.theta import load_preset
+from tests.generator.physics.support import theta_for
+
+
+def _phav_v1(index: int):
+    return next(iter(sample_recipes(load_preset("phav-v1"), n=1, seed=0, start=index)))
+
+
+def test_a_segment_crosses_a_box_only_where_it_passes_through_it() -> None:
+    box = Blocker.turned((0.0, 0.0, 1.0), (1.0, 0.5, 1.0), 0.0)
+    assert box.crosses((-3.0, 0.0, 1.0), (3.0, 0.0, 1.0))  # straight through
+    assert not box.crosses((-3.0, 0.8, 1.0), (3.0, 0.8, 1.0))  # beside it
+    assert not box.crosses((-3.0, 0.0, 1.0), (-1.2, 0.0, 1.0))  # ends before it
+    assert not box.crosses((-3.0, 0.0, 2.5), (3.0, 0.0, 2.5))  # over it
+    assert box.crosses((0.2, 0.1, 0.5), (5.0, 5.0, 5.0))  # starts inside it
+    # Turned by 45°, the box leaves the corner at (0.9, -0.45) of its unturned footprint.
+    turned = Blocker.turned((0.0, 0.0, 1.0), (1.0, 0.5, 1.0), 45.0)
+    assert box.crosses((0.9, -3.0, 1.0), (0.9, 3.0, 1.0)) and turned.crosses((0.9, -3.0, 1.0), (0.9, 3.0, 1.0))
+    assert box.crosses((0.9, -0.45, 0.0), (0.9, -0.45, 2.0))
+    assert not turned.crosses((0.9, -0.45, 0.0), (0.9, -0.45, 2.0))
+    # A box tipped onto its side by a rotation about x: 1 m tall becomes 1 m deep.
+    c, s = math.cos(math.pi / 2), math.sin(math.pi / 2)
+    tipped = Blocker.of((0.0, 0.0, 0.0), (0.1, 0.1, 1.0), np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]))
+    assert tipped.crosses((-1.0, 0.9, 0.0), (1.0, 0.9, 0.0)) and not tipped.crosses((-1.0, 0.0, 0.5), (1.0, 0.0, 0.5))
+
+
+def test_a_line_of_sight_stops_short_of_the_box_the_protagonist_stands_in() -> None:
+    seat = Blocker.turned((0.0, 0.0, 0.25), (0.25, 0.25, 0.25), 0.0)
+    assert sees((3.0, 0.0, 0.3), (0.0, 0.0, 0.3), [seat])  # the segment ends 0.3 m short, at the seat's edge
+    assert not sees((3.0, 0.0, 0.3), (-1.0, 0.0, 0.3), [seat])  # the seat between
+
+
+def test_a_kite_start_behind_the_door_of_a_push_turns_to_see_the_pusher() -> None:
+    """phav-v1, seed 0, v000024: the door's leaf stood between the sampled start and the
+    pusher for the first two thirds of the clip. The plan turns the start about the target,
+    keeping its distance and height, to a view of the first 3 s of the planned path (the
+    leaf passes the line once as the pusher nears it)."""
+    recipe = _phav_v1(24)
+    assert recipe.action == "push" and recipe.camera.kind == "kite"
+    plan = plan_scene(recipe)
+    assert {p.object for p in plan.props} == {"door"}
+    anchors = _view_anchors(recipe, plan.people[0], plan.substeps)
+    assert len(anchors) == 3 * recipe.video.fps // VIEW_CHECK_EVERY + 1 and anchors[0] == plan.camera_target
+    blockers = view_blockers(ENVIRONMENT_SCENES[recipe.environment.name].colliders, plan.boxes, plan.props)
+    shift = np.subtract(plan.camera_target, recipe.camera.target)
+    unturned = clear_camera_start(recipe, shift=shift)
+    assert hidden(unturned, anchors, blockers) >= len(anchors) // 2
+    assert hidden(plan.camera_start, anchors, blockers) <= 1  # of 19
+    # A turn about the vertical through the target: the same height and horizontal distance.
+    target = np.array(plan.camera_target)
+    start, was = np.array(plan.camera_start) - target, np.array(unturned) - target
+    assert start[2] == pytest.approx(was[2], abs=1e-12)
+    assert np.hypot(*start[:2]) == pytest.approx(np.hypot(*was[:2]), abs=1e-9)
+    assert not np.allclose(start, was)
+
+
+def test_a_fixed_mount_behind_a_door_turns_to_see_the_whole_clip() -> None:
+    """An indoors camera stays where it starts: its view is checked over the whole clip.
+    This push (4 s, the house) had the door's leaf before the pusher at all 25 points."""
+    recipe = RecipeSampler(theta_for("push", "house_interior", seconds=4.0)).sample(0, 22, force={"camera": "indoors"})
+    assert recipe.motion.base_motion == "push_open_door_01"
+    plan = plan_scene(recipe)
+    anchors = _view_anchors(recipe, plan.people[0], plan.substeps)
+    assert len(anchors) == recipe.n_frames // VIEW_CHECK_EVERY + 1
+    blockers = view_blockers(ENVIRONMENT_SCENES[recipe.environment.name].colliders, plan.boxes, plan.props)
+    unturned = clear_camera_start(recipe)
+    assert hidden(unturned, anchors, blockers) == len(anchors) and hidden(plan.camera_start, anchors, blockers) == 0
+    assert plan.camera_target is None  # a fixed mount has no spring rig
+
+
+def test_a_close_up_is_never_turned() -> None:
+    recipe = RecipeSampler(theta_for("push", "house_interior", seconds=4.0)).sample(0, 22, force={"camera": "closeup"})
+    plan = plan_scene(recipe)
+    assert _view_anchors(recipe, plan.people[0], plan.substeps) == ()
+    shift = np.subtract(plan.camera_target, recipe.camera.target)
+    assert plan.camera_start == clear_camera_start(recipe, shift=shift)
+
+
+def test_a_start_with_a_clear_view_is_not_turned() -> None:
+    recipe = _phav_v1(0)
+    assert recipe.camera.kind == "kite"
+    plan = plan_scene(recipe)
+    shift = np.subtract(plan.camera_target, recipe.camera.target)
+    assert plan.camera_start == clear_camera_start(recipe, shift=shift)
+
+
+def test_a_kite_pulled_against_reeds_slides_round_them_and_catches_up() -> None:
+    """phav-v1, seed 0, v000100: a runner along the lake; the camera, dragged behind, met the
+    reed bed (a 3 m box) and stuck to it, 14 m behind at the end. Frictionless, it slides
+    along the bed and round its end."""
+    recipe = _phav_v1(100)
+    assert recipe.action == "run" and recipe.environment.name == "lake" and recipe.camera.kind == "kite"
+    plan = plan_scene(recipe)
+    tr = simulate_plan(plan, keep_state=False)
+    cam = tr.cam_to_world[:, :3, 3]
+    pelvis = tr.people[0].body_pos[:, BONE_INDEX["pelvis"]]
+    rest = math.dist(plan.camera_start, plan.camera_target)
+    springs = recipe.camera.springs
+    assert springs is not None
+    slack = springs.ct_min_distance_m + springs.tp_min_distance_m
+    # By the clip's end within its springs' dead zones and 2 m of a runner's lag (8 m; stuck, 14 m).
+    assert np.linalg.norm(cam[-1] - pelvis[-1]) < rest + slack + 2.0
+    [reeds] = [c for c in ENVIRONMENT_SCENES["lake"].colliders if c.contains_xy(-5.0, -6.7)
+               and c.pixel_class == "vegetation"]  # fmt: skip
+    assert cam[-1, 0] > reeds.center[0] + reeds.half_size[0]  # past the bed's far end
+
+
+def test_the_sight_measure_counts_each_kite_video(tmp_path) -> None:
+    """docs/measure/camera_sight.py, the table in docs/framing.md: one row per kite video."""
+    out = tmp_path / "sight.json"
+    script = Path(__file__).parents[3] / "docs" / "measure" / "camera_sight.py"
+    run = subprocess.run([sys.executable, str(script), "--videos", "2", "--seed", "0", "--json", str(out)],
+                         capture_output=True, text=True, timeout=300, check=False)  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    rows = json.loads(out.read_text(encoding="utf-8"))
+    assert [r["video"] for r in rows] == ["v000000", "v000001"]
+    assert all(r["frames"] > 0 and r["hidden"] == {} and r["trailing"] >= 0 for r in rows)
+    assert "2 kite videos" in run.stdout and "the pelvis hidden in 0 (0.00%, 0 videos)" in run.stdout
