@@ -43,18 +43,19 @@ def _inside(colliders, point: np.ndarray, clearance: float, floor: float = -np.i
 @dataclass(frozen=True)
 class Blocker:
     """A box that can stand between the camera and the protagonist: centre, half sizes and
-    the rows of its rotation (world = rows.T @ local), all in plain floats."""
+    its three axes in world coordinates (a point's k-th local coordinate is axis k · (p −
+    centre)), all in plain floats."""
 
     center: tuple[float, float, float]
     half: tuple[float, float, float]
-    rows: tuple[tuple[float, float, float], ...]
+    axes: tuple[tuple[float, float, float], ...]
 
     @classmethod
     def of(cls, center: Sequence[float], half: Sequence[float], rotation: np.ndarray) -> Blocker:
         """From a centre, half sizes and a (3, 3) rotation whose columns are the box's axes."""
         r = np.asarray(rotation, dtype=np.float64)
-        rows = tuple(tuple(float(v) for v in r[:, k]) for k in range(3))
-        return cls(tuple(float(v) for v in center), tuple(float(v) for v in half[:3]), rows)  # type: ignore[arg-type]
+        axes = tuple(tuple(float(v) for v in r[:, k]) for k in range(3))
+        return cls(tuple(float(v) for v in center), tuple(float(v) for v in half[:3]), axes)  # type: ignore[arg-type]
 
     @classmethod
     def turned(cls, center: Sequence[float], half: Sequence[float], yaw_deg: float) -> Blocker:
@@ -68,9 +69,9 @@ class Blocker:
         Written in Python floats, not numpy products, so the answer cannot depend on the
         machine's BLAS kernels."""
         t0, t1 = 0.0, 1.0
-        for row, h in zip(self.rows, self.half, strict=True):
-            pa = sum(r * (x - c) for r, x, c in zip(row, a, self.center, strict=True))
-            pb = sum(r * (x - c) for r, x, c in zip(row, b, self.center, strict=True))
+        for axis, h in zip(self.axes, self.half, strict=True):
+            pa = sum(r * (x - c) for r, x, c in zip(axis, a, self.center, strict=True))
+            pb = sum(r * (x - c) for r, x, c in zip(axis, b, self.center, strict=True))
             d = pb - pa
             if abs(d) < 1e-12:
                 if abs(pa) > h:
