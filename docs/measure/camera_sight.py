@@ -1,8 +1,9 @@
 """What stands between the kite camera and its protagonist (docs/framing.md): per frame of
 the first N kite videos of (θ, seed), as simulated, whether the line from the camera to the
 protagonist's pelvis passes through a box (an environment's collider, an action's static
-box, or a prop no one holds, at its pose in that frame), and whether the camera trails more
-than ``--trail`` metres beyond its rest length from the pelvis.
+box, or a prop no one holds, at its pose in that frame), whether the pelvis projects
+outside the frame, and whether the camera trails more than ``--trail`` metres beyond its
+rest length from the pelvis.
 
     .venv/bin/python docs/measure/camera_sight.py [--theta phav-v1] [--videos 100] [--seed 0]
 
@@ -25,6 +26,7 @@ from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.camera import Blocker, sees, view_blockers
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
+from phav_generator.render.camera import project
 from phav_generator.sampling import RecipeSampler
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import load_preset
@@ -63,18 +65,25 @@ def main() -> None:
             if what is not None:
                 hid[what] += 1
         trailing = int(np.sum(np.linalg.norm(cams[:frames] - pelvis[:frames], axis=1) > rest + args.trail))
+        uv = np.array([project(pelvis[f], tr.cam_to_world[f], tr.intrinsics) for f in range(frames)])
+        inside = (uv[:, 0] >= 0) & (uv[:, 0] < recipe.video.width) & (uv[:, 1] >= 0) & (uv[:, 1] < recipe.video.height)
+        outside = int(np.sum(~inside))  # NaN (behind the camera) compares false: outside
         rows.append({"video": recipe.video_id, "action": recipe.action, "environment": recipe.environment.name,
-                     "frames": frames, "hidden": dict(sorted(hid.items())), "trailing": trailing})  # fmt: skip
-        if hid or trailing:
+                     "frames": frames, "hidden": dict(sorted(hid.items())), "outside": outside,
+                     "trailing": trailing})  # fmt: skip
+        if hid or trailing or outside:
             print(f"{recipe.video_id} {recipe.action} in {recipe.environment.name}: hidden in {sum(hid.values())} "
-                  f"of {frames} frames {dict(sorted(hid.items()))}, trailing in {trailing}")  # fmt: skip
+                  f"of {frames} frames {dict(sorted(hid.items()))}, outside the frame in {outside}, trailing in "
+                  f"{trailing}")  # fmt: skip
     total = sum(r["frames"] for r in rows)
     hidden = sum(sum(r["hidden"].values()) for r in rows)
-    trailing = sum(r["trailing"] for r in rows)
+    trailing, outside = sum(r["trailing"] for r in rows), sum(r["outside"] for r in rows)
     hid_in, trail_in = sum(bool(r["hidden"]) for r in rows), sum(r["trailing"] > 0 for r in rows)
+    out_in = sum(r["outside"] > 0 for r in rows)
     print(f"{len(rows)} kite videos, {total:,} frames: the pelvis hidden in {hidden:,} ({hidden / total:.2%}, "
-          f"{hid_in} videos), the camera trailing > {args.trail} m beyond its rest length in {trailing:,} "
-          f"({trailing / total:.2%}, {trail_in} videos)")  # fmt: skip
+          f"{hid_in} videos), outside the frame in {outside:,} ({outside / total:.2%}, {out_in} videos); the "
+          f"camera trailing > {args.trail} m beyond its rest length in {trailing:,} ({trailing / total:.2%}, "
+          f"{trail_in} videos)")  # fmt: skip
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1), encoding="utf-8")
 

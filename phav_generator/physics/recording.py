@@ -16,6 +16,7 @@ import numpy as np
 from phav_generator.motion.rotations import look_at, matrix_to_quat
 from phav_generator.motion.skeleton import BONES, LOWER, UPPER
 from phav_generator.physics.control import FULL_STATE, SimulationRun
+from phav_generator.physics.plan.camera import anchor_point
 from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_generator.physics.traffic import Traffic, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
@@ -24,6 +25,10 @@ from phav_spec.vocab import OBJECTS
 
 #: Indoors camera: time constant (s) of the pan that follows the protagonist.
 PAN_TIMECONST = 0.6
+#: A spring camera looks at its target body, which lags the protagonist; where the lag
+#: would put its anchor further than this share of half the vertical field of view from
+#: the view's centre, the view turns towards the anchor just enough to keep it there.
+IN_VIEW_SHARE = 0.75
 
 
 def intrinsics(recipe: Recipe) -> tuple[float, float, float, float]:
@@ -247,12 +252,42 @@ def _kinetic_energy(m: mujoco.MjModel, d: mujoco.MjData) -> float:
     return 0.5 * float(d.qvel @ out)
 
 
+def keep_in_view(eye: np.ndarray, look: np.ndarray, anchor: np.ndarray, limit_rad: float) -> np.ndarray:
+    """The point to look at from ``eye``: ``look`` itself while ``anchor`` is within
+    ``limit_rad`` of the view's axis, else ``look`` turned about ``eye``, in the plane of the
+    two directions, until the anchor is at ``limit_rad`` (the view the protagonist would
+    otherwise leave: a runner passing close under the kite).
+
+    Python floats throughout, so the answer does not depend on the machine's BLAS kernels;
+    an unturned ``look`` is returned as it came, bit for bit."""
+    f = [float(a - e) for a, e in zip(look, eye, strict=True)]
+    a = [float(p - e) for p, e in zip(anchor, eye, strict=True)]
+    nf, na = math.sqrt(sum(v * v for v in f)), math.sqrt(sum(v * v for v in a))
+    if nf < 1e-9 or na < 1e-9:
+        return look
+    f, a = [v / nf for v in f], [v / na for v in a]
+    cos = sum(x * y for x, y in zip(f, a, strict=True))
+    if cos >= math.cos(limit_rad):
+        return look
+    # The unit vector in the plane of f and a, orthogonal to a, on f's side.
+    u = [x - cos * y for x, y in zip(f, a, strict=True)]
+    nu = math.sqrt(sum(v * v for v in u))
+    if nu < 1e-12:  # the anchor straight behind: any side will do, keep the view level
+        u = [-a[1], a[0], 0.0]
+        nu = math.hypot(u[0], u[1]) or 1.0
+    c, s = math.cos(limit_rad), math.sin(limit_rad)
+    turned = [c * y + s * x / nu for x, y in zip(u, a, strict=True)]
+    return np.array([e + nf * t for e, t in zip(eye, turned, strict=True)], dtype=np.float64)
+
+
 def _camera_now(plan: ScenePlan, run: SimulationRun, f: int) -> tuple[np.ndarray, np.ndarray]:
     """Camera position and the point it looks at, per behaviour."""
     cam = plan.recipe.camera
     d = run.d
     if run.scene.camera is not None:
-        return d.xpos[run.scene.camera.camera_body].copy(), d.xpos[run.scene.camera.target_body].copy()
+        eye, look = d.xpos[run.scene.camera.camera_body].copy(), d.xpos[run.scene.camera.target_body].copy()
+        anchor = anchor_point(cam.kind, d.xpos[run.scene.people[0].bodies])
+        return eye, keep_in_view(eye, look, anchor, IN_VIEW_SHARE * math.radians(cam.fov_deg) / 2.0)
     position = np.array(plan.camera_start or cam.position, dtype=np.float64)
     if cam.kind == "indoors":
         # A fixed mount that pans: the look point follows the pelvis, smoothed.

@@ -1,6 +1,7 @@
-"""The kite camera sees its protagonist: a start behind something that stands between them
-(a door's leaf, a hedge) is turned about the target to a clear view, and a camera pulled
-against an obstacle slides round it rather than sticking to it (docs/framing.md)."""
+"""The cameras see their protagonist: a start behind something that stands between them (a
+door's leaf, a hedge) is turned about the target to a clear view, a camera pulled against an
+obstacle slides round it rather than sticking to it, and a spring camera's view turns to
+keep its anchor in the frame (docs/framing.md)."""
 
 from __future__ import annotations
 
@@ -16,7 +17,9 @@ import pytest
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.camera import Blocker, clear_camera_start, hidden, sees, view_blockers
 from phav_generator.physics.plan.scene import VIEW_CHECK_EVERY, _view_anchors, plan_scene
+from phav_generator.physics.recording import IN_VIEW_SHARE, keep_in_view
 from phav_generator.physics.simulate import simulate_plan
+from phav_generator.render.camera import project
 from phav_generator.sampling import RecipeSampler, sample_recipes
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import load_preset
@@ -135,5 +138,37 @@ def test_the_sight_measure_counts_each_kite_video(tmp_path) -> None:
     assert run.returncode == 0, run.stderr
     rows = json.loads(out.read_text(encoding="utf-8"))
     assert [r["video"] for r in rows] == ["v000000", "v000001"]
-    assert all(r["frames"] > 0 and r["hidden"] == {} and r["trailing"] >= 0 for r in rows)
+    assert all(r["frames"] > 0 and r["hidden"] == {} and r["outside"] == 0 and r["trailing"] >= 0 for r in rows)
     assert "2 kite videos" in run.stdout and "the pelvis hidden in 0 (0.00%, 0 videos)" in run.stdout
+
+
+def test_the_view_turns_only_as_far_as_keeps_the_anchor_in_it() -> None:
+    eye, look = np.array([0.0, 0.0, 1.0]), np.array([5.0, 0.0, 1.0])
+    limit = math.radians(20.0)
+    near = np.array([5.0, 1.0, 1.0])  # 11.3° off the axis: the look point as it came
+    assert keep_in_view(eye, look, near, limit) is look
+    far = np.array([0.0, 5.0, 1.0])  # 90° off: turned until it is 20° off, in the same plane
+    turned = keep_in_view(eye, look, far, limit)
+    seen = (turned - eye) / np.linalg.norm(turned - eye)
+    assert math.degrees(math.acos(seen @ (far - eye) / 5.0)) == pytest.approx(20.0, abs=1e-9)
+    assert np.linalg.norm(turned - eye) == pytest.approx(5.0) and turned[2] == pytest.approx(1.0)
+    behind = np.array([-5.0, 0.0, 1.0])  # straight behind: turned to one side, level
+    seen = keep_in_view(eye, look, behind, limit) - eye
+    assert seen[2] == pytest.approx(0.0) and math.degrees(math.acos(seen @ (behind - eye) / 25.0)) == pytest.approx(
+        20.0
+    )
+
+
+def test_a_runner_passing_under_the_kite_stays_in_the_frame() -> None:
+    """phav-v1, seed 0, v000005: a runner in the park passed close under the kite, whose
+    lagging target left the pelvis outside the frame in 28 of 90 frames."""
+    recipe = _phav_v1(5)
+    assert recipe.action == "run" and recipe.camera.kind == "kite"
+    tr = simulate_plan(plan_scene(recipe), keep_state=False)
+    pelvis = tr.people[0].body_pos[:, BONE_INDEX["pelvis"]]
+    limit = IN_VIEW_SHARE * math.radians(recipe.camera.fov_deg) / 2
+    for f in range(recipe.n_frames):
+        u, v = project(pelvis[f], tr.cam_to_world[f], tr.intrinsics)
+        assert 0 <= u < recipe.video.width and 0 <= v < recipe.video.height, f"frame {f}: pelvis at {u:.0f}, {v:.0f}"
+        axis, to = -tr.cam_to_world[f, :3, 2], pelvis[f] - tr.cam_to_world[f, :3, 3]
+        assert math.acos(min(1.0, axis @ to / np.linalg.norm(to))) <= limit + 1e-6
