@@ -23,7 +23,7 @@ import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
-from phav_generator.physics.plan.camera import Blocker, sees, view_blockers
+from phav_generator.physics.plan.camera import Blocker, sees, stands_free, view_blockers
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
 from phav_generator.render.camera import project
@@ -52,7 +52,7 @@ def main() -> None:
         tr = simulate_plan(plan, keep_state=False)
         colliders = (*ENVIRONMENT_SCENES[recipe.environment.name].colliders, *plan.boxes)
         statics = list(zip((c.pixel_class for c in colliders), view_blockers(colliders, (), ()), strict=True))
-        loose = {p.name for p in plan.props if p.shape == "box" and not p.grips}
+        loose = {p.name for p in plan.props if stands_free(p)}
         props = [t for t in tr.props if t.name in loose]
         pelvis = tr.people[0].body_pos[:, BONE_INDEX["pelvis"]]
         cams = tr.cam_to_world[:, :3, 3]

@@ -93,12 +93,19 @@ SIGHT_TURNS_DEG = tuple(s * 10.0 * k for k in range(1, 18) for s in (1.0, -1.0))
 
 def sees(start: Sequence[float], target: Sequence[float], blockers: Sequence[Blocker]) -> bool:
     """Whether nothing in ``blockers`` stands on the line from ``start`` to ``target``."""
-    a, b = np.asarray(start, dtype=np.float64), np.asarray(target, dtype=np.float64)
+    a, b = [float(x) for x in start], [float(x) for x in target]
     length = math.dist(a, b)
     if length <= SIGHT_END_M:
         return True
-    end = [float(x) for x in a + (b - a) * ((length - SIGHT_END_M) / length)]
-    return not any(box.crosses([float(x) for x in a], end) for box in blockers)
+    k = (length - SIGHT_END_M) / length
+    end = [x + (y - x) * k for x, y in zip(a, b, strict=True)]
+    return not any(box.crosses(a, end) for box in blockers)
+
+
+def stands_free(prop) -> bool:
+    """Whether a prop can stand between camera and protagonist: a box no one holds (a door's
+    leaf, a pushed load, a car), not a held tool."""
+    return prop.shape == "box" and not prop.grips
 
 
 def hidden(start: Sequence[float], anchors: Sequence[Sequence[float]], blockers: Sequence[Blocker]) -> int:
@@ -177,9 +184,7 @@ def view_blockers(colliders, boxes, props) -> tuple[Blocker, ...]:
     action's static boxes and every prop no one holds (a door's leaf, a pushed load, a car),
     at its first pose."""
     out = [Blocker.turned(c.center, c.half_size, c.yaw_deg) for c in (*colliders, *boxes)]
-    for prop in props:
-        if prop.shape != "box" or prop.grips:
-            continue
+    for prop in filter(stands_free, props):
         rot = quat_to_matrix(np.asarray(prop.quat, dtype=np.float64))
         centre = [float(p) + sum(float(r) * o for r, o in zip(row, prop.offset, strict=True))
                   for p, row in zip(prop.pos, rot, strict=True)]  # fmt: skip
