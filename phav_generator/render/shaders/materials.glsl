@@ -35,6 +35,29 @@ float octave(vec3 p, float scale, float fw) {
     return (cell_noise(p, scale) - 0.5) * fade(fw, scale);
 }
 
+// Zero-mean noise of cells 1/scale metres wide where they span one or two pixels, fading
+// out where they are half a pixel or four: the one octave of a ladder that lies at the
+// pixel's scale (fw: the footprint in metres).
+float band(vec3 p, float scale, float fw) {
+    return (cell_noise(p, scale) - 0.5) * fade(0.5 * fw, scale) * (1.0 - fade(2.0 * fw, scale));
+}
+
+// Grain at pixel size at every distance, zero-mean: cells from 1/finest metres up to 20 cm,
+// each octave where it spans about a pixel. Real photographs of roads and foliage vary from
+// pixel to pixel ten times as much as a material faded out under the pixel; smoothed
+// that far, asphalt reads as a car's paint to a street model.
+float grain_ladder(vec3 p, float fw, float finest) {
+    float g = 0.0;
+    for (float s = finest; s >= 5.0; s *= 0.5) g += band(p, s, fw);
+    return g;
+}
+
+// Asphalt's grain, zero-mean: its 6 mm aggregate and coarser stones and binder at pixel
+// size at every distance. The wet road's film is broken by the same grain.
+float asphalt_grain(vec3 p, float fw) {
+    return 0.45 * octave(p, 160.0, fw) + 0.6 * grain_ladder(p, fw, 80.0);
+}
+
 // Leaf clumps about 1/scale metres apart: each the cell's hashed point grown into a ball lit
 // from above (cellular noise), the gaps between the balls in shadow. Mean about 1.
 float leaf_clumps(vec3 p, float scale) {
@@ -124,6 +147,7 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     if (pattern == 15) {  // leaves: lit clumps, shadowed gaps, a hue drifting from yellow to blue green
         float v = mix(1.0, leaf_clumps(p, 4.5), fade(fw, 4.5));
         v *= mix(1.0, leaf_clumps(p, 14.0), fade(fw, 14.0) * 0.5);
+        v *= max(1.0 + 1.1 * grain_ladder(p, fw, 80.0), 0.1);  // single leaves and gaps at pixel size
         v *= 0.75 + 0.5 * smooth_noise(p, 2.0);
         vec3 hue = mix(vec3(1.15, 1.05, 0.6), vec3(0.8, 1.0, 1.2), smooth_noise(p, 1.5));
         return c * hue * v;
@@ -151,15 +175,14 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         // from the smooth painted panel of a car's bonnet, which it otherwise resembles.
         gloss = vec2(0.02, 0.08);
         float wear = smooth_noise(p, 0.3);
-        float grain = 0.45 * octave(p, 160.0, fw) + 0.5 * octave(p, 40.0, fw) + 0.3 * octave(p, 12.0, fw);
-        return c * (1.0 + grain + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
+        return c * (1.0 + asphalt_grain(p, fw) + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
     }
 #endif
 #ifdef MATERIAL_18
     if (pattern == 18) {  // paving: 0.5 m slabs, a tone each, dark joints
         float slab = 0.9 + 0.2 * cell_noise(vec3(floor(p.xy * 2.0), 7.0), 1.0);
         float j = max(joint(p.x, 0.5, 0.012, fw), joint(p.y, 0.5, 0.012, fw));
-        return c * slab * (1.0 + 0.3 * octave(p, 90.0, fw)) * (1.0 - 0.5 * j);
+        return c * slab * (1.0 + 0.3 * octave(p, 90.0, fw) + 0.35 * grain_ladder(p, fw, 45.0)) * (1.0 - 0.5 * j);
     }
 #endif
 #ifdef MATERIAL_19

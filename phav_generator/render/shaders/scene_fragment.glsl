@@ -98,6 +98,9 @@ void main() {
     if (v_material == 2) n = ripples(v_world.xy);
     vec2 gloss;
     vec3 a = albedo(gloss);
+#if WET && MATERIALS
+    float fw = length(fwidth(v_uv));  // outside any branch: derivatives need every pixel of the quad
+#endif
     float reflectivity = 0.0;
 #if WET
     float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;
@@ -144,7 +147,12 @@ void main() {
         // damp asphalt, rough, reflects a blurred third as much. A film over the whole road
         // would be a mirror as uniform as a car's bonnet.
         float dips = smoothstep(0.5, 0.62, 0.7 * value_noise2(v_world.xy * 0.35) + 0.3 * value_noise2(v_world.xy * 1.3));
-        float pools = v_material == 2 ? 1.0 : mix(0.35, 1.0, dips);  // open water: all of it
+        float damp = 0.35;
+#if MATERIALS
+        // Damp asphalt is rough: its stones stand out of the film, which shines between them.
+        if (v_pattern == 17) damp *= max(1.0 + 2.5 * asphalt_grain(v_uv, fw), 0.0);
+#endif
+        float pools = v_material == 2 ? 1.0 : mix(damp, 1.0, dips);  // open water: all of it
         reflectivity = wet * pools * fresnel;
         vec3 mirrored = reflect(-to_eye, n);
         c = mix(c, sky(mirrored) * 0.8, reflectivity * 0.8);

@@ -216,6 +216,41 @@ def test_foliage_is_lit_clumps_with_shadowed_gaps_and_keeps_its_colour_s_brightn
     assert np.median(ratio) > 1.0  # ... and most of the surface a lit clump
 
 
+def _pixel_contrast(colour: np.ndarray) -> np.ndarray:
+    """Each pixel's |luminance − its 3 × 3 mean| / that mean, in linear light (as
+    docs/measure/pixel_grain.py measures real photographs: a road there about 0.14)."""
+    y = (colour.astype(np.float64) / 255.0) ** 2.2 @ np.array([0.2126, 0.7152, 0.0722])
+    padded = np.pad(y, 1, mode="edge")
+    mean = sum(padded[dy : dy + y.shape[0], dx : dx + y.shape[1]] for dy in range(3) for dx in range(3)) / 9.0
+    return np.abs(y - mean) / np.maximum(mean, 1e-4)
+
+
+@pytest.mark.parametrize("material", [Material.ASPHALT, Material.PAVING, Material.LEAVES], ids=lambda m: m.name)
+def test_roads_and_foliage_keep_grain_at_the_pixel_s_scale_near_and_far(ctx, material):
+    """A 40 m slab seen at a low angle: each octave of its material's grain fades out under
+    the pixel (no aliasing) and hands over to the next coarser one, so the pixel-to-pixel
+    contrast stays near and far. Where the fine octaves had faded and the coarse cells
+    spanned many pixels, a street model took a smooth grey road for a car's paint."""
+    from phav_generator.render.assets import asset_drawable, turntable
+
+    asset = places.slab((20.0, 20.0, 0.05), stream(0, "g"), 0, cls="terrain", look=(material, (0.3, 0.3, 0.3)))
+    still = np.broadcast_to(np.eye(4), (2, 4, 4))
+    frame = turntable(
+        ctx, [asset_drawable(asset, still)], asset, angles=(30.0,), height=256, elevation_deg=8.0, zoom=2.5
+    )[0]
+    inner = _inner_top(frame)
+    rows = np.flatnonzero(inner.any(axis=1))
+    near, far = rows[rows > np.percentile(rows, 75)], rows[rows < np.percentile(rows, 25)]
+    contrast = _pixel_contrast(frame.colour)
+    for band in (near, far):
+        mask = np.zeros_like(inner)
+        mask[band] = inner[band]
+        assert mask.sum() > 1000
+        # PLAIN: 0. Near, asphalt faded to its coarse cells was 0.005, paving 0.000 (now about
+        # 0.036); far, both about 0.02 either way.
+        assert np.median(contrast[mask]) > 0.012
+
+
 def _sky(ctx, cover: float, lighting=None, towards=(0.0, 1.0, 0.5)) -> np.ndarray:
     """The sky seen ``towards`` a direction (27° above the horizon by default)."""
     from phav_generator.render.assets import asset_drawable
