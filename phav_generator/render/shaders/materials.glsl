@@ -43,9 +43,9 @@ float band(vec3 p, float scale, float fw) {
 }
 
 // Grain at pixel size at every distance, zero-mean: cells from 1/finest metres up to 20 cm,
-// each octave where it spans about a pixel. Real photographs of roads and foliage vary from
-// pixel to pixel ten times as much as a material faded out under the pixel; smoothed
-// that far, asphalt reads as a car's paint to a street model.
+// each octave where it spans about a pixel. Real roads and foliage vary from pixel to pixel
+// in a photograph; faded out under the pixel instead, asphalt reads as a car's paint to a
+// street model.
 float grain_ladder(vec3 p, float fw, float finest) {
     float g = 0.0;
     for (float s = finest; s >= 5.0; s *= 0.5) g += band(p, s, fw);
