@@ -20,9 +20,8 @@ from pathlib import Path
 import numpy as np
 from judged_frames import dump_files
 from judged_real import MARGIN_PX, REGIONS, _targets, as_frame, interior
-from judged_repaint import linear
+from judged_repaint import _LUMINANCE, linear
 
-_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 #: A frame's class counts when this many of its pixels are inside it.
 MIN_PIXELS = 200
 

@@ -51,10 +51,10 @@ float sunlit(vec3 n) {
     return lit;
 }
 
-vec3 albedo(out vec2 gloss) {
+// fw: the pixel's footprint (m) for the materials' fine detail.
+vec3 albedo(float fw, out vec2 gloss) {
     // A texture image (linear colours), its mip level from derivatives taken outside the branch.
     vec2 du = dFdx(v_uv.xy), dv = dFdy(v_uv.xy);
-    float fw = length(fwidth(v_uv));  // the pixel's footprint (m) for the materials' fine detail
     gloss = vec2(0.0);
     if (v_pattern == 4) return textureGrad(textures, v_uv, du, dv).rgb;
     vec3 c = v_colour;
@@ -97,10 +97,8 @@ void main() {
     if (!gl_FrontFacing) n = -n;
     if (v_material == 2) n = ripples(v_world.xy);
     vec2 gloss;
-    vec3 a = albedo(gloss);
-#if WET && MATERIALS
     float fw = length(fwidth(v_uv));  // outside any branch: derivatives need every pixel of the quad
-#endif
+    vec3 a = albedo(fw, gloss);
     float reflectivity = 0.0;
 #if WET
     float wet = (v_material == 1 && n.z > 0.7) ? wetness : 0.0;

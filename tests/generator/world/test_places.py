@@ -25,6 +25,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
 from tests.helpers import luma
+from tests.validators.learn.helpers import measure_script
 
 
 def _quad_area(c: np.ndarray) -> float:
@@ -216,15 +217,6 @@ def test_foliage_is_lit_clumps_with_shadowed_gaps_and_keeps_its_colour_s_brightn
     assert np.median(ratio) > 1.0  # ... and most of the surface a lit clump
 
 
-def _pixel_contrast(colour: np.ndarray) -> np.ndarray:
-    """Each pixel's |luminance − its 3 × 3 mean| / that mean, in linear light (as
-    docs/measure/pixel_grain.py measures real photographs: a road there about 0.14)."""
-    y = (colour.astype(np.float64) / 255.0) ** 2.2 @ np.array([0.2126, 0.7152, 0.0722])
-    padded = np.pad(y, 1, mode="edge")
-    mean = sum(padded[dy : dy + y.shape[0], dx : dx + y.shape[1]] for dy in range(3) for dx in range(3)) / 9.0
-    return np.abs(y - mean) / np.maximum(mean, 1e-4)
-
-
 @pytest.mark.parametrize("material", [Material.ASPHALT, Material.PAVING, Material.LEAVES], ids=lambda m: m.name)
 def test_roads_and_foliage_keep_grain_at_the_pixel_s_scale_near_and_far(ctx, material):
     """A 40 m slab seen at a low angle: each octave of its material's grain fades out under
@@ -241,7 +233,7 @@ def test_roads_and_foliage_keep_grain_at_the_pixel_s_scale_near_and_far(ctx, mat
     inner = _inner_top(frame)
     rows = np.flatnonzero(inner.any(axis=1))
     near, far = rows[rows > np.percentile(rows, 75)], rows[rows < np.percentile(rows, 25)]
-    contrast = _pixel_contrast(frame.colour)
+    contrast = measure_script("pixel_grain").contrast(frame.colour)  # as it measures real photographs
     for band in (near, far):
         mask = np.zeros_like(inner)
         mask[band] = inner[band]
