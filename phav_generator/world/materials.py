@@ -89,6 +89,8 @@ SAND: RGB = (0.50, 0.45, 0.36)
 MUD: RGB = (0.28, 0.24, 0.19)
 #: What a window shows behind its glass: a dark room, blinds, curtains.
 WINDOW_TINTS: tuple[RGB, ...] = ((0.05, 0.06, 0.07), (0.10, 0.11, 0.12), (0.35, 0.33, 0.30), (0.45, 0.40, 0.32))
+#: What a shop window shows: a lit interior of goods and shelves, warm or cool.
+SHOP_TINTS: tuple[RGB, ...] = ((0.55, 0.50, 0.42), (0.48, 0.48, 0.46), (0.62, 0.55, 0.44), (0.50, 0.46, 0.40))
 FRAMES: tuple[RGB, ...] = ((0.92, 0.92, 0.90), (0.15, 0.15, 0.16), (0.40, 0.28, 0.18))
 
 TYRE: RGB = (0.06, 0.06, 0.06)

@@ -121,6 +121,8 @@ class Opening:
     depth: float = WINDOW_DEPTH_M
     #: The height of a parapet across its front (m), 0 for none.
     parapet: float = 0.0
+    #: What its glass shows behind it: a room's (dark, blinds, curtains) or a lit shop's.
+    tints: tuple = looks.WINDOW_TINTS
 
 
 def holed(q: Quads, face: Face, openings: list[Opening], name: str, cls: str, material: Material, colour,
@@ -163,7 +165,7 @@ def facade(p: Parts, q: Quads, face: Face, openings: list[Opening], wall: tuple[
     holed(q, face, openings if recessed else [], "wall", "building", material, colour, z_base=z_base)
     for _, row in sorted(rows.items()):
         for o in row:
-            tint = pick(looks.WINDOW_TINTS, rng)
+            tint = pick(o.tints, rng)
             depth = o.depth if recessed else -0.01
             rect(q, face, "pane", "building", Material.GLASS, tint, o.s0, o.s1, o.z0, o.z1, depth)
             top = o.z0 + o.parapet
@@ -265,7 +267,7 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
             if style == "urban":
                 ground = 4.2
                 shop = _columns(face.width, 5.0, 3.4, 0.8)
-                openings += [Opening(s0, s1, 0.35, 3.1) for s0, s1 in shop]
+                openings += [Opening(s0, s1, 0.35, 3.1, tints=looks.SHOP_TINTS) for s0, s1 in shop]
                 cols = _columns(face.width, 2.8 + 0.6 * float(rng.random()), 1.3, 0.7)
                 k = 0
                 while ground + (k + 1) * storey <= height - 1.0:

@@ -1,5 +1,5 @@
 """The places: a facade's wall and openings tile its face, windows sit back in it, loggias
-deeper behind a parapet inside the box (some urban blocks only); a road's
+deeper behind a parapet inside the box (some urban blocks only), shop windows lit; a road's
 markings follow its lanes and leave its crossings to the zebra; pitch lines lie on the
 pitch; each environment's slabs, buildings and trees take the look their role asks for;
 the materials past the first sixteen reach the shader; clouds cover as much sky as θ says,
@@ -102,6 +102,26 @@ def test_every_urban_and_suburban_facade_has_windows_and_the_houses_face_the_str
                 _, first, end, _ = asset.parts[door]
                 y = asset.positions[asset.triangles[first:end].reshape(-1), 1].mean()
                 assert math.copysign(1.0, y) == -math.copysign(1.0, c.center[1])  # on the side of the road (y = 0)
+
+
+def test_urban_shop_fronts_show_a_lit_shop_and_the_storeys_above_their_rooms():
+    from phav_generator.world import materials as looks
+
+    shops, rooms = set(), set()
+    for i, c in enumerate(ENVIRONMENT_SCENES["urban"].colliders):
+        if c.pixel_class != "building":
+            continue
+        asset = collider_asset("urban", i, 0)
+        ground = float(asset.bounds()[0][2])
+        for name, first, end, _ in asset.parts:
+            if name == "pane":
+                v = asset.triangles[first:end].reshape(-1)
+                tint = tuple(float(x) for x in asset.colours[v[0]])
+                (shops if asset.positions[v, 2].max() - ground < 3.2 else rooms).add(tint)
+    as_f32 = lambda tints: {tuple(float(x) for x in np.float32(t)) for t in tints}  # noqa: E731
+    assert shops and shops <= as_f32(looks.SHOP_TINTS)  # a shop window shows its lit goods,
+    assert rooms and rooms <= as_f32(looks.WINDOW_TINTS)  # a flat's its dark room or curtains
+    assert min(luma(np.array(t)) for t in looks.SHOP_TINTS) > max(luma(np.array(t)) for t in looks.WINDOW_TINTS)
 
 
 def test_the_urban_carriageway_has_its_two_lanes_and_the_signalled_crossings():
