@@ -67,7 +67,7 @@ def tiny_theta() -> Theta:
     return parse_theta(data, source="<phav-v1-tiny>")
 
 
-def _cli_env() -> dict[str, str]:
+def cli_env() -> dict[str, str]:
     """A bare environment for a CLI run, keeping where phav's per-machine cache is (the body
     data: HOME or PHAV_CACHE_DIR), so no subprocess builds it again."""
     env = {"COLUMNS": "200", "PATH": ""}
@@ -89,7 +89,7 @@ def run_cli(*args: str, cwd: Path | None = None, env: dict[str, str] | None = No
         capture_output=True,
         text=True,
         cwd=cwd,
-        env=_cli_env() | (env or {}),
+        env=cli_env() | (env or {}),
     )
 
 

@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from tests.helpers import theta_variant, tiny
+from tests.helpers import cli_env, theta_variant, tiny
 
 REFUSE = """
 import os, socket
@@ -35,12 +35,8 @@ def test_generation_runs_with_internet_sockets_refused(tmp_path: Path):
     (site / "sitecustomize.py").write_text(REFUSE, encoding="utf-8")
     loaded, refusals = tmp_path / "loaded", tmp_path / "refusals"
     paths = [str(site), *(p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)]
-    env = {"PATH": "", "COLUMNS": "200", "PYTHONPATH": os.pathsep.join(paths),
-           "PHAV_TEST_LOADED": str(loaded), "PHAV_TEST_REFUSALS": str(refusals)}  # fmt: skip
-    if "PHAV_CACHE_DIR" in os.environ:
-        env["PHAV_CACHE_DIR"] = os.environ["PHAV_CACHE_DIR"]
-    else:
-        env["HOME"] = os.environ.get("HOME", str(Path.home()))
+    env = cli_env() | {"PYTHONPATH": os.pathsep.join(paths), "PHAV_TEST_LOADED": str(loaded),
+                       "PHAV_TEST_REFUSALS": str(refusals)}  # fmt: skip
     result = subprocess.run(
         [sys.executable, "-m", "phav_app.cli", "generate", "--theta", str(theta_variant(tmp_path, tiny)),
          "--videos", "1", "--seed", "3", "--workers", "2", "--out", str(tmp_path / "data")],

@@ -21,7 +21,7 @@ from phav_generator.dataset.journal import JOURNAL_FILE, Journal
 from phav_generator.dataset.write import WORK_DIR, chunk, write_dataset
 from phav_generator.faults import KILL_AT_ENV
 from phav_spec.errors import PhavUserError
-from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, SMALL_VIDEOS, file_bytes
+from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, SMALL_VIDEOS, cli_env, file_bytes
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +37,7 @@ def generate(small_dataset):
             "--shard-size", str(SMALL_SHARD_SIZE))  # fmt: skip
 
     def run(out: Path, *extra: str, kill_at: str | None = None, fsize: int | None = None):
-        env = {"PATH": "", "COLUMNS": "200"}
+        env = cli_env()
         if kill_at is not None:
             env[KILL_AT_ENV] = kill_at
 
@@ -158,7 +158,7 @@ def test_the_workers_end_with_a_killed_run(small_dataset, tmp_path):
     args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
             "--shard-size", str(SMALL_SHARD_SIZE), "--workers", "2", "--out", str(tmp_path / "data"))  # fmt: skip
     run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "generate", *args], stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, env={"PATH": "", "COLUMNS": "200"})  # fmt: skip
+                           stderr=subprocess.DEVNULL, env=cli_env())  # fmt: skip
     workers: list[int] = []
     try:
         deadline = time.monotonic() + 120.0
