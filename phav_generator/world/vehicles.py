@@ -29,6 +29,8 @@ from phav_generator.world.materials import (
 from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
 
 CAR_BODIES: tuple[str, ...] = ("hatchback", "sedan", "suv", "van")
+#: A bus tyre's clearance to its round wheel arch (m).
+BUS_ARCH_GAP_M = 0.12
 #: A box body's aluminium posts and rails.
 RAIL: tuple[float, float, float] = (0.62, 0.63, 0.65)
 #: Truck box and cab colours; bus liveries.
@@ -285,16 +287,30 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
     z0 = g + 0.3
     # The body above the wheel arches, and the skirt between them: a bus shows its wheels in
     # arches, which a tram or a wall does not.
-    arch_top, arch_half = g + 2 * radius + 0.08, radius + 0.12
+    arch_top, arch_half = g + 2 * radius + 0.08, radius + BUS_ARCH_GAP_M
     wheel_xs = (hx - 2.6, -hx + 3.2)
     body = [(-hx, arch_top), (hx, arch_top), (hx, hz - 0.15), (hx - 0.15, hz), (-hx + 0.1, hz), (-hx, hz - 0.1)]
     p.prism("body", "bus", Material.PAINT, livery, body, -hy + 0.02, hy - 0.02)
     edges = (-hx, *(e for x in sorted(wheel_xs) for e in (x - arch_half, x + arch_half)), hx)
     for k, (x0, x1) in enumerate(zip(edges[::2], edges[1::2], strict=True)):
         p.span(f"skirt{k}", "bus", Material.PAINT, livery, (x0, -hy + 0.02, z0), (x1, hy - 0.02, arch_top))
+    # Each arch is round over its wheel: the skirt's corners above the arc filled in, as fans
+    # from each corner of the well's opening (a tram's skirt is straight).
+    axle_z = g + radius
+    top_angle = math.asin(min((arch_top - axle_z) / arch_half, 1.0))
+    arc = [(math.cos(top_angle * k / 4), math.sin(top_angle * k / 4)) for k in range(5)]
     for x in wheel_xs:
         p.span(f"wheel_well{x:+.1f}", "bus", Material.PLASTIC, TRIM, (x - arch_half, -hy + 0.35, z0),
                (x + arch_half, hy - 0.35, arch_top))  # fmt: skip
+        for side in (-1.0, 1.0):  # the front corner, then the back one (mirrored)
+            for sgn in (-1.0, 1.0):
+                y = sgn * (hy - 0.02 + 0.003)
+                corner = (x + side * arch_half, arch_top)
+                rim = [(x + side * arch_half * c, axle_z + arch_half * s) for c, s in arc]
+                if (side > 0) != (sgn < 0):  # counter-clockwise seen from outside
+                    rim = rim[::-1]
+                fan = [(ax, y, az) for ax, az in (corner, *rim)]  # the arc ends on the skirt's top
+                p.panel(f"arch{x:+.1f}{side:+.0f}{sgn:+.0f}", "bus", Material.PAINT, livery, fan)
     belt, top = g + 0.42 * height, hz - 0.3
     ws = [(hx + 0.005, -hy + 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, belt - 0.3),
           (hx + 0.005, hy - 0.12, top + 0.15), (hx + 0.005, -hy + 0.12, top + 0.15)]  # fmt: skip

@@ -15,7 +15,7 @@ import pytest
 from phav_generator.world.library import CATALOGUE, MODELLED_CLASSES, collider_asset, modelled_indices
 from phav_generator.world.materials import Material
 from phav_generator.world.parts import LEVELS, Asset, Parts
-from phav_generator.world.vehicles import Vehicle
+from phav_generator.world.vehicles import BUS_ARCH_GAP_M, Vehicle
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
@@ -249,3 +249,36 @@ def test_a_cushion_fills_its_box_with_rounded_corners():
         return float(np.max(np.min(np.abs(asset.positions) / half, axis=1)))
 
     assert reach(plain) < 0.6 < 0.8 < reach(cushion)
+
+
+def _covers(triangles: list[np.ndarray], px: float, pz: float) -> bool:
+    """Whether a point of the (x, z) plane lies in one of ``triangles`` ((3, 2) each)."""
+    for a, b, c in triangles:
+        d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        u = ((b[0] - px) * (c[1] - pz) - (b[1] - pz) * (c[0] - px)) / d
+        v = ((c[0] - px) * (a[1] - pz) - (c[1] - pz) * (a[0] - px)) / d
+        if u >= 0 and v >= 0 and u + v <= 1:
+            return True
+    return False
+
+
+def test_a_bus_s_wheel_arches_are_round_over_its_wheels():
+    """Seen from the side, the skirt's paint comes down to a circle round each axle (a tram's
+    skirt is straight, and a street model took a square-arched bus for a tram)."""
+    bus = _build("bus")
+    assert isinstance(bus, Vehicle)
+    body = bus.body
+    arch_r = bus.wheel_radius + BUS_ARCH_GAP_M
+    arches = [t for name, first, end, _ in body.parts if name.startswith("arch") for t in body.triangles[first:end]]
+    for x, y, z in bus.axles:
+        side = [body.positions[t][:, [0, 2]].astype(np.float64) for t in arches
+                if np.sign(body.positions[t[0], 1]) == np.sign(y)]  # fmt: skip
+        assert side, "no arch on this side"
+        top = max(float(t[:, 1].max()) for t in side)  # the skirt's top
+        for dx in np.linspace(-0.98, 0.98, 15) * arch_r:
+            for pz in np.linspace(z + 0.02, top - 0.02, 9):
+                r = float(np.hypot(dx, pz - z))
+                if r > arch_r + 0.01:
+                    assert _covers(side, x + dx, pz), f"the arch's corner open at ({dx:+.2f}, {pz - z:+.2f}) m"
+                elif r < arch_r - 0.01:
+                    assert not _covers(side, x + dx, pz), f"paint over the wheel at ({dx:+.2f}, {pz - z:+.2f}) m"
