@@ -122,7 +122,7 @@ class Opening:
     #: The height of a parapet across its front (m), 0 for none.
     parapet: float = 0.0
     #: What its glass shows behind it: a room's (dark, blinds, curtains) or a lit shop's.
-    tints: tuple = looks.WINDOW_TINTS
+    tints: tuple[looks.RGB, ...] = looks.WINDOW_TINTS
 
 
 def holed(q: Quads, face: Face, openings: list[Opening], name: str, cls: str, material: Material, colour,

@@ -302,7 +302,7 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
     for x in wheel_xs:
         p.span(f"wheel_well{x:+.1f}", "bus", Material.PLASTIC, TRIM, (x - arch_half, -hy + 0.35, z0),
                (x + arch_half, hy - 0.35, arch_top))  # fmt: skip
-        for side in (-1.0, 1.0):  # the front corner, then the back one (mirrored)
+        for side in (-1.0, 1.0):  # the well's back corner, then its front one
             for sgn in (-1.0, 1.0):
                 y = sgn * (hy - 0.02 + 0.003)
                 corner = (x + side * arch_half, arch_top)
