@@ -303,13 +303,12 @@ def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -
         p.span(f"wheel_well{x:+.1f}", "bus", Material.PLASTIC, TRIM, (x - arch_half, -hy + 0.35, z0),
                (x + arch_half, hy - 0.35, arch_top))  # fmt: skip
         for side in (-1.0, 1.0):  # the well's back corner, then its front one
+            corner = (x + side * arch_half, arch_top)
+            rim = [(x + side * arch_half * c, axle_z + arch_half * s) for c, s in arc]  # ends on the skirt's top
             for sgn in (-1.0, 1.0):
                 y = sgn * (hy - 0.02 + 0.003)
-                corner = (x + side * arch_half, arch_top)
-                rim = [(x + side * arch_half * c, axle_z + arch_half * s) for c, s in arc]
-                if (side > 0) != (sgn < 0):  # counter-clockwise seen from outside
-                    rim = rim[::-1]
-                fan = [(ax, y, az) for ax, az in (corner, *rim)]  # the arc ends on the skirt's top
+                wound = rim[::-1] if (side > 0) != (sgn < 0) else rim  # counter-clockwise seen from outside
+                fan = [(ax, y, az) for ax, az in (corner, *wound)]
                 p.panel(f"arch{x:+.1f}{side:+.0f}{sgn:+.0f}", "bus", Material.PAINT, livery, fan)
     belt, top = g + 0.42 * height, hz - 0.3
     ws = [(hx + 0.005, -hy + 0.12, belt - 0.3), (hx + 0.005, hy - 0.12, belt - 0.3),

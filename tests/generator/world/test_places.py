@@ -19,7 +19,7 @@ import pytest
 from phav_generator.motion.rotations import look_at
 from phav_generator.world import places
 from phav_generator.world.library import _carriageway, collider_asset
-from phav_generator.world.materials import Material
+from phav_generator.world.materials import SHOP_TINTS, WINDOW_TINTS, Material
 from phav_generator.world.parts import Parts
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
@@ -104,9 +104,12 @@ def test_every_urban_and_suburban_facade_has_windows_and_the_houses_face_the_str
                 assert math.copysign(1.0, y) == -math.copysign(1.0, c.center[1])  # on the side of the road (y = 0)
 
 
-def test_urban_shop_fronts_show_a_lit_shop_and_the_storeys_above_their_rooms():
-    from phav_generator.world import materials as looks
+def _as_stored(tints) -> set[tuple[float, ...]]:
+    """Colours as an asset stores them per vertex (float32)."""
+    return {tuple(float(x) for x in np.float32(t)) for t in tints}
 
+
+def test_urban_shop_fronts_show_a_lit_shop_and_the_storeys_above_their_rooms():
     shops, rooms = set(), set()
     for i, c in enumerate(ENVIRONMENT_SCENES["urban"].colliders):
         if c.pixel_class != "building":
@@ -118,10 +121,9 @@ def test_urban_shop_fronts_show_a_lit_shop_and_the_storeys_above_their_rooms():
                 v = asset.triangles[first:end].reshape(-1)
                 tint = tuple(float(x) for x in asset.colours[v[0]])
                 (shops if asset.positions[v, 2].max() - ground < 3.2 else rooms).add(tint)
-    as_f32 = lambda tints: {tuple(float(x) for x in np.float32(t)) for t in tints}  # noqa: E731
-    assert shops and shops <= as_f32(looks.SHOP_TINTS)  # a shop window shows its lit goods,
-    assert rooms and rooms <= as_f32(looks.WINDOW_TINTS)  # a flat's its dark room or curtains
-    assert min(luma(np.array(t)) for t in looks.SHOP_TINTS) > max(luma(np.array(t)) for t in looks.WINDOW_TINTS)
+    assert shops and shops <= _as_stored(SHOP_TINTS)  # a shop window shows its lit goods,
+    assert rooms and rooms <= _as_stored(WINDOW_TINTS)  # a flat's its dark room or curtains
+    assert min(luma(np.array(t)) for t in SHOP_TINTS) > max(luma(np.array(t)) for t in WINDOW_TINTS)
 
 
 def test_the_urban_carriageway_has_its_two_lanes_and_the_signalled_crossings():
