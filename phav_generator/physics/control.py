@@ -189,7 +189,9 @@ class SimulationRun:
         self.release_time = [math.inf] * len(physical)
         self.strength_now = [p.strengths[0].copy() for p in physical]
         self.pin_now = [float(p.pin[0]) for p in physical]
-        self.car_geoms = {h.geom for h, prop in zip(scene.props, plan.props, strict=True) if prop.object == "car"}
+        self.car_geoms = {
+            g for h, prop in zip(scene.props, plan.props, strict=True) if prop.object == "car" for g in h.touching
+        }
         self.pan = None
         # The explosion guard: the frame a step blew up at, and the last good state to hold.
         self.exploded_at: int | None = None

@@ -25,6 +25,12 @@ from phav_spec.scene import ENVIRONMENT_SCENES
 WORLD_BIT = 1
 CAMERA_BIT = 2
 PROP_BIT = 4
+#: Sliding friction of a vehicle's hulls against whatever touches them (cloth on paint).
+HULL_FRICTION = 0.3
+#: A vehicle's contacts are softer than MuJoCo's default 0.02 s: a bumper's foam and the leg
+#: it strikes give, so the body follows its swept legs instead of whipping their feet
+#: faster than 30 m/s (docs/physics.md has the trade against how deep limbs press in).
+HULL_CONTACT_TIMECONST = 0.04
 _PERSON_BITS = (8, 16, 32, 64)
 
 #: Servo natural frequency (rad/s) and damping ratio at full strength. A servo is a soft
@@ -86,6 +92,7 @@ class PropHandles:
     driven: bool = False  # moves along the plan's path (cars): x, y, z slides from its start
     hinged: bool = False  # turns on a hinge (a door): one qpos, from its closed position
     grip_eqs: list[int] = field(default_factory=list)
+    touching: tuple[int, ...] = ()  # the geoms that collide: its own, or its hulls
 
 
 @dataclass
@@ -270,8 +277,26 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
     if parent is spec.worldbody or prop.path is not None:
         g.quat = list(prop.quat)  # a driven body slides along world axes; its shape turns
     g.mass = prop.mass
-    g.contype = PROP_BIT
-    g.conaffinity = WORLD_BIT | PROP_BIT | sum(_PERSON_BITS)
+    g.contype = 0 if prop.hulls else PROP_BIT
+    g.conaffinity = 0 if prop.hulls else WORLD_BIT | PROP_BIT | sum(_PERSON_BITS)
+    for k, corners in enumerate(prop.hulls):
+        mesh = spec.add_mesh()
+        mesh.name = f"prop_{prop.name}_hull{k}"
+        mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
+        h = parent.add_geom()
+        h.name = mesh.name
+        h.type = mujoco.mjtGeom.mjGEOM_MESH
+        h.meshname = mesh.name
+        h.pos, h.quat = list(g.pos), list(g.quat)
+        h.density = 0.0  # the shape geom carries the mass
+        # Clothes slide on paint and glass: a body the car carries slides off as it brakes.
+        h.friction = [HULL_FRICTION, 0.005, 0.0001]
+        h.solref = [HULL_CONTACT_TIMECONST, 1.0]
+        h.priority = 2  # over a person's feet: its friction and softness decide
+        h.contype = PROP_BIT
+        # The camera collides with a vehicle's hulls too: a car it follows a body onto
+        # pushes it aside instead of passing through it.
+        h.conaffinity = WORLD_BIT | CAMERA_BIT | PROP_BIT | sum(_PERSON_BITS)
     for k, (person, body_name, _t0, _t1, rel_pos, rel_quat) in enumerate(prop.grips):
         eq = spec.add_equality()
         eq.name = f"grip_{prop.name}_{k}"
@@ -317,11 +342,12 @@ def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
         g.margin = CAMERA_MARGIN_M if collide else 0.0
         g.solref = [CAMERA_CONTACT_TIMECONST, 1.0]
         if collide:
-            # Frictionless (its condim wins by priority over the world's): pulled against a
-            # hedge or a wall, the camera slides along it and round its end, as an operator
-            # steps round it, instead of sticking to it while the protagonist walks away.
+            # Frictionless (its condim wins by priority over the world's and a vehicle's
+            # hulls'): pulled against a hedge or a wall, the camera slides along it and round
+            # its end, as an operator steps round it, instead of sticking to it while the
+            # protagonist walks away.
             g.condim = 1
-            g.priority = 1
+            g.priority = 3
         s = body.add_site()
         s.name = name
     anchor = spec.worldbody.add_body()
@@ -437,7 +463,8 @@ def _prop_handles(model: mujoco.MjModel, prop: PropPlan) -> PropHandles:
     obj = mujoco.mjtObj
     g = _id(model, obj.mjOBJ_GEOM, "prop_" + prop.name)
     body = int(model.geom_bodyid[g])
-    handle = PropHandles(prop.name, body, g, None, None)
+    hulls = tuple(_id(model, obj.mjOBJ_GEOM, f"prop_{prop.name}_hull{k}") for k in range(len(prop.hulls)))
+    handle = PropHandles(prop.name, body, g, None, None, touching=hulls or (g,))
     if prop.path is not None:
         j = _id(model, obj.mjOBJ_JOINT, f"prop_{prop.name}_x")
         handle.qpos, handle.qvel, handle.driven = int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]), True

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
-from phav_generator.physics.plan.car_hit import CAR_CLEARANCE_M
+from phav_generator.physics.plan.car_hit import CAR_CLEARANCE_M, CAR_LOOK_STREAM
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.assets import WET_CLASSES, asset_drawable, vehicle_drawables
 from phav_generator.render.gl import GROUND, SPECKLE, WATER, Drawable
@@ -100,6 +100,16 @@ def _level_along(positions: np.ndarray, radius: float, eyes: np.ndarray, focal: 
     at = positions[:n] if len(positions) > 1 else positions
     nearest = float(np.linalg.norm(eyes[:n] - at, axis=1).min()) - radius
     return level_for(radius, nearest, focal)
+
+
+def drawn_vehicle(recipe: Recipe, prop, level: int = 0) -> Vehicle:
+    """The vehicle drawn for a vehicle prop (a ``PropPlan`` or ``PropTrack``): the car of
+    ``car_hit``, seeded by the recipe's physics seed on the stream its plan took its body
+    type from (so that it collides as drawn), or traffic, by the background seed."""
+    if prop.name == "car":
+        return vehicle(prop.object, prop.size, stream(recipe.seeds.physics, CAR_LOOK_STREAM), level,
+                       below=CAR_CLEARANCE_M)  # fmt: skip
+    return vehicle(prop.object, prop.size, stream(recipe.seeds.background, f"world/{prop.name}"), level)
 
 
 def humans_by_id(recipe: Recipe) -> dict[int, HumanSpec]:
@@ -205,10 +215,7 @@ def build_drawables(
         transforms = _pose(quat_to_matrix(prop.quat), prop.pos)
         level = _level_along(prop.pos, _bounding_radius(prop.shape, prop.size), eyes, focal)
         if assets and prop.object in VEHICLE_HALF_SIZES:
-            seed = recipe.seeds.physics if prop.name == "car" else recipe.seeds.background
-            below = CAR_CLEARANCE_M if prop.name == "car" else 0.0
-            found = vehicle(prop.object, prop.size, stream(seed, f"world/{prop.name}"), level, below=below)
-            out += vehicle_drawables(found, transforms, lamp_glow=glow)
+            out += vehicle_drawables(drawn_vehicle(recipe, prop, level), transforms, lamp_glow=glow)
             continue
         rng = stream(recipe.seeds.physics, f"world/{prop.name}")
         look = props.prop(prop.object, prop.pixel_class, prop.shape, prop.size, rng, level) if assets else None

@@ -27,8 +27,8 @@ from phav_generator.world.materials import (
     pick_weighted,
 )  # fmt: skip
 from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
+from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, ROOF_OVERHANG_M, car_body, car_profile
 
-CAR_BODIES: tuple[str, ...] = ("hatchback", "sedan", "suv", "van")
 #: A bus tyre's clearance to its round wheel arch (m).
 BUS_ARCH_GAP_M = 0.12
 #: A box body's aluminium posts and rails.
@@ -52,27 +52,6 @@ class Vehicle:
     def n_triangles(self) -> int:
         """Its body's triangles and every wheel's."""
         return self.body.n_triangles + len(self.axles) * self.wheel.n_triangles
-
-
-@dataclass(frozen=True)
-class _Shape:
-    """A car body type's proportions, as fractions of the box's length and height."""
-
-    hood_front: float  # height of the hood's front edge / total height
-    belt: float  # height of the beltline (bottom of the side windows) / total height
-    hood: float  # hood length / length
-    trunk: float  # trunk-deck length / length (0: a hatch or van back)
-    windshield: float  # windshield's run / length
-    rear_window: float  # rear window's run / length
-    wheelbase: float  # / length
-
-
-_SHAPES = {
-    "hatchback": _Shape(0.50, 0.62, 0.22, 0.02, 0.16, 0.08, 0.64),
-    "sedan": _Shape(0.50, 0.64, 0.24, 0.17, 0.15, 0.13, 0.60),
-    "suv": _Shape(0.56, 0.60, 0.20, 0.02, 0.12, 0.05, 0.62),
-    "van": _Shape(0.48, 0.50, 0.10, 0.0, 0.12, 0.01, 0.64),
-}
 
 
 def _axle_pairs(xs, y: float, z: float) -> np.ndarray:
@@ -102,26 +81,20 @@ def wheel(radius: float, width: float, level: int, cls: str = "car") -> Asset:
 def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = None, below: float = 0.0) -> Vehicle:
     """A car filling the box of half extents ``half``; ``body`` one of ``CAR_BODIES`` (drawn
     from ``rng`` when None), its paint drawn from ``CAR_PAINTS``."""
-    kind = body if body is not None else CAR_BODIES[int(rng.integers(0, len(CAR_BODIES)))]
-    shape = _SHAPES[kind]
+    kind = body if body is not None else car_body(rng)
+    shape = CAR_SHAPES[kind]
     paint = pick_weighted(CAR_PAINTS, rng)
-    hx, hy, hz = (float(h) for h in half)
+    outline = car_profile(kind, half, below)
+    hx, hy, hz = outline.half
     length, height = 2 * hx, 2 * hz + below
     p = Parts(level)
-    g = -hz - below  # the ground's height in the box frame
+    g = outline.ground
     radius = min(0.34, 0.22 * height)
-    z0 = g + max(0.17, below + 0.02)  # the body's bottom, above the box's bottom
-    zh, zb, zt = g + shape.hood_front * height, g + shape.belt * height, hz
-    bumper = 0.07
-    front, rear = hx - bumper, -hx + bumper
-    x_ws = front - shape.hood * length
-    x_rw = rear + shape.trunk * length
-    side = hy - 0.05
-    lower = [(rear + 0.06, z0), (front - 0.06, z0), (front, z0 + 0.12), (front, zh - 0.06), (front - 0.08, zh),
-             (x_ws, zb), (x_rw, zb), (rear, zb - 0.08), (rear, z0 + 0.10)]  # fmt: skip
-    if kind == "van":
-        lower = [(rear + 0.04, z0), (front - 0.06, z0), (front, z0 + 0.12), (front, zh - 0.05), (front - 0.06, zh),
-                 (x_ws, zb), (rear, zb), (rear, z0 + 0.04)]  # fmt: skip
+    z0, zh, zb, zt = outline.bottom, outline.hood_front, outline.belt, outline.roof
+    front, rear = outline.front, outline.rear
+    x_ws, x_rw = outline.windscreen, outline.rear_window
+    side = outline.side
+    lower = list(outline.lower())
     # The body's sides tuck in under the sills and round over the shoulder line.
     body_taper = lambda z: 0.07 * max(0.0, (z0 + 0.1 - z) / 0.1) + 0.05 * max(0.0, (z - zb + 0.15) / 0.15)  # noqa: E731
     p.prism("body", "car", Material.PAINT, paint, lower, -side, side, taper=body_taper)
@@ -135,16 +108,14 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
         (front - 0.3, side - 0.1, z0 + 0.02),
     )
     # The greenhouse: glass leaning in towards the roof, a painted roof and pillars.
-    x_roof_front = x_ws - shape.windshield * length
-    x_roof_rear = x_rw + shape.rear_window * length
-    lean = 0.10 if kind != "van" else 0.04
+    x_roof_front, x_roof_rear = outline.roof_front, outline.roof_rear
+    lean = outline.lean
     taper = lambda z: lean * (z - zb) / max(zt - zb, 1e-6)  # noqa: E731
-    cabin = [(x_ws, zb), (x_roof_front, zt - 0.05), (x_roof_rear, zt - 0.05), (x_rw, zb)]
+    cabin = list(outline.cabin())
     p.prism("glass", "car", Material.GLASS, GLASS_TINT, cabin, -side + 0.01, side - 0.01, taper=taper)
-    roof_w = side * (1.0 - lean)
-    roof = [(x_roof_front + 0.03, zt - 0.06), (x_roof_front - 0.02, zt), (x_roof_rear + 0.02, zt),
-            (x_roof_rear - 0.03, zt - 0.06)]  # fmt: skip
-    p.prism("roof", "car", Material.PAINT, paint, roof, -roof_w - 0.005, roof_w + 0.005)
+    roof_w = outline.roof_half_width
+    overhang = roof_w + ROOF_OVERHANG_M
+    p.prism("roof", "car", Material.PAINT, paint, list(outline.roof_panel()), -overhang, overhang)
     tilt = math.atan2(lean * side, zt - zb)
     pillar_x = [(x_ws + x_roof_front) / 2, (x_roof_front + x_roof_rear) / 2, (x_rw + x_roof_rear) / 2]
     pillar_run = [x_ws - x_roof_front, 0.0, x_roof_rear - x_rw]
@@ -159,16 +130,9 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
                   rot=rotation(pitch=pitch, roll=sgn * tilt))  # fmt: skip
     # Bumpers, lights, grille, plates, wheel arches and mirrors.
     trim = TRIM if rng.random() < 0.5 else paint
-    for x, sgn in ((hx - bumper / 2 - 0.005, 1.0), (-hx + bumper / 2 + 0.005, -1.0)):
-        p.box(
-            f"bumper{sgn:+.0f}",
-            "car",
-            Material.PLASTIC,
-            trim,
-            (x, 0.0, z0 + 0.14),
-            (bumper / 2 + 0.005, hy - 0.08, 0.12),
-        )
-        plate_x = x + sgn * (bumper / 2 + 0.008)
+    for ((x, _, z), extent), sgn in zip(outline.bumpers(), (1.0, -1.0), strict=True):
+        p.box(f"bumper{sgn:+.0f}", "car", Material.PLASTIC, trim, (x, 0.0, z), extent)
+        plate_x = x + sgn * (BUMPER_M / 2 + 0.008)
         p.box(f"plate{sgn:+.0f}", "car", Material.PLAIN, PLATE, (plate_x, 0.0, z0 + 0.16), (0.006, 0.26, 0.06))
     lamp_z = zh - 0.10
     for sgn in (-1.0, 1.0):

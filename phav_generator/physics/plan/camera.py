@@ -83,6 +83,13 @@ class Blocker:
                 return False
         return True
 
+    def holds(self, point: Sequence[float], margin: float = 0.0) -> bool:
+        """Whether ``point`` lies inside the box grown by ``margin`` on every side."""
+        return all(
+            abs(sum(r * (x - c) for r, x, c in zip(axis, point, self.center, strict=True))) <= h + margin
+            for axis, h in zip(self.axes, self.half, strict=True)
+        )
+
 
 #: A line of sight ends this far (m) short of the anchor: a box the protagonist stands,
 #: sits or leans in does not count as standing between.
@@ -121,11 +128,13 @@ def clear_camera_start(
     shift: np.ndarray | None = None,
     blockers: Sequence[Blocker] = (),
     anchors: Sequence[Sequence[float]] = (),
+    keep_out: Sequence[Blocker] = (),
 ) -> tuple[float, float, float]:
     """The camera's start, moved clear of the environment's geometry: lifted, or slid
     towards its target; then, if something in ``blockers`` stands between it and the
-    protagonist's planned path ``anchors`` (the span its camera must see), turned about the
-    vertical through the target to the nearest view that hides fewest of them.
+    protagonist's planned path ``anchors`` (the span its camera must see), or it stands in
+    ``keep_out`` (where a driven car or load will pass), turned about the vertical through
+    the target to the nearest free view that hides fewest of them.
 
     The sampler places C_xyz around the protagonist without looking at the geometry, so a
     start inside something is moved, deterministically, up to ``LIFT_M`` straight up (over
@@ -148,17 +157,18 @@ def clear_camera_start(
     target = np.array(recipe.camera.target, dtype=np.float64) + offset
     cleared = _cleared(colliders, floor, start, target, clearance)
     best, fewest = cleared, hidden(cleared, anchors, blockers)
+    in_the_way = any(box.holds(cleared, clearance) for box in keep_out)
     dx, dy = float(start[0] - target[0]), float(start[1] - target[1])
     for turn in SIGHT_TURNS_DEG:
-        if fewest == 0:
+        if fewest == 0 and not in_the_way:
             break
         c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
         turned = (float(target[0]) + c * dx - s * dy, float(target[1]) + s * dx + c * dy, float(start[2]))
-        if _inside(colliders, np.array(turned), clearance, floor):
+        if _inside(colliders, np.array(turned), clearance, floor) or any(b.holds(turned, clearance) for b in keep_out):
             continue
         n = hidden(turned, anchors, blockers)
-        if n < fewest:
-            best, fewest = turned, n
+        if in_the_way or n < fewest:
+            best, fewest, in_the_way = turned, n, False
     return best
 
 
@@ -177,6 +187,37 @@ def _cleared(
         if not _inside(colliders, point, clearance, floor):
             return (float(point[0]), float(point[1]), float(point[2]))
     return tuple(float(v) for v in target)  # type: ignore[return-value]
+
+
+#: How far (m) beside a driven prop's path its lane is kept clear of the camera's start.
+LANE_MARGIN_M = 0.5
+
+
+def driven_lanes(props) -> tuple[Blocker, ...]:
+    """Where each driven prop (a car, a pushed load) passes over the clip: a box round its
+    path, from its first position to its last, as wide and tall as the prop plus
+    ``LANE_MARGIN_M`` each side, which a camera should not start in."""
+    out = []
+    for prop in props:
+        if prop.path is None or prop.shape != "box":
+            continue
+        (x0, y0, z0), (x1, y1, z1) = (tuple(float(v) for v in prop.path[k]) for k in (0, -1))
+        run = math.hypot(x1 - x0, y1 - y0)
+        heading = math.atan2(y1 - y0, x1 - x0) if run > 1e-9 else 0.0
+        rot = quat_to_matrix(np.asarray(prop.quat, dtype=np.float64)).tolist()
+        # How far the prop reaches along, across and up its path (Python floats, as `crosses`).
+        directions = (
+            (math.cos(heading), math.sin(heading), 0.0),
+            (-math.sin(heading), math.cos(heading), 0.0),
+            (0.0, 0.0, 1.0),
+        )
+        reach = [
+            sum(abs(sum(u[i] * rot[i][k] for i in range(3))) * float(prop.size[k]) for k in range(3))
+            for u in directions
+        ]
+        half = (run / 2 + reach[0] + LANE_MARGIN_M, reach[1] + LANE_MARGIN_M, reach[2] + LANE_MARGIN_M)
+        out.append(Blocker.turned(((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2), half, math.degrees(heading)))
+    return tuple(out)
 
 
 def view_blockers(colliders, boxes, props) -> tuple[Blocker, ...]:

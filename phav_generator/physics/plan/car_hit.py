@@ -10,16 +10,21 @@ import numpy as np
 from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
+from phav_spec.car_shapes import car_body, car_hulls, car_profile
 from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS
 
-#: The car's box floats this far (m) above the ground: its wheels fill the gap, the box is
-#: the body a person meets.
+#: The car's box floats this far (m) above the ground: its wheels fill the gap.
 CAR_CLEARANCE_M = 0.15
+#: The stream the drawn car takes its body type from (its first draw; render/scene.py).
+CAR_LOOK_STREAM = "world/car"
 
 
 def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
-    """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins."""
+    """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins.
+
+    The car collides as the body type the renderer draws in its box (``car_hulls``): its
+    bumper and front meet the legs, the hood and windscreen what folds onto them."""
     rng = stream(b.recipe.seeds.physics, "car_hit")
     speed = uniform(5.0, 12.0, rng=rng)
     n = len(b.times)
@@ -37,8 +42,11 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     path = centre_hit[None, :] - across[None, :] * speed * (b.times - t_hit)[:, None]
     yaw = heading + side * math.pi / 2 + math.pi
     quat = rot_to_quat(yaw_matrix(yaw))
+    body = car_body(stream(b.recipe.seeds.physics, CAR_LOOK_STREAM))
+    hulls = car_hulls(car_profile(body, tuple(half), CAR_CLEARANCE_M))
     b.props.append(
-        PropPlan("car", "car", OBJECTS["car"], "box", tuple(half), 1200.0, path[0], quat, dynamic=False, path=path)
-    )
+        PropPlan("car", "car", OBJECTS["car"], "box", tuple(half), 1200.0, path[0], quat, dynamic=False, path=path,
+                 hulls=hulls)
+    )  # fmt: skip
     b.manipulations.append(Manipulation("car", p.person_id, "pelvis", "hit", t_hit, float(b.times[-1])))
     return replace(p, release_on_contact_with="car")

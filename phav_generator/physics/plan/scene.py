@@ -15,7 +15,7 @@ import numpy as np
 from phav_generator.motion.skeleton import forward_kinematics
 from phav_generator.physics.plan.background import background_people
 from phav_generator.physics.plan.builder import PlanBuilder
-from phav_generator.physics.plan.camera import anchor_point, clear_camera_start, view_blockers
+from phav_generator.physics.plan.camera import anchor_point, clear_camera_start, driven_lanes, view_blockers
 from phav_generator.physics.plan.car_hit import car_hit
 from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
 from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
@@ -59,7 +59,9 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         ties=tuple(b.ties),
         manipulations=tuple(b.manipulations),
         stand_offset_z=b.stand_offset_z,
-        camera_start=clear_camera_start(recipe, shift=shift, blockers=blockers, anchors=anchors),
+        camera_start=clear_camera_start(
+            recipe, shift=shift, blockers=blockers, anchors=anchors, keep_out=driven_lanes(b.props) if anchors else ()
+        ),
         camera_target=camera_target,
         traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, substeps)),
     )

@@ -69,6 +69,9 @@ class PropPlan:
     grips: tuple[
         tuple[int, str, float, float, np.ndarray, np.ndarray], ...
     ] = ()  # (person, body, t0, t1, rel pos, rel quat)
+    # Convex solids (their corners, in the shape's frame) it collides as instead of its
+    # shape, which then only carries its mass and pose: a car's body, greenhouse and bumpers.
+    hulls: tuple[tuple[tuple[float, float, float], ...], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from phav_generator.motion.skeleton import BONE_INDEX
-from phav_generator.physics.plan.camera import Blocker, clear_camera_start, hidden, sees, view_blockers
+from phav_generator.physics.plan.camera import Blocker, clear_camera_start, driven_lanes, hidden, sees, view_blockers
 from phav_generator.physics.plan.scene import VIEW_CHECK_EVERY, _view_anchors, plan_scene
 from phav_generator.physics.recording import IN_VIEW_SHARE, keep_in_view
 from phav_generator.physics.simulate import simulate_plan
@@ -46,6 +46,33 @@ def test_a_segment_crosses_a_box_only_where_it_passes_through_it() -> None:
     c, s = math.cos(math.pi / 2), math.sin(math.pi / 2)
     tipped = Blocker.of((0.0, 0.0, 0.0), (0.1, 0.1, 1.0), np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]))
     assert tipped.crosses((-1.0, 0.9, 0.0), (1.0, 0.9, 0.0)) and not tipped.crosses((-1.0, 0.0, 0.5), (1.0, 0.0, 0.5))
+
+
+def test_a_box_holds_the_points_inside_it_grown_by_a_margin() -> None:
+    box = Blocker.turned((0.0, 0.0, 1.0), (1.0, 0.5, 1.0), 90.0)  # its length along y
+    assert box.holds((0.4, 0.9, 1.5)) and not box.holds((0.9, 0.4, 1.5))
+    assert box.holds((0.9, 0.4, 1.5), margin=0.45) and not box.holds((0.0, 0.0, 2.3), margin=0.25)
+
+
+def test_a_kite_start_in_the_car_s_lane_is_turned_out_of_it(monkeypatch) -> None:
+    """phav-v1, seed 0, v000029: a car hit whose kite started where the car drives through
+    (its lane: the car's path over the clip, as wide as the car and 0.5 m more each side).
+    The plan turns it about the target, keeping distance and height, out of the lane."""
+    recipe = _phav_v1(29)
+    assert recipe.action == "car_hit" and recipe.camera.kind == "kite"
+    plan = plan_scene(recipe)
+    (lane,) = driven_lanes(plan.props)
+    car = next(p for p in plan.props if p.object == "car")
+    assert all(lane.holds(point) for point in car.path)
+    assert not lane.holds(plan.camera_start, 0.25)
+    monkeypatch.setattr("phav_generator.physics.plan.scene.driven_lanes", lambda props: ())
+    unturned = plan_scene(recipe).camera_start
+    assert lane.holds(unturned, 0.25)
+    target = np.asarray(plan.camera_target)
+    assert np.isclose(
+        np.hypot(*(np.subtract(unturned, target)[:2])), np.hypot(*(np.subtract(plan.camera_start, target)[:2]))
+    )
+    assert unturned[2] == plan.camera_start[2]
 
 
 def test_a_line_of_sight_stops_short_of_the_box_the_protagonist_stands_in() -> None:

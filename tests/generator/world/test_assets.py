@@ -282,3 +282,47 @@ def test_a_bus_s_wheel_arches_are_round_over_its_wheels():
                     assert _covers(side, x + dx, pz), f"the arch's corner open at ({dx:+.2f}, {pz - z:+.2f}) m"
                 elif r < arch_r - 0.01:
                     assert not _covers(side, x + dx, pz), f"paint over the wheel at ({dx:+.2f}, {pz - z:+.2f}) m"
+
+
+def _outside_hulls(points: np.ndarray, hulls) -> np.ndarray:
+    """How far each point lies outside the nearest of convex ``hulls`` (their farthest face
+    plane; negative inside)."""
+    from scipy.spatial import ConvexHull
+
+    planes = [ConvexHull(np.asarray(h)).equations for h in hulls]
+    return np.min([np.max(points @ e[:, :3].T + e[:, 3], axis=1) for e in planes], axis=0)
+
+
+#: How far (m) a drawn car part may stand outside the hulls it collides as: its mirrors, the
+#: pillars' trim over the glass's edges, and the dark underside between the wheels,
+#: which hangs under the body as the wheels do.
+_PROUD_PARTS = {"mirror": 0.09, "pillar": 0.055, "underbody": 0.14}
+#: How far (m) a hull's corner may be from the drawn car: the body tucks in under its sills.
+_HULL_REACH_M = 0.08
+
+
+@pytest.mark.parametrize("kind", ["hatchback", "sedan", "suv", "van"])
+@pytest.mark.parametrize("below", [0.0, 0.15])
+def test_a_car_is_drawn_as_the_hulls_it_collides_as(kind, below):
+    from scipy.spatial import cKDTree
+
+    from phav_generator.world.vehicles import car
+    from phav_spec.car_shapes import car_hulls, car_profile
+
+    half = (2.1, 0.9, 0.7)
+    hulls = car_hulls(car_profile(kind, half, below))
+    for level in range(LEVELS):
+        body = car(half, np.random.default_rng(0), level, body=kind, below=below).body
+        p = body.positions.astype(np.float64)
+        for name, first, end, _ in body.parts:
+            corners = p[np.unique(body.triangles[first:end])]
+            allowance = next((m for part, m in _PROUD_PARTS.items() if name.startswith(part)), FIT_M)
+            outside = _outside_hulls(corners, hulls).max()
+            assert outside <= allowance, f"{kind} {name}: {outside:.3f} m outside its hulls"
+    a, b, c = (p[body.triangles[:, k]] for k in range(3))
+    u, v = np.meshgrid(np.linspace(0, 1, 9), np.linspace(0, 1, 9))
+    keep = (u + v <= 1).ravel()
+    u, v = u.ravel()[keep], v.ravel()[keep]
+    surface = (a[:, None] + u[None, :, None] * (b - a)[:, None] + v[None, :, None] * (c - a)[:, None]).reshape(-1, 3)
+    reach = cKDTree(surface).query(np.concatenate([np.asarray(h) for h in hulls]))[0]
+    assert reach.max() <= _HULL_REACH_M, f"{kind}: a hull corner {reach.max():.3f} m from the drawn car"
