@@ -58,6 +58,10 @@ float asphalt_grain(vec3 p, float fw) {
     return 0.45 * octave(p, 160.0, fw) + 0.6 * grain_ladder(p, fw, 80.0);
 }
 
+// This fragment's asphalt grain, kept by `material` for the wet road's film (the same
+// point and footprint), so that a wet road computes it once.
+float fragment_asphalt_grain = 0.0;
+
 // Leaf clumps about 1/scale metres apart: each the cell's hashed point grown into a ball lit
 // from above (cellular noise), the gaps between the balls in shadow. Mean about 1.
 float leaf_clumps(vec3 p, float scale) {
@@ -175,7 +179,8 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
         // from the smooth painted panel of a car's bonnet, which it otherwise resembles.
         gloss = vec2(0.02, 0.08);
         float wear = smooth_noise(p, 0.3);
-        return c * (1.0 + asphalt_grain(p, fw) + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
+        fragment_asphalt_grain = asphalt_grain(p, fw);
+        return c * (1.0 + fragment_asphalt_grain + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
     }
 #endif
 #ifdef MATERIAL_18

@@ -148,7 +148,7 @@ void main() {
         float damp = 0.35;
 #if MATERIALS
         // Damp asphalt is rough: its stones stand out of the film, which shines between them.
-        if (v_pattern == 17) damp *= max(1.0 + 2.5 * asphalt_grain(v_uv, fw), 0.0);
+        if (v_pattern == 17) damp *= max(1.0 + 2.5 * fragment_asphalt_grain, 0.0);
 #endif
         float pools = v_material == 2 ? 1.0 : mix(damp, 1.0, dips);  // open water: all of it
         reflectivity = wet * pools * fresnel;
