@@ -25,6 +25,8 @@ from phav_spec.scene import ENVIRONMENT_SCENES
 WORLD_BIT = 1
 CAMERA_BIT = 2
 PROP_BIT = 4
+#: Name prefix of the boxes only the camera collides with (``ScenePlan.camera_walls``).
+CAMERA_WALL = "camera_wall_"
 #: Sliding friction of a vehicle's hulls against whatever touches them (cloth on paint).
 HULL_FRICTION = 0.3
 #: A vehicle's contacts are softer than MuJoCo's default 0.02 s: a bumper's foam and the leg
@@ -135,7 +137,8 @@ def _add_geom_shape(geom, shape: str, size: tuple[float, ...]) -> None:
         raise ValueError(f"unknown prop shape {shape!r}")
 
 
-def _box(parent, name: str, center, half, yaw_deg: float) -> None:
+def _box(parent, name: str, center, half, yaw_deg: float):
+    """A static box geom of world geometry (collides with everything that moves)."""
     g = parent.add_geom()
     g.name = name
     g.type = mujoco.mjtGeom.mjGEOM_BOX
@@ -144,6 +147,7 @@ def _box(parent, name: str, center, half, yaw_deg: float) -> None:
     g.quat = list(matrix_to_quat(yaw_matrix(math.radians(yaw_deg))[None])[0])
     g.contype = WORLD_BIT
     g.conaffinity = 0
+    return g
 
 
 def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
@@ -393,6 +397,9 @@ def build_model(plan: ScenePlan) -> SceneModel:
         _box(spec.worldbody, f"collider_{k}_{c.pixel_class}", c.center, c.half_size, c.yaw_deg)
     for k, bx in enumerate(plan.boxes):
         _box(spec.worldbody, f"box_{k}_{bx.pixel_class}", bx.center, bx.half_size, bx.yaw_deg)
+    for k, (center, half, yaw) in enumerate(plan.camera_walls):
+        wall = _box(spec.worldbody, f"{CAMERA_WALL}{k}", center, half, yaw)
+        wall.contype, wall.conaffinity = 0, CAMERA_BIT  # the camera's alone: people walk through
     physical = [p for p in plan.people if p.physical]
     if len(physical) > len(_PERSON_BITS):
         raise ValueError(f"at most {len(_PERSON_BITS)} simulated people per scene")
@@ -426,8 +433,14 @@ def _handles(model: mujoco.MjModel, plan: ScenePlan, physical: list[PersonPlan])
         props=[_prop_handles(model, prop) for prop in plan.props],
         camera=_camera_handles(model),
         tie_eqs=[_id(model, mujoco.mjtObj.mjOBJ_EQUALITY, f"tie_{k}") for k in range(len(plan.ties))],
-        world_geoms=np.flatnonzero(model.geom_bodyid == 0),
+        world_geoms=np.array([g for g in np.flatnonzero(model.geom_bodyid == 0) if not _is_camera_wall(model, g)]),
     )
+
+
+def _is_camera_wall(model: mujoco.MjModel, geom: int) -> bool:
+    """Whether a geom is one of the plan's camera walls (not world geometry: the camera
+    pressed against one is not in anything)."""
+    return (mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, int(geom)) or "").startswith(CAMERA_WALL)
 
 
 def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:

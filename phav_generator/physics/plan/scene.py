@@ -48,6 +48,16 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     anchors = _view_anchors(recipe, people[0], substeps)
     blockers = () if not anchors else view_blockers(
         ENVIRONMENT_SCENES[recipe.environment.name].colliders, b.boxes, b.props)  # fmt: skip
+    camera_start = clear_camera_start(
+        recipe, shift=shift, blockers=blockers, anchors=anchors, keep_out=driven_lanes(b.props) if anchors else ()
+    )
+    # A spring camera started clear of a car's lane keeps out of it: it films the hit from
+    # beside the road instead of following the thrown body into the car's way.
+    walls = tuple(
+        (lane.center, lane.half, math.degrees(math.atan2(lane.axes[0][1], lane.axes[0][0])))
+        for lane in driven_lanes([p for p in b.props if p.object == "car"])
+        if not lane.holds(camera_start)
+    )
     return ScenePlan(
         recipe=recipe,
         fps=recipe.video.fps,
@@ -59,11 +69,10 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         ties=tuple(b.ties),
         manipulations=tuple(b.manipulations),
         stand_offset_z=b.stand_offset_z,
-        camera_start=clear_camera_start(
-            recipe, shift=shift, blockers=blockers, anchors=anchors, keep_out=driven_lanes(b.props) if anchors else ()
-        ),
+        camera_start=camera_start,
         camera_target=camera_target,
         traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, substeps)),
+        camera_walls=walls if recipe.camera.kind in ("kite", "closeup") else (),
     )
 
 

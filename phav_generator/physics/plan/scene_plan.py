@@ -115,6 +115,9 @@ class ScenePlan:
     #: T_xyz are moved together by the same offset), None for other cameras.
     camera_target: tuple[float, float, float] | None = None
     traffic: tuple[Vehicle, ...] = ()  # background vehicles on the environment's lanes
+    #: Boxes (centre, half sizes, yaw in degrees) only a spring camera collides with: the
+    #: lanes of the cars it started clear of, which it then keeps out of.
+    camera_walls: tuple[tuple[tuple[float, float, float], tuple[float, float, float], float], ...] = ()
 
     @property
     def timestep(self) -> float:

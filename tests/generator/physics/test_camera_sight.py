@@ -75,6 +75,21 @@ def test_a_kite_start_in_the_car_s_lane_is_turned_out_of_it(monkeypatch) -> None
     assert unturned[2] == plan.camera_start[2]
 
 
+def test_a_kite_that_started_beside_the_car_s_lane_keeps_out_of_it() -> None:
+    """phav-v1, seed 0, v000387: the kite followed the thrown body into the van's way, where
+    the van stopped against it (74 frames of its side). The lane is now a wall the camera
+    alone meets: it stays beside the road, and pressing on the wall is not being in a wall."""
+    recipe = _phav_v1(387)
+    assert recipe.action == "car_hit" and recipe.camera.kind == "kite"
+    plan = plan_scene(recipe)
+    (lane,) = driven_lanes([p for p in plan.props if p.object == "car"])
+    assert len(plan.camera_walls) == 1 and not lane.holds(plan.camera_start)
+    trajectory = simulate_plan(plan, keep_state=False)
+    eyes = trajectory.cam_to_world[:, :3, 3]
+    assert not any(lane.holds(eye, -0.05) for eye in eyes)
+    assert trajectory.camera_penetration_m.max() < 0.01
+
+
 def test_a_line_of_sight_stops_short_of_the_box_the_protagonist_stands_in() -> None:
     seat = Blocker.turned((0.0, 0.0, 0.25), (0.25, 0.25, 0.25), 0.0)
     assert sees((3.0, 0.0, 0.3), (0.0, 0.0, 0.3), [seat])  # the segment ends 0.3 m short, at the seat's edge
