@@ -137,7 +137,7 @@ def _add_geom_shape(geom, shape: str, size: tuple[float, ...]) -> None:
         raise ValueError(f"unknown prop shape {shape!r}")
 
 
-def _box(parent, name: str, center, half, yaw_deg: float):
+def _box(parent, name: str, center, half, yaw_deg: float) -> mujoco.MjsGeom:
     """A static box geom of world geometry (collides with everything that moves)."""
     g = parent.add_geom()
     g.name = name
@@ -283,24 +283,7 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
     g.mass = prop.mass
     g.contype = 0 if prop.hulls else PROP_BIT
     g.conaffinity = 0 if prop.hulls else WORLD_BIT | PROP_BIT | sum(_PERSON_BITS)
-    for k, corners in enumerate(prop.hulls):
-        mesh = spec.add_mesh()
-        mesh.name = f"prop_{prop.name}_hull{k}"
-        mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
-        h = parent.add_geom()
-        h.name = mesh.name
-        h.type = mujoco.mjtGeom.mjGEOM_MESH
-        h.meshname = mesh.name
-        h.pos, h.quat = list(g.pos), list(g.quat)
-        h.density = 0.0  # the shape geom carries the mass
-        # Clothes slide on paint and glass: a body the car carries slides off as it brakes.
-        h.friction = [HULL_FRICTION, 0.005, 0.0001]
-        h.solref = [HULL_CONTACT_TIMECONST, 1.0]
-        h.priority = 2  # over a person's feet: its friction and softness decide
-        h.contype = PROP_BIT
-        # The camera collides with a vehicle's hulls too: a car it follows a body onto
-        # pushes it aside instead of passing through it.
-        h.conaffinity = WORLD_BIT | CAMERA_BIT | PROP_BIT | sum(_PERSON_BITS)
+    _add_hulls(spec, parent, prop, g)
     for k, (person, body_name, _t0, _t1, rel_pos, rel_quat) in enumerate(prop.grips):
         eq = spec.add_equality()
         eq.name = f"grip_{prop.name}_{k}"
@@ -311,6 +294,29 @@ def _add_prop(spec: mujoco.MjSpec, prop: PropPlan) -> None:
         eq.active = False
         eq.solref = [0.02, 1.0]
         eq.data = np.array([0, 0, 0, *rel_pos, *rel_quat, 1.0, 0.0], dtype=np.float64)
+
+
+def _add_hulls(spec: mujoco.MjSpec, parent, prop: PropPlan, shape) -> None:
+    """A prop's convex hulls as mesh geoms beside its ``shape`` geom, posed as it is: what
+    collides in its place (a car's body, greenhouse and bumpers)."""
+    for k, corners in enumerate(prop.hulls):
+        mesh = spec.add_mesh()
+        mesh.name = f"prop_{prop.name}_hull{k}"
+        mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
+        g = parent.add_geom()
+        g.name = mesh.name
+        g.type = mujoco.mjtGeom.mjGEOM_MESH
+        g.meshname = mesh.name
+        g.pos, g.quat = list(shape.pos), list(shape.quat)
+        g.density = 0.0  # the shape geom carries the mass
+        # Clothes slide on paint and glass: a body the car carries slides off as it brakes.
+        g.friction = [HULL_FRICTION, 0.005, 0.0001]
+        g.solref = [HULL_CONTACT_TIMECONST, 1.0]
+        g.priority = 2  # over a person's feet: its friction and softness decide
+        g.contype = PROP_BIT
+        # The camera collides with a vehicle's hulls too: a car that meets it pushes it
+        # aside instead of passing through it.
+        g.conaffinity = WORLD_BIT | CAMERA_BIT | PROP_BIT | sum(_PERSON_BITS)
 
 
 def _add_camera(spec: mujoco.MjSpec, plan: ScenePlan) -> None:
