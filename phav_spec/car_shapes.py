@@ -145,8 +145,8 @@ def car_profile(kind: str, half: Vec3, below: float = 0.0) -> CarProfile:
 def car_hulls(profile: CarProfile) -> tuple[tuple[Vec3, ...], ...]:
     """The convex solids a car collides as, each as its corners: the body below the belt,
     the greenhouse from the belt to the roof panel (its sides leaning in as the glass does)
-    and the two bumpers. The mirrors, the A pillars' trim and the underside between the
-    wheels are drawn outside them (tests/generator/world/test_assets.py), the wheels apart."""
+    and the two bumpers. Only the mirrors (9 cm), the pillars' trim (5.5 cm) and the dark
+    underside between the wheels are drawn outside them; the wheels do not collide."""
     side, top = profile.side, profile.roof_half_width + ROOF_OVERHANG_M
     body = tuple((x, s * side, z) for x, z in profile.lower() for s in (-1.0, 1.0))
     glass = (profile.cabin()[0], profile.cabin()[-1])  # where the glass meets the belt
