@@ -412,7 +412,8 @@ def _knees(
 
 
 def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
-    """A random perturbation that moves the action's necessary muscles far from the motion."""
+    """A random perturbation that moves the action's necessary muscles far from the motion,
+    judged while the pins hold the body."""
     if recipe.variation.kind != "random_perturbation":
         return
     base = base_motion_joints(recipe)
@@ -420,7 +421,9 @@ def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[
         return
     target, pinned = base
     frames = person.frames[person.frames < len(target)]
-    keep = pinned[frames]
+    # While the plan pins the body and the recorded pins still hold it: a body released by
+    # a hit (the car of car_hit) leaves its motion because of the hit, not the perturbation.
+    keep = pinned[frames] & person.pinned[: len(frames)]
     if not keep.any():
         return
     hips = [_J["left_hip"], _J["right_hip"]]
