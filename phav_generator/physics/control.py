@@ -21,6 +21,7 @@ from phav_generator.motion.rotations import relative_rotation_vectors
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel
 from phav_generator.physics.plan.camera import anchor_point
+from phav_generator.physics.plan.car_hit import CAR_BRAKING_MPS2
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_spec.seeding import stream
@@ -344,7 +345,7 @@ class SimulationRun:
 
     def _car_position(self, prop, k: int) -> np.ndarray:
         """Where the car is at plan step k: on its path until it has touched the
-        protagonist, then braking at 8 m/s² along the direction it was going."""
+        protagonist, then braking (``CAR_BRAKING_MPS2``) along the direction it was going."""
         path, dt = prop.path, self.plan.timestep
         k = max(k, 0)
         if not self.released[0]:
@@ -354,8 +355,8 @@ class SimulationRun:
             return path[k]
         v0 = (path[hit] - path[hit - 1]) / dt
         speed = float(np.linalg.norm(v0))
-        t = min((k - hit) * dt, speed / 8.0)
-        return path[hit] + v0 / max(speed, 1e-9) * (speed * t - 4.0 * t**2)
+        t = min((k - hit) * dt, speed / CAR_BRAKING_MPS2)
+        return path[hit] + v0 / max(speed, 1e-9) * (speed * t - 0.5 * CAR_BRAKING_MPS2 * t**2)
 
     def check_contacts(self, t: float) -> set[str]:
         """Named contacts of this step; a car touching the protagonist releases their pins."""

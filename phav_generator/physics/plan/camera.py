@@ -195,13 +195,14 @@ LANE_MARGIN_M = 0.5
 
 def driven_lanes(props) -> tuple[Blocker, ...]:
     """Where each driven prop (a car, a pushed load) passes over the clip: a box round its
-    path, from its first position to its last, as wide and tall as the prop plus
-    ``LANE_MARGIN_M`` each side, which a camera should not start in."""
+    path, from its first position to the last it can reach (``PropPlan.lane_end``), as wide
+    and tall as the prop plus ``LANE_MARGIN_M`` each side, which a camera should not start in."""
     out = []
     for prop in props:
         if prop.path is None or prop.shape != "box":
             continue
-        (x0, y0, z0), (x1, y1, z1) = (tuple(float(v) for v in prop.path[k]) for k in (0, -1))
+        last = -1 if prop.lane_end is None else prop.lane_end
+        (x0, y0, z0), (x1, y1, z1) = (tuple(float(v) for v in prop.path[k]) for k in (0, last))
         run = math.hypot(x1 - x0, y1 - y0)
         heading = math.atan2(y1 - y0, x1 - x0) if run > 1e-9 else 0.0
         rot = quat_to_matrix(np.asarray(prop.quat, dtype=np.float64)).tolist()

@@ -18,6 +18,10 @@ from phav_spec.vocab import OBJECTS
 CAR_CLEARANCE_M = 0.15
 #: The stream the drawn car takes its body type from (its first draw; render/scene.py).
 CAR_LOOK_STREAM = "world/car"
+#: How hard (m/s²) the car brakes once it has touched the protagonist (dry asphalt).
+CAR_BRAKING_MPS2 = 8.0
+#: How far (m) past the planned hit the car may touch first (a body moving towards it).
+CAR_LATE_TOUCH_M = 1.0
 
 
 def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
@@ -42,11 +46,14 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     path = centre_hit[None, :] - across[None, :] * speed * (b.times - t_hit)[:, None]
     yaw = heading + side * math.pi / 2 + math.pi
     quat = rot_to_quat(yaw_matrix(yaw))
+    # The car never passes its braking distance beyond where it first touches.
+    stop_m = speed**2 / (2.0 * CAR_BRAKING_MPS2) + CAR_LATE_TOUCH_M
+    lane_end = min(n - 1, int(np.searchsorted(b.times, t_hit + stop_m / speed)))
     body = car_body(stream(b.recipe.seeds.physics, CAR_LOOK_STREAM))
     hulls = car_hulls(car_profile(body, tuple(half), CAR_CLEARANCE_M))
     b.props.append(
         PropPlan("car", "car", OBJECTS["car"], "box", tuple(half), 1200.0, path[0], quat, dynamic=False, path=path,
-                 hulls=hulls)
+                 hulls=hulls, lane_end=lane_end)
     )  # fmt: skip
     b.manipulations.append(Manipulation("car", p.person_id, "pelvis", "hit", t_hit, float(b.times[-1])))
     return replace(p, release_on_contact_with="car")

@@ -43,6 +43,15 @@ def test_car_hit_contact_then_fall(car_hit: Trajectory) -> None:
     assert np.min(after - ground) < 0.5
 
 
+def test_the_car_stops_within_its_lane(car_hit: Trajectory) -> None:
+    plan = plan_scene(recipe_for("car_hit", seconds=3.0, variation="none"))
+    car = _car(plan)
+    track = next(t for t in car_hit.props if t.name == "car")
+    travelled = np.linalg.norm(track.pos[-1, :2] - car.path[0, :2])
+    assert np.linalg.norm(track.pos[-1] - track.pos[-2]) < 1e-6  # it has stopped
+    assert travelled <= np.linalg.norm(car.path[car.lane_end, :2] - car.path[0, :2])
+
+
 def test_released_ragdoll_is_simulated(car_hit: Trajectory) -> None:
     p = car_hit.people[0]
     touched = np.flatnonzero(car_hit.contacts["car_protagonist"])[0]
