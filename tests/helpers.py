@@ -136,3 +136,12 @@ def written_frames(dataset: Path) -> dict[str, dict]:
 
     urls = sorted(str(p) for p in dataset.glob("*.tar"))
     return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}
+
+
+def outside_hulls(points: np.ndarray, hulls) -> np.ndarray:
+    """How far each point (n, 3) lies outside the nearest of the convex ``hulls`` (each its
+    corners): its farthest face plane, negative inside."""
+    from scipy.spatial import ConvexHull
+
+    planes = [ConvexHull(np.asarray(h)).equations for h in hulls]
+    return np.min([np.max(points @ e[:, :3].T + e[:, 3], axis=1) for e in planes], axis=0)

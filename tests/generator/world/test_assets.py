@@ -19,6 +19,7 @@ from phav_generator.world.vehicles import BUS_ARCH_GAP_M, Vehicle
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
+from tests.helpers import outside_hulls
 
 #: How far (m) a drawn shape may stray outside the box it stands in.
 FIT_M = 0.02
@@ -284,15 +285,6 @@ def test_a_bus_s_wheel_arches_are_round_over_its_wheels():
                     assert not _covers(side, x + dx, pz), f"paint over the wheel at ({dx:+.2f}, {pz - z:+.2f}) m"
 
 
-def _outside_hulls(points: np.ndarray, hulls) -> np.ndarray:
-    """How far each point lies outside the nearest of convex ``hulls`` (their farthest face
-    plane; negative inside)."""
-    from scipy.spatial import ConvexHull
-
-    planes = [ConvexHull(np.asarray(h)).equations for h in hulls]
-    return np.min([np.max(points @ e[:, :3].T + e[:, 3], axis=1) for e in planes], axis=0)
-
-
 #: How far (m) a drawn car part may stand outside the hulls it collides as: its mirrors, the
 #: pillars' trim over the glass's edges, and the dark underside between the wheels,
 #: which hangs under the body as the wheels do.
@@ -317,7 +309,7 @@ def test_a_car_is_drawn_as_the_hulls_it_collides_as(kind, below):
         for name, first, end, _ in body.parts:
             corners = p[np.unique(body.triangles[first:end])]
             allowance = next((m for part, m in _PROUD_PARTS.items() if name.startswith(part)), FIT_M)
-            outside = _outside_hulls(corners, hulls).max()
+            outside = outside_hulls(corners, hulls).max()
             assert outside <= allowance, f"{kind} {name}: {outside:.3f} m outside its hulls"
     a, b, c = (p[body.triangles[:, k]] for k in range(3))
     u, v = np.meshgrid(np.linspace(0, 1, 9), np.linspace(0, 1, 9))

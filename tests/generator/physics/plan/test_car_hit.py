@@ -11,7 +11,6 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pytest
-from scipy.spatial import ConvexHull
 
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics import Trajectory
@@ -23,7 +22,7 @@ from phav_generator.physics.simulate import simulate, simulate_plan
 from phav_generator.render.scene import drawn_vehicle
 from phav_spec.car_shapes import CAR_BODIES, car_profile
 from tests.generator.physics.support import assert_healthy, recipe_for
-from tests.helpers import cli_env
+from tests.helpers import cli_env, outside_hulls
 
 PELVIS = BONE_INDEX["pelvis"]
 
@@ -69,12 +68,6 @@ def _car(plan):
     return next(p for p in plan.props if p.object == "car")
 
 
-def _outside(points: np.ndarray, hulls) -> np.ndarray:
-    """How far each point lies outside the nearest hull (its farthest face plane)."""
-    planes = [ConvexHull(np.asarray(h)).equations for h in hulls]
-    return np.min([np.max(points @ e[:, :3].T + e[:, 3], axis=1) for e in planes], axis=0)
-
-
 @pytest.mark.parametrize("index", range(4))
 def test_the_car_collides_as_the_car_the_renderer_draws(index):
     recipe = recipe_for("car_hit", index=index)
@@ -85,7 +78,7 @@ def test_the_car_collides_as_the_car_the_renderer_draws(index):
     glass_x = body.positions[np.unique(body.triangles[first:end]), 0]
     belt_x = [corner[0] for corner in car.hulls[1][:2]] + [corner[0] for corner in car.hulls[1][2:4]]
     assert np.isclose(glass_x.max(), max(belt_x), atol=1e-3) and np.isclose(glass_x.min(), min(belt_x), atol=1e-3)
-    assert _outside(body.positions.astype(np.float64), car.hulls).max() <= 0.14  # the underside, as drawn
+    assert outside_hulls(body.positions.astype(np.float64), car.hulls).max() <= 0.14  # the underside, as drawn
 
 
 def test_the_car_meets_the_legs_with_its_bumper_and_front(monkeypatch):
@@ -132,7 +125,7 @@ def test_a_camera_in_the_car_s_way_is_pushed_aside_not_driven_through():
     for pos, quat, eye in zip(track.pos, track.quat, eyes, strict=True):
         rot = np.empty(9)
         mujoco.mju_quat2Mat(rot, quat)
-        gaps.append(float(_outside((rot.reshape(3, 3).T @ (eye - pos))[None], car.hulls)[0]))
+        gaps.append(float(outside_hulls((rot.reshape(3, 3).T @ (eye - pos))[None], car.hulls)[0]))
     assert min(gaps) > CAMERA_RADIUS_M / 2, f"the camera came {min(gaps):.2f} m from the car's surface"
     assert np.linalg.norm(eyes[-1] - eyes[0]) > 0.5  # it was pushed
 
