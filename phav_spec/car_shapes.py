@@ -77,6 +77,11 @@ class CarProfile:
         """The roof's half width: the sides lean in over the glass."""
         return self.side * (1.0 - self.lean)
 
+    @property
+    def roof_panel_half_width(self) -> float:
+        """The roof panel's half width: the roof's, overhanging the glass's top edge."""
+        return self.roof_half_width + ROOF_OVERHANG_M
+
     def lower(self) -> tuple[Point2, ...]:
         """The body's outline below the beltline, counter-clockwise in (x, z)."""
         z0, zh, zb, front, rear = self.bottom, self.hood_front, self.belt, self.front, self.rear
@@ -147,7 +152,7 @@ def car_hulls(profile: CarProfile) -> tuple[tuple[Vec3, ...], ...]:
     the greenhouse from the belt to the roof panel (its sides leaning in as the glass does)
     and the two bumpers. Only the mirrors (9 cm), the pillars' trim (5.5 cm) and the dark
     underside between the wheels are drawn outside them; the wheels do not collide."""
-    side, top = profile.side, profile.roof_half_width + ROOF_OVERHANG_M
+    side, top = profile.side, profile.roof_panel_half_width
     body = tuple((x, s * side, z) for x, z in profile.lower() for s in (-1.0, 1.0))
     glass = (profile.cabin()[0], profile.cabin()[-1])  # where the glass meets the belt
     cabin = tuple((x, s * side, z) for x, z in glass for s in (-1.0, 1.0)) + tuple(

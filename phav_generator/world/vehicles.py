@@ -27,7 +27,7 @@ from phav_generator.world.materials import (
     pick_weighted,
 )  # fmt: skip
 from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
-from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, ROOF_OVERHANG_M, car_body, car_profile
+from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, car_body, car_profile
 
 #: A bus tyre's clearance to its round wheel arch (m).
 BUS_ARCH_GAP_M = 0.12
@@ -113,8 +113,7 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
     taper = lambda z: lean * (z - zb) / max(zt - zb, 1e-6)  # noqa: E731
     cabin = list(outline.cabin())
     p.prism("glass", "car", Material.GLASS, GLASS_TINT, cabin, -side + 0.01, side - 0.01, taper=taper)
-    roof_w = outline.roof_half_width
-    overhang = roof_w + ROOF_OVERHANG_M
+    overhang = outline.roof_panel_half_width
     p.prism("roof", "car", Material.PAINT, paint, list(outline.roof_panel()), -overhang, overhang)
     tilt = math.atan2(lean * side, zt - zb)
     pillar_x = [(x_ws + x_roof_front) / 2, (x_roof_front + x_roof_rear) / 2, (x_rw + x_roof_rear) / 2]
