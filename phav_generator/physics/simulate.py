@@ -41,8 +41,8 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
     frames.record(0, traffic, touched=set())
     run.keep_good_state()
     for f in range(1, frames.n_out):
-        # Vehicles brake for where everyone was at the last recorded frame.
-        traffic.advance(frames.bodies_now, 1.0 / plan.fps)
+        # Vehicles brake for where everyone and the camera were at the last recorded frame.
+        traffic.advance(frames.bodies_now, 1.0 / plan.fps, camera=frames.cam_pos[f - 1])
         touched = run.step_frame(f)
         frames.record(f, traffic, touched)
     return frames.trajectory()

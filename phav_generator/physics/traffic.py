@@ -2,7 +2,8 @@
 
 Kinematic, as the scene needs no more: a vehicle brakes for whatever is in its lane ahead
 (any body of any person, as simulated, so a ragdoll thrown onto the road stops the
-traffic, and the vehicle in front), so it never touches anyone and needs no MuJoCo body.
+traffic, the vehicle in front, and the camera where it hangs lower than the vehicle's
+roof), so it never touches anyone and needs no MuJoCo body.
 Planned from the recipe's background seed (``plan_traffic``), driven frame by frame inside
 ``simulate`` from where the people actually are (``Traffic.advance``).
 """
@@ -31,6 +32,8 @@ STOP_GAP_M = 3.0
 CORRIDOR_MARGIN_M = 0.8
 #: Bumper-to-bumper space (m) between vehicles of one lane at the start.
 START_SPACING_M = 8.0
+#: The camera is in a vehicle's way when it hangs less than this (m) above the vehicle's roof.
+CAMERA_HEADROOM_M = 0.5
 #: Clearance reported when no vehicle is near anyone (the array stays finite).
 FAR_M = 1000.0
 #: A planned vehicle that would come closer than this (m) to anyone's planned body is left out.
@@ -129,9 +132,10 @@ class Traffic:
             pos[i, 2] = start[2] + v.half_size[2]
         return pos, self._quat.copy()
 
-    def advance(self, obstacles: np.ndarray, dt: float) -> None:
+    def advance(self, obstacles: np.ndarray, dt: float, camera: np.ndarray | None = None) -> None:
         """Drive one frame: cruise, or brake to stop ``STOP_GAP_M`` short of the nearest
-        obstacle point (N, 3) or vehicle ahead in the lane."""
+        obstacle point (N, 3), the camera (3,) where it hangs lower than the vehicle's roof
+        and ``CAMERA_HEADROOM_M``, or the vehicle ahead in the lane."""
         leader: dict[int, float] = {}  # lane id → rear of the vehicle ahead, along the lane
         for i in self._order:
             v = self.vehicles[i]
@@ -139,8 +143,11 @@ class Traffic:
             lane = v.lane_index
             front = self.s[i] + v.half_size[0]
             gap = leader.get(lane, math.inf) - front
-            if len(obstacles):
-                rel = obstacles - start
+            points = obstacles
+            if camera is not None and camera[2] - start[2] < 2.0 * v.half_size[2] + CAMERA_HEADROOM_M:
+                points = np.concatenate([obstacles, np.asarray(camera, dtype=np.float64)[None]])
+            if len(points):
+                rel = points - start
                 along = rel @ u - front
                 across = np.abs(rel @ left)
                 # In the corridor and not wholly behind the vehicle's rear.

@@ -1,14 +1,18 @@
-"""Background traffic: vehicles drive their lanes, stop short of people and of the vehicle
-ahead, never touch anyone, and only where the environment has roads."""
+"""Background traffic: vehicles drive their lanes, stop short of people, of the vehicle
+ahead and of a camera in their way, never touch anyone, and only where the environment has
+roads."""
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 import pytest
 
 from phav_generator.physics.simulate import simulate
-from phav_generator.physics.traffic import STOP_GAP_M, Traffic, Vehicle, footprint_points
+from phav_generator.physics.traffic import CAMERA_HEADROOM_M, STOP_GAP_M, Traffic, Vehicle, footprint_points
+from phav_generator.sampling import sample_recipes
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
+from phav_spec.theta import load_preset
 from tests.generator.physics.support import recipe_for
 
 LANE = Lane((0.0, -2.0, 0.0), (200.0, -2.0, 0.0), 2.0)
@@ -19,9 +23,9 @@ def _car(name: str, s0: float, cruise: float = 10.0) -> Vehicle:
     return Vehicle(name, "car", LANE, 0, VEHICLE_HALF_SIZES["car"], s0, cruise)
 
 
-def _drive(traffic: Traffic, obstacles: np.ndarray, seconds: float) -> None:
+def _drive(traffic: Traffic, obstacles: np.ndarray, seconds: float, camera: np.ndarray | None = None) -> None:
     for _ in range(round(seconds / DT)):
-        traffic.advance(obstacles, DT)
+        traffic.advance(obstacles, DT, camera=camera)
 
 
 def test_a_vehicle_stops_short_of_a_person_and_goes_on_when_the_way_is_clear():
@@ -39,6 +43,48 @@ def test_people_beside_the_lane_do_not_stop_traffic():
     traffic = Traffic((_car("a", 10.0),))
     _drive(traffic, np.array([[60.0, 4.0, 1.0], [30.0, -6.0, 1.0]]), 6.0)
     assert traffic.s[0] == pytest.approx(10.0 + 6.0 * 10.0)
+
+
+def test_a_vehicle_stops_short_of_a_camera_lower_than_its_roof_and_passes_under_a_higher_one():
+    none = np.zeros((0, 3))
+    roof = 2.0 * VEHICLE_HALF_SIZES["car"][2]
+    low = Traffic((_car("a", 10.0),))
+    _drive(low, none, 10.0, camera=np.array([60.0, -2.0, roof + CAMERA_HEADROOM_M - 0.1]))
+    assert low.speed[0] == 0.0
+    assert STOP_GAP_M - 0.5 < 60.0 - (low.s[0] + VEHICLE_HALF_SIZES["car"][0]) <= STOP_GAP_M + 0.5
+    high = Traffic((_car("a", 10.0),))
+    _drive(high, none, 10.0, camera=np.array([60.0, -2.0, roof + CAMERA_HEADROOM_M + 0.1]))
+    assert high.s[0] == pytest.approx(10.0 + 10.0 * 10.0)  # drove on under it
+    bus = Traffic((Vehicle("b", "bus", LANE, 0, VEHICLE_HALF_SIZES["bus"], 10.0, 10.0),))
+    _drive(bus, none, 10.0, camera=np.array([60.0, -2.0, roof + CAMERA_HEADROOM_M + 0.1]))
+    assert bus.speed[0] == 0.0  # a taller vehicle stops for the same camera
+
+
+def _camera_in_a_vehicle_m(trajectory) -> float:
+    """The deepest the camera comes inside any traffic vehicle's box over the clip (m, ≤ 0
+    means outside)."""
+    deepest = -np.inf
+    eyes = trajectory.cam_to_world[:, :3, 3]
+    for track in trajectory.props:
+        if not track.name.startswith("traffic_"):
+            continue
+        half = np.array(VEHICLE_HALF_SIZES[track.object])
+        for eye, pos, quat in zip(eyes, track.pos, track.quat, strict=True):
+            rot = np.empty(9)
+            mujoco.mju_quat2Mat(rot, quat)
+            local = rot.reshape(3, 3).T @ (eye - pos)
+            deepest = max(deepest, float(np.min(half - np.abs(local))))
+    return deepest
+
+
+def test_traffic_does_not_drive_through_a_camera_hanging_in_its_lane():
+    """phav-v1, seed 0, v000148 (`crawl` by an urban road): the kite hangs 0.4 m over the
+    near lane, where a car drove through it for 21 frames before vehicles yielded to it."""
+    recipe = next(iter(sample_recipes(load_preset("phav-v1"), n=1, seed=0, start=148)))
+    assert (recipe.video_id, recipe.action, recipe.environment.name) == ("v000148", "crawl", "urban")
+    trajectory = simulate(recipe, keep_state=False)
+    assert any(p.name.startswith("traffic_") for p in trajectory.props)
+    assert _camera_in_a_vehicle_m(trajectory) < 0.0
 
 
 def test_a_follower_stops_behind_its_leader():
