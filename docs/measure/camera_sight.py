@@ -1,7 +1,8 @@
 """What stands between the kite camera and its protagonist (docs/framing.md): per frame of
 the first N kite videos of (θ, seed), as simulated, whether the line from the camera to the
 protagonist's pelvis passes through a box (an environment's collider, an action's static
-box, or a prop no one holds, at its pose in that frame), whether the pelvis projects
+box, or a prop no one holds, at its pose in that frame: a car of `car_hit` as the bounds of
+the solids it collides as, ``sight_boxes``), whether the pelvis projects
 outside the frame, and whether the camera trails more than ``--trail`` metres beyond its
 rest length from the pelvis.
 
@@ -23,7 +24,7 @@ import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
-from phav_generator.physics.plan.camera import Blocker, sees, stands_free, view_blockers
+from phav_generator.physics.plan.camera import Blocker, sees, sight_boxes, stands_free, view_blockers
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
 from phav_generator.render.camera import project
@@ -54,13 +55,17 @@ def main() -> None:
         statics = list(zip((c.pixel_class for c in colliders), view_blockers(colliders, (), ()), strict=True))
         loose = {p.name for p in plan.props if stands_free(p)}
         props = [t for t in tr.props if t.name in loose]
+        planned = {p.name: p for p in plan.props}
         pelvis = tr.people[0].body_pos[:, BONE_INDEX["pelvis"]]
         cams = tr.cam_to_world[:, :3, 3]
         rest = math.dist(plan.camera_start, plan.camera_target)
         hid: Counter[str] = Counter()
         frames = recipe.n_frames
         for f in range(frames):
-            boxes = [*statics, *((t.name, Blocker.of(t.pos[f], t.size, quat_to_matrix(t.quat[f]))) for t in props)]
+            boxes = list(statics)
+            for t in props:
+                rot = quat_to_matrix(t.quat[f])
+                boxes += [(t.name, Blocker.of(t.pos[f] + rot @ c, h, rot)) for c, h in sight_boxes(planned[t.name])]
             what = next((name for name, box in boxes if not sees(cams[f], pelvis[f], [box])), None)
             if what is not None:
                 hid[what] += 1

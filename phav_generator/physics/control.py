@@ -20,7 +20,7 @@ import numpy as np
 from phav_generator.motion.rotations import relative_rotation_vectors
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel
-from phav_generator.physics.plan.camera import anchor_point
+from phav_generator.physics.plan.camera import Blocker, anchor_point, sight_boxes, sight_lift
 from phav_generator.physics.plan.car_hit import CAR_BRAKING_MPS2
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
@@ -37,6 +37,14 @@ PERTURBATION_OMEGA = 40.0
 CAMERA_ROOM_M = 0.8
 #: The push's stiffness, as an angular frequency of the camera's mass (rad/s).
 CAMERA_ROOM_OMEGA = 12.0
+#: A spring camera whose line to its anchor passes through a driven prop (the car of
+#: `car_hit` stopped between it and the thrown body, a pushed load) is lifted, as an
+#: operator raises the camera over a car's roof, till the line clears it by this (m).
+CAMERA_SIGHT_MARGIN_M = 0.2
+#: The lift's stiffness, as an angular frequency of the camera's mass (rad/s), critically
+#: damped; the most (m) one step's lift may ask for.
+CAMERA_SIGHT_OMEGA = 8.0
+CAMERA_SIGHT_MAX_M = 1.5
 #: What MuJoCo state is saved and restored: all of it.
 FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
 
@@ -194,6 +202,12 @@ class SimulationRun:
             g for h, prop in zip(scene.props, plan.props, strict=True) if prop.object == "car" for g in h.touching
         }
         self.pan = None
+        # Per driven prop, its geom and the boxes (centre, half size in its shape's frame)
+        # that can hide the protagonist from a spring camera: each hull's bounds, or the shape.
+        self.sight_boxes = [
+            (h.geom, sight_boxes(prop)) for prop, h in zip(plan.props, scene.props, strict=True) if h.driven
+        ]
+        self.lifting = False  # a sight lift under way: its rise is braked once the line is clear
         # The explosion guard: the frame a step blew up at, and the last good state to hold.
         self.exploded_at: int | None = None
         self.good_state = np.zeros(mujoco.mj_stateSize(self.m, FULL_STATE))
@@ -310,6 +324,7 @@ class SimulationRun:
             kind = self.plan.recipe.camera.kind
             d.mocap_pos[cam.anchor_mocap] = anchor_point(kind, d.xpos[self.scene.people[0].bodies])
             d.xfrc_applied[cam.camera_body, :3] += self._camera_room_push(k)
+            d.xfrc_applied[cam.camera_body, 2] += self._camera_sight_lift()
 
     def _camera_room_push(self, k: int) -> np.ndarray:
         """The push (N) at plan step k that keeps a spring camera ``CAMERA_ROOM_M`` from each
@@ -329,6 +344,29 @@ class SimulationRun:
                 unit = away[b] / dist[b] if dist[b] > 1e-6 else np.array([0.0, 0.0, 1.0])
                 push += unit * (CAMERA_ROOM_M - dist[b])
         return push * self.m.body_mass[cam.camera_body] * CAMERA_ROOM_OMEGA**2
+
+    def _camera_sight_lift(self) -> float:
+        """The upward push (N) on a spring camera whose line to its anchor passes through a
+        driven prop now: a critically damped spring on the camera alone towards the height
+        that clears it by ``CAMERA_SIGHT_MARGIN_M``; once clear, the lift's rise is braked
+        to a stop, so the camera rests there instead of sailing on up."""
+        if not self.sight_boxes:
+            return 0.0
+        d, cam = self.d, self.scene.camera
+        eye, anchor = d.xpos[cam.camera_body], d.mocap_pos[cam.anchor_mocap]
+        lift = 0.0
+        for geom, boxes in self.sight_boxes:
+            rot = d.geom_xmat[geom].reshape(3, 3)
+            pos = d.geom_xpos[geom]
+            for centre, half in boxes:
+                box = Blocker.of(pos + rot @ centre, half, rot)
+                lift = max(lift, sight_lift(eye, anchor, box, CAMERA_SIGHT_MARGIN_M))
+        rise = float(d.qvel[cam.camera_qvel[2]])
+        self.lifting = lift > 0.0 or (self.lifting and rise > 0.0)
+        if not self.lifting:
+            return 0.0
+        w = CAMERA_SIGHT_OMEGA
+        return self.m.body_mass[cam.camera_body] * (w * w * min(lift, CAMERA_SIGHT_MAX_M) - 2.0 * w * rise)
 
     def _pin_pose(self, h, ref: _Reference, j: int, weight: float) -> None:
         """Put the pin body on the animated pelvis at plan step j, moving and accelerating

@@ -64,7 +64,12 @@ class Blocker:
         return cls.of(center, half, np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]))
 
     def crosses(self, a: Sequence[float], b: Sequence[float]) -> bool:
-        """Whether the segment a → b passes through the box (slab test in its own frame).
+        """Whether the segment a → b passes through the box."""
+        return self.span(a, b) is not None
+
+    def span(self, a: Sequence[float], b: Sequence[float]) -> tuple[float, float] | None:
+        """Where the segment a → b is inside the box, as the fractions of the way from a
+        where it enters and leaves (slab test in the box's frame); None if it misses it.
 
         Written in Python floats, not numpy products, so the answer cannot depend on the
         machine's BLAS kernels."""
@@ -75,13 +80,18 @@ class Blocker:
             d = pb - pa
             if abs(d) < 1e-12:
                 if abs(pa) > h:
-                    return False
+                    return None
                 continue
             u0, u1 = sorted(((-h - pa) / d, (h - pa) / d))
             t0, t1 = max(t0, u0), min(t1, u1)
             if t0 > t1:
-                return False
-        return True
+                return None
+        return t0, t1
+
+    @property
+    def top(self) -> float:
+        """The height (m) of the box's highest corner."""
+        return self.center[2] + sum(abs(axis[2]) * h for axis, h in zip(self.axes, self.half, strict=True))
 
     def holds(self, point: Sequence[float], margin: float = 0.0) -> bool:
         """Whether ``point`` lies inside the box grown by ``margin`` on every side."""
@@ -94,6 +104,8 @@ class Blocker:
 #: A line of sight ends this far (m) short of the anchor: a box the protagonist stands,
 #: sits or leans in does not count as standing between.
 SIGHT_END_M = 0.3
+#: The smallest lever (1 − t) ``sight_lift`` divides by: a box at the line's end.
+SIGHT_LEVER_MIN = 0.25
 #: The turns (degrees about the vertical through the target) tried for a clear view, nearest first.
 SIGHT_TURNS_DEG = tuple(s * 10.0 * k for k in range(1, 18) for s in (1.0, -1.0))
 
@@ -107,6 +119,43 @@ def sees(start: Sequence[float], target: Sequence[float], blockers: Sequence[Blo
     k = (length - SIGHT_END_M) / length
     end = [x + (y - x) * k for x, y in zip(a, b, strict=True)]
     return not any(box.crosses(a, end) for box in blockers)
+
+
+def sight_lift(eye: Sequence[float], target: Sequence[float], blocker: Blocker, margin: float) -> float:
+    """How far (m) the camera at ``eye`` must rise for its line to ``target`` (ending
+    ``SIGHT_END_M`` short of it, as in ``sees``) to pass ``margin`` over ``blocker``'s top;
+    0 where the line misses the box. The line is lowest inside the box where it enters or
+    leaves it; raising the eye alone lifts the point a fraction t of the way by 1 − t of it.
+    An upper bound (the raised line enters and leaves elsewhere): what a camera spring pulls
+    towards, the camera ceasing to rise once it sees."""
+    a, b = [float(x) for x in eye], [float(x) for x in target]
+    length = math.dist(a, b)
+    if length <= SIGHT_END_M:
+        return 0.0
+    k = (length - SIGHT_END_M) / length
+    end = [x + (y - x) * k for x, y in zip(a, b, strict=True)]
+    span = blocker.span(a, end)
+    if span is None:
+        return 0.0
+    over = blocker.top + margin
+    # A line ending inside the box (the protagonist against it) asks at most a few times
+    # its own shortfall of the eye, not an unbounded lift.
+    return max((over - (a[2] + t * (end[2] - a[2]))) / max(1.0 - t, SIGHT_LEVER_MIN) for t in span)
+
+
+def sight_boxes(prop) -> tuple[tuple[np.ndarray, tuple[float, float, float]], ...]:
+    """The boxes (centre, half size, in its shape's frame) of a prop that can stand between
+    a camera and the protagonist: the bounds of each convex hull it collides as (a car's
+    body below the belt, its greenhouse, its bumpers), or its box; a car's one box reaches
+    its roof over the hood, where a body thrown onto it is in plain view."""
+    if not prop.hulls:
+        return ((np.zeros(3), tuple(float(v) for v in prop.size[:3])),)
+    out = []
+    for corners in prop.hulls:
+        c = np.asarray(corners, dtype=np.float64)
+        lo, hi = c.min(axis=0), c.max(axis=0)
+        out.append(((lo + hi) / 2.0, tuple(float(v) for v in (hi - lo) / 2.0)))
+    return tuple(out)
 
 
 def stands_free(prop) -> bool:
