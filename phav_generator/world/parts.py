@@ -278,6 +278,31 @@ class Parts:
             tri += [(k, n + k, n + j), (k, n + j, j)]
         self.add(name, cls, material, colour, pos, tri, closed=True, glow=glow, rot=rot, offset=offset)
 
+    def loft(self, name: str, cls: str, material: Material, colour, sections, *, glow: int = NO_GLOW) -> None:
+        """A closed solid through ``sections``: cross-sections of equally many (x, y, z) points
+        each, in order along the solid, each loop counter-clockwise as seen looking from the
+        first section towards the last; joined by quads, capped at both ends."""
+        loops = [[tuple(float(c) for c in q) for q in loop] for loop in sections]
+        m = len(loops[0])
+        if len(loops) < 2 or m < 3 or any(len(loop) != m for loop in loops):
+            raise ValueError(f"{name}: a loft needs two or more sections of one size (at least 3 points)")
+        pos = [q for loop in loops for q in loop]
+        tri = []
+        for i in range(len(loops) - 1):
+            a, b = i * m, (i + 1) * m
+            for k in range(m):
+                j = (k + 1) % m
+                tri += [(a + k, b + j, a + j), (a + k, b + k, b + j)]
+        # The caps: fans from each end's centroid (a loop may have collinear points, which
+        # a fan from its first point would join into triangles of no area), facing out.
+        last = (len(loops) - 1) * m
+        for end, first, facing in ((len(pos), 0, -1), (len(pos) + 1, last, 1)):
+            for k in range(m):
+                a, b = first + k, first + (k + 1) % m
+                tri.append((end, a, b) if facing < 0 else (end, b, a))
+        pos += [tuple(sum(c) / m for c in zip(*loop, strict=True)) for loop in (loops[0], loops[-1])]
+        self.add(name, cls, material, colour, pos, tri, closed=True, glow=glow)
+
     def panel(self, name: str, cls: str, material: Material, colour, corners, *, glow: int = NO_GLOW) -> None:
         """A flat convex polygon (one-sided, counter-clockwise seen from its front): glass,
         screens, plates laid on a surface."""

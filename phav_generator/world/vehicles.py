@@ -29,6 +29,8 @@ from phav_generator.world.materials import (
 from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
 from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, car_body, car_profile
 
+#: Stations round each rounded end of a car's body, per level of detail.
+BODY_CORNER_STATIONS = (4, 2, 1)
 #: A bus tyre's clearance to its round wheel arch (m).
 BUS_ARCH_GAP_M = 0.12
 #: A box body's aluminium posts and rails.
@@ -94,10 +96,9 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
     front, rear = outline.front, outline.rear
     x_ws, x_rw = outline.windscreen, outline.rear_window
     side = outline.side
-    lower = list(outline.lower())
-    # The body's sides tuck in under the sills and round over the shoulder line.
-    body_taper = lambda z: 0.07 * max(0.0, (z0 + 0.1 - z) / 0.1) + 0.05 * max(0.0, (z - zb + 0.15) / 0.15)  # noqa: E731
-    p.prism("body", "car", Material.PAINT, paint, lower, -side, side, taper=body_taper)
+    # The body: rounded corners seen from above, its sides tucked in under the sills and
+    # rounded over the shoulder line (the same sections the car collides as).
+    p.loft("body", "car", Material.PAINT, paint, outline.body_sections(BODY_CORNER_STATIONS[level]))
     # The dark underside between the wheels: what shades the road under a car.
     p.span(
         "underbody",
@@ -134,15 +135,19 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
         plate_x = x + sgn * (BUMPER_M / 2 + 0.008)
         p.box(f"plate{sgn:+.0f}", "car", Material.PLAIN, PLATE, (plate_x, 0.0, z0 + 0.16), (0.006, 0.26, 0.06))
     lamp_z = zh - 0.10
+    # The lights and grille on the flat of each end, inside its rounded corners.
+    face_front, face_rear = outline.plan_half_width(front), outline.plan_half_width(rear)
+    lamp_half = min(0.14, 0.3 * face_front)
     for sgn in (-1.0, 1.0):
-        y = sgn * (side - 0.16)
-        p.box(f"headlight{sgn:+.0f}", "car", Material.CHROME, HEADLIGHT, (front + 0.004, y, lamp_z), (0.01, 0.14, 0.05),
+        p.box(f"headlight{sgn:+.0f}", "car", Material.CHROME, HEADLIGHT,
+              (front + 0.004, sgn * (face_front - lamp_half - 0.01), lamp_z), (0.01, lamp_half, 0.05),
               glow=LAMP_GLOW)  # fmt: skip
         tail_z = (zb - 0.14) if kind != "van" else (z0 + 0.45)
-        p.box(
-            f"taillight{sgn:+.0f}", "car", Material.PLASTIC, TAIL_LIGHT, (rear - 0.004, y, tail_z), (0.01, 0.13, 0.05)
-        )
-    p.box("grille", "car", Material.PLASTIC, TRIM, (front + 0.003, 0.0, lamp_z - 0.02), (0.01, side - 0.34, 0.06))
+        tail_half = min(0.13, 0.3 * face_rear)
+        p.box(f"taillight{sgn:+.0f}", "car", Material.PLASTIC, TAIL_LIGHT,
+              (rear - 0.004, sgn * (face_rear - tail_half - 0.01), tail_z), (0.01, tail_half, 0.05))  # fmt: skip
+    grille_half = face_front - 2.0 * lamp_half - 0.04
+    p.box("grille", "car", Material.PLASTIC, TRIM, (front + 0.003, 0.0, lamp_z - 0.02), (0.01, grille_half, 0.06))
     base = shape.wheelbase * length
     axle_x = ((front + rear) / 2 + base / 2 - 0.05 * length * (shape.hood - 0.2), 0.0)
     axle_x = (axle_x[0], axle_x[0] - base)
@@ -151,14 +156,13 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
     for x in axle_x:
         for sgn in (-1.0, 1.0):
             arch = [(x + (radius + 0.06) * c, g + radius + (radius + 0.06) * s) for c, s in circle(12)[:7]]
-            y = sgn * (side + 0.003)
-            p.panel(f"arch{x:+.1f}{sgn:+.0f}", "car", Material.RUBBER, TRIM,
-                    [(ax, y, az) for ax, az in (arch if sgn < 0 else arch[::-1])])  # fmt: skip
+            on_side = [(ax, sgn * (outline.surface_half_width(ax, az) + 0.003), az) for ax, az in arch]
+            p.panel(f"arch{x:+.1f}{sgn:+.0f}", "car", Material.RUBBER, TRIM, on_side if sgn < 0 else on_side[::-1])
     if p.fine:
         for sgn in (-1.0, 1.0):
             p.box(f"mirror{sgn:+.0f}", "car", Material.PAINT, paint, (x_ws - 0.08, sgn * (side + 0.02), zb + 0.08),
                   (0.05, 0.025, 0.05))  # fmt: skip
-            y = sgn * (side + 0.004)
+            y = sgn * (outline.surface_half_width(x_ws - 0.5, zb - 0.12) + 0.004)
             p.box(f"handle{sgn:+.0f}", "car", Material.CHROME, CHROME_TINT, (x_ws - 0.5, y, zb - 0.12),
                   (0.08, 0.006, 0.015))  # fmt: skip
     return Vehicle(p.build(), wheel(radius, wheel_w, level), axles, radius)

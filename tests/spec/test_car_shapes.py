@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
-from phav_spec.car_shapes import CAR_BODIES, car_body, car_hulls, car_profile
+from phav_spec.car_shapes import (
+    CAR_BODIES,
+    CORNER_FRONT_M,
+    CORNER_REAR_M,
+    car_body,
+    car_hulls,
+    car_profile,
+)
 
 HALF = (2.1, 0.9, 0.7)
 
@@ -50,3 +57,42 @@ def test_the_body_type_is_one_draw_of_its_stream():
 def test_an_unknown_body_is_refused_by_name():
     with pytest.raises(ValueError, match="'limousine' is not a car body"):
         car_profile("limousine", HALF)
+
+
+@pytest.mark.parametrize("kind", CAR_BODIES)
+@pytest.mark.parametrize("per_corner", [1, 2, 4])
+def test_a_body_seen_from_above_is_a_rounded_oblong(kind, per_corner):
+    """Its sections keep the side profile's span, narrow round each end along a quarter
+    circle of the corner's radius (never outside it), and tuck in under the sill."""
+    outline = car_profile(kind, HALF, 0.15)
+    sections = [np.asarray(s) for s in outline.body_sections(per_corner)]
+    xs = [s[0, 0] for s in sections]
+    assert xs == sorted(xs) and np.isclose(xs[0], outline.rear) and np.isclose(xs[-1], outline.front)
+    for end, r in ((outline.front, CORNER_FRONT_M), (outline.rear, CORNER_REAR_M)):
+        assert np.isclose(outline.plan_half_width(end), outline.side - r)
+        assert np.isclose(outline.plan_half_width(end - np.sign(end) * r), outline.side)
+    for s in sections:
+        x, widest = s[0, 0], np.abs(s[:, 1]).max()
+        assert np.allclose(s[:4, 1], -s[:3:-1, 1]) and np.allclose(s[:4, 2], s[:3:-1, 2])  # mirrored about y = 0
+        assert widest <= outline.plan_half_width(x) + 1e-12
+        assert abs(s[0, 1]) <= abs(s[1, 1])
+        if s[0, 2] < outline.bottom + 0.05:
+            assert abs(s[0, 1]) < abs(s[1, 1])  # tucked in under the sill
+    # Halfway round the front corner, the drawn side lies on the circle (a station there at 4).
+    mid = outline.front - CORNER_FRONT_M * (1.0 - np.sin(np.pi / 4))
+    on_arc = outline.side - CORNER_FRONT_M + CORNER_FRONT_M * np.cos(np.pi / 4)
+    assert np.isclose(outline.plan_half_width(mid), on_arc)
+    # A bumper reaches round its corner but not past the body's side.
+    for (_, half), r in zip(outline.bumpers(), (CORNER_FRONT_M, CORNER_REAR_M), strict=True):
+        assert outline.side - r < half[1] < outline.side
+
+
+def test_the_side_between_a_section_s_points_is_straight_as_drawn():
+    outline = car_profile("sedan", HALF)
+    x = 0.3
+    heights = outline.section_heights(x)
+    for h in heights:
+        assert np.isclose(outline.surface_half_width(x, h), outline.plan_half_width(x) * (1.0 - outline.tuck(h)))
+    mid = (heights[1] + heights[2]) / 2
+    ends = [outline.surface_half_width(x, h) for h in heights[1:3]]
+    assert np.isclose(outline.surface_half_width(x, mid), sum(ends) / 2)

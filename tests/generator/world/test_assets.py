@@ -252,6 +252,22 @@ def test_a_cushion_fills_its_box_with_rounded_corners():
     assert reach(plain) < 0.6 < 0.8 < reach(cushion)
 
 
+def test_a_loft_through_sections_is_a_closed_solid_facing_out():
+    """Three square sections along x make a box: closed, every face outward, the volume of
+    its two slabs; collinear points on a section (the cap's fan is from its centroid) and
+    sections of unequal size are handled, the latter refused by name."""
+    square = [(-0.5, -0.5), (0.0, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]  # CCW seen along +x
+    p = Parts(0)
+    p.loft("slab", "car", Material.PAINT, (0.5, 0.5, 0.5), [[(x, -y, z) for y, z in square] for x in (0.0, 0.5, 2.0)])
+    asset = p.build()
+    _assert_valid(asset, "loft")
+    pos, tri = asset.positions.astype(np.float64), asset.triangles.astype(np.int64)
+    volume = np.einsum("ij,ij->i", pos[tri[:, 0]], np.cross(pos[tri[:, 1]], pos[tri[:, 2]])).sum() / 6.0
+    assert volume == pytest.approx(2.0)
+    with pytest.raises(ValueError, match="bad: a loft needs two or more sections of one size"):
+        Parts(0).loft("bad", "car", Material.PAINT, (0.5, 0.5, 0.5), [[(0, 0, 0), (0, 1, 0), (0, 1, 1)], [(1, 0, 0)]])
+
+
 def _covers(triangles: list[np.ndarray], px: float, pz: float) -> bool:
     """Whether a point of the (x, z) plane lies in one of ``triangles`` ((3, 2) each)."""
     for a, b, c in triangles:
