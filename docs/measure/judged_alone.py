@@ -6,6 +6,7 @@ an object a judge cannot recognise from one it does not recognise at the size ou
 show it.
 
     .venv/bin/python docs/measure/judged_alone.py [--kinds sofa,table] [--judges cityscapes] [--threads 2]
+    .venv/bin/python docs/measure/judged_alone.py --kinds hatchback,sedan,suv --variants 8 --sides 4
 
 prints, per kind, judge and distance, the object's height on screen, the judge's IoU and
 recall on the object's pixels and what it names most of them.
@@ -48,7 +49,9 @@ WALL_BEHIND_M = 1.5
 #: How much farther than the distance at which the object fills the frame.
 FARTHER = (1.0, 2.0, 4.0, 8.0)
 WIDTH, HEIGHT = 340, 256
-VARIANTS, ANGLES = 3, (35.0, 215.0)
+VARIANTS, SIDES = 3, 2
+#: The first side seen, in degrees round the object; more sides are spread evenly from it.
+FIRST_SIDE_DEG = 35.0
 
 
 def _behind(asset, cam_to_world: np.ndarray, *, indoors: bool) -> list[Drawable]:
@@ -85,13 +88,13 @@ def _subject(kind: str, variant: int) -> tuple[list[Drawable], Asset]:
     return drawables, table
 
 
-def _judged(ctx, judge, kind: str, answer: str):
+def _judged(ctx, judge, kind: str, answer: str, variants: int = VARIANTS, sides: int = SIDES):
     """(farther, object height px, IoU, recall, names) over the variants and sides."""
     classes = judge.classes
     said_id = classes.label_id(answer)
     floor_id = PIXEL_CLASSES["floor"].class_id
     subjects = []  # each variant built once, with the floor it stands on
-    for variant in range(VARIANTS):
+    for variant in range(variants):
         drawables, asset = _subject(kind, variant)
         under = np.eye(4)
         under[2, 3] = asset.bounds()[0][2]
@@ -104,7 +107,7 @@ def _judged(ctx, judge, kind: str, answer: str):
         heights, names = [], Counter()
         for drawn, asset in subjects:
             lo, hi = asset.bounds()
-            for angle in ANGLES:
+            for angle in (FIRST_SIDE_DEG + 360.0 * k / sides for k in range(sides)):
                 c2w, intrinsics = turntable_camera(asset, angle, fy=1.2 * HEIGHT, height=HEIGHT)
                 centre = (lo + hi) / 2
                 c2w[:3, 3] = centre + farther * (c2w[:3, 3] - centre)
@@ -132,6 +135,8 @@ def main() -> None:
     parser.add_argument("--kinds", default=",".join(KINDS), help="comma-separated")
     parser.add_argument("--judges", default="pascal_voc,cityscapes", help="comma-separated")
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--variants", type=int, default=VARIANTS, help="variants of each kind")
+    parser.add_argument("--sides", type=int, default=SIDES, help="sides each is seen from, evenly round it")
     args = parser.parse_args()
     ctx = gl_context()
     segmenters = load_judges(None, args.threads).segmenters
@@ -141,7 +146,9 @@ def main() -> None:
         for name, answer in KINDS[kind].items():
             if name not in judges:
                 continue
-            for farther, height, iou, recall, top in _judged(ctx, segmenters[name], kind, answer):
+            for farther, height, iou, recall, top in _judged(
+                ctx, segmenters[name], kind, answer, args.variants, args.sides
+            ):
                 table.add_row(kind, name, answer, f"{farther:g}×", str(height), f"{iou:.2f}", f"{recall:.2f}", top)
     Console(width=140).print(table)
 
