@@ -115,8 +115,8 @@ class CarProfile:
         return self.side
 
     def section_heights(self, x: float) -> tuple[float, ...]:
-        """The heights of a body section's points at station x: the outline's span there,
-        split where the side leaves the sill and meets the shoulder."""
+        """The heights of a body section's points at station x: the outline's span there, at
+        ``SECTION_HEIGHTS`` of it (one point near the sill, one near the shoulder)."""
         lo, hi = _vertical_span(self.lower(), x)
         return tuple(lo + (hi - lo) * t for t in SECTION_HEIGHTS)
 
@@ -133,10 +133,10 @@ class CarProfile:
         return self.plan_half_width(x) * (1.0 - tuck)
 
     def body_sections(self, per_corner: int) -> tuple[tuple[Vec3, ...], ...]:
-        """The body below the belt as cross-sections from rear to front, each a loop of
-        eight points counter-clockwise as seen from behind (``Parts.loft``): the outline's stations
-        and ``per_corner`` more round each rounded end; at each, the outline's height span,
-        as wide as the plan and the tuck allow."""
+        """The body below the belt as cross-sections from rear to front, each a loop of eight
+        points counter-clockwise as seen from behind (``Parts.loft``): at the outline's
+        stations and ``per_corner`` more round each rounded end, the outline's height span
+        (``section_heights``), as wide as the plan and the tuck allow there."""
         outline = self.lower()
         xs = {x for x, _ in outline}
         turns = [0.5 * math.pi * k / per_corner for k in range(per_corner + 1)] if per_corner else [0.0, 0.5 * math.pi]
