@@ -6,7 +6,10 @@ wheel on PyPI holds a photograph of a real city bus in a Madrid street (its
 ``assets/bus.jpg``, AGPL-3.0; read here, not shipped). Each is scaled to cover 340 × 256
 and centre-cropped, as a frame is, then shrunk to a half and a quarter and tiled to fill
 the frame again, so the judge sees the same real object at the heights
-docs/measure/judged_alone.py shows ours at.
+docs/measure/judged_alone.py shows ours at. The other way, the photograph of a real car's
+back (licenseplate_motion.jpg) is cropped round parts of the car and scaled up to fill the
+frame: the car seen closer than whole and cut by the frame's edges, as `car_hit`'s camera
+often shows ours.
 
     pip download --no-deps ultralytics==8.4.190 -d wheels
     unzip -j wheels/ultralytics-8.4.190-py3-none-any.whl ultralytics/assets/bus.jpg
@@ -14,7 +17,8 @@ docs/measure/judged_alone.py shows ours at.
         [--bus bus.jpg]
 
 prints, per photograph, judge and scale, the height of the hand-drawn box inside the object
-and the share of its pixels the judge names as the object's class.
+and the share of its pixels the judge names as the object's class; then, per crop of the car,
+how much of the frame the car fills and the share each judge names `car`.
 """
 
 from __future__ import annotations
@@ -34,6 +38,13 @@ MONITORS = {"left06.jpg": (3, 90, 70, 185), "right06.jpg": (2, 95, 45, 200), "le
 BUS = (165, 40, 320, 165)
 #: Each photograph at full size, at a half and at a quarter, tiled k × k.
 TILES = (1, 2, 4)
+#: A real car's back (OpenCV's sample data) and the box its car fills in the 340 × 256 crop.
+CAR, CAR_BOX = "licenseplate_motion.jpg", (10, 40, 330, 250)
+#: Crops (x0, y0, x1, y1 of the 340 × 256 frame, its aspect) scaled up to fill the frame.
+CLOSER = {
+    "whole": (0, 0, 340, 256), "2×, its right half": (170, 64, 340, 192), "2×, its bottom right": (170, 128, 340, 256),
+    "2×, its top left": (0, 0, 170, 128), "2×, its middle": (85, 64, 255, 192), "3×, its top right": (226, 0, 340, 85),
+}  # fmt: skip
 
 
 def tiled(frame: np.ndarray, k: int) -> np.ndarray:
@@ -55,6 +66,15 @@ def boxes(box: tuple[int, int, int, int], k: int) -> np.ndarray:
     return mask
 
 
+def closer(frame: np.ndarray, mask: np.ndarray, crop: tuple[int, int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """``frame`` cropped to ``crop`` and scaled up to the frame's size, with ``mask`` cut and
+    scaled the same way (nearest)."""
+    x0, y0, x1, y1 = crop
+    image = np.asarray(Image.fromarray(frame[y0:y1, x0:x1]).resize((W, H), Image.Resampling.BILINEAR))
+    cut = Image.fromarray(mask[y0:y1, x0:x1].astype(np.uint8)).resize((W, H), Image.Resampling.NEAREST)
+    return image, np.asarray(cut).astype(bool)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("photos", type=Path, help="the directory of OpenCV's sample data")
@@ -73,6 +93,17 @@ def main() -> None:
             said = segmenter.labels(np.ascontiguousarray(tiled(frame, k)))
             share = float(np.isin(said[boxes(box, k)], segmenter.classes.answer_ids(name)).mean())
             print(f"| {path.name} | {judge} | {name} | 1/{k} | {(box[3] - box[1]) // k} | {share:.2f} |")
+    car = as_frame(args.photos / CAR)
+    x0, y0, x1, y1 = CAR_BOX
+    inside = np.zeros((H, W), dtype=bool)
+    inside[y0:y1, x0:x1] = True
+    print(f"\n| {CAR}, seen | the car's share of the frame | PASCAL VOC: named car | Cityscapes: named car |")
+    print("| --- | ---: | ---: | ---: |")
+    for view, crop in CLOSER.items():
+        image, mask = closer(car, inside, crop)
+        shares = [float(np.isin(segmenters[j].labels(image)[mask], segmenters[j].classes.answer_ids("car")).mean())
+                  for j in ("pascal_voc", "cityscapes")]  # fmt: skip
+        print(f"| {view} | {mask.mean():.2f} | {shares[0]:.2f} | {shares[1]:.2f} |")
 
 
 if __name__ == "__main__":

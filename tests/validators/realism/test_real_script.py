@@ -60,3 +60,19 @@ def test_the_dump_gives_the_answers_on_each_class_interior_in_one_group(script, 
     assert script.judge_dump(tmp_path, "all")["terrain"]["all"][CITY.label_id("road")] == 2 * per_half
     with pytest.raises(SystemExit, match="no judged outdoor frame of weather=rain"):
         script.judge_dump(tmp_path, "weather=rain")
+
+
+def test_a_car_seen_closer_is_its_crop_scaled_up_with_its_box():
+    small = measure_script("judged_real_small")
+    h, w = small.H, small.W
+    frame = np.zeros((h, w, 3), np.uint8)
+    frame[:, w // 2 :] = 200  # the right half bright
+    mask = np.zeros((h, w), bool)
+    mask[h // 2 :, :] = True  # the car: the bottom half
+    whole, kept = small.closer(frame, mask, small.CLOSER["whole"])
+    assert np.array_equal(whole, frame) and np.array_equal(kept, mask)
+    right, in_car = small.closer(frame, mask, (w // 2, h // 4, w, 3 * h // 4))  # 2×: the right half's middle
+    assert right.shape == frame.shape and (right == 200).all()
+    assert in_car.mean() == pytest.approx(0.5, abs=0.01) and in_car[-1].all() and not in_car[0].any()
+    for x0, y0, x1, y1 in small.CLOSER.values():  # every crop has the frame's aspect
+        assert (x1 - x0) * h == pytest.approx((y1 - y0) * w, rel=0.01)
