@@ -93,10 +93,7 @@ def main() -> None:
             said = segmenter.labels(np.ascontiguousarray(tiled(frame, k)))
             share = float(np.isin(said[boxes(box, k)], segmenter.classes.answer_ids(name)).mean())
             print(f"| {path.name} | {judge} | {name} | 1/{k} | {(box[3] - box[1]) // k} | {share:.2f} |")
-    car = as_frame(args.photos / CAR)
-    x0, y0, x1, y1 = CAR_BOX
-    inside = np.zeros((H, W), dtype=bool)
-    inside[y0:y1, x0:x1] = True
+    car, inside = as_frame(args.photos / CAR), boxes(CAR_BOX, 1)
     print(f"\n| {CAR}, seen | the car's share of the frame | PASCAL VOC: named car | Cityscapes: named car |")
     print("| --- | ---: | ---: | ---: |")
     for view, crop in CLOSER.items():
