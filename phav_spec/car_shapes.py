@@ -78,7 +78,7 @@ class CarProfile:
     roof_front: float  # the windscreen's top
     roof_rear: float  # the rear window's top
     side: float  # the body's half width
-    lean: float  # how far (m) the glass leans in from the beltline to the roof
+    lean: float  # the share of the half width the glass leans in from the beltline to the roof
 
     @property
     def roof_half_width(self) -> float:
@@ -231,8 +231,9 @@ HULL_CORNER_STATIONS = 4
 def car_hulls(profile: CarProfile) -> tuple[tuple[Vec3, ...], ...]:
     """The convex solids a car collides as, each as its corners: the body below the belt,
     the greenhouse from the belt to the roof panel (its sides leaning in as the glass does)
-    and the two bumpers. Only the mirrors (9 cm), the pillars' trim (5.5 cm) and the dark
-    underside between the wheels are drawn outside them; the wheels do not collide."""
+    and the two bumpers. Only the mirrors (9 cm), the pillars' trim (5.5 cm), the plates and
+    lamps (under 1.5 cm) and the dark underside between the wheels are drawn outside them;
+    the wheels do not collide."""
     side, top = profile.side, profile.roof_panel_half_width
     body = tuple(q for section in profile.body_sections(HULL_CORNER_STATIONS) for q in section)
     glass = (profile.cabin()[0], profile.cabin()[-1])  # where the glass meets the belt

@@ -235,7 +235,8 @@ def _flat(cls: str, x: float, y: float, top: float, w: float, d: float, yaw: flo
 
 
 def _tree(x: float, y: float, z: float, height: float = 6.0, crown: float = 3.0) -> tuple[Collider, ...]:
-    """A tree standing on height z: a 0.4 m trunk and a crown box whose bottom is 3 m up."""
+    """A tree standing on height z: a 0.4 m trunk up to the crown's bottom (``height`` −
+    ``crown`` m up) and a crown box ``crown`` m on each side above it."""
     return (
         _box("tree", x, y, z, 0.4, 0.4, height - crown),
         _box("tree", x, y, z + height - crown, crown, crown, crown),
@@ -970,10 +971,8 @@ def walkable_heights(env_name: str, x: np.ndarray, y: np.ndarray, ceiling: np.nd
     for c in env.colliders:
         if c.pixel_class not in WALKABLE_PIXEL_CLASSES:
             continue
-        yaw = math.radians(c.yaw_deg)
-        cos, sin = math.cos(yaw), math.sin(yaw)
-        dx, dy = x - c.center[0], y - c.center[1]
-        inside = (np.abs(dx * cos + dy * sin) <= c.half_size[0]) & (np.abs(-dx * sin + dy * cos) <= c.half_size[1])
+        lx, ly = c.to_local(x, y)
+        inside = (np.abs(lx) <= c.half_size[0]) & (np.abs(ly) <= c.half_size[1])
         height = np.where(inside & (c.top <= ceiling), np.maximum(height, c.top), height)
     return height
 

@@ -21,6 +21,7 @@ _WET_IDS = np.array(sorted(PIXEL_CLASSES[c].class_id for c in WET_CLASSES))
 
 
 def asset_mesh(asset: Asset) -> Mesh:
+    """An asset's triangles as a renderer mesh."""
     return Mesh(asset.positions, asset.normals, asset.triangles)
 
 
@@ -56,7 +57,9 @@ def wheels_drawable(vehicle: Vehicle, transforms: np.ndarray) -> Drawable:
     axle as the vehicle moves: rigid per wheel, so their flow is exact."""
     k, n = len(vehicle.axles), len(vehicle.wheel.positions)
     spin = wheel_spin(transforms, vehicle.wheel_radius)
-    c, s = np.cos(spin), np.sin(spin)
+    # Scalar libm, not numpy's CPU-dispatched cos and sin: the same turn on every CPU.
+    c = np.array([math.cos(a) for a in spin.tolist()])
+    s = np.array([math.sin(a) for a in spin.tolist()])
     turn = np.zeros((len(spin), 4, 4))
     turn[:, 0, 0], turn[:, 0, 2], turn[:, 2, 0], turn[:, 2, 2] = c, s, -s, c  # about +y: forward rolls on
     turn[:, 1, 1] = turn[:, 3, 3] = 1.0

@@ -11,7 +11,7 @@ import numpy as np
 
 from phav_generator.world import materials as looks
 from phav_generator.world.materials import FABRICS, LEATHERS, WOODS, Material, pick
-from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, rotation, transform_points
+from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, Vec3, rotation, transform_points
 from phav_generator.world.places import Opening, Quads, box_faces, holed, level_rect, rect
 
 Axis = tuple[float, float]  # (x, y) unit vector in the box's frame
@@ -95,7 +95,7 @@ def chair(
     return p.build()
 
 
-def table(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def table(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A table: a top with an apron on four legs."""
     hx, hy, hz = half
     p = Parts(level)
@@ -118,7 +118,7 @@ def table(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+def sofa(half: Vec3, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A sofa: a base on feet, seat cushions, back cushions and rolled arms, in fabric or
     leather, with two cushions of another fabric at its ends; the soft parts are rounded
     (superellipsoids) where small details are modelled, boxes farther down the levels."""
@@ -163,7 +163,7 @@ def sofa(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 
     return p.build()
 
 
-def bed(half, rng: np.random.Generator, level: int = 0, *, head: Axis = (0.0, -1.0)) -> Asset:
+def bed(half: Vec3, rng: np.random.Generator, level: int = 0, *, head: Axis = (0.0, -1.0)) -> Asset:
     """A bed: a wooden frame, a mattress, a duvet, pillows at the head end and a low
     headboard."""
     hz = half[2]
@@ -199,7 +199,7 @@ def bed(half, rng: np.random.Generator, level: int = 0, *, head: Axis = (0.0, -1
     return p.build()
 
 
-def shelf(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+def shelf(half: Vec3, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """Shelving by its size: a bookcase with books when tall, else a cabinet with doors and
     handles (a counter, a TV cabinet, a wall cupboard)."""
     hz = half[2]
@@ -257,7 +257,7 @@ def shelf(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0,
     return p.build()
 
 
-def screen(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+def screen(half: Vec3, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A flat television: a thin black bezel around a dark glass panel, a slim body behind."""
     hz = half[2]
     p = Parts(level)
@@ -275,7 +275,7 @@ def screen(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0
     return p.build()
 
 
-def fridge(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+def fridge(half: Vec3, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A fridge-freezer: a white body, two doors with a seam and long handles."""
     hz = half[2]
     p = Parts(level)
@@ -292,7 +292,7 @@ def fridge(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0
     return p.build()
 
 
-def fireplace(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
+def fireplace(half: Vec3, rng: np.random.Generator, level: int = 0, *, front: Axis = (1.0, 0.0)) -> Asset:
     """A fireplace: a stone surround with a mantel shelf and a dark firebox opening."""
     hz = half[2]
     p = Parts(level)
@@ -312,16 +312,16 @@ def fireplace(half, rng: np.random.Generator, level: int = 0, *, front: Axis = (
     return p.build()
 
 
-def chimney(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def chimney(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A chimney breast: a plastered column."""
     p = Parts(level)
     p.span("breast", "fireplace", Material.CONCRETE, (0.85, 0.83, 0.80), tuple(-h for h in half), tuple(half))
     return p.build()
 
 
-def lamp(half, rng: np.random.Generator, level: int = 0) -> Asset:
-    """A lamp part by its shape: a thin stem; a shade (a lit fabric cone); or a table lamp
-    (a base and a shade) when it is about as tall as it is wide."""
+def lamp(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A lamp part by its shape: a floor lamp's stem (over twice as tall as it is wide), a
+    table lamp (a base and a shade) over 0.4 m tall, else a shade alone (a lit fabric cone)."""
     hx, hy, hz = half
     p = Parts(level)
     r = min(hx, hy)
@@ -338,7 +338,7 @@ def lamp(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def window(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def window(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """An open window through a wall: a white frame lining the opening (head, sill, jambs)
     and a mullion and transom; no pane, so what is outside is seen, and labelled, as itself."""
     hz = half[2]
@@ -368,7 +368,7 @@ def wall_look(rng: np.random.Generator) -> tuple[Material, tuple[float, float, f
     return Material.PLAIN, pick(looks.WALL_PAINTS, rng)
 
 
-def room_wall(half, rng: np.random.Generator, level: int = 0, *, inside: Axis, openings: list[Opening],
+def room_wall(half: Vec3, rng: np.random.Generator, level: int = 0, *, inside: Axis, openings: list[Opening],
               look: tuple[Material, tuple[float, float, float]]) -> Asset:  # fmt: skip
     """A room's wall filling its box: the face towards ``inside`` (an axis of the box's
     frame) in ``look`` above a painted skirting board, the face away from it rendered, both
@@ -404,14 +404,14 @@ def room_wall(half, rng: np.random.Generator, level: int = 0, *, inside: Axis, o
     return p.build()
 
 
-def ceiling(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def ceiling(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A ceiling slab filling its box, in white paint (its underside is what the room sees)."""
     p = Parts(level)
     p.box("slab", "ceiling", Material.PLASTER, (0.92, 0.92, 0.90), (0.0, 0.0, 0.0), tuple(half))
     return p.build()
 
 
-def door(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def door(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A door in its frame: a panelled wooden leaf, a frame and a handle on each face."""
     hz = half[2]
     p = Parts(level)
@@ -440,7 +440,7 @@ def door(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def curtain(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def curtain(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A curtain hanging in folds: pleats of fabric turned alternately, filling the box."""
     hz = half[2]
     p = Parts(level)
@@ -458,20 +458,19 @@ def curtain(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def step(half, rng: np.random.Generator, level: int = 0, *, up: Axis = (1.0, 0.0), indoor: bool = True) -> Asset:
-    """A step of a flight (its box stands on the floor): a wooden or stone tread with a
-    nosing on a painted or concrete riser block."""
-    hz = half[2]
+def step(half: Vec3, rng: np.random.Generator, level: int = 0, *, indoor: bool = True) -> Asset:
+    """A step of a flight (its box stands on the floor): a wooden or stone tread on a
+    painted or concrete riser block, both filling the box (it is what a foot stands on)."""
+    hx, hy, hz = half
     p = Parts(level)
-    d, w, box = _frame(p, half, up)
     tread, riser = ((Material.WOOD, WOODS[0]), (Material.PLAIN, (0.9, 0.9, 0.88))) if indoor else \
         ((Material.CONCRETE, (0.62, 0.61, 0.58)), (Material.CONCRETE, (0.55, 0.54, 0.52)))  # fmt: skip
-    box("block", "stairs", riser[0], riser[1], (-d, -w, -hz), (d, w, hz - 0.03))
-    box("tread", "stairs", tread[0], tread[1], (-d, -w, hz - 0.03), (d, w, hz))
+    p.span("block", "stairs", riser[0], riser[1], (-hx, -hy, -hz), (hx, hy, hz - 0.03))
+    p.span("tread", "stairs", tread[0], tread[1], (-hx, -hy, hz - 0.03), (hx, hy, hz))
     return p.build()
 
 
-def chair_back(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def chair_back(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A chair's back standing on its seat: two uprights and rails, filling a thin box along
     its longer horizontal axis."""
     hz = half[2]

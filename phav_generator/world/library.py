@@ -4,10 +4,10 @@ An environment's colliders (``phav_spec.scene``) stay the one source of what phy
 the failures check collide with: each object's asset is built to fit its box (its drawn
 shape inside the box, touching its faces where a person or a car meets it), and so is each
 place (buildings, trees, hedges, roads, pavements, terraces: ``places``). Classes the
-library does not model (the house's walls and ceilings, ``misc``) return None and stay
-boxes. The look of an environment's objects and places is fixed by the environment
-(seeded from its name and the collider's index), as the paper's scenes were, or a video's
-own (``look_seed``, θ's ``world_variety: video``); a vehicle's from the stream it is given.
+library does not model return None and stay boxes. The look of an environment's objects
+and places is fixed by the environment (seeded from its name and the collider's index), as
+the paper's scenes were, or a video's own (``look_seed``, θ's ``world_variety: video``); a
+vehicle's from the stream it is given.
 """
 
 from __future__ import annotations
@@ -22,13 +22,13 @@ import numpy as np
 from phav_generator.world import interiors, places, props, street, vehicles
 from phav_generator.world import materials as looks
 from phav_generator.world.materials import Material, pick
-from phav_generator.world.parts import LEVELS, Asset, Parts
+from phav_generator.world.parts import LEVELS, Asset, Parts, Vec3
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 13
+WORLD_LIBRARY_VERSION = 14
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
@@ -68,6 +68,11 @@ def world_library_sha256() -> str:
     for kind in sorted(CATALOGUE):
         for level in range(LEVELS):
             add(CATALOGUE[kind][0](stream(0, f"fingerprint/{kind}"), level))
+    # The boxes actions add: a chair's seat and back, a step, each plain box's look.
+    for cls, half in (("chair", (0.22, 0.22, 0.23)), ("chair", (0.22, 0.04, 0.25)), ("stairs", (0.6, 0.15, 0.09)),
+                      *((c, (0.05, 0.5, 1.0)) for c in sorted(_BOX_LOOKS))):  # fmt: skip
+        for level in range(LEVELS):
+            add(box_asset(cls, half, stream(0, f"fingerprint/box/{cls}"), level, indoor=True))
     return h.hexdigest()
 
 
@@ -189,23 +194,25 @@ def _shores(water: tuple[float, float, float, float, float], c: Collider) -> lis
     return out
 
 
-def _stands_on_pole(env_name: str, c: Collider) -> bool:
-    """Whether a signal head or sign plate sits on the pole collider ``c``."""
+def _pole_kind(env_name: str, c: Collider) -> str:
+    """What a pole collider ``c`` is: a floodlight's ``head`` (high above the ground), the
+    ``mast`` under it, a ``lamp_post`` with a lantern, or a ``post`` carrying a signal head
+    or sign plate."""
     env = ENVIRONMENT_SCENES[env_name]
-    return any(o.pixel_class in ("traffic_light", "traffic_sign") and math.dist(o.center[:2], c.center[:2]) < 0.5
-               for o in env.colliders)  # fmt: skip
+    if c.bottom - env.ground_z > HEAD_ABOVE_M:
+        return "head"
+    if c.top - c.bottom >= MAST_M:
+        return "mast"
+    carries = any(o.pixel_class in ("traffic_light", "traffic_sign") and math.dist(o.center[:2], c.center[:2]) < 0.5
+                  for o in env.colliders)  # fmt: skip
+    return "post" if carries else "lamp_post"
 
 
 def is_light(env_name: str, index: int) -> bool:
-    """Whether pole collider ``index`` holds a light: a lamp post's lantern (a pole carrying
-    no sign or signal) or a floodlight's head, not the mast under it."""
-    env = ENVIRONMENT_SCENES[env_name]
-    c = env.colliders[index]
-    if c.pixel_class != "pole":
-        return False
-    if c.bottom - env.ground_z > HEAD_ABOVE_M:
-        return True
-    return c.top - c.bottom < MAST_M and not _stands_on_pole(env_name, c)
+    """Whether pole collider ``index`` holds a light: a lamp post's lantern or a floodlight's
+    head, not the mast under it nor a post carrying a sign or signal."""
+    c = ENVIRONMENT_SCENES[env_name].colliders[index]
+    return c.pixel_class == "pole" and _pole_kind(env_name, c) in ("head", "lamp_post")
 
 
 def look_stream(env_name: str, name: str, look_seed: int | None) -> np.random.Generator:
@@ -230,11 +237,12 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
     rng = look_stream(env_name, str(index), look_seed)
     half, cls = c.half_size, c.pixel_class
     if cls == "pole":
-        if c.bottom - env.ground_z > HEAD_ABOVE_M:
+        kind = _pole_kind(env_name, c)
+        if kind == "head":
             return street.floodlight_head(half, rng, level)
-        if c.top - c.bottom >= MAST_M:
+        if kind == "mast":
             return street.mast(half, rng, level)
-        return street.post(half, rng, level, lantern=not _stands_on_pole(env_name, c))
+        return street.post(half, rng, level, lantern=kind == "lamp_post")
     if cls == "traffic_light":
         return street.traffic_light(half, rng, level)
     if cls == "traffic_sign":
@@ -347,7 +355,7 @@ _PITCHES = {"stadium": (100.0, 54.0)}
 _TILED = {"house_interior": (4.6, -7.5, 9.5, -3.0)}
 
 
-def vehicle(kind: str, half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
+def vehicle(kind: str, half: Vec3, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
     """A vehicle of ``kind`` (car, truck, bus) filling a box of half extents ``half``."""
     if kind == "car":
         return vehicles.car(half, rng, level, below=below)
@@ -369,7 +377,7 @@ def modelled_indices(env_name: str) -> tuple[int, ...]:
 _BOX_LOOKS = {"door": (Material.WOOD, (0.92, 0.92, 0.90)), "misc": (Material.METAL, (0.55, 0.56, 0.58))}
 
 
-def box_asset(cls: str, half, rng: np.random.Generator, level: int = 0, *, indoor: bool) -> Asset:
+def box_asset(cls: str, half: Vec3, rng: np.random.Generator, level: int = 0, *, indoor: bool) -> Asset:
     """The asset of a box an action adds (``Trajectory.boxes``): a chair's seat (legs under a
     seat at the box's top) or back (a thin box standing on the seat), a step of a flight, or
     a plain box in its class's material."""

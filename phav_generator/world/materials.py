@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from enum import IntEnum
 
+import numpy as np
+
 RGB = tuple[float, float, float]
 
 
@@ -103,12 +105,12 @@ PLATE: RGB = (0.93, 0.93, 0.90)
 TRIM: RGB = (0.08, 0.08, 0.09)
 
 
-def pick(options: tuple[RGB, ...], rng) -> RGB:
+def pick(options: tuple[RGB, ...], rng: np.random.Generator) -> RGB:
     """One of ``options``, equally likely, from ``rng.integers``."""
     return options[int(rng.integers(0, len(options)))]
 
 
-def pick_weighted(options: tuple[tuple[RGB, float], ...], rng) -> RGB:
+def pick_weighted(options: tuple[tuple[RGB, float], ...], rng: np.random.Generator) -> RGB:
     """One of ``options`` ((colour, weight) pairs) by weight, from one uniform double (no numpy
     distribution method, so the draw survives numpy releases)."""
     u = float(rng.random()) * sum(w for _, w in options)

@@ -18,7 +18,8 @@ import numpy as np
 
 from phav_generator.world import materials as looks
 from phav_generator.world.materials import Material, pick
-from phav_generator.world.parts import Asset, Parts, circle, sphere_triangles
+from phav_generator.world.parts import Asset, Parts, Vec3, circle, sphere_triangles
+from phav_spec.seeding import seeded_rng
 
 Vec = np.ndarray
 UP = np.array([0.0, 0.0, 1.0])
@@ -32,6 +33,8 @@ LOGGIA_HEIGHT_M = 2.5
 PARAPET_M = 1.0
 PARAPET_THICK_M = 0.15
 MARKING_M = 0.004
+#: Half the width of a house's front door (m).
+DOOR_HALF_M = 0.5
 #: Building styles: the urban block, the suburban house, the stadium's concrete.
 STYLES = ("urban", "suburban", "stadium")
 #: Tree species.
@@ -236,7 +239,7 @@ def loggias_of(rng: np.random.Generator) -> Loggias | None:
     return Loggias(period, None if float(rng.random()) < 0.5 else (Material.METAL, pick(looks.FRAMES, rng)))
 
 
-def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "urban",
+def building(half: Vec3, rng: np.random.Generator, level: int = 0, *, style: str = "urban",
              street: tuple[float, float] | None = None, loggias: Loggias | None = None) -> Asset:  # fmt: skip
     """A building filling its box: ``urban`` (a ground floor of shop fronts under a sign
     band, storeys of windows, in some bays ``loggias``, a cornice, a flat roof),
@@ -263,6 +266,8 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
         faces = box_faces(half)
     for face in faces:
         openings: list[Opening] = []
+        front_door = style == "suburban" and street is not None and float(face.normal[:2] @ np.array(street)) > 0.5
+        door_mid = face.width / 2 + (face.width / 4 if face.width > 8 else 0.0)
         if face.width >= 4.0 and face.height >= 3.0:
             if style == "urban":
                 ground = 4.2
@@ -284,7 +289,13 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
                 cols = _columns(face.width, 3.2, 1.2, 0.9)
                 for k in range(2):
                     z0 = k * storey + 0.9
-                    openings += [Opening(s0, s1, z0, min(z0 + 1.3, (k + 1) * storey - 0.3)) for s0, s1 in cols]
+                    # No ground-floor window where the front door is, nor within a frame of it.
+                    clear = DOOR_HALF_M + 0.2
+                    openings += [
+                        Opening(s0, s1, z0, min(z0 + 1.3, (k + 1) * storey - 0.3))
+                        for s0, s1 in cols
+                        if not (k == 0 and front_door and s0 < door_mid + clear and s1 > door_mid - clear)
+                    ]
             else:
                 cols = _columns(face.width, 6.0, 4.0, 2.0)
                 openings += [Opening(s0, s1, face.height - 2.4, face.height - 1.4) for s0, s1 in cols]
@@ -294,10 +305,10 @@ def building(half, rng: np.random.Generator, level: int = 0, *, style: str = "ur
             rect(q, face, "sign", "building", Material.PLASTIC, sign, 0.5, face.width - 0.5, 3.3, 4.0, -0.01)
             rect(q, face, "cornice", "building", Material.CONCRETE, (0.80, 0.79, 0.75), 0.0, face.width,
                   face.height - 0.5, face.height, -0.005)  # fmt: skip
-        if style == "suburban" and street is not None and float(face.normal[:2] @ np.array(street)) > 0.5:
-            mid = face.width / 2 + (face.width / 4 if face.width > 8 else 0.0)
+        if front_door:
             door = pick(looks.FRAMES, rng)
-            rect(q, face, "door", "building", Material.WOOD, door, mid - 0.5, mid + 0.5, 0.0, 2.1, -0.01)
+            rect(q, face, "door", "building", Material.WOOD, door, door_mid - DOOR_HALF_M, door_mid + DOOR_HALF_M,
+                 0.0, 2.1, -0.01)  # fmt: skip
     if style == "suburban":
         _gable_roof(q, half, -hz + 2 * storey, wall, pick(looks.ROOFS, rng))
     else:
@@ -330,7 +341,9 @@ def _gable_roof(q: Quads, half, eaves_z: float, wall, colour) -> None:
 def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, radii, rng, *, segments: int,
           rough: float) -> None:  # fmt: skip
     """A lumpy ellipsoid, flat-shaded (a clump of leaves): each vertex pushed out or in by
-    up to ``rough`` of its radius."""
+    up to ``rough`` of its radius. It takes one draw from ``rng`` whatever its ``segments``,
+    so the clumps after it lie where they lie at every level of detail."""
+    rng = seeded_rng(int(rng.integers(0, 2**63)))
     rings = max(segments // 2, 3)
     around = circle(segments, float(rng.random()) * 2 * math.pi)
     pts = [(0.0, 0.0, -1.0)]
@@ -376,7 +389,7 @@ def bark_of(species: str, rng: np.random.Generator) -> tuple[float, float, float
     return looks.BARKS[2] if species == "birch" else pick(looks.BARKS[:2], rng)
 
 
-def trunk(half, rng: np.random.Generator, level: int = 0, *, species: str = "broadleaf", bark=None) -> Asset:
+def trunk(half: Vec3, rng: np.random.Generator, level: int = 0, *, species: str = "broadleaf", bark=None) -> Asset:
     """A trunk filling its box's height: tapered, with a root flare, in its species' ``bark``
     (drawn from ``rng`` when not given)."""
     hx, hy, hz = half
@@ -389,7 +402,7 @@ def trunk(half, rng: np.random.Generator, level: int = 0, *, species: str = "bro
     return p.build()
 
 
-def crown(half, rng: np.random.Generator, level: int = 0, *, species: str = "broadleaf", bark=None) -> Asset:
+def crown(half: Vec3, rng: np.random.Generator, level: int = 0, *, species: str = "broadleaf", bark=None) -> Asset:
     """A tree's crown filling its box: clumps of leaves round the top of the trunk and its
     boughs in its ``bark`` (broadleaf, birch: narrower and lighter) or tiers of needles
     (conifer)."""
@@ -432,7 +445,7 @@ def crown(half, rng: np.random.Generator, level: int = 0, *, species: str = "bro
     return p.build()
 
 
-def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = False) -> Asset:
+def shrub(half: Vec3, rng: np.random.Generator, level: int = 0, *, planter: bool = False) -> Asset:
     """A hedge or bush filling its box: a row of leafy mounds over a low core, smaller mounds
     between them on top (a lumpy outline, never a flat-topped box), in a hedge's dark green;
     in a concrete ``planter`` when asked."""
@@ -477,7 +490,7 @@ def shrub(half, rng: np.random.Generator, level: int = 0, *, planter: bool = Fal
 SEAT_M = 0.42
 
 
-def tier(half, rng: np.random.Generator, level: int = 0, *, front: tuple[float, float], seats) -> Asset:
+def tier(half: Vec3, rng: np.random.Generator, level: int = 0, *, front: tuple[float, float], seats) -> Asset:
     """A stand's tier filling its box: concrete, its front (``front``, an axis of the box's
     frame) topped by a row of seats in ``seats``' colour, drawn as the material of the face's
     top ``SEAT_M`` (a row of shells seen from the pitch; it stays inside the box, and the
@@ -498,7 +511,7 @@ def tier(half, rng: np.random.Generator, level: int = 0, *, front: tuple[float, 
     return p.build()
 
 
-def goal_frame(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def goal_frame(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A goal's post or crossbar filling its box: a white round bar along its longest axis."""
     axis = int(np.argmax(half))
     a, b = np.zeros(3), np.zeros(3)
@@ -516,13 +529,13 @@ REED_WIDTH_M = (0.035, 0.08, 0.18)
 _REED_COLOURS = ((0.26, 0.36, 0.12), (0.34, 0.42, 0.16), (0.58, 0.52, 0.32))
 
 
-def reeds(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def reeds(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A bed of reeds filling its box from the bottom (the lake bed): thin blades, each one
     tall triangle leaning a little from its foot, their tips kept inside the box."""
     hx, hy, hz = half
     p = Parts(level)
     n = max(int(REED_DENSITY[min(level, len(REED_DENSITY) - 1)] * 4 * hx * hy), 8)
-    u = rng.random((n, 8))
+    u = rng.random((n, 7))
     feet = np.column_stack([(2 * u[:, 0] - 1) * hx * 0.95, (2 * u[:, 1] - 1) * hy * 0.95, np.full(n, -hz)])
     heights = 2 * hz * (0.55 + 0.45 * u[:, 2])
     lean = 0.2 * u[:, 3]
@@ -552,7 +565,7 @@ def reeds(half, rng: np.random.Generator, level: int = 0) -> Asset:
 SHORE_M = 1.2
 
 
-def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tuple[Material, tuple],
+def slab(half: Vec3, rng: np.random.Generator, level: int = 0, *, cls: str, look: tuple[Material, tuple],
          markings: list[tuple[float, float, float, float]] = (),
          shores: list[tuple[int, float, float]] = ()) -> Asset:  # fmt: skip
     """A road, pavement or grass slab filling its box (its top face the box's top, its sides
@@ -580,7 +593,7 @@ def slab(half, rng: np.random.Generator, level: int = 0, *, cls: str, look: tupl
         q.add("marking", cls, Material.CONCRETE, looks.MARKING_WHITE, level_rect(x0, y0, x1, y1, z), UP)
     for i, s0, s1 in shores:
         f = faces[i]
-        width = min(SHORE_M, (hy if abs(f.normal[0]) > 0.5 else hx))  # never past the slab's middle
+        width = min(SHORE_M, (hx if abs(f.normal[0]) > 0.5 else hy))  # never past the slab's middle
         h = f.height + MARKING_M
         q.add("shore", cls, Material.SHORE, looks.SAND, [f.at(s0, h), f.at(s1, h), f.at(s1, h, width),
                                                           f.at(s0, h, width)], UP)  # fmt: skip

@@ -1,8 +1,9 @@
-"""Props: what people hold, kick, push and open, each shaped inside the physics shape it
+"""Props: what people hold, kick, push and open, each shaped round the physics shape it
 moves with (``PropTrack.shape`` and ``size``, in the prop's frame: a capsule along z, a
-sphere, a box), and held where the hand is: the grip sits where the hand grips
-(``physics.plan.handheld``: a bat's, club's or brush's handle at the capsule's +z end, a
-bow's riser in its middle).
+sphere, a box), its body inside it; a few thin parts reach past it and do not collide (a
+cup's handle, a golf club's head, a bow's bent limbs). Each is held where the hand is: the
+grip sits where the hand grips (``physics.plan.handheld``: a bat's, club's or brush's
+handle at the capsule's +z end, a bow's riser in its middle).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import numpy as np
 
 from phav_generator.physics.plan.push import CART_CLEARANCE_M
 from phav_generator.world.materials import WOODS, Material, pick
-from phav_generator.world.parts import Asset, Parts, rotation
+from phav_generator.world.parts import Asset, Parts, Vec3, rotation
 
 _BALLS = ((0.95, 0.95, 0.93), (0.85, 0.40, 0.10), (0.80, 0.10, 0.08), (0.95, 0.85, 0.15))
 _BOTTLES = ((0.10, 0.35, 0.15), (0.35, 0.20, 0.08), (0.75, 0.85, 0.85))
@@ -125,7 +126,7 @@ def bottle(radius: float, half: float, rng: np.random.Generator, level: int = 0,
     return p.build()
 
 
-def gun(half, rng: np.random.Generator, level: int = 0, cls: str = "gun") -> Asset:
+def gun(half: Vec3, rng: np.random.Generator, level: int = 0, cls: str = "gun") -> Asset:
     """A pistol along +x: a slide over a barrel, a frame with a trigger guard and a grip
     slanting down at the back."""
     hx, hy, hz = half
@@ -140,7 +141,7 @@ def gun(half, rng: np.random.Generator, level: int = 0, cls: str = "gun") -> Ass
     return p.build()
 
 
-def crate(half, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> Asset:
+def crate(half: Vec3, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> Asset:
     """A wooden crate: a box with boards and corner posts."""
     hx, hy, hz = half
     p = Parts(level)
@@ -159,7 +160,7 @@ def crate(half, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> 
     return p.build()
 
 
-def cart(half, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> Asset:
+def cart(half: Vec3, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> Asset:
     """A shopping cart: a wire basket (its handle end at −x, towards the pusher) on a chassis
     with four castors under it (the castors reach to the ground below the box)."""
     hx, hy, hz = half
@@ -189,7 +190,7 @@ def cart(half, rng: np.random.Generator, level: int = 0, cls: str = "misc") -> A
     return p.build()
 
 
-def door_leaf(half, rng: np.random.Generator, level: int = 0, cls: str = "door") -> Asset:
+def door_leaf(half: Vec3, rng: np.random.Generator, level: int = 0, cls: str = "door") -> Asset:
     """A door's leaf: a painted slab with two raised panels on each face and a handle."""
     hx, hy, hz = half
     p = Parts(level)

@@ -9,13 +9,13 @@ import math
 import numpy as np
 
 from phav_generator.world.materials import STREET_METALS, WOODS, Material, pick
-from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle
+from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, Vec3, circle
 
 _SIGN_FACES = ("round", "triangle", "octagon", "square")
 _RED, _WHITE, _BLUE, _AMBER = (0.75, 0.06, 0.05), (0.95, 0.95, 0.93), (0.05, 0.25, 0.65), (0.95, 0.65, 0.05)
 
 
-def post(half, rng: np.random.Generator, level: int = 0, *, lantern: bool = False) -> Asset:
+def post(half: Vec3, rng: np.random.Generator, level: int = 0, *, lantern: bool = False) -> Asset:
     """A round post filling the box's height (a sign's or signal's post; a lamp post when
     ``lantern``: tapered, with a lantern on a collar at its top, its glass lit by the lamps)."""
     hx, hy, hz = half
@@ -35,7 +35,7 @@ def post(half, rng: np.random.Generator, level: int = 0, *, lantern: bool = Fals
     return p.build()
 
 
-def mast(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def mast(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A floodlight mast: a tapered steel tube on a base plate."""
     hx, hy, hz = half
     p = Parts(level)
@@ -45,7 +45,7 @@ def mast(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def floodlight_head(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def floodlight_head(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A floodlight head: a frame holding rows of lamps that show on both its faces across
     the box's x (the collider's yaw turns them to the pitch)."""
     hx, hy, hz = half
@@ -61,7 +61,7 @@ def floodlight_head(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def traffic_light(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def traffic_light(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A signal head: a dark housing with red, amber and green lenses under visors, on both
     faces (±y), and a backplate."""
     hx, hy, hz = half
@@ -81,7 +81,7 @@ def traffic_light(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def sign_plate(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def sign_plate(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A traffic sign's plate facing ±y: round (a white disc in a red ring), a warning
     triangle, a stop octagon or a blue square, on a grey metal back."""
     hx, hy, hz = half
@@ -110,8 +110,8 @@ def sign_plate(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def bench_seat(half, rng: np.random.Generator, level: int = 0) -> Asset:
-    """A bench's seat: slats across two cast-iron frames (legs and armrests)."""
+def bench_seat(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
+    """A bench's seat: slats across two cast-iron frames (its legs)."""
     hx, hy, hz = half
     p = Parts(level)
     wood, iron = pick(WOODS[:4], rng), pick(STREET_METALS[:2], rng)
@@ -142,7 +142,7 @@ def bench_seat(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def bench_back(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def bench_back(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A bench's backrest: slats on the frames' uprights."""
     hx, hy, hz = half
     p = Parts(level)
@@ -160,7 +160,7 @@ def bench_back(half, rng: np.random.Generator, level: int = 0) -> Asset:
     return p.build()
 
 
-def guard_rail(half, rng: np.random.Generator, level: int = 0) -> Asset:
+def guard_rail(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     """A guard rail along the box's longer horizontal axis: posts every 2 m and two rails."""
     hx, hy, hz = half
     p = Parts(level)

@@ -26,11 +26,15 @@ from phav_generator.world.materials import (
     Material,
     pick_weighted,
 )  # fmt: skip
-from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, circle, rotation
-from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, car_body, car_profile
+from phav_generator.world.parts import LAMP_GLOW, Asset, Parts, Vec3, circle, rotation
+from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, HULL_CORNER_STATIONS, car_body, car_profile
 
-#: Stations round each rounded end of a car's body, per level of detail.
-BODY_CORNER_STATIONS = (4, 2, 1)
+#: Stations round each rounded end of a car's body, per level of detail: the finest as the
+#: car of ``car_hit`` collides (``car_hulls``).
+BODY_CORNER_STATIONS = (HULL_CORNER_STATIONS, 2, 1)
+#: A truck's rear axles (m ahead of its back): the overhang behind them leaves the underride
+#: bar clear of the tyres.
+REAR_AXLES_M = (2.0, 1.0)
 #: A bus tyre's clearance to its round wheel arch (m).
 BUS_ARCH_GAP_M = 0.12
 #: A box body's aluminium posts and rails.
@@ -80,7 +84,9 @@ def wheel(radius: float, width: float, level: int, cls: str = "car") -> Asset:
     return p.build()
 
 
-def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = None, below: float = 0.0) -> Vehicle:
+def car(
+    half: Vec3, rng: np.random.Generator, level: int = 0, *, body: str | None = None, below: float = 0.0
+) -> Vehicle:
     """A car filling the box of half extents ``half``; ``body`` one of ``CAR_BODIES`` (drawn
     from ``rng`` when None), its paint drawn from ``CAR_PAINTS``."""
     kind = body if body is not None else car_body(rng)
@@ -145,7 +151,8 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
         tail_z = (zb - 0.14) if kind != "van" else (z0 + 0.45)
         tail_half = min(0.13, 0.3 * face_rear)
         p.box(f"taillight{sgn:+.0f}", "car", Material.PLASTIC, TAIL_LIGHT,
-              (rear - 0.004, sgn * (face_rear - tail_half - 0.01), tail_z), (0.01, tail_half, 0.05))  # fmt: skip
+              (rear - 0.004, sgn * (face_rear - tail_half - 0.01), tail_z), (0.01, tail_half, 0.05),
+              glow=LAMP_GLOW)  # fmt: skip
     grille_half = face_front - 2.0 * lamp_half - 0.04
     p.box("grille", "car", Material.PLASTIC, TRIM, (front + 0.003, 0.0, lamp_z - 0.02), (0.01, grille_half, 0.06))
     base = shape.wheelbase * length
@@ -168,7 +175,7 @@ def car(half, rng: np.random.Generator, level: int = 0, *, body: str | None = No
     return Vehicle(p.build(), wheel(radius, wheel_w, level), axles, radius)
 
 
-def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
+def truck(half: Vec3, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
     """A rigid box truck: a cab with a windscreen and side windows, a cargo box, a chassis and
     three axles."""
     hx, hy, hz = (float(h) for h in half)
@@ -225,12 +232,12 @@ def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0)
                 x = rear + (box_front - rear) * k / n_posts
                 p.span(f"post{k}{sgn:+.0f}", "truck", Material.METAL, RAIL, (x - 0.03, y - 0.015, box_bottom + 0.2),
                        (x + 0.03, y + 0.015, hz - 0.1))  # fmt: skip
-            # The side guard between the axles and the rear lights.
+            # The side guard between the front axle and the rear ones, 10 cm inside the box.
+            guard_y = sgn * (hy - 0.12)
             for z in (g + 0.45, g + 0.72):
-                p.span(f"guard{z:.2f}{sgn:+.0f}", "truck", Material.METAL, RAIL, (rear + 2.2, y - 0.12, z - 0.03),
-                       (front - cab_len + 0.3, y - 0.08, z + 0.03))  # fmt: skip
-            p.box(f"tail_light{sgn:+.0f}", "truck", Material.PLASTIC, TAIL_LIGHT,
-                  (rear - 0.01, sgn * (hy - 0.25), g + 0.75), (0.01, 0.12, 0.06), glow=LAMP_GLOW)  # fmt: skip
+                p.span(f"guard{z:.2f}{sgn:+.0f}", "truck", Material.METAL, RAIL,
+                       (rear + REAR_AXLES_M[0] + radius + 0.1, guard_y - 0.02, z - 0.03),
+                       (front - cab_len + 0.3, guard_y + 0.02, z + 0.03))  # fmt: skip
             x, z = rear - 0.01, (box_bottom + hz) / 2 + 0.05
             p.box(f"lock_bar{sgn:+.0f}", "truck", Material.CHROME, CHROME_TINT, (x, sgn * 0.35, z),
                   (0.01, 0.02, (hz - box_bottom) / 2 - 0.2))  # fmt: skip
@@ -238,11 +245,14 @@ def truck(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0)
               (0.006, 0.02, (hz - z_frame) / 2 - 0.1))  # fmt: skip
         p.span("underride_bar", "truck", Material.METAL, TRIM, (rear + 0.05, -hy + 0.15, g + 0.4),
                (rear + 0.2, hy - 0.15, g + 0.55))  # fmt: skip
-    axles = _axle_pairs((front - 0.6 * cab_len, rear + 1.6, rear + 0.6), hy - 0.17, g + radius)
+    for sgn in (-1.0, 1.0):
+        p.box(f"tail_light{sgn:+.0f}", "truck", Material.PLASTIC, TAIL_LIGHT,
+              (rear - 0.01, sgn * (hy - 0.25), g + 0.75), (0.01, 0.12, 0.06), glow=LAMP_GLOW)  # fmt: skip
+    axles = _axle_pairs((front - 0.6 * cab_len, *(rear + x for x in REAR_AXLES_M)), hy - 0.17, g + radius)
     return Vehicle(p.build(), wheel(radius, 0.3, level, "truck"), axles, radius)
 
 
-def bus(half, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
+def bus(half: Vec3, rng: np.random.Generator, level: int = 0, *, below: float = 0.0) -> Vehicle:
     """A city bus: a long body in its livery, a band of side windows, a windscreen and doors,
     two axles."""
     hx, hy, hz = (float(h) for h in half)

@@ -1,6 +1,7 @@
 """The asset library: every kind deterministic (also at numpy's SIMD baseline), its meshes
 valid and within budget at each level, labelled with its own classes only, and fitted to
-the colliders it stands in."""
+the colliders it stands in; a truck's guards and bar clear of its tyres, every vehicle's
+lamps lit, and the fingerprint covering the boxes actions add."""
 
 from __future__ import annotations
 
@@ -12,10 +13,18 @@ import sys
 import numpy as np
 import pytest
 
-from phav_generator.world.library import CATALOGUE, MODELLED_CLASSES, collider_asset, modelled_indices
+from phav_generator.world import library, vehicles
+from phav_generator.world.library import (
+    CATALOGUE,
+    MODELLED_CLASSES,
+    collider_asset,
+    modelled_indices,
+    world_library_sha256,
+)  # fmt: skip
 from phav_generator.world.materials import Material
-from phav_generator.world.parts import LEVELS, Asset, Parts
+from phav_generator.world.parts import LAMP_GLOW, LEVELS, Asset, Parts
 from phav_generator.world.vehicles import BUS_ARCH_GAP_M, Vehicle
+from phav_spec.car_shapes import CAR_BODIES
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
@@ -334,3 +343,47 @@ def test_a_car_is_drawn_as_the_hulls_it_collides_as(kind, below):
     surface = (a[:, None] + u[None, :, None] * (b - a)[:, None] + v[None, :, None] * (c - a)[:, None]).reshape(-1, 3)
     reach = cKDTree(surface).query(np.concatenate([np.asarray(h) for h in hulls]))[0]
     assert reach.max() <= _HULL_REACH_M, f"{kind}: a hull corner {reach.max():.3f} m from the drawn car"
+
+
+def _part_points(asset: Asset, prefix: str) -> list[tuple[str, np.ndarray]]:
+    """Each part whose name starts with ``prefix``: (name, its triangles' corners)."""
+    return [(name, asset.positions[asset.triangles[first:end].reshape(-1)].astype(np.float64))
+            for name, first, end, _ in asset.parts if name.startswith(prefix)]  # fmt: skip
+
+
+@pytest.mark.parametrize("level", range(LEVELS))
+def test_a_truck_s_side_guards_and_underride_bar_lie_inside_its_box_clear_of_its_tyres(level):
+    half = (3.6, 1.2, 1.6)
+    truck = vehicles.truck(half, stream(0, "truck"), level)
+    bars = _part_points(truck.body, "guard") + _part_points(truck.body, "underride_bar")
+    assert len(bars) == (5 if level < 2 else 0)  # two rails of a guard each side, the bar
+    y_tyre = truck.wheel.bounds()[1][1]
+    for name, pts in bars:
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        assert np.abs(pts[:, 1]).max() <= half[1] - 0.05, name
+        for axle in truck.axles:
+            reach = np.array([truck.wheel_radius, y_tyre, truck.wheel_radius])
+            apart = (hi < axle - reach) | (lo > axle + reach)
+            assert apart.any(), f"{name} cuts the tyre at {axle}"
+
+
+@pytest.mark.parametrize("kind", ["hatchback", "van", "truck", "bus"])
+@pytest.mark.parametrize("level", range(LEVELS))
+def test_every_vehicle_s_head_and_tail_lights_are_lamps(kind, level):
+    body = _build(kind, level).body
+    lamps = [(name, first, end) for name, first, end, _ in body.parts
+             if name.startswith(("headlight", "taillight", "tail_light"))]  # fmt: skip
+    assert {name.rstrip("+-1") for name, *_ in lamps} >= {"headlight", "taillight" if kind in CAR_BODIES else
+                                                          "tail_light"}  # fmt: skip
+    for name, first, end in lamps:
+        assert (body.glow[body.triangles[first:end].reshape(-1)] == LAMP_GLOW).all(), name
+
+
+def test_the_fingerprint_covers_the_plain_boxes_actions_add(monkeypatch):
+    before = world_library_sha256()
+    monkeypatch.setattr(library, "_BOX_LOOKS", {**library._BOX_LOOKS, "door": (Material.WOOD, (0.5, 0.3, 0.2))})
+    world_library_sha256.cache_clear()
+    try:
+        assert world_library_sha256() != before
+    finally:
+        world_library_sha256.cache_clear()

@@ -5,7 +5,9 @@ pitch; each environment's slabs, buildings and trees take the look their role as
 the materials past the first sixteen reach the shader; clouds cover as much sky as θ says,
 a sunset glows only in the sun's quarter;
 a stand's tiers show their seats to the pitch, its goals stand on the goal lines, the
-lake's reeds stand in its shallows off every walker's path and its banks have a shore."""
+lake's reeds stand in its shallows off every walker's path and its banks have a shore; a
+house's front door stands where no window is; a crown's clumps keep their height and reach
+at every level of detail."""
 
 from __future__ import annotations
 
@@ -387,3 +389,50 @@ def test_the_lake_s_banks_have_a_shore_along_the_water_and_nowhere_else():
             for i, c in enumerate(ENVIRONMENT_SCENES[name].colliders):
                 if c.pixel_class == "terrain":
                     assert not (collider_asset(name, i, 0).materials == Material.SHORE).any()
+
+
+def _part_triangles(asset, part: str) -> np.ndarray:
+    """(m, 3, 3): the corners of every triangle of the parts named ``part`` (one per look)."""
+    return np.concatenate([asset.positions[asset.triangles[first:end]] for name, first, end, _ in asset.parts
+                           if name == part] or [np.zeros((0, 3, 3))])  # fmt: skip
+
+
+def test_a_house_s_front_door_stands_where_no_window_is():
+    doors = 0
+    for i, c in enumerate(ENVIRONMENT_SCENES["middle"].colliders):
+        if c.pixel_class != "building":
+            continue
+        asset = collider_asset("middle", i, 0)
+        door = _part_triangles(asset, "door").reshape(-1, 3)
+        if not len(door):
+            continue
+        doors += 1
+        lo, hi = door.min(axis=0), door.max(axis=0)
+        across = int(np.argmin(hi - lo))  # the door lies in the plane of its face
+        along = [a for a in range(3) if a != across]
+        panes = _part_triangles(asset, "pane")
+        on_face = np.abs(panes[:, :, across].mean(axis=1) - lo[across]) < 0.5
+        p_lo, p_hi = panes.min(axis=1)[on_face], panes.max(axis=1)[on_face]
+        overlap = np.all((p_lo[:, along] < hi[along]) & (p_hi[:, along] > lo[along]), axis=1)
+        assert not overlap.any(), f"middle building {i}: a window behind the door"
+    assert doors >= 2
+
+
+@pytest.mark.parametrize("species", ["broadleaf", "birch"])
+def test_a_crown_s_clumps_keep_their_height_and_reach_at_every_level_of_detail(species):
+    """A coarser level spreads fewer clumps evenly round the trunk; each keeps the height and
+    reach it has at the finest level (its lumps and segments aside)."""
+    half = (2.0, 2.0, 2.0)
+    crowns = [places.crown(half, stream(3, "crown"), level, species=species) for level in range(3)]
+
+    def centres(asset) -> dict[str, np.ndarray]:
+        return {name: asset.positions[asset.triangles[first:end].reshape(-1)].astype(np.float64).mean(axis=0)
+                for name, first, end, _ in asset.parts if name.startswith("clump")}  # fmt: skip
+
+    finest = centres(crowns[0])
+    for coarser in crowns[1:]:
+        shared = centres(coarser)
+        assert shared and set(shared) < set(finest)
+        for name, at in shared.items():
+            assert abs(at[2] - finest[name][2]) < 0.06, name
+            assert abs(math.hypot(*at[:2]) - math.hypot(*finest[name][:2])) < 0.06, name
