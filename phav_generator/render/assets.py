@@ -5,11 +5,13 @@ alone (the gallery in docs/world.md, the tests' "nothing but its classes")."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
+import moderngl
 import numpy as np
 
 from phav_generator.motion.rotations import look_at
-from phav_generator.render.gl import EMISSIVE, GROUND, MATTE, Drawable, FrameRenderer, PartLook
+from phav_generator.render.gl import EMISSIVE, GROUND, MATTE, Drawable, Frame, FrameRenderer, PartLook
 from phav_generator.render.meshes import Mesh
 from phav_generator.world.parts import LAMP_GLOW, Asset
 from phav_generator.world.vehicles import Vehicle
@@ -25,7 +27,7 @@ def asset_mesh(asset: Asset) -> Mesh:
     return Mesh(asset.positions, asset.normals, asset.triangles)
 
 
-def asset_look(asset: Asset, *, lamp_glow=(0.0, 0.0, 0.0)) -> PartLook:
+def asset_look(asset: Asset, *, lamp_glow: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> PartLook:
     """An asset's per-vertex look: parts that glow are emissive (lamps with ``lamp_glow``),
     ground classes get wet."""
     glowing = asset.glow != 0
@@ -37,7 +39,9 @@ def asset_look(asset: Asset, *, lamp_glow=(0.0, 0.0, 0.0)) -> PartLook:
     return PartLook(asset.class_ids, asset.materials, surfaces, asset.colours, emission)
 
 
-def asset_drawable(asset: Asset, transforms: np.ndarray, *, casts_shadow: bool = True, **glow) -> Drawable:
+def asset_drawable(
+    asset: Asset, transforms: np.ndarray, *, casts_shadow: bool = True, **glow: tuple[float, float, float]
+) -> Drawable:
     """A rigid asset with world transforms (F, 4, 4)."""
     return Drawable(asset_mesh(asset), transforms, int(asset.class_ids[0]), 0, casts_shadow=casts_shadow,
                     part_look=asset_look(asset, **glow))  # fmt: skip
@@ -80,7 +84,7 @@ def wheels_drawable(vehicle: Vehicle, transforms: np.ndarray) -> Drawable:
     return Drawable(mesh, bones, int(w.class_ids[0]), 0, part_look=asset_look(tiled))
 
 
-def vehicle_drawables(vehicle: Vehicle, transforms: np.ndarray, **glow) -> list[Drawable]:
+def vehicle_drawables(vehicle: Vehicle, transforms: np.ndarray, **glow: tuple[float, float, float]) -> list[Drawable]:
     """A vehicle's body and its turning wheels."""
     return [asset_drawable(vehicle.body, transforms, **glow), wheels_drawable(vehicle, transforms)]
 
@@ -110,8 +114,9 @@ def turntable_camera(
     return c2w, (fy, fy, width / 2, height / 2)
 
 
-def turntable(ctx, drawables: list[Drawable], asset: Asset, angles=(30.0, 120.0, 210.0, 300.0), *, height: int = 192,
-              elevation_deg: float = 15.0, zoom: float = 1.0):  # fmt: skip
+def turntable(ctx: moderngl.Context, drawables: list[Drawable], asset: Asset,
+              angles: Sequence[float] = (30.0, 120.0, 210.0, 300.0), *, height: int = 192,
+              elevation_deg: float = 15.0, zoom: float = 1.0) -> list[Frame]:  # fmt: skip
     """Frames of ``drawables`` (one asset, alone) from ``angles`` round it, seen from
     ``elevation_deg`` above its middle, ``zoom`` times closer than the whole of it needs: a
     list of ``gl.Frame``s with their RGB."""

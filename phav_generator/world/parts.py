@@ -9,7 +9,9 @@ BLAS, no SIMD-dispatched transcendental), then rounded to float32 once.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -17,6 +19,10 @@ from phav_generator.world.materials import Material
 from phav_spec.vocab import PIXEL_CLASSES
 
 Vec3 = tuple[float, float, float]
+#: What the builders take for a point, for points ((n, 3) or (n, 2)) and for a colour (0–1).
+Point = Sequence[float] | np.ndarray
+Points = Sequence[Sequence[float]] | np.ndarray
+Colour = Sequence[float]
 
 #: What a part's surface gives off: nothing or the lamps' light.
 NO_GLOW, LAMP_GLOW = 0, 1
@@ -141,8 +147,9 @@ class Parts:
         """Whether small details (books, slats, handles) are modelled at this level."""
         return self.level < 2
 
-    def add(self, name: str, cls: str, material: Material, colour, positions, triangles, *,
-            normals=None, closed: bool, glow: int = NO_GLOW, rot=None, offset=(0.0, 0.0, 0.0)) -> None:  # fmt: skip
+    def add(self, name: str, cls: str, material: Material, colour: Colour, positions: Points,
+            triangles: Sequence[Sequence[int]] | np.ndarray, *, normals: Points | None = None, closed: bool,
+            glow: int = NO_GLOW, rot: np.ndarray | None = None, offset: Point = (0.0, 0.0, 0.0)) -> None:  # fmt: skip
         """One part: ``positions`` (n, 3) and counter-clockwise ``triangles`` (m, 3) in the
         part's frame, placed by ``rot`` and ``offset``; flat-shaded unless ``normals`` given."""
         p = np.asarray(positions, dtype=np.float64)
@@ -164,8 +171,9 @@ class Parts:
         self._n_triangles += len(tri)
 
     def box(
-        self, name: str, cls: str, material: Material, colour, centre, half, *, rot=None, glow: int = NO_GLOW
-    ) -> None:
+        self, name: str, cls: str, material: Material, colour: Colour, centre: Point, half: Point, *,
+        rot: np.ndarray | None = None, glow: int = NO_GLOW,
+    ) -> None:  # fmt: skip
         """A box of half extents ``half`` around ``centre``, turned by ``rot``."""
         hx, hy, hz = (float(h) for h in half)
         corners = [(sx * hx, sy * hy, sz * hz) for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)]
@@ -173,13 +181,15 @@ class Parts:
         tri = [t for a, b, c, d in faces for t in ((a, b, c), (a, c, d))]
         self.add(name, cls, material, colour, corners, tri, closed=True, glow=glow, rot=rot, offset=centre)
 
-    def span(self, name: str, cls: str, material: Material, colour, lo, hi, *, glow: int = NO_GLOW) -> None:
+    def span(
+        self, name: str, cls: str, material: Material, colour: Colour, lo: Point, hi: Point, *, glow: int = NO_GLOW
+    ) -> None:
         """An axis-aligned box between corners ``lo`` and ``hi``."""
         lo_, hi_ = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
         self.box(name, cls, material, colour, (lo_ + hi_) / 2, (hi_ - lo_) / 2, glow=glow)
 
-    def frustum(self, name: str, cls: str, material: Material, colour, a, b, r_a: float, r_b: float, *,
-                segments: int | None = None, caps: bool = True, glow: int = NO_GLOW,
+    def frustum(self, name: str, cls: str, material: Material, colour: Colour, a: Point, b: Point, r_a: float,
+                r_b: float, *, segments: int | None = None, caps: bool = True, glow: int = NO_GLOW,
                 phase: float = 0.0) -> None:  # fmt: skip
         """A truncated cone (a cylinder where the radii agree) from ``a`` to ``b``, smooth
         sides, flat caps (a point where a radius is 0)."""
@@ -224,11 +234,14 @@ class Parts:
                     tri.append((centre, j, i) if sign < 0 else (centre, i, j))
         self.add(name, cls, material, colour, pos, tri, normals=nrm, closed=caps, glow=glow)
 
-    def cylinder(self, name: str, cls: str, material: Material, colour, a, b, radius: float, **kw) -> None:
+    def cylinder(
+        self, name: str, cls: str, material: Material, colour: Colour, a: Point, b: Point, radius: float, **kw: Any
+    ) -> None:
+        """A cylinder from ``a`` to ``b`` (``frustum``'s keywords)."""
         self.frustum(name, cls, material, colour, a, b, radius, radius, **kw)
 
-    def ellipsoid(self, name: str, cls: str, material: Material, colour, centre, radii, *,
-                  segments: int | None = None, rot=None, glow: int = NO_GLOW,
+    def ellipsoid(self, name: str, cls: str, material: Material, colour: Colour, centre: Point, radii: Point, *,
+                  segments: int | None = None, rot: np.ndarray | None = None, glow: int = NO_GLOW,
                   squareness: float = 1.0) -> None:  # fmt: skip
         """An ellipsoid (a sphere where the radii agree): smooth, one vertex at each pole.
         ``squareness`` below 1 flattens it towards its box (a superellipsoid: a cushion at
@@ -257,8 +270,9 @@ class Parts:
         tri = sphere_triangles(s, rings)
         self.add(name, cls, material, colour, pos, tri, normals=nrm, closed=True, glow=glow, rot=rot, offset=centre)
 
-    def prism(self, name: str, cls: str, material: Material, colour, profile, y0: float, y1: float, *,
-              taper=None, glow: int = NO_GLOW, rot=None, offset=(0.0, 0.0, 0.0)) -> None:  # fmt: skip
+    def prism(self, name: str, cls: str, material: Material, colour: Colour, profile: Points, y0: float, y1: float,
+              *, taper: Callable[[float], float] | None = None, glow: int = NO_GLOW, rot: np.ndarray | None = None,
+              offset: Point = (0.0, 0.0, 0.0)) -> None:  # fmt: skip
         """A convex ``profile`` of (x, z) points, counter-clockwise seen from −y, extruded from
         y0 to y1; ``taper(z)`` (0–1) pulls a vertex at height z towards y's middle (a car's
         cabin narrowing to its roof)."""
@@ -278,7 +292,10 @@ class Parts:
             tri += [(k, n + k, n + j), (k, n + j, j)]
         self.add(name, cls, material, colour, pos, tri, closed=True, glow=glow, rot=rot, offset=offset)
 
-    def loft(self, name: str, cls: str, material: Material, colour, sections, *, glow: int = NO_GLOW) -> None:
+    def loft(
+        self, name: str, cls: str, material: Material, colour: Colour, sections: Sequence[Points], *,
+        glow: int = NO_GLOW,
+    ) -> None:  # fmt: skip
         """A closed solid through ``sections``: cross-sections of equally many (x, y, z) points
         each, in order along the solid, each loop counter-clockwise as seen looking from the
         first section towards the last; joined by quads, capped at both ends."""
@@ -303,7 +320,9 @@ class Parts:
         pos += [tuple(sum(c) / m for c in zip(*loop, strict=True)) for loop in (loops[0], loops[-1])]
         self.add(name, cls, material, colour, pos, tri, closed=True, glow=glow)
 
-    def panel(self, name: str, cls: str, material: Material, colour, corners, *, glow: int = NO_GLOW) -> None:
+    def panel(
+        self, name: str, cls: str, material: Material, colour: Colour, corners: Points, *, glow: int = NO_GLOW
+    ) -> None:
         """A flat convex polygon (one-sided, counter-clockwise seen from its front): glass,
         screens, plates laid on a surface."""
         n = len(corners)
