@@ -20,11 +20,11 @@ def post(half: Vec3, rng: np.random.Generator, level: int = 0, *, lantern: bool 
     ``lantern``: tapered, with a lantern on a collar at its top, its glass lit by the lamps)."""
     hx, hy, hz = half
     p = Parts(level)
-    metal = pick(STREET_METALS, rng)
     r = 0.8 * min(hx, hy)
-    if not lantern:
+    if not lantern:  # galvanised steel
         p.cylinder("post", "pole", Material.METAL, (0.55, 0.57, 0.58), (0.0, 0.0, -hz), (0.0, 0.0, hz), 0.7 * r)
         return p.build()
+    metal = pick(STREET_METALS, rng)
     top = hz - 0.35
     p.frustum("base", "pole", Material.PAINT, metal, (0.0, 0.0, -hz), (0.0, 0.0, -hz + 0.6), r, 0.85 * r)
     p.frustum("shaft", "pole", Material.PAINT, metal, (0.0, 0.0, -hz + 0.6), (0.0, 0.0, top), 0.8 * r, 0.6 * r)
