@@ -19,7 +19,6 @@ import numpy as np
 from phav_generator.world import materials as looks
 from phav_generator.world.materials import Material, pick
 from phav_generator.world.parts import Asset, Parts, Vec3, circle, sphere_triangles
-from phav_spec.seeding import seeded_rng
 
 Vec = np.ndarray
 UP = np.array([0.0, 0.0, 1.0])
@@ -341,9 +340,9 @@ def _gable_roof(q: Quads, half, eaves_z: float, wall, colour) -> None:
 def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, radii, rng, *, segments: int,
           rough: float) -> None:  # fmt: skip
     """A lumpy ellipsoid, flat-shaded (a clump of leaves): each vertex pushed out or in by
-    up to ``rough`` of its radius. It takes one draw from ``rng`` whatever its ``segments``,
-    so the clumps after it lie where they lie at every level of detail."""
-    rng = seeded_rng(int(rng.integers(0, 2**63)))
+    up to ``rough`` of its radius. It draws from ``rng`` as many lumps as the finest level's
+    clump has vertices, whatever its ``segments``, so the clumps after it lie where they lie
+    at every level of detail."""
     rings = max(segments // 2, 3)
     around = circle(segments, float(rng.random()) * 2 * math.pi)
     pts = [(0.0, 0.0, -1.0)]
@@ -352,7 +351,9 @@ def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, rad
         pts += [(math.cos(lat) * c, math.cos(lat) * s, math.sin(lat)) for c, s in around]
     pts.append((0.0, 0.0, 1.0))
     unit = np.array(pts)
-    scale = 1.0 - rough + rough * rng.random(len(unit))
+    finest = _CLUMP_SEGMENTS[0]
+    lumps = rng.random(max(len(unit), 2 + (max(finest // 2, 3) - 1) * finest))
+    scale = 1.0 - rough + rough * lumps[: len(unit)]
     pos = unit * (np.asarray(radii, dtype=np.float64) * scale[:, None])
     p.add(name, cls, material, colour, pos, sphere_triangles(segments, rings), closed=True, offset=centre)
 
@@ -535,7 +536,7 @@ def reeds(half: Vec3, rng: np.random.Generator, level: int = 0) -> Asset:
     hx, hy, hz = half
     p = Parts(level)
     n = max(int(REED_DENSITY[min(level, len(REED_DENSITY) - 1)] * 4 * hx * hy), 8)
-    u = rng.random((n, 7))
+    u = rng.random((n, 8))  # the eighth column is spare, drawn so that a bed keeps its blades
     feet = np.column_stack([(2 * u[:, 0] - 1) * hx * 0.95, (2 * u[:, 1] - 1) * hy * 0.95, np.full(n, -hz)])
     heights = 2 * hz * (0.55 + 0.45 * u[:, 2])
     lean = 0.2 * u[:, 3]
