@@ -42,8 +42,9 @@ TILES = (1, 2, 4)
 CAR, CAR_BOX = "licenseplate_motion.jpg", (10, 40, 330, 250)
 #: Crops (x0, y0, x1, y1 of the 340 × 256 frame, its aspect) scaled up to fill the frame.
 CLOSER = {
-    "whole": (0, 0, 340, 256), "2×, its right half": (170, 64, 340, 192), "2×, its bottom right": (170, 128, 340, 256),
-    "2×, its top left": (0, 0, 170, 128), "2×, its middle": (85, 64, 255, 192), "3×, its top right": (226, 0, 340, 85),
+    "whole": (0, 0, 340, 256), "2×, its right middle": (170, 64, 340, 192),
+    "2×, its bottom right": (170, 128, 340, 256), "2×, its top left": (0, 0, 170, 128),
+    "2×, its middle": (85, 64, 255, 192), "3×, its top right": (226, 0, 340, 85),
 }  # fmt: skip
 
 

@@ -2,8 +2,9 @@
 
 Each physics step sets the pins (driven pelvis poses) and servo targets from the plan, the
 servo gains and gravity compensation from the muscle strengths, the inverse-dynamics
-feed-forward, the perturbation pulls, the camera anchor and the push that keeps a spring
-camera out of the people it films; grips switch on and off at their times; a car's touch
+feed-forward, the perturbation pulls, the camera anchor, the push that keeps a spring
+camera out of the people it films and the lift that raises it over a driven prop in its
+line; grips switch on and off at their times; a car's touch
 releases the protagonist. A step that produces NaN or a runaway velocity stops the
 physics: the frame is marked and the last good state is held.
 """
@@ -42,8 +43,9 @@ CAMERA_ROOM_OMEGA = 12.0
 #: operator raises the camera over a car's roof, till the line clears it by this (m).
 CAMERA_SIGHT_MARGIN_M = 0.2
 #: The lift's stiffness, as an angular frequency of the camera's mass (rad/s), critically
-#: damped; the most (m) one step's lift may ask for.
+#: damped.
 CAMERA_SIGHT_OMEGA = 8.0
+#: The most (m) one step's lift may ask for.
 CAMERA_SIGHT_MAX_M = 1.5
 #: What MuJoCo state is saved and restored: all of it.
 FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
@@ -357,9 +359,12 @@ class SimulationRun:
         lift = 0.0
         for geom, boxes in self.sight_boxes:
             rot = d.geom_xmat[geom].reshape(3, 3)
-            pos = d.geom_xpos[geom]
+            r, pos = rot.tolist(), d.geom_xpos[geom].tolist()
             for centre, half in boxes:
-                box = Blocker.of(pos + rot @ centre, half, rot)
+                # In Python floats, as Blocker's own sums: the same lift whatever the BLAS.
+                c = centre.tolist()
+                at = [pos[i] + r[i][0] * c[0] + r[i][1] * c[1] + r[i][2] * c[2] for i in range(3)]
+                box = Blocker.of(at, half, rot)
                 lift = max(lift, sight_lift(eye, anchor, box, CAMERA_SIGHT_MARGIN_M))
         rise = float(d.qvel[cam.camera_qvel[2]])
         self.lifting = lift > 0.0 or (self.lifting and rise > 0.0)

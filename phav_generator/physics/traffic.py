@@ -2,8 +2,9 @@
 
 Kinematic, as the scene needs no more: a vehicle brakes for whatever is in its lane ahead
 (any body of any person, as simulated, so a ragdoll thrown onto the road stops the
-traffic, the vehicle in front, and the camera where it hangs lower than the vehicle's
-roof), so it never touches anyone and needs no MuJoCo body.
+traffic, the vehicle in front, and the camera where it hangs less than
+``CAMERA_HEADROOM_M`` over the vehicle's roof), so it never touches anyone and needs no
+MuJoCo body. It brakes as hard as it must (no limit on its deceleration).
 Planned from the recipe's background seed (``plan_traffic``), driven frame by frame inside
 ``simulate`` from where the people actually are (``Traffic.advance``).
 """

@@ -12,7 +12,8 @@ import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix, yaw_matrix
 from phav_generator.physics.plan.car_hit import CAR_CLEARANCE_M, CAR_LOOK_STREAM
-from phav_generator.physics.trajectory import PersonTrack, Trajectory
+from phav_generator.physics.plan.scene_plan import PropPlan
+from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_generator.render.assets import WET_CLASSES, asset_drawable, vehicle_drawables
 from phav_generator.render.gl import GROUND, SPECKLE, WATER, Drawable
 from phav_generator.render.lighting import Lighting
@@ -102,7 +103,7 @@ def _level_along(positions: np.ndarray, radius: float, eyes: np.ndarray, focal: 
     return level_for(radius, nearest, focal)
 
 
-def drawn_vehicle(recipe: Recipe, prop, level: int = 0) -> Vehicle:
+def drawn_vehicle(recipe: Recipe, prop: PropPlan | PropTrack, level: int = 0) -> Vehicle:
     """The vehicle drawn for a vehicle prop (a ``PropPlan`` or ``PropTrack``): the car of
     ``car_hit``, seeded by the recipe's physics seed on the stream its plan took its body
     type from (so that it collides as drawn), or traffic, by the background seed."""

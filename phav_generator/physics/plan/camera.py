@@ -7,13 +7,17 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_spec.recipe import Recipe
-from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.scene import ENVIRONMENT_SCENES, Collider
+
+if TYPE_CHECKING:
+    from phav_generator.physics.plan.scene_plan import PropPlan, StaticBox
 
 #: Where on the protagonist a spring camera's target is tied, per camera, as weights of body
 #: origins: the kite films the whole body around the pelvis; the close-up aims two thirds of
@@ -93,6 +97,15 @@ class Blocker:
         """The height (m) of the box's highest corner."""
         return self.center[2] + sum(abs(axis[2]) * h for axis, h in zip(self.axes, self.half, strict=True))
 
+    def raised(self, by: float) -> Blocker:
+        """The box with its top ``by`` metres higher: the axis nearest the vertical grown by
+        ``by`` / 2 each way and its centre moved up as much."""
+        k = max(range(3), key=lambda i: abs(self.axes[i][2]))
+        up = math.copysign(by / 2.0, self.axes[k][2])
+        center = tuple(c + a * up for c, a in zip(self.center, self.axes[k], strict=True))
+        half = tuple(h + by / 2.0 if i == k else h for i, h in enumerate(self.half))
+        return Blocker(center, half, self.axes)  # type: ignore[arg-type]
+
     def holds(self, point: Sequence[float], margin: float = 0.0) -> bool:
         """Whether ``point`` lies inside the box grown by ``margin`` on every side."""
         return all(
@@ -106,8 +119,9 @@ class Blocker:
 SIGHT_END_M = 0.3
 #: The smallest lever (1 − t) ``sight_lift`` divides by: a box at the line's end.
 SIGHT_LEVER_MIN = 0.25
-#: The turns (degrees about the vertical through the target) tried for a clear view, nearest first.
-SIGHT_TURNS_DEG = tuple(s * 10.0 * k for k in range(1, 18) for s in (1.0, -1.0))
+#: The turns (degrees about the vertical through the target) tried for a clear view, nearest
+#: first, the opposite view last.
+SIGHT_TURNS_DEG = (*(s * 10.0 * k for k in range(1, 18) for s in (1.0, -1.0)), 180.0)
 
 
 def sees(start: Sequence[float], target: Sequence[float], blockers: Sequence[Blocker]) -> bool:
@@ -124,17 +138,17 @@ def sees(start: Sequence[float], target: Sequence[float], blockers: Sequence[Blo
 def sight_lift(eye: Sequence[float], target: Sequence[float], blocker: Blocker, margin: float) -> float:
     """How far (m) the camera at ``eye`` must rise for its line to ``target`` (ending
     ``SIGHT_END_M`` short of it, as in ``sees``) to pass ``margin`` over ``blocker``'s top;
-    0 where the line misses the box. The line is lowest inside the box where it enters or
-    leaves it; raising the eye alone lifts the point a fraction t of the way by 1 − t of it.
-    An upper bound (the raised line enters and leaves elsewhere): what a camera spring pulls
-    towards, the camera ceasing to rise once it sees."""
+    0 where the line misses the box raised by ``margin``. The line is lowest inside that box
+    where it enters or leaves it; raising the eye alone lifts the point a fraction t of the
+    way by 1 − t of it. What a camera spring pulls towards, the camera ceasing to rise once
+    the line clears the box by ``margin``."""
     a, b = [float(x) for x in eye], [float(x) for x in target]
     length = math.dist(a, b)
     if length <= SIGHT_END_M:
         return 0.0
     k = (length - SIGHT_END_M) / length
     end = [x + (y - x) * k for x, y in zip(a, b, strict=True)]
-    span = blocker.span(a, end)
+    span = blocker.raised(margin).span(a, end)
     if span is None:
         return 0.0
     over = blocker.top + margin
@@ -143,7 +157,7 @@ def sight_lift(eye: Sequence[float], target: Sequence[float], blocker: Blocker, 
     return max((over - (a[2] + t * (end[2] - a[2]))) / max(1.0 - t, SIGHT_LEVER_MIN) for t in span)
 
 
-def sight_boxes(prop) -> tuple[tuple[np.ndarray, tuple[float, float, float]], ...]:
+def sight_boxes(prop: PropPlan) -> tuple[tuple[np.ndarray, tuple[float, float, float]], ...]:
     """The boxes (centre, half size, in its shape's frame) of a prop that can stand between
     a camera and the protagonist: the bounds of each convex hull it collides as (a car's
     body below the belt, its greenhouse, its bumpers), or its box; a car's one box reaches
@@ -158,7 +172,7 @@ def sight_boxes(prop) -> tuple[tuple[np.ndarray, tuple[float, float, float]], ..
     return tuple(out)
 
 
-def stands_free(prop) -> bool:
+def stands_free(prop: PropPlan) -> bool:
     """Whether a prop can stand between camera and protagonist: a box no one holds (a door's
     leaf, a pushed load, a car), not a held tool."""
     return prop.shape == "box" and not prop.grips
@@ -194,9 +208,10 @@ def clear_camera_start(
     camera into the ground, where the slide would end on the body itself.
 
     The turn keeps the sampled distance and height to the target (only the azimuth
-    changes) and takes, of ``SIGHT_TURNS_DEG`` whose start is free, the nearest that hides
-    fewest anchors, if fewer than the start does; a start that sees every anchor stays as
-    it is. The recipe keeps the sampled C_xyz: the plan departs from it only where it is
+    changes; a start lifted clear keeps its lifted height) and takes, of
+    ``SIGHT_TURNS_DEG`` whose start is free, the nearest that hides fewest anchors, if
+    fewer than the start does; a start that sees every anchor stays as it is. The recipe
+    keeps the sampled C_xyz: the plan departs from it only where it is
     blocked, as it does where a start is inside a wall.
     """
     env = ENVIRONMENT_SCENES[recipe.environment.name]
@@ -208,11 +223,13 @@ def clear_camera_start(
     best, fewest = cleared, hidden(cleared, anchors, blockers)
     in_the_way = any(box.holds(cleared, clearance) for box in keep_out)
     dx, dy = float(start[0] - target[0]), float(start[1] - target[1])
+    # A start lifted out of the ground or a bench turns at the height it was lifted to.
+    height = max(float(start[2]), float(cleared[2]))
     for turn in SIGHT_TURNS_DEG:
         if fewest == 0 and not in_the_way:
             break
         c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
-        turned = (float(target[0]) + c * dx - s * dy, float(target[1]) + s * dx + c * dy, float(start[2]))
+        turned = (float(target[0]) + c * dx - s * dy, float(target[1]) + s * dx + c * dy, height)
         if _inside(colliders, np.array(turned), clearance, floor) or any(b.holds(turned, clearance) for b in keep_out):
             continue
         n = hidden(turned, anchors, blockers)
@@ -242,7 +259,7 @@ def _cleared(
 LANE_MARGIN_M = 0.5
 
 
-def driven_lanes(props) -> tuple[Blocker, ...]:
+def driven_lanes(props: Sequence[PropPlan]) -> tuple[Blocker, ...]:
     """Where each driven prop (a car, a pushed load) passes over the clip: a box round its
     path, from its first position to the last it can reach (``PropPlan.lane_end``), as wide
     and tall as the prop plus ``LANE_MARGIN_M`` each side, which a camera should not start in."""
@@ -270,14 +287,18 @@ def driven_lanes(props) -> tuple[Blocker, ...]:
     return tuple(out)
 
 
-def view_blockers(colliders, boxes, props) -> tuple[Blocker, ...]:
+def view_blockers(
+    colliders: Sequence[Collider], boxes: Sequence[StaticBox], props: Sequence[PropPlan]
+) -> tuple[Blocker, ...]:
     """What can hide the protagonist from a camera's start: the environment's colliders, the
-    action's static boxes and every prop no one holds (a door's leaf, a pushed load, a car),
-    at its first pose."""
+    action's static boxes and every prop no one holds (a door's leaf, a pushed load, a car)
+    at its first pose, as the boxes a spring camera rises over (``sight_boxes``)."""
     out = [Blocker.turned(c.center, c.half_size, c.yaw_deg) for c in (*colliders, *boxes)]
     for prop in filter(stands_free, props):
         rot = quat_to_matrix(np.asarray(prop.quat, dtype=np.float64))
-        centre = [float(p) + sum(float(r) * o for r, o in zip(row, prop.offset, strict=True))
-                  for p, row in zip(prop.pos, rot, strict=True)]  # fmt: skip
-        out.append(Blocker.of(centre, prop.size, rot))
+        for c, half in sight_boxes(prop):
+            local = [float(o) + float(v) for o, v in zip(prop.offset, c, strict=True)]
+            centre = [float(p) + sum(float(r) * o for r, o in zip(row, local, strict=True))
+                      for p, row in zip(prop.pos, rot, strict=True)]  # fmt: skip
+            out.append(Blocker.of(centre, half, rot))
     return tuple(out)

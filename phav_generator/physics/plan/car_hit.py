@@ -20,7 +20,7 @@ CAR_CLEARANCE_M = 0.15
 CAR_LOOK_STREAM = "world/car"
 #: How hard (m/s²) the car brakes once it has touched the protagonist (dry asphalt).
 CAR_BRAKING_MPS2 = 8.0
-#: How far (m) past the planned hit the car may touch first (a body moving towards it).
+#: How far (m) past the planned hit the car may touch first (a body moving on ahead of it).
 CAR_LATE_TOUCH_M = 1.0
 
 

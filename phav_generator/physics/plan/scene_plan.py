@@ -72,8 +72,9 @@ class PropPlan:
     # Convex solids (their corners, in the shape's frame) it collides as instead of its
     # shape, which then only carries its mass and pose: a car's body, greenhouse and bumpers.
     hulls: tuple[tuple[tuple[float, float, float], ...], ...] = ()
-    # The last step of ``path`` the prop can reach (a car braking once it has touched
-    # someone stops short of its path's end); None: the whole path.
+    # The last step of ``path`` the prop can reach once it has touched someone (a car braking
+    # from its touch stops short of its path's end; one that touches no one drives it all);
+    # None: the whole path.
     lane_end: int | None = None
 
 

@@ -18,6 +18,7 @@ import pytest
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.camera import (
+    SIGHT_TURNS_DEG,
     Blocker,
     clear_camera_start,
     driven_lanes,
@@ -122,6 +123,42 @@ def test_the_sight_lift_raises_the_line_over_the_box() -> None:
     assert sight_lift((-6.0, 4.0, 1.2), (6.0, 4.0, 0.9), car, 0.2) == 0.0  # a line beside the car
     # A target against the car asks a bounded lift (a lever of at least a quarter).
     assert sight_lift(eye, (2.0, 0.0, 0.3), car, 0.2) <= 4.0 * (1.5 + 0.2)
+
+
+def test_the_sight_lift_holds_the_line_its_margin_over_the_box() -> None:
+    """The camera keeps rising while its line passes less than the margin over the roof, not
+    only while the line goes through the car; a line well over it asks nothing."""
+    car = Blocker.turned((0.0, 0.0, 0.75), (2.2, 0.9, 0.75), 0.0)
+    raised = car.raised(0.2)
+    assert raised.top == pytest.approx(car.top + 0.2) and raised.center[2] - raised.half[2] == pytest.approx(0.0)
+    for over, asked in ((0.1, True), (0.19, True), (0.3, False)):
+        z = car.top + over
+        lift = sight_lift((-6.0, 0.0, z), (6.0, 0.0, z), car, 0.2)
+        assert (lift > 0.0) == asked, over
+        if asked:  # raising the eye alone lifts the line where it leaves the box by 1 − t of it
+            assert lift == pytest.approx((0.2 - over) / (1.0 - (6.0 + 2.2) / (12.0 - 0.3)), rel=1e-9)
+
+
+def test_the_opposite_view_is_the_last_turn_tried() -> None:
+    assert SIGHT_TURNS_DEG[:2] == (10.0, -10.0) and SIGHT_TURNS_DEG[-1] == 180.0
+    assert len(set(SIGHT_TURNS_DEG)) == len(SIGHT_TURNS_DEG) == 35
+
+
+def test_a_start_lifted_out_of_the_ground_turns_at_its_lifted_height() -> None:
+    """v000024's start (the door's leaf before the pusher) sunk into the ground: it is lifted
+    clear, and its turns are tried at that height, not in the ground, so it still turns."""
+    recipe = _phav_v1(24)
+    plan = plan_scene(recipe)
+    floor = float(ENVIRONMENT_SCENES[recipe.environment.name].ground_z)
+    sunk = recipe.camera.position[:2] + (floor,)
+    low = recipe.model_copy(update={"camera": recipe.camera.model_copy(update={"position": sunk})})
+    shift = np.subtract(plan.camera_target, recipe.camera.target)
+    anchors = _view_anchors(recipe, plan.people[0], plan.substeps)
+    blockers = view_blockers(ENVIRONMENT_SCENES[recipe.environment.name].colliders, plan.boxes, plan.props)
+    lifted = clear_camera_start(low, shift=shift)
+    start = clear_camera_start(low, shift=shift, blockers=blockers, anchors=anchors)
+    assert lifted[2] >= floor + 0.25 and start[2] == lifted[2]
+    assert hidden(start, anchors, blockers) < hidden(lifted, anchors, blockers)
 
 
 def test_a_car_stands_in_the_camera_s_line_as_the_solids_it_collides_as() -> None:
