@@ -211,8 +211,8 @@ def clear_camera_start(
     changes; a start lifted clear keeps its lifted height) and takes, of
     ``SIGHT_TURNS_DEG`` whose start is free, the nearest that hides fewest anchors, if
     fewer than the start does; a start that sees every anchor stays as it is. The recipe
-    keeps the sampled C_xyz: the plan departs from it only where it is
-    blocked, as it does where a start is inside a wall.
+    keeps the sampled C_xyz: the plan departs from it only where it is blocked, as it does
+    where a start is inside a wall.
     """
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     colliders, floor = env.colliders, float(getattr(env, "ground_z", 0.0))
