@@ -138,6 +138,13 @@ def written_frames(dataset: Path) -> dict[str, dict]:
     return {s["__key__"]: s for s in wds.WebDataset(urls, shardshuffle=False).decode(phav_decoder)}
 
 
+def part_corners(asset, *prefixes: str) -> list[tuple[str, np.ndarray]]:
+    """Each part of an asset whose name starts with one of ``prefixes``: (name, the corners
+    of its triangles, (m, 3, 3) float64)."""
+    return [(name, asset.positions[asset.triangles[first:end]].astype(np.float64))
+            for name, first, end, _ in asset.parts if name.startswith(prefixes)]  # fmt: skip
+
+
 def outside_hulls(points: np.ndarray, hulls) -> np.ndarray:
     """How far each point (n, 3) lies outside the nearest of the convex ``hulls`` (each its
     corners): its farthest face plane, negative inside."""

@@ -62,8 +62,9 @@ def wheels_drawable(vehicle: Vehicle, transforms: np.ndarray) -> Drawable:
     k, n = len(vehicle.axles), len(vehicle.wheel.positions)
     spin = wheel_spin(transforms, vehicle.wheel_radius)
     # Scalar libm, not numpy's CPU-dispatched cos and sin: the same turn on every CPU.
-    c = np.array([math.cos(a) for a in spin.tolist()])
-    s = np.array([math.sin(a) for a in spin.tolist()])
+    angles = spin.tolist()
+    c = np.array([math.cos(a) for a in angles])
+    s = np.array([math.sin(a) for a in angles])
     turn = np.zeros((len(spin), 4, 4))
     turn[:, 0, 0], turn[:, 0, 2], turn[:, 2, 0], turn[:, 2, 2] = c, s, -s, c  # about +y: forward rolls on
     turn[:, 1, 1] = turn[:, 3, 3] = 1.0

@@ -337,13 +337,19 @@ def _gable_roof(q: Quads, half, eaves_z: float, wall, colour) -> None:
           [pt(-L, -W, eaves_z), pt(L, -W, eaves_z), pt(L, W, eaves_z), pt(-L, W, eaves_z)], -UP)  # fmt: skip
 
 
+def _clump_rings(segments: int) -> int:
+    """Rings from pole to pole of a leaf clump of ``segments`` round (its vertices: the two
+    poles and ``segments`` on each ring between them)."""
+    return max(segments // 2, 3)
+
+
 def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, radii, rng, *, segments: int,
           rough: float) -> None:  # fmt: skip
     """A lumpy ellipsoid, flat-shaded (a clump of leaves): each vertex pushed out or in by
     up to ``rough`` of its radius. It draws from ``rng`` as many lumps as the finest level's
     clump has vertices, whatever its ``segments``, so the clumps after it lie where they lie
     at every level of detail."""
-    rings = max(segments // 2, 3)
+    rings = _clump_rings(segments)
     around = circle(segments, float(rng.random()) * 2 * math.pi)
     pts = [(0.0, 0.0, -1.0)]
     for i in range(1, rings):
@@ -352,7 +358,7 @@ def _blob(p: Parts, name: str, cls: str, material: Material, colour, centre, rad
     pts.append((0.0, 0.0, 1.0))
     unit = np.array(pts)
     finest = _CLUMP_SEGMENTS[0]
-    lumps = rng.random(max(len(unit), 2 + (max(finest // 2, 3) - 1) * finest))
+    lumps = rng.random(max(len(unit), 2 + (_clump_rings(finest) - 1) * finest))
     scale = 1.0 - rough + rough * lumps[: len(unit)]
     pos = unit * (np.asarray(radii, dtype=np.float64) * scale[:, None])
     p.add(name, cls, material, colour, pos, sphere_triangles(segments, rings), closed=True, offset=centre)

@@ -28,7 +28,7 @@ from phav_spec.car_shapes import CAR_BODIES
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
-from tests.helpers import outside_hulls
+from tests.helpers import outside_hulls, part_corners
 
 #: How far (m) a drawn shape may stray outside the box it stands in.
 FIT_M = 0.02
@@ -345,17 +345,11 @@ def test_a_car_is_drawn_as_the_hulls_it_collides_as(kind, below):
     assert reach.max() <= _HULL_REACH_M, f"{kind}: a hull corner {reach.max():.3f} m from the drawn car"
 
 
-def _part_points(asset: Asset, prefix: str) -> list[tuple[str, np.ndarray]]:
-    """Each part whose name starts with ``prefix``: (name, its triangles' corners)."""
-    return [(name, asset.positions[asset.triangles[first:end].reshape(-1)].astype(np.float64))
-            for name, first, end, _ in asset.parts if name.startswith(prefix)]  # fmt: skip
-
-
 @pytest.mark.parametrize("level", range(LEVELS))
 def test_a_truck_s_side_guards_and_underride_bar_lie_inside_its_box_clear_of_its_tyres(level):
     half = (3.6, 1.2, 1.6)
     truck = vehicles.truck(half, stream(0, "truck"), level)
-    bars = _part_points(truck.body, "guard") + _part_points(truck.body, "underride_bar")
+    bars = [(name, c.reshape(-1, 3)) for name, c in part_corners(truck.body, "guard", "underride_bar")]
     assert len(bars) == (5 if level < 2 else 0)  # two rails of a guard each side, the bar
     y_tyre = truck.wheel.bounds()[1][1]
     for name, pts in bars:

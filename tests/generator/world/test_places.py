@@ -26,7 +26,7 @@ from phav_generator.world.parts import Parts
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 from phav_spec.vocab import PIXEL_CLASSES
-from tests.helpers import luma
+from tests.helpers import luma, part_corners
 from tests.validators.learn.helpers import measure_script
 
 
@@ -391,10 +391,9 @@ def test_the_lake_s_banks_have_a_shore_along_the_water_and_nowhere_else():
                     assert not (collider_asset(name, i, 0).materials == Material.SHORE).any()
 
 
-def _part_triangles(asset, part: str) -> np.ndarray:
-    """(m, 3, 3): the corners of every triangle of the parts named ``part`` (one per look)."""
-    return np.concatenate([asset.positions[asset.triangles[first:end]] for name, first, end, _ in asset.parts
-                           if name == part] or [np.zeros((0, 3, 3))])  # fmt: skip
+def _part_triangles(asset, prefix: str) -> np.ndarray:
+    """(m, 3, 3): the corners of every triangle of the parts so named (one per look)."""
+    return np.concatenate([c for _, c in part_corners(asset, prefix)] or [np.zeros((0, 3, 3))])
 
 
 def test_a_house_s_front_door_stands_where_no_window_is():
@@ -426,8 +425,7 @@ def test_a_crown_s_clumps_keep_their_height_and_reach_at_every_level_of_detail(s
     crowns = [places.crown(half, stream(3, "crown"), level, species=species) for level in range(3)]
 
     def centres(asset) -> dict[str, np.ndarray]:
-        return {name: asset.positions[asset.triangles[first:end].reshape(-1)].astype(np.float64).mean(axis=0)
-                for name, first, end, _ in asset.parts if name.startswith("clump")}  # fmt: skip
+        return {name: c.reshape(-1, 3).mean(axis=0) for name, c in part_corners(asset, "clump")}
 
     finest = centres(crowns[0])
     for coarser in crowns[1:]:
