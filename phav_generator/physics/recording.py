@@ -1,9 +1,10 @@
 """What a simulation writes down: per frame the poses and physics signals, then the ``Trajectory``.
 
 After each frame the simulated people's bodies, joints and control state, the props'
-geom poses, the vehicles, penetrations, contacts, kinetic energy, the camera and
-(optionally) MuJoCo's full state are recorded. Background people are kinematic: their
-bodies come from their animation, all frames at once.
+geom poses, penetrations, contacts, kinetic energy, the camera and (optionally) MuJoCo's
+full state are recorded. Background people are kinematic: their bodies come from their
+animation, all frames at once. The traffic, which nothing simulated touches, is driven
+through the recorded frames at the end.
 """
 
 from __future__ import annotations
@@ -63,15 +64,12 @@ class FrameRecorder:
         self.contacts = {"car_protagonist": np.zeros(n_out, bool), "protagonist_ground": np.zeros(n_out, bool)}
         self.states = np.zeros((n_out, mujoco.mj_stateSize(run.m, FULL_STATE))) if keep_state else None
         self.background, self.background_fk = run.background, run.background_fk  # animated, not simulated
-        self.vehicle_pos = np.zeros((len(plan.traffic), n_out, 3))
-        self.vehicle_quat = np.zeros((len(plan.traffic), n_out, 4))
-        self.clearance = np.zeros(n_out)
-        #: Every body and driven prop's footprint at the last recorded frame: what traffic brakes for.
-        self.bodies_now = np.zeros((0, 3))
+        #: Every body and driven prop's footprint per recorded frame: what traffic yields to.
+        self.obstacles: list[np.ndarray] = []
 
-    def record(self, f: int, traffic: Traffic, touched: set[str]) -> None:
+    def record(self, f: int, touched: set[str]) -> None:
         """Write frame f; ``touched`` are the named contacts seen during its physics steps."""
-        self._record_obstacles_and_traffic(f, traffic)
+        self._record_obstacles(f)
         self._record_people(f)
         self._record_props(f)
         self._record_contacts_and_energy(f, touched)
@@ -79,24 +77,16 @@ class FrameRecorder:
         if self.states is not None:
             mujoco.mj_getState(self.run.m, self.run.d, self.states[f], FULL_STATE)
 
-    def _record_obstacles_and_traffic(self, f: int, traffic: Traffic) -> None:
-        """Where everyone is now (simulated, background, a driven car), the vehicles' poses and
-        their clearance to it."""
+    def _record_obstacles(self, f: int) -> None:
+        """Where everyone is now: the simulated and background people's bodies, a driven car."""
         d, scene = self.run.d, self.run.scene
-        self.bodies_now = np.concatenate(
-            [d.xpos[h.bodies] for h in scene.people]
-            + [pos[f] for pos, _ in self.background_fk]
-            + [
-                footprint_points(
-                    d.geom_xpos[h.geom], math.atan2(d.geom_xmat[h.geom, 3], d.geom_xmat[h.geom, 0]), prop.size
-                )
-                for prop, h in zip(self.plan.props, scene.props, strict=True)
-                if h.driven
-            ]
-            + [np.zeros((0, 3))]
-        )
-        self.vehicle_pos[:, f], self.vehicle_quat[:, f] = traffic.poses()
-        self.clearance[f] = traffic.clearance(self.bodies_now)
+        driven = [
+            footprint_points(d.geom_xpos[h.geom], math.atan2(d.geom_xmat[h.geom, 3], d.geom_xmat[h.geom, 0]), prop.size)
+            for prop, h in zip(self.plan.props, scene.props, strict=True)
+            if h.driven
+        ]
+        people = [d.xpos[h.bodies] for h in scene.people] + [pos[f] for pos, _ in self.background_fk]
+        self.obstacles.append(np.concatenate([*people, *driven, np.zeros((0, 3))]))
 
     def _record_people(self, f: int) -> None:
         """The simulated people's bodies, joints, control state and joint-limit excess."""
@@ -135,13 +125,14 @@ class FrameRecorder:
         warnings = {
             mujoco.mjtWarning(i).name: int(d.warning[i].number) for i in range(mujoco.mjtWarning.mjNWARNING.value)
         }
+        traffic = Traffic.drive(plan.traffic, self.obstacles, 1.0 / plan.fps, cameras=self.cam_pos)
         return Trajectory(
             video_id=plan.recipe.video_id,
             fps=plan.fps,
             timestep=plan.timestep,
             times=np.arange(self.n_out) / plan.fps,
             people=(*self._simulated_tracks(), *self._background_tracks()),
-            props=self._prop_tracks(),
+            props=self._prop_tracks(traffic),
             cam_to_world=self._cam_to_world(),
             intrinsics=intrinsics(plan.recipe),
             boxes=tuple((b.pixel_class, b.center, b.half_size, b.yaw_deg) for b in plan.boxes),
@@ -156,7 +147,7 @@ class FrameRecorder:
             exploded_at=run.exploded_at,
             contacts=self.contacts,
             mj_state=self.states,
-            traffic_clearance_m=self.clearance,
+            traffic_clearance_m=np.array([traffic.clearance(p, f) for f, p in enumerate(self.obstacles)]),
         )
 
     def _simulated_tracks(self) -> list[PersonTrack]:
@@ -194,16 +185,18 @@ class FrameRecorder:
             tracks.append(track)
         return tracks
 
-    def _prop_tracks(self) -> tuple[PropTrack, ...]:
+    def _prop_tracks(self, traffic: Traffic) -> tuple[PropTrack, ...]:
         """The plan's props, then the traffic's vehicles."""
         plan = self.plan
+        vehicle_pos, vehicle_quat = traffic.poses()
         return tuple(
             PropTrack(prop.name, prop.object, prop.pixel_class, prop.shape, tuple(prop.size), self.prop_pos[j],
                       self.prop_quat[j])
             for j, prop in enumerate(plan.props)
         ) + tuple(
-            PropTrack(v.name, v.kind, OBJECTS[v.kind], "box", v.half_size, self.vehicle_pos[j], self.vehicle_quat[j])
-            for j, v in enumerate(plan.traffic)
+            PropTrack(v.name, v.kind, OBJECTS[v.kind], "box", v.half_size, vehicle_pos[j],
+                      np.repeat(vehicle_quat[j][None], self.n_out, axis=0))
+            for j, v in enumerate(traffic.vehicles)
         )  # fmt: skip
 
     def _cam_to_world(self) -> np.ndarray:

@@ -1,10 +1,11 @@
 """``simulate(recipe) -> Trajectory``: run the planned scene in MuJoCo, frame by frame.
 
 The steps: plan the scene (``plan.scene``), compile it (``model``), put everyone at their
-first pose (``control``), then per frame drive the traffic, run the frame's physics steps
-and record the frame (``recording``); the recorded frames become the ``Trajectory``. A
-step that produces NaN or a runaway velocity stops the physics: the frame is marked, the
-last good state is held for the rest of the clip, and nothing in the output is NaN.
+first pose (``control``), then per frame run the frame's physics steps and record the frame
+(``recording``); the recorded frames become the ``Trajectory``, the traffic driven through
+them. A step that produces NaN or a runaway velocity stops the physics: the frame is
+marked, the last good state is held for the rest of the clip, and nothing in the output is
+NaN.
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from phav_generator.physics.model import build_model
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_generator.physics.recording import FrameRecorder
-from phav_generator.physics.traffic import Traffic
 from phav_generator.physics.trajectory import Trajectory
 from phav_spec.recipe import Recipe
 
@@ -36,13 +36,9 @@ def simulate_plan(plan: ScenePlan, *, keep_state: bool = True) -> Trajectory:
     """Simulate an already planned scene (``plan_scene``)."""
     run = SimulationRun(plan, build_model(plan))
     run.initialise()
-    traffic = Traffic(plan.traffic)
     frames = FrameRecorder(plan, run, keep_state=keep_state)
-    frames.record(0, traffic, touched=set())
+    frames.record(0, touched=set())
     run.keep_good_state()
     for f in range(1, frames.n_out):
-        # Vehicles brake for where everyone and the camera were at the last recorded frame.
-        traffic.advance(frames.bodies_now, 1.0 / plan.fps, camera=frames.cam_pos[f - 1])
-        touched = run.step_frame(f)
-        frames.record(f, traffic, touched)
+        frames.record(f, run.step_frame(f))
     return frames.trajectory()

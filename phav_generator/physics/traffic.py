@@ -1,17 +1,20 @@
 """Background traffic: vehicles driving along the environment's lanes, yielding to people.
 
-Kinematic, as the scene needs no more: a vehicle brakes for whatever is in its lane ahead
-(any body of any person, as simulated, so a ragdoll thrown onto the road stops the
-traffic, the vehicle in front, and the camera where it hangs less than
-``CAMERA_HEADROOM_M`` over the vehicle's roof), so it never touches anyone and needs no
-MuJoCo body. It brakes as hard as it must (no limit on its deceleration).
-Planned from the recipe's background seed (``plan_traffic``), driven frame by frame inside
-``simulate`` from where the people actually are (``Traffic.advance``).
+Kinematic, as the scene needs no more: no vehicle is a MuJoCo body, so nothing in the
+simulation depends on the traffic, and the traffic is driven once the clip's frames are
+known (``Traffic.drive``). A vehicle yields to whatever will be in its lane ahead (any body
+of any person, as simulated, so a ragdoll thrown onto the road stops the traffic; the
+vehicle in front; the camera where it hangs less than ``CAMERA_HEADROOM_M`` over the
+vehicle's roof) like a driver who sees it coming: it never brakes harder than
+``BRAKE_MPS2`` and stops ``STOP_GAP_M`` short, so it never touches anyone.
+Planned from the recipe's background seed (``plan_traffic``), rehearsed against the planned
+bodies, driven against the simulated ones.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +27,7 @@ from phav_spec.seeding import stream
 MAX_PER_LANE = 2
 #: Cruising speed range, m/s (22–47 km/h).
 CRUISE_MPS = (6.0, 13.0)
-#: Acceleration and the braking used to stop short of an obstacle, m/s².
+#: Acceleration, and the hardest a vehicle ever brakes (firm, short of an emergency stop), m/s².
 ACCEL_MPS2 = 2.0
 BRAKE_MPS2 = 6.0
 #: A vehicle stops this far (m) from the obstacle ahead.
@@ -39,6 +42,9 @@ CAMERA_HEADROOM_M = 0.5
 FAR_M = 1000.0
 #: A planned vehicle that would come closer than this (m) to anyone's planned body is left out.
 MIN_CLEARANCE_M = 1.0
+#: Speeds a vehicle weighs each frame, evenly from braking its hardest to its most
+#: acceleration: a step of (ACCEL + BRAKE)·dt / (SPEED_STEPS − 1), 0.03 m/s at 30 fps.
+SPEED_STEPS = 9
 
 
 @dataclass(frozen=True)
@@ -84,22 +90,13 @@ def plan_traffic(recipe: Recipe, obstacles: np.ndarray) -> tuple[Vehicle, ...]:
         candidates.extend(placed)
     vehicles = tuple(candidates)
     while vehicles:
-        closest = _rehearse(vehicles, obstacles, 1.0 / recipe.video.fps)
+        traffic = Traffic.drive(vehicles, obstacles, 1.0 / recipe.video.fps)
+        closest = np.min([traffic.clearances(points, f) for f, points in enumerate(obstacles)], axis=0)
         if closest.min() >= MIN_CLEARANCE_M:
             break
         drop = int(np.argmin(closest))
         vehicles = vehicles[:drop] + vehicles[drop + 1 :]
     return vehicles
-
-
-def _rehearse(vehicles: tuple[Vehicle, ...], obstacles: np.ndarray, dt: float) -> np.ndarray:
-    """Each vehicle's smallest clearance to the obstacles over the clip, driven as planned."""
-    traffic = Traffic(vehicles)
-    closest = traffic.clearances(obstacles[0])
-    for frame in range(1, len(obstacles)):
-        traffic.advance(obstacles[frame - 1], dt)
-        closest = np.minimum(closest, traffic.clearances(obstacles[frame]))
-    return closest
 
 
 def _frame(lane: Lane) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -111,72 +108,125 @@ def _frame(lane: Lane) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return start, u, np.array([-u[1], u[0], 0.0])
 
 
+@dataclass(frozen=True)
 class Traffic:
-    """The vehicles' state while a clip is simulated: distance along the lane and speed."""
+    """The vehicles driven over a clip: each one's centre's distance along its lane per frame."""
 
-    def __init__(self, vehicles: tuple[Vehicle, ...]):
-        self.vehicles = vehicles
-        self.s = np.array([v.s0 for v in vehicles], dtype=np.float64)
-        self.speed = np.array([v.cruise_mps for v in vehicles], dtype=np.float64)
-        self._frames = [_frame(v.lane) for v in vehicles]
-        # Front to back within each lane, so a follower sees where its leader went.
-        self._order = sorted(range(len(vehicles)), key=lambda i: (vehicles[i].lane_index, -self.s[i]))
-        # A vehicle faces along its (straight) lane all clip long.
-        yaws = [math.atan2(u[1], u[0]) for _, u, _ in self._frames]
-        self._quat = np.array([(math.cos(y / 2), 0.0, 0.0, math.sin(y / 2)) for y in yaws]).reshape(-1, 4)
+    vehicles: tuple[Vehicle, ...]
+    s: np.ndarray  # (V, F)
+
+    @classmethod
+    def drive(cls, vehicles: tuple[Vehicle, ...], obstacles: Sequence[np.ndarray], dt: float,
+              cameras: np.ndarray | None = None) -> Traffic:  # fmt: skip
+        """Drive every vehicle through the clip's frames: ``obstacles[f]`` (N_f, 3) are the
+        bodies and driven props' footprints at frame f, ``cameras`` (F, 3) the camera's
+        position. Each lane's vehicles front to back, so a follower sees where its leader went."""
+        s = np.zeros((len(vehicles), len(obstacles)))
+        order = sorted(range(len(vehicles)), key=lambda i: (vehicles[i].lane_index, -vehicles[i].s0))
+        leader: dict[int, np.ndarray] = {}  # lane → the rear of the vehicle ahead, per frame
+        for i in order:
+            v = vehicles[i]
+            ahead = _in_the_way(v, obstacles, cameras, leader.get(v.lane_index))
+            s[i] = _drive_one(v, ahead, dt)
+            leader[v.lane_index] = s[i] - v.half_size[0]
+        return cls(vehicles, s)
 
     def poses(self) -> tuple[np.ndarray, np.ndarray]:
-        """Centres (V, 3) and orientations (V, 4, w x y z) now."""
-        pos = np.zeros((len(self.vehicles), 3))
-        for i, (v, (start, u, _)) in enumerate(zip(self.vehicles, self._frames, strict=True)):
-            pos[i] = start + u * self.s[i]
-            pos[i, 2] = start[2] + v.half_size[2]
-        return pos, self._quat.copy()
+        """Centres (V, F, 3) per frame and orientations (V, 4, w x y z): a vehicle faces
+        along its (straight) lane all clip long."""
+        pos = np.zeros((*self.s.shape, 3))
+        quat = np.zeros((len(self.vehicles), 4))
+        for i, v in enumerate(self.vehicles):
+            start, u, _ = _frame(v.lane)
+            pos[i] = start + u * self.s[i][:, None]
+            pos[i, :, 2] = start[2] + v.half_size[2]
+            yaw = math.atan2(u[1], u[0])
+            quat[i] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        return pos, quat
 
-    def advance(self, obstacles: np.ndarray, dt: float, camera: np.ndarray | None = None) -> None:
-        """Drive one frame: cruise, or brake to stop ``STOP_GAP_M`` short of the nearest
-        obstacle point (N, 3), the camera (3,) where it hangs lower than the vehicle's roof
-        and ``CAMERA_HEADROOM_M``, or the vehicle ahead in the lane."""
-        leader: dict[int, float] = {}  # lane id → rear of the vehicle ahead, along the lane
-        for i in self._order:
-            v = self.vehicles[i]
-            start, u, left = self._frames[i]
-            lane = v.lane_index
-            front = self.s[i] + v.half_size[0]
-            gap = leader.get(lane, math.inf) - front
-            points = obstacles
-            if camera is not None and camera[2] - start[2] < 2.0 * v.half_size[2] + CAMERA_HEADROOM_M:
-                points = np.concatenate([obstacles, np.asarray(camera, dtype=np.float64)[None]])
-            if len(points):
-                rel = points - start
-                along = rel @ u - front
-                across = np.abs(rel @ left)
-                # In the corridor and not wholly behind the vehicle's rear.
-                mask = (across < v.lane.half_width + CORRIDOR_MARGIN_M) & (along > -2.0 * v.half_size[0])
-                if np.any(mask):
-                    gap = min(gap, float(np.min(along[mask])))
-            allowed = math.sqrt(2.0 * BRAKE_MPS2 * max(gap - STOP_GAP_M, 0.0))
-            self.speed[i] = min(v.cruise_mps, self.speed[i] + ACCEL_MPS2 * dt, allowed)
-            self.s[i] += self.speed[i] * dt
-            leader[lane] = self.s[i] - v.half_size[0]
-
-    def clearances(self, points: np.ndarray) -> np.ndarray:
+    def clearances(self, points: np.ndarray, f: int) -> np.ndarray:
         """Per vehicle, the smallest ground-plane distance (m) from any point (N, 3) to its
-        footprint; ``FAR_M`` where there is nothing to measure."""
+        footprint at frame ``f``; ``FAR_M`` where there is nothing to measure."""
         out = np.full(len(self.vehicles), FAR_M)
         if not len(points):
             return out
         for i, v in enumerate(self.vehicles):
-            start, u, left = self._frames[i]
+            start, u, left = _frame(v.lane)
             rel = points - start  # lane axes are horizontal: heights drop out
-            local = np.stack([rel @ u - self.s[i], rel @ left], axis=-1)
+            local = np.stack([rel @ u - self.s[i, f], rel @ left], axis=-1)
             outside = np.maximum(np.abs(local) - np.array(v.half_size[:2]), 0.0)
             out[i] = min(FAR_M, float(np.min(np.linalg.norm(outside, axis=-1))))
         return out
 
-    def clearance(self, points: np.ndarray) -> float:
+    def clearance(self, points: np.ndarray, f: int) -> float:
         """Smallest distance (m, ground plane) from any point (N, 3) to any vehicle's footprint."""
-        return float(self.clearances(points).min(initial=FAR_M))
+        return float(self.clearances(points, f).min(initial=FAR_M))
+
+
+def _in_the_way(v: Vehicle, obstacles: Sequence[np.ndarray], cameras: np.ndarray | None,
+                leader_rear: np.ndarray | None) -> np.ndarray:  # fmt: skip
+    """(F, K) distances along the lane of what stands in its corridor per frame, padded with
+    +inf: the obstacles, the camera where it hangs lower than the vehicle's roof and
+    ``CAMERA_HEADROOM_M``, and the rear of the vehicle ahead in the lane."""
+    start, u, left = _frame(v.lane)
+    rows = []
+    for f, points in enumerate(obstacles):
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        if cameras is not None and cameras[f][2] - start[2] < 2.0 * v.half_size[2] + CAMERA_HEADROOM_M:
+            points = np.concatenate([points, np.asarray(cameras[f], dtype=np.float64)[None]])
+        rel = points - start
+        along = rel @ u
+        row = along[np.abs(rel @ left) < v.lane.half_width + CORRIDOR_MARGIN_M]
+        rows.append(row if leader_rear is None else np.append(row, leader_rear[f]))
+    out = np.full((len(rows), max((len(r) for r in rows), default=0) or 1), np.inf)
+    for f, row in enumerate(rows):
+        out[f, : len(row)] = row
+    return out
+
+
+def _drive_one(v: Vehicle, ahead: np.ndarray, dt: float) -> np.ndarray:
+    """A vehicle's centre along its lane per frame, given what is in its way (``_in_the_way``).
+
+    Each frame it takes the fastest speed within its braking and acceleration (and cruise)
+    from which braking its hardest afterwards keeps ``STOP_GAP_M`` short of everything ahead
+    in every later frame: once a speed like that is found, the next frame's hardest braking
+    is one too, so it never needs to brake harder. Where no speed keeps clear (someone walks
+    into its side, or up to it once it has stopped) it takes the slowest of those that meet
+    the fewest. The first frame's speed is free up to the cruise: the clip may start as it
+    slows.
+    """
+    half = v.half_size[0]
+    s = np.empty(len(ahead))
+    s[0] = v.s0
+    speed = v.cruise_mps
+    for f in range(len(ahead) - 1):
+        lo, hi = (0.0, v.cruise_mps) if f == 0 else (max(speed - BRAKE_MPS2 * dt, 0.0),
+                                                      min(v.cruise_mps, speed + ACCEL_MPS2 * dt))  # fmt: skip
+        later = ahead[f + 1 :]
+        if _blocked_frames(s[f], np.array([hi]), later, half, dt)[0] == 0:
+            speed = hi
+        else:
+            tried = lo + (hi - lo) * np.arange(SPEED_STEPS) / (SPEED_STEPS - 1)
+            blocked = _blocked_frames(s[f], tried, later, half, dt)
+            fewest = np.nonzero(blocked == blocked.min())[0]
+            speed = float(tried[fewest[-1] if blocked.min() == 0 else fewest[0]])
+        s[f + 1] = s[f] + speed * dt
+    return s
+
+
+def _blocked_frames(s: float, speeds: np.ndarray, later: np.ndarray, half: float, dt: float) -> np.ndarray:
+    """Per speed tried (J,): in how many of the later frames (M, K) the vehicle, moving on at
+    that speed and then braking its hardest until it stops, has something in its way:
+    between its rear and ``STOP_GAP_M`` beyond its front."""
+    steps = min(len(later), math.ceil(float(speeds.max()) / (BRAKE_MPS2 * dt)) + 1)
+    if steps == 0:
+        return np.zeros(len(speeds), dtype=np.int64)
+    each = np.maximum(speeds[:, None] - BRAKE_MPS2 * dt * np.arange(steps)[None, :], 0.0)
+    centre = s + dt * np.cumsum(each, axis=1)  # (J, M): semi-implicit, as each frame moves
+    a = later[None, :steps, :]
+    c = centre[:, :, None]
+    inside = (a > c - half) & (a < c + half + STOP_GAP_M)
+    return np.sum(np.any(inside, axis=2), axis=1)
 
 
 def footprint_points(center: np.ndarray, yaw: float, half: tuple[float, ...]) -> np.ndarray:

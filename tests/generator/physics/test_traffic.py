@@ -1,6 +1,6 @@
 """Background traffic: vehicles drive their lanes, stop short of people, of the vehicle
-ahead and of a camera in their way, never touch anyone, and only where the environment has
-roads."""
+ahead and of a camera in their way, braking no harder than BRAKE_MPS2, never touch anyone,
+and only where the environment has roads."""
 
 from __future__ import annotations
 
@@ -9,7 +9,14 @@ import numpy as np
 import pytest
 
 from phav_generator.physics.simulate import simulate
-from phav_generator.physics.traffic import CAMERA_HEADROOM_M, STOP_GAP_M, Traffic, Vehicle, footprint_points
+from phav_generator.physics.traffic import (
+    BRAKE_MPS2,
+    CAMERA_HEADROOM_M,
+    STOP_GAP_M,
+    Traffic,
+    Vehicle,
+    footprint_points,
+)
 from phav_generator.sampling import sample_recipes
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
 from phav_spec.theta import load_preset
@@ -17,47 +24,73 @@ from tests.generator.physics.support import recipe_for
 
 LANE = Lane((0.0, -2.0, 0.0), (200.0, -2.0, 0.0), 2.0)
 DT = 1.0 / 30.0
+NONE = np.zeros((0, 3))
 
 
 def _car(name: str, s0: float, cruise: float = 10.0) -> Vehicle:
     return Vehicle(name, "car", LANE, 0, VEHICLE_HALF_SIZES["car"], s0, cruise)
 
 
-def _drive(traffic: Traffic, obstacles: np.ndarray, seconds: float, camera: np.ndarray | None = None) -> None:
-    for _ in range(round(seconds / DT)):
-        traffic.advance(obstacles, DT, camera=camera)
+def _drive(vehicles: tuple[Vehicle, ...], obstacles: list[np.ndarray], cameras: np.ndarray | None = None) -> Traffic:
+    return Traffic.drive(vehicles, obstacles, DT, cameras=cameras)
+
+
+def _speeds(traffic: Traffic) -> np.ndarray:
+    return np.diff(traffic.s, axis=1) / DT
+
+
+def _decelerations(traffic: Traffic) -> np.ndarray:
+    return -np.diff(_speeds(traffic), axis=1) / DT
 
 
 def test_a_vehicle_stops_short_of_a_person_and_goes_on_when_the_way_is_clear():
-    traffic = Traffic((_car("a", 10.0),))
     person = np.array([[60.0, -1.5, 1.0]])
-    _drive(traffic, person, 10.0)
-    front = traffic.s[0] + VEHICLE_HALF_SIZES["car"][0]
-    assert traffic.speed[0] == 0.0
+    frames = [person] * 300 + [NONE] * 150  # 10 s in the way, then 5 s gone
+    traffic = _drive((_car("a", 10.0),), frames)
+    front = traffic.s[0, 299] + VEHICLE_HALF_SIZES["car"][0]
+    assert _speeds(traffic)[0, 290:299].max() == 0.0
     assert STOP_GAP_M - 0.5 < 60.0 - front <= STOP_GAP_M + 0.5
-    _drive(traffic, np.zeros((0, 3)), 5.0)
-    assert traffic.speed[0] == pytest.approx(10.0)  # accelerated back to its cruise
+    assert _speeds(traffic)[0, -1] == pytest.approx(10.0)  # accelerated back to its cruise
+    assert _decelerations(traffic).max() <= BRAKE_MPS2 + 1e-6
+
+
+def test_a_person_stepping_out_close_ahead_is_seen_coming():
+    """A person who steps into the lane 6 m ahead of a car at 12 m/s: a driver who only
+    reacts then must brake at 24 m/s² to stop short; one who sees them coming brakes at
+    BRAKE_MPS2 in time."""
+    car = _car("a", 10.0, cruise=12.0)
+    half = VEHICLE_HALF_SIZES["car"][0]
+    step_out = 60  # frame the person steps in, 6 m ahead of where the car's front would be
+    ahead = 10.0 + 12.0 * step_out * DT + half + 6.0
+    frames = [np.array([[ahead, 5.0, 1.0]])] * step_out + [np.array([[ahead, -2.0, 1.0]])] * 120
+    traffic = _drive((car,), frames)
+    assert _decelerations(traffic).max() <= BRAKE_MPS2 + 1e-6
+    fronts = traffic.s[0] + half
+    assert np.all(ahead - fronts[step_out:] >= STOP_GAP_M - 1e-6)
+    assert _speeds(traffic)[0, -1] == 0.0
+    assert traffic.s[0, step_out // 2] < 10.0 + 12.0 * (step_out // 2) * DT  # slowing before they step out
 
 
 def test_people_beside_the_lane_do_not_stop_traffic():
-    traffic = Traffic((_car("a", 10.0),))
-    _drive(traffic, np.array([[60.0, 4.0, 1.0], [30.0, -6.0, 1.0]]), 6.0)
-    assert traffic.s[0] == pytest.approx(10.0 + 6.0 * 10.0)
+    traffic = _drive((_car("a", 10.0),), [np.array([[60.0, 4.0, 1.0], [30.0, -6.0, 1.0]])] * 181)
+    assert traffic.s[0, -1] == pytest.approx(10.0 + 6.0 * 10.0)
 
 
 def test_a_vehicle_stops_short_of_a_camera_lower_than_its_roof_and_passes_under_a_higher_one():
-    none = np.zeros((0, 3))
     roof = 2.0 * VEHICLE_HALF_SIZES["car"][2]
-    low = Traffic((_car("a", 10.0),))
-    _drive(low, none, 10.0, camera=np.array([60.0, -2.0, roof + CAMERA_HEADROOM_M - 0.1]))
-    assert low.speed[0] == 0.0
-    assert STOP_GAP_M - 0.5 < 60.0 - (low.s[0] + VEHICLE_HALF_SIZES["car"][0]) <= STOP_GAP_M + 0.5
-    high = Traffic((_car("a", 10.0),))
-    _drive(high, none, 10.0, camera=np.array([60.0, -2.0, roof + CAMERA_HEADROOM_M + 0.1]))
-    assert high.s[0] == pytest.approx(10.0 + 10.0 * 10.0)  # drove on under it
-    bus = Traffic((Vehicle("b", "bus", LANE, 0, VEHICLE_HALF_SIZES["bus"], 10.0, 10.0),))
-    _drive(bus, none, 10.0, camera=np.array([60.0, -2.0, roof + CAMERA_HEADROOM_M + 0.1]))
-    assert bus.speed[0] == 0.0  # a taller vehicle stops for the same camera
+    frames = [NONE] * 301
+
+    def camera(z: float) -> np.ndarray:
+        return np.tile([60.0, -2.0, z], (301, 1))
+
+    low = _drive((_car("a", 10.0),), frames, camera(roof + CAMERA_HEADROOM_M - 0.1))
+    assert _speeds(low)[0, -1] == 0.0
+    assert STOP_GAP_M - 0.5 < 60.0 - (low.s[0, -1] + VEHICLE_HALF_SIZES["car"][0]) <= STOP_GAP_M + 0.5
+    high = _drive((_car("a", 10.0),), frames, camera(roof + CAMERA_HEADROOM_M + 0.1))
+    assert high.s[0, -1] == pytest.approx(10.0 + 10.0 * 10.0)  # drove on under it
+    bus = _drive((Vehicle("b", "bus", LANE, 0, VEHICLE_HALF_SIZES["bus"], 10.0, 10.0),), frames,
+                 camera(roof + CAMERA_HEADROOM_M + 0.1))  # fmt: skip
+    assert _speeds(bus)[0, -1] == 0.0  # a taller vehicle stops for the same camera
 
 
 def _camera_in_a_vehicle_m(trajectory) -> float:
@@ -88,27 +121,30 @@ def test_traffic_does_not_drive_through_a_camera_hanging_in_its_lane():
 
 
 def test_a_follower_stops_behind_its_leader():
-    traffic = Traffic((_car("follower", 10.0, 12.0), _car("leader", 30.0)))
     wall = footprint_points(np.array([80.0, -2.0, 0.0]), 0.0, (1.0, 2.0, 1.0))
-    _drive(traffic, wall, 15.0)
+    traffic = _drive((_car("follower", 10.0, 12.0), _car("leader", 30.0)), [wall] * 451)
     half = VEHICLE_HALF_SIZES["car"][0]
     gap = (traffic.s[1] - half) - (traffic.s[0] + half)
-    assert traffic.speed.max() == 0.0
-    assert STOP_GAP_M - 0.5 < gap <= STOP_GAP_M + 0.5
+    assert _speeds(traffic)[:, -30:].max() == 0.0
+    assert STOP_GAP_M - 0.5 < gap[-1] <= STOP_GAP_M + 0.5
+    assert gap.min() >= STOP_GAP_M - 1e-6
+    assert _decelerations(traffic).max() <= BRAKE_MPS2 + 1e-6
 
 
 def test_poses_lie_on_the_lane_facing_its_direction():
     lane = ENVIRONMENT_SCENES["urban"].lanes[1]  # westbound
     bus = Vehicle("b", "bus", lane, 1, VEHICLE_HALF_SIZES["bus"], 20.0, 8.0)
-    pos, quat = Traffic((bus,)).poses()
-    np.testing.assert_allclose(pos[0], [lane.start[0] - 20.0, lane.start[1], VEHICLE_HALF_SIZES["bus"][2]])
+    pos, quat = _drive((bus,), [NONE] * 2).poses()
+    np.testing.assert_allclose(pos[0, 0], [lane.start[0] - 20.0, lane.start[1], VEHICLE_HALF_SIZES["bus"][2]])
+    np.testing.assert_allclose(pos[0, 1] - pos[0, 0], [-8.0 * DT, 0.0, 0.0], atol=1e-12)
     np.testing.assert_allclose(np.abs(quat[0]), [0.0, 0.0, 0.0, 1.0], atol=1e-12)  # yaw 180°
 
 
 @pytest.mark.parametrize("environment", ["simple", "urban", "middle"])
 def test_traffic_in_simulated_scenes_keeps_clear_of_everyone(environment: str):
-    """Vehicles drive forwards along their lane and stay at least 0.5 m from every body
-    (people standing on the road, walkers crossing it) in every clip."""
+    """Vehicles drive forwards along their lane, never braking harder than BRAKE_MPS2, and
+    stay at least 0.5 m from every body (people standing on the road, walkers crossing it)
+    in every clip."""
     vehicles = 0
     for seed in range(4):
         tr = simulate(recipe_for("clap", environment, seconds=4.0, seed=seed, variation="none"), keep_state=False)
@@ -120,6 +156,8 @@ def test_traffic_in_simulated_scenes_keeps_clear_of_everyone(environment: str):
             direction = np.subtract(lane.end, lane.start)[:2]
             step = np.diff(v.pos[:, :2], axis=0) @ direction
             assert np.all(step >= -1e-9), f"{v.name} reversed"
+            speed = step / np.linalg.norm(direction) * tr.fps
+            assert np.max(-np.diff(speed)) * tr.fps <= BRAKE_MPS2 + 1e-6, f"{v.name} braked too hard"
             np.testing.assert_allclose(v.pos[:, 1], lane.start[1])
             assert v.object in lane.vehicles and v.pixel_class == v.object
     assert vehicles > 0
