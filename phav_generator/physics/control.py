@@ -236,6 +236,7 @@ class SimulationRun:
             az, el = math.radians(imp.azimuth_deg), math.radians(imp.elevation_deg)
             direction = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
             d.qvel[cam.camera_qvel] = direction * imp.strength / springs.camera_mass
+        mujoco.mj_kinematics(m, d)  # the controls pull bodies from where they now are
         self._apply_controls(0)
         mujoco.mj_forward(m, d)
 

@@ -9,6 +9,8 @@ import numpy as np
 
 from phav_app.bench.generator import REFERENCE_HZ
 from phav_generator.motion.skeleton import BONE_INDEX, JOINT_BODIES
+from phav_generator.physics.control import PERTURBATION_OMEGA, SimulationRun
+from phav_generator.physics.model import build_model
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate, simulate_plan
 from phav_generator.sampling import sample_recipes
@@ -72,3 +74,19 @@ def test_zero_strength_muscles_do_not_explode() -> None:
     tr = simulate(weak, keep_state=False)
     assert_healthy(tr)
     assert tr.people[0].strengths.max() == 0.0
+
+
+def test_the_first_frame_pulls_perturbed_bodies_from_where_they_stand() -> None:
+    """A random perturbation pulls a body towards a point orbiting its target with a force
+    proportional to the distance: at the first frame too, from the pose just set (the
+    kinematics ran before the controls; the force was measured from the world's origin)."""
+    plan = plan_scene(recipe_for("walk", "green", seconds=1.0, seed=1, variation="random_perturbation"))
+    run = SimulationRun(plan, build_model(plan))
+    run.initialise()
+    assert run.orbits
+    for (i, b), offsets in run.orbits.items():
+        body = run.scene.people[i].bodies[b]
+        pull = run.d.xfrc_applied[body, :3] / (run.m.body_mass[body] * PERTURBATION_OMEGA**2)
+        orbit = run.target_body_pos[i][0, b] + offsets[0]
+        np.testing.assert_allclose(pull, orbit - run.d.xpos[body], atol=1e-9)
+        assert np.linalg.norm(pull) < 0.5  # the orbit's offset and the pose's lag, not metres
