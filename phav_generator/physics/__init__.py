@@ -10,7 +10,7 @@ Read in the order the data flows:
 - ``recording``: what each frame records, and the ``Trajectory`` built from it.
 - ``simulate``: ``simulate(recipe)`` / ``simulate_plan(plan)``, the steps above in order.
 - ``trajectory``: the output (``Trajectory``), saveable and comparable without MuJoCo.
-- ``traffic``: background vehicles, planned and driven frame by frame.
+- ``traffic``: background vehicles, planned, then driven through the simulated frames.
 - ``probe``: the action probe, a benchmark of how recognisable the simulated motions are.
 """
 

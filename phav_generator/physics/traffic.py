@@ -6,9 +6,10 @@ known (``Traffic.drive``). A vehicle yields to whatever will be in its lane ahea
 of any person, as simulated, so a ragdoll thrown onto the road stops the traffic; the
 vehicle in front; the camera where it hangs less than ``CAMERA_HEADROOM_M`` over the
 vehicle's roof) like a driver who sees it coming: it never brakes harder than
-``BRAKE_MPS2`` and stops ``STOP_GAP_M`` short, so it never touches anyone.
-Planned from the recipe's background seed (``plan_traffic``), rehearsed against the planned
-bodies, driven against the simulated ones.
+``BRAKE_MPS2``, stops ``STOP_GAP_M`` short of what comes into its way ahead and drives on
+past what comes in behind it. Only someone walking into its side can reach it: planned from
+the recipe's background seed (``plan_traffic``), a vehicle that would meet a planned body so
+is left out; the rest are driven against the simulated bodies.
 """
 
 from __future__ import annotations
@@ -43,7 +44,8 @@ FAR_M = 1000.0
 #: A planned vehicle that would come closer than this (m) to anyone's planned body is left out.
 MIN_CLEARANCE_M = 1.0
 #: Speeds a vehicle weighs each frame, evenly from braking its hardest to its most
-#: acceleration: a step of (ACCEL + BRAKE)·dt / (SPEED_STEPS − 1), 0.03 m/s at 30 fps.
+#: acceleration (and its speed now): a step of (ACCEL + BRAKE)·dt / (SPEED_STEPS − 1),
+#: 0.03 m/s at 30 fps, as in the first frame's from standing to cruising.
 SPEED_STEPS = 9
 
 
@@ -188,44 +190,60 @@ def _drive_one(v: Vehicle, ahead: np.ndarray, dt: float) -> np.ndarray:
     """A vehicle's centre along its lane per frame, given what is in its way (``_in_the_way``).
 
     Each frame it takes the fastest speed within its braking and acceleration (and cruise)
-    from which braking its hardest afterwards keeps ``STOP_GAP_M`` short of everything ahead
-    in every later frame: once a speed like that is found, the next frame's hardest braking
-    is one too, so it never needs to brake harder. Where no speed keeps clear (someone walks
-    into its side, or up to it once it has stopped) it takes the slowest of those that meet
-    the fewest. The first frame's speed is free up to the cruise: the clip may start as it
-    slows.
+    that is safe: from which braking its hardest, or holding that speed, keeps
+    ``STOP_GAP_M`` short of everything ahead in every later frame to the clip's end. The
+    next frame can always go on the same way (its hardest braking, or the same speed, is
+    among the speeds it tries), so a vehicle never needs to brake harder, and it drives on
+    past someone who steps into the lane behind it. Where no speed is safe (someone walks
+    into its side) it takes the slowest of those that meet the fewest frames in the way. The
+    first frame's speed is free up to the cruise, finely: the clip may start as it slows.
     """
     half = v.half_size[0]
     s = np.empty(len(ahead))
     s[0] = v.s0
     speed = v.cruise_mps
     for f in range(len(ahead) - 1):
-        lo, hi = (0.0, v.cruise_mps) if f == 0 else (max(speed - BRAKE_MPS2 * dt, 0.0),
-                                                      min(v.cruise_mps, speed + ACCEL_MPS2 * dt))  # fmt: skip
         later = ahead[f + 1 :]
-        if _blocked_frames(s[f], np.array([hi]), later, half, dt)[0] == 0:
-            speed = hi
+        if f == 0:
+            tried = np.linspace(0.0, v.cruise_mps, 1 + math.ceil(v.cruise_mps / _speed_step(dt)))
         else:
-            tried = lo + (hi - lo) * np.arange(SPEED_STEPS) / (SPEED_STEPS - 1)
-            blocked = _blocked_frames(s[f], tried, later, half, dt)
-            fewest = np.nonzero(blocked == blocked.min())[0]
-            speed = float(tried[fewest[-1] if blocked.min() == 0 else fewest[0]])
+            lo, hi = max(speed - BRAKE_MPS2 * dt, 0.0), min(v.cruise_mps, speed + ACCEL_MPS2 * dt)
+            tried = np.unique(np.append(lo + (hi - lo) * np.arange(SPEED_STEPS) / (SPEED_STEPS - 1), speed))
+            if _blocked_frames(s[f], tried[-1:], later, half, dt)[0] == 0:
+                s[f + 1] = s[f] + tried[-1] * dt
+                speed = float(tried[-1])
+                continue
+        blocked = _blocked_frames(s[f], tried, later, half, dt)
+        fewest = np.nonzero(blocked == blocked.min())[0]
+        speed = float(tried[fewest[-1] if blocked.min() == 0 else fewest[0]])
         s[f + 1] = s[f] + speed * dt
     return s
 
 
+def _speed_step(dt: float) -> float:
+    """The step (m/s) between the speeds a vehicle tries in a frame."""
+    return (ACCEL_MPS2 + BRAKE_MPS2) * dt / (SPEED_STEPS - 1)
+
+
 def _blocked_frames(s: float, speeds: np.ndarray, later: np.ndarray, half: float, dt: float) -> np.ndarray:
-    """Per speed tried (J,): in how many of the later frames (M, K) the vehicle, moving on at
-    that speed and then braking its hardest until it stops, has something in its way:
-    between its rear and ``STOP_GAP_M`` beyond its front."""
-    steps = min(len(later), math.ceil(float(speeds.max()) / (BRAKE_MPS2 * dt)) + 1)
-    if steps == 0:
-        return np.zeros(len(speeds), dtype=np.int64)
-    each = np.maximum(speeds[:, None] - BRAKE_MPS2 * dt * np.arange(steps)[None, :], 0.0)
-    centre = s + dt * np.cumsum(each, axis=1)  # (J, M): semi-implicit, as each frame moves
-    a = later[None, :steps, :]
-    c = centre[:, :, None]
-    inside = (a > c - half) & (a < c + half + STOP_GAP_M)
+    """Per speed tried (J,): in how many of the later frames (M, K) the vehicle moving on at
+    that speed has something in its way (between its rear and ``STOP_GAP_M`` beyond its
+    front), the fewer of two ways on: braking its hardest until it stops, or holding the speed."""
+    steps = np.arange(len(later))
+    braking = np.maximum(speeds[:, None] - BRAKE_MPS2 * dt * steps[None, :], 0.0)
+    blocked = _frames_in_the_way(s, braking, later, half, dt)
+    held = blocked > 0  # holding the speed is tried only where braking meets something
+    if np.any(held):
+        holding = np.broadcast_to(speeds[held, None], (int(np.sum(held)), len(later)))
+        blocked[held] = np.minimum(blocked[held], _frames_in_the_way(s, holding, later, half, dt))
+    return blocked
+
+
+def _frames_in_the_way(s: float, speeds: np.ndarray, later: np.ndarray, half: float, dt: float) -> np.ndarray:
+    """Per row of speeds (J, M) it moves at from ``s``: the frames with something between its
+    rear and ``STOP_GAP_M`` beyond its front."""
+    centre = (s + dt * np.cumsum(speeds, axis=1))[:, :, None]  # semi-implicit, as each frame moves
+    inside = (later[None] > centre - half) & (later[None] < centre + half + STOP_GAP_M)
     return np.sum(np.any(inside, axis=2), axis=1)
 
 

@@ -16,6 +16,7 @@ from phav_generator.physics.traffic import (
     Traffic,
     Vehicle,
     footprint_points,
+    plan_traffic,
 )
 from phav_generator.sampling import sample_recipes
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
@@ -69,6 +70,37 @@ def test_a_person_stepping_out_close_ahead_is_seen_coming():
     assert np.all(ahead - fronts[step_out:] >= STOP_GAP_M - 1e-6)
     assert _speeds(traffic)[0, -1] == 0.0
     assert traffic.s[0, step_out // 2] < 10.0 + 12.0 * (step_out // 2) * DT  # slowing before they step out
+
+
+def test_someone_stepping_into_the_lane_behind_a_vehicle_does_not_stop_it():
+    """Braking would stop the car where the person stands 4 s later; holding its speed, it
+    has long passed them: it drives on."""
+    car = _car("a", 10.0, cruise=12.0)
+    rear_at = 10.0 + 12.0 * 120 * DT - VEHICLE_HALF_SIZES["car"][0]
+    behind = np.array([[rear_at - 8.0, -2.0, 1.0]])  # steps in at frame 120, 8 m behind its rear
+    traffic = _drive((car,), [NONE] * 120 + [behind] * 120)
+    np.testing.assert_allclose(_speeds(traffic)[0], 12.0)
+
+
+def test_a_stopped_vehicle_keeps_its_distance_from_someone_walking_up_to_it():
+    """Someone stands in the lane, then steps 2 m towards the waiting car: it stopped far
+    enough back to keep STOP_GAP_M from where they will be."""
+    xs = [60.0] * 150 + list(np.linspace(60.0, 58.0, 31)) + [58.0] * 89
+    traffic = _drive((_car("a", 10.0),), [np.array([[x, -2.0, 1.0]]) for x in xs])
+    gaps = np.array(xs) - (traffic.s[0] + VEHICLE_HALF_SIZES["car"][0])
+    assert gaps.min() >= STOP_GAP_M - 1e-6
+    assert _decelerations(traffic).max() <= BRAKE_MPS2 + 1e-6
+
+
+def test_the_first_frame_starts_as_fast_as_is_safe():
+    """Someone a little nearer than a car at 12 m/s could stop for: it enters the clip
+    already slowing, by no more than it must."""
+    car = _car("a", 10.0, cruise=12.0)
+    stop_m = 12.0**2 / (2.0 * BRAKE_MPS2)
+    person = np.array([[10.0 + VEHICLE_HALF_SIZES["car"][0] + stop_m + STOP_GAP_M - 0.3, -2.0, 1.0]])
+    speeds = _speeds(_drive((car,), [person] * 240))[0]
+    assert 11.5 < speeds[0] < 12.0
+    assert np.all(np.diff(speeds) <= 1e-9)
 
 
 def test_people_beside_the_lane_do_not_stop_traffic():
@@ -129,6 +161,18 @@ def test_a_follower_stops_behind_its_leader():
     assert STOP_GAP_M - 0.5 < gap[-1] <= STOP_GAP_M + 0.5
     assert gap.min() >= STOP_GAP_M - 1e-6
     assert _decelerations(traffic).max() <= BRAKE_MPS2 + 1e-6
+
+
+def test_planning_leaves_out_a_vehicle_someone_stands_in():
+    """Someone standing where a planned vehicle starts: no speed keeps it clear, so the
+    rehearsal against the planned bodies leaves it out and keeps the rest."""
+    urban = (r for r in sample_recipes(load_preset("phav-v1"), n=100, seed=0) if r.environment.name == "urban")
+    recipe, kept = next((r, k) for r in urban if len(k := plan_traffic(r, np.zeros((r.n_frames + 1, 0, 3)))) >= 2)
+    v = kept[0]
+    u = np.subtract(v.lane.end, v.lane.start) / np.linalg.norm(np.subtract(v.lane.end, v.lane.start))
+    at = np.array(v.lane.start) + u * v.s0 + np.array([0.0, 0.0, 1.0])
+    left = plan_traffic(recipe, np.tile(at, (recipe.n_frames + 1, 1, 1)))
+    assert [w.name for w in left] == [w.name for w in kept[1:]]
 
 
 def test_poses_lie_on_the_lane_facing_its_direction():
