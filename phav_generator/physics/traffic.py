@@ -190,32 +190,32 @@ def _drive_one(v: Vehicle, ahead: np.ndarray, dt: float) -> np.ndarray:
     """A vehicle's centre along its lane per frame, given what is in its way (``_in_the_way``).
 
     Each frame it takes the fastest speed within its braking and acceleration (and cruise)
-    that is safe: from which braking its hardest, or holding that speed, keeps
-    ``STOP_GAP_M`` short of everything ahead in every later frame to the clip's end. The
-    next frame can always go on the same way (its hardest braking, or the same speed, is
-    among the speeds it tries), so a vehicle never needs to brake harder, and it drives on
-    past someone who steps into the lane behind it. Where no speed is safe (someone walks
-    into its side) it takes the slowest of those that meet the fewest frames in the way. The
-    first frame's speed is free up to the cruise, finely: the clip may start as it slows.
+    that is safe: from which some way on keeps ``STOP_GAP_M`` short of everything ahead in
+    every later frame to the clip's end, a way on being to hold the speed until a frame
+    (at once, never, or one of every ``HOLD_EVERY``) and then brake its hardest. The next
+    frame can go on the same way (its hardest braking, or the same speed, is among the
+    speeds it tries, and the frames are the same), so a vehicle never needs to brake harder,
+    and it drives on past someone who steps into the lane behind it. Where no speed is safe
+    (someone walks into its side) it takes the slowest of those that meet the fewest frames
+    in the way. The first frame's speed is free up to the cruise, finely: the clip may start
+    as it slows.
     """
     half = v.half_size[0]
     s = np.empty(len(ahead))
     s[0] = v.s0
     speed = v.cruise_mps
     for f in range(len(ahead) - 1):
-        later = ahead[f + 1 :]
         if f == 0:
             tried = np.linspace(0.0, v.cruise_mps, 1 + math.ceil(v.cruise_mps / _speed_step(dt)))
         else:
             lo, hi = max(speed - BRAKE_MPS2 * dt, 0.0), min(v.cruise_mps, speed + ACCEL_MPS2 * dt)
             tried = np.unique(np.append(lo + (hi - lo) * np.arange(SPEED_STEPS) / (SPEED_STEPS - 1), speed))
-            if _blocked_frames(s[f], tried[-1:], later, half, dt)[0] == 0:
-                s[f + 1] = s[f] + tried[-1] * dt
-                speed = float(tried[-1])
-                continue
-        blocked = _blocked_frames(s[f], tried, later, half, dt)
-        fewest = np.nonzero(blocked == blocked.min())[0]
-        speed = float(tried[fewest[-1] if blocked.min() == 0 else fewest[0]])
+        if _blocked_frames(s[f], tried[-1:], ahead, f + 1, half, dt)[0] == 0:  # most frames: the fastest
+            speed = float(tried[-1])
+        else:
+            blocked = _blocked_frames(s[f], tried, ahead, f + 1, half, dt)
+            safe = np.nonzero(blocked == 0)[0]
+            speed = float(tried[safe[-1]] if len(safe) else tried[np.argmin(blocked)])  # else the slowest of the fewest
         s[f + 1] = s[f] + speed * dt
     return s
 
@@ -225,17 +225,28 @@ def _speed_step(dt: float) -> float:
     return (ACCEL_MPS2 + BRAKE_MPS2) * dt / (SPEED_STEPS - 1)
 
 
-def _blocked_frames(s: float, speeds: np.ndarray, later: np.ndarray, half: float, dt: float) -> np.ndarray:
-    """Per speed tried (J,): in how many of the later frames (M, K) the vehicle moving on at
-    that speed has something in its way (between its rear and ``STOP_GAP_M`` beyond its
-    front), the fewer of two ways on: braking its hardest until it stops, or holding the speed."""
-    steps = np.arange(len(later))
-    braking = np.maximum(speeds[:, None] - BRAKE_MPS2 * dt * steps[None, :], 0.0)
-    blocked = _frames_in_the_way(s, braking, later, half, dt)
-    held = blocked > 0  # holding the speed is tried only where braking meets something
-    if np.any(held):
-        holding = np.broadcast_to(speeds[held, None], (int(np.sum(held)), len(later)))
-        blocked[held] = np.minimum(blocked[held], _frames_in_the_way(s, holding, later, half, dt))
+#: The frames a vehicle's ways on may start braking at, besides at once: every this many.
+HOLD_EVERY = 10
+
+
+def _blocked_frames(s: float, speeds: np.ndarray, ahead: np.ndarray, first: int, half: float,
+                    dt: float) -> np.ndarray:  # fmt: skip
+    """Per speed tried (J,): in how many frames from ``first`` on (``ahead``: (F, K)) the
+    vehicle moving on at that speed has something in its way, the fewest over its ways on.
+    Braking at once and holding the speed to the end are tried first, for every speed;
+    braking later (from a frame of every ``HOLD_EVERY``) only where neither is safe for any."""
+    later = ahead[first:]
+    m = np.arange(len(later))[None, :]
+    grid = range(-(-(first + 1) // HOLD_EVERY) * HOLD_EVERY, first + len(later) - 1, HOLD_EVERY)
+    holds = [1, len(later), *(last - first + 1 for last in grid)]  # moves made at the speed first
+    blocked = np.full(len(speeds), len(later) + 1)
+    for n, k in enumerate(holds):
+        if n == 2 and np.any(blocked == 0):
+            break
+        open_ = np.nonzero(blocked > 0)[0]
+        c = speeds[open_, None]
+        way = np.where(m < k, c, np.maximum(c - BRAKE_MPS2 * dt * (m - k + 1), 0.0))
+        blocked[open_] = np.minimum(blocked[open_], _frames_in_the_way(s, way, later, half, dt))
     return blocked
 
 

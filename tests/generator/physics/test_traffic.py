@@ -82,6 +82,22 @@ def test_someone_stepping_into_the_lane_behind_a_vehicle_does_not_stop_it():
     np.testing.assert_allclose(_speeds(traffic)[0], 12.0)
 
 
+def test_a_vehicle_passes_someone_stepping_in_behind_it_then_stops_for_someone_ahead():
+    """Neither braking at once (it would stop where the first person steps in) nor holding
+    its speed (it would run into the second) is safe: it holds its speed until past the
+    first, then brakes for the second."""
+    car = _car("a", 10.0, cruise=12.0)
+    half = VEHICLE_HALF_SIZES["car"][0]
+    behind = [10.0 + 12.0 * 120 * DT - half - 8.0, -2.0, 1.0]  # steps in at frame 120, 8 m behind its rear
+    ahead = [10.0 + 12.0 * 200 * DT + half + STOP_GAP_M, -2.0, 1.0]  # stands where its front would be at 200
+    traffic = _drive((car,), [np.array([ahead])] * 120 + [np.array([ahead, behind])] * 180)
+    np.testing.assert_allclose(_speeds(traffic)[0, :120], 12.0)
+    assert np.min(traffic.s[0, 120:] - half) - behind[0] >= 8.0 - 1e-6
+    assert ahead[0] - np.max(traffic.s[0] + half) >= STOP_GAP_M - 1e-6
+    assert _speeds(traffic)[0, -1] == 0.0
+    assert _decelerations(traffic).max() <= BRAKE_MPS2 + 1e-6
+
+
 def test_a_stopped_vehicle_keeps_its_distance_from_someone_walking_up_to_it():
     """Someone stands in the lane, then steps 2 m towards the waiting car: it stopped far
     enough back to keep STOP_GAP_M from where they will be."""
