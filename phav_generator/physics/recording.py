@@ -19,7 +19,7 @@ from phav_generator.motion.skeleton import BONES, LOWER, UPPER
 from phav_generator.physics.control import FULL_STATE, SimulationRun
 from phav_generator.physics.plan.camera import anchor_point
 from phav_generator.physics.plan.scene_plan import ScenePlan
-from phav_generator.physics.traffic import Traffic, footprint_points
+from phav_generator.physics.traffic import FAR_M, Traffic, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_spec.recipe import Recipe
 from phav_spec.vocab import OBJECTS
@@ -147,7 +147,7 @@ class FrameRecorder:
             exploded_at=run.exploded_at,
             contacts=self.contacts,
             mj_state=self.states,
-            traffic_clearance_m=np.array([traffic.clearance(p, f) for f, p in enumerate(self.obstacles)]),
+            traffic_clearance_m=traffic.clearances(self.obstacles).min(axis=0, initial=FAR_M),
         )
 
     def _simulated_tracks(self) -> list[PersonTrack]:

@@ -93,7 +93,7 @@ def plan_traffic(recipe: Recipe, obstacles: np.ndarray) -> tuple[Vehicle, ...]:
     vehicles = tuple(candidates)
     while vehicles:
         traffic = Traffic.drive(vehicles, obstacles, 1.0 / recipe.video.fps)
-        closest = np.min([traffic.clearances(points, f) for f, points in enumerate(obstacles)], axis=0)
+        closest = traffic.clearances(obstacles).min(axis=1)
         if closest.min() >= MIN_CLEARANCE_M:
             break
         drop = int(np.argmin(closest))
@@ -146,23 +146,21 @@ class Traffic:
             quat[i] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
         return pos, quat
 
-    def clearances(self, points: np.ndarray, f: int) -> np.ndarray:
-        """Per vehicle, the smallest ground-plane distance (m) from any point (N, 3) to its
-        footprint at frame ``f``; ``FAR_M`` where there is nothing to measure."""
-        out = np.full(len(self.vehicles), FAR_M)
-        if not len(points):
-            return out
+    def clearances(self, obstacles: Sequence[np.ndarray]) -> np.ndarray:
+        """(V, F): per vehicle and frame, the smallest ground-plane distance (m) from any of
+        the frame's points (``obstacles[f]``: (N_f, 3)) to its footprint; ``FAR_M`` where
+        there is nothing to measure."""
+        out = np.full(self.s.shape, FAR_M)
         for i, v in enumerate(self.vehicles):
             start, u, left = _frame(v.lane)
-            rel = points - start  # lane axes are horizontal: heights drop out
-            local = np.stack([rel @ u - self.s[i, f], rel @ left], axis=-1)
-            outside = np.maximum(np.abs(local) - np.array(v.half_size[:2]), 0.0)
-            out[i] = min(FAR_M, float(np.min(np.linalg.norm(outside, axis=-1))))
+            half = np.array(v.half_size[:2])
+            for f, points in enumerate(obstacles):
+                if len(points):
+                    rel = points - start  # lane axes are horizontal: heights drop out
+                    local = np.stack([rel @ u - self.s[i, f], rel @ left], axis=-1)
+                    outside = np.maximum(np.abs(local) - half, 0.0)
+                    out[i, f] = min(FAR_M, float(np.min(np.linalg.norm(outside, axis=-1))))
         return out
-
-    def clearance(self, points: np.ndarray, f: int) -> float:
-        """Smallest distance (m, ground plane) from any point (N, 3) to any vehicle's footprint."""
-        return float(self.clearances(points, f).min(initial=FAR_M))
 
 
 def _in_the_way(v: Vehicle, obstacles: Sequence[np.ndarray], cameras: np.ndarray | None,
