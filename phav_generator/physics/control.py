@@ -25,6 +25,7 @@ from phav_generator.physics.plan.camera import Blocker, anchor_point, sight_boxe
 from phav_generator.physics.plan.car_hit import CAR_BRAKING_MPS2
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
+from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
 
 #: Above this joint speed (rad/s or m/s) a state counts as exploded.
@@ -39,8 +40,9 @@ CAMERA_ROOM_M = 0.8
 #: The push's stiffness, as an angular frequency of the camera's mass (rad/s).
 CAMERA_ROOM_OMEGA = 12.0
 #: A spring camera whose line to its anchor passes through a driven prop (the car of
-#: `car_hit` stopped between it and the thrown body, a pushed load) is lifted, as an
-#: operator raises the camera over a car's roof, till the line clears it by this (m).
+#: `car_hit` stopped between it and the thrown body, a pushed load) or a low plant (a hedge,
+#: a reed bed) is lifted, as an operator raises the camera over a car's roof, till the line
+#: clears it by this (m).
 CAMERA_SIGHT_MARGIN_M = 0.2
 #: The lift's stiffness, as an angular frequency of the camera's mass (rad/s), critically
 #: damped.
@@ -209,6 +211,16 @@ class SimulationRun:
         self.sight_boxes = [
             (h.geom, sight_boxes(prop)) for prop, h in zip(plan.props, scene.props, strict=True) if h.driven
         ]
+        # The plants (hedges, shrubs, a reed bed: none as tall as a person) a spring camera
+        # rises over as over a car, where they stand between it and its anchor.
+        self.sight_plants = tuple(
+            (plant, _ground_extent(plant, CAMERA_SIGHT_MARGIN_M))
+            for plant in (
+                Blocker.turned(c.center, c.half_size, c.yaw_deg)
+                for c in ENVIRONMENT_SCENES[plan.recipe.environment.name].colliders
+                if c.pixel_class == "vegetation"
+            )
+        )
         self.lifting = False  # a sight lift under way: its rise is braked once the line is clear
         # The explosion guard: the frame a step blew up at, and the last good state to hold.
         self.exploded_at: int | None = None
@@ -350,10 +362,10 @@ class SimulationRun:
 
     def _camera_sight_lift(self) -> float:
         """The upward push (N) on a spring camera whose line to its anchor passes through a
-        driven prop now: a critically damped spring on the camera alone towards the height
-        that clears it by ``CAMERA_SIGHT_MARGIN_M``; once clear, the lift's rise is braked
-        to a stop, so the camera rests there instead of sailing on up."""
-        if not self.sight_boxes:
+        driven prop or a low plant now: a critically damped spring on the camera alone
+        towards the height that clears it by ``CAMERA_SIGHT_MARGIN_M``; once clear, the
+        lift's rise is braked to a stop, so the camera rests there instead of sailing on up."""
+        if not self.sight_boxes and not self.sight_plants:
             return 0.0
         d, cam = self.d, self.scene.camera
         eye, anchor = d.xpos[cam.camera_body], d.mocap_pos[cam.anchor_mocap]
@@ -367,6 +379,11 @@ class SimulationRun:
                 at = [pos[i] + r[i][0] * c[0] + r[i][1] * c[1] + r[i][2] * c[2] for i in range(3)]
                 box = Blocker.of(at, half, rot)
                 lift = max(lift, sight_lift(eye, anchor, box, CAMERA_SIGHT_MARGIN_M))
+        (ex, ey, _), (ax, ay, _) = eye.tolist(), anchor.tolist()
+        for plant, (x0, y0, x1, y1) in self.sight_plants:
+            # Most steps the line passes nowhere near a plant: only those under it are measured.
+            if min(ex, ax) <= x1 and max(ex, ax) >= x0 and min(ey, ay) <= y1 and max(ey, ay) >= y0:
+                lift = max(lift, sight_lift(eye, anchor, plant, CAMERA_SIGHT_MARGIN_M))
         rise = float(d.qvel[cam.camera_qvel[2]])
         self.lifting = lift > 0.0 or (self.lifting and rise > 0.0)
         if not self.lifting:
@@ -420,6 +437,12 @@ class SimulationRun:
                         self.release_time[0] = t
                     break
         return names
+
+
+def _ground_extent(box: Blocker, margin: float) -> tuple[float, float, float, float]:
+    """(x0, y0, x1, y1): the box grown by ``margin`` on every side, as seen from above."""
+    reach = [sum(abs(axis[i]) * h for axis, h in zip(box.axes, box.half, strict=True)) + margin for i in (0, 1)]
+    return box.center[0] - reach[0], box.center[1] - reach[1], box.center[0] + reach[0], box.center[1] + reach[1]
 
 
 def _healthy(d: mujoco.MjData) -> bool:
