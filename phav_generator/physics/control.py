@@ -21,7 +21,7 @@ import numpy as np
 from phav_generator.motion.rotations import relative_rotation_vectors
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel
-from phav_generator.physics.plan.camera import Blocker, anchor_point, sight_boxes, sight_lift
+from phav_generator.physics.plan.camera import Blocker, anchor_point, sight_boxes, sight_lift, sight_plants
 from phav_generator.physics.plan.car_hit import CAR_BRAKING_MPS2
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
@@ -211,15 +211,10 @@ class SimulationRun:
         self.sight_boxes = [
             (h.geom, sight_boxes(prop)) for prop, h in zip(plan.props, scene.props, strict=True) if h.driven
         ]
-        # The plants (hedges, shrubs, a reed bed: none as tall as a person) a spring camera
-        # rises over as over a car, where they stand between it and its anchor.
+        # The low plants a spring camera rises over, each with its extent seen from above.
         self.sight_plants = tuple(
-            (plant, _ground_extent(plant, CAMERA_SIGHT_MARGIN_M))
-            for plant in (
-                Blocker.turned(c.center, c.half_size, c.yaw_deg)
-                for c in ENVIRONMENT_SCENES[plan.recipe.environment.name].colliders
-                if c.pixel_class == "vegetation"
-            )
+            (plant, plant.ground_extent(CAMERA_SIGHT_MARGIN_M))
+            for plant in sight_plants(ENVIRONMENT_SCENES[plan.recipe.environment.name].colliders)
         )
         self.lifting = False  # a sight lift under way: its rise is braked once the line is clear
         # The explosion guard: the frame a step blew up at, and the last good state to hold.
@@ -437,12 +432,6 @@ class SimulationRun:
                         self.release_time[0] = t
                     break
         return names
-
-
-def _ground_extent(box: Blocker, margin: float) -> tuple[float, float, float, float]:
-    """(x0, y0, x1, y1): the box grown by ``margin`` on every side, as seen from above."""
-    reach = [sum(abs(axis[i]) * h for axis, h in zip(box.axes, box.half, strict=True)) + margin for i in (0, 1)]
-    return box.center[0] - reach[0], box.center[1] - reach[1], box.center[0] + reach[0], box.center[1] + reach[1]
 
 
 def _healthy(d: mujoco.MjData) -> bool:

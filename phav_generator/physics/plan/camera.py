@@ -92,10 +92,19 @@ class Blocker:
                 return None
         return t0, t1
 
+    def reach(self, i: int) -> float:
+        """How far (m) the box reaches from its centre along world axis ``i``."""
+        return sum(abs(axis[i]) * h for axis, h in zip(self.axes, self.half, strict=True))
+
     @property
     def top(self) -> float:
         """The height (m) of the box's highest corner."""
-        return self.center[2] + sum(abs(axis[2]) * h for axis, h in zip(self.axes, self.half, strict=True))
+        return self.center[2] + self.reach(2)
+
+    def ground_extent(self, margin: float) -> tuple[float, float, float, float]:
+        """(x0, y0, x1, y1): the box grown by ``margin`` on every side, as seen from above."""
+        rx, ry = self.reach(0) + margin, self.reach(1) + margin
+        return self.center[0] - rx, self.center[1] - ry, self.center[0] + rx, self.center[1] + ry
 
     def raised(self, by: float) -> Blocker:
         """The box with its top ``by`` metres higher: the axis nearest the vertical grown by
@@ -285,6 +294,13 @@ def driven_lanes(props: Sequence[PropPlan]) -> tuple[Blocker, ...]:
         half = (run / 2 + reach[0] + LANE_MARGIN_M, reach[1] + LANE_MARGIN_M, reach[2] + LANE_MARGIN_M)
         out.append(Blocker.turned(((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2), half, math.degrees(heading)))
     return tuple(out)
+
+
+def sight_plants(colliders: Sequence[Collider]) -> tuple[Blocker, ...]:
+    """The low plants among an environment's colliders (hedges, shrubs, a reed bed: its
+    ``vegetation`` boxes, none as tall as a person), which a spring camera rises over as
+    over a car where they stand between it and its anchor."""
+    return tuple(Blocker.turned(c.center, c.half_size, c.yaw_deg) for c in colliders if c.pixel_class == "vegetation")
 
 
 def view_blockers(

@@ -26,6 +26,7 @@ from phav_generator.physics.plan.camera import (
     sees,
     sight_boxes,
     sight_lift,
+    sight_plants,
     view_blockers,
 )
 from phav_generator.physics.plan.scene import VIEW_CHECK_EVERY, _view_anchors, plan_scene
@@ -208,8 +209,8 @@ def test_a_kite_rises_over_the_reed_bed_between_it_and_the_runner() -> None:
     trajectory = simulate_plan(plan_scene(recipe), keep_state=False)
     eyes = trajectory.cam_to_world[:, :3, 3]
     pelvis = trajectory.people[0].body_pos[:, BONE_INDEX["pelvis"]]
-    plants = [Blocker.turned(c.center, c.half_size, c.yaw_deg)
-              for c in ENVIRONMENT_SCENES["lake"].colliders if c.pixel_class == "vegetation"]  # fmt: skip
+    plants = sight_plants(ENVIRONMENT_SCENES["lake"].colliders)
+    assert plants, "the lake has no reed bed"
     hidden = sum(not sees(eye, p, plants) for eye, p in zip(eyes, pelvis, strict=True))
     assert hidden <= 15, f"the reeds hide the runner in {hidden} frames"
     assert float(eyes[:, 2].max()) - recipe.protagonist.position[2] < 4.0
