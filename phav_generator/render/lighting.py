@@ -49,8 +49,8 @@ _LUMINANCE = (0.2126, 0.7152, 0.0722)
 #: of a sky under cloud (6500–7000 K) is bluer than the sun's the camera is balanced for
 #: (about 5500 K), so an overcast sky reads a cool grey, not a neutral one. This is CIE
 #: daylight of about 6300 K seen so (6500 K's would be 0.89, 1, 1.20): the warm end. It
-#: multiplies the sky and its clouds, also where water and gloss mirror them, as cloud closes
-#: over it (with the clouds' cover squared, as the grey does).
+#: multiplies the sky and its clouds, also where water and gloss mirror them, and the fog and
+#: haze under them, as cloud closes over it (with the clouds' cover squared, as the grey does).
 OVERCAST_SKY_TINT = (0.88, 1.0, 1.12)
 
 
@@ -138,6 +138,9 @@ def lighting_for(world: WorldSpec, *, indoor: bool) -> Lighting:
     # Fog scatters the whole sky's light: the glow fills a quarter of the horizon, the fog
     # takes the colour of the rest. Without fog, the haze keeps the glow's.
     fog_colour = _mix(horizon, grey + 0.05 * daylight, 0.6) if fog else glowing
+    # Under cloud, fog and haze scatter the deck's light: they take its balance, as the sky
+    # they veil does.
+    fog_colour = fog_colour * _mix(np.ones(3), OVERCAST_SKY_TINT, overcast)
     lamps = 1.0 - _smoothstep(-4.0, 8.0, elevation)  # on from dusk, full at night
     if indoor:
         lamps = 1.0

@@ -293,6 +293,28 @@ def test_an_overcast_sky_is_a_cool_grey_and_only_the_sky_takes_its_tint(ctx):
     assert changed.sum() < 0.02 * (~sky).sum()  # glossy materials mirror the sky, a few pixels
 
 
+def test_fog_under_cloud_takes_the_decks_cool_grey(ctx):
+    """Fog under a full overcast scatters the deck's light, so it takes the deck's balance
+    (OVERCAST_SKY_TINT) as the sky does: the sky seen through dense fog is the same cool grey
+    as the overcast sky in clear air."""
+    base = recipe_for("walk", "simple", seconds=SECONDS, variation="none")
+    theta = theta_for("walk", "simple", seconds=SECONDS, variation="none")
+    settings = {"weather": "fog", "day_phase": "day", "clock_hour": 13.0, "clouds": True, "cloud_intensity": 1.0,
+                "fog": True, "fog_intensity": 1.0, "rain": False, "wet_ground": False}  # fmt: skip
+
+    def sky_blue_over_red(changes: dict) -> float:
+        recipe = vary(base, theta, {**settings, **changes})
+        light = lighting_for(recipe.world, indoor=False)
+        frame = _first_frame(ctx, recipe, simulate(recipe, keep_state=False), light)
+        sky = frame.class_id == class_id("sky")
+        assert sky.mean() > 0.2
+        mean = _linear(frame.colour, light.exposure)[sky].mean(axis=0)
+        return float(mean[2] / mean[0])
+
+    overcast, foggy = sky_blue_over_red({"fog": False}), sky_blue_over_red({})
+    assert foggy == pytest.approx(overcast, rel=0.05)
+
+
 def test_in_fog_the_camera_meters_the_fogs_light_too():
     """Fog between the camera and its subject is bright (it scatters the sky's light): the
     camera that meters it opens up less than in clear air at the same hour, and by day it
