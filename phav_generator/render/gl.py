@@ -755,6 +755,21 @@ def linear_colour(colour) -> np.ndarray:
     return np.power(np.asarray(colour, dtype=np.float64), 2.2)
 
 
+def material_coordinates(positions: np.ndarray, transforms: np.ndarray) -> np.ndarray:
+    """Where a drawable's materials take their patterns at its vertices: its mesh's own
+    frame, so that a moving drawable's pattern moves with it; for one standing still in every
+    frame, that frame shifted to where it stands (the world's position turned into the
+    drawable's axes), so that still neighbours of one orientation (a park's terraces, a
+    road's pieces) continue one pattern across their seams, each still aligned with its own
+    edges."""
+    first = transforms[0]
+    if transforms.ndim != 3 or not (transforms == first).all():
+        return positions
+    r, t = first[:3, :3], first[:3, 3]
+    # Rᵀt as three products and two sums (no BLAS kernel): the same bits on every CPU.
+    return positions + (r[0] * t[0] + r[1] * t[1] + r[2] * t[2])
+
+
 def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list[np.ndarray]]:
     """Every drawable's vertices in one array (labels and look per vertex; colours made
     linear here, once), each drawable's triangle indices into it and the texture images
@@ -784,7 +799,7 @@ def _pack(drawables: list[Drawable]) -> tuple[np.ndarray, list[np.ndarray], list
             v["ids"][:, 3] = parts_.surfaces.astype(np.uint32) * 256 + parts_.patterns
             v["colour"] = linear_colour(parts_.colours)
             v["emission"] = parts_.emission
-            v["uv"] = m.positions  # the materials' coordinates: the mesh's own frame
+            v["uv"] = material_coordinates(m.positions, d.transforms)
         parts.append(v)
         indices.append((m.triangles.reshape(-1) + offset).astype(np.uint32))
         offset += len(v)

@@ -267,6 +267,32 @@ def test_roads_and_foliage_keep_grain_at_the_pixel_s_scale_near_and_far(ctx, mat
         assert np.median(contrast[mask]) > 0.012
 
 
+def test_still_neighbours_continue_one_pattern_across_their_seam(ctx):
+    """Two grass slabs side by side draw the lawn one slab as large draws: a still drawable's
+    materials take their patterns where it stands. Each in its own frame, the park's
+    terraces met in hard-edged blocks of other patches, bands at a low angle."""
+    from phav_generator.render.assets import asset_drawable
+    from phav_generator.render.gl import FrameRenderer
+
+    def lawn(slabs) -> np.ndarray:
+        drawables = []
+        for half, x in slabs:
+            pose = np.eye(4)
+            pose[0, 3] = x
+            asset = places.slab(half, stream(0, "lawn"), 0, cls="terrain", look=places.GRASS)
+            drawables.append(asset_drawable(asset, np.broadcast_to(pose, (2, 4, 4))))
+        c2w = np.eye(4)
+        c2w[:3, :3], c2w[:3, 3] = look_at(np.array([0.0, -14.0, 2.5]), np.array([0.0, 4.0, 0.0])), (0.0, -14.0, 2.5)
+        with FrameRenderer(ctx, 170, 128, drawables, sky_class=PIXEL_CLASSES["sky"].class_id,
+                           focus=np.zeros(3)) as renderer:  # fmt: skip
+            return renderer.render(0, c2w, c2w, (150.0, 150.0, 85.0, 64.0)).colour.astype(np.float64)
+
+    one = lawn([((16.0, 16.0, 0.05), 0.0)])
+    two = lawn([((8.0, 16.0, 0.05), -8.0), ((8.0, 16.0, 0.05), 8.0)])
+    assert np.abs(one - two).max(axis=2).mean() < 0.5  # 8-bit levels; each in its own frame: 8.6
+    assert (np.abs(one - two).max(axis=2) > 8).mean() < 0.01
+
+
 def _sky(ctx, cover: float, lighting=None, towards=(0.0, 1.0, 0.5)) -> np.ndarray:
     """The sky seen ``towards`` a direction (27° above the horizon by default)."""
     from phav_generator.render.assets import asset_drawable
