@@ -15,8 +15,7 @@ from itertools import pairwise
 
 import numpy as np
 
-from phav_spec.scene import Vec3
-
+Vec3 = tuple[float, float, float]
 #: The body types a car is drawn as.
 CAR_BODIES: tuple[str, ...] = ("hatchback", "sedan", "suv", "van")
 #: How far (m) a bumper stands proud of the body's front and rear.

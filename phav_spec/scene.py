@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from phav_spec.car_shapes import car_hulls, car_profile
 from phav_spec.people import Bottom, Hair, Outfit, Phenotype, Top
 from phav_spec.vocab import (
     ACTIONS,
@@ -157,13 +158,18 @@ class Collider:
 
     ``center`` and ``half_size`` in metres, world frame (+Z up); the box is turned by
     ``yaw_deg`` about +Z around its centre (counter-clockwise seen from above), so its local
-    x axis points along (cos yaw, sin yaw). ``pixel_class`` labels its pixels.
+    x axis points along (cos yaw, sin yaw). ``pixel_class`` labels its pixels. ``model``
+    names the kind of its class it is drawn as where that decides its shape (a parked car's
+    body type), and ``hulls``, where given, are the convex solids inside the box that it
+    collides as in its place (each as its corners, in the box's frame): the drawn shape's.
     """
 
     pixel_class: str
     center: Vec3
     half_size: Vec3
     yaw_deg: float = 0.0
+    model: str = ""
+    hulls: tuple[tuple[Vec3, ...], ...] = ()
 
     def __post_init__(self) -> None:
         PIXEL_CLASSES.check(self.pixel_class)
@@ -178,9 +184,16 @@ class Collider:
             raise ValueError(f"collider center and yaw must be finite, got {center}, {yaw}")
         if not all(math.isfinite(h) and h > 0.0 for h in half):
             raise ValueError(f"collider half sizes must be positive and finite, got {half}")
+        hulls = tuple(tuple(tuple(float(v) for v in q) for q in hull) for hull in self.hulls)
+        for hull in hulls:
+            if len(hull) < 4 or any(len(q) != 3 for q in hull):
+                raise ValueError("a collider's hull is four or more corners (x, y, z)")
+            if not all(math.isfinite(v) and abs(v) <= h + 1e-6 for q in hull for v, h in zip(q, half, strict=True)):
+                raise ValueError(f"a {self.pixel_class} collider's hull must lie inside its box {half}")
         object.__setattr__(self, "center", center)
         object.__setattr__(self, "half_size", half)
         object.__setattr__(self, "yaw_deg", yaw)
+        object.__setattr__(self, "hulls", hulls)
 
     @property
     def bottom(self) -> float:
@@ -227,6 +240,15 @@ class Collider:
 def _box(cls: str, x: float, y: float, z_bottom: float, w: float, d: float, h: float, yaw: float = 0.0) -> Collider:
     """A box standing on height ``z_bottom``: footprint ``w`` × ``d`` (its own x, y) centred on (x, y), ``h`` tall."""
     return Collider(cls, (x, y, z_bottom + h / 2), (w / 2, d / 2, h / 2), yaw)
+
+
+def _parked_car(x: float, y: float, z_bottom: float, body: str, yaw: float = 0.0) -> Collider:
+    """A car of ``body`` type parked with its wheels on height ``z_bottom``, in a 4.4 × 1.8 ×
+    1.5 m box, colliding as the solids it is drawn from (``car_hulls``): the hood and the
+    windscreen where they are, not its box's top."""
+    half = (2.2, 0.9, 0.75)
+    hulls = car_hulls(car_profile(body, half))
+    return Collider("car", (x, y, z_bottom + half[2]), half, yaw, model=body, hulls=hulls)
 
 
 def _flat(cls: str, x: float, y: float, top: float, w: float, d: float, yaw: float = 0.0) -> Collider:
@@ -469,8 +491,8 @@ def _urban_colliders() -> tuple[Collider, ...]:
         _box("vegetation", -15.0, 11.6, g, 2.0, 1.2, 0.8),  # planters
         _box("vegetation", 20.0, 11.6, g, 2.0, 1.2, 0.8),
         _box("vegetation", 0.0, -11.6, g, 2.0, 1.2, 0.8),
-        _box("car", -50.0, 3.4, g, 4.4, 1.8, 1.5),  # parked in the kerb lane
-        _box("car", 52.0, -3.4, g, 4.4, 1.8, 1.5),
+        _parked_car(-50.0, 3.4, g, "van"),  # parked in the kerb lane
+        _parked_car(52.0, -3.4, g, "suv"),
     )
     return street + buildings + furniture
 
@@ -541,7 +563,7 @@ def _middle_colliders() -> tuple[Collider, ...]:
         _pole(-5.0, 4.2, g, 6.0),
         _pole(15.0, 4.2, g, 6.0),
         _pole(10.0, -4.5, g, 6.0),
-        _box("car", 36.0, -9.0, g, 4.4, 1.8, 1.5, 90.0),  # parked in a driveway
+        _parked_car(36.0, -9.0, g, "hatchback", 90.0),  # parked in a driveway
         *_tree(5.0, 14.0, g),
         *_tree(-8.0, 16.0, g, 7.0),
         *_tree(-15.0, -10.0, g),

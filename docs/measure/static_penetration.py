@@ -27,7 +27,7 @@ from phav_generator.world.library import MODELLED_CLASSES, PLACE_CLASSES, collid
 from phav_generator.world.vehicles import Vehicle
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES
-from phav_validators.checks.failures import boxes, people_series, probe_points
+from phav_validators.checks.failures import BoxSet, boxes, people_series, probe_points
 
 THRESHOLDS_M = (0.01, 0.02, 0.05, 0.08)
 
@@ -83,16 +83,15 @@ def depth_assets(env: str, points: np.ndarray, *, objects_only: bool = False) ->
 
 
 def depth_boxes(env: str, points: np.ndarray, *, objects_only: bool = False) -> np.ndarray:
-    """Deepest depth (m) of each point inside a collider box; with ``objects_only`` the
-    boxes of the classes the library models only."""
+    """Deepest depth (m) of each point inside a collider (its box, or its hulls where it has
+    them); with ``objects_only`` the colliders of the classes the library models only."""
     box = boxes(env)
     if not objects_only:
         return box.depth_inside(points)[0]
-    keep = [i for i, c in enumerate(box.colliders) if c.pixel_class in MODELLED_CLASSES and
-            c.pixel_class not in PLACE_CLASSES]  # fmt: skip
+    keep = [c for c in box.colliders if c.pixel_class in MODELLED_CLASSES and c.pixel_class not in PLACE_CLASSES]
     if not keep:
         return np.full(points.shape[:-1], -np.inf)
-    return (box.half[keep] - np.abs(box.local(points)[..., keep, :])).min(axis=-1).max(axis=-1)
+    return BoxSet(keep).depth_inside(points)[0]
 
 
 def main() -> None:

@@ -18,7 +18,7 @@ import numpy as np
 from phav_generator.motion.rotations import matrix_to_quat, yaw_matrix
 from phav_generator.motion.skeleton import BONES, DOFS
 from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan
-from phav_spec.scene import ENVIRONMENT_SCENES
+from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 
 # Collision bits: world geometry, the camera, props, and one bit per physical person so a
 # person never collides with itself but does with everyone else.
@@ -148,6 +148,22 @@ def _box(parent, name: str, center, half, yaw_deg: float) -> mujoco.MjsGeom:
     g.contype = WORLD_BIT
     g.conaffinity = 0
     return g
+
+
+def _static_hulls(spec: mujoco.MjSpec, name: str, collider: Collider) -> None:
+    """A collider's convex hulls as static mesh geoms of world geometry, posed as its box."""
+    quat = list(matrix_to_quat(yaw_matrix(math.radians(collider.yaw_deg))[None])[0])
+    for k, corners in enumerate(collider.hulls):
+        mesh = spec.add_mesh()
+        mesh.name = f"{name}_hull{k}"
+        mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
+        g = spec.worldbody.add_geom()
+        g.name = mesh.name
+        g.type = mujoco.mjtGeom.mjGEOM_MESH
+        g.meshname = mesh.name
+        g.pos, g.quat = list(collider.center), quat
+        g.contype = WORLD_BIT
+        g.conaffinity = 0
 
 
 def _add_person(spec: mujoco.MjSpec, p: PersonPlan, bit: int) -> None:
@@ -400,7 +416,10 @@ def build_model(plan: ScenePlan) -> SceneModel:
     ground.contype = WORLD_BIT
     ground.conaffinity = 0
     for k, c in enumerate(getattr(env, "colliders", ())):
-        _box(spec.worldbody, f"collider_{k}_{c.pixel_class}", c.center, c.half_size, c.yaw_deg)
+        if c.hulls:
+            _static_hulls(spec, f"collider_{k}_{c.pixel_class}", c)
+        else:
+            _box(spec.worldbody, f"collider_{k}_{c.pixel_class}", c.center, c.half_size, c.yaw_deg)
     for k, bx in enumerate(plan.boxes):
         _box(spec.worldbody, f"box_{k}_{bx.pixel_class}", bx.center, bx.half_size, bx.yaw_deg)
     for k, (center, half, yaw) in enumerate(plan.camera_walls):

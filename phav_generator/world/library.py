@@ -28,7 +28,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 14
+WORLD_LIBRARY_VERSION = 15
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",
@@ -252,6 +252,8 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
         return (street.bench_back if thin else street.bench_seat)(half, rng, level)
     if cls == "guard_rail":
         return street.guard_rail(half, rng, level)
+    if cls == "car" and c.model:
+        return vehicles.car(half, rng, level, body=c.model)  # the body type it collides as
     if cls in ("car", "truck", "bus"):
         return vehicle(cls, half, rng, level)
     if cls == "stairs":

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from phav_generator.motion.skeleton import BONES, JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.scene import plan_scene
@@ -155,7 +156,8 @@ def camera_series(table: pa.Table) -> dict[str, CameraSeries]:
 
 
 class BoxSet:
-    """An environment's collision boxes as arrays, for vectorised inside / crossing tests."""
+    """An environment's collision boxes as arrays, for vectorised inside / crossing tests; a
+    collider with hulls (a parked car) is its hulls, as it collides."""
 
     def __init__(self, colliders: Sequence[Collider]):
         self.colliders = tuple(colliders)
@@ -163,6 +165,9 @@ class BoxSet:
         self.half = np.array([c.half_size for c in colliders], dtype=float).reshape(-1, 3)
         yaw = np.radians([c.yaw_deg for c in colliders])
         self.cos, self.sin = np.cos(yaw), np.sin(yaw)
+        # Each hull as its faces' planes (n, d) in its box's frame: n·p + d ≤ 0 inside.
+        self.planes = {i: [ConvexHull(np.asarray(h)).equations for h in c.hulls]
+                       for i, c in enumerate(colliders) if c.hulls}  # fmt: skip
 
     def local(self, points: np.ndarray) -> np.ndarray:
         """Points (..., 3) in every box's frame: (..., B, 3)."""
@@ -177,13 +182,18 @@ class BoxSet:
         if len(self.colliders) == 0:
             shape = points.shape[:-1]
             return np.full(shape, -np.inf), np.full(shape, -1)
-        depth = (self.half - np.abs(self.local(points))).min(axis=-1)  # (..., B)
+        local = self.local(points)
+        depth = (self.half - np.abs(local)).min(axis=-1)  # (..., B)
+        for i, hulls in self.planes.items():
+            q = local[..., i, :]
+            depth[..., i] = np.max([(-(q @ e[:, :3].T + e[:, 3])).min(axis=-1) for e in hulls], axis=0)
         which = depth.argmax(axis=-1)
         return np.take_along_axis(depth, which[..., None], axis=-1)[..., 0], which
 
     def crossed(self, a: np.ndarray, b: np.ndarray, min_height: float = 1.0) -> np.ndarray:
         """For segments a→b (T, 3), the index of a box at least ``min_height`` tall whose
-        interior the segment passes through (slab test), −1 when none."""
+        interior the segment passes through (slab test; each hull of a collider that has
+        them, clipped), −1 when none."""
         out = np.full(len(a), -1)
         if len(self.colliders) == 0:
             return out
@@ -195,10 +205,27 @@ class BoxSet:
         lo = np.where(d == 0, np.where(np.abs(la) < self.half, -np.inf, np.inf), np.minimum(t0, t1))
         hi = np.where(d == 0, np.where(np.abs(la) < self.half, np.inf, -np.inf), np.maximum(t0, t1))
         enter, leave = lo.max(axis=-1), hi.min(axis=-1)
-        hit = (enter < leave) & (leave > 0) & (enter < 1) & (2 * self.half[:, 2] >= min_height)
+        hit = (enter < leave) & (leave > 0) & (enter < 1)
+        for i, hulls in self.planes.items():
+            hit[:, i] = np.any([_through_hull(la[:, i], lb[:, i], e) for e in hulls], axis=0)
+        hit &= 2 * self.half[:, 2] >= min_height
         any_hit = hit.any(axis=-1)
         out[any_hit] = hit[any_hit].argmax(axis=-1)
         return out
+
+
+def _through_hull(a: np.ndarray, b: np.ndarray, planes: np.ndarray) -> np.ndarray:
+    """For segments a→b (T, 3), whether each passes through the interior of the convex hull
+    of face ``planes`` (F, 4): clipped against every face (Cyrus–Beck)."""
+    n, d = planes[:, :3], planes[:, 3]
+    outside_a = a @ n.T + d  # (T, F): > 0 outside that face at a
+    toward = (b - a) @ n.T  # how fast the segment moves out through each face
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -outside_a / toward
+    enter = np.where(toward < 0, t, -np.inf).max(axis=1)
+    leave = np.where(toward > 0, t, np.inf).min(axis=1)
+    parallel_outside = ((toward == 0) & (outside_a >= 0)).any(axis=1)
+    return (enter < leave) & (leave > 0) & (enter < 1) & ~parallel_outside
 
 
 _BOXES: dict[str, BoxSet] = {}

@@ -365,3 +365,22 @@ def test_lane_rejects_bad_values():
     lane = ENVIRONMENT_SCENES["simple"].lanes[0]
     with pytest.raises(ValueError, match="indoor"):
         dataclasses.replace(ENVIRONMENT_SCENES["house_interior"], lanes=(lane,))
+
+
+def test_a_parked_car_collides_as_the_hulls_of_its_body_type():
+    """Each parked car names its body type and carries that body's hulls (``car_hulls``), inside
+    its box; a hull outside its box is refused."""
+    from phav_spec.car_shapes import CAR_BODIES, car_hulls, car_profile
+
+    parked = [c for _, env in ENVIRONMENT_SCENES.items() for c in env.colliders if c.pixel_class == "car"]
+    assert len(parked) == 3
+    for c in parked:
+        assert c.model in CAR_BODIES
+        assert c.hulls == car_hulls(car_profile(c.model, c.half_size))
+        assert all(abs(v) <= h + 1e-9 for hull in c.hulls for q in hull for v, h in zip(q, c.half_size, strict=True))
+    corners = ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    assert Collider("car", (0, 0, 1), (1, 1, 1), hulls=(corners,)).hulls == (corners,)
+    with pytest.raises(ValueError, match="inside its box"):
+        Collider("car", (0, 0, 1), (1, 1, 0.5), hulls=(corners,))
+    with pytest.raises(ValueError, match="four or more"):
+        Collider("car", (0, 0, 1), (1, 1, 1), hulls=(corners[:3],))

@@ -179,6 +179,8 @@ def test_each_drawn_shape_fits_its_collider(env, index):
         assert outside <= FIT_M, f"{c}: drawn {outside:.3f} m outside its box"
         for face in _TOUCHED.get(c.pixel_class, ()):
             assert gaps[face] <= FIT_M, f"{c}: face {face} is {gaps[face]:.3f} m from the drawn shape"
+    if c.hulls:  # a parked car collides as the solids it is drawn from
+        _assert_drawn_as_hulls(built.body, c.hulls, f"{env} {index}")
     if isinstance(built, Vehicle):  # its wheels stand on the ground inside the box's footprint
         wheel_bottom = built.axles[:, 2] - built.wheel_radius
         assert np.allclose(wheel_bottom, -c.half_size[2], atol=1e-6)
@@ -318,31 +320,36 @@ _PROUD_PARTS = {"mirror": 0.09, "pillar": 0.055, "underbody": 0.14}
 _HULL_REACH_M = 0.08
 
 
-@pytest.mark.parametrize("kind", ["hatchback", "sedan", "suv", "van"])
-@pytest.mark.parametrize("below", [0.0, 0.15])
-def test_a_car_is_drawn_as_the_hulls_it_collides_as(kind, below):
+def _assert_drawn_as_hulls(body: Asset, hulls, label: str) -> None:
+    """Every part of a drawn car inside its hulls (those allowed proud, by as much) and every
+    hull corner near the drawn surface."""
     from scipy.spatial import cKDTree
 
-    from phav_generator.world.vehicles import car
-    from phav_spec.car_shapes import car_hulls, car_profile
-
-    half = (2.1, 0.9, 0.7)
-    hulls = car_hulls(car_profile(kind, half, below))
-    for level in range(LEVELS):
-        body = car(half, np.random.default_rng(0), level, body=kind, below=below).body
-        p = body.positions.astype(np.float64)
-        for name, first, end, _ in body.parts:
-            corners = p[np.unique(body.triangles[first:end])]
-            allowance = next((m for part, m in _PROUD_PARTS.items() if name.startswith(part)), FIT_M)
-            outside = outside_hulls(corners, hulls).max()
-            assert outside <= allowance, f"{kind} {name}: {outside:.3f} m outside its hulls"
+    p = body.positions.astype(np.float64)
+    for name, first, end, _ in body.parts:
+        corners = p[np.unique(body.triangles[first:end])]
+        allowance = next((m for part, m in _PROUD_PARTS.items() if name.startswith(part)), FIT_M)
+        outside = outside_hulls(corners, hulls).max()
+        assert outside <= allowance, f"{label} {name}: {outside:.3f} m outside its hulls"
     a, b, c = (p[body.triangles[:, k]] for k in range(3))
     u, v = np.meshgrid(np.linspace(0, 1, 9), np.linspace(0, 1, 9))
     keep = (u + v <= 1).ravel()
     u, v = u.ravel()[keep], v.ravel()[keep]
     surface = (a[:, None] + u[None, :, None] * (b - a)[:, None] + v[None, :, None] * (c - a)[:, None]).reshape(-1, 3)
     reach = cKDTree(surface).query(np.concatenate([np.asarray(h) for h in hulls]))[0]
-    assert reach.max() <= _HULL_REACH_M, f"{kind}: a hull corner {reach.max():.3f} m from the drawn car"
+    assert reach.max() <= _HULL_REACH_M, f"{label}: a hull corner {reach.max():.3f} m from the drawn car"
+
+
+@pytest.mark.parametrize("kind", ["hatchback", "sedan", "suv", "van"])
+@pytest.mark.parametrize("below", [0.0, 0.15])
+def test_a_car_is_drawn_as_the_hulls_it_collides_as(kind, below):
+    from phav_generator.world.vehicles import car
+    from phav_spec.car_shapes import car_hulls, car_profile
+
+    half = (2.1, 0.9, 0.7)
+    hulls = car_hulls(car_profile(kind, half, below))
+    for level in range(LEVELS):
+        _assert_drawn_as_hulls(car(half, np.random.default_rng(0), level, body=kind, below=below).body, hulls, kind)
 
 
 @pytest.mark.parametrize("level", range(LEVELS))

@@ -3,6 +3,8 @@ scene geometry; every injected case is caught, and known false alarms are not ra
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
@@ -13,6 +15,7 @@ from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES, HUMAN_MODELS
 from phav_spec.theta import load_theta
 from phav_validators.checks.failures import (
+    BoxSet,
     CameraSeries,
     PersonSeries,
     base_motion_joints,
@@ -142,3 +145,26 @@ def test_a_tumbling_ragdolls_knees_and_a_moonwalks_feet_are_not_failures():
     assert not video_failures(moon, people, None).failed
     as_walk = moon.model_copy(update={"action": "walk"})
     assert Reason.FOOT_SLIDING in [r for r, _ in video_failures(as_walk, people, None).failures]
+
+
+def test_a_parked_car_is_its_hulls_to_the_penetration_tests():
+    """Over a parked car's hood, under its box's top, is air to the check as it is to physics;
+    inside its body is inside it; hips crossing over the hood cross nothing, through the body
+    they cross the car."""
+    from phav_spec.car_shapes import car_profile
+
+    car = next(c for c in ENVIRONMENT_SCENES["urban"].colliders if c.hulls)
+    outline = car_profile(car.model, car.half_size)
+    yaw = np.radians(car.yaw_deg)
+    forward, across = np.array([np.cos(yaw), np.sin(yaw), 0.0]), np.array([-np.sin(yaw), np.cos(yaw), 0.0])
+    centre = np.asarray(car.center)
+    hood = centre + (outline.front - 0.3) * forward
+    above_hood = hood + np.array([0.0, 0.0, outline.hood_front + 0.2])  # under the box's top
+    in_body = hood + np.array([0.0, 0.0, outline.bottom + 0.2])
+    box = BoxSet([car])
+    depth, _ = box.depth_inside(np.stack([above_hood, in_body]))
+    assert depth[0] < -0.1 < 0.1 < depth[1]
+    assert BoxSet([dataclasses.replace(car, hulls=())]).depth_inside(above_hood[None])[0][0] > 0  # its box: inside
+    a, b = above_hood - 2.0 * across, above_hood + 2.0 * across
+    low_a, low_b = in_body - 2.0 * across, in_body + 2.0 * across
+    assert list(box.crossed(np.stack([a, low_a]), np.stack([b, low_b]))) == [-1, 0]
