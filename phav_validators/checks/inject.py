@@ -43,8 +43,8 @@ _J = {name: i for i, name in enumerate(JOINT_ORDER)}
 
 def _nearest_box(env: str, point: np.ndarray) -> np.ndarray | None:
     box = boxes(env)
-    tall = [i for i, c in enumerate(box.colliders)
-            if 2 * c.half_size[2] >= 1.0 and min(c.half_size[:2]) >= 0.3 and not c.hulls]  # solid to its centre
+    solid = [i for i, c in enumerate(box.colliders) if not c.hulls]  # solid to its centre
+    tall = [i for i in solid if 2 * box.half[i, 2] >= 1.0 and min(box.half[i, :2]) >= 0.3]
     if not tall:
         return None
     d = np.linalg.norm(box.center[tall, :2] - point[:2], axis=1)
