@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from phav_spec.car_shapes import car_hulls, car_profile
+from phav_spec.car_shapes import CAR_BODIES, car_hulls, car_profile
 from phav_spec.people import Bottom, Hair, Outfit, Phenotype, Top
 from phav_spec.vocab import (
     ACTIONS,
@@ -190,6 +190,12 @@ class Collider:
                 raise ValueError("a collider's hull is four or more corners (x, y, z)")
             if not all(math.isfinite(v) and abs(v) <= h + 1e-6 for q in hull for v, h in zip(q, half, strict=True)):
                 raise ValueError(f"a {self.pixel_class} collider's hull must lie inside its box {half}")
+            corners = np.asarray(hull)
+            if np.linalg.matrix_rank(corners - corners[0], tol=1e-6) < 3:
+                raise ValueError(f"a {self.pixel_class} collider's hull must enclose a volume")
+        if self.model and (self.pixel_class != "car" or self.model not in CAR_BODIES or not hulls):
+            raise ValueError(f"a collider's model is a car's body type ({', '.join(CAR_BODIES)}) with its hulls, "
+                             f"got {self.model!r} for a {self.pixel_class}")  # fmt: skip
         object.__setattr__(self, "center", center)
         object.__setattr__(self, "half_size", half)
         object.__setattr__(self, "yaw_deg", yaw)

@@ -150,18 +150,29 @@ def _box(parent, name: str, center, half, yaw_deg: float) -> mujoco.MjsGeom:
     return g
 
 
+def _hull_geom(spec: mujoco.MjSpec, parent, name: str, corners, pos, quat) -> mujoco.MjsGeom:
+    """One convex hull of a car as a mesh geom at ``pos``, ``quat``, with a car's contacts:
+    clothes slide on paint and glass (a body a car carries slides off as it brakes)."""
+    mesh = spec.add_mesh()
+    mesh.name = name
+    mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
+    g = parent.add_geom()
+    g.name = name
+    g.type = mujoco.mjtGeom.mjGEOM_MESH
+    g.meshname = name
+    g.pos, g.quat = list(pos), list(quat)
+    g.friction = [HULL_FRICTION, 0.005, 0.0001]
+    g.solref = [HULL_CONTACT_TIMECONST, 1.0]
+    g.priority = 2  # over a person's feet: its friction and softness decide
+    return g
+
+
 def _static_hulls(spec: mujoco.MjSpec, name: str, collider: Collider) -> None:
-    """A collider's convex hulls as static mesh geoms of world geometry, posed as its box."""
-    quat = list(matrix_to_quat(yaw_matrix(math.radians(collider.yaw_deg))[None])[0])
+    """A collider's convex hulls (a parked car's) as static mesh geoms of world geometry,
+    posed as its box."""
+    quat = matrix_to_quat(yaw_matrix(math.radians(collider.yaw_deg))[None])[0]
     for k, corners in enumerate(collider.hulls):
-        mesh = spec.add_mesh()
-        mesh.name = f"{name}_hull{k}"
-        mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
-        g = spec.worldbody.add_geom()
-        g.name = mesh.name
-        g.type = mujoco.mjtGeom.mjGEOM_MESH
-        g.meshname = mesh.name
-        g.pos, g.quat = list(collider.center), quat
+        g = _hull_geom(spec, spec.worldbody, f"{name}_hull{k}", corners, collider.center, quat)
         g.contype = WORLD_BIT
         g.conaffinity = 0
 
@@ -316,19 +327,8 @@ def _add_hulls(spec: mujoco.MjSpec, parent, prop: PropPlan, shape) -> None:
     """A prop's convex hulls as mesh geoms beside its ``shape`` geom, posed as it is: what
     collides in its place (a car's body, greenhouse and bumpers)."""
     for k, corners in enumerate(prop.hulls):
-        mesh = spec.add_mesh()
-        mesh.name = f"prop_{prop.name}_hull{k}"
-        mesh.uservert = np.asarray(corners, dtype=np.float64).ravel().tolist()
-        g = parent.add_geom()
-        g.name = mesh.name
-        g.type = mujoco.mjtGeom.mjGEOM_MESH
-        g.meshname = mesh.name
-        g.pos, g.quat = list(shape.pos), list(shape.quat)
+        g = _hull_geom(spec, parent, f"prop_{prop.name}_hull{k}", corners, shape.pos, shape.quat)
         g.density = 0.0  # the shape geom carries the mass
-        # Clothes slide on paint and glass: a body the car carries slides off as it brakes.
-        g.friction = [HULL_FRICTION, 0.005, 0.0001]
-        g.solref = [HULL_CONTACT_TIMECONST, 1.0]
-        g.priority = 2  # over a person's feet: its friction and softness decide
         g.contype = PROP_BIT
         # The camera collides with a vehicle's hulls too: a car that meets it pushes it
         # aside instead of passing through it.

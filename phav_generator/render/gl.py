@@ -85,8 +85,9 @@ class VertexLook:
 class PartLook:
     """Labels and look that vary over an asset's parts (``phav_generator.world``): per vertex a
     pixel class, a material (the shader's pattern code, computed from the vertex's position in
-    the mesh's own frame), a surface kind (MATTE, GROUND, EMISSIVE), a display colour and a
-    linear emission; they override the drawable's."""
+    the mesh's own frame, shifted where it stands still: ``material_coordinates``), a surface
+    kind (MATTE, GROUND, EMISSIVE), a display colour and a linear emission; they override the
+    drawable's."""
 
     class_ids: np.ndarray  # (N,)
     patterns: np.ndarray  # (N,) world.materials.Material values

@@ -24,6 +24,7 @@ from phav_generator.world import materials as looks
 from phav_generator.world.materials import Material, pick
 from phav_generator.world.parts import LEVELS, Asset, Parts, Vec3
 from phav_generator.world.vehicles import Vehicle
+from phav_spec.car_shapes import car_body
 from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
@@ -253,7 +254,10 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
     if cls == "guard_rail":
         return street.guard_rail(half, rng, level)
     if cls == "car" and c.model:
-        return vehicles.car(half, rng, level, body=c.model)  # the body type it collides as
+        # The body type it collides as; the look's stream still draws a body first, so the
+        # paint each look draws after it stays.
+        car_body(rng)
+        return vehicles.car(half, rng, level, body=c.model)
     if cls in ("car", "truck", "bus"):
         return vehicle(cls, half, rng, level)
     if cls == "stairs":

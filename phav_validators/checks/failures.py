@@ -185,8 +185,7 @@ class BoxSet:
         local = self.local(points)
         depth = (self.half - np.abs(local)).min(axis=-1)  # (..., B)
         for i, hulls in self.planes.items():
-            q = local[..., i, :]
-            depth[..., i] = np.max([(-(q @ e[:, :3].T + e[:, 3])).min(axis=-1) for e in hulls], axis=0)
+            depth[..., i] = np.max([-_plane_distances(local[..., i, :], e).max(axis=-1) for e in hulls], axis=0)
         which = depth.argmax(axis=-1)
         return np.take_along_axis(depth, which[..., None], axis=-1)[..., 0], which
 
@@ -214,12 +213,18 @@ class BoxSet:
         return out
 
 
+def _plane_distances(points: np.ndarray, planes: np.ndarray) -> np.ndarray:
+    """Signed distances (..., F) of points (..., 3) from face planes (F, 4) (n·p + d, > 0
+    outside), as products and sums of elements (no BLAS kernel): the same bits on every CPU."""
+    p = points[..., None, :]
+    return p[..., 0] * planes[:, 0] + p[..., 1] * planes[:, 1] + p[..., 2] * planes[:, 2] + planes[:, 3]
+
+
 def _through_hull(a: np.ndarray, b: np.ndarray, planes: np.ndarray) -> np.ndarray:
     """For segments a→b (T, 3), whether each passes through the interior of the convex hull
     of face ``planes`` (F, 4): clipped against every face (Cyrus–Beck)."""
-    n, d = planes[:, :3], planes[:, 3]
-    outside_a = a @ n.T + d  # (T, F): > 0 outside that face at a
-    toward = (b - a) @ n.T  # how fast the segment moves out through each face
+    outside_a = _plane_distances(a, planes)  # (T, F): > 0 outside that face at a
+    toward = _plane_distances(b, planes) - outside_a  # how fast the segment moves out through each face
     with np.errstate(divide="ignore", invalid="ignore"):
         t = -outside_a / toward
     enter = np.where(toward < 0, t, -np.inf).max(axis=1)

@@ -384,3 +384,8 @@ def test_a_parked_car_collides_as_the_hulls_of_its_body_type():
         Collider("car", (0, 0, 1), (1, 1, 0.5), hulls=(corners,))
     with pytest.raises(ValueError, match="four or more"):
         Collider("car", (0, 0, 1), (1, 1, 1), hulls=(corners[:3],))
+    with pytest.raises(ValueError, match="enclose a volume"):
+        Collider("car", (0, 0, 1), (1, 1, 1), hulls=((*corners[:3], (1.0, 1.0, 0.0)),))
+    for cls, model, hulls in (("car", "limousine", (corners,)), ("car", "van", ()), ("bench", "van", (corners,))):
+        with pytest.raises(ValueError, match="body type"):
+            Collider(cls, (0, 0, 1), (1, 1, 1), model=model, hulls=hulls)

@@ -1,6 +1,7 @@
 // The asset library's materials (phav_generator.world.materials.Material), computed from the
-// surface's position in its mesh's own frame (v_uv carries it): integer hashes only, so the
-// same surface point gets the same value on every CPU and as it moves.
+// surface's position in its mesh's own frame, shifted where the mesh stands still (v_uv
+// carries it: render.gl.material_coordinates): integer hashes only, so the same surface point
+// gets the same value on every CPU and as it moves.
 #include "hash.glsl"
 
 // A value in [0, 1) per cell of 1/scale metres.

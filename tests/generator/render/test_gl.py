@@ -303,3 +303,22 @@ def test_occlusion_darkens_a_corner_and_a_foot_but_leaves_no_copy_of_a_thin_post
     behind_post = away & (np.abs(points[..., 0]) < 0.3)  # floor the post's silhouette crosses on screen
     assert behind_post.sum() > 500
     assert np.percentile(dark[away], 99.5) < 0.01
+
+
+def test_material_coordinates_follow_the_world_where_a_drawable_stands_still():
+    """A still drawable's pattern coordinates are the world's turned into its axes: a point's
+    are the same whichever pose puts it there; a moving or skinned drawable keeps its own."""
+    from phav_generator.render.gl import material_coordinates
+
+    rng = np.random.default_rng(0)
+    local = rng.normal(size=(6, 3))
+    pose = np.eye(4)
+    pose[:3, :3] = axis_angle_matrix(np.array([0.0, 0.0, 1.0]), 0.7)
+    pose[:3, 3] = (4.0, -2.0, 0.5)
+    still = np.broadcast_to(pose, (3, 4, 4))
+    world = local @ pose[:3, :3].T + pose[:3, 3]
+    np.testing.assert_allclose(material_coordinates(local, still), world @ pose[:3, :3], atol=1e-12)
+    moving = np.stack([pose, pose, pose])
+    moving[1, 0, 3] += 0.1  # it moves in one frame
+    assert material_coordinates(local, moving) is local
+    assert material_coordinates(local, np.broadcast_to(pose, (3, 2, 4, 4))) is local  # skinned: bones

@@ -164,7 +164,7 @@ def test_a_parked_car_is_its_hulls_to_the_penetration_tests():
     box = BoxSet([car])
     depth, _ = box.depth_inside(np.stack([above_hood, in_body]))
     assert depth[0] < -0.1 < 0.1 < depth[1]
-    assert BoxSet([dataclasses.replace(car, hulls=())]).depth_inside(above_hood[None])[0][0] > 0  # its box: inside
+    assert BoxSet([dataclasses.replace(car, model="", hulls=())]).depth_inside(above_hood[None])[0][0] > 0  # its box
     a, b = above_hood - 2.0 * across, above_hood + 2.0 * across
     low_a, low_b = in_body - 2.0 * across, in_body + 2.0 * across
     assert list(box.crossed(np.stack([a, low_a]), np.stack([b, low_b]))) == [-1, 0]
