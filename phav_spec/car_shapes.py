@@ -15,7 +15,9 @@ from itertools import pairwise
 
 import numpy as np
 
+#: A point or half extents (x, y, z) in metres (as ``phav_spec.scene``'s, which builds on this module).
 Vec3 = tuple[float, float, float]
+
 #: The body types a car is drawn as.
 CAR_BODIES: tuple[str, ...] = ("hatchback", "sedan", "suv", "van")
 #: How far (m) a bumper stands proud of the body's front and rear.
