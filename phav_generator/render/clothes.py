@@ -164,9 +164,11 @@ def fabric(garment: Garment, points: np.ndarray) -> np.ndarray:
     p = points / garment.scale
     if garment.fabric == "stripes":  # horizontal stripes round the body, 7 cm
         return (np.mod(p[:, 2] * 14.0, 1.0) >= 0.5).astype(np.float64)
-    if garment.fabric == "checks":  # 8 cm checks
+    if garment.fabric == "checks":  # woven 8 cm checks: bands across and along, darkest where they cross
         q = np.floor(p * 12.0).astype(np.int64)
-        return np.mod(q.sum(axis=1), 2).astype(np.float64)
+        across = np.mod(q[:, 2], 2)
+        along = np.mod(q[:, 0] + q[:, 1], 2)
+        return 0.5 * (across + along).astype(np.float64)
     if garment.fabric == "denim":  # a mottled fade in 2.5 cm cells and a fine grain
         return 0.175 + 0.3 * _hash(np.floor(p * 40.0)) + 0.1 * _hash(np.floor(p * 250.0))
     if garment.fabric == "print":  # dots on a 6 cm lattice

@@ -122,3 +122,16 @@ def test_drawables_sharing_a_texture_share_its_layer_and_sizes_must_agree(ctx):
     with pytest.raises(ValueError, match="share a size"):
         FrameRenderer(ctx, 120, 60, [textured(red, 0.0), textured(np.zeros((8, 8, 3), np.float16), 0.5)],
                       sky_class=8)  # fmt: skip
+
+
+def test_a_check_is_woven_bands_across_and_along_darkest_where_they_cross():
+    """Checks are gingham: a band of the pattern colour across and one along the garment, half
+    the colour each and full where they cross, not a chessboard of the two colours (whose
+    diamonds on a torso a street model took for traffic signs)."""
+    rng = np.random.default_rng(1)
+    garment = OUTFIT.top.model_copy(update={"fabric": "checks", "scale": 1.0})
+    points = rng.random((5_000, 3)) * 0.5
+    mix = fabric(garment, points)
+    assert set(np.unique(mix)) == {0.0, 0.5, 1.0}
+    up = fabric(garment, points + np.array([0.0, 0.0, 1.0 / 12.0]))  # one band higher: only the across band flips
+    assert np.allclose(np.abs(up - mix), 0.5)
