@@ -90,12 +90,46 @@ def _normalised(v: np.ndarray) -> np.ndarray:
     return v / np.maximum(length, 1e-12)[:, None]
 
 
-def _face_normals(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+def _area_normals(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Each triangle's normal, twice its area long."""
     a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
     u, v = b - a, c - a
-    n = np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1], u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
-                  u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)  # fmt: skip
-    return _normalised(n)
+    return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1], u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                     u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)  # fmt: skip
+
+
+def _face_normals(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    return _normalised(_area_normals(p, tri))
+
+
+def crease_normals(p: np.ndarray, tri: np.ndarray, crease_deg: float, polygons: np.ndarray | None = None) -> np.ndarray:
+    """A normal per triangle corner (m·3, 3): the area-weighted mean of the polygons round the
+    corner's vertex that turn less than ``crease_deg`` from the corner's own, so that a curved
+    panel shades smooth and an edge sharper than the crease stays sharp. ``polygons`` names
+    each triangle's polygon (a quad's two triangles one polygon, so that how it was split
+    does not tilt the normal); each triangle its own by default. Summed in a fixed order with
+    elementwise arithmetic only (no BLAS, no SIMD-dispatched functions): the same on every CPU."""
+    raw = _area_normals(p, tri)
+    poly = np.arange(len(tri)) if polygons is None else np.asarray(polygons, dtype=np.int64)
+    poly_raw = np.zeros((int(poly.max()) + 1, 3))
+    np.add.at(poly_raw, poly, raw)  # in triangle order
+    poly_unit = _normalised(poly_raw)
+    cos_crease = math.cos(math.radians(crease_deg))
+    corners = tri.reshape(-1)
+    order = np.argsort(corners, kind="stable")  # corners grouped by vertex, each group in corner order
+    out = np.repeat(_normalised(raw), 3, axis=0)
+    for group in np.split(order, np.flatnonzero(np.diff(corners[order])) + 1):
+        own = poly[group // 3]
+        round_vertex = np.unique(own)  # each polygon once, in id order
+        pu, pr = poly_unit[own], poly_unit[round_vertex]
+        turn = pu[:, None, 0] * pr[None, :, 0] + pu[:, None, 1] * pr[None, :, 1] + pu[:, None, 2] * pr[None, :, 2]
+        acc = np.zeros((len(group), 3))
+        for j, q in enumerate(round_vertex):
+            acc += (turn[:, j] > cos_crease)[:, None] * poly_raw[q]
+        length = np.sqrt(acc[:, 0] * acc[:, 0] + acc[:, 1] * acc[:, 1] + acc[:, 2] * acc[:, 2])
+        keep = length > 1e-12  # a polygon of no area keeps its (zero) face normal
+        out[group[keep]] = acc[keep] / length[keep, None]
+    return out
 
 
 def circle(segments: int, phase: float = 0.0) -> list[tuple[float, float]]:
@@ -149,15 +183,21 @@ class Parts:
 
     def add(self, name: str, cls: str, material: Material, colour: Colour, positions: Points,
             triangles: Sequence[Sequence[int]] | np.ndarray, *, normals: Points | None = None, closed: bool,
-            glow: int = NO_GLOW, rot: np.ndarray | None = None, offset: Point = (0.0, 0.0, 0.0)) -> None:  # fmt: skip
+            glow: int = NO_GLOW, rot: np.ndarray | None = None, offset: Point = (0.0, 0.0, 0.0),
+            crease: float | None = None, polygons: np.ndarray | None = None) -> None:  # fmt: skip
         """One part: ``positions`` (n, 3) and counter-clockwise ``triangles`` (m, 3) in the
-        part's frame, placed by ``rot`` and ``offset``; flat-shaded unless ``normals`` given."""
+        part's frame, placed by ``rot`` and ``offset``; flat-shaded unless ``normals`` given,
+        or smooth across edges whose faces turn less than ``crease`` degrees
+        (``crease_normals``, with ``polygons``)."""
         p = np.asarray(positions, dtype=np.float64)
         tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
         r = np.eye(3) if rot is None else np.asarray(rot, dtype=np.float64)
         p = transform_points(p, r, offset)
-        if normals is None:  # flat: three vertices of its own per triangle
-            n = np.repeat(_face_normals(p, tri), 3, axis=0)
+        if normals is None:  # three vertices of its own per triangle
+            if crease is None:
+                n = np.repeat(_face_normals(p, tri), 3, axis=0)
+            else:
+                n = crease_normals(p, tri, crease, polygons)
             p, tri = p[tri.reshape(-1)], np.arange(3 * len(tri)).reshape(-1, 3)
         else:
             n = _normalised(transform_points(np.asarray(normals, dtype=np.float64), r, (0.0, 0.0, 0.0)))
@@ -294,11 +334,12 @@ class Parts:
 
     def loft(
         self, name: str, cls: str, material: Material, colour: Colour, sections: Sequence[Points], *,
-        glow: int = NO_GLOW,
+        glow: int = NO_GLOW, crease: float | None = None,
     ) -> None:  # fmt: skip
         """A closed solid through ``sections``: cross-sections of equally many (x, y, z) points
         each, in order along the solid, each loop counter-clockwise as seen looking from the
-        first section towards the last; joined by quads, capped at both ends."""
+        first section towards the last; joined by quads, capped at both ends; flat-shaded, or
+        smooth within ``crease`` degrees (``Parts.add``)."""
         loops = [[tuple(float(c) for c in q) for q in loop] for loop in sections]
         m = len(loops[0])
         if len(loops) < 2 or m < 3 or any(len(loop) != m for loop in loops):
@@ -318,7 +359,9 @@ class Parts:
                 a, b = first + k, first + (k + 1) % m
                 tri.append((end, a, b) if facing < 0 else (end, b, a))
         pos += [tuple(sum(c) / m for c in zip(*loop, strict=True)) for loop in (loops[0], loops[-1])]
-        self.add(name, cls, material, colour, pos, tri, closed=True, glow=glow)
+        quads = (len(loops) - 1) * m
+        polygons = np.concatenate([np.arange(2 * quads) // 2, np.repeat([quads, quads + 1], m)])  # quads, two caps
+        self.add(name, cls, material, colour, pos, tri, closed=True, glow=glow, crease=crease, polygons=polygons)
 
     def panel(
         self, name: str, cls: str, material: Material, colour: Colour, corners: Points, *, glow: int = NO_GLOW

@@ -32,6 +32,9 @@ from phav_spec.car_shapes import BUMPER_M, CAR_SHAPES, HULL_CORNER_STATIONS, car
 #: Stations round each rounded end of a car's body, per level of detail: the finest as the
 #: car of ``car_hit`` collides (``car_hulls``).
 BODY_CORNER_STATIONS = (HULL_CORNER_STATIONS, 2, 1)
+#: Edges of a car's body sharper than this (degrees) stay sharp; flatter ones shade smooth,
+#: so the panels curve round the corners and the shoulder as pressed steel does.
+BODY_CREASE_DEG = 40.0
 #: A truck's rear axles (m ahead of its back): the overhang behind them leaves the underride
 #: bar clear of the tyres.
 REAR_AXLES_M = (2.0, 1.0)
@@ -103,8 +106,9 @@ def car(
     x_ws, x_rw = outline.windscreen, outline.rear_window
     side = outline.side
     # The body: rounded corners seen from above, its sides tucked in under the sills and
-    # rounded over the shoulder line (the same sections the car collides as).
-    p.loft("body", "car", Material.PAINT, paint, outline.body_sections(BODY_CORNER_STATIONS[level]))
+    # rounded over the shoulder line (the same sections the car collides as), shaded smooth.
+    sections = outline.body_sections(BODY_CORNER_STATIONS[level])
+    p.loft("body", "car", Material.PAINT, paint, sections, crease=BODY_CREASE_DEG)
     # The dark underside between the wheels: what shades the road under a car.
     p.span(
         "underbody",

@@ -6,6 +6,7 @@ lamps lit, and the fingerprint covering the boxes actions add."""
 from __future__ import annotations
 
 import hashlib
+import math
 import os
 import subprocess
 import sys
@@ -277,6 +278,34 @@ def test_a_loft_through_sections_is_a_closed_solid_facing_out():
     assert volume == pytest.approx(2.0)
     with pytest.raises(ValueError, match="bad: a loft needs two or more sections of one size"):
         Parts(0).loft("bad", "car", Material.PAINT, (0.5, 0.5, 0.5), [[(0, 0, 0), (0, 1, 0), (0, 1, 1)], [(1, 0, 0)]])
+
+
+def test_a_crease_shades_a_curved_loft_smooth_and_keeps_its_sharp_edges():
+    """A 12-sided prism lofted with a 40° crease shades round: each side corner's normal is
+    its vertex's radial direction, as on a cylinder; its caps, 90° from the side, stay flat.
+    A box, every edge 90°, comes out as flat-shaded."""
+    ring = [(math.cos(math.pi * k / 6), math.sin(math.pi * k / 6)) for k in range(12)]  # CCW along +x
+
+    def lofted(loop, crease):
+        p = Parts(0)
+        p.loft("s", "car", Material.PAINT, (0.5, 0.5, 0.5), [[(x, -y, z) for y, z in loop] for x in (0.0, 1.0)],
+               crease=crease)  # fmt: skip
+        return p.build()
+
+    prism = lofted(ring, 40.0)
+    _assert_valid(prism, "crease")
+    pos, nrm = prism.positions.astype(np.float64), prism.normals.astype(np.float64)
+    cap = np.abs(nrm[:, 0]) > 0.5
+    on_cap_plane = np.isclose(pos[:, 0], 0.0) | np.isclose(pos[:, 0], 1.0)
+    assert np.all(on_cap_plane[cap])
+    np.testing.assert_allclose(np.abs(nrm[cap, 0]), 1.0, atol=1e-6)
+    radial = pos[~cap] * np.array([0.0, 1.0, 1.0])
+    np.testing.assert_allclose(nrm[~cap], radial / np.linalg.norm(radial, axis=1, keepdims=True), atol=1e-6)
+    assert (~cap).sum() == 12 * 2 * 3  # every side corner (two triangles a side)
+    square = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+    box, flat = lofted(square, 40.0), lofted(square, None)
+    np.testing.assert_array_equal(box.positions, flat.positions)
+    np.testing.assert_array_equal(box.normals, flat.normals)  # +0 and -0 alike
 
 
 def _covers(triangles: list[np.ndarray], px: float, pz: float) -> bool:
