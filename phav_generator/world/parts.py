@@ -111,6 +111,8 @@ def crease_normals(p: np.ndarray, tri: np.ndarray, crease_deg: float, polygons: 
     elementwise arithmetic only (no BLAS, no SIMD-dispatched functions): the same on every CPU."""
     raw = _area_normals(p, tri)
     poly = np.arange(len(tri)) if polygons is None else np.asarray(polygons, dtype=np.int64)
+    if poly.shape != (len(tri),) or (poly < 0).any():
+        raise ValueError(f"polygons: one non-negative id per triangle ({len(tri)}), got shape {poly.shape}")
     poly_raw = np.zeros((int(poly.max()) + 1, 3))
     np.add.at(poly_raw, poly, raw)  # in triangle order
     poly_unit = _normalised(poly_raw)

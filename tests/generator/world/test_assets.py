@@ -23,7 +23,7 @@ from phav_generator.world.library import (
     world_library_sha256,
 )  # fmt: skip
 from phav_generator.world.materials import Material
-from phav_generator.world.parts import LAMP_GLOW, LEVELS, Asset, Parts
+from phav_generator.world.parts import LAMP_GLOW, LEVELS, Asset, Parts, crease_normals
 from phav_generator.world.vehicles import BUS_ARCH_GAP_M, Vehicle
 from phav_spec.car_shapes import CAR_BODIES
 from phav_spec.scene import ENVIRONMENT_SCENES
@@ -306,6 +306,8 @@ def test_a_crease_shades_a_curved_loft_smooth_and_keeps_its_sharp_edges():
     box, flat = lofted(square, 40.0), lofted(square, None)
     np.testing.assert_array_equal(box.positions, flat.positions)
     np.testing.assert_array_equal(box.normals, flat.normals)  # +0 and -0 alike
+    with pytest.raises(ValueError, match="polygons: one non-negative id per triangle"):
+        crease_normals(np.eye(3), np.array([[0, 1, 2]]), 40.0, np.array([0, 1]))
 
 
 def _covers(triangles: list[np.ndarray], px: float, pz: float) -> bool:
