@@ -401,7 +401,8 @@ class SimulationRun:
 
     def _car_position(self, prop, k: int) -> np.ndarray:
         """Where the car is at plan step k: on its path until it has touched the
-        protagonist, then braking (``CAR_BRAKING_MPS2``) along the direction it was going."""
+        protagonist, then braking (``CAR_BRAKING_MPS2``) along the direction it was going,
+        never past the path's end (where something stands in its way, it stops there)."""
         path, dt = prop.path, self.plan.timestep
         k = max(k, 0)
         if not self.released[0]:
@@ -411,8 +412,13 @@ class SimulationRun:
             return path[k]
         v0 = (path[hit] - path[hit - 1]) / dt
         speed = float(np.linalg.norm(v0))
+        if speed < 1e-9:
+            return path[hit]
+        way = v0 / speed
         t = min((k - hit) * dt, speed / CAR_BRAKING_MPS2)
-        return path[hit] + v0 / max(speed, 1e-9) * (speed * t - 0.5 * CAR_BRAKING_MPS2 * t**2)
+        # In Python floats, not a BLAS dot: the stop cannot depend on the machine's kernels.
+        room = sum(float(e - h) * float(w) for e, h, w in zip(path[-1], path[hit], way, strict=True))
+        return path[hit] + way * min(speed * t - 0.5 * CAR_BRAKING_MPS2 * t**2, room)
 
     def check_contacts(self, t: float) -> set[str]:
         """Named contacts of this step; a car touching the protagonist releases their pins."""

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -11,6 +11,7 @@ from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
 from phav_spec.car_shapes import car_body, car_hulls, car_profile
+from phav_spec.scene import ENVIRONMENT_SCENES, MAX_STEP_M, Collider, support_height, walkable_heights
 from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS
 
@@ -22,33 +23,52 @@ CAR_LOOK_STREAM = "world/car"
 CAR_BRAKING_MPS2 = 8.0
 #: How far (m) past the planned hit the car may touch first (a body moving on ahead of it).
 CAR_LATE_TOUCH_M = 1.0
+#: How hard (m/s²) the car may speed up from a standstill where the way behind it is too
+#: short to arrive at its speed from the clip's start: a brisk car, 0–100 km/h in 8 s.
+CAR_ACCELERATION_MPS2 = 3.5
+#: The directions the car may come from, in degrees off square across the protagonist's
+#: heading, nearest first: it takes the first whose way is clear of the environment's
+#: colliders (and stays on the raised ground it drives on), so it never drives out of a
+#: wall, through a tree or off a plaza's edge.
+CAR_TURNS_DEG = (0.0, *(sign * 15.0 * k for k in range(1, 12) for sign in (1.0, -1.0)), 180.0)
+#: Where no direction is clear at the drawn hit time (the protagonist walking into a wall
+#: or a rail), the hit comes earlier, in steps of this (s)...
+CAR_EARLIER_HIT_S = 0.25
+#: ... but no earlier than this (s), the least time to see the car come.
+CAR_EARLIEST_HIT_S = 0.5
+#: How near (m) the protagonist's planned pelvis may come to a collider in its way before
+#: the hit must come first.
+CAR_PERSON_ROOM_M = 0.3
+#: Colliders whose top lies within this (m) of the ground the car drives on carry it.
+CAR_SUPPORT_TOLERANCE_M = 0.02
 
 
 def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     """Car hit: a car crosses the protagonist's path and hits them; contact releases the pins.
 
     The car collides as the body type the renderer draws in its box (``car_hulls``): its
-    bumper and front meet the legs, the hood and windscreen what folds onto them."""
+    bumper and front meet the legs, the hood and windscreen what folds onto them. It comes
+    from where its way is clear (``_approach``) and stops short of what stands ahead."""
     rng = stream(b.recipe.seeds.physics, "car_hit")
     speed = uniform(5.0, 12.0, rng=rng)
     n = len(b.times)
     duration = b.times[-1]
     t_hit = uniform(0.35, 0.6, rng=rng) * duration
     side = 1.0 if rng.random() < 0.5 else -1.0
-    i_hit = int(np.searchsorted(b.times, t_hit))
-    pelvis = p.targets.root_pos[min(i_hit, n - 1)]
     heading = np.deg2rad(b.recipe.protagonist.heading_deg)
-    across = yaw_matrix(heading) @ np.array([0.0, side, 0.0])
     half = np.array([2.1, 0.9, 0.7])
     ground = b.recipe.protagonist.position[2]
+    way = _approach(b, p.targets.root_pos, Approach(heading, speed, speed * t_hit, t_hit, ground), side, half)
+    speed, t_hit, ground = way.speed, way.t_hit, way.ground
+    pelvis = p.targets.root_pos[min(int(np.searchsorted(b.times, t_hit)), n - 1)]
+    across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
     # The car's front reaches the pelvis at t_hit; then it brakes once it has touched.
     centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + CAR_CLEARANCE_M]) + across * (half[0] + 0.15)
-    path = centre_hit[None, :] - across[None, :] * speed * (b.times - t_hit)[:, None]
-    yaw = heading + side * math.pi / 2 + math.pi
+    path = centre_hit[None, :] - across[None, :] * _run(way, b.times)[:, None]
+    yaw = way.heading + side * math.pi / 2 + math.pi
     quat = rot_to_quat(yaw_matrix(yaw))
-    # The car never passes its braking distance beyond where it first touches.
-    stop_m = speed**2 / (2.0 * CAR_BRAKING_MPS2) + CAR_LATE_TOUCH_M
-    lane_end = min(n - 1, int(np.searchsorted(b.times, t_hit + stop_m / speed)))
+    # The car has stopped by the time it has braked from a late touch (its path's end).
+    lane_end = min(n - 1, int(np.searchsorted(b.times, t_hit + CAR_LATE_TOUCH_M / speed + speed / CAR_BRAKING_MPS2)))
     body = car_body(stream(b.recipe.seeds.physics, CAR_LOOK_STREAM))
     hulls = car_hulls(car_profile(body, tuple(half), CAR_CLEARANCE_M))
     b.props.append(
@@ -57,3 +77,176 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     )  # fmt: skip
     b.manipulations.append(Manipulation("car", p.person_id, "pelvis", "hit", t_hit, float(b.times[-1])))
     return replace(p, release_on_contact_with="car")
+
+
+@dataclass(frozen=True)
+class Approach:
+    """How the car of ``car_hit`` comes at the protagonist: square across ``heading`` (the
+    protagonist's, turned), at ``speed`` (m/s) when it hits at ``t_hit`` (s), on the ground
+    at height ``ground`` there, from ``start`` metres before the hit (at a standstill until
+    it must set off, where that is less than ``speed`` × ``t_hit``), on for at most
+    ``ahead`` metres past the hit."""
+
+    heading: float
+    speed: float
+    start: float
+    t_hit: float
+    ground: float
+    ahead: float = math.inf
+
+
+def _approach(b: PlanBuilder, root_pos: np.ndarray, drawn: Approach, side: float, half: np.ndarray) -> Approach:
+    """The way the car comes, for the drawn one: the first hit time (the drawn one, then
+    earlier) and direction (``CAR_TURNS_DEG``) from which it can drive at its speed from the
+    clip's start, hit and brake to a stop without meeting a collider; else the first whose
+    way behind is long enough to reach its speed from a standstill; else the longest way,
+    at the speed it allows and stopping short of what stands ahead."""
+    env = b.recipe.environment.name
+    scene = ENVIRONMENT_SCENES[env]
+    speed = drawn.speed
+    stop_m = speed**2 / (2.0 * CAR_BRAKING_MPS2) + CAR_LATE_TOUCH_M
+    reach = speed**2 / (2.0 * CAR_ACCELERATION_MPS2)
+    earliest = min(CAR_EARLIEST_HIT_S, drawn.t_hit)
+    # Not after the protagonist's planned way meets something it cannot pass (it would stand
+    # against it, not where the car aims), then the drawn time, then earlier.
+    latest = max(min(drawn.t_hit, _free_until(b, root_pos, drawn.ground)), earliest)
+    hits = [latest - k * CAR_EARLIER_HIT_S for k in range(int((latest - earliest) / CAR_EARLIER_HIT_S) + 1)]
+    ways = []
+    for t_hit in hits:
+        pelvis = root_pos[min(int(np.searchsorted(b.times, t_hit)), len(b.times) - 1)]
+        # The ground under the protagonist then: off a plaza they walked from, the street's.
+        ground = support_height(env, float(pelvis[0]), float(pelvis[1]), reference_z=drawn.ground)
+        raised = ground > scene.ground_z + CAR_SUPPORT_TOLERANCE_M
+        runs = []
+        for turn in CAR_TURNS_DEG:
+            turned = drawn.heading + side * math.radians(turn)
+            across = yaw_matrix(turned) @ np.array([0.0, side, 0.0])
+            centre = (float(pelvis[0] + across[0] * (half[0] + 0.15)), float(pelvis[1] + across[1] * (half[0] + 0.15)))
+            back, ahead = clear_run(scene.colliders, centre, (-float(across[0]), -float(across[1])), tuple(half),
+                                    ground + CAR_CLEARANCE_M, ground, raised=raised)  # fmt: skip
+            runs.append((turned, back, ahead))
+        for turned, back, ahead in runs:
+            if back >= speed * t_hit and ahead >= stop_m:
+                return Approach(turned, speed, speed * t_hit, t_hit, ground)
+        for turned, back, ahead in runs:
+            if back >= reach and ahead >= stop_m:
+                return Approach(turned, speed, back, t_hit, ground)
+        ways += [(back, -k, t_hit, turned, ahead, ground) for k, (turned, back, ahead) in enumerate(runs)]
+    back, _, t_hit, turned, ahead, ground = max(ways, key=lambda w: (w[0], w[1], w[2]))
+    if back <= 0.0:
+        return drawn  # hemmed in all round: square across, as drawn
+    v = min(speed, math.sqrt(2.0 * CAR_ACCELERATION_MPS2 * back))
+    return Approach(turned, v, min(back, v * t_hit), t_hit, ground, max(ahead, 0.0))
+
+
+def _free_until(b: PlanBuilder, root_pos: np.ndarray, ground: float) -> float:
+    """Until when (s) the protagonist's planned pelvis keeps ``CAR_PERSON_ROOM_M`` from every
+    collider that stands in a person's way (``ground`` + 0.2 m to head height), and over
+    ground at the height it started on; the clip's end where it always does."""
+    env = b.recipe.environment.name
+    x, y = root_pos[:, 0], root_pos[:, 1]
+    blocked = np.zeros(len(root_pos), dtype=bool)
+    for c in ENVIRONMENT_SCENES[env].colliders:
+        if c.top > ground + 0.2 and c.bottom < ground + 1.8:
+            gx, gy = c.xy_gaps(x, y)
+            blocked |= gx * gx + gy * gy < CAR_PERSON_ROOM_M * CAR_PERSON_ROOM_M
+    heights = walkable_heights(env, x, y, ground + MAX_STEP_M)
+    blocked |= np.abs(heights - ground) > CAR_SUPPORT_TOLERANCE_M
+    first = np.flatnonzero(blocked)
+    return float(b.times[first[0]]) - CAR_EARLIER_HIT_S if first.size else float(b.times[-1])
+
+
+def _run(way: Approach, times: np.ndarray) -> np.ndarray:
+    """How far (m) the car is along its way at each time, 0 at the hit (negative before):
+    at its speed throughout, or from a standstill ``way.start`` metres back, speeding up
+    evenly to arrive at its speed; after the hit on at that speed for ``CAR_LATE_TOUCH_M``,
+    then braking to a stop, hit or miss (a touch brakes it sooner, in the simulation), and
+    never further than ``way.ahead``."""
+    v, s0, t_hit = way.speed, way.start, way.t_hit
+    late = CAR_LATE_TOUCH_M / v
+    braking = np.clip(times - t_hit - late, 0.0, v / CAR_BRAKING_MPS2)
+    after = v * np.minimum(times - t_hit, late) + v * braking - 0.5 * CAR_BRAKING_MPS2 * braking**2
+    after = np.minimum(after, way.ahead)
+    if s0 >= v * t_hit:
+        return np.where(times < t_hit, v * (times - t_hit), after)
+    if s0 <= v * t_hit / 2.0:  # stands, then sets off as late as it can
+        t0 = t_hit - 2.0 * s0 / v
+        u, a = 0.0, v * v / (2.0 * s0)
+    else:  # already rolling at the start
+        t0 = 0.0
+        u = 2.0 * s0 / t_hit - v
+        a = (v - u) / t_hit
+    dt = np.clip(times - t0, 0.0, None)
+    return np.where(times < t_hit, -s0 + u * dt + 0.5 * a * dt**2, after)
+
+
+def clear_run(
+    colliders: tuple[Collider, ...], centre: tuple[float, float], travel: tuple[float, float],
+    half: tuple[float, float, float], bottom: float, ground: float, *, raised: bool,
+) -> tuple[float, float]:  # fmt: skip
+    """How far (m) a box of ``half`` extents, its bottom at height ``bottom`` and centred on
+    ``centre`` seen from above, can slide back against the unit ``travel`` direction and on
+    along it before it meets a collider (or, on ``raised`` ground, leaves the colliders whose
+    top is ``ground``); −inf both ways where it meets one where it stands. In Python floats:
+    the car's way cannot depend on the machine's vector kernels."""
+    hx, hy, hz = (float(h) for h in half)
+    top = bottom + 2.0 * hz
+    back = ahead = math.inf
+    carried: list[tuple[list[tuple[float, float]], ...]] = []
+    for c in colliders:
+        corners = [_along(p, centre, travel) for p in c.footprint()]
+        if raised and abs(c.top - ground) <= CAR_SUPPORT_TOLERANCE_M:
+            carried.append(tuple(_band(corners, w - 1e-6, w + 1e-6) for w in (-hy, 0.0, hy)))
+        if c.top <= bottom or c.bottom >= top:
+            continue
+        inside = _band(corners, -hy, hy)
+        if not inside:
+            continue
+        lo, hi = min(u for u, _ in inside), max(u for u, _ in inside)
+        if lo < hx and hi > -hx:
+            return -math.inf, -math.inf
+        if hi <= -hx:
+            back = min(back, -hi - hx)
+        else:
+            ahead = min(ahead, lo - hx)
+    if raised:
+        # Each of the car's sides and its middle line stays over the ground it drives on.
+        for line in range(3):
+            spans = sorted(
+                (min(u for u, _ in part), max(u for u, _ in part)) for parts in carried if (part := parts[line])
+            )
+            merged: list[list[float]] = []
+            for a, b in spans:
+                if merged and a <= merged[-1][1] + CAR_SUPPORT_TOLERANCE_M:
+                    merged[-1][1] = max(merged[-1][1], b)
+                else:
+                    merged.append([a, b])
+            under = [(a, b) for a, b in merged if a <= -hx and b >= hx]
+            if not under:
+                return -math.inf, -math.inf
+            back, ahead = min(back, -under[0][0] - hx), min(ahead, under[0][1] - hx)
+    return back, ahead
+
+
+def _along(point: tuple[float, float], centre: tuple[float, float], travel: tuple[float, float]) -> tuple[float, float]:
+    """``point`` in the car's frame seen from above: (along ``travel``, across it to the left)."""
+    dx, dy = point[0] - centre[0], point[1] - centre[1]
+    return dx * travel[0] + dy * travel[1], -dx * travel[1] + dy * travel[0]
+
+
+def _band(polygon: list[tuple[float, float]], lo: float, hi: float) -> list[tuple[float, float]]:
+    """The convex ``polygon`` clipped to the band lo ≤ across ≤ hi (Sutherland–Hodgman)."""
+    out = polygon
+    for bound, keep in ((lo, 1.0), (hi, -1.0)):
+        points, out = out, []
+        for k, (u, w) in enumerate(points):
+            pu, pw = points[k - 1]
+            now, before = keep * (w - bound) >= 0.0, keep * (pw - bound) >= 0.0
+            if now != before:
+                f = (bound - pw) / (w - pw)
+                out.append((pu + f * (u - pu), bound))
+            if now:
+                out.append((u, w))
+        if not out:
+            return []
+    return out

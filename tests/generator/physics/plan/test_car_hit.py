@@ -1,9 +1,11 @@
 """Car hit: the car touches the protagonist, the pins let go and the ragdoll falls; the
-car collides as the car drawn, bumper first, and pushes a camera in its way aside."""
+car collides as the car drawn, bumper first, and pushes a camera in its way aside; it comes
+from where its way is clear and keeps to the ground it drives on."""
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -16,11 +18,20 @@ from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics import Trajectory
 from phav_generator.physics.control import SimulationRun
 from phav_generator.physics.model import CAMERA_RADIUS_M
-from phav_generator.physics.plan.car_hit import CAR_CLEARANCE_M
+from phav_generator.physics.plan.car_hit import (
+    CAR_BRAKING_MPS2,
+    CAR_CLEARANCE_M,
+    CAR_LATE_TOUCH_M,
+    Approach,
+    _run,
+    clear_run,
+)
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate, simulate_plan
 from phav_generator.render.scene import drawn_vehicle
 from phav_spec.car_shapes import CAR_BODIES, car_profile
+from phav_spec.scene import ENVIRONMENT_SCENES, Collider, support_height
+from phav_validators.checks.failures import BoxSet
 from tests.generator.physics.support import assert_healthy, recipe_for
 from tests.helpers import cli_env, outside_hulls
 
@@ -141,3 +152,83 @@ def test_the_contact_measure_reports_air_depth_and_camera():
         and "air (contact outside the drawn car)" in out
         and "camera inside the car in 0 frames" in out
     )
+
+
+def _box(x: float, y: float, half: tuple[float, float, float], z_bottom: float = 0.0, yaw: float = 0.0) -> Collider:
+    return Collider("building", (x, y, z_bottom + half[2]), half, yaw)
+
+
+CAR_HALF = (2.1, 0.9, 0.7)
+
+
+def test_the_clear_run_ends_at_what_stands_in_the_car_s_way():
+    wall_behind, wall_ahead = _box(-10.0, 0.0, (0.5, 3.0, 2.0)), _box(15.0, 0.5, (0.5, 0.5, 2.0))
+    beside, kerb = _box(0.0, 3.0, (20.0, 1.0, 2.0)), _box(5.0, 0.0, (1.0, 3.0, 0.05))
+    back, ahead = clear_run((wall_behind, wall_ahead, beside, kerb), (0.0, 0.0), (1.0, 0.0), CAR_HALF, 0.15, 0.0,
+                            raised=False)  # fmt: skip
+    # The wall's face at x = −9.5, the post's at 14.5, less the car's half length; what
+    # stands beside the car's way and a kerb it rolls over do not count.
+    assert math.isclose(back, 9.5 - 2.1) and math.isclose(ahead, 14.5 - 2.1)
+    # Driving the other way swaps them; turned 45°, the wall meets the car's corner first.
+    back, ahead = clear_run((wall_behind, wall_ahead), (0.0, 0.0), (-1.0, 0.0), CAR_HALF, 0.15, 0.0, raised=False)
+    assert math.isclose(back, 14.5 - 2.1) and math.isclose(ahead, 9.5 - 2.1)
+    turned = _box(-10.0, 0.0, (0.5, 3.0, 2.0), yaw=45.0)
+    back, _ = clear_run((turned,), (0.0, 0.0), (1.0, 0.0), CAR_HALF, 0.15, 0.0, raised=False)
+    # The turned wall's face crosses the car's side line (y = ±0.9) nearest at x = −10 + 0.5√2 + 0.9.
+    assert math.isclose(back, 10.0 - 0.5 * math.sqrt(2.0) - 0.9 - 2.1, rel_tol=1e-9)
+    # Where it stands it meets the wall: no way at all.
+    assert clear_run((_box(1.0, 0.0, (0.5, 0.5, 2.0)),), (0.0, 0.0), (1.0, 0.0), CAR_HALF, 0.15, 0.0,
+                     raised=False) == (-math.inf, -math.inf)  # fmt: skip
+
+
+def test_on_raised_ground_the_car_s_way_ends_at_its_edge():
+    plaza = (_box(0.0, 0.0, (5.0, 4.0, 0.3)), _box(12.5, 0.0, (7.5, 4.0, 0.3)))  # two slabs, one top at 0.6
+    back, ahead = clear_run(plaza, (0.0, 0.0), (1.0, 0.0), CAR_HALF, 0.75, 0.6, raised=True)
+    assert math.isclose(back, 5.0 - 2.1) and math.isclose(ahead, 20.0 - 2.1)
+    # A car whose side overhangs the plaza's edge has no way on it.
+    assert clear_run(plaza, (0.0, 3.5), (1.0, 0.0), CAR_HALF, 0.75, 0.6, raised=True) == (-math.inf, -math.inf)
+
+
+@pytest.mark.parametrize("start", [30.0, 20.0, 12.0, 6.0])
+def test_the_car_arrives_at_its_speed_from_where_it_starts(start: float) -> None:
+    speed, t_hit = 10.0, 3.0
+    times = np.arange(0, 181) / 30.0
+    run = _run(Approach(0.0, speed, start, t_hit, 0.0), times)
+    v = np.diff(run) * 30.0
+    assert math.isclose(run[0], -start) and abs(run[90]) < 1e-9  # from its start to the hit at t_hit
+    assert np.all(v >= -1e-9)  # never backwards
+    assert math.isclose(v[89], speed, rel_tol=0.02)  # at its speed when it hits
+    # Then it brakes, hit or miss, to a stop where a late touch's braking would end it...
+    assert math.isclose(run[-1], CAR_LATE_TOUCH_M + speed**2 / (2 * CAR_BRAKING_MPS2)) and v[-1] == 0.0
+    assert np.diff(v[95:]).min() * 30.0 >= -CAR_BRAKING_MPS2 - 1e-6
+    # ... and goes no further than its way does.
+    assert _run(Approach(0.0, speed, start, t_hit, 0.0, ahead=5.0), times).max() == 5.0
+    if start < speed * t_hit:
+        assert np.diff(v[:89]).max() * 30.0 <= speed**2 / (2.0 * min(start, speed * t_hit / 2)) + 1e-6
+
+
+@pytest.mark.parametrize("environment", ["simple", "urban", "middle"])
+def test_the_car_never_drives_through_a_collider_or_off_its_ground(environment: str) -> None:
+    boxes = BoxSet(ENVIRONMENT_SCENES[environment].colliders)
+    grid = np.array([[x, y, z] for x in (-1, -0.5, 0, 0.5, 1) for y in (-1, 0, 1) for z in (-0.7, 0, 1)]) * CAR_HALF
+    for index in range(10):
+        recipe = recipe_for("car_hit", environment, seconds=6.0, index=index)
+        plan = plan_scene(recipe)
+        car = _car(plan)
+        path = car.path[: car.lane_end + 1 : plan.substeps]
+        rot = np.empty(9)
+        mujoco.mju_quat2Mat(rot, np.asarray(car.quat, dtype=np.float64))
+        points = path[:, None, :] + grid @ rot.reshape(3, 3).T
+        depth, _ = boxes.depth_inside(points)
+        assert depth.max() < 0.02, f"{recipe.video_id}: the car is {depth.max():.2f} m inside a collider"
+        wheels = path[:, 2] - CAR_HALF[2] - CAR_CLEARANCE_M
+        under = [support_height(environment, x, y, reference_z=w) for (x, y, _), w in zip(path, wheels, strict=True)]
+        assert np.abs(wheels - under).max() < 0.02, f"{recipe.video_id}: the car leaves the ground it drives on"
+
+
+def test_the_way_measure_reports_the_car_s_way():
+    script = Path(__file__).parents[4] / "docs" / "measure" / "car_way.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--recipes", "2"], capture_output=True, text=True, check=True, env=cli_env()
+    ).stdout
+    assert "2 car_hit videos (seed 7)" in out and "the car inside a collider: 0 videos, 0 frames" in out
