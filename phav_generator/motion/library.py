@@ -9,12 +9,13 @@ Users bring their own clips (``bvh.bvh_motion``) through a separate registry:
 ``register_motion`` adds one, ``unregister_motion`` takes it away again. ``get_motion``
 looks a name up among the registered clips first (a clip registered with ``replace=True``
 stands in for a built-in of the same name), then in the library it is given, the built-ins
-by default.
+by default; asked for a stairs take where no flight is built, it gives ``LEVEL_MOTIONS``'.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import replace
 from types import MappingProxyType
 from typing import Final, NoReturn
 
@@ -58,10 +59,13 @@ class MotionLibrary(Mapping[str, MotionDef]):
         return f"{type(self).__name__}({len(self)} motions)"
 
 
-def _catalogue_motion(name: str) -> MotionDef:
-    """The playable motion of catalogue entry ``name``: its spec row interpreted by the engine."""
+def _catalogue_motion(name: str, *, level: bool = False) -> MotionDef:
+    """The playable motion of catalogue entry ``name``: its spec row interpreted by the
+    engine; ``level``: a stairs take's strides on level ground, without its climb."""
     m = MOTIONS[name]
     spec = SPECS[name]
+    if level and spec.gait is not None:
+        spec = replace(spec, gait=replace(spec.gait, stairs=0))
     stairs = spec.gait.stairs if spec.gait is not None else 0
     return MotionDef(name, m.length_s, build_motion(spec, m.length_s), m.description, spec.sole_friction, stairs)
 
@@ -76,6 +80,13 @@ def catalogue_library() -> MotionLibrary:
 
 #: The built-in motions: every catalogue motion, immutable.
 BUILTIN_MOTIONS: Final[MotionLibrary] = catalogue_library()
+
+#: The built-in stairs takes played on level ground, where no flight is built for them (an
+#: action other than ``climb_stairs`` whose regex admits "run up stairs"): their climb
+#: would lift the person into the air.
+LEVEL_MOTIONS: Final[MotionLibrary] = MotionLibrary(
+    _catalogue_motion(name, level=True) for name in MOTIONS.names if BUILTIN_MOTIONS[name].stairs
+)
 
 #: Users' clips (BVH imports), by name: the one registry ``register_motion`` changes.
 _user_clips: dict[str, MotionDef] = {}
@@ -105,7 +116,12 @@ def user_motions() -> MotionLibrary:
     return MotionLibrary(_user_clips.values())
 
 
-def get_motion(name: str, library: MotionLibrary = BUILTIN_MOTIONS) -> MotionDef:
-    """The motion called ``name``: a registered user clip, else ``library``'s entry."""
+def get_motion(name: str, library: MotionLibrary = BUILTIN_MOTIONS, *, flight: bool = True) -> MotionDef:
+    """The motion called ``name``: a registered user clip, else ``library``'s entry; without
+    a ``flight`` of stairs under it, a built-in stairs take's level version."""
     clip = _user_clips.get(name)
-    return library[name] if clip is None else clip
+    if clip is not None:
+        return clip
+    if not flight and library is BUILTIN_MOTIONS and name in LEVEL_MOTIONS:
+        return LEVEL_MOTIONS[name]
+    return library[name]

@@ -30,10 +30,13 @@ def animate_person(
     position: tuple[float, float, float],
     heading: float,
     times: np.ndarray,
+    *,
+    flight: bool = True,
 ) -> Pose:
     """The pins' and servos' targets: the motion placed in the world, smoothed (continuous
-    velocities) so every physics timestep follows the same function of time."""
-    clip = get_motion(motion)
+    velocities) so every physics timestep follows the same function of time; a stairs take
+    climbs only with a ``flight`` built under it (``get_motion``)."""
+    clip = get_motion(motion, flight=flight)
     return smooth_targets(lambda t: animate(clip, t, start_s, params, dims, tuple(position), heading), times)
 
 
@@ -55,10 +58,12 @@ def plan_person(
     heading: float,
 ) -> PersonPlan:
     """A simulated person doing ``motion`` from ``position``: targets at every physics step,
-    full strength, pinned; the motion's parameters drawn from the physics seed per role and id."""
+    full strength, pinned; the motion's parameters drawn from the physics seed per role and
+    id. Only the protagonist of ``climb_stairs`` has a flight built under a stairs take."""
     dims = rest_body(human.phenotype).dims
     params = motion_params(speed, mirror, b.recipe.seeds.physics, f"{role}/{person_id}")
-    targets = animate_person(motion, start_s, params, dims, position, heading, b.times)
+    flight = b.recipe.action == "climb_stairs" and role == "protagonist"
+    targets = animate_person(motion, start_s, params, dims, position, heading, b.times, flight=flight)
     n = len(b.times)
     return PersonPlan(
         person_id=person_id,

@@ -87,3 +87,25 @@ def test_a_stairs_motion_without_its_own_flight_gets_steps_from_its_rise() -> No
     me = plan.people[0]
     pos, rot = forward_kinematics(me.dims, me.targets.root_pos[:1], me.targets.root_quat[:1], me.targets.q[:1])
     assert abs(float(lowest_point(me.dims, pos, rot)[0]) - base.protagonist.position[2]) < 0.2
+
+
+@pytest.mark.parametrize("action", ["run", "car_hit"])
+def test_a_stairs_take_runs_on_level_ground_where_no_flight_is_built(action: str) -> None:
+    """Actions other than climb_stairs whose regex admits "run up stairs" play the take's
+    strides without its climb: no flight is built under them, and the climb used to lift the
+    runner metres into the air (the car of car_hit passed under)."""
+    base = recipe_for(action, "simple", seconds=4.0)
+    recipe = base.model_copy(update={"motion": base.motion.model_copy(update={"base_motion": "run_up_stairs_01"})})
+    plan = plan_scene(recipe)
+    protagonist = plan.people[0]
+    assert not [box for box in plan.boxes if box.pixel_class == "stairs"]
+    rise = protagonist.targets.root_pos[:, 2] - protagonist.targets.root_pos[0, 2]
+    assert np.abs(rise).max() < 0.15, f"the pelvis rises {rise.max():.2f} m"
+    run = np.linalg.norm(protagonist.targets.root_pos[-1, :2] - protagonist.targets.root_pos[0, :2])
+    assert run > 2.0  # it still runs
+    # The same take climbs where the flight is built under it.
+    climb = recipe_for("climb_stairs", "urban", seconds=4.0)
+    climb = climb.model_copy(update={"motion": climb.motion.model_copy(update={"base_motion": "run_up_stairs_01"})})
+    climber = plan_scene(climb).people[0].targets.root_pos[:, 2]
+    assert climber.max() - climber[0] > 1.0
+    assert get_motion("run_up_stairs_01", flight=False).stairs == 0 and get_motion("run_up_stairs_01").stairs == 1
