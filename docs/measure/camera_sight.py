@@ -24,7 +24,7 @@ import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
-from phav_generator.physics.plan.camera import Blocker, sees, sight_boxes, stands_free, view_blockers
+from phav_generator.physics.plan.camera import Blocker, collider_blockers, sees, sight_boxes, stands_free
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate_plan
 from phav_generator.render.camera import project
@@ -52,7 +52,7 @@ def main() -> None:
         plan = plan_scene(recipe)
         tr = simulate_plan(plan, keep_state=False)
         colliders = (*ENVIRONMENT_SCENES[recipe.environment.name].colliders, *plan.boxes)
-        statics = list(zip((c.pixel_class for c in colliders), view_blockers(colliders, (), ()), strict=True))
+        statics = [(c.pixel_class, blocker) for c in colliders for blocker in collider_blockers(c)]
         loose = {p.name for p in plan.props if stands_free(p)}
         props = [t for t in tr.props if t.name in loose]
         planned = {p.name: p for p in plan.props}

@@ -303,13 +303,33 @@ def sight_plants(colliders: Sequence[Collider]) -> tuple[Blocker, ...]:
     return tuple(Blocker.turned(c.center, c.half_size, c.yaw_deg) for c in colliders if c.pixel_class == "vegetation")
 
 
+def collider_blockers(c: Collider | StaticBox) -> tuple[Blocker, ...]:
+    """What of a static collider or an action's box can hide the protagonist: the bounds of
+    each hull it collides as (a parked car's body below the belt, its greenhouse, its
+    bumpers: not the air over its hood), or its box."""
+    hulls = getattr(c, "hulls", ())
+    if not hulls:
+        return (Blocker.turned(c.center, c.half_size, c.yaw_deg),)
+    cos, sin = math.cos(math.radians(c.yaw_deg)), math.sin(math.radians(c.yaw_deg))
+    out = []
+    for corners in hulls:
+        lo = [min(q[k] for q in corners) for k in range(3)]
+        hi = [max(q[k] for q in corners) for k in range(3)]
+        lx, ly, lz = ((a + b) / 2.0 for a, b in zip(lo, hi, strict=True))
+        half = tuple((b - a) / 2.0 for a, b in zip(lo, hi, strict=True))
+        centre = (c.center[0] + lx * cos - ly * sin, c.center[1] + lx * sin + ly * cos, c.center[2] + lz)
+        out.append(Blocker.turned(centre, half, c.yaw_deg))
+    return tuple(out)
+
+
 def view_blockers(
     colliders: Sequence[Collider], boxes: Sequence[StaticBox], props: Sequence[PropPlan]
 ) -> tuple[Blocker, ...]:
-    """What can hide the protagonist from a camera's start: the environment's colliders, the
-    action's static boxes and every prop no one holds (a door's leaf, a pushed load, a car)
-    at its first pose, as the boxes a spring camera rises over (``sight_boxes``)."""
-    out = [Blocker.turned(c.center, c.half_size, c.yaw_deg) for c in (*colliders, *boxes)]
+    """What can hide the protagonist from a camera's start: the environment's colliders (a
+    parked car as its hulls, ``collider_blockers``), the action's static boxes and every
+    prop no one holds (a door's leaf, a pushed load, a car) at its first pose, as the boxes
+    a spring camera rises over (``sight_boxes``)."""
+    out = [blocker for c in (*colliders, *boxes) for blocker in collider_blockers(c)]
     for prop in filter(stands_free, props):
         rot = quat_to_matrix(np.asarray(prop.quat, dtype=np.float64))
         for c, half in sight_boxes(prop):

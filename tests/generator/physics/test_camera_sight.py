@@ -21,6 +21,7 @@ from phav_generator.physics.plan.camera import (
     SIGHT_TURNS_DEG,
     Blocker,
     clear_camera_start,
+    collider_blockers,
     driven_lanes,
     hidden,
     sees,
@@ -34,6 +35,7 @@ from phav_generator.physics.recording import IN_VIEW_SHARE, keep_in_view
 from phav_generator.physics.simulate import simulate_plan
 from phav_generator.render.camera import project
 from phav_generator.sampling import RecipeSampler, sample_recipes
+from phav_spec.car_shapes import car_profile
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import load_preset
 from tests.generator.physics.support import theta_for
@@ -341,3 +343,20 @@ def test_a_runner_passing_under_the_kite_stays_in_the_frame() -> None:
         assert 0 <= u < recipe.video.width and 0 <= v < recipe.video.height, f"frame {f}: pelvis at {u:.0f}, {v:.0f}"
         axis, to = -tr.cam_to_world[f, :3, 2], pelvis[f] - tr.cam_to_world[f, :3, 3]
         assert math.acos(min(1.0, axis @ to / np.linalg.norm(to))) <= limit + 1e-6
+
+
+def test_a_parked_car_hides_a_view_as_its_solids_not_its_box() -> None:
+    """A line over a parked car's hood, under its roof, is not hidden: the car hides the view
+    as the bounds of the hulls it collides as (``collider_blockers``), as a driven car does."""
+    for car in (c for env in ("urban", "middle") for c in ENVIRONMENT_SCENES[env].colliders if c.model):
+        blockers = collider_blockers(car)
+        assert len(blockers) == len(car.hulls)
+        outline = car_profile(car.model, car.half_size)
+        x, z = (outline.front + outline.windscreen) / 2.0, (outline.belt + outline.roof) / 2.0
+        yaw = np.radians(car.yaw_deg)
+        turn = np.array([[np.cos(yaw), -np.sin(yaw), 0.0], [np.sin(yaw), np.cos(yaw), 0.0], [0.0, 0.0, 1.0]])
+        over_hood = [tuple(np.asarray(car.center) + turn @ (x, y, z)) for y in (-3.0, 3.0)]
+        through_body = [tuple(np.asarray(car.center) + turn @ (0.0, y, outline.belt - 0.2)) for y in (-3.0, 3.0)]
+        assert Blocker.turned(car.center, car.half_size, car.yaw_deg).crosses(*over_hood)
+        assert not any(b.crosses(*over_hood) for b in blockers)
+        assert any(b.crosses(*through_body) for b in blockers)
