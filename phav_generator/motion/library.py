@@ -9,7 +9,8 @@ Users bring their own clips (``bvh.bvh_motion``) through a separate registry:
 ``register_motion`` adds one, ``unregister_motion`` takes it away again. ``get_motion``
 looks a name up among the registered clips first (a clip registered with ``replace=True``
 stands in for a built-in of the same name), then in the library it is given, the built-ins
-by default; asked for a stairs take where no flight is built, it gives ``LEVEL_MOTIONS``'.
+by default; asked for a stairs take where no flight is built, it gives the take's
+``LEVEL_MOTIONS`` entry.
 """
 
 from __future__ import annotations
