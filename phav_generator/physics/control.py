@@ -368,9 +368,8 @@ class SimulationRun:
         for geom, boxes in self.sight_boxes:
             rot = d.geom_xmat[geom].reshape(3, 3)
             r, pos = rot.tolist(), d.geom_xpos[geom].tolist()
-            for centre, half in boxes:
+            for c, half in boxes:
                 # In Python floats, as Blocker's own sums: the same lift whatever the BLAS.
-                c = centre.tolist()
                 at = [pos[i] + r[i][0] * c[0] + r[i][1] * c[1] + r[i][2] * c[2] for i in range(3)]
                 box = Blocker.of(at, half, rot)
                 lift = max(lift, sight_lift(eye, anchor, box, CAMERA_SIGHT_MARGIN_M))

@@ -166,19 +166,28 @@ def sight_lift(eye: Sequence[float], target: Sequence[float], blocker: Blocker, 
     return max((over - (a[2] + t * (end[2] - a[2]))) / max(1.0 - t, SIGHT_LEVER_MIN) for t in span)
 
 
-def sight_boxes(prop: PropPlan) -> tuple[tuple[np.ndarray, tuple[float, float, float]], ...]:
+def sight_boxes(prop: PropPlan) -> tuple[tuple[tuple[float, float, float], tuple[float, float, float]], ...]:
     """The boxes (centre, half size, in its shape's frame) of a prop that can stand between
     a camera and the protagonist: the bounds of each convex hull it collides as (a car's
     body below the belt, its greenhouse, its bumpers), or its box; a car's one box reaches
     its roof over the hood, where a body thrown onto it is in plain view."""
     if not prop.hulls:
-        return ((np.zeros(3), tuple(float(v) for v in prop.size[:3])),)
+        return (((0.0, 0.0, 0.0), tuple(float(v) for v in prop.size[:3])),)  # type: ignore[return-value]
+    return hull_bounds(prop.hulls)
+
+
+def hull_bounds(
+    hulls: Sequence[Sequence[Sequence[float]]],
+) -> tuple[tuple[tuple[float, float, float], tuple[float, float, float]], ...]:
+    """Each convex hull's bounds (centre, half size) in the frame its corners are given in,
+    in Python floats."""
     out = []
-    for corners in prop.hulls:
-        c = np.asarray(corners, dtype=np.float64)
-        lo, hi = c.min(axis=0), c.max(axis=0)
-        out.append(((lo + hi) / 2.0, tuple(float(v) for v in (hi - lo) / 2.0)))
-    return tuple(out)
+    for corners in hulls:
+        lo = [min(float(q[k]) for q in corners) for k in range(3)]
+        hi = [max(float(q[k]) for q in corners) for k in range(3)]
+        centre = tuple((a + b) / 2.0 for a, b in zip(lo, hi, strict=True))
+        out.append((centre, tuple((b - a) / 2.0 for a, b in zip(lo, hi, strict=True))))
+    return tuple(out)  # type: ignore[arg-type]
 
 
 def stands_free(prop: PropPlan) -> bool:
@@ -312,11 +321,7 @@ def collider_blockers(c: Collider | StaticBox) -> tuple[Blocker, ...]:
         return (Blocker.turned(c.center, c.half_size, c.yaw_deg),)
     cos, sin = math.cos(math.radians(c.yaw_deg)), math.sin(math.radians(c.yaw_deg))
     out = []
-    for corners in hulls:
-        lo = [min(q[k] for q in corners) for k in range(3)]
-        hi = [max(q[k] for q in corners) for k in range(3)]
-        lx, ly, lz = ((a + b) / 2.0 for a, b in zip(lo, hi, strict=True))
-        half = tuple((b - a) / 2.0 for a, b in zip(lo, hi, strict=True))
+    for (lx, ly, lz), half in hull_bounds(hulls):
         centre = (c.center[0] + lx * cos - ly * sin, c.center[1] + lx * sin + ly * cos, c.center[2] + lz)
         out.append(Blocker.turned(centre, half, c.yaw_deg))
     return tuple(out)

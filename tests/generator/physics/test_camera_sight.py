@@ -180,7 +180,7 @@ def test_a_car_stands_in_the_camera_s_line_as_the_solids_it_collides_as() -> Non
     assert greenhouse[1][0] < size[0] - 0.4  # the cabin, not bumper to bumper
     (door,) = plan_scene(_phav_v1(24)).props  # a prop without hulls stands in the line as its box
     ((centre, half),) = sight_boxes(door)
-    assert np.all(centre == 0.0) and half == tuple(float(v) for v in door.size[:3])
+    assert np.all(np.asarray(centre) == 0.0) and half == tuple(float(v) for v in door.size[:3])
 
 
 def test_a_kite_rises_over_the_car_stopped_between_it_and_the_thrown_body() -> None:
