@@ -9,6 +9,7 @@ import numpy as np
 
 from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
+from phav_generator.physics.plan.obstacles import first_contact
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
 from phav_spec.car_shapes import car_body, car_hulls, car_profile
 from phav_spec.scene import ENVIRONMENT_SCENES, MAX_STEP_M, Collider, support_height, walkable_heights
@@ -36,9 +37,6 @@ CAR_TURNS_DEG = (0.0, *(sign * 15.0 * k for k in range(1, 12) for sign in (1.0, 
 CAR_EARLIER_HIT_S = 0.25
 #: ... but no earlier than this (s), the least time to see the car come.
 CAR_EARLIEST_HIT_S = 0.5
-#: How near (m) the protagonist's planned pelvis may come to a collider in its way before
-#: the hit must come first.
-CAR_PERSON_ROOM_M = 0.3
 #: Colliders whose top lies within this (m) of the ground the car drives on carry it.
 CAR_SUPPORT_TOLERANCE_M = 0.02
 
@@ -58,7 +56,7 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     heading = np.deg2rad(b.recipe.protagonist.heading_deg)
     half = np.array([2.1, 0.9, 0.7])
     ground = b.recipe.protagonist.position[2]
-    way = _approach(b, p.targets.root_pos, Approach(heading, speed, speed * t_hit, t_hit, ground), side, half)
+    way = _approach(b, p, Approach(heading, speed, speed * t_hit, t_hit, ground), side, half)
     speed, t_hit, ground = way.speed, way.t_hit, way.ground
     pelvis = p.targets.root_pos[min(int(np.searchsorted(b.times, t_hit)), n - 1)]
     across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
@@ -95,7 +93,7 @@ class Approach:
     ahead: float = math.inf
 
 
-def _approach(b: PlanBuilder, root_pos: np.ndarray, drawn: Approach, side: float, half: np.ndarray) -> Approach:
+def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half: np.ndarray) -> Approach:
     """The way the car comes, for the drawn one: the first hit time (the drawn one, then
     earlier) and direction (``CAR_TURNS_DEG``) from which it can drive at its speed from the
     clip's start, hit and brake to a stop without meeting a collider; else the first whose
@@ -109,7 +107,8 @@ def _approach(b: PlanBuilder, root_pos: np.ndarray, drawn: Approach, side: float
     earliest = min(CAR_EARLIEST_HIT_S, drawn.t_hit)
     # Not after the protagonist's planned way meets something it cannot pass (it would stand
     # against it, not where the car aims), then the drawn time, then earlier.
-    latest = max(min(drawn.t_hit, _free_until(b, root_pos, drawn.ground)), earliest)
+    latest = max(min(drawn.t_hit, _free_until(b, p, drawn.ground)), earliest)
+    root_pos = p.targets.root_pos
     hits = [latest - k * CAR_EARLIER_HIT_S for k in range(int((latest - earliest) / CAR_EARLIER_HIT_S) + 1)]
     ways = []
     for t_hit in hits:
@@ -139,21 +138,15 @@ def _approach(b: PlanBuilder, root_pos: np.ndarray, drawn: Approach, side: float
     return Approach(turned, v, min(back, v * t_hit), t_hit, ground, max(ahead, 0.0))
 
 
-def _free_until(b: PlanBuilder, root_pos: np.ndarray, ground: float) -> float:
-    """Until when (s) the protagonist's planned pelvis keeps ``CAR_PERSON_ROOM_M`` from every
-    collider that stands in a person's way (``ground`` + 0.2 m to head height), and over
-    ground at the height it started on; the clip's end where it always does."""
-    env = b.recipe.environment.name
-    x, y = root_pos[:, 0], root_pos[:, 1]
-    blocked = np.zeros(len(root_pos), dtype=bool)
-    for c in ENVIRONMENT_SCENES[env].colliders:
-        if c.top > ground + 0.2 and c.bottom < ground + 1.8:
-            gx, gy = c.xy_gaps(x, y)
-            blocked |= gx * gx + gy * gy < CAR_PERSON_ROOM_M * CAR_PERSON_ROOM_M
-    heights = walkable_heights(env, x, y, ground + MAX_STEP_M)
-    blocked |= np.abs(heights - ground) > CAR_SUPPORT_TOLERANCE_M
-    first = np.flatnonzero(blocked)
-    return float(b.times[first[0]]) - CAR_EARLIER_HIT_S if first.size else float(b.times[-1])
+def _free_until(b: PlanBuilder, p: PersonPlan, ground: float) -> float:
+    """Until when (s) the protagonist's planned body keeps clear of the obstacles it would
+    run into (``obstacles.first_contact``) and over ground at the height it started on, less
+    ``CAR_EARLIER_HIT_S``; the clip's end where it always does."""
+    root = p.targets.root_pos
+    heights = walkable_heights(b.recipe.environment.name, root[:, 0], root[:, 1], ground + MAX_STEP_M)
+    off = np.flatnonzero(np.abs(heights - ground) > CAR_SUPPORT_TOLERANCE_M)
+    steps = [int(k) for k in (first_contact(b, p), off[0] if off.size else None) if k is not None]
+    return float(b.times[min(steps)]) - CAR_EARLIER_HIT_S if steps else float(b.times[-1])
 
 
 def _run(way: Approach, times: np.ndarray) -> np.ndarray:
