@@ -24,6 +24,8 @@ CAR_LOOK_STREAM = "world/car"
 CAR_BRAKING_MPS2 = 8.0
 #: How far (m) past the planned hit the car may touch first (a body moving on ahead of it).
 CAR_LATE_TOUCH_M = 1.0
+#: How far (m) the car's front (its bumper) is from the pelvis at the planned hit.
+CAR_HIT_GAP_M = 0.15
 #: How hard (m/s²) the car may speed up from a standstill where the way behind it is too
 #: short to arrive at its speed from the clip's start: a brisk car, 0–100 km/h in 8 s.
 CAR_ACCELERATION_MPS2 = 3.5
@@ -58,10 +60,12 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     ground = b.recipe.protagonist.position[2]
     way = _approach(b, p, Approach(heading, speed, speed * t_hit, t_hit, ground), side, half)
     speed, t_hit, ground = way.speed, way.t_hit, way.ground
-    pelvis = p.targets.root_pos[min(int(np.searchsorted(b.times, t_hit)), n - 1)]
+    pelvis = _pelvis_at(b, p, t_hit)
     across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
     # The car's front reaches the pelvis at t_hit; then it brakes once it has touched.
-    centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + CAR_CLEARANCE_M]) + across * (half[0] + 0.15)
+    centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + CAR_CLEARANCE_M]) + across * (
+        half[0] + CAR_HIT_GAP_M
+    )
     path = centre_hit[None, :] - across[None, :] * _run(way, b.times)[:, None]
     yaw = way.heading + side * math.pi / 2 + math.pi
     quat = rot_to_quat(yaw_matrix(yaw))
@@ -108,11 +112,11 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
     # Not after the protagonist's planned way meets something it cannot pass (it would stand
     # against it, not where the car aims), then the drawn time, then earlier.
     latest = max(min(drawn.t_hit, _free_until(b, p, drawn.ground)), earliest)
-    root_pos = p.targets.root_pos
     hits = [latest - k * CAR_EARLIER_HIT_S for k in range(int((latest - earliest) / CAR_EARLIER_HIT_S) + 1)]
+    reach_m = half[0] + CAR_HIT_GAP_M  # from the pelvis to the car's centre at the hit
     ways = []
     for t_hit in hits:
-        pelvis = root_pos[min(int(np.searchsorted(b.times, t_hit)), len(b.times) - 1)]
+        pelvis = _pelvis_at(b, p, t_hit)
         # The ground under the protagonist then: off a plaza they walked from, the street's.
         ground = support_height(env, float(pelvis[0]), float(pelvis[1]), reference_z=drawn.ground)
         raised = ground > scene.ground_z + CAR_SUPPORT_TOLERANCE_M
@@ -120,7 +124,7 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
         for turn in CAR_TURNS_DEG:
             turned = drawn.heading + side * math.radians(turn)
             across = yaw_matrix(turned) @ np.array([0.0, side, 0.0])
-            centre = (float(pelvis[0] + across[0] * (half[0] + 0.15)), float(pelvis[1] + across[1] * (half[0] + 0.15)))
+            centre = (float(pelvis[0] + across[0] * reach_m), float(pelvis[1] + across[1] * reach_m))
             back, ahead = clear_run(scene.colliders, centre, (-float(across[0]), -float(across[1])), tuple(half),
                                     ground + CAR_CLEARANCE_M, ground, raised=raised)  # fmt: skip
             runs.append((turned, back, ahead))
@@ -136,6 +140,11 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
         return drawn  # hemmed in all round: square across, as drawn
     v = min(speed, math.sqrt(2.0 * CAR_ACCELERATION_MPS2 * back))
     return Approach(turned, v, min(back, v * t_hit), t_hit, ground, max(ahead, 0.0))
+
+
+def _pelvis_at(b: PlanBuilder, p: PersonPlan, t: float) -> np.ndarray:
+    """Where ``p``'s planned pelvis is at time ``t`` (the first plan step at or after it)."""
+    return p.targets.root_pos[min(int(np.searchsorted(b.times, t)), len(b.times) - 1)]
 
 
 def _free_until(b: PlanBuilder, p: PersonPlan, ground: float) -> float:
