@@ -298,6 +298,24 @@ def _cubic_at(grid: np.ndarray, y: np.ndarray, times: np.ndarray) -> np.ndarray:
     return hermite(grid, y, slopes, times)
 
 
+def _continuous_signs(quat: np.ndarray) -> np.ndarray:
+    """Quaternions (T, 4) with each sample's sign flipped to agree with the one before it
+    (q and −q are one rotation), so interpolating between them takes the short way."""
+    quat = quat.copy()
+    flips = np.sign(np.einsum("ij,ij->i", quat[1:], quat[:-1]))
+    quat[1:] *= np.cumprod(np.where(flips == 0, 1.0, flips))[:, None]
+    return quat
+
+
+def resample(pose: Pose, times: np.ndarray, at: np.ndarray) -> Pose:
+    """``pose``, sampled at the uniform ``times``, at the times ``at`` (within them): the
+    same C1 cubics as ``smooth_targets``, so a pose played back at another clock stays as
+    smooth as it was."""
+    quat_t = _cubic_at(times, _continuous_signs(pose.root_quat), at)
+    quat_t /= np.linalg.norm(quat_t, axis=1, keepdims=True)
+    return Pose(_cubic_at(times, pose.root_pos, at), quat_t, clamp_to_limits(_cubic_at(times, pose.q, at)))
+
+
 def smooth_targets(
     pose_at: Callable[[np.ndarray], Pose],
     times: np.ndarray,
@@ -320,10 +338,7 @@ def smooth_targets(
     q = gaussian_smooth(pose.q, sigma)
     root_pos = gaussian_smooth(pose.root_pos, sigma)
     # Quaternions: make consecutive samples agree in sign, smooth, renormalise.
-    quat = pose.root_quat.copy()
-    flips = np.sign(np.einsum("ij,ij->i", quat[1:], quat[:-1]))
-    quat[1:] *= np.cumprod(np.where(flips == 0, 1.0, flips))[:, None]
-    quat = gaussian_smooth(quat, sigma)
+    quat = gaussian_smooth(_continuous_signs(pose.root_quat), sigma)
     q_t = clamp_to_limits(_cubic_at(grid, q, times))
     pos_t = _cubic_at(grid, root_pos, times)
     quat_t = _cubic_at(grid, quat, times)

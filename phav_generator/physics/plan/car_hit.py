@@ -9,10 +9,10 @@ import numpy as np
 
 from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat, uniform
-from phav_generator.physics.plan.obstacles import first_contact
+from phav_generator.physics.plan.obstacles import SUPPORT_TOLERANCE_M, clear_run, first_contact
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan
 from phav_spec.car_shapes import car_body, car_hulls, car_profile
-from phav_spec.scene import ENVIRONMENT_SCENES, MAX_STEP_M, Collider, support_height, walkable_heights
+from phav_spec.scene import ENVIRONMENT_SCENES, MAX_STEP_M, support_height, walkable_heights
 from phav_spec.seeding import stream
 from phav_spec.vocab import OBJECTS
 
@@ -39,8 +39,6 @@ CAR_TURNS_DEG = (0.0, *(sign * 15.0 * k for k in range(1, 12) for sign in (1.0, 
 CAR_EARLIER_HIT_S = 0.25
 #: ... but no earlier than this (s), the least time to see the car come.
 CAR_EARLIEST_HIT_S = 0.5
-#: Colliders whose top lies within this (m) of the ground the car drives on carry it.
-CAR_SUPPORT_TOLERANCE_M = 0.02
 
 
 def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
@@ -119,7 +117,7 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
         pelvis = _pelvis_at(b, p, t_hit)
         # The ground under the protagonist then: off a plaza they walked from, the street's.
         ground = support_height(env, float(pelvis[0]), float(pelvis[1]), reference_z=drawn.ground)
-        raised = ground > scene.ground_z + CAR_SUPPORT_TOLERANCE_M
+        raised = ground > scene.ground_z + SUPPORT_TOLERANCE_M
         runs = []
         for turn in CAR_TURNS_DEG:
             turned = drawn.heading + side * math.radians(turn)
@@ -153,7 +151,7 @@ def _free_until(b: PlanBuilder, p: PersonPlan, ground: float) -> float:
     ``CAR_EARLIER_HIT_S``; the clip's end where it always does."""
     root = p.targets.root_pos
     heights = walkable_heights(b.recipe.environment.name, root[:, 0], root[:, 1], ground + MAX_STEP_M)
-    off = np.flatnonzero(np.abs(heights - ground) > CAR_SUPPORT_TOLERANCE_M)
+    off = np.flatnonzero(np.abs(heights - ground) > SUPPORT_TOLERANCE_M)
     steps = [int(k) for k in (first_contact(b, p), off[0] if off.size else None) if k is not None]
     return float(b.times[min(steps)]) - CAR_EARLIER_HIT_S if steps else float(b.times[-1])
 
@@ -180,75 +178,3 @@ def _run(way: Approach, times: np.ndarray) -> np.ndarray:
         a = (v - u) / t_hit
     dt = np.clip(times - t0, 0.0, None)
     return np.where(times < t_hit, -s0 + u * dt + 0.5 * a * dt**2, after)
-
-
-def clear_run(
-    colliders: tuple[Collider, ...], centre: tuple[float, float], travel: tuple[float, float],
-    half: tuple[float, float, float], bottom: float, ground: float, *, raised: bool,
-) -> tuple[float, float]:  # fmt: skip
-    """How far (m) a box of ``half`` extents, its bottom at height ``bottom`` and centred on
-    ``centre`` seen from above, can slide back against the unit ``travel`` direction and on
-    along it before it meets a collider (or, on ``raised`` ground, leaves the colliders whose
-    top is ``ground``); −inf both ways where it meets one where it stands. In Python floats:
-    the car's way cannot depend on the machine's vector kernels."""
-    hx, hy, hz = (float(h) for h in half)
-    top = bottom + 2.0 * hz
-    back = ahead = math.inf
-    carried: list[tuple[list[tuple[float, float]], ...]] = []
-    for c in colliders:
-        corners = [_along(p, centre, travel) for p in c.footprint()]
-        if raised and abs(c.top - ground) <= CAR_SUPPORT_TOLERANCE_M:
-            carried.append(tuple(_band(corners, w - 1e-6, w + 1e-6) for w in (-hy, 0.0, hy)))
-        if c.top <= bottom or c.bottom >= top:
-            continue
-        inside = _band(corners, -hy, hy)
-        if not inside:
-            continue
-        lo, hi = min(u for u, _ in inside), max(u for u, _ in inside)
-        if lo < hx and hi > -hx:
-            return -math.inf, -math.inf
-        if hi <= -hx:
-            back = min(back, -hi - hx)
-        else:
-            ahead = min(ahead, lo - hx)
-    if raised:
-        # Each of the car's sides and its middle line stays over the ground it drives on.
-        for line in range(3):
-            spans = sorted(
-                (min(u for u, _ in part), max(u for u, _ in part)) for parts in carried if (part := parts[line])
-            )
-            merged: list[list[float]] = []
-            for a, b in spans:
-                if merged and a <= merged[-1][1] + CAR_SUPPORT_TOLERANCE_M:
-                    merged[-1][1] = max(merged[-1][1], b)
-                else:
-                    merged.append([a, b])
-            under = [(a, b) for a, b in merged if a <= -hx and b >= hx]
-            if not under:
-                return -math.inf, -math.inf
-            back, ahead = min(back, -under[0][0] - hx), min(ahead, under[0][1] - hx)
-    return back, ahead
-
-
-def _along(point: tuple[float, float], centre: tuple[float, float], travel: tuple[float, float]) -> tuple[float, float]:
-    """``point`` in the car's frame seen from above: (along ``travel``, across it to the left)."""
-    dx, dy = point[0] - centre[0], point[1] - centre[1]
-    return dx * travel[0] + dy * travel[1], -dx * travel[1] + dy * travel[0]
-
-
-def _band(polygon: list[tuple[float, float]], lo: float, hi: float) -> list[tuple[float, float]]:
-    """The convex ``polygon`` clipped to the band lo ≤ across ≤ hi (Sutherland–Hodgman)."""
-    out = polygon
-    for bound, keep in ((lo, 1.0), (hi, -1.0)):
-        points, out = out, []
-        for k, (u, w) in enumerate(points):
-            pu, pw = points[k - 1]
-            now, before = keep * (w - bound) >= 0.0, keep * (pw - bound) >= 0.0
-            if now != before:
-                f = (bound - pw) / (w - pw)
-                out.append((pu + f * (u - pu), bound))
-            if now:
-                out.append((u, w))
-        if not out:
-            return []
-    return out

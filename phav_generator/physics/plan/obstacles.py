@@ -1,4 +1,5 @@
-"""A person whose animated path runs into an obstacle is let go as its body reaches it.
+"""What stands in the way: a person whose animated path runs into an obstacle is let go as
+its body reaches it, and a driven box (a car, a pushed load) slides only as far as it is clear.
 
 The pins and muscles follow the motion wherever it goes; where it goes through a building
 or a planter, they drive the body into the box until MuJoCo throws it out (a joint at 20 to
@@ -7,6 +8,8 @@ body meets it as a ragdoll: it hits or trips, falls and stays outside.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -26,6 +29,8 @@ STEP_OVER_M = 0.3
 #: How long before the body reaches an obstacle it is let go (s): the release ramps over
 #: ``people.RELEASE_RAMP_S``, done by the time of contact.
 LEAD_S = 0.1
+#: Colliders whose top lies within this (m) of the ground a driven prop moves on carry it.
+SUPPORT_TOLERANCE_M = 0.02
 
 
 def obstacles(environment: str) -> list[Collider]:
@@ -61,3 +66,76 @@ def let_go_at_obstacles(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     if step is None:
         return p
     return release(p, b.times, max(float(b.times[step]) - LEAD_S, 0.0))
+
+
+def clear_run(
+    colliders: tuple[Collider, ...], centre: tuple[float, float], travel: tuple[float, float],
+    half: tuple[float, float, float], bottom: float, ground: float, *, raised: bool,
+) -> tuple[float, float]:  # fmt: skip
+    """How far (m) a box of ``half`` extents, its bottom at height ``bottom`` and centred on
+    ``centre`` seen from above, can slide back against the unit ``travel`` direction and on
+    along it before it meets a collider (or, on ``raised`` ground, leaves the colliders whose
+    top is ``ground``); −inf both ways where it meets one where it stands. In Python floats:
+    a driven prop's way (a car's, a pushed load's) cannot depend on the machine's vector
+    kernels."""
+    hx, hy, hz = (float(h) for h in half)
+    top = bottom + 2.0 * hz
+    back = ahead = math.inf
+    carried: list[tuple[list[tuple[float, float]], ...]] = []
+    for c in colliders:
+        corners = [_along(p, centre, travel) for p in c.footprint()]
+        if raised and abs(c.top - ground) <= SUPPORT_TOLERANCE_M:
+            carried.append(tuple(_band(corners, w - 1e-6, w + 1e-6) for w in (-hy, 0.0, hy)))
+        if c.top <= bottom or c.bottom >= top:
+            continue
+        inside = _band(corners, -hy, hy)
+        if not inside:
+            continue
+        lo, hi = min(u for u, _ in inside), max(u for u, _ in inside)
+        if lo < hx and hi > -hx:
+            return -math.inf, -math.inf
+        if hi <= -hx:
+            back = min(back, -hi - hx)
+        else:
+            ahead = min(ahead, lo - hx)
+    if raised:
+        # Each of the car's sides and its middle line stays over the ground it drives on.
+        for line in range(3):
+            spans = sorted(
+                (min(u for u, _ in part), max(u for u, _ in part)) for parts in carried if (part := parts[line])
+            )
+            merged: list[list[float]] = []
+            for a, b in spans:
+                if merged and a <= merged[-1][1] + SUPPORT_TOLERANCE_M:
+                    merged[-1][1] = max(merged[-1][1], b)
+                else:
+                    merged.append([a, b])
+            under = [(a, b) for a, b in merged if a <= -hx and b >= hx]
+            if not under:
+                return -math.inf, -math.inf
+            back, ahead = min(back, -under[0][0] - hx), min(ahead, under[0][1] - hx)
+    return back, ahead
+
+
+def _along(point: tuple[float, float], centre: tuple[float, float], travel: tuple[float, float]) -> tuple[float, float]:
+    """``point`` in the sliding box's frame seen from above: (along ``travel``, across it to the left)."""
+    dx, dy = point[0] - centre[0], point[1] - centre[1]
+    return dx * travel[0] + dy * travel[1], -dx * travel[1] + dy * travel[0]
+
+
+def _band(polygon: list[tuple[float, float]], lo: float, hi: float) -> list[tuple[float, float]]:
+    """The convex ``polygon`` clipped to the band lo ≤ across ≤ hi (Sutherland–Hodgman)."""
+    out = polygon
+    for bound, keep in ((lo, 1.0), (hi, -1.0)):
+        points, out = out, []
+        for k, (u, w) in enumerate(points):
+            pu, pw = points[k - 1]
+            now, before = keep * (w - bound) >= 0.0, keep * (pw - bound) >= 0.0
+            if now != before:
+                f = (bound - pw) / (w - pw)
+                out.append((pu + f * (u - pu), bound))
+            if now:
+                out.append((u, w))
+        if not out:
+            return []
+    return out

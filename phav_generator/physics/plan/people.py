@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from phav_generator.body.model import rest_body
-from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params, smooth_targets
+from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params, resample, smooth_targets
 from phav_generator.motion.library import get_motion
 from phav_generator.motion.skeleton import BodyDims, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
@@ -20,6 +20,8 @@ from phav_spec.vocab import MUSCLES
 RELEASED_STRENGTH = 0.15
 #: Seconds over which a release lets the pins and muscles go.
 RELEASE_RAMP_S = 0.1
+#: Seconds over which a halted motion slows from its pace to a standstill.
+HALT_RAMP_S = 0.5
 
 
 def animate_person(
@@ -90,3 +92,17 @@ def release(person: PersonPlan, times: np.ndarray, t0: float, strength: float = 
     pin = person.pin * (1.0 - r)
     strengths = person.strengths * (1.0 - r[:, None]) + strength * r[:, None]
     return replace(person, pin=pin, strengths=np.minimum(person.strengths, strengths))
+
+
+def halt(person: PersonPlan, times: np.ndarray, t_stop: float) -> PersonPlan:
+    """``person``'s motion slowing evenly to a standstill (over ``HALT_RAMP_S``, less where
+    it stops sooner) so that it holds the pose it had at ``t_stop`` from then on: its
+    targets replayed on a clock whose pace falls from 1 to 0 (velocities stay continuous)."""
+    ramp = min(HALT_RAMP_S, 2.0 * t_stop)
+    if ramp <= 0.0:
+        clock = np.full_like(times, t_stop)
+    else:
+        t0 = t_stop - ramp / 2.0  # slowing down costs half the ramp's length of motion time
+        u = np.clip(times - t0, 0.0, ramp)
+        clock = np.where(times < t0, times, t0 + u - u * u / (2.0 * ramp))
+    return replace(person, targets=resample(person.targets, times, clock))

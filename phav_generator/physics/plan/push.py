@@ -1,5 +1,5 @@
-"""What a push pushes: a box or a shopping cart driven ahead of the fingertips, or a hinged
-door in its frame."""
+"""What a push pushes: a box or a shopping cart driven ahead of the fingertips, stopping
+(and its pusher with it) at what stands in its way, or a hinged door in its frame."""
 
 from __future__ import annotations
 
@@ -10,9 +10,11 @@ import numpy as np
 from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat
-from phav_generator.physics.plan.people import body_poses
+from phav_generator.physics.plan.obstacles import SUPPORT_TOLERANCE_M, clear_run
+from phav_generator.physics.plan.people import body_poses, halt
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan, StaticBox
 from phav_spec.motions import MOTIONS
+from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.vocab import OBJECTS
 
 #: The hands that push, right first.
@@ -24,18 +26,21 @@ DOOR_WIDTH_M = 1.0
 DOOR_HEIGHT_M = 2.0
 
 
+#: How far (m) short of what stands in its way a pushed load stops: touching, not pressing.
+LOAD_STOP_GAP_M = 0.02
 #: A cart's basket floats this far (m) above the ground: its castors fill the gap.
 CART_CLEARANCE_M = 0.15
 
 
-def push_target(b: PlanBuilder, p: PersonPlan) -> None:
-    """What a push motion pushes, by its description: a door, a shopping cart, else a box."""
+def push_target(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
+    """What a push motion pushes, by its description: a door, a shopping cart, else a box;
+    the pusher as planned, halted where a load meets something it cannot pass."""
     motion = b.recipe.motion.base_motion
     description = MOTIONS[motion].description if motion in MOTIONS else ""
     if "door" in description:
         _door(b, p)
-    else:
-        _pushed_load(b, p, "shopping_cart" if "cart" in description else "box")
+        return p
+    return _pushed_load(b, p, "shopping_cart" if "cart" in description else "box")
 
 
 def hand_reach(b: PlanBuilder, p: PersonPlan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -53,13 +58,14 @@ def hand_reach(b: PlanBuilder, p: PersonPlan) -> tuple[np.ndarray, np.ndarray, n
     return fwd, left, np.stack(tips, axis=1)
 
 
-def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> None:
-    """A box or cart just beyond the fingertips, driven forward as far as they have pushed it."""
+def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> PersonPlan:
+    """A box or cart just beyond the fingertips, driven forward as far as they have pushed
+    it. Where that would drive it into a collider (or off the raised ground it stands on),
+    it stops ``LOAD_STOP_GAP_M`` short and the pusher's motion halts as the hands get there."""
     fwd, left, tips = hand_reach(b, p)
     x0 = np.array(b.recipe.protagonist.position, dtype=np.float64)
     ground = x0[2] + b.stand_offset_z
-    # The load never comes back towards the hands: it stays where the furthest push left it.
-    reach = np.maximum.accumulate(np.max((tips - x0) @ fwd, axis=1)) + PUSH_GAP_M
+    reach = _reach(tips, x0, fwd)
     lateral = float(np.mean((tips - x0) @ left))
     hand_z = float(np.median(tips[..., 2])) - ground
     if obj == "box":  # a crate whose top stands just above the hands
@@ -68,6 +74,13 @@ def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> None:
     else:  # a cart's basket, its handle end at the hands
         half = (0.45, 0.28, max(0.2, (hand_z - 0.15) / 2))
         bottom = CART_CLEARANCE_M
+    start = x0 + (reach[0] + half[0]) * fwd + lateral * left
+    room = load_room(b, (float(start[0]), float(start[1])), (float(fwd[0]), float(fwd[1])), half[:2],
+                     ground + bottom + 2.0 * half[2], ground)  # fmt: skip
+    blocked = np.flatnonzero(reach - reach[0] > room)
+    if blocked.size:
+        p = halt(p, b.times, float(b.times[max(int(blocked[0]) - 1, 0)]))
+        reach = np.minimum(_reach(hand_reach(b, p)[2], x0, fwd), reach[0] + max(room, 0.0))
     path = x0 + (reach[:, None] + half[0]) * fwd + lateral * left
     path[:, 2] = ground + bottom + half[2]
     quat = rot_to_quat(yaw_matrix(np.deg2rad(b.recipe.protagonist.heading_deg)))
@@ -76,6 +89,32 @@ def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> None:
     if moving.size:
         t0, t1 = float(b.times[moving[0]]), float(b.times[moving[-1] + 1])
         b.manipulations.append(Manipulation(obj, p.person_id, "right_hand", "push", t0, t1))
+    return p
+
+
+def _reach(tips: np.ndarray, x0: np.ndarray, fwd: np.ndarray) -> np.ndarray:
+    """How far ahead of ``x0`` (m) the load's near face is at each step: just beyond the
+    furthest the fingertips have pushed so far (it never comes back towards the hands)."""
+    return np.maximum.accumulate(np.max((tips - x0) @ fwd, axis=1)) + PUSH_GAP_M
+
+
+def load_room(
+    b: PlanBuilder, centre: tuple[float, float], travel: tuple[float, float], half: tuple[float, float],
+    top: float, ground: float,
+) -> float:  # fmt: skip
+    """How far (m) a load of ``half`` extents seen from above, centred on ``centre`` and
+    standing on the ground at height ``ground`` (its wheels on it, a cart's) up to ``top``,
+    can be pushed along ``travel`` before it comes within ``LOAD_STOP_GAP_M`` of a collider
+    of the environment or a box the action built (a kerb too: it slides, it does not
+    climb), or leaves the raised ground it stands on (inf where nothing is in its way;
+    negative where it starts against one)."""
+    scene = ENVIRONMENT_SCENES[b.recipe.environment.name]
+    built = tuple(Collider(s.pixel_class, s.center, s.half_size, s.yaw_deg) for s in b.boxes)
+    raised = ground > scene.ground_z + SUPPORT_TOLERANCE_M
+    bottom = ground + SUPPORT_TOLERANCE_M
+    extent = (float(half[0]), float(half[1]), (top - bottom) / 2.0)
+    _, ahead = clear_run((*scene.colliders, *built), centre, travel, extent, bottom, ground, raised=raised)
+    return ahead - LOAD_STOP_GAP_M
 
 
 def _door(b: PlanBuilder, p: PersonPlan) -> None:

@@ -38,8 +38,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     """The simulation plan of a recipe (deterministic, pure)."""
     substeps = choose_substeps(recipe, physics_hz)
     b = PlanBuilder(recipe, substeps)
-    protagonist = _protagonist_rules(b, _protagonist(b))
-    _action_props(b, protagonist)
+    protagonist = _action_props(b, _protagonist_rules(b, _protagonist(b)))
     people = loosen_tied_arms([protagonist, *supporting_people(b, protagonist)], b.ties)
     people = [let_go_at_obstacles(b, person) for person in people]
     people = (*people, *background_people(b))
@@ -143,8 +142,9 @@ def _protagonist_rules(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     return p
 
 
-def _action_props(b: PlanBuilder, p: PersonPlan) -> None:
-    """The props the action itself uses, what a push pushes, and the objects variation's prop."""
+def _action_props(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
+    """The props the action itself uses, what a push pushes, and the objects variation's
+    prop; the protagonist as planned, halted where a pushed load stops."""
     r = b.recipe
     action = r.action
     scene = ACTION_SCENES[action]
@@ -172,9 +172,10 @@ def _action_props(b: PlanBuilder, p: PersonPlan) -> None:
         elif obj == "pull_up_bar":
             pull_up_bar(b, p)
     if action == "push":
-        push_target(b, p)
+        p = push_target(b, p)
     if r.variation.kind == "objects":
         hold(b, p, r.variation.object, free_hand(scene.necessary_muscles), name=f"{r.variation.object}_variation")
+    return p
 
 
 def _planned_obstacles(people: tuple[PersonPlan, ...], props: list[PropPlan], substeps: int) -> np.ndarray:

@@ -24,8 +24,8 @@ from phav_generator.physics.plan.car_hit import (
     CAR_LATE_TOUCH_M,
     Approach,
     _run,
-    clear_run,
 )
+from phav_generator.physics.plan.obstacles import clear_run
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate, simulate_plan
 from phav_generator.render.scene import drawn_vehicle
@@ -227,8 +227,10 @@ def test_the_car_never_drives_through_a_collider_or_off_its_ground(environment: 
 
 
 def test_the_way_measure_reports_the_car_s_way():
-    script = Path(__file__).parents[4] / "docs" / "measure" / "car_way.py"
+    script = Path(__file__).parents[4] / "docs" / "measure" / "driven_way.py"
     out = subprocess.run(
         [sys.executable, str(script), "--recipes", "2"], capture_output=True, text=True, check=True, env=cli_env()
     ).stdout
-    assert "2 car_hit videos (seed 7)" in out and "the car inside a collider: 0 videos, 0 frames" in out
+    assert (
+        "2 car_hit videos with a driven car (seed 7)" in out and "the car inside a collider: 0 videos, 0 frames" in out
+    )

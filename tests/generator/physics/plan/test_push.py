@@ -1,15 +1,26 @@
-"""Push: what a push pushes moves ahead of the hands, a door swings open."""
+"""Push: what a push pushes moves ahead of the hands and stops at what stands in its way
+(its pusher with it), a door swings open."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
+import mujoco
 import numpy as np
+import pytest
 
 from phav_generator.physics.plan.builder import PlanBuilder
+from phav_generator.physics.plan.people import HALT_RAMP_S, halt
 from phav_generator.physics.plan.push import hand_reach
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate
 from phav_generator.sampling import sample_recipes
-from tests.generator.physics.support import theta_for
+from phav_spec.scene import ENVIRONMENT_SCENES, support_height
+from phav_validators.checks.failures import BoxSet
+from tests.generator.physics.support import recipe_for, theta_for
+from tests.helpers import cli_env
 
 
 def _push_recipes() -> dict[str, object]:
@@ -47,3 +58,68 @@ def test_push_moves_what_it_pushes() -> None:
         near_face = (track.pos - x0) @ fwd - track.size[0]
         reach = ((tips[:: plan.substeps] - x0) @ fwd).max(axis=1)
         assert np.all(reach <= near_face + 1e-6), f"the hands reach into the {obj}"
+
+
+def test_a_halted_motion_slows_to_the_pose_it_had_then_and_holds_it() -> None:
+    recipe = recipe_for("walk", "simple", seconds=3.0)
+    plan = plan_scene(recipe)
+    person, times = plan.people[0], plan.step_times
+    t_stop = float(times[300])
+    halted = halt(person, times, t_stop).targets
+    before = times < t_stop - HALT_RAMP_S / 2
+    # As it was until it starts slowing down, then the pose it had at t_stop from then on.
+    assert np.array_equal(halted.root_pos[before], person.targets.root_pos[before])
+    assert np.array_equal(halted.q[before], person.targets.q[before])
+    after = times >= t_stop + HALT_RAMP_S / 2
+    assert np.abs(halted.root_pos[after] - person.targets.root_pos[300]).max() < 1e-9
+    assert np.abs(halted.q[after] - person.targets.q[300]).max() < 1e-9
+    # Slowing evenly: no step moves the pelvis further than the walk's own steps do.
+    walked = np.linalg.norm(np.diff(person.targets.root_pos, axis=0), axis=1).max()
+    assert np.linalg.norm(np.diff(halted.root_pos, axis=0), axis=1).max() <= walked * 1.001
+    # A halt at the clip's start holds its first pose throughout.
+    assert np.abs(halt(person, times, 0.0).targets.root_pos - person.targets.root_pos[0]).max() < 1e-12
+
+
+@pytest.mark.parametrize("environment", ["house_interior", "green", "lake"])
+def test_a_pushed_load_stops_at_what_stands_in_its_way_and_its_pusher_with_it(environment: str) -> None:
+    """Twelve six-second push recipes: no planned load enters a collider or leaves the
+    ground it slides on; where one would, its pusher's planned hands stop behind it."""
+    boxes = BoxSet(ENVIRONMENT_SCENES[environment].colliders)
+    grid = np.array([[x, y, z] for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1)], dtype=np.float64)
+    halted = 0
+    for index in range(12):
+        recipe = recipe_for("push", environment, seconds=6.0, index=index)
+        plan = plan_scene(recipe)
+        load = next((p for p in plan.props if p.path is not None), None)
+        if load is None:  # a door
+            continue
+        half = np.asarray(load.size)
+        rot = np.empty(9)
+        mujoco.mju_quat2Mat(rot, np.asarray(load.quat, dtype=np.float64))
+        path = load.path[:: plan.substeps]
+        depth, _ = boxes.depth_inside(path[:, None, :] + (grid * half) @ rot.reshape(3, 3).T)
+        assert depth.max() < 0.02, f"{recipe.video_id}: the {load.name} is {depth.max():.2f} m inside a collider"
+        bottom = path[:, 2] - half[2]
+        gap = bottom - [
+            support_height(environment, x, y, reference_z=z) for (x, y, _), z in zip(path, bottom, strict=True)
+        ]
+        assert np.abs(gap - gap[0]).max() < 0.02, f"{recipe.video_id}: the {load.name} leaves its ground"
+        # The hands never reach into the load, halted or not.
+        x0 = np.array(recipe.protagonist.position)
+        fwd, _, tips = hand_reach(PlanBuilder(recipe, plan.substeps), plan.people[0])
+        near_face = (load.path - x0) @ fwd - half[0]
+        assert np.all(((tips - x0) @ fwd).max(axis=1) <= near_face + 1e-6)
+        root = plan.people[0].targets.root_pos
+        if np.array_equal(root[-1], root[-plan.substeps * 5]):
+            halted += 1
+    assert halted >= 1, "no recipe met anything: the test no longer tests the stop"
+
+
+def test_the_way_measure_reports_a_pushed_load_s_way():
+    script = Path(__file__).parents[4] / "docs" / "measure" / "driven_way.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--action", "push", "--recipes", "4", "--seed", "3"],
+        capture_output=True, text=True, check=True, env=cli_env(),
+    ).stdout  # fmt: skip
+    assert "v000000 urban   a door: nothing driven" in out and "v000003 house_interior pushed 3.60 m" in out
+    assert "1 push videos with a driven load (seed 3)" in out and "the load inside a collider: 0 videos" in out
