@@ -409,13 +409,13 @@ class SimulationRun:
         hit = min(max(round(self.release_time[0] / dt), 1), len(path) - 1)
         if k <= hit:
             return path[k]
+        # In Python floats, not a BLAS dot or norm: the stop cannot depend on the machine's kernels.
         v0 = (path[hit] - path[hit - 1]) / dt
-        speed = float(np.linalg.norm(v0))
+        speed = math.sqrt(sum(float(c) * float(c) for c in v0))
         if speed < 1e-9:
             return path[hit]
         way = v0 / speed
         t = min((k - hit) * dt, speed / CAR_BRAKING_MPS2)
-        # In Python floats, not a BLAS dot: the stop cannot depend on the machine's kernels.
         room = sum(float(e - h) * float(w) for e, h, w in zip(path[-1], path[hit], way, strict=True))
         return path[hit] + way * min(speed * t - 0.5 * CAR_BRAKING_MPS2 * t**2, room)
 

@@ -99,8 +99,9 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
     """The way the car comes, for the drawn one: the first hit time (the drawn one, then
     earlier) and direction (``CAR_TURNS_DEG``) from which it can drive at its speed from the
     clip's start, hit and brake to a stop without meeting a collider; else the first whose
-    way behind is long enough to reach its speed from a standstill; else the longest way,
-    at the speed it allows and stopping short of what stands ahead."""
+    way behind is long enough to reach its speed from a standstill; else the way that allows
+    the most speed, speeding up from a standstill and braking to a stop short of what stands
+    ahead at no more than the car's acceleration and braking (``_allowed``)."""
     env = b.recipe.environment.name
     scene = ENVIRONMENT_SCENES[env]
     speed = drawn.speed
@@ -132,12 +133,20 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
         for turned, back, ahead in runs:
             if back >= reach and ahead >= stop_m:
                 return Approach(turned, speed, back, t_hit, ground)
-        ways += [(back, -k, t_hit, turned, ahead, ground) for k, (turned, back, ahead) in enumerate(runs)]
-    back, _, t_hit, turned, ahead, ground = max(ways, key=lambda w: (w[0], w[1], w[2]))
-    if back <= 0.0:
+        ways += [(_allowed(speed, back, ahead), back, -k, t_hit, turned, ahead, ground)
+                 for k, (turned, back, ahead) in enumerate(runs)]  # fmt: skip
+    v, back, _, t_hit, turned, ahead, ground = max(ways, key=lambda w: w[:4])
+    if v <= 0.0:
         return drawn  # hemmed in all round: square across, as drawn
-    v = min(speed, math.sqrt(2.0 * CAR_ACCELERATION_MPS2 * back))
-    return Approach(turned, v, min(back, v * t_hit), t_hit, ground, max(ahead, 0.0))
+    return Approach(turned, v, min(back, v * t_hit), t_hit, ground, ahead)
+
+
+def _allowed(speed: float, back: float, ahead: float) -> float:
+    """The most speed (m/s, at most ``speed``) a car can hit at with ``back`` metres behind the
+    hit to speed up in from a standstill and ``ahead`` metres past it to run on after a late
+    touch and brake to a stop in (0 where either is too short)."""
+    room = min(2.0 * CAR_ACCELERATION_MPS2 * back, 2.0 * CAR_BRAKING_MPS2 * (ahead - CAR_LATE_TOUCH_M))
+    return min(speed, math.sqrt(room)) if room > 0.0 else 0.0
 
 
 def _pelvis_at(b: PlanBuilder, p: PersonPlan, t: float) -> np.ndarray:

@@ -74,17 +74,17 @@ def clear_run(
 ) -> tuple[float, float]:  # fmt: skip
     """How far (m) a box of ``half`` extents, its bottom at height ``bottom`` and centred on
     ``centre`` seen from above, can slide back against the unit ``travel`` direction and on
-    along it before it meets a collider (or, on ``raised`` ground, leaves the colliders whose
-    top is ``ground``); −inf both ways where it meets one where it stands. In Python floats:
-    a driven prop's way (a car's, a pushed load's) cannot depend on the machine's vector
-    kernels."""
+    along it before it meets a collider (or, on ``raised`` ground, leaves the walkable
+    colliders whose top is ``ground``, as ``support_height`` finds ground); −inf both ways
+    where it meets one where it stands. In Python floats: a driven prop's way (a car's, a
+    pushed load's) cannot depend on the machine's vector kernels."""
     hx, hy, hz = (float(h) for h in half)
     top = bottom + 2.0 * hz
     back = ahead = math.inf
     carried: list[tuple[list[tuple[float, float]], ...]] = []
     for c in colliders:
         corners = [_along(p, centre, travel) for p in c.footprint()]
-        if raised and abs(c.top - ground) <= SUPPORT_TOLERANCE_M:
+        if raised and c.pixel_class in WALKABLE_PIXEL_CLASSES and abs(c.top - ground) <= SUPPORT_TOLERANCE_M:
             carried.append(tuple(_band(corners, w - 1e-6, w + 1e-6) for w in (-hy, 0.0, hy)))
         if c.top <= bottom or c.bottom >= top:
             continue

@@ -10,7 +10,7 @@ import numpy as np
 from phav_generator.body.model import rest_body
 from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params, resample, smooth_targets
 from phav_generator.motion.library import get_motion
-from phav_generator.motion.skeleton import BodyDims, forward_kinematics
+from phav_generator.motion.skeleton import BONE_INDEX, BodyDims, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.scene_plan import PersonPlan
 from phav_spec.recipe import HumanSpec
@@ -22,6 +22,13 @@ RELEASED_STRENGTH = 0.15
 RELEASE_RAMP_S = 0.1
 #: Seconds over which a halted motion slows from its pace to a standstill.
 HALT_RAMP_S = 0.5
+#: How far back (s) a halt looks for both feet down (about a stride), and how near (m) each
+#: foot's lower end (heel or toe) must then be to its lowest in that time.
+HALT_LOOKBACK_S = 1.2
+PLANTED_M = 0.01
+#: How much higher (m) the feet's raised ends (a back heel) may be than the lowest they come
+#: to while both stand.
+PLANTED_RAISE_M = 0.02
 
 
 def animate_person(
@@ -106,3 +113,27 @@ def halt(person: PersonPlan, times: np.ndarray, t_stop: float) -> PersonPlan:
         u = np.clip(times - t0, 0.0, ramp)
         clock = np.where(times < t0, times, t0 + u - u * u / (2.0 * ramp))
     return replace(person, targets=resample(person.targets, times, clock))
+
+
+def planted_before(person: PersonPlan, times: np.ndarray, step: int) -> int:
+    """The latest physics step at or before ``step`` (and at most ``HALT_LOOKBACK_S`` before
+    it) at which both feet stand, the heel or toe of each within ``PLANTED_M`` of its lowest
+    in that time, and their raised ends are about as low as they come while both stand (the
+    back heel of a stride lifted, not a foot on its tip); where both never stand, where they
+    come nearest: a pose to hold standing, not on one leg."""
+    first = max(0, step - round(HALT_LOOKBACK_S / float(times[1] - times[0])))
+    pos, rot = body_poses(person.dims, person.targets.take(slice(first, step + 1)))
+    low, high = [], []
+    for foot in ("left_foot", "right_foot"):
+        k = BONE_INDEX[foot]
+        cap = person.dims.capsules[k]
+        z = np.stack([(pos[:, k] + rot[:, k] @ np.array(end))[:, 2] for end in (cap.a, cap.b)], axis=1)
+        low.append(z.min(axis=1) - z.min())
+        high.append(z.max(axis=1) - z.min())
+    lift, raised = np.max(low, axis=0), np.max(high, axis=0)
+    standing = lift <= PLANTED_M
+    if standing.any():
+        chosen = standing & (raised <= raised[standing].min() + PLANTED_RAISE_M)
+    else:
+        chosen = lift <= lift.min() + PLANTED_M
+    return first + int(np.flatnonzero(chosen)[-1])

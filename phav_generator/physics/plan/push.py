@@ -11,7 +11,7 @@ from phav_generator.motion.rotations import yaw_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder, rot_to_quat
 from phav_generator.physics.plan.obstacles import SUPPORT_TOLERANCE_M, clear_run
-from phav_generator.physics.plan.people import body_poses, halt
+from phav_generator.physics.plan.people import body_poses, halt, planted_before
 from phav_generator.physics.plan.scene_plan import Manipulation, PersonPlan, PropPlan, StaticBox
 from phav_spec.motions import MOTIONS
 from phav_spec.scene import ENVIRONMENT_SCENES, Collider
@@ -61,7 +61,8 @@ def hand_reach(b: PlanBuilder, p: PersonPlan) -> tuple[np.ndarray, np.ndarray, n
 def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> PersonPlan:
     """A box or cart just beyond the fingertips, driven forward as far as they have pushed
     it. Where that would drive it into a collider (or off the raised ground it stands on),
-    it stops ``LOAD_STOP_GAP_M`` short and the pusher's motion halts as the hands get there."""
+    the pusher's motion halts at the last moment before, both feet down, and the load stops
+    where the hands then leave it (a load that starts against something is not pushed)."""
     fwd, left, tips = hand_reach(b, p)
     x0 = np.array(b.recipe.protagonist.position, dtype=np.float64)
     ground = x0[2] + b.stand_offset_z
@@ -79,7 +80,7 @@ def _pushed_load(b: PlanBuilder, p: PersonPlan, obj: str) -> PersonPlan:
                      ground + bottom + 2.0 * half[2], ground)  # fmt: skip
     blocked = np.flatnonzero(reach - reach[0] > room)
     if blocked.size:
-        p = halt(p, b.times, float(b.times[max(int(blocked[0]) - 1, 0)]))
+        p = halt(p, b.times, float(b.times[planted_before(p, b.times, max(int(blocked[0]) - 1, 0))]))
         reach = np.minimum(_reach(hand_reach(b, p)[2], x0, fwd), reach[0] + max(room, 0.0))
     path = x0 + (reach[:, None] + half[0]) * fwd + lateral * left
     path[:, 2] = ground + bottom + half[2]

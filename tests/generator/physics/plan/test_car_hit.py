@@ -19,6 +19,7 @@ from phav_generator.physics import Trajectory
 from phav_generator.physics.control import SimulationRun
 from phav_generator.physics.model import CAMERA_RADIUS_M
 from phav_generator.physics.plan.car_hit import (
+    CAR_ACCELERATION_MPS2,
     CAR_BRAKING_MPS2,
     CAR_CLEARANCE_M,
     CAR_LATE_TOUCH_M,
@@ -154,8 +155,11 @@ def test_the_contact_measure_reports_air_depth_and_camera():
     )
 
 
-def _box(x: float, y: float, half: tuple[float, float, float], z_bottom: float = 0.0, yaw: float = 0.0) -> Collider:
-    return Collider("building", (x, y, z_bottom + half[2]), half, yaw)
+def _box(
+    x: float, y: float, half: tuple[float, float, float], z_bottom: float = 0.0, yaw: float = 0.0,
+    pixel_class: str = "building",
+) -> Collider:  # fmt: skip
+    return Collider(pixel_class, (x, y, z_bottom + half[2]), half, yaw)
 
 
 CAR_HALF = (2.1, 0.9, 0.7)
@@ -182,11 +186,15 @@ def test_the_clear_run_ends_at_what_stands_in_the_car_s_way():
 
 
 def test_on_raised_ground_the_car_s_way_ends_at_its_edge():
-    plaza = (_box(0.0, 0.0, (5.0, 4.0, 0.3)), _box(12.5, 0.0, (7.5, 4.0, 0.3)))  # two slabs, one top at 0.6
+    # Two slabs of pavement, one top at 0.6 m.
+    plaza = tuple(_box(x, 0.0, (h, 4.0, 0.3), pixel_class="road") for x, h in ((0.0, 5.0), (12.5, 7.5)))
     back, ahead = clear_run(plaza, (0.0, 0.0), (1.0, 0.0), CAR_HALF, 0.75, 0.6, raised=True)
     assert math.isclose(back, 5.0 - 2.1) and math.isclose(ahead, 20.0 - 2.1)
     # A car whose side overhangs the plaza's edge has no way on it.
     assert clear_run(plaza, (0.0, 3.5), (1.0, 0.0), CAR_HALF, 0.75, 0.6, raised=True) == (-math.inf, -math.inf)
+    # Only walkable ground carries it: a shelf's top level with the plaza is no road.
+    shelf = _box(22.5, 0.0, (2.5, 4.0, 0.3), pixel_class="shelf")
+    assert clear_run((*plaza, shelf), (0.0, 0.0), (1.0, 0.0), CAR_HALF, 0.75, 0.6, raised=True)[1] == ahead
 
 
 @pytest.mark.parametrize("start", [30.0, 20.0, 12.0, 6.0])
@@ -224,6 +232,11 @@ def test_the_car_never_drives_through_a_collider_or_off_its_ground(environment: 
         wheels = path[:, 2] - CAR_HALF[2] - CAR_CLEARANCE_M
         under = [support_height(environment, x, y, reference_z=w) for (x, y, _), w in zip(path, wheels, strict=True)]
         assert np.abs(wheels - under).max() < 0.02, f"{recipe.video_id}: the car leaves the ground it drives on"
+        # ... and it never speeds up or brakes harder than a car can, however short its way.
+        speed = np.linalg.norm(np.diff(car.path, axis=0), axis=1) / plan.timestep
+        change = np.diff(speed) / plan.timestep
+        assert change.min() > -CAR_BRAKING_MPS2 - 0.5, f"{recipe.video_id}: the car stops dead"
+        assert change.max() < CAR_ACCELERATION_MPS2 + 0.5, f"{recipe.video_id}: the car leaps"
 
 
 def test_the_way_measure_reports_the_car_s_way():
