@@ -395,6 +395,14 @@ class EnvironmentScene:
                     f"collider class {collider.pixel_class!r} is not one of the environment's pixel classes"
                 )
 
+    def in_water(self, c: Collider) -> bool:
+        """Whether collider ``c`` stands in the open water (its centre over the water's
+        rectangle): a bed of reeds where it is ``vegetation``."""
+        if self.water is None:
+            return False
+        x0, y0, x1, y1, _ = self.water
+        return x0 <= c.center[0] <= x1 and y0 <= c.center[1] <= y1
+
     @property
     def room_colliders(self) -> tuple[Collider, ...]:
         """Indoors, the colliders of the room (its walls and what stands within them), not the

@@ -165,12 +165,6 @@ def _openings(env_name: str, wall: Collider, inside: tuple[float, float]) -> lis
     return sorted(out, key=lambda o: (o.s0, o.z0))
 
 
-def _in_water(water: tuple[float, float, float, float, float], c: Collider) -> bool:
-    """Whether collider ``c`` stands in open water (its centre over the water's rectangle)."""
-    x0, y0, x1, y1, _ = water
-    return x0 <= c.center[0] <= x1 and y0 <= c.center[1] <= y1
-
-
 def _shores(water: tuple[float, float, float, float, float], c: Collider) -> list[tuple[int, float, float]]:
     """The stretches of bank ``c``'s sides (``places.box_faces`` order, from s0 to s1 along
     each) that meet the open ``water``: a side on one of its edges, facing into it."""
@@ -306,7 +300,7 @@ def _collider_asset(env_name: str, index: int, level: int, look_seed: int | None
             return places.trunk(half, rng, level, species=species, bark=bark)
         return places.crown(half, rng, level, species=species, bark=bark)
     if cls == "vegetation":
-        if env.water is not None and _in_water(env.water, c):
+        if env.in_water(c):
             return places.reeds(half, rng, level)
         return places.shrub(half, rng, level, planter=env_name == "urban")
     if cls == "road":

@@ -276,6 +276,15 @@ def test_lake_water_is_no_collider():
     assert banks == pytest.approx([0.2, 0.3, 0.3, 0.4]) and min(banks) > env.ground_z
 
 
+def test_the_lake_s_reed_beds_stand_in_its_water_and_nothing_else_does():
+    lake = ENVIRONMENT_SCENES["lake"]
+    in_water = [c for c in lake.colliders if lake.in_water(c)]
+    # The three beds off the promenade, all vegetation; the park's shrubs and trees on land.
+    assert len(in_water) == 3 and {c.pixel_class for c in in_water} == {"vegetation"}
+    assert any(c.pixel_class == "vegetation" and not lake.in_water(c) for c in lake.colliders)
+    assert not any(ENVIRONMENT_SCENES["green"].in_water(c) for c in ENVIRONMENT_SCENES["green"].colliders)
+
+
 def test_house_interior_is_a_closed_furnished_room():
     env = ENVIRONMENT_SCENES["house_interior"]
     walls = [c for c in env.colliders if c.pixel_class == "misc"]

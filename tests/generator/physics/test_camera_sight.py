@@ -310,6 +310,7 @@ def test_the_sight_measure_counts_each_kite_video(tmp_path) -> None:
     rows = json.loads(out.read_text(encoding="utf-8"))
     assert [r["video"] for r in rows] == ["v000000", "v000001"]
     assert all(r["frames"] > 0 and r["hidden"] == {} and r["outside"] == 0 and r["trailing"] >= 0 for r in rows)
+    assert all(r["through_reeds"] == 0 for r in rows)  # two videos away from the lake
     assert "2 kite videos" in run.stdout and "the pelvis hidden in 0 (0.00%, 0 videos)" in run.stdout
 
 
