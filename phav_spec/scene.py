@@ -340,6 +340,8 @@ class Lane:
                 raise ValueError(f"{v!r} is not a vehicle ({', '.join(VEHICLE_HALF_SIZES)})")
             if VEHICLE_HALF_SIZES[v][1] > self.half_width:
                 raise ValueError(f"a {v} is wider than the lane")
+            if 2.0 * VEHICLE_HALF_SIZES[v][0] >= math.dist(start[:2], end[:2]):
+                raise ValueError(f"a {v} is as long as the lane or longer")
         object.__setattr__(self, "start", start)
         object.__setattr__(self, "end", end)
         object.__setattr__(self, "half_width", float(self.half_width))

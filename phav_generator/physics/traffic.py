@@ -155,6 +155,7 @@ class Traffic:
             start, u, left = _frame(v.lane)
             half = np.array(v.half_size[:2])
             for f, points in enumerate(obstacles):
+                points = points[np.isfinite(points).all(axis=-1)]  # a lost body is no clearance
                 if len(points):
                     rel = points - start  # lane axes are horizontal: heights drop out
                     local = np.stack([rel @ u - self.s[i, f], rel @ left], axis=-1)

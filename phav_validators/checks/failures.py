@@ -13,6 +13,7 @@ A non-finite pose is a broken file rather than a failure case and always fails.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -110,49 +111,102 @@ class VideoFailures:
         return bool(self.failures)
 
 
-def _fixed_list(column: pa.ChunkedArray, width: int) -> np.ndarray:
-    """A fixed-size list<float64> column as (rows, width) floats (nulls as NaN)."""
-    flat = column.combine_chunks().flatten()
-    return flat.to_numpy(zero_copy_only=False).astype(float).reshape(-1, width)
+class TableError(ValueError):
+    """A metadata table the check cannot read as the contract says: a column missing, of
+    another kind or width (the message names the file, ``source``, and the column)."""
+
+    def __init__(self, source: str, message: str):
+        super().__init__(f"{source}: {message}")
+        self.source = source
 
 
-def people_series(table: pa.Table) -> dict[str, list[PersonSeries]]:
-    """``people.parquet`` → per video, per person, the joints ordered by frame."""
-    vids = np.asarray(table.column("video_id").to_pylist(), dtype=object)
-    frames = table.column("frame").to_numpy()
-    pids = table.column("person_id").to_numpy()
-    roles = np.asarray(table.column("role").to_pylist(), dtype=object)
-    joints = _fixed_list(table.column("joints3d"), 39).reshape(-1, 13, 3)
-    pinned = _fixed_list(table.column("pin_weight"), 15)[:, 0] >= 0.5
-    order = np.lexsort((frames, pids, vids))
+def _column(table: pa.Table, name: str, source: str) -> pa.ChunkedArray:
+    """Column ``name`` of ``table`` (read from ``source``), or a ``TableError`` naming both."""
+    if name not in table.column_names:
+        raise TableError(source, f"no column {name!r}")
+    return table.column(name)
+
+
+def _fixed_list(table: pa.Table, name: str, width: int, source: str) -> np.ndarray:
+    """A list<float64>[width] column as (rows, width) floats: a null row, or a null value in
+    one, as NaN (a broken pose the check reports), every row where it is."""
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    column = _column(table, name, source).combine_chunks()
+    if not (pa.types.is_list(column.type) or pa.types.is_large_list(column.type)
+            or pa.types.is_fixed_size_list(column.type)):  # fmt: skip
+        raise TableError(source, f"column {name!r} is {column.type}, not a list of {width} numbers")
+    null = column.is_null().to_numpy(zero_copy_only=False)
+    lengths = pc.list_value_length(column).to_numpy(zero_copy_only=False)
+    if (lengths[~null] != width).any():
+        raise TableError(source, f"column {name!r} has rows of {int(lengths[~null][lengths[~null] != width][0])} "
+                         f"values, not {width}")  # fmt: skip
+    out = np.full((len(column), width), np.nan)
+    if (~null).any():
+        # flatten() leaves out null rows: their values go to the rows that are there.
+        out[~null] = _floats(pc.list_flatten(column), name, source).reshape(-1, width)
+    return out
+
+
+def _floats(array: pa.Array, name: str, source: str) -> np.ndarray:
+    """``array``'s values as floats (nulls as NaN), or a ``TableError`` where they are not numbers."""
+    try:
+        return np.asarray(array.to_numpy(zero_copy_only=False), dtype=float)
+    except (TypeError, ValueError):
+        raise TableError(source, f"column {name!r} holds {array.type}, not numbers") from None
+
+
+def _numbers(table: pa.Table, name: str, source: str) -> np.ndarray:
+    """A numeric column as floats (nulls as NaN)."""
+    return _floats(_column(table, name, source).combine_chunks(), name, source)
+
+
+def _runs(keys: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """The rows of each distinct key (the last array the first sort key), each run's rows
+    ordered by the first array (its frames): one sort, one pass."""
+    order = np.lexsort(keys)
+    if len(order) == 0:
+        return []
+    cut = np.zeros(len(order), dtype=bool)
+    cut[0] = True
+    for key in keys[1:]:
+        sorted_key = key[order]
+        cut[1:] |= sorted_key[1:] != sorted_key[:-1]
+    return np.split(order, np.flatnonzero(cut)[1:])
+
+
+def people_series(table: pa.Table, source: str = "people.parquet") -> dict[str, list[PersonSeries]]:
+    """``people.parquet`` → per video, per person, the joints ordered by frame; a
+    ``TableError`` where a column the check reads is missing or malformed."""
+    vids = np.asarray(_column(table, "video_id", source).to_pylist(), dtype=object)
+    frames = _numbers(table, "frame", source)
+    pids = _numbers(table, "person_id", source)
+    roles = np.asarray(_column(table, "role", source).to_pylist(), dtype=object)
+    joints = _fixed_list(table, "joints3d", 39, source).reshape(-1, 13, 3)
+    pinned = _fixed_list(table, "pin_weight", 15, source)[:, 0] >= 0.5
+    if not (np.isfinite(frames).all() and np.isfinite(pids).all()):
+        raise TableError(source, "a row without its frame or person_id")
     out: dict[str, list[PersonSeries]] = {}
-    start = 0
-    n = len(order)
-    while start < n:
-        i0 = order[start]
-        end = start
-        while end < n and vids[order[end]] == vids[i0] and pids[order[end]] == pids[i0]:
-            end += 1
-        rows = order[start:end]
+    for rows in _runs((frames, pids, vids)):
+        i0 = rows[0]
         out.setdefault(str(vids[i0]), []).append(
-            PersonSeries(int(pids[i0]), str(roles[i0]), frames[rows], joints[rows], pinned[rows])
+            PersonSeries(int(pids[i0]), str(roles[i0]), frames[rows].astype(int), joints[rows], pinned[rows])
         )
-        start = end
     return out
 
 
-def camera_series(table: pa.Table) -> dict[str, CameraSeries]:
-    """``cameras.parquet`` → per video the camera poses ordered by frame."""
-    vids = np.asarray(table.column("video_id").to_pylist(), dtype=object)
-    frames = table.column("frame").to_numpy()
-    poses = _fixed_list(table.column("cam_to_world"), 16).reshape(-1, 4, 4)
-    intr = np.stack([table.column(c).to_numpy() for c in ("fx", "fy", "cx", "cy")], axis=1)
-    order = np.lexsort((frames, vids))
-    out: dict[str, CameraSeries] = {}
-    for vid in dict.fromkeys(vids[order]):
-        rows = order[vids[order] == vid]
-        out[str(vid)] = CameraSeries(frames[rows], poses[rows], intr[rows])
-    return out
+def camera_series(table: pa.Table, source: str = "cameras.parquet") -> dict[str, CameraSeries]:
+    """``cameras.parquet`` → per video the camera poses ordered by frame; a ``TableError``
+    where a column the check reads is missing or malformed."""
+    vids = np.asarray(_column(table, "video_id", source).to_pylist(), dtype=object)
+    frames = _numbers(table, "frame", source)
+    poses = _fixed_list(table, "cam_to_world", 16, source).reshape(-1, 4, 4)
+    intr = np.stack([_numbers(table, c, source) for c in ("fx", "fy", "cx", "cy")], axis=1)
+    if not np.isfinite(frames).all():
+        raise TableError(source, "a row without its frame")
+    return {str(vids[rows[0]]): CameraSeries(frames[rows].astype(int), poses[rows], intr[rows])
+            for rows in _runs((frames, vids))}  # fmt: skip
 
 
 class BoxSet:
@@ -163,8 +217,11 @@ class BoxSet:
         self.colliders = tuple(colliders)
         self.center = np.array([c.center for c in colliders], dtype=float).reshape(-1, 3)
         self.half = np.array([c.half_size for c in colliders], dtype=float).reshape(-1, 3)
-        yaw = np.radians([c.yaw_deg for c in colliders])
-        self.cos, self.sin = np.cos(yaw), np.sin(yaw)
+        # math's cos and sin, not numpy's CPU-dispatched kernels: a point on a box's face is
+        # inside or out by the same bits on every machine.
+        yaw = [math.radians(c.yaw_deg) for c in colliders]
+        self.cos = np.array([math.cos(a) for a in yaw], dtype=float)
+        self.sin = np.array([math.sin(a) for a in yaw], dtype=float)
         # Each hull as its faces' planes (n, d) in its box's frame: n·p + d ≤ 0 inside.
         self.planes = {i: [ConvexHull(np.asarray(h)).equations for h in c.hulls]
                        for i, c in enumerate(colliders) if c.hulls}  # fmt: skip
@@ -298,20 +355,63 @@ def video_failures(
     def fail(reason: Reason, message: str) -> None:
         out.failures.append((reason, message))
 
+    valid = {id(person) for person in people if _frames_valid(recipe, person, fail)}
     for person in people:
-        _pose(recipe, person, th, m, fail)
+        if id(person) in valid:
+            _pose(recipe, person, th, m, fail)
     protagonist = next((p for p in people if p.person_id == recipe.protagonist.person_id), None)
     if protagonist is None:
         fail(Reason.OFF_SCREEN, "no protagonist rows in people.parquet")
         return out
-    if not np.isfinite(protagonist.joints).all():
+    if id(protagonist) not in valid or not np.isfinite(protagonist.joints).all():
         return out
-    if cams is not None:
+    if _cameras_valid(protagonist, cams, fail):
         _off_screen(recipe, protagonist, cams, instance_pixels, th, m, fail)
         _camera_in_geometry(recipe, cams, th, m, fail)
     _perturbation(recipe, protagonist, th, m, fail)
     _sliding(recipe, protagonist, th, m, fail)
     return out
+
+
+def _frames_valid(recipe: Recipe, person: PersonSeries, fail: _Fail) -> bool:
+    """A person's rows name each frame of the clip at most once (a gap is measured across)."""
+    frames = person.frames
+    who = f"{person.role} {person.person_id}"
+    if len(frames) and (frames[0] < 0 or frames[-1] >= recipe.n_frames):
+        outside = int(frames[0] if frames[0] < 0 else frames[-1])
+        fail(Reason.METADATA_INVALID,
+             f"people.parquet: {who} has a row for frame {outside}, outside the clip's {recipe.n_frames}")  # fmt: skip
+        return False
+    if (np.diff(frames) == 0).any():
+        twice = int(frames[1:][np.diff(frames) == 0][0])
+        fail(Reason.METADATA_INVALID, f"people.parquet: {who} has two rows for frame {twice}")
+        return False
+    return True
+
+
+def _cameras_valid(protagonist: PersonSeries, cams: CameraSeries | None, fail: _Fail) -> bool:
+    """The video's camera rows (None: none given, its measures not taken): one per frame of
+    the protagonist's, finite. Where they are not, the camera's measures cannot be taken,
+    and that is a broken file."""
+    if cams is None:
+        return False
+    missing = ~np.isin(protagonist.frames, cams.frames)
+    if missing.any():
+        fail(Reason.METADATA_INVALID, f"cameras.parquet: no row for {int(missing.sum())} of the protagonist's "
+             f"{len(missing)} frames (first {int(protagonist.frames[missing][0])})")  # fmt: skip
+        return False
+    if (np.diff(cams.frames) == 0).any():
+        fail(
+            Reason.METADATA_INVALID,
+            f"cameras.parquet: two rows for frame {int(cams.frames[1:][np.diff(cams.frames) == 0][0])}",
+        )
+        return False
+    bad = ~(np.isfinite(cams.poses).all(axis=(1, 2)) & np.isfinite(cams.intrinsics).all(axis=1))
+    if bad.any():
+        fail(Reason.NAN_POSE, f"cameras.parquet: a non-finite camera pose or intrinsics in {int(bad.sum())} frames "
+             f"(first {int(cams.frames[bad][0])})")  # fmt: skip
+        return False
+    return True
 
 
 def _pose(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
@@ -333,7 +433,9 @@ def _explosion(person: PersonSeries, fps: int, who: str, th: Thresholds, m: dict
     """A joint faster than any body moves, or a rigid pair of joints changing its distance."""
     j = person.joints
     if len(j) > 1:
-        speed = float(np.linalg.norm(np.diff(j, axis=0), axis=-1).max() * fps)
+        # Over each gap between rows, not per row: a missing frame is not a jump.
+        spacing = np.diff(person.frames)[:, None] / fps
+        speed = float((np.linalg.norm(np.diff(j, axis=0), axis=-1) / spacing).max())
         m[f"max_joint_speed_m_s/{person.person_id}"] = speed
         if speed > th.max_speed_m_s:
             fail(Reason.ENERGY_EXPLOSION, f"{who}: a joint moves at {speed:.1f} m/s (> {th.max_speed_m_s:g})")
@@ -381,8 +483,7 @@ def _off_screen(
 ) -> None:
     """The protagonist in view (four joints in the frame, and enough instance pixels when
     they are known) in too few frames."""
-    index = np.searchsorted(cams.frames, protagonist.frames)
-    index = np.clip(index, 0, len(cams.frames) - 1)
+    index = np.searchsorted(cams.frames, protagonist.frames)  # every frame has its row (_cameras_valid)
     uv, z = _project(protagonist.joints, cams, index)
     w, h = recipe.video.width, recipe.video.height
     inside = (z > 0.05) & (uv[..., 0] >= 0) & (uv[..., 0] < w) & (uv[..., 1] >= 0) & (uv[..., 1] < h)
@@ -407,7 +508,8 @@ def _camera_in_geometry(recipe: Recipe, cams: CameraSeries, th: Thresholds, m: d
     m["camera_inside_m"] = inside_m
     if inside_m > th.camera_inside_m:
         t = int(np.argmax(np.maximum(depth, ground - cam_pos[:, 2])))
-        fail(Reason.CAMERA_IN_GEOMETRY, f"the camera is {inside_m * 100:.0f} cm inside geometry at frame {t}")
+        fail(Reason.CAMERA_IN_GEOMETRY,
+             f"the camera is {inside_m * 100:.0f} cm inside geometry at frame {int(cams.frames[t])}")  # fmt: skip
 
 
 def _knees(
@@ -482,7 +584,7 @@ def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, 
     ankles = person.joints[:, [_J["left_ankle"], _J["right_ankle"]]]  # (T, 2, 3)
     support = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)
     height = ankles[..., 2] - support
-    step = np.diff(ankles, axis=0) * recipe.video.fps
+    step = np.diff(ankles, axis=0) * recipe.video.fps / np.diff(person.frames)[:, None, None]
     horizontal = np.linalg.norm(step[..., :2], axis=-1)
     vertical = np.abs(step[..., 2])
     # Only while upright: a released ragdoll sliding along the ground after a fall is physics.
@@ -513,10 +615,15 @@ def check_failures(
     source: str = "people.parquet",
     progress: Any = None,
 ) -> tuple[CheckResult, list[VideoFailures]]:
-    """The failures check over every video with a recipe and metadata rows."""
-    series = people_series(people)
-    cams = camera_series(cameras)
+    """The failures check over every video with a recipe and metadata rows; a table it
+    cannot read fails it with one finding naming the file and the column."""
     report = Report()
+    try:
+        series = people_series(people, source)
+        cams = camera_series(cameras)
+    except TableError as e:
+        report.add(Finding(Reason.METADATA_INVALID, str(e), file=e.source))
+        return CheckResult.from_report("failures", report, f"cannot read the tables: {e}", {}), []
     results: list[VideoFailures] = []
     for vid in sorted(recipes):
         recipe = recipes[vid]
@@ -525,10 +632,13 @@ def check_failures(
             report.add(Finding(Reason.MISSING_FILE, "no rows in people.parquet", file=source, video_id=vid))
             continue
         pixels = instance_pixels.get(vid) if instance_pixels is not None else None
+        if vid not in cams:
+            report.add(Finding(Reason.METADATA_INVALID, "no rows in cameras.parquet", file="cameras.parquet",
+                               video_id=vid))  # fmt: skip
         result = video_failures(recipe, rows, cams.get(vid), instance_pixels=pixels, thresholds=thresholds)
         results.append(result)
         for reason, message in result.failures:
-            hard = reason == Reason.NAN_POSE
+            hard = reason in (Reason.NAN_POSE, Reason.METADATA_INVALID)
             report.add(Finding(reason, message, file=source, video_id=vid, numbers=dict(result.measures),
                                severity="fail" if hard else "warn"))  # fmt: skip
         if progress is not None:

@@ -369,6 +369,8 @@ def test_lane_rejects_bad_values():
         Lane((0, 0, 0), (50, 0, 0), 1.0, ("bus",))
     with pytest.raises(ValueError, match="not a vehicle"):
         Lane((0, 0, 0), (50, 0, 0), 2.0, ("ball",))
+    with pytest.raises(ValueError, match="a bus is as long as the lane"):  # 12 m on 11 m: no room to drive
+        Lane((0, 0, 0), (11, 0, 0), 2.0, ("car", "bus"))
     with pytest.raises(ValueError, match="finite"):
         Lane((0, math.nan, 0), (50, 0, 0), 2.0)
     lane = ENVIRONMENT_SCENES["simple"].lanes[0]

@@ -81,10 +81,10 @@ def assert_healthy(tr: Trajectory) -> None:
 
 def simulated_people(recipe: Recipe) -> list:
     """The recipe's people as the failures check reads them (``PersonSeries``), straight from
-    a simulation: joints per frame and whether the pins hold."""
+    a simulation: joints per written frame (not the last pose, which only the last frame's
+    forward flow needs) and whether the pins hold."""
     tr = simulate(recipe, keep_state=False)
-    joints = list(JOINT_BODIES)
+    joints, n = list(JOINT_BODIES), recipe.n_frames
     return [
-        PersonSeries(p.person_id, p.role, np.arange(len(p.body_pos)), p.body_pos[:, joints], p.pin >= 0.5)
-        for p in tr.people
+        PersonSeries(p.person_id, p.role, np.arange(n), p.body_pos[:n, joints], p.pin[:n] >= 0.5) for p in tr.people
     ]

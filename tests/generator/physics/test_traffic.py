@@ -191,6 +191,14 @@ def test_planning_leaves_out_a_vehicle_someone_stands_in():
     assert [w.name for w in left] == [w.name for w in kept[1:]]
 
 
+def test_a_lost_body_point_does_not_hide_the_clearance_of_the_rest():
+    car = _car("c", 20.0, cruise=0.0)
+    beside = np.array([[20.0, -2.0 + VEHICLE_HALF_SIZES["car"][1] + 0.6, 1.0]])  # 0.6 m off its side
+    lost = np.vstack([beside, [np.nan, np.nan, np.nan]])
+    traffic = _drive((car,), [beside, lost])
+    np.testing.assert_allclose(traffic.clearances([beside, lost])[0], [0.6, 0.6])
+
+
 def test_poses_lie_on_the_lane_facing_its_direction():
     lane = ENVIRONMENT_SCENES["urban"].lanes[1]  # westbound
     bus = Vehicle("b", "bus", lane, 1, VEHICLE_HALF_SIZES["bus"], 20.0, 8.0)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
@@ -20,11 +21,12 @@ from phav_validators.checks.failures import (
     PersonSeries,
     base_motion_joints,
     camera_series,
+    check_failures,
     people_series,
     video_failures,
 )
 from phav_validators.checks.inject import INJECTIONS, inject
-from phav_validators.findings import Reason
+from phav_validators.findings import Reason, Status
 from tests.generator.physics.support import simulated_people, theta_for
 from tests.validators.checks.support import assert_fails, check, edit_people, validate
 
@@ -168,3 +170,103 @@ def test_a_parked_car_is_its_hulls_to_the_penetration_tests():
     a, b = above_hood - 2.0 * across, above_hood + 2.0 * across
     low_a, low_b = in_body - 2.0 * across, in_body + 2.0 * across
     assert list(box.crossed(np.stack([a, low_a]), np.stack([b, low_b]))) == [-1, 0]
+
+
+def _tables(small_dataset) -> tuple[dict, pa.Table, pa.Table]:
+    recipes = {r.video_id: r for r in read_recipe_table(small_dataset / "recipes.parquet").recipes()}
+    return recipes, pq.read_table(small_dataset / "people.parquet"), pq.read_table(small_dataset / "cameras.parquet")
+
+
+def _with(table: pa.Table, name: str, values: list, kind: pa.DataType | None = None) -> pa.Table:
+    """``table`` with column ``name`` replaced by ``values`` (its own type unless ``kind``)."""
+    i = table.column_names.index(name)
+    kind = table.schema.field(name).type if kind is None else kind
+    return table.set_column(i, pa.field(name, kind), pa.array(values, kind))
+
+
+def _reasons(videos) -> dict[str, list[Reason]]:
+    return {v.video_id: [r for r, _ in v.failures] for v in videos if v.failed}
+
+
+def _message(videos, video_id: str) -> str:
+    """The first failure's message of ``video_id``."""
+    return next(v for v in videos if v.video_id == video_id).failures[0][1]
+
+
+def test_a_null_pose_row_is_a_broken_pose_of_its_own_video_alone(small_dataset):
+    recipes, people, cameras = _tables(small_dataset)
+    joints = people.column("joints3d").to_pylist()
+    joints[people.column("video_id").to_pylist().index("v000001") + 5] = None
+    result, videos = check_failures(recipes, _with(people, "joints3d", joints), cameras)
+    # The rows after it keep their poses: no other video, and no other frame, is touched.
+    assert result.status == Status.FAIL and _reasons(videos) == {"v000001": [Reason.NAN_POSE]}
+    assert "non-finite joints in 1 frames" in _message(videos, "v000001")
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda p, c: (p.drop_columns(["joints3d"]), c), "people.parquet: no column 'joints3d'"),
+        (lambda p, c: (_with(p, "pin_weight", [1.0] * len(p), pa.float64()), c),
+         "people.parquet: column 'pin_weight' is double, not a list of 15 numbers"),
+        (lambda p, c: (p, _with(c, "cam_to_world", [[0.0] * 12] * len(c), pa.list_(pa.float64()))),
+         "cameras.parquet: column 'cam_to_world' has rows of 12 values, not 16"),
+        (lambda p, c: (p, _with(c, "fx", ["wide"] * len(c), pa.string())),
+         "cameras.parquet: column 'fx' holds string, not numbers"),
+    ],
+)  # fmt: skip
+def test_a_table_the_check_cannot_read_fails_it_with_one_line_naming_file_and_column(small_dataset, edit, message):
+    recipes, people, cameras = _tables(small_dataset)
+    result, videos = check_failures(recipes, *edit(people, cameras))
+    [finding] = result.report.findings
+    assert result.status == Status.FAIL and videos == []
+    assert finding.reason == Reason.METADATA_INVALID and finding.message == message
+    assert finding.file == message.split(":")[0]
+
+
+def _drop_rows(table: pa.Table, keep: np.ndarray) -> pa.Table:
+    return table.filter(pa.array(keep))
+
+
+def test_camera_rows_missing_or_not_finite_are_a_broken_file_not_a_view(small_dataset):
+    recipes, people, cameras = _tables(small_dataset)
+    vids = np.array(cameras.column("video_id").to_pylist())
+    frames = cameras.column("frame").to_numpy()
+    # v000000's camera from frame 3 on (of its 6), and every camera row of v000002, are missing.
+    cut = _drop_rows(cameras, ~(((vids == "v000000") & (frames >= 3)) | (vids == "v000002")))
+    result, videos = check_failures(recipes, people, cut)
+    assert _reasons(videos) == {"v000000": [Reason.METADATA_INVALID]} and result.status == Status.FAIL
+    assert "no row for" in _message(videos, "v000000") and "(first 3)" in _message(videos, "v000000")
+    assert [(f.video_id, f.file) for f in result.report.findings if f.reason == Reason.METADATA_INVALID] == [
+        ("v000000", "people.parquet"), ("v000002", "cameras.parquet")]  # fmt: skip
+    # A camera pose that is not a number is a broken pose, not a camera inside a wall.
+    poses = cameras.column("cam_to_world").to_pylist()
+    poses[int(np.flatnonzero(vids == "v000001")[4])] = [float("nan")] * 16
+    _, videos = check_failures(recipes, people, _with(cameras, "cam_to_world", poses))
+    assert _reasons(videos) == {"v000001": [Reason.NAN_POSE]} and "cameras.parquet" in _message(videos, "v000001")
+
+
+def test_missing_frames_are_measured_across_and_doubled_or_foreign_ones_refused(small_dataset):
+    recipes, people, cameras = _tables(small_dataset)
+    vids = np.array(people.column("video_id").to_pylist())
+    frames, pids = people.column("frame").to_numpy(), people.column("person_id").to_numpy()
+    _, clean = check_failures(recipes, people, cameras)
+    # Two of v000000's six frames gone: its people move as fast as before, not 3× faster.
+    gap = _drop_rows(people, ~((vids == "v000000") & (frames >= 2) & (frames < 4)))
+    _, videos = check_failures(recipes, gap, cameras)
+    assert _reasons(videos) == {}
+    before, after = clean[0].measures, videos[0].measures
+    assert after["max_joint_speed_m_s/0"] <= before["max_joint_speed_m_s/0"] * 1.05
+    # A row twice, and a row for a frame past the clip's end, are a broken file.
+    row = int(np.flatnonzero((vids == "v000001") & (pids == 0))[3])
+    doubled = pa.concat_tables([people, people.slice(row, 1)])
+    _, videos = check_failures(recipes, doubled, cameras)
+    assert _reasons(videos) == {"v000001": [Reason.METADATA_INVALID]} and "two rows for frame 3" in _message(
+        videos, "v000001"
+    )
+    late = _with(people, "frame", [int(f) + (100 if (v, p) == ("v000002", 0) else 0)
+                                   for f, v, p in zip(frames, vids, pids, strict=True)])  # fmt: skip
+    _, videos = check_failures(recipes, late, cameras)
+    assert _reasons(videos) == {"v000002": [Reason.METADATA_INVALID]} and "outside the clip" in _message(
+        videos, "v000002"
+    )
