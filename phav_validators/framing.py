@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_validators import tables
 
 if TYPE_CHECKING:
     import pyarrow as pa
@@ -121,9 +122,8 @@ def framing_videos(recipes: Iterable[Recipe]) -> dict[str, VideoFrame]:
 
 
 def _people_arrays(people: pa.Table, source: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(video ids, pixels, y0, y1) of the protagonist's rows."""
-    import pyarrow.compute as pc
-
+    """(video ids, pixels, y0, y1) of the protagonist's rows; a ``PhavUserError`` naming
+    the column where one is missing or malformed (``tables``)."""
     missing = [c for c in _COLUMNS if c not in people.column_names]
     if missing:
         raise PhavUserError(
@@ -131,12 +131,12 @@ def _people_arrays(people: pa.Table, source: str) -> tuple[np.ndarray, np.ndarra
             "phav older than the metadata contract",
             source=source,
         )
-    rows = people.select(list(_COLUMNS)).filter(pc.equal(people.column("person_id"), 0))
-    if rows.num_rows == 0:
-        return np.zeros(0, dtype=object), np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0)
-    boxes = rows.column("bbox2d").combine_chunks().flatten().to_numpy(zero_copy_only=False).reshape(-1, 4)
-    pixels = rows.column("pixels").to_numpy()
-    vids = np.asarray(rows.column("video_id").to_pylist(), dtype=object)
+    mine = tables.numbers(people, "person_id", source, key=True) == 0
+    vids = tables.keys(people, "video_id", source)[mine]
+    pixels = tables.numbers(people, "pixels", source)[mine]
+    boxes = tables.fixed_lists(people, "bbox2d", 4, source)[mine]
+    # A frame without its pixel count or box (a null) is not counted as seen.
+    pixels = np.where(np.isfinite(boxes).all(axis=1), np.nan_to_num(pixels, nan=0.0), 0.0)
     return vids, pixels, boxes[:, 1], boxes[:, 3]
 
 

@@ -23,9 +23,11 @@ from scipy.spatial import ConvexHull
 
 from phav_generator.motion.skeleton import BONES, JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.scene import plan_scene
+from phav_spec.errors import PhavUserError
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, Collider, walkable_heights
+from phav_validators import tables
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 
 if TYPE_CHECKING:
@@ -111,57 +113,6 @@ class VideoFailures:
         return bool(self.failures)
 
 
-class TableError(ValueError):
-    """A metadata table the check cannot read as the contract says: a column missing, of
-    another kind or width (the message names the file, ``source``, and the column)."""
-
-    def __init__(self, source: str, message: str):
-        super().__init__(f"{source}: {message}")
-        self.source = source
-
-
-def _column(table: pa.Table, name: str, source: str) -> pa.ChunkedArray:
-    """Column ``name`` of ``table`` (read from ``source``), or a ``TableError`` naming both."""
-    if name not in table.column_names:
-        raise TableError(source, f"no column {name!r}")
-    return table.column(name)
-
-
-def _fixed_list(table: pa.Table, name: str, width: int, source: str) -> np.ndarray:
-    """A list<float64>[width] column as (rows, width) floats: a null row, or a null value in
-    one, as NaN (a broken pose the check reports), every row where it is."""
-    import pyarrow as pa
-    import pyarrow.compute as pc
-
-    column = _column(table, name, source).combine_chunks()
-    if not (pa.types.is_list(column.type) or pa.types.is_large_list(column.type)
-            or pa.types.is_fixed_size_list(column.type)):  # fmt: skip
-        raise TableError(source, f"column {name!r} is {column.type}, not a list of {width} numbers")
-    null = column.is_null().to_numpy(zero_copy_only=False)
-    lengths = pc.list_value_length(column).to_numpy(zero_copy_only=False)
-    if (lengths[~null] != width).any():
-        raise TableError(source, f"column {name!r} has rows of {int(lengths[~null][lengths[~null] != width][0])} "
-                         f"values, not {width}")  # fmt: skip
-    out = np.full((len(column), width), np.nan)
-    if (~null).any():
-        # flatten() leaves out null rows: their values go to the rows that are there.
-        out[~null] = _floats(pc.list_flatten(column), name, source).reshape(-1, width)
-    return out
-
-
-def _floats(array: pa.Array, name: str, source: str) -> np.ndarray:
-    """``array``'s values as floats (nulls as NaN), or a ``TableError`` where they are not numbers."""
-    try:
-        return np.asarray(array.to_numpy(zero_copy_only=False), dtype=float)
-    except (TypeError, ValueError):
-        raise TableError(source, f"column {name!r} holds {array.type}, not numbers") from None
-
-
-def _numbers(table: pa.Table, name: str, source: str) -> np.ndarray:
-    """A numeric column as floats (nulls as NaN)."""
-    return _floats(_column(table, name, source).combine_chunks(), name, source)
-
-
 def _runs(keys: Sequence[np.ndarray]) -> list[np.ndarray]:
     """The rows of each distinct key (the last array the first sort key), each run's rows
     ordered by the first array (its frames): one sort, one pass."""
@@ -178,15 +129,13 @@ def _runs(keys: Sequence[np.ndarray]) -> list[np.ndarray]:
 
 def people_series(table: pa.Table, source: str = "people.parquet") -> dict[str, list[PersonSeries]]:
     """``people.parquet`` → per video, per person, the joints ordered by frame; a
-    ``TableError`` where a column the check reads is missing or malformed."""
-    vids = np.asarray(_column(table, "video_id", source).to_pylist(), dtype=object)
-    frames = _numbers(table, "frame", source)
-    pids = _numbers(table, "person_id", source)
-    roles = np.asarray(_column(table, "role", source).to_pylist(), dtype=object)
-    joints = _fixed_list(table, "joints3d", 39, source).reshape(-1, 13, 3)
-    pinned = _fixed_list(table, "pin_weight", 15, source)[:, 0] >= 0.5
-    if not (np.isfinite(frames).all() and np.isfinite(pids).all()):
-        raise TableError(source, "a row without its frame or person_id")
+    ``PhavUserError`` naming the column where one the check reads is missing or malformed."""
+    vids = tables.keys(table, "video_id", source)
+    frames = tables.numbers(table, "frame", source, key=True)
+    pids = tables.numbers(table, "person_id", source, key=True)
+    roles = tables.keys(table, "role", source)
+    joints = tables.fixed_lists(table, "joints3d", 39, source).reshape(-1, 13, 3)
+    pinned = tables.fixed_lists(table, "pin_weight", 15, source)[:, 0] >= 0.5
     out: dict[str, list[PersonSeries]] = {}
     for rows in _runs((frames, pids, vids)):
         i0 = rows[0]
@@ -197,14 +146,12 @@ def people_series(table: pa.Table, source: str = "people.parquet") -> dict[str, 
 
 
 def camera_series(table: pa.Table, source: str = "cameras.parquet") -> dict[str, CameraSeries]:
-    """``cameras.parquet`` → per video the camera poses ordered by frame; a ``TableError``
-    where a column the check reads is missing or malformed."""
-    vids = np.asarray(_column(table, "video_id", source).to_pylist(), dtype=object)
-    frames = _numbers(table, "frame", source)
-    poses = _fixed_list(table, "cam_to_world", 16, source).reshape(-1, 4, 4)
-    intr = np.stack([_numbers(table, c, source) for c in ("fx", "fy", "cx", "cy")], axis=1)
-    if not np.isfinite(frames).all():
-        raise TableError(source, "a row without its frame")
+    """``cameras.parquet`` → per video the camera poses ordered by frame; a
+    ``PhavUserError`` naming the column where one the check reads is missing or malformed."""
+    vids = tables.keys(table, "video_id", source)
+    frames = tables.numbers(table, "frame", source, key=True)
+    poses = tables.fixed_lists(table, "cam_to_world", 16, source).reshape(-1, 4, 4)
+    intr = np.stack([tables.numbers(table, c, source) for c in ("fx", "fy", "cx", "cy")], axis=1)
     return {str(vids[rows[0]]): CameraSeries(frames[rows].astype(int), poses[rows], intr[rows])
             for rows in _runs((frames, vids))}  # fmt: skip
 
@@ -489,7 +436,12 @@ def _off_screen(
     inside = (z > 0.05) & (uv[..., 0] >= 0) & (uv[..., 0] < w) & (uv[..., 1] >= 0) & (uv[..., 1] < h)
     seen = inside.sum(axis=1) >= 4
     if instance_pixels is not None and recipe.protagonist.person_id in instance_pixels:
-        pixels = np.asarray(instance_pixels[recipe.protagonist.person_id])[protagonist.frames]
+        counts = np.asarray(instance_pixels[recipe.protagonist.person_id])
+        # Frames the scanned shards do not hold (a manifest at odds with the recipe, which
+        # the integrity check reports) show no pixels.
+        held = protagonist.frames < len(counts)
+        pixels = np.zeros(len(held), dtype=counts.dtype)
+        pixels[held] = counts[protagonist.frames[held]]
         seen &= pixels >= th.min_instance_pixels
     share = float(seen.mean())
     m["protagonist_on_screen"] = share
@@ -621,7 +573,7 @@ def check_failures(
     try:
         series = people_series(people, source)
         cams = camera_series(cameras)
-    except TableError as e:
+    except PhavUserError as e:
         report.add(Finding(Reason.METADATA_INVALID, str(e), file=e.source))
         return CheckResult.from_report("failures", report, f"cannot read the tables: {e}", {}), []
     results: list[VideoFailures] = []

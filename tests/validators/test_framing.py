@@ -69,6 +69,23 @@ def test_never_in_view_and_missing_columns() -> None:
         measure_framing(_people([("v1", 0, 1, 0.0, 1.0)]).drop_columns(["bbox2d"]), {})
 
 
+def test_a_broken_column_is_one_error_naming_it_and_a_null_box_is_not_in_view() -> None:
+    table = _people([("v1", 0, 50, 100.0, 200.0), ("v1", 0, 50, 0.0, 128.0)])
+    boxes = table.column("bbox2d").to_pylist()
+    for name, values, kind, message in (
+        ("person_id", ["0", "0"], pa.string(), "people.parquet: person_id: string, not numbers"),
+        ("bbox2d", [[1.0, 2.0, 3.0]] * 2, pa.list_(pa.float64()), "people.parquet: bbox2d: rows of 3 values, not 4"),
+        ("pixels", ["many", "few"], pa.string(), "people.parquet: pixels: string, not numbers"),
+    ):
+        broken = table.set_column(table.column_names.index(name), name, pa.array(values, kind))
+        with pytest.raises(PhavUserError) as e:
+            measure_framing(broken, {"v1": VideoFrame("kite", 256)})
+        assert str(e.value) == message
+    nulled = table.set_column(table.column_names.index("bbox2d"), "bbox2d", pa.array([None, boxes[1]]))
+    g = measure_framing(nulled, {"v1": VideoFrame("kite", 256)}).groups["kite"]
+    assert g.in_view_share == 0.5 and g.median == pytest.approx(0.5)
+
+
 def test_metadata_agrees_with_the_instance_pixels(small_dataset) -> None:
     """The heights and in-view frames read from people.parquet are those of the protagonist's
     colour in every decoded instance frame of the shards."""

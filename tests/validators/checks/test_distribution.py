@@ -6,6 +6,7 @@ from __future__ import annotations
 from phav_generator.sampling import RecipeSampler
 from phav_spec.recipe_table import RecipeRows, write_recipe_table
 from phav_spec.theta import load_theta
+from phav_validators.checks.distribution import parse_recipes_arrow
 from phav_validators.findings import Reason
 from tests.helpers import theta_variant
 from tests.validators.checks.support import assert_fails, edit_recipes, validate
@@ -32,3 +33,9 @@ def test_skewed_weather_fails_distribution_against_phav_v1(tmp_path):
     report = validate(folder, "distribution", theta="phav-v1")
     hits = assert_fails(report, "distribution", Reason.DISTRIBUTION_MISMATCH)
     assert any(f.message.startswith("weather") for f in hits), [f.message for f in hits]
+
+
+def test_recipe_texts_that_are_not_objects_or_null_are_left_out_of_the_parse():
+    good = '{"video_id": "v000000", "action": "walk"}'
+    table = parse_recipes_arrow([good, None, "[1, 2]", "{not json", good.replace("000000", "000001")])
+    assert table.column("video_id").to_pylist() == ["v000000", "v000001"]

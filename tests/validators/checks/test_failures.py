@@ -206,13 +206,17 @@ def test_a_null_pose_row_is_a_broken_pose_of_its_own_video_alone(small_dataset):
 @pytest.mark.parametrize(
     ("edit", "message"),
     [
-        (lambda p, c: (p.drop_columns(["joints3d"]), c), "people.parquet: no column 'joints3d'"),
+        (lambda p, c: (p.drop_columns(["joints3d"]), c), "people.parquet: joints3d: no such column"),
         (lambda p, c: (_with(p, "pin_weight", [1.0] * len(p), pa.float64()), c),
-         "people.parquet: column 'pin_weight' is double, not a list of 15 numbers"),
+         "people.parquet: pin_weight: double, not a list of 15 numbers"),
         (lambda p, c: (p, _with(c, "cam_to_world", [[0.0] * 12] * len(c), pa.list_(pa.float64()))),
-         "cameras.parquet: column 'cam_to_world' has rows of 12 values, not 16"),
+         "cameras.parquet: cam_to_world: rows of 12 values, not 16"),
         (lambda p, c: (p, _with(c, "fx", ["wide"] * len(c), pa.string())),
-         "cameras.parquet: column 'fx' holds string, not numbers"),
+         "cameras.parquet: fx: string, not numbers"),
+        (lambda p, c: (_with(p, "video_id", [None, *p.column("video_id").to_pylist()[1:]], pa.string()), c),
+         "people.parquet: video_id: 1 rows without a value"),
+        (lambda p, c: (p, _with(c, "frame", [None, *c.column("frame").to_pylist()[1:]], pa.int64())),
+         "cameras.parquet: frame: 1 rows without a number"),
     ],
 )  # fmt: skip
 def test_a_table_the_check_cannot_read_fails_it_with_one_line_naming_file_and_column(small_dataset, edit, message):
@@ -270,3 +274,14 @@ def test_missing_frames_are_measured_across_and_doubled_or_foreign_ones_refused(
     assert _reasons(videos) == {"v000002": [Reason.METADATA_INVALID]} and "outside the clip" in _message(
         videos, "v000002"
     )
+
+
+def test_instance_pixels_shorter_than_the_clip_count_the_frames_past_them_as_unseen(small_dataset):
+    """A manifest that gives a video fewer frames than its recipe (reported by the integrity
+    check) sizes the scanned pixel counts short: the frames past them show nothing."""
+    recipes, people, cameras = _tables(small_dataset)
+    series, cams = people_series(people), camera_series(cameras)
+    recipe = recipes["v000000"]
+    result = video_failures(recipe, series["v000000"], cams["v000000"], instance_pixels={0: [100, 100]})
+    assert result.measures["protagonist_on_screen"] == pytest.approx(2 / recipe.n_frames)
+    assert [r for r, _ in result.failures] == [Reason.OFF_SCREEN]
