@@ -199,6 +199,27 @@ def decode_image(data: bytes) -> np.ndarray | None:
     return cv2.cvtColor(image, cv2.COLOR_BGR2RGB) if image.ndim == 3 else image
 
 
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _contract_break(meta: dict[str, Any]) -> str | None:
+    """The first field of a frame's metadata the scan reads that breaks the contract (the
+    camera's pose and intrinsics, the list of people), None where none does."""
+    camera, people = meta["camera"], meta["people"]
+    if not isinstance(camera, dict):
+        return "camera"
+    pose = camera.get("cam_to_world")
+    if not (isinstance(pose, list) and len(pose) == 16 and all(_is_number(v) for v in pose)):
+        return "camera.cam_to_world"
+    for name in ("fx", "fy", "cx", "cy"):
+        if not _is_number(camera.get(name)):
+            return f"camera.{name}"
+    if not (isinstance(people, list) and all(isinstance(row, dict) for row in people)):
+        return "people"
+    return None
+
+
 def _camera(row: dict[str, Any]) -> tuple[np.ndarray, tuple[float, float, float, float]]:
     pose = np.array(row["cam_to_world"], dtype=float).reshape(4, 4)
     return pose, (float(row["fx"]), float(row["fy"]), float(row["cx"]), float(row["cy"]))
@@ -416,6 +437,11 @@ class ShardScanner:
             self.add("encoding", Reason.VERSION_UNKNOWN,
                      f"{vid}/{f:05d}.json has metadata version {version!r}; this phav reads ≤ {METADATA_VERSION}",
                      video_id=vid, frame=f)  # fmt: skip
+            return None
+        broken = _contract_break(meta)
+        if broken is not None:
+            message = f"{vid}/{f:05d}.json: {broken} is not the frame metadata contract's"
+            self.add("encoding", Reason.METADATA_INVALID, message, video_id=vid, frame=f)
             return None
         return meta
 

@@ -3,7 +3,10 @@ contract's colours, instance colours only where a person is."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
+import pytest
 
 from phav_validators.findings import Reason
 from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
@@ -33,3 +36,25 @@ def test_instance_colour_without_a_person_fails_encoding(data):
 
     rewrite_tar(shard_of(data, "v000002"), png_edit("v000002/00001.inst.png", paint))
     assert_fails(validate(data, "encoding"), "encoding", Reason.INSTANCE_MISMATCH, video="v000002")
+
+
+@pytest.mark.parametrize(
+    ("field", "change"),
+    [
+        ("camera.cam_to_world", lambda m: m["camera"].update(cam_to_world=[1.0, 0.0])),
+        ("camera.fx", lambda m: m["camera"].update(fx="wide")),
+        ("camera.cam_to_world", lambda m: m["camera"].pop("cam_to_world")),
+        ("people", lambda m: m.update(people=None)),
+    ],
+)
+def test_a_frame_json_off_the_contract_is_reported_by_its_field_not_crashed_on(data, field, change):
+    def edit(name: str, raw: bytes) -> bytes:
+        if name != "v000001/00002.json":
+            return raw
+        meta = json.loads(raw)
+        change(meta)
+        return json.dumps(meta).encode()
+
+    rewrite_tar(shard_of(data, "v000001"), edit)
+    hits = assert_fails(validate(data, "encoding", "consistency"), "encoding", Reason.METADATA_INVALID, video="v000001")
+    assert hits[0].message == f"v000001/00002.json: {field} is not the frame metadata contract's"
