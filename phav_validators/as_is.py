@@ -31,7 +31,7 @@ import pyarrow.parquet as pq
 from phav_generator.engines import RayPool, exit_with_parent
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import DatasetManifest, load_manifest
-from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS
+from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS, MetaColumn, arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
 from phav_spec.release import RELEASE_FILE, load_release_index
@@ -395,11 +395,45 @@ def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
             continue
         if schema.names != [c.name for c in columns]:
             report.add(Finding(Reason.METADATA_INVALID, f"columns {schema.names} are not the contract's", file=name))
+        for problem in _column_problems(path, schema, columns):
+            report.add(Finding(Reason.METADATA_INVALID, problem, file=name))
         meta = {k.decode(): v.decode() for k, v in (schema.metadata or {}).items()}
         version = meta.get("phav.metadata_version", "")
         if not version.isdigit() or int(version) > METADATA_VERSION:
             report.add(Finding(Reason.VERSION_UNKNOWN, f"metadata version {version!r}; this phav reads ≤ "
                                f"{METADATA_VERSION}", file=name))  # fmt: skip
+
+
+def _column_problems(path: Path, schema: pa.Schema, columns: Sequence[MetaColumn]) -> list[str]:
+    """Each contract column of a metadata table whose type is not the contract's, or which
+    holds nulls (none may: a number is NaN where unknown), one line each: from the schema
+    and the Parquet statistics, no row read."""
+    import pyarrow as pa
+
+    expected = arrow_schema(columns)
+    problems = [
+        f"column {f.name!r} is {schema.field(f.name).type}, the contract's is {f.type}"
+        for f in expected
+        if f.name in schema.names and not schema.field(f.name).type.equals(f.type)
+    ]
+    nulls: dict[str, int] = {}
+    try:
+        meta = pq.ParquetFile(path).metadata
+    except Exception:  # pyarrow raises several types for damaged files: read_schema said
+        return problems
+    for g in range(meta.num_row_groups):
+        group = meta.row_group(g)
+        for j in range(group.num_columns):
+            chunk = group.column(j)
+            stats = chunk.statistics
+            if stats is not None and stats.has_null_count and stats.null_count:
+                top = chunk.path_in_schema.split(".")[0]
+                nulls[top] = nulls.get(top, 0) + stats.null_count
+    # A variable list's empty entries count as leaf nulls in the statistics: only a scalar
+    # or fixed-size list column's nulls are nulls.
+    exact = {f.name for f in expected if not pa.types.is_list(f.type)}
+    problems += [f"column {n!r} holds {k:,} null{'s' if k != 1 else ''}" for n, k in nulls.items() if n in exact]
+    return problems
 
 
 def _read_tables(inp: DatasetInput) -> tuple[pa.Table | None, pa.Table | None]:

@@ -65,6 +65,8 @@ class Options:
             raise PhavUserError(f"must be at least 0, got {self.regenerate}", field="--regenerate")
         if not 0.0 <= self.budget <= 1.0:
             raise PhavUserError(f"must be in [0, 1], got {self.budget}", field="--failure-budget")
+        if not 0.0 < self.alpha < 1.0:  # a significance level (NaN fails too)
+            raise PhavUserError(f"must be in (0, 1), got {self.alpha}", field="--alpha")
         check_engine(self.engine)
 
 

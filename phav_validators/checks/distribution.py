@@ -8,7 +8,6 @@ IMPOSSIBLE_VALUE finding. Expected cells below five counts are pooled before the
 from __future__ import annotations
 
 import io
-import json
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -19,6 +18,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.json as pj
 
+from phav_spec.errors import PhavUserError
 from phav_spec.expectations import (
     CONTINUOUS_PARAMETERS,
     ContinuousParameter,
@@ -28,6 +28,7 @@ from phav_spec.expectations import (
     exact_expectations,
     mean_duration,
 )
+from phav_spec.recipe import parse_recipe
 from phav_spec.theta import Theta
 from phav_spec.vocab import ACTIONS, DAY_PHASES
 from phav_validators.findings import Finding, Reason, Report
@@ -307,8 +308,11 @@ def check_distributions(
 def parse_recipes_arrow(recipes_json: Sequence[str | None]) -> pa.Table:
     """Parse recipe JSON texts into one Arrow table (C++ parser: ~15× Python's json).
 
-    Texts that are not JSON objects (a null too) are left out (the integrity check reports
-    them), so a damaged row cannot hide the distribution of the others.
+    Where the texts do not parse as one table (a null, a text that is not a JSON object, a
+    value of another type than the rest's, such as a number written as text), each text is
+    read as a recipe and written back in the schema's own types, and those that are not
+    recipes are left out (the schema check reports them): a damaged row cannot hide the
+    distribution of the others.
     """
 
     def read(texts: Sequence[str]) -> pa.Table:
@@ -320,9 +324,8 @@ def parse_recipes_arrow(recipes_json: Sequence[str | None]) -> pa.Table:
         good = []
         for text in recipes_json:
             try:
-                if isinstance(text, str) and isinstance(json.loads(text), dict):
-                    good.append(text)
-            except ValueError:
+                good.append(parse_recipe(text).model_dump_json())  # type: ignore[arg-type]
+            except (PhavUserError, ValueError, TypeError):
                 continue
         try:
             return read(good)

@@ -353,11 +353,15 @@ def _cameras_valid(protagonist: PersonSeries, cams: CameraSeries | None, fail: _
             f"cameras.parquet: two rows for frame {int(cams.frames[1:][np.diff(cams.frames) == 0][0])}",
         )
         return False
-    bad = ~(np.isfinite(cams.poses).all(axis=(1, 2)) & np.isfinite(cams.intrinsics).all(axis=1))
-    if bad.any():
-        fail(Reason.NAN_POSE, f"cameras.parquet: a non-finite camera pose or intrinsics in {int(bad.sum())} frames "
-             f"(first {int(cams.frames[bad][0])})")  # fmt: skip
-        return False
+    for name, values in (
+        ("cam_to_world", cams.poses.reshape(len(cams.poses), -1)),
+        ("fx, fy, cx, cy", cams.intrinsics),
+    ):
+        bad = ~np.isfinite(values).all(axis=1)
+        if bad.any():
+            fail(Reason.NAN_POSE, f"cameras.parquet: {name} not finite in {int(bad.sum())} frames "
+                 f"(first {int(cams.frames[bad][0])})")  # fmt: skip
+            return False
     return True
 
 
@@ -428,8 +432,8 @@ def _off_screen(
     m: dict[str, float],
     fail: _Fail,
 ) -> None:
-    """The protagonist in view (four joints in the frame, and enough instance pixels when
-    they are known) in too few frames."""
+    """The protagonist in view (four joints in the frame, and enough instance pixels where
+    they are known: a count of −1 is a frame the scan never read) in too few frames."""
     index = np.searchsorted(cams.frames, protagonist.frames)  # every frame has its row (_cameras_valid)
     uv, z = _project(protagonist.joints, cams, index)
     w, h = recipe.video.width, recipe.video.height
@@ -437,12 +441,12 @@ def _off_screen(
     seen = inside.sum(axis=1) >= 4
     if instance_pixels is not None and recipe.protagonist.person_id in instance_pixels:
         counts = np.asarray(instance_pixels[recipe.protagonist.person_id])
-        # Frames the scanned shards do not hold (a manifest at odds with the recipe, which
-        # the integrity check reports) show no pixels.
+        # Frames the scan never read (−1: a truncated shard, or past a manifest at odds with
+        # the recipe, which the integrity check reports) are judged by the joints alone.
         held = protagonist.frames < len(counts)
-        pixels = np.zeros(len(held), dtype=counts.dtype)
+        pixels = np.full(len(held), -1, dtype=counts.dtype)
         pixels[held] = counts[protagonist.frames[held]]
-        seen &= pixels >= th.min_instance_pixels
+        seen &= (pixels < 0) | (pixels >= th.min_instance_pixels)
     share = float(seen.mean())
     m["protagonist_on_screen"] = share
     if share < th.on_screen_fraction:
@@ -591,7 +595,9 @@ def check_failures(
         results.append(result)
         for reason, message in result.failures:
             hard = reason in (Reason.NAN_POSE, Reason.METADATA_INVALID)
-            report.add(Finding(reason, message, file=source, video_id=vid, numbers=dict(result.measures),
+            # A camera's failure is the cameras table's; every other one is the people table's.
+            where = "cameras.parquet" if message.startswith("cameras.parquet:") else source
+            report.add(Finding(reason, message, file=where, video_id=vid, numbers=dict(result.measures),
                                severity="fail" if hard else "warn"))  # fmt: skip
         if progress is not None:
             progress(1)

@@ -137,7 +137,8 @@ class VideoScan:
     decoded: bool = False
     modality_hashes: dict[str, str] = field(default_factory=dict)
     content_hash: str | None = None
-    #: Per person id, pixels of its instance colour per frame (decoded videos only).
+    #: Per person id, pixels of its instance colour per frame (decoded videos only; −1 in a
+    #: frame the scan could not read).
     instance_pixels: dict[int, list[int]] = field(default_factory=dict)
     #: Per frame t < n − 1 with a comparable flow: (static pixels compared, mean EPE px, bad fraction).
     flow_epe: list[tuple[int, int, float, float]] = field(default_factory=list)
@@ -205,7 +206,8 @@ def _is_number(value: Any) -> bool:
 
 def _contract_break(meta: dict[str, Any]) -> str | None:
     """The first field of a frame's metadata the scan reads that breaks the contract (the
-    camera's pose and intrinsics, the list of people), None where none does."""
+    camera's pose and intrinsics; each person's id, pixel count, joints and visibility),
+    None where none does."""
     camera, people = meta["camera"], meta["people"]
     if not isinstance(camera, dict):
         return "camera"
@@ -217,6 +219,18 @@ def _contract_break(meta: dict[str, Any]) -> str | None:
             return f"camera.{name}"
     if not (isinstance(people, list) and all(isinstance(row, dict) for row in people)):
         return "people"
+    for k, row in enumerate(people):
+        if not (isinstance(row.get("person_id"), int) and isinstance(row.get("pixels"), int)):
+            return f"people[{k}].person_id or pixels"
+        for name, width in (("joints3d", 39), ("joints2d", 26)):
+            values = row.get(name)  # a null is NaN (behind the camera, unknown)
+            if not (
+                isinstance(values, list) and len(values) == width and all(v is None or _is_number(v) for v in values)
+            ):
+                return f"people[{k}].{name}"
+        visible = row.get("visible")
+        if not (isinstance(visible, list) and len(visible) == 13 and all(isinstance(v, bool) for v in visible)):
+            return f"people[{k}].visible"
     return None
 
 
@@ -498,7 +512,8 @@ class ShardScanner:
                 continue
             r, g, b = instance_rgb(pid)
             got = by_code.pop((r << 16) | (g << 8) | b, 0)
-            state.scan.instance_pixels.setdefault(pid, [0] * state.expect.n_frames)[f] = got
+            # −1: a frame the scan never read (a truncated shard), not a frame without the person.
+            state.scan.instance_pixels.setdefault(pid, [-1] * state.expect.n_frames)[f] = got
             if row.get("pixels") != got:
                 self.add("encoding", Reason.INSTANCE_MISMATCH,
                          f"frame {f:05d}: person {pid} covers {got} instance pixels, "

@@ -12,6 +12,7 @@ from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import load_preset
+from phav_validators.options import Options
 from tests.helpers import PRESET_PATH, invoke_cli, run_cli, theta_variant
 
 #: Recipes in the good table: enough for every distribution test to run, and for the wrong θ
@@ -152,3 +153,18 @@ def test_writes_are_atomic(tmp_path):
         write_recipe_table(BadTable(), path)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["recipes.parquet"]
+
+
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        ({"alpha": float("nan")}, "--alpha: must be in (0, 1), got nan"),
+        ({"alpha": 5.0}, "--alpha: must be in (0, 1), got 5.0"),
+        ({"budget": -0.1}, "--failure-budget: must be in [0, 1], got -0.1"),
+        ({"sample": 0.0}, "--sample: must be in (0, 1], got 0.0"),
+    ],
+)
+def test_options_out_of_their_range_are_one_line_naming_the_option(option, message):
+    with pytest.raises(PhavUserError) as e:
+        Options(**option)
+    assert str(e.value) == message

@@ -35,7 +35,13 @@ def test_skewed_weather_fails_distribution_against_phav_v1(tmp_path):
     assert any(f.message.startswith("weather") for f in hits), [f.message for f in hits]
 
 
-def test_recipe_texts_that_are_not_objects_or_null_are_left_out_of_the_parse():
-    good = '{"video_id": "v000000", "action": "walk"}'
-    table = parse_recipes_arrow([good, None, "[1, 2]", "{not json", good.replace("000000", "000001")])
-    assert table.column("video_id").to_pylist() == ["v000000", "v000001"]
+def test_recipe_texts_that_are_not_recipes_are_left_out_and_the_rest_read_in_their_own_types():
+    sampler = RecipeSampler(load_theta("phav-v1-short"))
+    recipes = [sampler.sample(0, i).model_dump_json() for i in range(3)]
+    texts = [None, "[1, 2]", "{not json", *recipes]
+    # A number written as text (the schema reads it as the number) no longer drops every row.
+    texts[3] = texts[3].replace('"fps":30', '"fps":"30"', 1)
+    assert '"fps":"30"' in texts[3]
+    table = parse_recipes_arrow(texts)
+    assert table.column("video_id").to_pylist() == ["v000000", "v000001", "v000002"]
+    assert [v["fps"] for v in table.column("video").to_pylist()] == [30, 30, 30]

@@ -45,6 +45,9 @@ def test_instance_colour_without_a_person_fails_encoding(data):
         ("camera.fx", lambda m: m["camera"].update(fx="wide")),
         ("camera.cam_to_world", lambda m: m["camera"].pop("cam_to_world")),
         ("people", lambda m: m.update(people=None)),
+        ("people[0].joints3d", lambda m: m["people"][0].pop("joints3d")),
+        ("people[0].joints2d", lambda m: m["people"][0].update(joints2d="x")),
+        ("people[0].visible", lambda m: m["people"][0].update(visible=[True] * 4)),
     ],
 )
 def test_a_frame_json_off_the_contract_is_reported_by_its_field_not_crashed_on(data, field, change):

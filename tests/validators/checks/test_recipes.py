@@ -1,6 +1,10 @@
-"""The schema check on a dataset's recipes table: a recipe this phav cannot read is named."""
+"""The schema check on a dataset's recipes and metadata tables: a recipe this phav cannot
+read is named, and so is a table column off the contract."""
 
 from __future__ import annotations
+
+import pyarrow as pa
+import pyarrow.parquet as pq
 
 from phav_validators.findings import Reason
 from tests.validators.checks.support import assert_fails, edit_recipes, validate
@@ -10,3 +14,32 @@ def test_future_schema_version_fails_schema(data):
     edit_recipes(data, "v000001", lambda d: d.update(schema_version=99))
     hits = assert_fails(validate(data, "schema"), "schema", Reason.RECIPE_INVALID, video="v000001")
     assert "newer" in hits[0].message and "schema_version" in hits[0].message
+
+
+def _rewrite(path, name: str, values: list, kind: pa.DataType) -> None:
+    """``path``'s column ``name`` replaced by ``values`` of ``kind`` (nullable), its metadata kept."""
+    table = pq.read_table(path)
+    i = table.column_names.index(name)
+    table = table.set_column(i, pa.field(name, kind, nullable=True), pa.array(values, kind))
+    pq.write_table(table.replace_schema_metadata(pq.read_schema(path).metadata), path)
+
+
+def test_a_metadata_column_of_another_type_or_with_nulls_fails_schema(data):
+    """The tables' columns are checked against the contract's types, and none may hold a
+    null (a number is NaN where unknown): from the schema and the Parquet statistics."""
+    people, cameras = data / "people.parquet", data / "cameras.parquet"
+    roles = pq.read_table(people).column("role").to_pylist()
+    _rewrite(people, "role", [None, *roles[1:]], pa.string())
+    pixels = pq.read_table(people).column("pixels").to_pylist()
+    _rewrite(people, "pixels", [str(p) for p in pixels], pa.string())
+    boxes = pq.read_table(people).column("bbox2d").to_pylist()
+    _rewrite(people, "bbox2d", [boxes[0], None, *boxes[2:]], pa.list_(pa.float64(), 4))
+    frames = pq.read_table(cameras).column("frame").to_pylist()
+    _rewrite(cameras, "frame", [float(f) for f in frames], pa.float64())
+    hits = assert_fails(validate(data, "schema"), "schema", Reason.METADATA_INVALID)
+    assert sorted((h.file, h.message) for h in hits) == [
+        ("cameras.parquet", "column 'frame' is double, the contract's is int64"),
+        ("people.parquet", "column 'bbox2d' holds 1 null"),
+        ("people.parquet", "column 'pixels' is string, the contract's is int64"),
+        ("people.parquet", "column 'role' holds 1 null"),
+    ]
