@@ -8,7 +8,9 @@ the recipe (``phav_generator.physics.plan``: kinematics only, no physics, no GL)
 
 A video fails when any measure crosses its threshold; the dataset fails when the share of
 failed videos exceeds the budget (default 10 %, the paper's estimate of its failure rate).
-A non-finite pose is a broken file rather than a failure case and always fails.
+A non-finite pose, a table the check cannot read (``tables``), and rows that break the
+contract (a frame twice or outside the clip, a frame without its camera) are a broken file
+rather than a failure case and always fail.
 """
 
 from __future__ import annotations
