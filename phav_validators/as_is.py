@@ -31,11 +31,12 @@ import pyarrow.parquet as pq
 from phav_generator.engines import RayPool, exit_with_parent
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import DatasetManifest, load_manifest
-from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS, MetaColumn, arrow_schema
+from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS, ROLES, MetaColumn, arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
 from phav_spec.release import RELEASE_FILE, load_release_index
 from phav_spec.theta import Theta, load_theta
+from phav_validators import tables
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.checks.failures import check_failures
 from phav_validators.checks.recipes import check_recipe_table
@@ -360,7 +361,8 @@ def _consistency(videos: Mapping[str, VideoScan], shard_of: Mapping[str, str], r
 
 
 def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
-    """Videos and recipes one to one; versions this phav knows; metadata tables' columns."""
+    """Videos and recipes one to one; versions this phav knows; metadata tables' columns,
+    their types and the values the contract rules out."""
 
     report, m = loaded.schema, loaded.manifest
     if m is not None and loaded.table is not None:
@@ -395,7 +397,11 @@ def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
             continue
         if schema.names != [c.name for c in columns]:
             report.add(Finding(Reason.METADATA_INVALID, f"columns {schema.names} are not the contract's", file=name))
-        for problem in _column_problems(path, schema, columns):
+        problems = _column_problems(path, schema, columns)
+        if not problems and schema.names == [c.name for c in columns]:
+            known = set(loaded.table.column("video_id")) if loaded.table is not None else None
+            problems = _value_problems(path, name, known)
+        for problem in problems:
             report.add(Finding(Reason.METADATA_INVALID, problem, file=name))
         meta = {k.decode(): v.decode() for k, v in (schema.metadata or {}).items()}
         version = meta.get("phav.metadata_version", "")
@@ -434,6 +440,49 @@ def _column_problems(path: Path, schema: pa.Schema, columns: Sequence[MetaColumn
     exact = {f.name for f in expected if not pa.types.is_list(f.type)}
     problems += [f"column {n!r} holds {k:,} null{'s' if k != 1 else ''}" for n, k in nulls.items() if n in exact]
     return problems
+
+
+#: Off a rigid pose by more than this: a camera's rotation (RᵀR − I, det R − 1) or bottom row.
+RIGID_TOLERANCE = 1e-3
+
+
+def _value_problems(path: Path, name: str, videos: set[str] | None) -> list[str]:
+    """Values of a well-typed metadata table the contract rules out, one line each: rows of
+    a video without a recipe; people with a negative id or pixel count or a role not in
+    ``ROLES``; cameras whose focal lengths are not positive or whose pose is not rigid."""
+    people = name == PEOPLE
+    columns = ["video_id", "person_id", "role", "pixels"] if people else ["video_id", "fx", "fy", "cam_to_world"]
+    try:
+        table = pq.read_table(path, columns=columns)
+    except Exception:  # pyarrow raises several types for damaged files: read_schema said
+        return []
+    out = []
+    vids = tables.keys(table, "video_id", name)
+    if videos is not None:
+        foreign = sorted(set(vids.tolist()) - videos)
+        if foreign:
+            out.append(f"rows of {len(foreign)} videos without a recipe (first {foreign[0]})")
+
+    def ruled_out(bad: np.ndarray, what: str) -> None:
+        if bad.any():
+            out.append(f"{what} in {int(bad.sum()):,} rows (first {vids[bad][0]})")
+
+    if people:
+        ruled_out(tables.numbers(table, "person_id", name) < 0, "a negative person_id")
+        ruled_out(tables.numbers(table, "pixels", name) < 0, "a negative pixel count")
+        roles = tables.keys(table, "role", name)
+        ruled_out(~np.isin(roles, ROLES), f"a role not one of {', '.join(ROLES)}")
+    else:
+        focal = np.stack([tables.numbers(table, c, name) for c in ("fx", "fy")], axis=1)
+        ruled_out(~(focal > 0.0).all(axis=1), "a focal length that is not positive")
+        pose = tables.fixed_lists(table, "cam_to_world", 16, name).reshape(-1, 4, 4)
+        rot = pose[:, :3, :3]
+        with np.errstate(invalid="ignore"):
+            off = np.abs(np.einsum("nji,njk->nik", rot, rot) - np.eye(3)).max(axis=(1, 2))
+            off = np.maximum(off, np.abs(np.linalg.det(rot) - 1.0))
+            off = np.maximum(off, np.abs(pose[:, 3] - [0.0, 0.0, 0.0, 1.0]).max(axis=1))
+        ruled_out(np.isfinite(off) & (off > RIGID_TOLERANCE), "a cam_to_world that is not a rigid pose")
+    return out
 
 
 def _read_tables(inp: DatasetInput) -> tuple[pa.Table | None, pa.Table | None]:

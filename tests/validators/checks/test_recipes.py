@@ -43,3 +43,25 @@ def test_a_metadata_column_of_another_type_or_with_nulls_fails_schema(data):
         ("people.parquet", "column 'pixels' is string, the contract's is int64"),
         ("people.parquet", "column 'role' holds 1 null"),
     ]
+
+
+def test_metadata_values_the_contract_rules_out_fail_schema(data):
+    people, cameras = data / "people.parquet", data / "cameras.parquet"
+    table = pq.read_table(people)
+    pixels, roles, vids = (table.column(c).to_pylist() for c in ("pixels", "role", "video_id"))
+    _rewrite(people, "pixels", [-5, *pixels[1:]], pa.int64())
+    _rewrite(people, "role", [*roles[:2], "alien", *roles[3:]], pa.string())
+    _rewrite(people, "video_id", [*vids[:-1], "v999999"], pa.string())
+    cams = pq.read_table(cameras)
+    fx, poses = cams.column("fx").to_pylist(), cams.column("cam_to_world").to_pylist()
+    _rewrite(cameras, "fx", [0.0, *fx[1:]], pa.float64())
+    poses[4] = [2.0 * v for v in poses[4]]  # scaled: not a rotation, and its bottom row (0, 0, 0, 2)
+    _rewrite(cameras, "cam_to_world", poses, pa.list_(pa.float64(), 16))
+    hits = assert_fails(validate(data, "schema"), "schema", Reason.METADATA_INVALID)
+    assert sorted((h.file, h.message) for h in hits) == [
+        ("cameras.parquet", "a cam_to_world that is not a rigid pose in 1 rows (first v000000)"),
+        ("cameras.parquet", "a focal length that is not positive in 1 rows (first v000000)"),
+        ("people.parquet", "a negative pixel count in 1 rows (first v000000)"),
+        ("people.parquet", "a role not one of protagonist, supporting, background in 1 rows (first v000000)"),
+        ("people.parquet", "rows of 1 videos without a recipe (first v999999)"),
+    ]
