@@ -400,7 +400,10 @@ def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
         problems = _column_problems(path, schema, columns)
         if not problems and schema.names == [c.name for c in columns]:
             known = set(loaded.table.column("video_id")) if loaded.table is not None else None
-            problems = _value_problems(path, name, known)
+            try:
+                problems = _value_problems(path, name, known)
+            except PhavUserError as e:  # a null the Parquet statistics did not count
+                problems = [e.detail if e.field is None else f"{e.field}: {e.detail}"]
         for problem in problems:
             report.add(Finding(Reason.METADATA_INVALID, problem, file=name))
         meta = {k.decode(): v.decode() for k, v in (schema.metadata or {}).items()}
