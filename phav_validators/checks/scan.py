@@ -485,10 +485,11 @@ class ShardScanner:
                      f"frame {f:05d}: {len(ys)} semantic pixels outside the palette, "
                      f"e.g. {colour} at ({xs[0]}, {ys[0]})",
                      video_id=vid, frame=f, pixels=len(ys))  # fmt: skip
+        if meta is None:  # its people unknown (reported): their colours cannot be told
+            return
         inst = rgb_code(arrays["instance"])
-        people = meta["people"] if meta is not None else []
-        self._instances(state, f, inst, people)
-        if not state.consistency or meta is None:
+        self._instances(state, f, inst, meta["people"])
+        if not state.consistency:
             return
         person_sem = self.person[classes]
         person_inst = inst != 0

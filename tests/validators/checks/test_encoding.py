@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from phav_validators.findings import Reason
-from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
+from tests.validators.checks.support import assert_fails, check, png_edit, rewrite_tar, shard_of, validate
 
 
 def test_eight_bit_depth_fails_encoding(data):
@@ -59,5 +59,8 @@ def test_a_frame_json_off_the_contract_is_reported_by_its_field_not_crashed_on(d
         return json.dumps(meta).encode()
 
     rewrite_tar(shard_of(data, "v000001"), edit)
-    hits = assert_fails(validate(data, "encoding", "consistency"), "encoding", Reason.METADATA_INVALID, video="v000001")
+    report = validate(data, "encoding", "consistency")
+    hits = assert_fails(report, "encoding", Reason.METADATA_INVALID, video="v000001")
     assert hits[0].message == f"v000001/00002.json: {field} is not the frame metadata contract's"
+    # Its people unknown, the frame's instance colours are not judged against them.
+    assert [f.reason for f in check(report, "encoding").report.findings] == [Reason.METADATA_INVALID]
