@@ -297,6 +297,8 @@ class _VideoState:
         self.scan = VideoScan(expect.video_id, decoded=expect.decode)
         self.hashes = VideoHashes(expect.n_frames)
         self.hash_ok = expect.decode
+        #: The frame that came before one of lower number in the shard (the hash needs order).
+        self.out_of_order: int | None = None
         self.consistency = consistency and expect.decode
         self.previous: tuple[int, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]] | None = None
 
@@ -401,6 +403,7 @@ class ShardScanner:
                 state.hashes.add(f, arrays)
             except ValueError:  # frames out of order: the hash cannot be formed
                 state.hash_ok = False
+                state.out_of_order = f
         self._check_frame(state, f, arrays, meta)
 
     def _decode_frame(self, state: _VideoState, f: int, members: dict[str, bytes]) -> dict[str, np.ndarray] | None:
@@ -578,12 +581,9 @@ class ShardScanner:
             scan.content_hash = state.hashes.video_hash()
         if expect.decode and expect.modality_hashes:
             if scan.content_hash is None:
-                self.add(
-                    "integrity",
-                    Reason.HASH_MISMATCH,
-                    "content hash cannot be recomputed: frames are missing or unreadable",
-                    video_id=vid,
-                )
+                why = ("frames are missing or unreadable" if state.out_of_order is None else
+                       f"frame {state.out_of_order:05d} comes after a later frame in the shard")  # fmt: skip
+                self.add("integrity", Reason.HASH_MISMATCH, f"content hash cannot be recomputed: {why}", video_id=vid)
             else:
                 want = expect.modality_hashes
                 differ = [m for m in sorted(want) if want[m] != scan.modality_hashes.get(m)]

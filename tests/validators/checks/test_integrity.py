@@ -3,7 +3,9 @@ manifest's content hashes; a PNG re-encoded with other settings is only a warnin
 
 from __future__ import annotations
 
+import io
 import shutil
+import tarfile
 
 import cv2
 import numpy as np
@@ -64,3 +66,21 @@ def test_unlisted_and_missing_shards(data):
     report = validate(data, "integrity")
     assert_fails(report, "integrity", Reason.UNLISTED_FILE, file="phav-000099.tar")
     assert_fails(report, "integrity", Reason.MISSING_FILE, file="phav-000001.tar")
+
+
+def test_frames_out_of_order_in_a_shard_are_named_as_such(data):
+    """Each sample's members together, but frame 00001's sample before frame 00000's: the
+    content hash, formed in frame order, cannot be recomputed, and the finding says why."""
+    shard = shard_of(data, "v000000")
+    with tarfile.open(shard) as tar:
+        members = [(info, tar.extractfile(info).read()) for info in tar.getmembers()]
+    first = [m for m in members if m[0].name.startswith("v000000/00000.")]
+    second = [m for m in members if m[0].name.startswith("v000000/00001.")]
+    rest = [m for m in members if m not in first and m not in second]
+    buf = io.BytesIO()
+    with tarfile.open(fileobj=buf, mode="w", format=tarfile.USTAR_FORMAT) as tar:
+        for info, raw in second + first + rest:
+            tar.addfile(info, io.BytesIO(raw))
+    shard.write_bytes(buf.getvalue())
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000000")
+    assert hits[0].message == "content hash cannot be recomputed: frame 00000 comes after a later frame in the shard"
