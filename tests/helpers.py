@@ -77,6 +77,15 @@ def cli_env() -> dict[str, str]:
     return env
 
 
+def run_measure(name: str, *args: str) -> str:
+    """The output of ``docs/measure/NAME`` run with ``args`` in a bare environment (``cli_env``);
+    a failed run fails the test."""
+    script = Path(__file__).parents[1] / "docs" / "measure" / name
+    return subprocess.run(
+        [sys.executable, str(script), *args], capture_output=True, text=True, check=True, env=cli_env()
+    ).stdout
+
+
 def run_cli(*args: str, cwd: Path | None = None, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
     """Run ``phav`` (or ``phav-validate`` when the first arg is 'validate!') as a user would,
     with ``env`` added to the bare environment."""

@@ -6,9 +6,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -34,7 +31,7 @@ from phav_spec.car_shapes import CAR_BODIES, car_profile
 from phav_spec.scene import ENVIRONMENT_SCENES, Collider, support_height
 from phav_validators.checks.failures import BoxSet
 from tests.generator.physics.support import assert_healthy, recipe_for
-from tests.helpers import cli_env, outside_hulls
+from tests.helpers import outside_hulls, run_measure
 
 PELVIS = BONE_INDEX["pelvis"]
 
@@ -144,10 +141,7 @@ def test_a_camera_in_the_car_s_way_is_pushed_aside_not_driven_through():
 
 
 def test_the_contact_measure_reports_air_depth_and_camera():
-    script = Path(__file__).parents[4] / "docs" / "measure" / "car_contact.py"
-    out = subprocess.run(
-        [sys.executable, str(script), "--recipes", "1"], capture_output=True, text=True, check=True, env=cli_env()
-    ).stdout
+    out = run_measure("car_contact.py", "--recipes", "1")
     assert (
         "1 recipes" in out
         and "air (contact outside the drawn car)" in out
@@ -240,10 +234,7 @@ def test_the_car_never_drives_through_a_collider_or_off_its_ground(environment: 
 
 
 def test_the_way_measure_reports_the_car_s_way():
-    script = Path(__file__).parents[4] / "docs" / "measure" / "driven_way.py"
-    out = subprocess.run(
-        [sys.executable, str(script), "--recipes", "2"], capture_output=True, text=True, check=True, env=cli_env()
-    ).stdout
+    out = run_measure("driven_way.py", "--recipes", "2")
     assert (
         "2 car_hit videos with a driven car (seed 7)" in out and "the car inside a collider: 0 videos, 0 frames" in out
     )

@@ -4,9 +4,6 @@
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -22,7 +19,7 @@ from phav_generator.sampling import sample_recipes
 from phav_spec.scene import ENVIRONMENT_SCENES, support_height
 from phav_validators.checks.failures import BoxSet
 from tests.generator.physics.support import recipe_for, theta_for
-from tests.helpers import cli_env
+from tests.helpers import run_measure
 
 
 def _push_recipes() -> dict[str, object]:
@@ -126,11 +123,7 @@ def test_a_pushed_load_stops_at_what_stands_in_its_way_and_its_pusher_with_it(en
 
 
 def test_the_way_measure_reports_a_pushed_load_s_way():
-    script = Path(__file__).parents[4] / "docs" / "measure" / "driven_way.py"
-    out = subprocess.run(
-        [sys.executable, str(script), "--action", "push", "--recipes", "4", "--seed", "3"],
-        capture_output=True, text=True, check=True, env=cli_env(),
-    ).stdout  # fmt: skip
+    out = run_measure("driven_way.py", "--action", "push", "--recipes", "4", "--seed", "3")
     assert "v000000 urban   a door: nothing driven" in out and re.search(
         r"v000003 house_interior pushed \d\.\d\d m", out
     )
