@@ -61,6 +61,7 @@ class Reason(StrEnum):
     MASK_MISMATCH = "MASK_MISMATCH"  # instance masks ≠ semantic person classes
     # reproducibility
     REGENERATION_MISMATCH = "REGENERATION_MISMATCH"  # a regenerated video differs
+    RENDERER_UNRECORDED = "RENDERER_UNRECORDED"  # no renderer of record: compared within tolerances (warn)
     # learnability
     NOT_LEARNABLE = "NOT_LEARNABLE"  # a small TSN does not beat chance on held-out actors
     LEARNING_INCONCLUSIVE = "LEARNING_INCONCLUSIVE"  # the time budget stopped training first (warn)

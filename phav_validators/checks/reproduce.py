@@ -25,6 +25,7 @@ from phav_spec.seeding import seeded_rng
 from phav_validators.checks.scan import FRAME_KEYS, decode_image, png_header
 from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import CheckResult, Finding, Reason, Report
+from phav_validators.source import MANIFEST
 
 if TYPE_CHECKING:
     import moderngl
@@ -140,7 +141,18 @@ def check_reproducibility(
                 advance(1)
     finally:
         ctx.release()
-    basis = "bit-exact: same renderer fingerprint" if exact else "tolerances: another renderer fingerprint"
+    if manifest.renderer is None:
+        report.add(Finding(
+            Reason.RENDERER_UNRECORDED,
+            "the manifest records no renderer fingerprint: regenerated videos compared within "
+            "tolerances, as from another renderer; no pixel is promised bit for bit",
+            file=MANIFEST, severity="warn",
+        ))  # fmt: skip
+        basis = "tolerances: the manifest records no renderer fingerprint"
+    elif exact:
+        basis = "bit-exact: same renderer fingerprint"
+    else:
+        basis = "tolerances: another renderer fingerprint"
     if differs:
         basis += f" ({', '.join(differs)} differ)"
     numbers: dict[str, Any] = {"regenerated": len(chosen), "matched": matched, "exact": exact, "videos": chosen}

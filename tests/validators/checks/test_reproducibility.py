@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import cv2
 
+from phav_spec.manifest import dump_manifest, load_manifest
 from phav_validators.checks.reproduce import shard_video_frames
 from phav_validators.findings import Reason, Status
 from tests.validators.checks.support import (
@@ -37,3 +38,17 @@ def test_frame_reader_skips_images_of_another_size(data):
     rewrite_tar(shard, png_edit("v000000/00001.rgb.png", lambda a: cv2.resize(a, (4000, 4000))))
     frames = [f for f, _ in shard_video_frames(shard, "v000000")]
     assert 1 not in frames and frames[:2] == [0, 2]
+
+
+def test_a_manifest_without_its_renderer_warns_and_compares_within_tolerances(data):
+    """Without a renderer of record no pixel is promised bit for bit: the check says so (a
+    warning naming the manifest) and compares within the tolerances, not as if the machine's
+    renderer differed."""
+    m = load_manifest(data / "manifest.json")
+    dump_manifest(m.model_copy(update={"renderer": None}), data / "manifest.json")
+    result = check(validate(data, "reproducibility", regenerate=1), "reproducibility")
+    assert result.status == Status.WARN
+    assert [f.reason for f in result.report.findings] == [Reason.RENDERER_UNRECORDED]
+    assert result.report.findings[0].file == "manifest.json"
+    assert result.numbers["exact"] is False and result.numbers["matched"] == 1
+    assert "the manifest records no renderer fingerprint" in result.summary
