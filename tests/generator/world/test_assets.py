@@ -22,7 +22,7 @@ from phav_generator.world.library import (
     modelled_indices,
     world_library_sha256,
 )  # fmt: skip
-from phav_generator.world.materials import Material
+from phav_generator.world.materials import TRIM, Material
 from phav_generator.world.parts import LAMP_GLOW, LEVELS, Asset, Parts, crease_normals
 from phav_generator.world.vehicles import BUS_ARCH_GAP_M, Vehicle
 from phav_spec.car_shapes import CAR_BODIES
@@ -341,6 +341,33 @@ def test_a_bus_s_wheel_arches_are_round_over_its_wheels():
                     assert _covers(side, x + dx, pz), f"the arch's corner open at ({dx:+.2f}, {pz - z:+.2f}) m"
                 elif r < arch_r - 0.01:
                     assert not _covers(side, x + dx, pz), f"paint over the wheel at ({dx:+.2f}, {pz - z:+.2f}) m"
+
+
+@pytest.mark.parametrize("level", range(LEVELS))
+def test_a_bus_s_side_windows_sit_in_a_black_surround(level):
+    """Flush glazing, as a city bus has: on each side the glass lies within a black surround
+    that reaches past it fore and aft, just behind the glass and outside the paint, and the
+    pillars between the panes are black (painted pillars in a band of glass read as a tram)."""
+    bus = _build("bus", level)
+    body = bus.body
+    ranges = {name: (first, end) for name, first, end, _ in body.parts}
+
+    def vertices(name: str) -> np.ndarray:
+        first, end = ranges[name]
+        return np.unique(body.triangles[first:end].ravel())
+
+    for sgn in ("-1", "+1"):
+        glass, surround = vertices(f"windows{sgn}"), vertices(f"glazing_surround{sgn}")
+        g, s = body.positions[glass].astype(np.float64), body.positions[surround].astype(np.float64)
+        assert s[:, 0].min() <= g[:, 0].min() - 0.19 and s[:, 0].max() >= g[:, 0].max() + 0.19
+        assert s[:, 2].min() < g[:, 2].min() and s[:, 2].max() > g[:, 2].max()
+        side = float(np.sign(g[0, 1]))
+        assert 0.0 < side * (g[0, 1] - s[0, 1]) < 0.005, "the surround is just behind the glass"
+        np.testing.assert_allclose(body.colours[surround], [TRIM] * len(surround), atol=1e-6)
+        pillars = [name for name in ranges if name.startswith("mullion") and name.endswith(sgn)]
+        assert bool(pillars) == (level < 2)  # the finer levels draw them (`Parts.fine`)
+        for name in pillars:
+            np.testing.assert_allclose(body.colours[vertices(name)], [TRIM] * len(vertices(name)), atol=1e-6)
 
 
 #: How far (m) a drawn car part may stand outside the hulls it collides as: its mirrors, the
