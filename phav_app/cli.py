@@ -574,7 +574,11 @@ def vary(
 
     forced = parse_settings(settings)
     r = load_recipe(recipe_file)
-    varied = vary_recipe(r, load_theta(theta) if theta else _preset_for(r.theta_hash), forced)
+    chosen = load_theta(theta) if theta else _preset_for(r.theta_hash)
+    try:
+        varied = vary_recipe(r, chosen, forced)
+    except PhavUserError as e:  # about this recipe: name its file
+        raise e if e.source else PhavUserError(e.detail, source=str(recipe_file), field=e.field) from None
     target = out if out is not None else Path(f"{r.video_id}-varied.json")
     with atomic_write(target) as tmp:
         tmp.write_text(json.dumps(varied.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")

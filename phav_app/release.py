@@ -43,6 +43,7 @@ from phav_spec.release import (
     load_release_index,
 )
 from phav_spec.theta import Theta, load_theta
+from phav_validators.as_is import metadata_table_problems
 
 __all__ = ["ReleaseResult", "make_release"]
 
@@ -97,6 +98,10 @@ def _load_source(root: Path) -> _Source:
     for name in (*(s.name for s in manifest.shards), *RECIPE_FILES, *METADATA_FILES):
         if not (root / name).is_file():
             raise PhavUserError("missing from the dataset; regenerate it before releasing", source=str(root / name))
+    for name in METADATA_FILES:  # shards are checked against the manifest as they are placed
+        problems, _ = metadata_table_problems(root / name, set(ids))
+        if problems:
+            raise PhavUserError(f"{problems[0]}; run phav-validate on the dataset", source=str(root / name))
     return _Source(root, manifest, table, theta)
 
 

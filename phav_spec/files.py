@@ -16,9 +16,14 @@ from phav_spec.errors import PhavUserError
 
 
 def read_text(path: str | os.PathLike[str], *, hint: str = "check the path") -> str:
-    """A UTF-8 text file's contents; a missing or unreadable file is a PhavUserError."""
+    """A UTF-8 text file's contents; a missing or unreadable file, or something other than a
+    file or folder (a device, which may never end; a pipe, which may never be written), is a
+    PhavUserError."""
+    p = Path(path)
+    if p.exists() and not (p.is_file() or p.is_dir()):
+        raise PhavUserError("not a regular file (a device, a pipe or a socket)", source=str(path))
     try:
-        return Path(path).read_text(encoding="utf-8")
+        return p.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise PhavUserError(f"no such file; {hint}", source=str(path)) from None
     except UnicodeDecodeError:
@@ -27,12 +32,31 @@ def read_text(path: str | os.PathLike[str], *, hint: str = "check the path") -> 
         raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
 
 
+class _DuplicateKey(ValueError):
+    pass
+
+
+def _no_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object's members, refusing a key written twice (the last would silently win)."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise _DuplicateKey(key)
+        out[key] = value
+    return out
+
+
 def parse_json_object(text: str | bytes, *, source: str) -> dict[str, Any]:
-    """A JSON object from text; anything else is a PhavUserError naming the line."""
+    """A JSON object from text; anything else is a PhavUserError naming the line, and a key
+    written twice one naming the key."""
     try:
-        data = json.loads(text)
+        data = json.loads(text, object_pairs_hook=_no_duplicate_keys)
     except json.JSONDecodeError as e:
         raise PhavUserError(f"invalid JSON at line {e.lineno} column {e.colno}: {e.msg}", source=source) from None
+    except RecursionError:
+        raise PhavUserError("invalid JSON: nested too deeply", source=source) from None
+    except _DuplicateKey as e:
+        raise PhavUserError("key written twice", source=source, field=str(e)) from None
     if not isinstance(data, dict):
         raise PhavUserError(f"expected a JSON object, got {type(data).__name__}", source=source)
     return data
@@ -81,8 +105,7 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
     target = Path(path)
     tmp = target.with_name(f".{target.name}.{secrets.token_hex(8)}.tmp")
     try:
-        if target.is_dir():
-            raise IsADirectoryError(21, "Is a directory")
+        _check_writable_place(target)
         target.parent.mkdir(parents=True, exist_ok=True)
         yield tmp
         fd = os.open(tmp, os.O_RDONLY)  # the writer must have created it: no empty files
@@ -92,14 +115,28 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
             os.close(fd)
         os.replace(tmp, target)
     except OSError as e:
-        with contextlib.suppress(FileNotFoundError):
+        with contextlib.suppress(OSError):  # the temporary may never have been made
             os.unlink(tmp)
         raise WriteError(e, str(target)) from None
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
+        with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
     _fsync_directory(target.parent)
+
+
+def _check_writable_place(target: Path) -> None:
+    """Refuse, before anything is written, a target that is a directory or some other thing
+    than a file (a device, a pipe: renaming over it would replace it), and one below a file."""
+    if target.is_dir():
+        raise IsADirectoryError(errno.EISDIR, "Is a directory")
+    if target.exists() and not target.is_file():
+        raise FileExistsError(errno.EEXIST, "Not a regular file (a device, a pipe or a socket)")
+    for parent in target.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise NotADirectoryError(errno.ENOTDIR, f"Not a directory: {parent}")
+            break
 
 
 def _fsync_directory(directory: Path) -> None:

@@ -20,8 +20,8 @@ from phav_spec.errors import PhavUserError, validate_user_data
 from phav_spec.files import parse_json_object, read_text
 from phav_spec.motions import MOTIONS
 from phav_spec.people import Hair, Outfit, PersonDraws, Phenotype
-from phav_spec.scene import HUMAN_MODELS
-from phav_spec.theta import RenderSettings
+from phav_spec.scene import CAMERA_PLACEMENT_VARIABLES, HUMAN_MODELS, WEATHER_LEVELS
+from phav_spec.theta import MAX_FPS, MAX_FRAME_SIDE, MIN_FRAME_SIDE, RenderSettings
 from phav_spec.vocab import (
     ACTIONS,
     CAMERAS,
@@ -35,14 +35,21 @@ from phav_spec.vocab import (
 
 RECIPE_SCHEMA_VERSION = 3
 _FROZEN = ConfigDict(extra="forbid", frozen=True)
-Vec3 = tuple[float, float, float]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Vec3 = tuple[Finite, Finite, Finite]
 RGB = tuple[
     Annotated[int, Field(ge=0, le=255)],
     Annotated[int, Field(ge=0, le=255)],
     Annotated[int, Field(ge=0, le=255)],
 ]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
 Seed = Annotated[int, Field(ge=0, lt=2**32)]
+
+
+def _within(bounds: tuple[float, float] | tuple[str, float, float]) -> Any:
+    """A finite number inside the bounds θ keeps the parameter's distribution in (a recipe
+    outside them is not one θ can give, and the renderer or physics could not honour it)."""
+    lo, hi = bounds[-2:]
+    return Annotated[float, Field(ge=lo, le=hi, allow_inf_nan=False)]
 
 
 def _one_of(registry: Registry) -> Any:
@@ -142,10 +149,16 @@ class MotionSpec(BaseModel):
 
     model_config = _FROZEN
     base_motion: MotionName
-    base_motion_length_s: Finite
+    base_motion_length_s: Finite = Field(gt=0.0)
     start_s: Finite = Field(ge=0.0)
     speed: Finite = Field(gt=0.0)
     mirror: bool
+
+    @model_validator(mode="after")
+    def _starts_within_the_take(self) -> MotionSpec:
+        if self.start_s > self.base_motion_length_s:
+            raise ValueError(f"start_s: {self.start_s} s is past the take's end ({self.base_motion_length_s} s)")
+        return self
 
 
 class NoVariation(BaseModel):
@@ -229,10 +242,10 @@ class CameraSpec(BaseModel):
 
     model_config = _FROZEN
     kind: CameraName
-    fov_deg: Finite
-    distance_m: Finite
-    height_m: Finite
-    azimuth_deg: Finite
+    fov_deg: _within(CAMERA_PLACEMENT_VARIABLES["fov_deg"])
+    distance_m: _within(CAMERA_PLACEMENT_VARIABLES["distance_m"])
+    height_m: _within(CAMERA_PLACEMENT_VARIABLES["height_m"])
+    azimuth_deg: _within(CAMERA_PLACEMENT_VARIABLES["azimuth_deg"])
     position: Vec3
     target: Vec3
     springs: SpringsSpec | None
@@ -257,15 +270,15 @@ class WorldSpec(BaseModel):
     day_phase: DayPhaseName
     clock_hour: Finite = Field(ge=0.0, lt=24.0)
     weather: WeatherName
-    sun_brightness: Finite
-    ambient_luminosity: Finite
+    sun_brightness: _within(WEATHER_LEVELS["sun_brightness"])
+    ambient_luminosity: _within(WEATHER_LEVELS["ambient_luminosity"])
     rain: bool
     fog: bool
     clouds: bool
     wet_ground: bool
-    cloud_intensity: Finite
-    fog_intensity: Finite
-    rain_intensity: Finite
+    cloud_intensity: _within(WEATHER_LEVELS["cloud_intensity"])
+    fog_intensity: _within(WEATHER_LEVELS["fog_intensity"])
+    rain_intensity: _within(WEATHER_LEVELS["rain_intensity"])
 
 
 class Seeds(BaseModel):
@@ -280,9 +293,9 @@ class Seeds(BaseModel):
 
 class VideoSpec(BaseModel):
     model_config = _FROZEN
-    width: int = Field(ge=16)
-    height: int = Field(ge=16)
-    fps: int = Field(ge=1)
+    width: int = Field(ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
+    height: int = Field(ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
+    fps: int = Field(ge=1, le=MAX_FPS)
 
 
 class Recipe(BaseModel):

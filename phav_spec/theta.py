@@ -157,13 +157,17 @@ HAIR_STYLE_KINDS: Registry[None] = _choices("hair style", HAIR_STYLES)
 HAIR_COLOUR_KINDS: Registry[None] = _choices("hair colour", HAIR_COLOURS)
 
 
+#: The frame sizes (px) and rates (frames/s) a θ and a recipe may ask for.
+MIN_FRAME_SIDE, MAX_FRAME_SIDE, MAX_FPS = 16, 4096, 240
+
+
 class VideoFormat(BaseModel):
     """Resolution and frame rate (paper: 340×256 at 30 fps)."""
 
     model_config = _FROZEN
-    width: int = Field(340, ge=16, le=4096)
-    height: int = Field(256, ge=16, le=4096)
-    fps: int = Field(30, ge=1, le=240)
+    width: int = Field(340, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
+    height: int = Field(256, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
+    fps: int = Field(30, ge=1, le=MAX_FPS)
 
 
 class Durations(BaseModel):
@@ -823,6 +827,8 @@ def load_theta(path: str | Path) -> Theta:
         where = f"line {mark.line + 1}" if mark is not None else "yaml"
         problem = getattr(e, "problem", None) or str(e).splitlines()[0]
         raise PhavUserError(f"invalid YAML: {problem}", source=str(path), field=where) from None
+    except RecursionError:
+        raise PhavUserError("invalid YAML: nested too deeply", source=str(path)) from None
     return parse_theta(data, source=str(path))
 
 

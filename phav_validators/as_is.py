@@ -385,32 +385,41 @@ def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
                                f"than this phav knows ({RECIPE_SCHEMA_VERSION})", file="manifest.json"))  # fmt: skip
     if inp.recipes_only or is_recipe_release(inp):  # a recipe-only release regenerates its tables
         return
-    for name, columns in ((CAMERAS, CAMERA_COLUMNS), (PEOPLE, PEOPLE_COLUMNS)):
+    known = set(loaded.table.column("video_id")) if loaded.table is not None else None
+    for name in (CAMERAS, PEOPLE):
         path = inp.root / name
         if not path.exists():
             report.add(Finding(Reason.MISSING_FILE, "metadata table missing", file=name))
             continue
-        try:
-            schema = pq.read_schema(path)
-        except Exception as e:  # pyarrow raises several types for damaged files
-            report.add(Finding(Reason.METADATA_INVALID, f"not a readable Parquet file ({e})", file=name))
-            continue
-        if schema.names != [c.name for c in columns]:
-            report.add(Finding(Reason.METADATA_INVALID, f"columns {schema.names} are not the contract's", file=name))
-        problems = _column_problems(path, schema, columns)
-        if not problems and schema.names == [c.name for c in columns]:
-            known = set(loaded.table.column("video_id")) if loaded.table is not None else None
-            try:
-                problems = _value_problems(path, name, known)
-            except PhavUserError as e:  # a null the Parquet statistics did not count
-                problems = [e.detail if e.field is None else f"{e.field}: {e.detail}"]
+        problems, version = metadata_table_problems(path, known)
         for problem in problems:
             report.add(Finding(Reason.METADATA_INVALID, problem, file=name))
-        meta = {k.decode(): v.decode() for k, v in (schema.metadata or {}).items()}
-        version = meta.get("phav.metadata_version", "")
-        if not version.isdigit() or int(version) > METADATA_VERSION:
+        if version is not None and (not version.isdigit() or int(version) > METADATA_VERSION):
             report.add(Finding(Reason.VERSION_UNKNOWN, f"metadata version {version!r}; this phav reads ≤ "
                                f"{METADATA_VERSION}", file=name))  # fmt: skip
+
+
+def metadata_table_problems(path: Path, videos: set[str] | None) -> tuple[list[str], str | None]:
+    """What breaks the contract in the metadata table at ``path`` (``cameras.parquet`` or
+    ``people.parquet``, by its name), one line each: not Parquet, columns other than the
+    contract's, of another type or holding nulls, values it rules out, rows of a video not in
+    ``videos`` (None: not checked); and the contract version its schema records (None when
+    unreadable)."""
+    name = path.name
+    columns = PEOPLE_COLUMNS if name == PEOPLE else CAMERA_COLUMNS
+    try:
+        schema = pq.read_schema(path)
+    except Exception as e:  # pyarrow raises several types for damaged files
+        return [f"not a readable Parquet file ({e})"], None
+    problems = [] if schema.names == [c.name for c in columns] else [f"columns {schema.names} are not the contract's"]
+    problems += _column_problems(path, schema, columns)
+    if not problems:
+        try:
+            problems = _value_problems(path, name, videos)
+        except PhavUserError as e:  # a null the Parquet statistics did not count
+            problems = [e.detail if e.field is None else f"{e.field}: {e.detail}"]
+    meta = {k.decode(): v.decode() for k, v in (schema.metadata or {}).items()}
+    return problems, meta.get("phav.metadata_version", "")
 
 
 def _column_problems(path: Path, schema: pa.Schema, columns: Sequence[MetaColumn]) -> list[str]:

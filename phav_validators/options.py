@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 from phav_generator.engines import check_engine
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
+from phav_validators.checks.distribution import check_alpha
 from phav_validators.checks.failures import DEFAULT_BUDGET
 from phav_validators.findings import CheckResult, Status
 
@@ -65,8 +66,7 @@ class Options:
             raise PhavUserError(f"must be at least 0, got {self.regenerate}", field="--regenerate")
         if not 0.0 <= self.budget <= 1.0:
             raise PhavUserError(f"must be in [0, 1], got {self.budget}", field="--failure-budget")
-        if not 0.0 < self.alpha < 1.0:  # a significance level (NaN fails too)
-            raise PhavUserError(f"must be in (0, 1), got {self.alpha}", field="--alpha")
+        check_alpha(self.alpha)
         check_engine(self.engine)
 
 

@@ -771,7 +771,7 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
         "motion": {
             "base_motion": base,
             "base_motion_length_s": MOTIONS[base].length_s,
-            "start_s": draw(st.floats(0.0, 60.0)),
+            "start_s": draw(st.floats(0.0, MOTIONS[base].length_s)),
             "speed": draw(st.floats(0.01, 4.0)),
             "mirror": draw(st.booleans()),
         },

@@ -236,6 +236,14 @@ def holm(tests: list[FitTest], alpha: float) -> list[FitTest]:
     return [FitTest(**{**t.__dict__, "rejected": r or t.impossible > 0}) for t, r in zip(tests, rejected, strict=True)]
 
 
+def check_alpha(alpha: float) -> float:
+    """``alpha`` if it is a significance level, in (0, 1) (NaN is not); else a user error
+    naming ``--alpha``."""
+    if not 0.0 < alpha < 1.0:
+        raise PhavUserError(f"must be in (0, 1), got {alpha}", field="--alpha")
+    return alpha
+
+
 def check_distributions(
     columns: Mapping[str, Sequence[Any]],
     theta: Theta,
@@ -243,7 +251,9 @@ def check_distributions(
     alpha: float = DEFAULT_ALPHA,
     source: str | None = None,
 ) -> DistributionResult:
-    """Every categorical variable (marginal and conditional rows) and the continuous ones."""
+    """Every categorical variable (marginal and conditional rows) and the continuous ones,
+    Holm-corrected to the family-wise level ``alpha``."""
+    check_alpha(alpha)
     report = Report()
     tests: list[FitTest] = []
     summaries: list[VariableSummary] = []

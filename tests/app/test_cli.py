@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import stat
 
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.theta import load_preset
@@ -53,6 +55,18 @@ def test_output_paths_that_cannot_be_written(tmp_path):
     odd = tmp_path / "a[bold]b.yaml"
     result = invoke_cli("theta", "check", str(odd))
     assert result.returncode == 2 and "a[bold]b.yaml" in result.stderr
+    (tmp_path / "afile.txt").write_text("kept\n")
+    below = tmp_path / "afile.txt" / "x.parquet"
+    result = invoke_cli("sample", "--n", "2", "--out", str(below))
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert f"{below}: cannot write: Not a directory: {tmp_path / 'afile.txt'}" in result.stderr
+    assert (tmp_path / "afile.txt").read_text() == "kept\n"
+    pipe = tmp_path / "pipe.parquet"
+    os.mkfifo(pipe)
+    result = invoke_cli("sample", "--n", "2", "--out", str(pipe))
+    assert result.returncode == 2 and "Not a regular file" in result.stderr and "Traceback" not in result.stderr
+    assert stat.S_ISFIFO(pipe.stat().st_mode)  # the pipe is still a pipe
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile.txt", "pipe.parquet"]  # no temporary left
 
 
 def test_recipe_show_and_check_round_trip(tmp_path):
@@ -85,6 +99,14 @@ def test_bad_recipes_on_the_command_line(tmp_path):
         assert result.returncode == 2 and "Traceback" not in result.stderr
         lines = [line for line in result.stderr.splitlines() if line.strip()]
         assert len(lines) == 1 and f"{path}: {words}" in lines[0], result.stderr
+    edited = json.loads(json.dumps(data))
+    edited["camera"]["fov_deg"] = 33.0  # valid, but not what θ and the seed give
+    path = tmp_path / "edited.json"
+    path.write_text(json.dumps(edited), encoding="utf-8")
+    assert invoke_cli("recipe", "check", str(path)).returncode == 0
+    result = invoke_cli("vary", str(path), "--set", "weather=fog", "--out", str(tmp_path / "o.json"))
+    assert result.returncode == 2 and f"{path}: v000000: this recipe is not what θ" in result.stderr
+    assert not (tmp_path / "o.json").exists()
 
 
 def test_spec_vocab_lists_the_registries():

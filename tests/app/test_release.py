@@ -9,6 +9,7 @@ import shutil
 from pathlib import Path
 
 import numpy as np
+import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
@@ -217,6 +218,20 @@ def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_p
     with pytest.raises(PhavUserError, match="changed since it was generated") as caught:
         make_release(tampered, tmp_path / "r2")
     assert shard.name in str(caught.value)
+
+    for name, damage in (("people.parquet", b"garbage\n"), ("cameras.parquet", None)):
+        broken = tmp_path / f"broken-{name}"
+        shutil.copytree(dataset, broken)
+        if damage is None:  # a well-formed table of another dataset's videos
+            table = pq.read_table(broken / name)
+            ids = pa.array(["v999999"] * table.num_rows)
+            pq.write_table(table.set_column(0, "video_id", ids), broken / name)
+        else:
+            (broken / name).write_bytes(damage)
+        result = invoke_cli("release", str(broken), "--out", str(tmp_path / f"r-{name}"))
+        assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+        assert f"{broken / name}: " in result.stderr and "phav-validate" in result.stderr
+        assert not (tmp_path / f"r-{name}").exists()
 
     result = invoke_cli("release", str(dataset), "--out", str(recipe_release))  # full into a recipe-only one
     assert result.returncode == 2 and "holds other files or another release" in result.stderr

@@ -94,6 +94,13 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
         (lambda d: d.update(n_frames=d["n_frames"] + 1), "", "n_frames"),
         (lambda d: d["world"].update(clock_hour=24.0), "world.clock_hour", "less than 24"),
         (lambda d: d.update(video_id="v000003.mp4"), "video_id", "pattern"),
+        # Values θ can never give, which the renderer or the physics cannot honour.
+        (lambda d: d["video"].update(width=100000), "video.width", "less than or equal to 4096"),
+        (lambda d: d["camera"].update(position=[float("inf"), 1.0, 1.0]), "camera.position.0", "finite number"),
+        (lambda d: d["camera"].update(fov_deg=-10.0), "camera.fov_deg", "greater than or equal to 10"),
+        (lambda d: d["world"].update(sun_brightness=-3.0), "world.sun_brightness", "greater than or equal to 0"),
+        (lambda d: d["world"].update(fog_intensity=1.5), "world.fog_intensity", "less than or equal to 1"),
+        (lambda d: d["motion"].update(start_s=1000.0), "motion.start_s", "past the take's end"),
         (
             lambda d: d["variation"].update(kind="teleport"),
             "variation",
@@ -109,6 +116,14 @@ def test_malformed_recipes_name_the_field(recipe, edit, field, words):
     message = str(info.value)
     assert message.startswith(f"r.json: {field}" if field else "r.json: "), message
     assert words in message and "\n" not in message
+
+
+def test_a_key_written_twice_is_refused(recipe):
+    """The last of two ``action`` keys would silently win: a hand edit that meant one of them."""
+    text = recipe.model_dump_json()
+    doubled = text.replace('"action":', '"action":"walk","action":', 1)
+    with pytest.raises(PhavUserError, match=r"^r\.json: action: key written twice$"):
+        parse_recipe(doubled, source="r.json")
 
 
 def test_non_json_is_a_user_error():

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import pytest
 import yaml
 
 from phav_spec.errors import PhavUserError
+from phav_spec.files import parse_json_object
 from phav_spec.theta import PRESETS_DIR, Theta, load_preset, load_theta, parse_theta
 from phav_spec.vocab import ACTIONS
 from tests.helpers import PRESET_PATH, preset_dict, run_cli, theta_variant
@@ -157,6 +160,21 @@ def test_duplicate_keys_are_refused(tmp_path):
     path.write_text(text, encoding="utf-8")
     with pytest.raises(PhavUserError, match=r"dup\.yaml: line \d+: theta_w: key written twice"):
         load_theta(path)
+
+
+def test_deep_nesting_a_device_and_a_pipe_are_one_line_errors(tmp_path):
+    """Nothing a user can point ``--theta`` at ends in a traceback, a hang or all memory."""
+    deep = tmp_path / "deep.yaml"
+    deep.write_text("a: " + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"deep\.yaml: invalid YAML: nested too deeply"):
+        load_theta(deep)
+    pipe = tmp_path / "pipe.yaml"
+    os.mkfifo(pipe)
+    for path in (pipe, Path("/dev/zero")):
+        with pytest.raises(PhavUserError, match=r"not a regular file \(a device, a pipe or a socket\)"):
+            load_theta(path)
+    with pytest.raises(PhavUserError, match=r"r\.json: invalid JSON: nested too deeply"):
+        parse_json_object("[" * 100_000 + "]" * 100_000, source="r.json")
 
 
 def test_only_bare_names_fall_back_to_presets(tmp_path):

@@ -49,6 +49,9 @@ def test_good_table_passes(good):
     assert "all checks passed" in result.stdout
     stats = invoke_cli("stats", str(good))
     assert stats.returncode == 0 and "goodness of fit" in stats.stdout and "camera" in stats.stdout
+    for alpha in ("nan", "-1", "5"):  # not significance levels: NaN passed every test
+        stats = invoke_cli("stats", str(good), "--alpha", alpha)
+        assert stats.returncode == 2 and "--alpha: must be in (0, 1)" in stats.stderr, stats.stderr
 
 
 def test_dataset_directory_with_theta_yaml(good):
