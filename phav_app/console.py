@@ -7,6 +7,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 
+import typer
 from rich.console import Console
 from rich.markup import escape
 from rich.progress import Progress
@@ -28,16 +29,39 @@ EXIT_FINDINGS = 1
 EXIT_USER_ERROR = 2
 
 
-def run_app(app: Callable[[], object]) -> None:
-    """Run a Typer app; a PhavUserError becomes one line on stderr and exit code 2."""
+def run_app(app: Callable[..., object]) -> None:
+    """Run a Typer app (called with ``standalone_mode=False``): a PhavUserError, or an option
+    or argument Typer refuses, becomes one line on stderr and exit code 2; Ctrl-C says what
+    it left behind and exits 130."""
     try:
-        app()
+        code = app(standalone_mode=False)
     except PhavUserError as e:
-        err_console.print(Text.assemble(("error:", "bold red"), " ", str(e)), soft_wrap=True)
+        _error_line(str(e))
         sys.exit(EXIT_USER_ERROR)
+    except _CLICK_ERROR as e:  # `--videos abc`, a missing argument, an unknown option
+        if type(e).__name__ != "NoArgsIsHelpError":  # a bare command group: Typer printed its help
+            ctx = getattr(e, "ctx", None)
+            _error_line(e.format_message() + (f" (see {ctx.command_path} --help)" if ctx is not None else ""))
+        sys.exit(e.exit_code)
+    except typer.Abort:
+        err_console.print("aborted")
+        sys.exit(1)
     except KeyboardInterrupt:
+        code = _INTERRUPTED
+    if code == _INTERRUPTED:  # Typer turns Ctrl-C inside a command into this exit code
         err_console.print("interrupted; finished files are intact (writes are atomic)")
-        sys.exit(130)
+    sys.exit(code if isinstance(code, int) else 0)
+
+
+#: The exit code of a run stopped by Ctrl-C (128 + SIGINT).
+_INTERRUPTED = 130
+#: Click's base of the errors it reports for a command line (Typer may vendor Click, so it is
+#: found through the one Typer exports).
+_CLICK_ERROR = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
+
+
+def _error_line(message: str) -> None:
+    err_console.print(Text.assemble(("error:", "bold red"), " ", message), soft_wrap=True)
 
 
 def bar_tasks(bar: Progress) -> Callable[[str, int], Callable[[int], None]]:

@@ -109,6 +109,24 @@ def test_bad_recipes_on_the_command_line(tmp_path):
     assert not (tmp_path / "o.json").exists()
 
 
+def test_usage_errors_are_one_line_naming_the_option():
+    """What Typer refuses on a command line is one line naming the option and the help to
+    read, exit code 2 (it drew a box of five lines)."""
+    cases = {
+        ("generate", "--videos", "abc"): "error: Invalid value for '--videos'",
+        ("generate", "--nope"): "error: No such option: --nope",
+        ("recipe", "check"): "error: Missing argument 'file'.",
+        ("validate!", "--nope"): "error: No such option: --nope",
+    }
+    for args, start in cases.items():
+        result = invoke_cli(*args)
+        lines = [line for line in result.stderr.splitlines() if line.strip()]
+        assert result.returncode == 2 and len(lines) == 1 and lines[0].startswith(start), (args, result.stderr)
+        assert lines[0].endswith("--help)")
+    bare = invoke_cli("theta")  # a bare group shows its help
+    assert bare.returncode == 2 and "check" in bare.stdout and not bare.stderr.strip()
+
+
 def test_spec_vocab_lists_the_registries():
     result = invoke_cli("spec", "vocab", "pixel_class")
     assert result.returncode == 0 and "guard_rail" in result.stdout and "(64)" in result.stdout

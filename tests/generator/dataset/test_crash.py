@@ -73,6 +73,30 @@ def test_sigkill_anywhere_then_resume_gives_the_uninterrupted_dataset(generate, 
     assert not (out / WORK_DIR).exists()
 
 
+def test_ctrl_c_says_what_it_left_and_exits_130(small_dataset, tmp_path):
+    """SIGINT once the run is writing: exit code 130 and one line saying finished files are
+    intact (Typer turned Ctrl-C into a bare exit code before ``run_app`` could say so)."""
+    out = tmp_path / "data"
+    args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
+            "--shard-size", str(SMALL_SHARD_SIZE), "--out", str(out))  # fmt: skip
+    run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "generate", *args], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, text=True, env=cli_env())  # fmt: skip
+    try:
+        deadline = time.monotonic() + 120.0
+        while not (out / WORK_DIR).exists():
+            assert run.poll() is None and time.monotonic() < deadline, "the run never started writing"
+            time.sleep(0.05)
+        run.send_signal(signal.SIGINT)
+        _, err = run.communicate(timeout=120)
+    finally:
+        run.kill()
+    assert run.returncode == 130, err[-500:]
+    assert [line for line in err.splitlines() if line.strip()] == [
+        "interrupted; finished files are intact (writes are atomic)"
+    ]
+    assert not (out / "manifest.json").exists()
+
+
 def test_a_killed_worker_is_a_one_line_error_and_the_rerun_resumes(generate, reference, tmp_path):
     out = tmp_path / "data"
     result = generate(out, "--workers", "2", kill_at="part:v000002:2")
