@@ -128,7 +128,8 @@ def invoke_cli(*args: str) -> subprocess.CompletedProcess[str]:
     width = mock.patch.dict("os.environ", {"COLUMNS": "200"})  # as run_cli's environment: Typer's error boxes
     with width, contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
-            run_app(lambda **kw: app(args=list(rest), prog_name="phav-validate" if app is validate_app else "phav", **kw))
+            name = "phav-validate" if app is validate_app else "phav"
+            run_app(lambda **kw: app(args=list(rest), prog_name=name, **kw))
         except SystemExit as e:
             code = e.code
     if isinstance(code, str):  # sys.exit("message"): printed to stderr, status 1
