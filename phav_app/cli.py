@@ -72,7 +72,7 @@ from phav_generator.sampling import RecipeSampler, sample_recipes
 from phav_generator.vary import parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write, parse_json_object
+from phav_spec.files import atomic_write, check_output_dir, parse_json_object
 from phav_spec.recipe import frames_for, load_recipe, recipe_json_schema
 from phav_spec.recipe_table import RecipeRows, RecipeTable, read_recipe_table, write_recipe_table
 from phav_spec.release import CROISSANT_FILE
@@ -371,6 +371,7 @@ def sheets(
 
     chosen = tuple(k.strip() for k in kinds.split(",") if k.strip())
     th = load_theta(theta)
+    check_output_dir(out)
     try:
         specs = list(sheet_specs(th, seed, chosen))  # checks the kinds
     except ValueError as e:
@@ -667,6 +668,8 @@ def bench(
         raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
     if gl != "llvmpipe":
         require_gl(gl)  # now, not after an hour of other sections
+    if out_dir is not None:
+        check_output_dir(out_dir, field="--out-dir")
     theta = load_theta("phav-v1")
     runners = {
         "sampling": lambda: _bench_sampling_table(theta, n=n, seed=seed, out_dir=out_dir),

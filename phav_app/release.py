@@ -27,7 +27,15 @@ from phav_app.card import RecipeFit, croissant, dataset_card, histograms
 from phav_generator.dataset.fingerprint import package_version
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse_json_object, read_text
+from phav_spec.files import (
+    WriteError,
+    atomic_write,
+    check_output_dir,
+    file_sha256,
+    nested,
+    parse_json_object,
+    read_text,
+)
 from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
 from phav_spec.release import (
@@ -166,8 +174,7 @@ def make_release(
     if nested(out, src.root):
         raise PhavUserError("the release and the dataset must not contain each other", source=str(out),
                             field="--out")  # fmt: skip
-    if out.exists() and not out.is_dir():
-        raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
+    check_output_dir(out)
     if not re.fullmatch(r"\d+\.\d+\.\d+", version):
         raise PhavUserError(f"not MAJOR.MINOR.PATCH: {version!r}", field="--dataset-version")
     if date is not None:

@@ -125,6 +125,18 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
     _fsync_directory(target.parent)
 
 
+def check_output_dir(out: Path, *, field: str = "--out") -> None:
+    """Refuse, before any work, an output folder that is a file or lies below one (the first
+    write would fail only after the work it was to keep)."""
+    if out.exists() and not out.is_dir():
+        raise PhavUserError("exists and is not a directory", source=str(out), field=field)
+    for parent in out.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise PhavUserError(f"{parent} is not a directory", source=str(out), field=field)
+            return
+
+
 def _check_writable_place(target: Path) -> None:
     """Refuse, before anything is written, a target that is a directory or some other thing
     than a file (a device, a pipe: renaming over it would replace it), and one below a file."""

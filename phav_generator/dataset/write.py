@@ -35,7 +35,7 @@ from phav_generator.pipeline import PART_TABLES, VideoTask, part_path, run_task
 from phav_generator.render.context import check_gl_kind, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write
+from phav_spec.files import WriteError, atomic_write, check_output_dir
 from phav_spec.manifest import MANIFEST_VERSION, DatasetManifest, ShardEntry, VideoEntry, dump_manifest, load_manifest
 from phav_spec.metadata import arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
@@ -195,8 +195,7 @@ def write_dataset(
     """
     out = Path(out)
     check_engine(engine)
-    if out.exists() and not out.is_dir():
-        raise PhavUserError("exists and is not a directory", source=str(out), field="--out")
+    check_output_dir(out)
     names = list(shard_names) if shard_names is not None else [shard_name(name, i) for i in range(len(shards))]
     if len(names) != len(shards) or len(set(names)) != len(names):
         raise ValueError("shard_names must name every shard once")

@@ -67,6 +67,12 @@ def test_output_paths_that_cannot_be_written(tmp_path):
     assert result.returncode == 2 and "Not a regular file" in result.stderr and "Traceback" not in result.stderr
     assert stat.S_ISFIFO(pipe.stat().st_mode)  # the pipe is still a pipe
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile.txt", "pipe.parquet"]  # no temporary left
+    for args in (("sheets", "--out", str(below)), ("bench", "--sections", "sampling", "--out-dir", str(below))):
+        result = invoke_cli(*args)  # refused before any sheet or bench is made
+        option = args[-2]
+        assert result.returncode == 2 and f"{below}: {option}: {tmp_path / 'afile.txt'} is not a directory" in (
+            result.stderr
+        ), result.stderr
 
 
 def test_recipe_show_and_check_round_trip(tmp_path):
