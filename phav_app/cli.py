@@ -287,14 +287,53 @@ def spec_vocab(
 
 
 @recipe_app.command("check")
-def recipe_check(file: Annotated[Path, typer.Argument(help="A recipe JSON file.")]) -> None:
-    """Validate one recipe JSON file (upgrading an older schema version)."""
+def recipe_check(
+    file: Annotated[Path, typer.Argument(help="A recipe JSON file.")],
+    theta: Annotated[
+        str | None,
+        typer.Option(
+            "--theta",
+            help="The recipe's θ, to say whether the recipe is what θ and its seed give "
+            "(default: the shipped preset with its hash, if one has it).",
+        ),
+    ] = None,
+) -> None:
+    """Validate one recipe JSON file (upgrading an older schema version), and say whether it is
+    what its θ and seed give or was edited since (an edited recipe still renders as written)."""
 
     r = load_recipe(file)
     console.print(
         f"{file}: valid recipe {r.video_id} (schema {r.schema_version}): {r.action}, {r.environment.name}, "
         f"{r.world.weather}, {r.world.day_phase}, {r.camera.kind}, {r.variation.kind}, {r.n_frames} frames"
     )
+    th = load_theta(theta) if theta else _shipped_preset(r.theta_hash)
+    if th is None:
+        console.print(f"θ {r.theta_hash[:12]}… is no shipped preset: pass it with --theta to compare the recipe "
+                      "with what it gives")  # fmt: skip
+        return
+    if th.hash != r.theta_hash:
+        raise PhavUserError(f"the recipe was sampled from θ {r.theta_hash[:12]}…, not {th.hash[:12]}…",
+                            source=str(file), field="theta_hash")  # fmt: skip
+    drawn = RecipeSampler(th).sample(r.dataset_seed, r.index).model_dump(mode="json")
+    differ = _differences(drawn, r.model_dump(mode="json"))
+    where = f"θ {escape(th.name)} at seed {r.dataset_seed}, video {r.index}"
+    if not differ:
+        console.print(f"what {where} gives")
+        return
+    shown = ", ".join(differ[:8]) + (f" and {len(differ) - 8} more" if len(differ) > 8 else "")
+    verb = "differs" if len(differ) == 1 else "differ"
+    console.print(f"[yellow]not what {where} gives:[/] {escape(shown)} {verb} (edited by hand, or sampled by "
+                  "another phav version); it renders as written", soft_wrap=True)  # fmt: skip
+
+
+def _differences(a: object, b: object, path: str = "") -> list[str]:
+    """The dotted paths at which two JSON values differ (a list's items by index)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        keys = [*a, *(k for k in b if k not in a)]
+        return [p for k in keys for p in _differences(a.get(k), b.get(k), f"{path}.{k}" if path else str(k))]
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        return [p for i, (x, y) in enumerate(zip(a, b, strict=True)) for p in _differences(x, y, f"{path}.{i}")]
+    return [] if a == b else [path]
 
 
 @recipe_app.command("show")
@@ -592,11 +631,21 @@ def vary(
 def _preset_for(theta_hash: str) -> Theta:
     """The shipped preset whose hash a recipe records."""
 
+    th = _shipped_preset(theta_hash)
+    if th is None:
+        raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…; pass the recipe's θ with --theta",
+                            field="--theta")  # fmt: skip
+    return th
+
+
+def _shipped_preset(theta_hash: str) -> Theta | None:
+    """The shipped preset with this θ hash, if one has it."""
+
     for path in sorted(PRESETS_DIR.glob("*.yaml")):
         th = load_theta(path)
         if th.hash == theta_hash:
             return th
-    raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…; pass the recipe's θ with --theta", field="--theta")
+    return None
 
 
 @app.command()

@@ -84,6 +84,7 @@ def test_recipe_show_and_check_round_trip(tmp_path):
     path.write_text(shown.stdout, encoding="utf-8")
     checked = invoke_cli("recipe", "check", str(path))
     assert checked.returncode == 0 and "valid recipe v000003" in checked.stdout
+    assert "what θ phav-v1 at seed 2, video 3 gives" in checked.stdout
     missing = invoke_cli("recipe", "show", str(table), "--video", "v000099")
     assert missing.returncode == 2 and "no video 'v000099'" in missing.stderr
 
@@ -109,7 +110,12 @@ def test_bad_recipes_on_the_command_line(tmp_path):
     edited["camera"]["fov_deg"] = 33.0  # valid, but not what θ and the seed give
     path = tmp_path / "edited.json"
     path.write_text(json.dumps(edited), encoding="utf-8")
-    assert invoke_cli("recipe", "check", str(path)).returncode == 0
+    checked = invoke_cli("recipe", "check", str(path))
+    assert checked.returncode == 0 and "not what θ phav-v1 at seed 0, video 0 gives: camera.fov_deg differs" in (
+        checked.stdout
+    ), checked.stdout
+    custom = invoke_cli("recipe", "check", str(path), "--theta", "phav-v1-short")
+    assert custom.returncode == 2 and f"{path}: theta_hash: the recipe was sampled from θ" in custom.stderr
     result = invoke_cli("vary", str(path), "--set", "weather=fog", "--out", str(tmp_path / "o.json"))
     assert result.returncode == 2 and f"{path}: v000000: this recipe is not what θ" in result.stderr
     assert not (tmp_path / "o.json").exists()
