@@ -322,8 +322,8 @@ def recipe_check(
         return
     shown = ", ".join(differ[:8]) + (f" and {len(differ) - 8} more" if len(differ) > 8 else "")
     verb = "differs" if len(differ) == 1 else "differ"
-    console.print(f"[yellow]not what {where} gives:[/] {escape(shown)} {verb} (edited by hand, or sampled by "
-                  "another phav version); it renders as written", soft_wrap=True)  # fmt: skip
+    console.print(f"[yellow]not what {where} gives:[/] {escape(shown)} {verb} (varied with phav vary, edited by "
+                  "hand, or sampled by another phav version); it renders as written", soft_wrap=True)  # fmt: skip
 
 
 def _differences(a: object, b: object, path: str = "") -> list[str]:
@@ -617,8 +617,9 @@ def vary(
     chosen = load_theta(theta) if theta else _preset_for(r.theta_hash)
     try:
         varied = vary_recipe(r, chosen, forced)
-    except PhavUserError as e:  # about this recipe: name its file
-        raise e if e.source else PhavUserError(e.detail, source=str(recipe_file), field=e.field) from None
+    except PhavUserError as e:  # about this recipe (not a --set value): name its file
+        named = e.source or e.field == "--set"
+        raise e if named else PhavUserError(e.detail, source=str(recipe_file), field=e.field) from None
     target = out if out is not None else Path(f"{r.video_id}-varied.json")
     with atomic_write(target) as tmp:
         tmp.write_text(json.dumps(varied.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")

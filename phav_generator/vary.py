@@ -12,8 +12,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from pydantic import ValidationError
+
 from phav_generator.sampling import VARIABLES, RecipeSampler
-from phav_spec.errors import PhavUserError
+from phav_spec.errors import PhavUserError, format_validation_error
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
 from phav_spec.vocab import CAMERAS, DAY_PHASES, WEATHERS
@@ -68,5 +70,8 @@ def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
         )
     try:
         return sampler.sample(recipe.dataset_seed, recipe.index, force=settings)
+    except ValidationError as e:  # a value out of its range: name the recipe field it would set
+        where, message = format_validation_error(e)
+        raise PhavUserError(f"the varied recipe is invalid: {where}: {message}", field="--set") from None
     except ValueError as e:
         raise PhavUserError(f"the varied recipe is invalid: {str(e).splitlines()[0]}", field="--set") from None

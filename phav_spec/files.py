@@ -8,6 +8,7 @@ import hashlib
 import json
 import os
 import secrets
+import stat
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -16,13 +17,12 @@ from phav_spec.errors import PhavUserError
 
 
 def read_text(path: str | os.PathLike[str], *, hint: str = "check the path") -> str:
-    """A UTF-8 text file's contents; a missing or unreadable file, or something other than a
-    file or folder (a device, which may never end; a pipe, which may never be written), is a
-    PhavUserError."""
+    """A UTF-8 text file's contents (a pipe's too: ``<(…)``, ``/dev/stdin``); a missing or
+    unreadable file, or a device or socket (``/dev/zero`` never ends), is a PhavUserError."""
     p = Path(path)
-    if p.exists() and not (p.is_file() or p.is_dir()):
-        raise PhavUserError("not a regular file (a device, a pipe or a socket)", source=str(path))
     try:
+        if p.exists() and not (p.is_file() or p.is_dir() or stat.S_ISFIFO(p.stat().st_mode)):
+            raise PhavUserError("not a file or a pipe (a device or a socket)", source=str(path))
         return p.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise PhavUserError(f"no such file; {hint}", source=str(path)) from None
@@ -127,14 +127,18 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
 
 def check_output_dir(out: Path, *, field: str = "--out") -> None:
     """Refuse, before any work, an output folder that is a file or lies below one (the first
-    write would fail only after the work it was to keep)."""
-    if out.exists() and not out.is_dir():
-        raise PhavUserError("exists and is not a directory", source=str(out), field=field)
-    for parent in out.parents:
-        if parent.exists():
-            if not parent.is_dir():
-                raise PhavUserError(f"{parent} is not a directory", source=str(out), field=field)
-            return
+    write would fail only after the work it was to keep). A place it cannot look into is left
+    to the first write to report."""
+    try:
+        if out.exists() and not out.is_dir():
+            raise PhavUserError("exists and is not a directory", source=str(out), field=field)
+        for parent in out.parents:
+            if parent.exists():
+                if not parent.is_dir():
+                    raise PhavUserError(f"{parent} is not a directory", source=str(out), field=field)
+                return
+    except OSError:
+        return
 
 
 def _check_writable_place(target: Path) -> None:

@@ -274,10 +274,15 @@ def bounded(key: str, bounds: Mapping[str, tuple[str, float, float]] = PARAMETER
 
 
 def _check_support(dist: Uniform | Triangular, lo: float, hi: float, name: str | None = None, unit: str = "") -> None:
-    """Refuse a distribution whose support leaves [lo, hi] (the message names ``name`` if given)."""
+    """Refuse a distribution whose support leaves [lo, hi] (the message names ``name`` if given);
+    a wrapped interval draws from its whole period, [0, period), and must fit it all."""
     a, b = dist.support
+    wraps = isinstance(dist, Triangular) and dist.wraps
+    if wraps:
+        a, b = 0.0, float(dist.period)
     if a < lo or b > hi:
-        message = f"support [{a}, {b}] leaves the allowed range [{lo}, {hi}]" + (f" {unit}" if unit else "")
+        what = f"support [{a}, {b}]" if not wraps else f"wrapped support [0, {b})"
+        message = f"{what} leaves the allowed range [{lo}, {hi}]" + (f" {unit}" if unit else "")
         raise ValueError(f"{name}: {message}" if name else message)
 
 

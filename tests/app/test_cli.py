@@ -119,6 +119,12 @@ def test_bad_recipes_on_the_command_line(tmp_path):
     result = invoke_cli("vary", str(path), "--set", "weather=fog", "--out", str(tmp_path / "o.json"))
     assert result.returncode == 2 and f"{path}: v000000: this recipe is not what θ" in result.stderr
     assert not (tmp_path / "o.json").exists()
+    sampled = tmp_path / "sampled.json"
+    sampled.write_text(json.dumps(data), encoding="utf-8")
+    result = invoke_cli("vary", str(sampled), "--set", "sun_brightness=5", "--out", str(tmp_path / "o.json"))
+    assert result.returncode == 2 and "error: --set: the varied recipe is invalid: world.sun_brightness: " in (
+        result.stderr
+    ), result.stderr
 
 
 def test_usage_errors_are_one_line_naming_the_option():

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 from pathlib import Path
 
 import pytest
@@ -97,6 +98,8 @@ BAD = {
     "probability above one": (_set("weather_elements.fog.clouds.p_if_parent", 1.5), "weather_elements.fog.clouds.p_if_parent", "less than or equal to 1"),
     "variation on zero muscles": (_set("variations.random_perturbation.n_muscles", {"min": 0, "max": 0}), "variations.random_perturbation.n_muscles.min", "greater than or equal to 1"),
     "negative motion speed": (_set("motion.speed", {"kind": "uniform", "low": -1, "high": 1.1}), "motion.speed", "allowed range"),
+    # A wrapped interval draws from its whole period: a field of view of 0–200° otherwise.
+    "field of view wrapped past its range": (_set("cameras.kite.fov_deg", {"kind": "triangular", "min": 100, "max": 20, "mode": 110, "period": 200}), "cameras.kite", "wrapped support [0, 200.0) leaves the allowed range [10.0, 120.0]"),
     "zero perturbation period": (_set("variations.random_perturbation.period_s", {"kind": "uniform", "low": 0.0, "high": 0.0}), "variations.random_perturbation.period_s", "allowed range"),
     "a crowd of background actors": (_set("background_actors.count", {"min": 0, "max": 3_000_000_000}), "background_actors.count.max", "at most 50"),
     "future format": (_set("format_version", 99), "format_version", "newer than this phav"),
@@ -162,19 +165,30 @@ def test_duplicate_keys_are_refused(tmp_path):
         load_theta(path)
 
 
-def test_deep_nesting_a_device_and_a_pipe_are_one_line_errors(tmp_path):
-    """Nothing a user can point ``--theta`` at ends in a traceback, a hang or all memory."""
+def test_deep_nesting_a_device_and_an_unreadable_place_are_one_line_errors(tmp_path, monkeypatch):
+    """Nothing a user can point ``--theta`` at ends in a traceback or all memory; a pipe
+    (``<(…)``, ``/dev/stdin``) is read."""
     deep = tmp_path / "deep.yaml"
     deep.write_text("a: " + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
     with pytest.raises(PhavUserError, match=r"deep\.yaml: invalid YAML: nested too deeply"):
         load_theta(deep)
-    pipe = tmp_path / "pipe.yaml"
-    os.mkfifo(pipe)
-    for path in (pipe, Path("/dev/zero")):
-        with pytest.raises(PhavUserError, match=r"not a regular file \(a device, a pipe or a socket\)"):
-            load_theta(path)
+    with pytest.raises(PhavUserError, match=r"/dev/zero: not a file or a pipe \(a device or a socket\)"):
+        load_theta("/dev/zero")
     with pytest.raises(PhavUserError, match=r"r\.json: invalid JSON: nested too deeply"):
         parse_json_object("[" * 100_000 + "]" * 100_000, source="r.json")
+    pipe = tmp_path / "pipe.yaml"
+    os.mkfifo(pipe)
+    writer = threading.Thread(target=lambda: pipe.write_text(PRESET_PATH.read_text(encoding="utf-8")))
+    writer.start()
+    assert load_theta(pipe).hash == load_preset().hash
+    writer.join()
+
+    def locked(self):  # a folder on the way that a user may not enter
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(Path, "exists", locked)
+    with pytest.raises(PhavUserError, match=r"locked/t\.yaml: cannot read: Permission denied"):
+        load_theta(tmp_path / "locked" / "t.yaml")
 
 
 def test_only_bare_names_fall_back_to_presets(tmp_path):
