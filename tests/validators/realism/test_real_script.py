@@ -3,6 +3,7 @@ per class (docs/realism.md)."""
 
 from __future__ import annotations
 
+import json
 from collections import Counter
 
 import numpy as np
@@ -76,3 +77,28 @@ def test_a_car_seen_closer_is_its_crop_scaled_up_with_its_box():
     assert in_car.mean() == pytest.approx(0.5, abs=0.01) and in_car[-1].all() and not in_car[0].any()
     for x0, y0, x1, y1 in small.CLOSER.values():  # every crop has the frame's aspect
         assert (x1 - x0) * h == pytest.approx((y1 - y0) * w, rel=0.01)
+
+
+def test_a_photograph_s_outline_is_cropped_and_tiled_with_it(tmp_path):
+    """judged_real_small: a labelme outline becomes a mask, scaled and cropped as its
+    photograph is (``right`` of the way across), and shrunk k times and tiled as the frame."""
+    from PIL import Image
+
+    small = measure_script("judged_real_small")
+    h, w = small.H, small.W
+    photo = tmp_path / "p.jpg"
+    Image.new("RGB", (2 * w, h), (0, 0, 0)).save(photo)  # twice the frame's width
+    square = [[w + 20.0, 40.0], [w + 120.0, 40.0], [w + 120.0, 140.0], [w + 20.0, 140.0]]
+    shapes = [{"label": "sofa", "shape_type": "polygon", "points": square},
+              {"label": "person", "shape_type": "polygon", "points": [[0, 0], [10, 0], [10, 10]]}]  # fmt: skip
+    photo.with_suffix(".json").write_text(json.dumps({"shapes": shapes}), encoding="utf-8")
+    outline = small.outline(photo, "sofa")
+    assert outline.sum() == pytest.approx(100 * 100, rel=0.03) and not outline[:15, :15].any()
+    with Image.open(photo) as image:
+        frame, mask = small.cropped(image, outline, 1.0)  # the right half: the square 20 px in
+    assert frame.shape == (h, w, 3) and mask.shape == (h, w)
+    assert mask[90, 70] and not mask[90, 10] and small.height(mask) == pytest.approx(100, abs=2)
+    quarter = small.tiled_mask(mask, 4)
+    assert small.height(quarter[: h // 4]) == pytest.approx(25, abs=1)
+    assert quarter.sum() == pytest.approx(mask.sum(), rel=0.1)  # 16 tiles, each a sixteenth of its area
+    assert np.array_equal(small.box_mask((10, 20, 30, 60)).nonzero()[0][[0, -1]], [20, 59])
