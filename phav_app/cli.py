@@ -69,7 +69,7 @@ from phav_generator.pipeline import video_frames
 from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration
 from phav_generator.render.context import gl_context, require_gl
 from phav_generator.sampling import RecipeSampler, sample_recipes
-from phav_generator.vary import parse_settings
+from phav_generator.vary import drawn_sampler, parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, check_output_dir, parse_json_object
@@ -311,10 +311,11 @@ def recipe_check(
         console.print(f"θ {r.theta_hash[:12]}… is no shipped preset: pass it with --theta to compare the recipe "
                       "with what it gives")  # fmt: skip
         return
-    if th.hash != r.theta_hash:
-        raise PhavUserError(f"the recipe was sampled from θ {r.theta_hash[:12]}…, not {th.hash[:12]}…",
-                            source=str(file), field="theta_hash")  # fmt: skip
-    drawn = RecipeSampler(th).sample(r.dataset_seed, r.index).model_dump(mode="json")
+    try:
+        sampler = drawn_sampler(r, th)
+    except PhavUserError as e:  # another θ than the recipe's: name the recipe's file
+        raise PhavUserError(e.detail, source=str(file), field=e.field) from None
+    drawn = sampler.sample(r.dataset_seed, r.index).model_dump(mode="json")
     differ = _differences(drawn, r.model_dump(mode="json"))
     where = f"θ {escape(th.name)} at seed {r.dataset_seed}, video {r.index}"
     if not differ:

@@ -53,15 +53,21 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
     return out
 
 
-def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
-    """The counterfactual of ``recipe`` with ``settings`` forced (see the module doc)."""
+def drawn_sampler(recipe: Recipe, theta: Theta) -> RecipeSampler:
+    """The sampler of θ, the one ``recipe`` records (a user error naming ``theta_hash``
+    otherwise): ``.sample(recipe.dataset_seed, recipe.index)`` is what it gives."""
     if theta.hash != recipe.theta_hash:
         raise PhavUserError(
             f"the recipe was sampled from θ {recipe.theta_hash[:12]}…, not {theta.hash[:12]}…; "
             "pass that θ with --theta",
             field="theta_hash",
         )
-    sampler = RecipeSampler(theta)
+    return RecipeSampler(theta)
+
+
+def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
+    """The counterfactual of ``recipe`` with ``settings`` forced (see the module doc)."""
+    sampler = drawn_sampler(recipe, theta)
     if sampler.sample(recipe.dataset_seed, recipe.index) != recipe:
         raise PhavUserError(
             "this recipe is not what θ and its seed give (edited by hand, or from another phav version); "
