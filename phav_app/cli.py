@@ -7,6 +7,7 @@ import json
 import re
 import tempfile
 import time
+from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated
@@ -73,8 +74,8 @@ from phav_generator.vary import drawn_sampler, parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, check_output_dir, parse_json_object
-from phav_spec.recipe import frames_for, load_recipe, recipe_json_schema
-from phav_spec.recipe_table import RecipeRows, RecipeTable, read_recipe_table, write_recipe_table
+from phav_spec.recipe import Recipe, frames_for, load_recipe, recipe_json_schema
+from phav_spec.recipe_table import RecipeTable, read_recipe_table, write_recipe_stream
 from phav_spec.release import CROISSANT_FILE
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import PRESETS_DIR, Theta, load_theta
@@ -130,19 +131,6 @@ def _progress() -> Progress:
     )  # fmt: skip
 
 
-def sample_table(theta: Theta, *, n: int, seed: int, progress: Progress | None = None) -> RecipeRows:
-    """Sample recipes 0 … n−1 into column lists (a progress bar when one is given)."""
-
-    sampler = RecipeSampler(theta)
-    rows = RecipeRows()
-    task = progress.add_task("sampling recipes", total=n) if progress else None
-    for i in range(n):
-        rows.add(sampler.sample(seed, i))
-        if progress is not None and (i + 1) % 500 == 0:
-            progress.update(task, completed=i + 1)
-    return rows
-
-
 @app.command()
 def sample(
     theta: ThetaOption = "phav-v1",
@@ -152,11 +140,19 @@ def sample(
 ) -> None:
     """Sample N recipes from θ into a Parquet table (one row per video, recipe JSON included)."""
     th = load_theta(theta)
+    sampler = RecipeSampler(th)
     with _progress() as progress:
-        rows = sample_table(th, n=n, seed=seed, progress=progress)
-    size = write_recipe_table(rows.to_arrow(theta=th, dataset_seed=seed), out)
+        task = progress.add_task("sampling recipes", total=n)
+
+        def drawn() -> Iterator[Recipe]:
+            for i in range(n):
+                yield sampler.sample(seed, i)
+                if (i + 1) % 500 == 0:
+                    progress.update(task, completed=i + 1)
+
+        count, size = write_recipe_stream(drawn(), out, theta=th, dataset_seed=seed)
     console.print(
-        f"wrote {len(rows)} recipes to {escape(str(out))} ({size:,} bytes), θ {escape(th.name)} {th.hash[:12]}…, "
+        f"wrote {count} recipes to {escape(str(out))} ({size:,} bytes), θ {escape(th.name)} {th.hash[:12]}…, "
         f"seed {seed}"
     )
 

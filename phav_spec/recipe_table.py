@@ -161,6 +161,52 @@ class RecipeRows:
         return pa.table(arrays).replace_schema_metadata(meta)
 
 
+#: Rows per row group when recipes are written as they are drawn: memory holds one batch of
+#: rows, however many recipes the table gets.
+STREAM_BATCH_ROWS = 50_000
+
+
+def write_recipe_stream(
+    recipes: Iterable[Recipe],
+    path: str | Path,
+    *,
+    theta: Theta | None = None,
+    dataset_seed: int | None = None,
+    batch_rows: int = STREAM_BATCH_ROWS,
+) -> tuple[int, int]:
+    """Write recipes as they come, a row group per ``batch_rows``, atomically (nothing at
+    ``path`` until the last row is written); returns (rows, the file's bytes). The table reads
+    back as ``RecipeRows().extend(recipes).to_arrow(...)`` would, in a bounded memory."""
+    import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
+
+    if batch_rows < 1:
+        raise ValueError(f"batch_rows must be at least 1, got {batch_rows}")
+    written = 0
+    writer: pq.ParquetWriter | None = None
+
+    def flush(rows: RecipeRows, tmp: Path) -> None:
+        nonlocal writer, written
+        table = rows.to_arrow(theta=theta, dataset_seed=dataset_seed)
+        writer = writer or pq.ParquetWriter(tmp, table.schema, compression="zstd")
+        writer.write_table(table)
+        written += len(rows)
+
+    with atomic_write(path) as tmp:
+        try:
+            rows = RecipeRows()
+            for recipe in recipes:
+                rows.add(recipe)
+                if len(rows) == batch_rows:
+                    flush(rows, tmp)
+                    rows = RecipeRows()
+            if len(rows) or writer is None:  # the rest, or an empty table that still has its schema
+                flush(rows, tmp)
+        finally:
+            if writer is not None:
+                writer.close()
+    return written, Path(path).stat().st_size
+
+
 def write_recipe_table(table: pa.Table, path: str | Path) -> int:
     """Write atomically (temp file in the same folder, then rename); returns the file's bytes."""
     import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written

@@ -12,8 +12,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from phav_spec.motions import MOTIONS
-from phav_spec.recipe import frames_for, parse_recipe, video_id
-from phav_spec.recipe_table import COLUMN_NAMES, RECIPE_COLUMN, RecipeRows, read_recipe_table, write_recipe_table
+from phav_spec.recipe import frames_for, load_recipe, parse_recipe, video_id
+from phav_spec.recipe_table import (
+    COLUMN_NAMES,
+    RECIPE_COLUMN,
+    RecipeRows,
+    read_recipe_table,
+    write_recipe_stream,
+    write_recipe_table,
+)
 from phav_spec.scene import ACTION_SCENES, CAMERA_INFO, ENVIRONMENT_SCENES, HUMAN_MODELS
 from phav_spec.strategies import recipe_lists, recipes, thetas
 from phav_spec.theta import Theta, load_preset, parse_theta
@@ -127,6 +134,45 @@ def test_recipe_lists_round_trip_through_parquet(recipe_list) -> None:
     assert back.theta == PHAV_V1
     assert back.dataset_seed == 7
     assert back.table.num_rows == len(recipe_list)
+
+
+@settings(max_examples=PARQUET_EXAMPLES)
+@given(recipe_lists(), st.integers(min_value=1, max_value=4))
+def test_recipes_written_as_drawn_read_back_as_one_table(recipe_list, batch_rows) -> None:
+    """`phav sample` streams its rows a batch at a time: the same table as one write, whatever
+    the batch, row groups of at most ``batch_rows`` rows."""
+    import pyarrow.parquet as pq
+
+    with tempfile.TemporaryDirectory() as tmp:
+        whole, streamed = Path(tmp) / "whole.parquet", Path(tmp) / "streamed.parquet"
+        write_recipe_table(RecipeRows().extend(recipe_list).to_arrow(theta=PHAV_V1, dataset_seed=7), whole)
+        rows, size = write_recipe_stream(iter(recipe_list), streamed, theta=PHAV_V1, dataset_seed=7,
+                                         batch_rows=batch_rows)  # fmt: skip
+        assert (rows, size) == (len(recipe_list), streamed.stat().st_size)
+        a, b = read_recipe_table(whole), read_recipe_table(streamed)
+        assert b.table.equals(a.table) and b.table.schema.metadata == a.table.schema.metadata
+        assert (b.theta, b.dataset_seed, list(b.recipes())) == (PHAV_V1, 7, recipe_list)
+        groups = pq.ParquetFile(streamed).metadata
+        assert all(groups.row_group(i).num_rows <= batch_rows for i in range(groups.num_row_groups))
+
+
+def test_a_stream_that_fails_midway_leaves_nothing(tmp_path) -> None:
+    """An interrupted `phav sample` leaves the previous table (or none) and no temporary."""
+    one = load_recipe(Path(__file__).parent / "data" / "recipe-v2-dive_floor.json")
+
+    def failing():
+        for _ in range(5):
+            yield one
+        raise KeyboardInterrupt
+
+    out = tmp_path / "recipes.parquet"
+    out.write_bytes(b"previous")
+    with pytest.raises(KeyboardInterrupt):
+        write_recipe_stream(failing(), out, batch_rows=2)
+    assert out.read_bytes() == b"previous"
+    assert [p.name for p in tmp_path.iterdir()] == ["recipes.parquet"]
+    with pytest.raises(ValueError, match="batch_rows"):
+        write_recipe_stream([], out, batch_rows=0)
 
 
 def test_recipe_lists_reach_the_empty_list() -> None:
