@@ -163,7 +163,7 @@ class RecipeRows:
 
 #: Rows per row group when recipes are written as they are drawn: memory holds one batch of
 #: rows, however many recipes the table gets.
-STREAM_BATCH_ROWS = 50_000
+STREAM_BATCH_ROWS = 10_000
 
 
 def write_recipe_stream(
