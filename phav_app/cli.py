@@ -69,7 +69,7 @@ from phav_generator.physics.simulate import simulate
 from phav_generator.pipeline import video_frames
 from phav_generator.regenerate import check_target, compare_hashes, plan_regeneration
 from phav_generator.render.context import gl_context, require_gl
-from phav_generator.sampling import RecipeSampler, sample_recipes
+from phav_generator.sampling import sample_recipes
 from phav_generator.vary import drawn_sampler, parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
@@ -140,13 +140,12 @@ def sample(
 ) -> None:
     """Sample N recipes from θ into a Parquet table (one row per video, recipe JSON included)."""
     th = load_theta(theta)
-    sampler = RecipeSampler(th)
     with _progress() as progress:
         task = progress.add_task("sampling recipes", total=n)
 
         def drawn() -> Iterator[Recipe]:
-            for i in range(n):
-                yield sampler.sample(seed, i)
+            for i, recipe in enumerate(sample_recipes(th, n=n, seed=seed)):
+                yield recipe
                 if (i + 1) % 500 == 0:
                     progress.update(task, completed=i + 1)
 

@@ -17,7 +17,8 @@ from concurrent.futures import ProcessPoolExecutor
 
 import yaml
 
-from phav_app.cli import sample_table
+from phav_generator.sampling import sample_recipes
+from phav_spec.recipe_table import RecipeRows
 from phav_spec.theta import PRESETS_DIR, load_theta, parse_theta
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
@@ -32,7 +33,8 @@ def run(args: tuple[float, int]) -> tuple[float, int, bool, bool]:
         rest = 25 - skew / 3
         data["theta_w"] = {"clear": 25 + skew, "overcast": rest, "rain": rest, "fog": rest}
     theta = parse_theta(data, source=f"skew {skew}")
-    table = sample_table(theta, n=N_VIDEOS, seed=1000 + rep).to_arrow(theta=theta, dataset_seed=rep)
+    rows = RecipeRows().extend(sample_recipes(theta, n=N_VIDEOS, seed=1000 + rep))
+    table = rows.to_arrow(theta=theta, dataset_seed=rep)
     columns = {name: table.column(name).to_pylist() for name in table.column_names}
     result = check_distributions(columns, load_theta("phav-v1"))
     mismatches = [f for f in result.report.findings if f.reason == Reason.DISTRIBUTION_MISMATCH]
