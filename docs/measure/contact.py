@@ -8,7 +8,7 @@ Simulation only (no rendering). For the first N recipes of a θ and seed:
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -41,4 +41,9 @@ def main(theta: str, n: int, seed: int) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], int(sys.argv[2]), int(sys.argv[3]))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("theta", help="preset name or θ file, e.g. phav-v1-short")
+    parser.add_argument("n", type=int, help="the first N recipes")
+    parser.add_argument("seed", type=int, help="the dataset's seed")
+    args = parser.parse_args()
+    main(args.theta, args.n, args.seed)

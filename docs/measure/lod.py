@@ -6,11 +6,12 @@ pass's time per frame (median of the frames), the share of the full mesh's perso
 the level covers the same (mask IoU), and the mean absolute raw-RGB difference over the
 union of both masks. Run from the repository root:
 
-    .venv/bin/python docs/measure/lod.py
+    .venv/bin/python docs/measure/lod.py [--heights 200,150,100,50,25,12]
 """
 
 from __future__ import annotations
 
+import argparse
 import time
 
 import numpy as np
@@ -45,7 +46,7 @@ def _walk() -> tuple[np.ndarray, np.ndarray]:
     return pos, rot
 
 
-def main() -> None:
+def main(heights: list[int]) -> None:
     ctx = gl_context()
     pos, rot = _walk()
     height = rest_body(PHENOTYPE).dims.height_m
@@ -53,7 +54,7 @@ def main() -> None:
     print("| height on screen (px) | level | triangles | labelled pass (ms/frame) | mask IoU vs full "
           "| mean abs RGB diff |")  # fmt: skip
     print("| ---: | ---: | ---: | ---: | ---: | ---: |")
-    for px in (200, 100, 50, 25, 12):
+    for px in heights:
         distance = F * height / px
         target = pos[:, 0].mean(axis=0)
         eye = target + np.array([distance, 0.3 * distance, 0.0])
@@ -82,4 +83,10 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--heights",
+        default="200,150,100,50,25,12",
+        help="the person's standing heights on screen (px), comma-separated",
+    )
+    main([int(h) for h in parser.parse_args().heights.split(",")])
