@@ -4,7 +4,9 @@ the protagonist's framing)."""
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 from collections.abc import Callable
 
 import typer
@@ -29,10 +31,22 @@ EXIT_FINDINGS = 1
 EXIT_USER_ERROR = 2
 
 
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that the writes under way clean up after
+    themselves as they do for Ctrl-C (an atomic write removes its temporary)."""
+
+
+def _raise_terminated(signum: int, frame: object) -> None:
+    raise Terminated
+
+
 def run_app(app: Callable[..., object]) -> None:
     """Run a Typer app (called with ``standalone_mode=False``): a PhavUserError, or an option
-    or argument Typer refuses, becomes one line on stderr and exit code 2; Ctrl-C says what
-    it left behind and exits 130."""
+    or argument Typer refuses, becomes one line on stderr and exit code 2; Ctrl-C and SIGTERM
+    say what they left behind and exit 130 and 143."""
+    previous = None
+    if threading.current_thread() is threading.main_thread():  # Python takes signals there only
+        previous = signal.signal(signal.SIGTERM, _raise_terminated)
     try:
         code = app(standalone_mode=False)
     except PhavUserError as e:
@@ -48,13 +62,20 @@ def run_app(app: Callable[..., object]) -> None:
         sys.exit(1)
     except KeyboardInterrupt:
         code = _INTERRUPTED
+    except Terminated:
+        err_console.print("terminated; finished files are intact (writes are atomic)")
+        sys.exit(_TERMINATED)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     if code == _INTERRUPTED:  # Typer turns Ctrl-C inside a command into this exit code
         err_console.print("interrupted; finished files are intact (writes are atomic)")
     sys.exit(code if isinstance(code, int) else 0)
 
 
-#: The exit code of a run stopped by Ctrl-C (128 + SIGINT).
+#: The exit codes of a run stopped by Ctrl-C (128 + SIGINT) and by SIGTERM (128 + SIGTERM).
 _INTERRUPTED = 130
+_TERMINATED = 143
 #: Click's base of the errors it reports for a command line (Typer may vendor Click, so it is
 #: found through the one Typer exports).
 _CLICK_ERROR = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")

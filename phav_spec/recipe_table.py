@@ -182,28 +182,19 @@ def write_recipe_stream(
     if batch_rows < 1:
         raise ValueError(f"batch_rows must be at least 1, got {batch_rows}")
     written = 0
-    writer: pq.ParquetWriter | None = None
-
-    def flush(rows: RecipeRows, tmp: Path) -> None:
-        nonlocal writer, written
-        table = rows.to_arrow(theta=theta, dataset_seed=dataset_seed)
-        writer = writer or pq.ParquetWriter(tmp, table.schema, compression="zstd")
-        writer.write_table(table)
-        written += len(rows)
-
     with atomic_write(path) as tmp:
-        try:
+        empty = RecipeRows().to_arrow(theta=theta, dataset_seed=dataset_seed)
+        # Opened before the first recipe is drawn: a place that cannot be written fails now.
+        with pq.ParquetWriter(tmp, empty.schema, compression="zstd") as writer:
             rows = RecipeRows()
             for recipe in recipes:
                 rows.add(recipe)
                 if len(rows) == batch_rows:
-                    flush(rows, tmp)
-                    rows = RecipeRows()
-            if len(rows) or writer is None:  # the rest, or an empty table that still has its schema
-                flush(rows, tmp)
-        finally:
-            if writer is not None:
-                writer.close()
+                    writer.write_table(rows.to_arrow(theta=theta, dataset_seed=dataset_seed))
+                    written, rows = written + len(rows), RecipeRows()
+            if len(rows) or not written:  # the rest, or an empty table's one (empty) row group
+                writer.write_table(rows.to_arrow(theta=theta, dataset_seed=dataset_seed))
+                written += len(rows)
     return written, Path(path).stat().st_size
 
 

@@ -7,8 +7,8 @@ the same frame: the whole frame, then the people and their labels zoomed.
         before.png docs/images/bodies-before-after.png
 
 The recipe is the phav-v1 recipe of seed 0, video 0 as released before the bodies (recipe
-schema 1; it loads upgraded). The "before" row is the upper half of a picture this script's
-layout made at f56a250, whose renderer is gone; the "after" row is rendered now.
+schema 1; it loads upgraded). The "before" row is the upper half of a picture of this layout
+made at f56a250, whose renderer is gone; the "after" row is rendered now.
 """
 
 from __future__ import annotations

@@ -34,7 +34,7 @@ def run(args: tuple[float, int]) -> tuple[float, int, bool, bool]:
         data["theta_w"] = {"clear": 25 + skew, "overcast": rest, "rain": rest, "fog": rest}
     theta = parse_theta(data, source=f"skew {skew}")
     rows = RecipeRows().extend(sample_recipes(theta, n=N_VIDEOS, seed=1000 + rep))
-    table = rows.to_arrow(theta=theta, dataset_seed=rep)
+    table = rows.to_arrow(theta=theta, dataset_seed=1000 + rep)
     columns = {name: table.column(name).to_pylist() for name in table.column_names}
     result = check_distributions(columns, load_theta("phav-v1"))
     mismatches = [f for f in result.report.findings if f.reason == Reason.DISTRIBUTION_MISMATCH]

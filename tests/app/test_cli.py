@@ -4,11 +4,18 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
 
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.theta import load_preset
-from tests.helpers import invoke_cli, run_cli
+from tests.helpers import cli_env, invoke_cli, run_cli
 
 
 def test_help_lists_the_commands():
@@ -160,3 +167,48 @@ def test_generate_errors_are_one_line(tmp_path):
     assert result.returncode == 2 and "--name" in result.stderr
     result = invoke_cli("regenerate", str(tmp_path / "missing"), "--out", str(tmp_path / "o"))
     assert result.returncode == 2 and "missing" in result.stderr
+
+
+def test_sample_refuses_a_place_it_cannot_write_before_drawing(monkeypatch):
+    """The table's file is opened before the first recipe is drawn: --n 10^8 into a place
+    nobody may write fails at once, not after sampling."""
+    place = Path("/sys/phav-sample-test.parquet")  # sysfs: no new files, even for root
+    try:
+        (place.parent / ".phav-probe").touch()
+    except OSError:
+        pass
+    else:
+        pytest.skip("/sys takes new files here")
+
+    def never(*args, **kwargs):
+        raise AssertionError("a recipe was drawn")
+        yield
+
+    monkeypatch.setattr("phav_app.cli.sample_recipes", never)
+    result = invoke_cli("sample", "--n", "100000000", "--out", str(place))
+    assert result.returncode == 2 and f"{place}: the place is not writable" in result.stderr, result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_sigterm_stops_sample_and_leaves_the_previous_table(tmp_path):
+    """SIGTERM while `phav sample` writes: exit 143, one line, the previous table intact and
+    no temporary left (the table's temporary lives as long as the sampling)."""
+    out = tmp_path / "recipes.parquet"
+    out.write_bytes(b"previous")
+    run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "sample", "--n", "100000000", "--out", str(out)],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=cli_env())  # fmt: skip
+    try:
+        deadline = time.monotonic() + 60.0
+        while not [p for p in tmp_path.iterdir() if p.suffix == ".tmp"]:
+            assert run.poll() is None and time.monotonic() < deadline, "the run never started writing"
+            time.sleep(0.05)
+        run.send_signal(signal.SIGTERM)
+        _, err = run.communicate(timeout=60)
+    finally:
+        run.kill()
+    assert run.returncode == 143, err[-500:]
+    assert [line for line in err.splitlines() if line.strip()] == [
+        "terminated; finished files are intact (writes are atomic)"
+    ]
+    assert out.read_bytes() == b"previous"
+    assert [p.name for p in tmp_path.iterdir()] == ["recipes.parquet"]

@@ -136,13 +136,18 @@ def test_recipe_lists_round_trip_through_parquet(recipe_list) -> None:
     assert back.table.num_rows == len(recipe_list)
 
 
+def _row_groups(path: Path) -> list[int]:
+    import pyarrow.parquet as pq
+
+    meta = pq.ParquetFile(path).metadata
+    return [meta.row_group(i).num_rows for i in range(meta.num_row_groups)]
+
+
 @settings(max_examples=PARQUET_EXAMPLES)
 @given(recipe_lists(), st.integers(min_value=1, max_value=4))
 def test_recipes_written_as_drawn_read_back_as_one_table(recipe_list, batch_rows) -> None:
-    """`phav sample` streams its rows a batch at a time: the same table as one write, whatever
-    the batch, row groups of at most ``batch_rows`` rows."""
-    import pyarrow.parquet as pq
-
+    """`phav sample` streams its rows a batch at a time: the same table as one write, in row
+    groups of ``batch_rows`` and the rest; a table of one batch is the same bytes."""
     with tempfile.TemporaryDirectory() as tmp:
         whole, streamed = Path(tmp) / "whole.parquet", Path(tmp) / "streamed.parquet"
         write_recipe_table(RecipeRows().extend(recipe_list).to_arrow(theta=PHAV_V1, dataset_seed=7), whole)
@@ -152,8 +157,34 @@ def test_recipes_written_as_drawn_read_back_as_one_table(recipe_list, batch_rows
         a, b = read_recipe_table(whole), read_recipe_table(streamed)
         assert b.table.equals(a.table) and b.table.schema.metadata == a.table.schema.metadata
         assert (b.theta, b.dataset_seed, list(b.recipes())) == (PHAV_V1, 7, recipe_list)
-        groups = pq.ParquetFile(streamed).metadata
-        assert all(groups.row_group(i).num_rows <= batch_rows for i in range(groups.num_row_groups))
+        if len(recipe_list) <= batch_rows:
+            assert streamed.read_bytes() == whole.read_bytes()
+
+
+@pytest.mark.parametrize(("n", "groups"), [(0, [0]), (2, [2]), (3, [3]), (4, [3, 1]), (6, [3, 3])])
+def test_a_stream_has_full_row_groups_and_the_rest(tmp_path, n, groups) -> None:
+    """Batches of 3: no empty row group after a full one, one (empty) group for no rows."""
+    one = load_recipe(Path(__file__).parent / "data" / "recipe-v2-dive_floor.json")
+    out = tmp_path / "recipes.parquet"
+    assert write_recipe_stream([one] * n, out, batch_rows=3)[0] == n
+    assert _row_groups(out) == groups
+
+
+def test_a_stream_is_written_as_it_is_drawn(tmp_path) -> None:
+    """Rows reach the temporary file batch by batch, before the last recipe is drawn (memory
+    holds one batch however many recipes come)."""
+    one = load_recipe(Path(__file__).parent / "data" / "recipe-v2-dive_floor.json")
+    sizes = []
+
+    def drawn():
+        for i in range(7):
+            if i in (3, 6):  # after the first and second batch of 3 have been taken
+                (tmp,) = [p for p in tmp_path.iterdir() if p.suffix == ".tmp"]
+                sizes.append(tmp.stat().st_size)
+            yield one
+
+    write_recipe_stream(drawn(), tmp_path / "recipes.parquet", batch_rows=3)
+    assert 1_000 < sizes[0] < sizes[1]  # a batch of three recipes each time (the header alone: 4 bytes)
 
 
 def test_a_stream_that_fails_midway_leaves_nothing(tmp_path) -> None:
@@ -171,8 +202,11 @@ def test_a_stream_that_fails_midway_leaves_nothing(tmp_path) -> None:
         write_recipe_stream(failing(), out, batch_rows=2)
     assert out.read_bytes() == b"previous"
     assert [p.name for p in tmp_path.iterdir()] == ["recipes.parquet"]
+
+
+def test_a_stream_needs_a_batch_of_at_least_one_row(tmp_path) -> None:
     with pytest.raises(ValueError, match="batch_rows"):
-        write_recipe_stream([], out, batch_rows=0)
+        write_recipe_stream([], tmp_path / "recipes.parquet", batch_rows=0)
 
 
 def test_recipe_lists_reach_the_empty_list() -> None:

@@ -73,9 +73,14 @@ def test_sigkill_anywhere_then_resume_gives_the_uninterrupted_dataset(generate, 
     assert not (out / WORK_DIR).exists()
 
 
-def test_ctrl_c_says_what_it_left_and_exits_130(small_dataset, tmp_path):
-    """SIGINT once the run is writing: exit code 130 and one line saying finished files are
-    intact (Typer turned Ctrl-C into a bare exit code before ``run_app`` could say so)."""
+@pytest.mark.parametrize(("sent", "code", "said"), [
+    (signal.SIGINT, 130, "interrupted; finished files are intact (writes are atomic)"),
+    (signal.SIGTERM, 143, "terminated; finished files are intact (writes are atomic)"),
+], ids=["ctrl-c", "sigterm"])  # fmt: skip
+def test_ctrl_c_or_sigterm_says_what_it_left_and_exits(small_dataset, tmp_path, sent, code, said):
+    """SIGINT or SIGTERM once the run is writing: exit code 130 or 143 and one line saying
+    finished files are intact (Typer turned Ctrl-C into a bare exit code before ``run_app``
+    could say so; SIGTERM killed the run where it stood)."""
     out = tmp_path / "data"
     args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
             "--shard-size", str(SMALL_SHARD_SIZE), "--out", str(out))  # fmt: skip
@@ -86,14 +91,13 @@ def test_ctrl_c_says_what_it_left_and_exits_130(small_dataset, tmp_path):
         while not (out / WORK_DIR).exists():
             assert run.poll() is None and time.monotonic() < deadline, "the run never started writing"
             time.sleep(0.05)
-        run.send_signal(signal.SIGINT)
+        run.send_signal(sent)
         _, err = run.communicate(timeout=120)
     finally:
         run.kill()
-    assert run.returncode == 130, err[-500:]
-    assert [line for line in err.splitlines() if line.strip()] == [
-        "interrupted; finished files are intact (writes are atomic)"
-    ]
+    assert run.returncode == code, err[-500:]
+    assert [line for line in err.splitlines() if line.strip()] == [said]
+    assert not [p for p in out.rglob(".*.tmp")], "a temporary was left behind"
     assert not (out / "manifest.json").exists()
 
 
