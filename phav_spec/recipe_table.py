@@ -181,19 +181,22 @@ def write_recipe_stream(
 
     if batch_rows < 1:
         raise ValueError(f"batch_rows must be at least 1, got {batch_rows}")
+
+    def table(rows: RecipeRows) -> pa.Table:
+        return rows.to_arrow(theta=theta, dataset_seed=dataset_seed)
+
     written = 0
     with atomic_write(path) as tmp:
-        empty = RecipeRows().to_arrow(theta=theta, dataset_seed=dataset_seed)
         # Opened before the first recipe is drawn: a place that cannot be written fails now.
-        with pq.ParquetWriter(tmp, empty.schema, compression="zstd") as writer:
+        with pq.ParquetWriter(tmp, table(RecipeRows()).schema, compression="zstd") as writer:
             rows = RecipeRows()
             for recipe in recipes:
                 rows.add(recipe)
                 if len(rows) == batch_rows:
-                    writer.write_table(rows.to_arrow(theta=theta, dataset_seed=dataset_seed))
+                    writer.write_table(table(rows))
                     written, rows = written + len(rows), RecipeRows()
             if len(rows) or not written:  # the rest, or an empty table's one (empty) row group
-                writer.write_table(rows.to_arrow(theta=theta, dataset_seed=dataset_seed))
+                writer.write_table(table(rows))
                 written += len(rows)
     return written, Path(path).stat().st_size
 

@@ -27,6 +27,8 @@ from phav_spec.theta import Theta, load_preset, parse_theta
 from phav_spec.vocab import ACTIONS, CAMERAS, VARIATIONS
 
 PHAV_V1 = load_preset("phav-v1")
+#: A recipe to write many times over where which recipe does not matter.
+ONE_RECIPE = Path(__file__).parent / "data" / "recipe-v2-dive_floor.json"
 #: Examples of the tests whose every example is expensive: drawing a θ takes ~0.2 s, its
 #: YAML round trip ~0.4 s (pure-Python YAML, as ``load_theta`` reads it), a Parquet file
 #: ~0.1 s. A quarter (θ) or half (Parquet) of the profile's: ci 10 and 20, dev 50 and 100.
@@ -164,7 +166,7 @@ def test_recipes_written_as_drawn_read_back_as_one_table(recipe_list, batch_rows
 @pytest.mark.parametrize(("n", "groups"), [(0, [0]), (2, [2]), (3, [3]), (4, [3, 1]), (6, [3, 3])])
 def test_a_stream_has_full_row_groups_and_the_rest(tmp_path, n, groups) -> None:
     """Batches of 3: no empty row group after a full one, one (empty) group for no rows."""
-    one = load_recipe(Path(__file__).parent / "data" / "recipe-v2-dive_floor.json")
+    one = load_recipe(ONE_RECIPE)
     out = tmp_path / "recipes.parquet"
     assert write_recipe_stream([one] * n, out, batch_rows=3)[0] == n
     assert _row_groups(out) == groups
@@ -173,7 +175,7 @@ def test_a_stream_has_full_row_groups_and_the_rest(tmp_path, n, groups) -> None:
 def test_a_stream_is_written_as_it_is_drawn(tmp_path) -> None:
     """Rows reach the temporary file batch by batch, before the last recipe is drawn (memory
     holds one batch however many recipes come)."""
-    one = load_recipe(Path(__file__).parent / "data" / "recipe-v2-dive_floor.json")
+    one = load_recipe(ONE_RECIPE)
     sizes = []
 
     def drawn():
@@ -189,7 +191,7 @@ def test_a_stream_is_written_as_it_is_drawn(tmp_path) -> None:
 
 def test_a_stream_that_fails_midway_leaves_nothing(tmp_path) -> None:
     """An interrupted `phav sample` leaves the previous table (or none) and no temporary."""
-    one = load_recipe(Path(__file__).parent / "data" / "recipe-v2-dive_floor.json")
+    one = load_recipe(ONE_RECIPE)
 
     def failing():
         for _ in range(5):
