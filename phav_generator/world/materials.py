@@ -77,11 +77,13 @@ WALLPAPERS: tuple[RGB, ...] = ((0.80, 0.74, 0.62), (0.62, 0.70, 0.66), (0.74, 0.
 #: A stadium's seats: blue, red, green, yellow, grey.
 SEAT_COLOURS: tuple[RGB, ...] = ((0.08, 0.20, 0.55), (0.62, 0.08, 0.08), (0.10, 0.40, 0.18), (0.85, 0.70, 0.10),
                                  (0.55, 0.56, 0.58))  # fmt: skip
-#: Foliage: broadleaf, conifer, birch greens; bark: brown, dark brown, birch white.
+#: Foliage: broadleaf, conifer, birch greens.
 LEAF_GREENS: tuple[RGB, ...] = ((0.20, 0.36, 0.10), (0.12, 0.26, 0.10), (0.22, 0.38, 0.13))
 #: Hedges and shrubs (privet, box, yew, laurel): darker and bluer than a lawn, as in a photograph.
 HEDGE_GREENS: tuple[RGB, ...] = ((0.10, 0.22, 0.09), (0.12, 0.24, 0.12), (0.16, 0.27, 0.10))
-BARKS: tuple[RGB, ...] = ((0.40, 0.32, 0.24), (0.30, 0.24, 0.18), (0.82, 0.80, 0.76))
+#: Bark: grey-olive and dark grey-olive (a street or park tree's bark under its film of algae,
+#: as in a photograph, not a picture book's warm brown), birch white.
+BARKS: tuple[RGB, ...] = ((0.26, 0.29, 0.19), (0.20, 0.22, 0.14), (0.82, 0.80, 0.76))
 GRASS_GREEN: RGB = (0.22, 0.36, 0.12)
 ASPHALT_GREY: RGB = (0.37, 0.37, 0.38)
 PAVING_GREY: RGB = (0.50, 0.49, 0.47)

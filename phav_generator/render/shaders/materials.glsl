@@ -208,8 +208,10 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
     }
 #endif
 #ifdef MATERIAL_21
-    if (pattern == 21) {  // bark: furrows along the trunk
-        float furrow = octave(vec3(p.x, p.y, p.z * 0.12), 45.0, fw);
+    if (pattern == 21) {  // bark: furrows along the trunk, between plates a few centimetres wide
+        // The plates (6 cm) keep a trunk's bark in view where the 2 cm furrows are under a
+        // pixel: a smooth trunk reads as a painted post.
+        float furrow = octave(vec3(p.x, p.y, p.z * 0.12), 45.0, fw) + 0.6 * octave(vec3(p.x, p.y, p.z * 0.2), 16.0, fw);
         vec3 moss = mix(c, vec3(0.20, 0.24, 0.10), 0.6 * smoothstep(0.5, 0.8, smooth_noise(p, 3.0)));
         return moss * (1.0 + 0.9 * furrow + 0.3 * octave(p, 8.0, fw));
     }
