@@ -9,6 +9,8 @@ workers and Ray workers alike) without any code path of their own:
   ``part-done:{video_id}`` (part written, not yet journalled), ``shard:{name}:{k}`` (inside
   a shard's tar, after its k-th video part was copied) and ``journal:{n}`` (half-way
   through writing the n-th journal line).
+- ``PHAV_FAULT_SIGNAL=INT`` (or ``TERM``) — the point sends that signal instead: Ctrl-C or
+  SIGTERM arriving at a known moment, so that their handling is tested without a race.
 - ``PHAV_FAULT_DELAY_S=MAX`` — ``task_delay(key)`` sleeps a pseudo-random time in
   [0, MAX) s derived from ``key``, to scramble the order in which parallel tasks finish.
 
@@ -23,6 +25,7 @@ import signal
 import time
 
 KILL_AT_ENV = "PHAV_FAULT_KILL_AT"
+SIGNAL_ENV = "PHAV_FAULT_SIGNAL"
 DELAY_ENV = "PHAV_FAULT_DELAY_S"
 
 
@@ -32,9 +35,10 @@ def armed(name: str) -> bool:
 
 
 def crash_point(name: str) -> None:
-    """SIGKILL this process if ``PHAV_FAULT_KILL_AT`` names this point."""
+    """SIGKILL this process (or send it ``PHAV_FAULT_SIGNAL``) if ``PHAV_FAULT_KILL_AT`` names
+    this point."""
     if armed(name):
-        os.kill(os.getpid(), signal.SIGKILL)
+        os.kill(os.getpid(), signal.Signals[f"SIG{os.environ.get(SIGNAL_ENV) or 'KILL'}"])
 
 
 def delay_for(key: str, limit: float) -> float:
@@ -54,4 +58,4 @@ def task_delay(key: str) -> float:
 
 def fault_env() -> dict[str, str]:
     """The fault variables set in this process (to hand on to Ray workers)."""
-    return {k: os.environ[k] for k in (KILL_AT_ENV, DELAY_ENV) if os.environ.get(k)}
+    return {k: os.environ[k] for k in (KILL_AT_ENV, SIGNAL_ENV, DELAY_ENV) if os.environ.get(k)}
