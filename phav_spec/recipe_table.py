@@ -161,6 +161,8 @@ class RecipeRows:
         return pa.table(arrays).replace_schema_metadata(meta)
 
 
+#: The tables' compression, streamed or whole: the same rows give the same bytes either way.
+_COMPRESSION = "zstd"
 #: Rows per row group when recipes are written as they are drawn: memory holds one batch of
 #: rows, however many recipes the table gets.
 STREAM_BATCH_ROWS = 10_000
@@ -188,7 +190,7 @@ def write_recipe_stream(
     written = 0
     with atomic_write(path) as tmp:
         # Opened before the first recipe is drawn: a place that cannot be written fails now.
-        with pq.ParquetWriter(tmp, table(RecipeRows()).schema, compression="zstd") as writer:
+        with pq.ParquetWriter(tmp, table(RecipeRows()).schema, compression=_COMPRESSION) as writer:
             rows = RecipeRows()
             for recipe in recipes:
                 rows.add(recipe)
@@ -206,7 +208,7 @@ def write_recipe_table(table: pa.Table, path: str | Path) -> int:
     import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     with atomic_write(path) as tmp:
-        pq.write_table(table, tmp, compression="zstd")
+        pq.write_table(table, tmp, compression=_COMPRESSION)
     return Path(path).stat().st_size
 
 
