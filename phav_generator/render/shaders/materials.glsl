@@ -43,6 +43,15 @@ float band(vec3 p, float scale, float fw) {
     return (cell_noise(p, scale) - 0.5) * fade(0.5 * fw, scale) * (1.0 - fade(2.0 * fw, scale));
 }
 
+// `band` in colour: three zero-mean values for a cell from one hash (10 bits each) of the
+// cell shifted, so apart from `band`'s own value there: an aggregate's stones differ in hue
+// (granite, basalt, limestone) as well as in shade.
+vec3 band3(vec3 p, float scale, float fw) {
+    uint h = hash_u(ivec3(floor(p * scale)) + ivec3(7919, 104729, 1299709));
+    vec3 v = vec3(h & 1023u, (h >> 10) & 1023u, (h >> 20) & 1023u) * (1.0 / 1024.0) - 0.5;
+    return v * fade(0.5 * fw, scale) * (1.0 - fade(2.0 * fw, scale));
+}
+
 // Grain at pixel size at every distance, zero-mean: cells from 1/finest metres up to 20 cm,
 // each octave where it spans about a pixel. Real roads and foliage vary from pixel to pixel
 // in a photograph; faded out under the pixel instead, asphalt reads as a car's paint to a
@@ -177,11 +186,14 @@ vec3 material(int pattern, vec3 p, vec3 c, float fw, out vec2 gloss) {
 #ifdef MATERIAL_17
     if (pattern == 17) {  // asphalt: aggregate, coarser stones and binder, stains, worn areas
         // The mottle between the aggregate (6 mm) and the wear (3 m) is what tells a road
-        // from the smooth painted panel of a car's bonnet, which it otherwise resembles.
+        // from the smooth painted panel of a car's bonnet, which it otherwise resembles. Its
+        // stones' hues at the pixel's scale: without them a street model took the grain of a
+        // grey road by a lawn for foliage.
         gloss = vec2(0.02, 0.08);
         float wear = smooth_noise(p, 0.3);
         fragment_asphalt_grain = asphalt_grain(p, fw);
-        return c * (1.0 + fragment_asphalt_grain + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
+        vec3 stones = 1.0 + 0.5 * (band3(p, 80.0, fw) + band3(p, 40.0, fw));
+        return c * stones * (1.0 + fragment_asphalt_grain + 0.3 * (smooth_noise(p, 3.0) - 0.5)) * (0.85 + 0.3 * wear);
     }
 #endif
 #ifdef MATERIAL_18
