@@ -621,8 +621,10 @@ def _checks_beside_the_scan(
             f"{len(loaded.recipes)}/{loaded.n_recipes} recipes valid (schema ≤ {RECIPE_SCHEMA_VERSION})",
             {"recipes": loaded.n_recipes, "valid": len(loaded.recipes)},
         )  # fmt: skip
-    with _timed(timings, "distribution"):
-        results["distribution"], dist_result = _distribution(loaded, opts)
+    dist_result = None
+    if "distribution" in opts.checks:  # its tests (and scipy's import) cost a second or more
+        with _timed(timings, "distribution"):
+            results["distribution"], dist_result = _distribution(loaded, opts)
     if not inp.recipes_only and "failures" in opts.checks:
         start = time.perf_counter()
         waited = scans.waited

@@ -41,3 +41,15 @@ def test_ray_scans_give_the_report_one_process_gives(ray_with_delays, small_data
             c.pop("seconds")
     assert reports[0] == reports[1]
     assert reports[1]["checks"][0]["numbers"]["hashed"] == 3
+
+
+def test_distribution_runs_only_when_asked(small_dataset):
+    """The distribution tests (and their import of scipy) run only when that check is asked
+    for: the report of other checks carries no distribution details, and asking adds them."""
+    inp = resolve([small_dataset])[0]
+    without = validate_dataset(inp, options=Options(checks=("schema", "integrity")))
+    assert without.distribution is None
+    assert [c.name for c in without.checks] == ["integrity", "schema"]
+    asked = validate_dataset(inp, options=Options(checks=("schema", "distribution")))
+    assert asked.distribution is not None and asked.distribution.tests
+    assert [c.name for c in asked.checks] == ["schema", "distribution"]
