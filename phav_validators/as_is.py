@@ -611,8 +611,9 @@ def _checks_beside_the_scan(
     progress: ProgressFactory | None,
     timings: dict[str, float],
 ) -> tuple[dict[str, CheckResult], DistributionResult | None]:
-    """Schema, distribution and failures, while the shard pass runs; failures waits for a
-    video's instance pixels only when it reaches that video (its waits are not its time)."""
+    """Schema, and distribution and failures when asked for, while the shard pass runs;
+    failures waits for a video's instance pixels only when it reaches that video (its waits
+    are not its time)."""
     results: dict[str, CheckResult] = {}
     with _timed(timings, "schema"):
         _schema_links(loaded, inp)
@@ -622,7 +623,7 @@ def _checks_beside_the_scan(
             {"recipes": loaded.n_recipes, "valid": len(loaded.recipes)},
         )  # fmt: skip
     dist_result = None
-    if "distribution" in opts.checks:  # its tests (and scipy's import) cost a second or more
+    if "distribution" in opts.checks:  # its tests and scipy's import take most of a second
         with _timed(timings, "distribution"):
             results["distribution"], dist_result = _distribution(loaded, opts)
     if not inp.recipes_only and "failures" in opts.checks:
