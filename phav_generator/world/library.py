@@ -29,7 +29,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES, Collider
 from phav_spec.seeding import stream
 
 #: Bumped when an asset's shape, materials or choice changes what existing recipes render.
-WORLD_LIBRARY_VERSION = 19
+WORLD_LIBRARY_VERSION = 20
 #: Classes the library models (the objects and the places); every other static class stays a box.
 MODELLED_CLASSES: tuple[str, ...] = (
     "pole", "traffic_light", "traffic_sign", "bench", "guard_rail", "car", "truck", "bus", "stairs",

@@ -85,8 +85,9 @@ HEDGE_GREENS: tuple[RGB, ...] = ((0.10, 0.22, 0.09), (0.12, 0.24, 0.12), (0.16, 
 #: as in a photograph, not a picture book's warm brown), birch white.
 BARKS: tuple[RGB, ...] = ((0.26, 0.29, 0.19), (0.20, 0.22, 0.14), (0.82, 0.80, 0.76))
 GRASS_GREEN: RGB = (0.22, 0.36, 0.12)
-#: Asphalt: a worn road's grey, a little warm (its stones' own colours), as in photographs.
-ASPHALT_GREY: RGB = (0.38, 0.37, 0.345)
+#: Asphalt: a worn road's light grey (linear albedo about 0.16), a little warm (its stones'
+#: own colours), as in photographs; a darker one read as a car's paint under an overcast sky.
+ASPHALT_GREY: RGB = (0.44, 0.43, 0.40)
 PAVING_GREY: RGB = (0.50, 0.49, 0.47)
 MARKING_WHITE: RGB = (0.85, 0.85, 0.82)
 FLOOR_TILE: RGB = (0.78, 0.76, 0.72)
