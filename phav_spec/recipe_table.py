@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from phav_spec.canonical import canonical_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write, parse_json_object
+from phav_spec.files import atomic_write, parse_json_object, read_parquet
 from phav_spec.population import age_years, estimated_stature
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, HumanSpec, Recipe, parse_recipe
 from phav_spec.theta import Theta, parse_theta
@@ -267,13 +267,12 @@ def _upgraded(table: pa.Table, path: Path) -> pa.Table:
 def read_recipe_table(path: str | Path) -> RecipeTable:
     """Read recipes.parquet; a missing, truncated or foreign file raises PhavUserError."""
     import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
-    import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     path = Path(path)
     if not path.exists():
         raise PhavUserError("no such file", source=str(path))
     try:
-        table = pq.read_table(path)
+        table = read_parquet(path)
     except (pa.ArrowException, OSError) as e:
         first = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise PhavUserError(f"not a readable Parquet file ({first})", source=str(path)) from None

@@ -30,6 +30,7 @@ import pyarrow.parquet as pq
 
 from phav_generator.engines import RayPool, exit_with_parent
 from phav_spec.errors import PhavUserError
+from phav_spec.files import read_parquet
 from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS, ROLES, MetaColumn, arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
@@ -465,7 +466,7 @@ def _value_problems(path: Path, name: str, videos: set[str] | None) -> list[str]
     people = name == PEOPLE
     columns = ["video_id", "person_id", "role", "pixels"] if people else ["video_id", "fx", "fy", "cam_to_world"]
     try:
-        table = pq.read_table(path, columns=columns)
+        table = read_parquet(path, columns=columns)
     except Exception:  # pyarrow raises several types for damaged files: read_schema said
         return []
     out = []
@@ -500,7 +501,7 @@ def _value_problems(path: Path, name: str, videos: set[str] | None) -> list[str]
 def _read_tables(inp: DatasetInput) -> tuple[pa.Table | None, pa.Table | None]:
 
     try:
-        return pq.read_table(inp.root / PEOPLE), pq.read_table(inp.root / CAMERAS)
+        return read_parquet(inp.root / PEOPLE), read_parquet(inp.root / CAMERAS)
     except Exception:  # reported by the schema check
         return None, None
 

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from phav_spec.errors import PhavUserError
+from phav_spec.files import read_parquet
 from phav_validators import tables
 
 if TYPE_CHECKING:
@@ -186,7 +187,7 @@ def read_framing(people_path: str | Path, recipes: Iterable[Recipe]) -> FramingR
     path = Path(people_path)
     try:
         names = pq.read_schema(path).names
-        people = pq.read_table(path, columns=[c for c in _COLUMNS if c in names])
+        people = read_parquet(path, columns=[c for c in _COLUMNS if c in names])
     except (OSError, ValueError) as e:  # pyarrow's errors derive from these
         raise PhavUserError(f"not a readable Parquet file ({e})", source=str(path)) from e
     return measure_framing(people, framing_videos(recipes), source=str(path))

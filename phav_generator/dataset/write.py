@@ -35,7 +35,7 @@ from phav_generator.pipeline import PART_TABLES, VideoTask, part_path, run_task
 from phav_generator.render.context import check_gl_kind, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
-from phav_spec.files import WriteError, atomic_write, check_output_dir
+from phav_spec.files import WriteError, atomic_write, check_output_dir, read_parquet
 from phav_spec.manifest import MANIFEST_VERSION, DatasetManifest, ShardEntry, VideoEntry, dump_manifest, load_manifest
 from phav_spec.metadata import arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
@@ -155,7 +155,7 @@ class _Run:
 
 def _concat_parquet(parts: Sequence[Path], columns: Any, target: Path) -> None:
     """Rows of ``parts``, in order, into one zstd Parquet file at ``target`` (atomically)."""
-    tables = [pq.read_table(p) for p in parts]
+    tables = [read_parquet(p) for p in parts]
     merged = pa.concat_tables(tables) if tables else arrow_schema(columns).empty_table()
     with atomic_write(target) as tmp:
         pq.write_table(merged, tmp, compression="zstd")
