@@ -1,4 +1,4 @@
-"""How far our pixels can still move the Cityscapes mIoU (docs/realism.md): per judge class,
+"""How far our pixels can still move the Cityscapes mIoU (docs/realism-gap.md): per judge class,
 its IoU split into our pixels it names otherwise (misses) and its answers on pixels of our
 other classes (false answers), and the mIoU were every one of our pixels of that class named
 right, the rest unchanged. A false answer on a lawn is a miss of the lawn, so the table says

@@ -1,5 +1,5 @@
 """The realism check's world figures without a dataset: the frames it would draw from the
-first N recipes of (θ, seed), rendered one by one and judged (docs/realism.md). The figures
+first N recipes of (θ, seed), rendered one by one and judged (docs/realism-gap.md). The figures
 are the check's own on the dataset those recipes make (same frames, same pixels, same
 bootstrap), in minutes instead of a generation run; ``--set`` renders every recipe with a
 condition forced (``phav vary``'s NAME=VALUE), the same scenes in other light.

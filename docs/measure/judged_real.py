@@ -1,5 +1,5 @@
 """The Cityscapes judge on real photographs at our frames' size, beside our frames: the
-closest real frames to be had offline, for the targets our frames miss (docs/realism.md).
+closest real frames to be had offline, for the targets our frames miss (docs/realism-gap.md).
 The photographs are OpenCV's sample data, from Debian's opencv-doc package (not shipped):
 
     apt-get download opencv-doc && dpkg-deb -x opencv-doc_*.deb opencv-doc

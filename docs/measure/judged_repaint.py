@@ -1,4 +1,4 @@
-"""What the Cityscapes judge makes of our judged frames repainted (docs/realism.md): each
+"""What the Cityscapes judge makes of our judged frames repainted (docs/realism-gap.md): each
 repaint changes the pixels of a ``judged_frames.py --dump`` (the whole frame, or only where
 our truth says sky), the judge looks again, and the realism check scores it as it scores a
 dataset. It answers "what would the judge need to see?" in seconds a repaint, before any

@@ -1,5 +1,5 @@
 """How much each class varies from pixel to pixel, in real photographs and in our frames
-(docs/realism.md): the median, over a class's pixels at least 4 px inside it, of a pixel's
+(docs/realism-gap.md): the median, over a class's pixels at least 4 px inside it, of a pixel's
 luminance less its 3 × 3 neighbourhood's mean, over that mean (linear light). A material
 faded out under the pixel scores near 0, a photograph's road about 0.14; a street model
 takes a smooth grey ground for a car's paint.

@@ -1,5 +1,5 @@
 """Markdown tables of realism figures from `phav-validate --checks realism --json` reports,
-one column per report (docs/realism.md): the headline figures, people per view, the
+one column per report (docs/realism-gap.md): the headline figures, people per view, the
 world per our class for each judge, and the street model by weather, day phase and light.
 
     python docs/measure/realism_table.py today=realism-today.json capsules=realism-capsules.json

@@ -1,6 +1,6 @@
 """docs/measure/judged_ceiling.py: each Cityscapes class's IoU as judged, where its false
 answers lie and the mIoU were our pixels of it all named right; and judged_frames.py
-scoring the frames it dumped anew (docs/realism.md)."""
+scoring the frames it dumped anew (docs/realism-gap.md)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """docs/measure/pixel_grain.py: how much a class varies from pixel to pixel, in our dumped
-frames (docs/realism.md)."""
+frames (docs/realism-gap.md)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """docs/measure/judged_real.py: real photographs through fog, and our dumped frames' answers
-per class (docs/realism.md)."""
+per class (docs/realism-gap.md)."""
 
 from __future__ import annotations
 

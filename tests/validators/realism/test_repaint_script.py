@@ -1,5 +1,5 @@
 """docs/measure/judged_repaint.py: dumped frames repainted and scored again as the realism
-check scores them (docs/realism.md)."""
+check scores them (docs/realism-gap.md)."""
 
 from __future__ import annotations
 
