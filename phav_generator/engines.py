@@ -1,7 +1,7 @@
 """Where the units of work run: in this process, a local pool of spawned processes, or Ray.
 
-An engine is handed the stage function to run (``pipeline.run_task`` bound to its output
-folder, or a validator's shard scan) and the tasks; it knows nothing of what they do. Each
+An engine is handed the stage function to run (``dataset.write.render_task`` bound to its
+output folder, or a validator's shard scan) and the tasks; it knows nothing of what they do. Each
 finished task's result goes to ``finished`` in this process, so the caller journals it; the
 order in which tasks finish cannot change a byte of what they make.
 

@@ -9,13 +9,17 @@ renders a video into ``.phav-work/parts/`` (its tar members and metadata rows, e
 atomically); this driver journals it (``journal``) and, once a shard's videos are all in,
 joins their parts into the shard's tar (atomically) and journals the shard. Rerunning on the
 directory resumes from the journal: nothing it records is redone, and nothing it does not
-record is trusted. The tables and the manifest are assembled last, then the work folder goes.
+record is trusted. Each video's record names the renderer, machine and phav code that made
+it (``render_task``): a run is never resumed or joined by another, and the manifest's
+fingerprint is theirs. The tables and the manifest are assembled last, then the work folder
+is renamed away and deleted.
 """
 
 from __future__ import annotations
 
 import contextlib
 import functools
+import os
 import shutil
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -32,17 +36,28 @@ from phav_generator.engines import Progress, check_engine, run_tasks
 from phav_generator.faults import crash_point
 from phav_generator.io.shards import assemble_shard
 from phav_generator.pipeline import PART_TABLES, VideoTask, part_path, run_task
-from phav_generator.render.context import check_gl_kind, require_gl
+from phav_generator.render.context import check_gl_kind, is_software_renderer, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
 from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write, check_output_dir, read_parquet
-from phav_spec.manifest import MANIFEST_VERSION, DatasetManifest, ShardEntry, VideoEntry, dump_manifest, load_manifest
+from phav_spec.manifest import (
+    MANIFEST_VERSION,
+    DatasetManifest,
+    RendererFingerprint,
+    ShardEntry,
+    VideoEntry,
+    dump_manifest,
+    load_manifest,
+)
 from phav_spec.metadata import arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import Theta
 
 WORK_DIR = ".phav-work"
+#: The work folder of a finished run, renamed before it is deleted: a run whose work folder is
+#: gone is finished, however far the deletion got before a kill.
+DONE_DIR = ".phav-work.done"
 PARTS_DIR = "parts"
 #: Videos per shard unless told otherwise.
 DEFAULT_SHARD_SIZE = 16
@@ -101,6 +116,7 @@ class _Run:
                 rec["shard"] in self.journal.shards or _has_size(part, rec["part_bytes"])
             ):
                 del self.journal.videos[vid]
+        _check_code(out, [*self.journal.videos.values(), *self.journal.shards.values()])
 
     def todo(self, tasks: Sequence[VideoTask]) -> list[VideoTask]:
         """Videos not finished yet, in index order; reports the finished ones as progress."""
@@ -127,11 +143,7 @@ class _Run:
             return
         ids = self.ids[name]
         videos = [self.journal.videos[v] for v in ids]
-        if len({canonical_json(v["gl"]) for v in videos}) > 1:
-            raise PhavUserError(
-                f"the videos of {name} were rendered by different GL renderers; use one kind of machine",
-                source=str(self.out),
-            )
+        _check_one_renderer(self.out, name, videos)
         digest = assemble_shard([part_path(self.parts, v, "tar.part") for v in ids], self.out / name,
                                 checkpoint=lambda k: crash_point(f"shard:{name}:{k}"))  # fmt: skip
         stem = name.removesuffix(".tar")
@@ -144,6 +156,7 @@ class _Run:
             "videos": [{k: v[k] for k in ("video_id", "shard", "n_frames", "content_hash", "modality_hashes")}
                        for v in videos],
             "gl": videos[0]["gl"],
+            "renderer": videos[0]["renderer"],
         }  # fmt: skip
         self.journal.append("shard", record)
         self.rendered_shards += 1
@@ -206,7 +219,8 @@ def write_dataset(
     tasks = [VideoTask(n, r.video_id, r.model_dump_json(), gl)
              for n, recipes in zip(names, shards, strict=True) for r in recipes]  # fmt: skip
     work = out / WORK_DIR
-    finished = _finished(out, names, tasks, name=name, theta=theta, dataset_seed=dataset_seed)
+    shutil.rmtree(out / DONE_DIR, ignore_errors=True)  # a finished run's work folder a kill left
+    finished = _finished(out, names, tasks, gl, name=name, theta=theta, dataset_seed=dataset_seed)
     if finished is not None:
         return DatasetResult(finished, rendered_shards=0, resumed_shards=len(names), resumed_videos=len(tasks),
                              already_finished=True)  # fmt: skip
@@ -222,7 +236,55 @@ def write_dataset(
         raise WriteError(e, str(e.filename or out), RESUME_HINT) from None
 
 
-def _finished(out: Path, names: list[str], tasks: list[VideoTask], *, name: str, theta: Theta | None,
+def render_task(task: VideoTask, report: Progress | None = None, *, parts: Path) -> dict[str, Any]:
+    """``run_task`` in a worker, its record carrying the fingerprint of the renderer and code
+    that made the video: the manifest's is theirs, and a run is never finished by two."""
+    record = run_task(task, report, parts=parts)
+    return {**record, "renderer": renderer_fingerprint(record["gl"]).model_dump(mode="json")}
+
+
+def _check_one_renderer(out: Path, what: str, records: Sequence[dict[str, Any]]) -> None:
+    """Refuse to join videos (or shards) that different renderers, machines or phav code made:
+    the manifest promises one fingerprint for every byte."""
+    made = [RendererFingerprint.model_validate(r["renderer"]) for r in records]
+    differ = sorted({k for m in made[1:] for k in made[0].differences(m, "files")})
+    if differ:
+        raise PhavUserError(
+            f"{what} were made by different renderers, machines or phav code ({', '.join(differ)} differ); "
+            "delete the directory and regenerate with one phav on one kind of machine",
+            source=str(out),
+            field=differ[0],
+        )
+
+
+def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
+    """Refuse to resume a run that another phav or package set began (its finished videos'
+    code and versions against this process's): the rest would be made otherwise."""
+    here: dict[str, RendererFingerprint] = {}
+    seen: set[str] = set()
+    for record in records:
+        if "renderer" not in record:
+            differ = ["renderer"]
+        else:
+            made = canonical_json(record["renderer"])
+            if made in seen:
+                continue
+            seen.add(made)
+            gl = canonical_json(record["gl"])
+            if gl not in here:
+                here[gl] = renderer_fingerprint(record["gl"])
+            theirs = RendererFingerprint.model_validate(record["renderer"])
+            differ = [k for k in theirs.differences(here[gl], "files") if k.startswith("versions.")]
+        if differ:
+            raise PhavUserError(
+                f"the run was begun by another phav or package set ({', '.join(differ)} differ); finish it with "
+                "the phav that began it, or delete the directory to start over",
+                source=str(out),
+                field=differ[0],
+            )
+
+
+def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, name: str, theta: Theta | None,
               dataset_seed: int) -> DatasetManifest | None:  # fmt: skip
     """The manifest of this very run if ``out`` holds it finished (every shard in place at
     its size), None if ``out`` holds no finished run or one short of a shard (rendered
@@ -237,7 +299,10 @@ def _finished(out: Path, names: list[str], tasks: list[VideoTask], *, name: str,
         ("theta_hash", manifest.theta_hash == (theta.hash if theta is not None else None)),
         ("dataset_seed", manifest.dataset_seed == dataset_seed),
         ("shard_names", [sh.name for sh in manifest.shards] == names),
+        ("shards", [sh.video_ids for sh in manifest.shards] == [[t.video_id for t in tasks if t.shard == n]
+                                                                for n in names]),
         ("recipes", recipes == [t.recipe for t in tasks]),
+        ("gl", manifest.renderer is None or is_software_renderer(manifest.renderer.gl_renderer) == (gl == "llvmpipe")),
     ) if not same]  # fmt: skip
     if differs:
         raise PhavUserError(
@@ -277,11 +342,12 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
     # together (no worker rendering one long video alone at the end). Which order the videos
     # are rendered in cannot change a byte.
     todo = sorted(state.todo(tasks), key=lambda t: -state.frames[t.video_id])
-    stage = functools.partial(run_task, parts=state.parts)
+    stage = functools.partial(render_task, parts=state.parts)
     run_tasks(stage, todo, engine=engine, workers=workers, address=address, out=out, progress=progress,
               finished=state.finished)  # fmt: skip
     manifest = _finish(out, names, state.journal.shards, name=name, theta=theta, dataset_seed=dataset_seed)
-    shutil.rmtree(work, ignore_errors=True)
+    os.replace(work, out / DONE_DIR)  # finished: a kill while it is deleted leaves no work folder
+    shutil.rmtree(out / DONE_DIR, ignore_errors=True)
     return DatasetResult(manifest, rendered_shards=state.rendered_shards, resumed_shards=state.resumed_shards,
                          rendered_videos=len(todo), resumed_videos=state.resumed_videos)  # fmt: skip
 
@@ -289,13 +355,8 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
 def _finish(out: Path, names: list[str], records: dict[str, dict[str, Any]], *, name: str, theta: Theta | None,
             dataset_seed: int) -> DatasetManifest:  # fmt: skip
     """Every shard is in: join the metadata tables and write the manifest, last."""
-    gl = {canonical_json(records[n]["gl"]) for n in names}
-    if len(gl) > 1:
-        raise PhavUserError(
-            "shards were rendered by different GL renderers; delete the directory and regenerate on one machine",
-            source=str(out),
-        )
-    fingerprint = renderer_fingerprint(records[names[0]]["gl"]) if names else None
+    _check_one_renderer(out, "the shards", [records[n] for n in names])
+    fingerprint = RendererFingerprint.model_validate(records[names[0]]["renderer"]) if names else None
     for table, columns in PART_TABLES:
         parts = [out / WORK_DIR / f"{n.removesuffix('.tar')}.{table}.parquet" for n in names]
         _concat_parquet(parts, columns, out / f"{table}.parquet")

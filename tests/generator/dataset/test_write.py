@@ -12,7 +12,9 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from phav_generator.dataset.write import WORK_DIR, chunk, write_dataset
+from phav_generator.dataset import write as write_module
+from phav_generator.dataset.fingerprint import renderer_fingerprint
+from phav_generator.dataset.write import DONE_DIR, WORK_DIR, chunk, write_dataset
 from phav_spec.encoding import DEPTH_MAX_CODE, MODALITIES, decode_depth, decode_flow
 from phav_spec.errors import PhavUserError
 from phav_spec.manifest import load_manifest
@@ -134,7 +136,45 @@ def test_an_interrupted_run_resumes_without_redoing_finished_shards(small_datase
     assert (resumed.rendered_shards, resumed.resumed_shards) == (1, 1)
     assert (resumed.rendered_videos, resumed.resumed_videos) == (1, 2)
     assert file_bytes(out) == file_bytes(small_dataset)
-    assert not (out / WORK_DIR).exists()
+    assert not (out / WORK_DIR).exists() and not (out / DONE_DIR).exists()
+
+
+def test_a_run_begun_by_other_code_or_packages_is_not_resumed(small_recipes, small_theta, tmp_path):
+    """A run stopped in its second video, its journal then saying another phav made the first
+    (or not saying what made it, as an older phav's): resuming would mix two renderings."""
+    out = tmp_path / "ds"
+    first = chunk(small_recipes[:2], 2)
+    done = []
+
+    def stop(videos: int, frames: int) -> None:
+        done.append(videos)
+        if sum(done) == 2:  # the first video journalled, the second rendered
+            raise _Stop
+
+    with pytest.raises(_Stop):
+        write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED, progress=stop)
+    journal = out / WORK_DIR / "journal.jsonl"
+    entry = json.loads(journal.read_text())
+    assert entry["record"]["renderer"] == renderer_fingerprint(entry["record"]["gl"]).model_dump(mode="json")
+    entry["record"]["renderer"]["versions"]["phav-source"] = "0" * 64
+    journal.write_text(json.dumps(entry) + "\n")
+    with pytest.raises(PhavUserError, match=r"another phav or package set \(versions.phav-source differ\)"):
+        write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
+    del entry["record"]["renderer"]
+    journal.write_text(json.dumps(entry) + "\n")
+    with pytest.raises(PhavUserError, match=r"\(renderer differ\)"):
+        write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
+
+
+def test_videos_of_other_machines_are_never_joined(tmp_path):
+    made = renderer_fingerprint(
+        {"GL_VENDOR": "Mesa", "GL_RENDERER": "llvmpipe (LLVM 19, 256 bits)", "GL_VERSION": "4.5"}
+    )
+    other = made.model_copy(update={"cpu_class": "x86-64 other"})
+    records = [{"renderer": f.model_dump(mode="json")} for f in (made, made, other)]
+    write_module._check_one_renderer(tmp_path, "v", records[:2])
+    with pytest.raises(PhavUserError, match=r"v were made by different renderers.*\(cpu_class differ\)"):
+        write_module._check_one_renderer(tmp_path, "v", records)
 
 
 def test_a_directory_holding_another_run_is_refused(small_recipes, small_theta, tmp_path):
@@ -171,10 +211,18 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(smal
     assert not (out / WORK_DIR).exists()
     with pytest.raises(PhavUserError, match=r"finished dataset with other settings \(dataset_seed differ\)"):
         write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED + 1)
-    with pytest.raises(PhavUserError, match=r"\(shard_names, recipes differ\)"):
+    with pytest.raises(PhavUserError, match=r"\(shard_names, shards, recipes differ\)"):
         write_dataset(chunk(small_recipes[:2], SMALL_SHARD_SIZE), out, name="phav", theta=small_theta,
                       dataset_seed=SMALL_SEED)  # fmt: skip
+    # The same recipes and shard names, other videos in each shard: another layout.
+    with pytest.raises(PhavUserError, match=r"\(shards differ\)"):
+        write_dataset([small_recipes[:1], small_recipes[1:]], out, name="phav", theta=small_theta,
+                      dataset_seed=SMALL_SEED)  # fmt: skip
     assert file_bytes(out) == before
+    # A kill while a finished run's work folder was being deleted: finished all the same.
+    (out / DONE_DIR / "parts").mkdir(parents=True)
+    assert write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED).already_finished
+    assert not (out / DONE_DIR).exists() and file_bytes(out) == before
     (out / "phav-000001.tar").unlink()
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
     assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
