@@ -64,6 +64,8 @@ class Options:
             raise PhavUserError(f"must be at least 1, got {self.workers}", field="--workers")
         if self.regenerate < 0:
             raise PhavUserError(f"must be at least 0, got {self.regenerate}", field="--regenerate")
+        if self.seed < 0:
+            raise PhavUserError(f"must be at least 0, got {self.seed}", field="--seed")
         if not 0.0 <= self.budget <= 1.0:
             raise PhavUserError(f"must be in [0, 1], got {self.budget}", field="--failure-budget")
         check_alpha(self.alpha)
@@ -137,7 +139,8 @@ def sample_videos(video_ids: list[str], fraction: float, seed: int) -> set[str]:
     """A seeded sample of ``ceil(fraction · n)`` videos (all of them at fraction 1)."""
     if fraction >= 1.0:
         return set(video_ids)
-    k = max(1, math.ceil(fraction * len(video_ids)))
+    # Rounded first: 0.07 · 100 is 7.000000000000001 in floats, and its ceiling one too many.
+    k = max(1, math.ceil(round(fraction * len(video_ids), 9)))
     rng = seeded_rng(seed)
     order = rng.permutation(len(video_ids))
     return {video_ids[i] for i in sorted(order[:k])}

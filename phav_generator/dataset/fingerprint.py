@@ -19,7 +19,7 @@ from pathlib import Path
 
 from phav_generator.body.data import cache_root, load_body_data
 from phav_generator.world.library import WORLD_LIBRARY_VERSION, world_library_sha256
-from phav_spec.files import atomic_write
+from phav_spec.files import WriteError, atomic_write
 from phav_spec.host import GALLIUM_CAPS_ENV, cpu_fields, simd_class
 from phav_spec.manifest import FINGERPRINT_VERSION, RendererFingerprint
 
@@ -141,7 +141,7 @@ def world_sha256() -> str:
         path.parent.mkdir(parents=True, exist_ok=True)
         with atomic_write(path) as tmp:
             tmp.write_text(digest + "\n", encoding="utf-8")
-    except OSError:  # a read-only cache: build it again next time
+    except (OSError, WriteError):  # a read-only cache: build it again next time
         pass
     return digest
 

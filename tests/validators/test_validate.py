@@ -12,7 +12,7 @@ from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import load_preset
-from phav_validators.options import Options
+from phav_validators.options import Options, sample_videos
 from tests.helpers import PRESET_PATH, invoke_cli, run_cli, theta_variant
 
 #: Recipes in the good table: enough for every distribution test to run, and for the wrong θ
@@ -165,9 +165,17 @@ def test_writes_are_atomic(tmp_path):
         ({"alpha": 5.0}, "--alpha: must be in (0, 1), got 5.0"),
         ({"budget": -0.1}, "--failure-budget: must be in [0, 1], got -0.1"),
         ({"sample": 0.0}, "--sample: must be in (0, 1], got 0.0"),
+        ({"seed": -1}, "--seed: must be at least 0, got -1"),
     ],
 )
 def test_options_out_of_their_range_are_one_line_naming_the_option(option, message):
     with pytest.raises(PhavUserError) as e:
         Options(**option)
     assert str(e.value) == message
+
+
+@pytest.mark.parametrize("fraction", [0.07, 0.14, 0.28, 0.55, 0.56, 0.5, 0.001])
+def test_a_sample_is_the_ceiling_of_its_share_exactly(fraction):
+    ids = [f"v{i:06d}" for i in range(100)]  # 0.07 · 100 is 7.000000000000001 in floats
+    expected = max(1, -(-round(fraction * 1000) * 100 // 1000))
+    assert len(sample_videos(ids, fraction, seed=0)) == expected

@@ -3,6 +3,8 @@ the CPU's model and SIMD class."""
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import tomllib
 from importlib.metadata import PackageNotFoundError
 from pathlib import Path
@@ -11,6 +13,7 @@ import pytest
 
 from phav_generator.dataset import fingerprint
 from phav_generator.dataset.fingerprint import package_version
+from phav_spec.files import WriteError
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -75,3 +78,18 @@ def test_the_world_librarys_hash_is_built_once_per_machine_and_code(tmp_path, mo
     fingerprint.world_sha256.cache_clear()
     assert fingerprint.world_sha256() == "cd" * 32
     assert len(list((tmp_path / "world").glob("*.sha256"))) == 2
+
+
+def test_a_read_only_cache_builds_the_worlds_hash_again_without_an_error(tmp_path, monkeypatch,
+                                                                        uncached_world_sha256):  # fmt: skip
+    monkeypatch.setenv("PHAV_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(fingerprint, "world_library_sha256", lambda: "ef" * 32)
+
+    @contextlib.contextmanager
+    def read_only(path):  # what atomic_write raises on a read-only place
+        raise WriteError(OSError(errno.EROFS, "Read-only file system", str(path)), str(path))
+        yield
+
+    monkeypatch.setattr(fingerprint, "atomic_write", read_only)
+    assert fingerprint.world_sha256() == "ef" * 32
+    assert not list((tmp_path / "world").glob("*.sha256"))
