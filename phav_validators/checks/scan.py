@@ -24,6 +24,7 @@ from phav_spec.encoding import (
     DEPTH_MAX_CODE,
     FLOW_OFFSET,
     FLOW_SCALE,
+    MAX_PERSON_ID,
     MODALITIES,
     VideoHashes,
     instance_rgb,
@@ -204,6 +205,10 @@ def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
 def _contract_break(meta: dict[str, Any]) -> str | None:
     """The first field of a frame's metadata the scan reads that breaks the contract (the
     camera's pose and intrinsics; each person's id, pixel count, joints and visibility),
@@ -220,7 +225,8 @@ def _contract_break(meta: dict[str, Any]) -> str | None:
     if not (isinstance(people, list) and all(isinstance(row, dict) for row in people)):
         return "people"
     for k, row in enumerate(people):
-        if not (isinstance(row.get("person_id"), int) and isinstance(row.get("pixels"), int)):
+        person, pixels = row.get("person_id"), row.get("pixels")
+        if not (_is_int(person) and 0 <= person <= MAX_PERSON_ID and _is_int(pixels)):
             return f"people[{k}].person_id or pixels"
         for name, width in (("joints3d", 39), ("joints2d", 26)):
             values = row.get(name)  # a null is NaN (behind the camera, unknown)
@@ -303,6 +309,35 @@ class _VideoState:
         self.previous: tuple[int, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]] | None = None
 
 
+class _Layout:
+    """The primary part's look at each member of a shard: a name that is no listed video's
+    frame, a sample whose members are split or repeated, a member twice. Every part decodes
+    only its own videos; this sees them all, so that none goes unlooked at."""
+
+    def __init__(self, scanner: ShardScanner):
+        self.scanner = scanner
+        self.current: tuple[str, int] | None = None
+        self.exts: set[str] = set()
+        self.seen: set[tuple[str, int]] = set()
+
+    def member(self, name: str, key: str, sample: tuple[str, int] | None, ext: str, video_id: str | None) -> None:
+        add = self.scanner.add
+        if sample is None:
+            add("integrity", Reason.UNLISTED_MEMBER, f"member {name!r} belongs to no listed video frame",
+                video_id=video_id)  # fmt: skip
+            return
+        if sample != self.current:
+            if sample in self.seen:
+                add("integrity", Reason.UNLISTED_MEMBER,
+                    f"member {name!r}: sample {key} appears twice or its members are not contiguous",
+                    video_id=video_id)  # fmt: skip
+            self.seen.add(sample)
+            self.current, self.exts = sample, set()
+        if ext in self.exts:
+            add("integrity", Reason.UNLISTED_MEMBER, f"duplicate member {name!r}", video_id=video_id)
+        self.exts.add(ext)
+
+
 class ShardScanner:
     """Runs one ``ShardJob``: iterate members, group them into frames, check each frame."""
 
@@ -322,32 +357,24 @@ class ShardScanner:
         tar = TarScan()
         frame: dict[str, bytes] = {}
         current: tuple[str, int] | None = None
-        seen: set[tuple[str, int]] = set()
-        # A secondary part reads only its own videos' members; the primary reads every byte.
+        # A secondary part reads only its own videos' members; the primary reads every byte
+        # and checks every member's name and place, the other parts' videos' too.
         only = None if self.job.primary else (lambda name: name.partition("/")[0] in self.expect)
+        layout = _Layout(self) if self.job.primary else None
         for name, data in iter_members(self.job.path, tar, only):
             key, _, ext = name.partition(".")
             vid, _, frame_text = key.partition("/")
-            if vid in self.job.others:
-                continue  # another part of this shard scans it
-            if vid not in self.expect or not frame_text.isdigit() or len(frame_text) != 5 or ext not in FRAME_KEYS:
-                if not self.job.primary:
-                    continue
-                self.add("integrity", Reason.UNLISTED_MEMBER, f"member {name!r} belongs to no listed video frame",
-                         video_id=vid if vid in self.expect else None)  # fmt: skip
-                continue
-            sample = (vid, int(frame_text))
+            listed = vid in self.expect or vid in self.job.others
+            well_formed = listed and frame_text.isdigit() and len(frame_text) == 5 and ext in FRAME_KEYS
+            sample = (vid, int(frame_text)) if well_formed else None
+            if layout is not None:
+                layout.member(name, key, sample, ext, vid if listed else None)
+            if sample is None or vid not in self.expect:
+                continue  # said by the primary, or another part's video
             if sample != current:
                 if current is not None:
                     self._frame(current, frame)
-                if sample in seen:
-                    self.add("integrity", Reason.UNLISTED_MEMBER,
-                             f"member {name!r}: sample {key} appears twice or its members are not contiguous",
-                             video_id=vid)  # fmt: skip
-                seen.add(sample)
                 current, frame = sample, {}
-            if ext in frame:
-                self.add("integrity", Reason.UNLISTED_MEMBER, f"duplicate member {name!r}", video_id=vid)
             frame[ext] = data
         if current is not None:
             self._frame(current, frame)
@@ -446,7 +473,7 @@ class ShardScanner:
             meta = json.loads(data)
             version = meta["metadata_version"]
             meta["camera"], meta["people"]
-        except (ValueError, KeyError, TypeError):
+        except (ValueError, KeyError, TypeError, RecursionError):  # RecursionError: JSON nested too deep
             self.add("encoding", Reason.METADATA_INVALID, f"{vid}/{f:05d}.json is not the frame metadata contract",
                      video_id=vid, frame=f)  # fmt: skip
             return None

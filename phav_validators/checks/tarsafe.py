@@ -100,7 +100,12 @@ def iter_members(
     if only is not None:
         yield from _iter_some(path, only)
         return
-    with open(path, "rb") as raw:
+    try:
+        raw = open(path, "rb")  # closed by the with below, after the digest's last read
+    except OSError as e:  # a folder, a file it may not read: damage, said with the shard's name
+        scan.truncated = f"cannot be read ({e.strerror or e})"
+        return
+    with raw:
         reader = _HashingReader(raw)
         try:
             # Stream mode ("r|"): sequential reads only, so the digest covers every byte.

@@ -48,6 +48,8 @@ def test_instance_colour_without_a_person_fails_encoding(data):
         ("people[0].joints3d", lambda m: m["people"][0].pop("joints3d")),
         ("people[0].joints2d", lambda m: m["people"][0].update(joints2d="x")),
         ("people[0].visible", lambda m: m["people"][0].update(visible=[True] * 4)),
+        ("people[0].person_id or pixels", lambda m: m["people"][0].update(person_id=256)),  # no instance colour
+        ("people[0].person_id or pixels", lambda m: m["people"][0].update(person_id=True)),
     ],
 )
 def test_a_frame_json_off_the_contract_is_reported_by_its_field_not_crashed_on(data, field, change):
@@ -64,3 +66,10 @@ def test_a_frame_json_off_the_contract_is_reported_by_its_field_not_crashed_on(d
     assert hits[0].message == f"v000001/00002.json: {field} is not the frame metadata contract's"
     # Its people unknown, the frame's instance colours are not judged against them.
     assert [f.reason for f in check(report, "encoding").report.findings] == [Reason.METADATA_INVALID]
+
+
+def test_a_frame_json_nested_too_deep_for_python_is_reported_not_crashed_on(data):
+    deep = b"[" * 100_000 + b"]" * 100_000
+    rewrite_tar(shard_of(data, "v000001"), lambda name, raw: deep if name == "v000001/00002.json" else raw)
+    hits = assert_fails(validate(data, "encoding"), "encoding", Reason.METADATA_INVALID, video="v000001")
+    assert hits[0].message == "v000001/00002.json is not the frame metadata contract"

@@ -68,6 +68,14 @@ def test_unlisted_and_missing_shards(data):
     assert_fails(report, "integrity", Reason.MISSING_FILE, file="phav-000001.tar")
 
 
+def test_a_shard_that_cannot_be_read_is_damage_named_by_its_file(data):
+    shard = shard_of(data, "v000002")
+    shard.unlink()
+    shard.mkdir()  # the tar's name, a folder's body
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.TRUNCATED_SHARD, file=shard.name)
+    assert hits[0].message == "the tar is truncated or damaged: cannot be read (Is a directory)"
+
+
 def test_frames_out_of_order_in_a_shard_are_named_as_such(data):
     """Each sample's members together, but frame 00001's sample before frame 00000's: the
     content hash, formed in frame order, cannot be recomputed, and the finding says why."""
@@ -84,3 +92,27 @@ def test_frames_out_of_order_in_a_shard_are_named_as_such(data):
     shard.write_bytes(buf.getvalue())
     hits = assert_fails(validate(data, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000000")
     assert hits[0].message == "content hash cannot be recomputed: frame 00000 comes after a later frame in the shard"
+
+
+def test_every_member_is_looked_at_whichever_part_of_its_shard_decodes_it(data):
+    """A shard's videos are decoded in parts (v000000's and v000001's here, one process): a
+    stray member of the second part's video, and a sample of it split by another video's
+    whole sample, are named all the same."""
+    shard = shard_of(data, "v000001")
+    with tarfile.open(shard) as tar:
+        members = [(info, tar.extractfile(info).read()) for info in tar.getmembers()]
+    moved = [m for m in members if m[0].name.startswith("v000000/00005.")]  # v000000's last frame, whole
+    rest = [m for m in members if m not in moved]
+    at = next(i for i, m in enumerate(rest) if m[0].name == "v000001/00003.rgb.png") + 1
+    buf = io.BytesIO()
+    with tarfile.open(fileobj=buf, mode="w", format=tarfile.USTAR_FORMAT) as tar:
+        for info, raw in rest[:at] + moved + rest[at:]:
+            tar.addfile(info, io.BytesIO(raw))
+    shard.write_bytes(buf.getvalue())
+    rewrite_tar(shard, lambda name, raw: raw, extra=[("v000001/00000.extra", b"x"), ("v000001/xx.rgb.png", b"y")])
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.UNLISTED_MEMBER, video="v000001")
+    assert sorted(f.message for f in hits) == [
+        "member 'v000001/00000.extra' belongs to no listed video frame",
+        "member 'v000001/00003.raw.png': sample v000001/00003 appears twice or its members are not contiguous",
+        "member 'v000001/xx.rgb.png' belongs to no listed video frame",
+    ]
