@@ -145,12 +145,7 @@ class RecipeRows:
         """The Arrow table, with θ, its hash, the seed and the schema version as metadata."""
         import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
-        def arrow(name: str) -> pa.DataType:
-            if name.startswith("list<"):
-                return pa.list_(arrow(name[5:-1]))
-            return getattr(pa, name)()
-
-        arrays = {c.name: pa.array(self.columns[c.name], type=arrow(c.arrow_type)) for c in COLUMNS}
+        arrays = {c.name: pa.array(self.columns[c.name], type=arrow_type(c.arrow_type)) for c in COLUMNS}
         arrays[RECIPE_COLUMN] = pa.array(self.columns[RECIPE_COLUMN], type=pa.string())
         meta = {"phav.recipe_schema_version": str(RECIPE_SCHEMA_VERSION)}
         if theta is not None:
@@ -264,6 +259,15 @@ def _upgraded(table: pa.Table, path: Path) -> pa.Table:
     return rows.to_arrow().replace_schema_metadata(table.schema.metadata)
 
 
+def arrow_type(name: str) -> pa.DataType:
+    """The Arrow type a column's ``arrow_type`` names (``int64``, ``list<string>``, …)."""
+    import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
+
+    if name.startswith("list<"):
+        return pa.list_(arrow_type(name[5:-1]))
+    return getattr(pa, name)()
+
+
 def read_recipe_table(path: str | Path) -> RecipeTable:
     """Read recipes.parquet; a missing, truncated or foreign file raises PhavUserError."""
     import pyarrow as pa  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
@@ -288,6 +292,12 @@ def read_recipe_table(path: str | Path) -> RecipeTable:
     missing = [name for name in (*required, RECIPE_COLUMN) if name not in table.column_names]
     if missing:
         raise PhavUserError("missing column (not a phav recipes table?)", source=str(path), field=missing[0])
+    expected = {c.name: arrow_type(c.arrow_type) for c in COLUMNS if c.name in required}
+    expected[RECIPE_COLUMN] = pa.string()
+    for name, kind in expected.items():
+        found = table.schema.field(name).type
+        if not found.equals(kind):
+            raise PhavUserError(f"column is {found}, a recipes table's is {kind}", source=str(path), field=name)
     if version < RECIPE_SCHEMA_VERSION:
         table = _upgraded(table, path)
     theta = None

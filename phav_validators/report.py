@@ -10,6 +10,7 @@ from __future__ import annotations
 import base64
 import html
 import json
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -56,11 +57,26 @@ def _default(value: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(value).__name__}")
 
 
+def plain_json(value: Any) -> Any:
+    """``value`` in JSON's own types, numpy's included, with every number JSON has none for
+    (NaN, ±infinity) as null: what a strict parser reads back."""
+    if isinstance(value, dict):
+        return {k: plain_json(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [plain_json(v) for v in value]
+    if isinstance(value, np.generic | np.ndarray):
+        return plain_json(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
 def write_json(reports: Sequence[DatasetReport], path: Path) -> None:
-    """Write the report atomically (NaN written as null)."""
-    data = json.loads(json.dumps(report_json(reports), default=_default).replace("NaN", "null"))
+    """Write the report atomically (NaN and infinities written as null)."""
+    text = json.dumps(plain_json(report_json(reports)), indent=2, sort_keys=True, ensure_ascii=False,
+                      allow_nan=False, default=_default)  # fmt: skip
     with atomic_write(path) as tmp:
-        tmp.write_text(json.dumps(data, indent=2, sort_keys=True, ensure_ascii=False) + "\n", encoding="utf-8")
+        tmp.write_text(text + "\n", encoding="utf-8")
 
 
 def histogram_svg(

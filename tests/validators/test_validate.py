@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
@@ -111,6 +112,28 @@ def test_truncated_and_foreign_files_are_user_errors(good, tmp_path):
     assert missing.returncode == 2 and "no such file" in missing.stderr
 
 
+@pytest.mark.parametrize(
+    ("column", "values", "message"),
+    [
+        ("duration_s", lambda n: ["abc"] * n, "duration_s: column is string, a recipes table's is double"),
+        ("weather", lambda n: [["fog"]] * n, "weather: column is list<element: string>, a recipes table's is string"),
+        ("video_id", lambda n: [[f"v{i:06d}"] for i in range(n)],
+         "video_id: column is list<element: string>, a recipes table's is string"),
+    ],
+)  # fmt: skip
+def test_a_recipes_column_of_another_type_is_a_user_error(good, tmp_path, column, values, message):
+    table = pq.read_table(good)
+    at = table.column_names.index(column)
+    bad = tmp_path / "typed.parquet"
+    pq.write_table(table.set_column(at, column, pa.array(values(table.num_rows))), bad)
+    with pytest.raises(PhavUserError) as e:
+        read_recipe_table(bad)
+    assert str(e.value) == f"{bad}: {message}"
+    for args in (("validate!", str(bad)), ("validate!", str(bad), "--checks", "schema")):
+        result = invoke_cli(*args)
+        assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+
+
 def test_corrupt_table_metadata_is_a_user_error(good, tmp_path):
     table = pq.read_table(good)
     meta = dict(table.schema.metadata)
@@ -179,3 +202,18 @@ def test_a_sample_is_the_ceiling_of_its_share_exactly(fraction):
     ids = [f"v{i:06d}" for i in range(100)]  # 0.07 · 100 is 7.000000000000001 in floats
     expected = max(1, -(-round(fraction * 1000) * 100 // 1000))
     assert len(sample_videos(ids, fraction, seed=0)) == expected
+
+
+def test_the_json_report_writes_non_finite_numbers_as_null_and_leaves_text_alone(tmp_path, monkeypatch):
+    from phav_validators import report as report_module
+
+    data = {"member": "v000000/NaN.rgb.png", "error_px": float("inf"), "p": np.float64("nan"),
+            "low": -np.inf, "rows": [np.int64(3), (1.5, float("nan"))]}  # fmt: skip
+    monkeypatch.setattr(report_module, "report_json", lambda reports: data)
+    report_module.write_json([], tmp_path / "r.json")
+
+    def strict(name: str) -> None:
+        raise ValueError(f"{name} is not JSON")
+
+    back = json.loads((tmp_path / "r.json").read_text(), parse_constant=strict)
+    assert back == {"member": "v000000/NaN.rgb.png", "error_px": None, "p": None, "low": None, "rows": [3, [1.5, None]]}
