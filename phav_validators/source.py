@@ -68,7 +68,7 @@ def resolve(paths: list[Path]) -> list[DatasetInput]:
         elif path.suffix == ".tar":
             root = path.resolve().parent
             inp = out.setdefault(root, DatasetInput(root, shards=[]))
-            if inp.shards is not None:
+            if inp.shards is not None and path.resolve() not in inp.shards:  # named twice: scanned once
                 inp.shards.append(path.resolve())
         elif path.name == MANIFEST or path.suffix == ".json":
             root = path.resolve().parent

@@ -286,6 +286,8 @@ def parse_minimums(text: str | None) -> dict[str, float]:
             out[name] = float(value)
         except ValueError:
             raise PhavUserError(f"{name}: {value!r} is not a number", field="--realism-min") from None
+        if not math.isfinite(out[name]):  # nan: no figure is ever below it
+            raise PhavUserError(f"{name}: {value.strip()!r} is not a finite number", field="--realism-min")
     return out
 
 

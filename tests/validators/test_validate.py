@@ -217,3 +217,11 @@ def test_the_json_report_writes_non_finite_numbers_as_null_and_leaves_text_alone
 
     back = json.loads((tmp_path / "r.json").read_text(), parse_constant=strict)
     assert back == {"member": "v000000/NaN.rgb.png", "error_px": None, "p": None, "low": None, "rows": [3, [1.5, None]]}
+
+
+def test_a_shard_named_twice_is_validated_once(small_dataset):
+    from phav_validators.source import resolve
+
+    shard = small_dataset / "phav-000000.tar"
+    [inp] = resolve([shard, shard, small_dataset / "." / "phav-000000.tar"])
+    assert inp.shards == [shard.resolve()]

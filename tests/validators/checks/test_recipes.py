@@ -65,3 +65,14 @@ def test_metadata_values_the_contract_rules_out_fail_schema(data):
         ("people.parquet", "a role not one of protagonist, supporting, background in 1 rows (first v000000)"),
         ("people.parquet", "rows of 1 videos without a recipe (first v999999)"),
     ]
+
+
+def test_without_a_readable_manifest_the_schema_check_does_not_pass(data):
+    """Its videos cannot be paired with their recipes: the schema check says so, not only
+    integrity."""
+    (data / "manifest.json").write_text("{not json")
+    hits = assert_fails(validate(data, "schema"), "schema", Reason.MANIFEST_INVALID)
+    assert hits[0].message == "videos and recipes cannot be paired: the manifest is invalid"
+    (data / "manifest.json").unlink()
+    hits = assert_fails(validate(data, "schema", "encoding"), "schema", Reason.MISSING_FILE, file="manifest.json")
+    assert hits[0].message == "videos and recipes cannot be paired: the manifest is missing"

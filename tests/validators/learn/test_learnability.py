@@ -10,6 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
+from phav_spec.errors import PhavUserError
 from phav_spec.manifest import load_manifest
 from phav_validators.findings import CheckResult, Reason, Status
 from phav_validators.learn.learnability import (
@@ -138,3 +139,9 @@ def test_the_report_shows_a_frame_of_each_class_of_a_confused_pair(phav):
     assert "walk ↔ run" in page
     assert page.count("<figure>") == 2 and f"{keys[0]}: walk, answered run" in page
     assert f"{keys[1]}: run, answered run" in page  # beside it, a clip of the other class
+
+
+@pytest.mark.parametrize("minutes", [0.0, -1.0, float("nan"), float("inf")])
+def test_a_budget_that_is_no_positive_finite_number_is_refused(minutes):
+    with pytest.raises(PhavUserError, match=r"--learn-minutes: must be a positive, finite number"):
+        LearnOptions(budget_minutes=minutes)

@@ -89,6 +89,8 @@ def test_minimums_parse_and_refuse_unknown_figures():
         parse_minimums("pck=0.9")
     with pytest.raises(PhavUserError, match="not a number"):
         parse_minimums("person_found=high")
+    with pytest.raises(PhavUserError, match="person_found: 'nan' is not a finite number"):
+        parse_minimums("person_found=nan")  # no figure is below nan: the minimum would never fail
 
 
 def test_a_ratio_is_of_sums_over_videos_with_a_seeded_interval():
