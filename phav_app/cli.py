@@ -73,7 +73,7 @@ from phav_generator.sampling import sample_recipes
 from phav_generator.vary import drawn_sampler, parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write, check_output_dir, parse_json_object
+from phav_spec.files import atomic_write, check_output_dir, check_output_file, parse_json_object
 from phav_spec.recipe import Recipe, frames_for, load_recipe, recipe_json_schema
 from phav_spec.recipe_table import RecipeTable, read_recipe_table, write_recipe_stream
 from phav_spec.release import CROISSANT_FILE
@@ -383,8 +383,12 @@ def preview(
     with atomic_write(target) as tmp:
         sheet.save(tmp, format="PNG")
     written = [str(target)]
-    if gif:
-        gif_path = target.with_suffix(".gif")
+    if gif:  # beside the sheet, never over it
+        gif_path = (
+            target.with_suffix(".gif")
+            if target.suffix.lower() != ".gif"
+            else target.with_name(f"{target.stem}-rgb.gif")
+        )
         write_gif([m["rgb"] for m in all_frames], gif_path, fps)
         written.append(str(gif_path))
     console.print(f"wrote {escape(', '.join(written))} ({len(all_frames)} frames of {vid})")
@@ -716,6 +720,8 @@ def bench(
         require_gl(gl)  # now, not after an hour of other sections
     if out_dir is not None:
         check_output_dir(out_dir, field="--out-dir")
+    if report is not None:
+        check_output_file(report, field="--report")
     theta = load_theta("phav-v1")
     runners = {
         "sampling": lambda: _bench_sampling_table(theta, n=n, seed=seed, out_dir=out_dir),

@@ -164,6 +164,8 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
     manifest_path = directory if directory.suffix == ".json" else directory / "manifest.json"
     manifest = load_manifest(manifest_path)
     videos = {v.video_id: v for v in manifest.videos}
+    if not videos:
+        raise PhavUserError("the dataset holds no videos", source=str(manifest_path))
     vid = video_id or manifest.videos[0].video_id
     if vid not in videos:
         raise PhavUserError(f"no video {vid!r} in the manifest ({len(videos)} videos)", source=str(manifest_path),

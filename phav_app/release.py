@@ -178,7 +178,9 @@ def make_release(
     if not re.fullmatch(r"\d+\.\d+\.\d+", version):
         raise PhavUserError(f"not MAJOR.MINOR.PATCH: {version!r}", field="--dataset-version")
     if date is not None:
-        try:
+        try:  # Python 3.11's fromisoformat also takes 20260101 and 2026-W01-1
+            if not re.fullmatch(r"\d{4}-\d{2}-\d{2}", date):
+                raise ValueError(date)
             dt.date.fromisoformat(date)
         except ValueError:
             raise PhavUserError(f"not a date (YYYY-MM-DD): {date!r}", field="--date") from None

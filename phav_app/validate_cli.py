@@ -16,6 +16,7 @@ from rich.table import Table
 
 from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, print_framing, run_app
 from phav_spec.errors import PhavUserError
+from phav_spec.files import check_output_file
 from phav_validators.checks.scan import tune_allocator
 from phav_validators.findings import Reason
 from phav_validators.learn.learnability import LearnOptions
@@ -167,6 +168,9 @@ def validate(
                                threads=realism_threads, seed=seed),
         engine=engine, address=address, regenerate_into=regenerate_into,
     )  # fmt: skip
+    for target, field in ((json_out, "--json"), (html_out, "--html")):
+        if target is not None:
+            check_output_file(target, field=field)
     inputs = resolve(paths)
     tune_allocator()  # this process scans too when --workers is 1
     reports = []

@@ -40,10 +40,13 @@ Progress = Callable[[int, int], None]
 Stage = Callable[[Any, Progress | None], dict[str, Any]]
 
 
-def check_engine(engine: str) -> None:
-    """A one-line user error for an engine that is not one of ``ENGINES``."""
+def check_engine(engine: str, address: str | None = None) -> None:
+    """A one-line user error for an engine that is not one of ``ENGINES``, or a Ray cluster
+    address given to another engine (it would be ignored: the work would run here)."""
     if engine not in ENGINES:
         raise PhavUserError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}", field="--engine")
+    if address is not None and engine != "ray":
+        raise PhavUserError(f"a Ray cluster address needs --engine ray (the engine is {engine})", field="--address")
 
 
 def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, address: str | None,
@@ -53,7 +56,7 @@ def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, 
     ``out`` names the directory the tasks write to (for the message when a worker dies).
     Each finished task also counts as one video for ``progress``.
     """
-    check_engine(engine)
+    check_engine(engine, address)
     if not tasks:
         return
     if engine == "ray":

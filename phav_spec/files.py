@@ -152,6 +152,15 @@ def check_output_dir(out: Path, *, field: str = "--out") -> None:
         raise PhavUserError(f"{above} is not a directory", source=str(out), field=field)
 
 
+def check_output_file(path: str | os.PathLike[str], *, field: str) -> None:
+    """Refuse, before any work, an output file that cannot be one: a directory, a device or a
+    pipe, or a place below a file (its write would fail only after the work it was to keep)."""
+    try:
+        _check_writable_place(Path(path))
+    except OSError as e:
+        raise PhavUserError(f"cannot be written here: {e.strerror}", source=str(path), field=field) from None
+
+
 def _file_above(path: Path) -> Path | None:
     """The nearest existing folder above ``path`` if it is not a folder (a file): nothing can
     be made below it."""

@@ -69,7 +69,7 @@ class Options:
         if not 0.0 <= self.budget <= 1.0:
             raise PhavUserError(f"must be in [0, 1], got {self.budget}", field="--failure-budget")
         check_alpha(self.alpha)
-        check_engine(self.engine)
+        check_engine(self.engine, self.address)
 
 
 @dataclass

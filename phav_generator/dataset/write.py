@@ -207,7 +207,7 @@ def write_dataset(
     (``render.gl.gl_context``); the manifest's fingerprint records the one that rendered.
     """
     out = Path(out)
-    check_engine(engine)
+    check_engine(engine, address)
     check_output_dir(out)
     names = list(shard_names) if shard_names is not None else [shard_name(name, i) for i in range(len(shards))]
     if len(names) != len(shards) or len(set(names)) != len(names):

@@ -17,3 +17,15 @@ def test_preview_sheets_all_modalities_and_a_gif(small_dataset, small_recipes, t
     assert gif.n_frames == small_recipes[1].n_frames
     result = invoke_cli("preview", str(small_dataset), "--video", "v009999", "--out", str(out))
     assert result.returncode == 2 and "v009999" in result.stderr
+
+
+def test_a_gif_named_as_the_sheet_goes_beside_it_and_an_empty_dataset_is_said(small_dataset, tmp_path):
+    out = tmp_path / "clip.gif"
+    result = invoke_cli("preview", str(small_dataset), "--frames", "2", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    assert Image.open(out).format == "PNG" and Image.open(tmp_path / "clip-rgb.gif").format == "GIF"
+    empty = tmp_path / "empty"
+    assert invoke_cli("sample", "--n", "0", "--out", str(tmp_path / "none.parquet")).returncode == 0
+    assert invoke_cli("regenerate", str(tmp_path / "none.parquet"), "--out", str(empty)).returncode == 0
+    result = invoke_cli("preview", str(empty))
+    assert result.returncode == 2 and result.stderr.strip().endswith("manifest.json: the dataset holds no videos")

@@ -27,3 +27,8 @@ def test_ray_and_the_local_pool_give_identical_datasets(ray_with_delays, small_d
 def test_an_unknown_engine_is_a_one_line_error(small_theta, tmp_path):
     with pytest.raises(PhavUserError, match="unknown engine 'spark'"):
         write_dataset([], tmp_path / "x", name="demo", theta=small_theta, dataset_seed=0, engine="spark")
+
+
+def test_a_ray_address_without_the_ray_engine_is_refused_not_ignored(small_theta, tmp_path):
+    with pytest.raises(PhavUserError, match=r"--address: a Ray cluster address needs --engine ray"):
+        write_dataset([], tmp_path / "x", name="demo", theta=small_theta, dataset_seed=0, address="10.0.0.1:6379")

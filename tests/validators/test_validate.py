@@ -225,3 +225,13 @@ def test_a_shard_named_twice_is_validated_once(small_dataset):
     shard = small_dataset / "phav-000000.tar"
     [inp] = resolve([shard, shard, small_dataset / "." / "phav-000000.tar"])
     assert inp.shards == [shard.resolve()]
+
+
+def test_report_files_that_cannot_be_written_are_refused_before_any_check(good, tmp_path):
+    for option in ("--json", "--html"):
+        result = invoke_cli("validate!", str(good), option, str(tmp_path))  # a folder
+        assert result.returncode == 2 and "Traceback" not in result.stderr
+        assert f"{option}: cannot be written here: Is a directory" in result.stderr
+        assert "distribution" not in result.stdout  # no check ran
+    result = invoke_cli("validate!", str(good), "--engine", "local", "--address", "10.0.0.1:6379")
+    assert result.returncode == 2 and "--address: a Ray cluster address needs --engine ray" in result.stderr
