@@ -369,8 +369,13 @@ def _schema_links(loaded: _Loaded, inp: DatasetInput) -> None:
     if m is None and not inp.recipes_only:  # nothing to pair the recipes with: not a pass
         missing = not inp.manifest_path.exists()
         why = "missing" if missing else "invalid"
-        report.add(Finding(Reason.MISSING_FILE if missing else Reason.MANIFEST_INVALID,
-                           f"videos and recipes cannot be paired: the manifest is {why}", file="manifest.json"))
+        report.add(
+            Finding(
+                Reason.MISSING_FILE if missing else Reason.MANIFEST_INVALID,
+                f"videos and recipes cannot be paired: the manifest is {why}",
+                file="manifest.json",
+            )
+        )
     if m is not None and loaded.table is not None:
         table_ids = set(loaded.table.column("video_id"))
         for v in m.videos:

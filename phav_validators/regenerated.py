@@ -20,7 +20,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from phav_generator.dataset.write import write_dataset
+from phav_generator.dataset.write import DONE_DIR, WORK_DIR, write_dataset
+from phav_generator.pipeline import PART_TABLES
 from phav_generator.regenerate import plan_regeneration
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
@@ -74,10 +75,13 @@ def _earlier(into: Path) -> dict[str, Any] | None:
 
 
 def _clear(into: Path, marker: dict[str, Any]) -> None:
-    """Remove the files an earlier regeneration wrote (its marker last)."""
+    """Remove the files an earlier regeneration wrote, or an interrupted one may have, and
+    its work folder (its marker last)."""
     for name in marker.get("files", []):
         if isinstance(name, str) and name == Path(name).name and not name.startswith("."):
             (into / name).unlink(missing_ok=True)
+    for work in (WORK_DIR, DONE_DIR):
+        shutil.rmtree(into / work, ignore_errors=True)
     (into / MARKER).unlink()
 
 
@@ -108,10 +112,16 @@ def _regenerate(inp: DatasetInput, plan: RegenerationPlan, chosen: list[int], in
     names = [plan.shard_names[i] for i in chosen] if plan.shard_names else []
     wanted = {"release_manifest_sha256": file_sha256(inp.root / MANIFEST), "shards": names}
     before = _earlier(into)
-    if before is not None and {k: before.get(k) for k in wanted} == wanted:
+    same = before is not None and {k: before.get(k) for k in wanted} == wanted
+    if same and not before.get("begun"):
         return before, True
-    if before is not None:
+    if before is not None and not same:
         _clear(into, before)
+    # Said before the first write: a run stopped half-way leaves a directory that is ours,
+    # resumed by the same request (write_dataset's journal) or cleared by another.
+    may_write = [*names, MANIFEST, RECIPES, THETA, *(f"{table}.parquet" for table, _ in PART_TABLES)]
+    with atomic_write(into / MARKER) as tmp:
+        tmp.write_text(pretty_json(wanted | {"begun": True, "files": sorted(may_write)}) + "\n", encoding="utf-8")
     n_videos = sum(len(plan.shards[i]) for i in chosen)
     advance = progress("regenerating", n_videos) if progress is not None else None
     result = write_dataset([plan.shards[i] for i in chosen], into, name=plan.name, theta=plan.theta,

@@ -102,7 +102,9 @@ class LearnOptions:
 
     def __post_init__(self) -> None:
         if not self.budget_minutes > 0 or not math.isfinite(self.budget_minutes):  # nan passes a <= 0 test
-            raise PhavUserError(f"must be a positive, finite number, got {self.budget_minutes}", field="--learn-minutes")
+            raise PhavUserError(
+                f"must be a positive, finite number, got {self.budget_minutes}", field="--learn-minutes"
+            )
         if self.precision is not None and self.precision not in PRECISIONS:
             raise PhavUserError(f"choose {' or '.join(PRECISIONS)}, got {self.precision!r}", field="--learn-precision")
         if not self.streams or any(s not in ("rgb", "flow") for s in self.streams):

@@ -316,6 +316,20 @@ def test_a_recipe_only_release_regenerated_with_other_numerics_passes_on_its_pix
     assert all(f["severity"] == "warn" and f["reason"] == "SHARD_BYTES_CHANGED" for f in integrity["findings"])
 
 
+def test_an_interrupted_regeneration_into_a_directory_is_resumed(recipe_release, tmp_path):
+    """Ctrl-C half-way through --regenerate-into: the directory is the run's (its marker says
+    so before the first write), and the same request resumes it."""
+    px = tmp_path / "px"
+    stopped = run_cli("validate!", str(recipe_release), "--checks", "integrity", "--regenerate-into", str(px),
+                      env={"PHAV_FAULT_KILL_AT": "part-done:v000001", "PHAV_FAULT_SIGNAL": "INT"})  # fmt: skip
+    assert stopped.returncode == 130, stopped.stderr
+    assert json.loads((px / ".phav-regenerated.json").read_text(encoding="utf-8"))["begun"] is True
+    again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(px))
+    assert again["_rc"] == 0 and again["integrity"]["status"] == "pass", again["_stdout"]
+    assert any("regenerated 2 of 2 shards" in n for n in again["integrity"]["notes"])
+    assert "begun" not in json.loads((px / ".phav-regenerated.json").read_text(encoding="utf-8"))
+
+
 def test_recipe_checks_of_a_recipe_only_release_need_no_pixels(recipe_release, tmp_path):
     checks = _validate(recipe_release, "--checks", "schema,distribution", "--regenerate-into", str(tmp_path / "px"))
     assert checks["_rc"] == 0 and checks["schema"]["status"] == "pass", checks["_stdout"]
