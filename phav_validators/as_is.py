@@ -166,9 +166,7 @@ def _jobs(inp: DatasetInput, loaded: _Loaded, opts: Options) -> tuple[list[Shard
     else:  # no usable manifest: scan what is there, expecting what the recipes say
         listed, entries = {}, {}
         wanted = sorted(inp.root.glob("*.tar")) if inp.shards is None else inp.shards
-    all_ids = sorted(recipes) if m is None else [v.video_id for v in m.videos]
-    decode = sample_videos(all_ids, opts.sample, opts.seed)
-    jobs = []
+    found = []  # (path, its manifest entry, its videos) of each shard there is to read
     for path in wanted:
         shard = listed.get(path.name)
         if m is not None and shard is None:
@@ -177,7 +175,14 @@ def _jobs(inp: DatasetInput, loaded: _Loaded, opts: Options) -> tuple[list[Shard
         if not path.exists():
             report.add(Finding(Reason.MISSING_FILE, "shard listed in the manifest is missing", file=path.name))
             continue
-        ids = shard.video_ids if shard is not None else _ids_in(path, recipes)
+        found.append((path, shard, shard.video_ids if shard is not None else _ids_in(path, recipes)))
+    if inp.shards is not None:  # named shards: the sample is drawn from their videos
+        all_ids = [vid for _, _, ids in found for vid in ids]
+    else:
+        all_ids = sorted(recipes) if m is None else [v.video_id for v in m.videos]
+    decode = sample_videos(all_ids, opts.sample, opts.seed)
+    jobs = []
+    for path, shard, ids in found:
         expects = []
         for vid in ids:
             recipe = recipes.get(vid)
@@ -589,11 +594,12 @@ def _validate(
 
     framing = None if inp.recipes_only else _framing(inp, loaded, selected)
     m = loaded.manifest
+    covered = [v for v in m.videos if v.video_id in selected] if m is not None else []  # named shards' only
     report = DatasetReport(
         source=inp.label,
         checks=_timed_checks(results, want, timings),
-        n_videos=len(m.videos) if m is not None else loaded.n_recipes,
-        n_frames=sum(v.n_frames for v in m.videos) if m is not None else 0,
+        n_videos=len(covered) if m is not None else loaded.n_recipes,
+        n_frames=sum(v.n_frames for v in covered) if m is not None else 0,
         theta={"name": loaded.theta.name, "hash": loaded.theta.hash} if loaded.theta is not None else None,
         fingerprint_match=fingerprint_match,
         distribution=dist_result,
@@ -772,11 +778,18 @@ def _framing(inp: DatasetInput, loaded: _Loaded, selected: set[str]) -> FramingR
 
 
 def _selected_videos(inp: DatasetInput, loaded: _Loaded, scans: _Scans) -> set[str]:
-    """The videos this run covers: those of the named shards, else every video."""
-    if inp.shards is not None and scans.jobs:
-        return set(scans.video_ids())
-    if loaded.manifest is not None:
-        return {v.video_id for v in loaded.manifest.videos}
+    """The videos this run covers: those of the named shards (by the manifest, else by their
+    members), whichever checks run; else every video."""
+    m = loaded.manifest
+    if inp.shards is not None:
+        if m is not None:
+            names = {p.name for p in inp.shards}
+            return {v.video_id for v in m.videos if v.shard in names}
+        if scans.jobs:
+            return set(scans.video_ids())
+        return {vid for p in inp.shards if p.exists() for vid in _ids_in(p, loaded.recipes)}
+    if m is not None:
+        return {v.video_id for v in m.videos}
     return set(loaded.recipes)
 
 
