@@ -89,6 +89,9 @@ class DatasetReport:
     framing: FramingResult | None = None
     #: Per flagged video, one representative (shard path, frame) for the HTML report.
     flagged_frames: dict[str, tuple[str, int]] = field(default_factory=dict)
+    #: Per flagged video, that frame as a PNG data URL, read while its shard was there (a
+    #: recipe-only release regenerated into a temporary directory, gone when the report is written).
+    flagged_pictures: dict[str, str] = field(default_factory=dict)
 
     @property
     def status(self) -> Status:

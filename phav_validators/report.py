@@ -152,6 +152,17 @@ def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
     return _rgb_png_url(first)
 
 
+def keep_flagged_pictures(report: DatasetReport) -> None:
+    """Read the frames the HTML report shows into the report now: the shards they come from
+    are about to go (a recipe-only release regenerated into a temporary directory)."""
+    for vid, _, _, _ in report.worst_videos(MAX_FRAMES):
+        if vid in report.flagged_frames:
+            shard, frame = report.flagged_frames[vid]
+            url = _frame_png(shard, vid, frame)
+            if url is not None:
+                report.flagged_pictures[vid] = url
+
+
 def _png_url(png: bytes) -> str:
     """PNG bytes as a data URL the page can show inline."""
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
@@ -308,7 +319,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
             if vid not in r.flagged_frames:
                 continue
             shard, frame = r.flagged_frames[vid]
-            url = _frame_png(shard, vid, frame)
+            url = r.flagged_pictures.get(vid) or _frame_png(shard, vid, frame)
             if url is not None:
                 frames.append(f"<figure><img src='{url}' width='340'><figcaption>{esc(vid)} frame {frame:05d}: "
                               f"{esc(', '.join(reasons))}</figcaption></figure>")  # fmt: skip

@@ -42,9 +42,9 @@ class Journal:
             try:
                 entry = json.loads(line)
                 kind, record = entry["kind"], entry["record"]
-            except (ValueError, KeyError, TypeError):
+                self._remember(kind, record)
+            except (ValueError, KeyError, TypeError):  # damaged from here on: cut off, redone
                 break
-            self._remember(kind, record)
             good += len(line)
             self._lines += 1
         if good != len(data):

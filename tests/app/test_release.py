@@ -381,10 +381,14 @@ def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_relea
     lied = video.model_copy(update={"modality_hashes": hashes, "content_hash": video_content_hash(hashes)})
     videos = [lied if v.video_id == video.video_id else v for v in manifest.videos]
     dump_manifest(manifest.model_copy(update={"videos": videos}), bad / "manifest.json")
-    checks = _validate(bad, "--checks", "integrity")
+    page = tmp_path / "report.html"
+    checks = _validate(bad, "--checks", "integrity", "--html", str(page))
     assert checks["_rc"] == 1
     assert checks["integrity"]["status"] == "fail"
     assert checks["integrity"]["finding_counts"] == {"HASH_MISMATCH": 1}
+    # The flagged video's frame is on the page, read before the temporary shards went.
+    html = page.read_text(encoding="utf-8")
+    assert "<h3>Flagged videos</h3>" in html and f"{video.video_id} frame 00000" in html
 
 
 @pytest.mark.slow

@@ -16,3 +16,15 @@ def test_a_torn_journal_line_is_cut_off(tmp_path):
     assert path.read_bytes().endswith(b"}\n")
     again.append("shard", {"name": "a.tar"})
     assert list(Journal(path).shards) == ["a.tar"]
+
+
+def test_a_whole_line_without_what_a_record_needs_is_cut_off_with_the_rest(tmp_path):
+    path = tmp_path / "journal.jsonl"
+    j = Journal(path)
+    j.append("video", {"video_id": "v000000", "shard": "a.tar", "part_bytes": 1})
+    good = path.read_bytes()
+    with open(path, "ab") as fh:
+        fh.write(b'{"kind": "video", "record": {"shard": "a.tar"}}\n{"kind": "shard", "record": {"name": "a.tar"}}\n')
+    again = Journal(path)
+    assert (list(again.videos), list(again.shards)) == (["v000000"], [])
+    assert path.read_bytes() == good
