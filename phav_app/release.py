@@ -219,6 +219,8 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[s
                    progress: Progress | None) -> ReleaseResult:  # fmt: skip
     out.mkdir(parents=True, exist_ok=True)
     _claim(out, src, recipes_only)
+    for stale in out.rglob(".*.link.tmp"):  # a link a killed run made and never put in place
+        stale.unlink()
     small = sum((src.root / n).stat().st_size for n in RECIPE_FILES + METADATA_FILES)
     advance = progress("hashing", small) if progress is not None else None
     index = _index(src, recipes_only=recipes_only, about=about, advance=advance)

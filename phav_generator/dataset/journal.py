@@ -80,7 +80,13 @@ def check_run(work: Path, run: dict[str, Any]) -> None:
             before = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             before = None
-        if isinstance(before, dict) and before != run:
+        if not isinstance(before, dict):  # written atomically: damaged from outside, trust nothing
+            raise PhavUserError(
+                f"{RUN_FILE} of the unfinished run is damaged; delete {work} to start over",
+                source=str(work.parent),
+                field=RUN_FILE,
+            )
+        if before != run:
             differs = sorted(k for k in set(before) | set(run) if before.get(k) != run.get(k))
             raise PhavUserError(
                 f"the directory holds an unfinished run with other settings ({', '.join(differs)} differ); "

@@ -477,7 +477,7 @@ class ShardScanner:
             self.add("encoding", Reason.METADATA_INVALID, f"{vid}/{f:05d}.json is not the frame metadata contract",
                      video_id=vid, frame=f)  # fmt: skip
             return None
-        if not isinstance(version, int) or version > METADATA_VERSION:
+        if not _is_int(version) or version > METADATA_VERSION:  # true is no version
             self.add("encoding", Reason.VERSION_UNKNOWN,
                      f"{vid}/{f:05d}.json has metadata version {version!r}; this phav reads ≤ {METADATA_VERSION}",
                      video_id=vid, frame=f)  # fmt: skip

@@ -198,8 +198,10 @@ def test_an_interrupted_release_is_never_mistaken_for_a_finished_one(dataset, re
     with pytest.raises(Stop):
         make_release(dataset, out, recipes_only=True, date="2026-11-21", progress=stop_when_placing)
     assert not (out / RELEASE_FILE).exists() and (out / ".phav-release.json").exists()
+    (out / ".cameras.parquet.link.tmp").write_bytes(b"")  # a link a killed run made (not placed again here)
     make_release(dataset, out, recipes_only=True, date="2026-11-21")  # resumes its own directory
     assert tree_bytes(out) == tree_bytes(recipe_release)
+    assert not list(out.glob(".*.link.tmp"))
 
 
 def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_path):

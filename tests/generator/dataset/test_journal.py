@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from phav_generator.dataset.journal import Journal
+import pytest
+
+from phav_generator.dataset.journal import RUN_FILE, Journal, check_run
+from phav_spec.errors import PhavUserError
 
 
 def test_a_torn_journal_line_is_cut_off(tmp_path):
@@ -28,3 +31,12 @@ def test_a_whole_line_without_what_a_record_needs_is_cut_off_with_the_rest(tmp_p
     again = Journal(path)
     assert (list(again.videos), list(again.shards)) == (["v000000"], [])
     assert path.read_bytes() == good
+
+
+def test_a_damaged_run_file_is_refused_not_overwritten(tmp_path):
+    work = tmp_path / ".phav-work"
+    work.mkdir()
+    (work / RUN_FILE).write_text('{"name": "dem')
+    with pytest.raises(PhavUserError, match=r"run\.json: run\.json of the unfinished run is damaged; delete .*"):
+        check_run(work, {"name": "demo"})
+    assert (work / RUN_FILE).read_text() == '{"name": "dem'

@@ -73,3 +73,17 @@ def test_a_frame_json_nested_too_deep_for_python_is_reported_not_crashed_on(data
     rewrite_tar(shard_of(data, "v000001"), lambda name, raw: deep if name == "v000001/00002.json" else raw)
     hits = assert_fails(validate(data, "encoding"), "encoding", Reason.METADATA_INVALID, video="v000001")
     assert hits[0].message == "v000001/00002.json is not the frame metadata contract"
+
+
+@pytest.mark.parametrize("version", [99, True, "1"])
+def test_a_frame_json_of_a_version_this_phav_does_not_read_is_named(data, version):
+    def edit(name: str, raw: bytes) -> bytes:
+        if name != "v000001/00002.json":
+            return raw
+        meta = json.loads(raw)
+        meta["metadata_version"] = version
+        return json.dumps(meta).encode()
+
+    rewrite_tar(shard_of(data, "v000001"), edit)
+    hits = assert_fails(validate(data, "encoding"), "encoding", Reason.VERSION_UNKNOWN, video="v000001")
+    assert hits[0].message.startswith(f"v000001/00002.json has metadata version {version!r}")
