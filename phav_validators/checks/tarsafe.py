@@ -97,12 +97,15 @@ def iter_members(
 
     With ``only``, just the members it accepts are read and the rest are seeked over; no
     digest is formed and damage ends the iteration silently (another pass reports it)."""
+    if not Path(path).is_file():  # a folder, a pipe (opening it waits for a writer), a device
+        scan.truncated = "cannot be read (not a regular file)"
+        return
     if only is not None:
         yield from _iter_some(path, only)
         return
     try:
         raw = open(path, "rb")  # closed by the with below, after the digest's last read
-    except OSError as e:  # a folder, a file it may not read: damage, said with the shard's name
+    except OSError as e:  # a file it may not read: damage, said with the shard's name
         scan.truncated = f"cannot be read ({e.strerror or e})"
         return
     with raw:

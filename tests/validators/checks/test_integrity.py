@@ -4,6 +4,7 @@ manifest's content hashes; a PNG re-encoded with other settings is only a warnin
 from __future__ import annotations
 
 import io
+import os
 import shutil
 import tarfile
 
@@ -73,7 +74,11 @@ def test_a_shard_that_cannot_be_read_is_damage_named_by_its_file(data):
     shard.unlink()
     shard.mkdir()  # the tar's name, a folder's body
     hits = assert_fails(validate(data, "integrity"), "integrity", Reason.TRUNCATED_SHARD, file=shard.name)
-    assert hits[0].message == "the tar is truncated or damaged: cannot be read (Is a directory)"
+    assert hits[0].message == "the tar is truncated or damaged: cannot be read (not a regular file)"
+    shard.rmdir()
+    os.mkfifo(shard)  # a pipe: opening it would wait for a writer for ever
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.TRUNCATED_SHARD, file=shard.name)
+    assert hits[0].message == "the tar is truncated or damaged: cannot be read (not a regular file)"
 
 
 def test_frames_out_of_order_in_a_shard_are_named_as_such(data):
