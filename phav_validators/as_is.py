@@ -759,7 +759,9 @@ def _failures(
         return CheckResult.skipped("failures", "people.parquet / cameras.parquet unreadable")
 
     chosen = {vid: loaded.recipes[vid] for vid in selected if vid in loaded.recipes}
-    advance = progress("failure cases", len(chosen)) if progress is not None and chosen else None
+    if not chosen:  # nothing was checked: not a pass
+        return CheckResult.skipped("failures", "no video has a valid recipe (the schema check says why)")
+    advance = progress("failure cases", len(chosen)) if progress is not None else None
     result, _ = check_failures(chosen, people, cameras, instance_pixels=pixels, budget=opts.budget, progress=advance)
     return result
 

@@ -28,7 +28,7 @@ from phav_validators.checks.failures import (
 from phav_validators.checks.inject import INJECTIONS, inject
 from phav_validators.findings import Reason, Status
 from tests.generator.physics.support import simulated_people, theta_for
-from tests.validators.checks.support import assert_fails, check, edit_people, validate
+from tests.validators.checks.support import assert_fails, check, edit_people, edit_recipes, validate
 
 
 def test_nan_pose_fails_failures(data):
@@ -290,3 +290,10 @@ def test_frames_whose_instance_pixels_were_never_read_are_judged_by_the_joints(s
         result = video_failures(recipe, series["v000000"], cams["v000000"], instance_pixels={0: counts})
         hidden = sum(1 for c in counts if 0 <= c < 30)
         assert result.measures["protagonist_on_screen"] == pytest.approx(1 - hidden / n), counts
+
+
+def test_without_a_valid_recipe_the_failures_check_is_skipped_not_passed(data):
+    for video in ("v000000", "v000001", "v000002"):
+        edit_recipes(data, video, lambda d: d.update(schema_version=99))
+    result = check(validate(data, "schema", "failures"), "failures")
+    assert result.status == Status.SKIP and "no video has a valid recipe" in result.summary
