@@ -445,7 +445,7 @@ def croissant(manifest: DatasetManifest, table: RecipeTable, index: ReleaseIndex
                      "source": {"fileSet": {"@id": f"{m.name}-frames"}, "extract": {"fileProperty": "content"}}},
                     {"@type": "cr:Field", "@id": f"{m.name}/key", "name": "key", "dataType": "sc:Text",
                      "source": {"fileSet": {"@id": f"{m.name}-frames"}, "extract": {"fileProperty": "fullpath"},
-                                "transform": {"regex": r"^.*(v\d{6}/\d{5})\.[^/]*$"}}},
+                                "transform": {"regex": r"^.*(v\d{6,}/\d{5})\.[^/]*$"}}},
                 ],
             })  # fmt: skip
         record_sets.append({"@type": "cr:RecordSet", "@id": "cameras", "name": "cameras",

@@ -70,6 +70,8 @@ def parse_json_object(text: str | bytes, *, source: str) -> dict[str, Any]:
         raise PhavUserError("invalid JSON: nested too deeply", source=source) from None
     except _DuplicateKey as e:
         raise PhavUserError("key written twice", source=source, field=str(e)) from None
+    except ValueError as e:  # Python's limit on an integer's digits
+        raise PhavUserError(f"invalid JSON: {str(e).splitlines()[0]}", source=source) from None
     if not isinstance(data, dict):
         raise PhavUserError(f"expected a JSON object, got {type(data).__name__}", source=source)
     return data

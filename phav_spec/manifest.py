@@ -45,7 +45,7 @@ MANIFEST_VERSION = 1
 #: Version of the renderer fingerprint's fields this code writes (``RendererFingerprint``).
 FINGERPRINT_VERSION = 2
 
-VIDEO_ID_PATTERN = r"^v\d{6}$"
+VIDEO_ID_PATTERN = r"^v\d{6,}$"  # as a recipe's: v1000000 and on past a million videos
 SHARD_NAME_PATTERN = r"^[A-Za-z0-9_-]+-\d{6}\.tar$"
 SHA256_PATTERN = r"^[0-9a-f]{64}$"
 

@@ -10,6 +10,7 @@ newer one is refused with a clear message.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -20,7 +21,14 @@ from phav_spec.errors import PhavUserError, validate_user_data
 from phav_spec.files import parse_json_object, read_text
 from phav_spec.motions import MOTIONS
 from phav_spec.people import Hair, Outfit, PersonDraws, Phenotype
-from phav_spec.scene import CAMERA_PLACEMENT_VARIABLES, HUMAN_MODELS, WEATHER_LEVELS
+from phav_spec.scene import (
+    CAMERA_INFO,
+    CAMERA_PLACEMENT_VARIABLES,
+    HUMAN_MODELS,
+    KITE_SPRING_VARIABLES,
+    PARAMETER_BOUNDS,
+    WEATHER_LEVELS,
+)
 from phav_spec.theta import MAX_FPS, MAX_FRAME_SIDE, MIN_FRAME_SIDE, RenderSettings
 from phav_spec.vocab import (
     ACTIONS,
@@ -135,7 +143,7 @@ class BackgroundActor(BaseModel):
     destination_waypoint: int = Field(ge=0)
     start: Vec3
     destination: Vec3
-    speed_mps: Finite
+    speed_mps: _within(PARAMETER_BOUNDS["background_speed_mps"])
 
 
 class MotionSpec(BaseModel):
@@ -151,7 +159,7 @@ class MotionSpec(BaseModel):
     base_motion: MotionName
     base_motion_length_s: Finite = Field(gt=0.0)
     start_s: Finite = Field(ge=0.0)
-    speed: Finite = Field(gt=0.0)
+    speed: _within(PARAMETER_BOUNDS["motion_speed"])
     mirror: bool
 
     @model_validator(mode="after")
@@ -172,8 +180,8 @@ class RandomPerturbation(BaseModel):
     model_config = _FROZEN
     kind: Literal["random_perturbation"] = "random_perturbation"
     muscles: Muscles
-    radius_m: Finite
-    period_s: Finite = Field(gt=0.0)
+    radius_m: _within(PARAMETER_BOUNDS["perturbation_radius_m"])
+    period_s: _within(PARAMETER_BOUNDS["perturbation_period_s"])
 
 
 class MuscleWeakening(BaseModel):
@@ -182,7 +190,7 @@ class MuscleWeakening(BaseModel):
     model_config = _FROZEN
     kind: Literal["muscle_weakening"] = "muscle_weakening"
     muscles: Muscles
-    strengths: tuple[Finite, ...]
+    strengths: tuple[_within(PARAMETER_BOUNDS["weakening_strength"]), ...]
 
     @model_validator(mode="after")
     def _one_strength_each(self) -> MuscleWeakening:
@@ -199,7 +207,7 @@ class ActionBlending(BaseModel):
     muscles: Muscles
     blend_motion: MotionName
     blend_start_s: Finite = Field(ge=0.0)
-    weight: Finite
+    weight: _within(PARAMETER_BOUNDS["blending_weight"])
 
 
 class ObjectsVariation(BaseModel):
@@ -220,21 +228,21 @@ class SpringsSpec(BaseModel):
     """Kite springs: camera–target and target–protagonist, with dead zones of 0, 1 or 2 m."""
 
     model_config = _FROZEN
-    ct_spring_strength: Finite
-    tp_spring_strength: Finite
-    camera_mass: Finite
-    target_mass: Finite
-    camera_drag: Finite
-    target_drag: Finite
+    ct_spring_strength: _within(KITE_SPRING_VARIABLES["ct_spring_strength"])
+    tp_spring_strength: _within(KITE_SPRING_VARIABLES["tp_spring_strength"])
+    camera_mass: _within(KITE_SPRING_VARIABLES["camera_mass"])
+    target_mass: _within(KITE_SPRING_VARIABLES["target_mass"])
+    camera_drag: _within(KITE_SPRING_VARIABLES["camera_drag"])
+    target_drag: _within(KITE_SPRING_VARIABLES["target_drag"])
     ct_min_distance_m: Literal[0, 1, 2]
     tp_min_distance_m: Literal[0, 1, 2]
 
 
 class ImpulseSpec(BaseModel):
     model_config = _FROZEN
-    strength: Finite
-    azimuth_deg: Finite
-    elevation_deg: Finite
+    strength: _within(PARAMETER_BOUNDS["impulse_strength"])
+    azimuth_deg: _within(PARAMETER_BOUNDS["impulse_azimuth_deg"])
+    elevation_deg: _within(PARAMETER_BOUNDS["impulse_elevation_deg"])
 
 
 class CameraSpec(BaseModel):
@@ -250,6 +258,15 @@ class CameraSpec(BaseModel):
     target: Vec3
     springs: SpringsSpec | None
     impulse: ImpulseSpec | None
+
+    @model_validator(mode="after")
+    def _springs_of_a_spring_camera(self) -> CameraSpec:
+        tracked = CAMERA_INFO[self.kind].tracking == "springs"
+        for name in ("springs", "impulse"):
+            if (getattr(self, name) is not None) != tracked:  # the physics would read them, or find none
+                need = "needs" if tracked else "takes no"
+                raise ValueError(f"{name}: a {self.kind} camera {need} {name}")
+        return self
 
 
 class EnvironmentSpec(BaseModel):
@@ -325,6 +342,8 @@ class Recipe(BaseModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> Recipe:
+        if not math.isfinite(self.duration_s * self.video.fps):
+            raise ValueError(f"duration_s {self.duration_s} is too long to count its frames")
         if self.n_frames != frames_for(self.duration_s, self.video.fps):
             raise ValueError(
                 f"n_frames ({self.n_frames}) does not match duration_s {self.duration_s} at {self.video.fps} fps"

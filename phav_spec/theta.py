@@ -5,8 +5,10 @@ People are the paper's H (``theta_h`` over the 20 fixed human models) unless a `
 section with ``mode: sampled`` draws every person continuously (``PeopleTheta``).
 
 Categorical weights are written either as ``uniform`` or as a mapping value → weight
-(unlisted values weigh 0); they are normalised on load to a full mapping in registry order,
-so the canonical hash identifies the distribution, not its spelling. Conditional tables
+(unlisted values weigh 0); they are filled out on load to a full mapping in registry order,
+so the canonical hash does not depend on the mapping's order or on ``uniform`` against
+weights of 1 (weights are not rescaled: weights of 2 are another θ of the same
+distribution). Conditional tables
 (θ_AE, θ_AV, θ_AC, θ_EC) have a ``default`` row and per-parent ``rows`` overriding it.
 """
 
@@ -30,6 +32,7 @@ from pydantic import (
     ConfigDict,
     Field,
     PlainSerializer,
+    StrictInt,
     model_validator,
 )
 
@@ -64,6 +67,10 @@ from phav_spec.vocab import (
 )
 
 THETA_FORMAT_VERSION = 1
+#: A categorical weight is 0 or within these: weights are relative, and a sum of two huge
+#: ones overflows to infinity (every draw then the last value) while tiny ones lose their
+#: precision (subnormal floats), each a wrong distribution sampled without a word.
+MIN_WEIGHT, MAX_WEIGHT = 1e-100, 1e100
 _FROZEN = ConfigDict(extra="forbid", frozen=True)
 PRESETS_DIR = Path(__file__).parent / "presets"
 
@@ -89,7 +96,9 @@ def _weights(registry: Registry, value: Any) -> dict[str, float]:
             raise ValueError(f"weight of {key!r} must be a number, got {w!r}")
         if not math.isfinite(w) or w < 0:
             raise ValueError(f"weight of {key!r} must be finite and non-negative, got {w}")
-        out[key] = float(w)
+        if w != 0 and not MIN_WEIGHT <= w <= MAX_WEIGHT:  # sums and products of weights stay exact enough
+            raise ValueError(f"weight of {key!r} must be 0 or in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {w}")
+        out[key] = float(w) + 0.0  # -0.0 is 0.0: one spelling, one hash
     return out
 
 
@@ -167,7 +176,7 @@ class VideoFormat(BaseModel):
     model_config = _FROZEN
     width: int = Field(340, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
     height: int = Field(256, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
-    fps: int = Field(30, ge=1, le=MAX_FPS)
+    fps: StrictInt = Field(30, ge=1, le=MAX_FPS)  # not `yes`, not 29.97
 
 
 class Durations(BaseModel):
@@ -615,7 +624,7 @@ class Theta(BaseModel):
     """All parameters θ of the generative model; one file, one canonical hash."""
 
     model_config = _FROZEN
-    format_version: int = THETA_FORMAT_VERSION
+    format_version: Literal[1] = THETA_FORMAT_VERSION  # this phav reads format 1 only, written so
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$")
     description: str = ""
     video: VideoFormat = VideoFormat()
@@ -653,7 +662,9 @@ class Theta(BaseModel):
     def _version_first(cls, data: Any) -> Any:
         if isinstance(data, Mapping):
             v = data.get("format_version", THETA_FORMAT_VERSION)
-            if isinstance(v, int) and v > THETA_FORMAT_VERSION:
+            if isinstance(v, bool) or not isinstance(v, int):  # 2.0 or "7" would pass as a number
+                raise ValueError(f"format_version: must be a whole number, got {v!r}")
+            if v > THETA_FORMAT_VERSION:
                 raise ValueError(
                     f"format_version: {v} is newer than this phav reads ({THETA_FORMAT_VERSION}); upgrade phav"
                 )
@@ -834,26 +845,45 @@ def load_theta(path: str | Path) -> Theta:
         raise PhavUserError(f"invalid YAML: {problem}", source=str(path), field=where) from None
     except RecursionError:
         raise PhavUserError("invalid YAML: nested too deeply", source=str(path)) from None
+    except ValueError as e:  # Python's limit on an integer's digits
+        raise PhavUserError(f"invalid YAML: {str(e).splitlines()[0]}", source=str(path)) from None
     return parse_theta(data, source=str(path))
 
 
-def _refuse_duplicate_keys(node: yaml.Node | None, *, source: str) -> None:
-    """A key written twice in one mapping is an error (YAML would keep the last silently)."""
+def _refuse_duplicate_keys(node: yaml.Node | None, *, source: str, visited: set[int] | None = None) -> None:
+    """A key written twice in one mapping is an error (YAML would keep the last silently), so
+    is one that reads as the same number (``2`` and ``2.0``). Each node is looked at once: an
+    alias shares its node, and walking it again at every use grows exponentially."""
+    visited = set() if visited is None else visited
+    if id(node) in visited:
+        return
+    visited.add(id(node))
     if isinstance(node, yaml.MappingNode):
-        seen: set[str] = set()
+        seen: set[object] = set()
         for key, value in node.value:
             name = str(key.value)
-            if name in seen:
+            same = _key_value(key)
+            if same in seen:
                 raise PhavUserError(
                     "key written twice in one mapping; keep one",
                     source=source,
                     field=f"line {key.start_mark.line + 1}: {name}",
                 )
-            seen.add(name)
-            _refuse_duplicate_keys(value, source=source)
+            seen.add(same)
+            _refuse_duplicate_keys(value, source=source, visited=visited)
     elif isinstance(node, yaml.SequenceNode):
         for item in node.value:
-            _refuse_duplicate_keys(item, source=source)
+            _refuse_duplicate_keys(item, source=source, visited=visited)
+
+
+def _key_value(key: yaml.Node) -> object:
+    """What a mapping key means: a number as its value (``2`` and ``2.0`` alike), else its text."""
+    if isinstance(key, yaml.ScalarNode) and key.tag in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float"):
+        try:
+            return float(yaml.safe_load(key.value))
+        except (ValueError, TypeError, OverflowError):
+            return key.value
+    return str(key.value)
 
 
 def load_preset(name: str = "phav-v1") -> Theta:

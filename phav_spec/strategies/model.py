@@ -649,7 +649,7 @@ def _variation(draw: st.DrawFn, action: str) -> dict[str, Any]:
             "kind": kind,
             "muscles": _subset(draw, pool),
             "radius_m": draw(st.floats(0.0, 1.0)),
-            "period_s": draw(st.floats(1e-3, 10.0)),
+            "period_s": draw(st.floats(0.05, 10.0)),
         }
     if kind == "muscle_weakening":
         muscles = _subset(draw, MUSCLES.names)
@@ -772,7 +772,7 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
             "base_motion": base,
             "base_motion_length_s": MOTIONS[base].length_s,
             "start_s": draw(st.floats(0.0, MOTIONS[base].length_s)),
-            "speed": draw(st.floats(0.01, 4.0)),
+            "speed": draw(st.floats(0.1, 4.0)),
             "mirror": draw(st.booleans()),
         },
         "variation": variation,
@@ -846,7 +846,7 @@ def _background_actors(draw: st.DrawFn, environment: str, *, first_person_id: in
             "destination_waypoint": dest,
             "start": graph[start],
             "destination": graph[dest],
-            "speed_mps": draw(st.floats(0.0, 3.0)),
+            "speed_mps": draw(st.floats(0.1, 3.0)),
         })  # fmt: skip
     event("recipe: no background actors" if not background else "recipe: background actors")
     if len(background) >= 2:

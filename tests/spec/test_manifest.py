@@ -302,3 +302,12 @@ def test_generated_manifests_round_trip(tmp_path: Path, manifest: DatasetManifes
     path = tmp_path / "manifest.json"
     dump_manifest(manifest, path)
     assert load_manifest(path) == manifest
+
+
+def test_video_ids_past_a_million_are_a_manifests_too(tmp_path: Path) -> None:
+    """A recipe's id grows a digit past v999999 (``video_id``): the manifest takes it."""
+    data = _manifest_data()
+    data["shards"][1]["video_ids"] = ["v1000000"]
+    data["videos"][2]["video_id"] = "v1000000"
+    dump_manifest(DatasetManifest.model_validate(data), tmp_path / "manifest.json")
+    assert load_manifest(tmp_path / "manifest.json").videos[2].video_id == "v1000000"

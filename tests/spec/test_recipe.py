@@ -101,6 +101,10 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
         (lambda d: d["world"].update(sun_brightness=-3.0), "world.sun_brightness", "greater than or equal to 0"),
         (lambda d: d["world"].update(fog_intensity=1.5), "world.fog_intensity", "less than or equal to 1"),
         (lambda d: d["motion"].update(start_s=1000.0), "motion.start_s", "past the take's end"),
+        (lambda d: d.update(duration_s=1e308), "", "duration_s 1e+308 is too long to count its frames"),
+        # Values θ's bounds rule out, which crashed the physics (a massless camera divides by 0).
+        (lambda d: d["motion"].update(speed=1e300), "motion.speed", "less than or equal to 5"),
+        (lambda d: d["camera"].update(kind="kite", springs=None), "camera", "springs: a kite camera needs springs"),
         (
             lambda d: d["variation"].update(kind="teleport"),
             "variation",
@@ -232,3 +236,23 @@ def test_a_version_1_recipes_table_reads_upgraded(tmp_path):
     assert list(back.recipes()) == upgraded
     assert back.column("human_model") == [r.protagonist.human.model for r in upgraded]
     assert back.column("stature_m") == [estimated_stature(r.protagonist.human.phenotype) for r in upgraded]
+
+
+def test_a_kite_cameras_springs_and_impulse_are_bounded_as_thetas_are(recipe):
+    """Every spring and impulse value within θ's bounds (scene.KITE_SPRING_VARIABLES,
+    PARAMETER_BOUNDS): a camera of mass 0 or -5 crashed the physics."""
+    data = json.loads(recipe.model_dump_json())
+    if data["camera"]["springs"] is None:
+        pytest.skip("the fixture's camera has no springs")
+    for field, value, words in (("camera_mass", 0.0, "greater than or equal to 0.01"),
+                                ("camera_mass", -5.0, "greater than or equal to 0.01"),
+                                ("ct_spring_strength", 1e9, "less than or equal to 100000")):  # fmt: skip
+        bad = json.loads(json.dumps(data))
+        bad["camera"]["springs"][field] = value
+        with pytest.raises(PhavUserError) as info:
+            parse_recipe(bad, source="r.json")
+        assert str(info.value).startswith(f"r.json: camera.springs.{field}") and words in str(info.value)
+    static = json.loads(json.dumps(data))
+    static["camera"]["kind"] = "static"
+    with pytest.raises(PhavUserError, match=r"springs: a static camera takes no springs"):
+        parse_recipe(static, source="r.json")

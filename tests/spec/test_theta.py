@@ -103,6 +103,13 @@ BAD = {
     "zero perturbation period": (_set("variations.random_perturbation.period_s", {"kind": "uniform", "low": 0.0, "high": 0.0}), "variations.random_perturbation.period_s", "allowed range"),
     "a crowd of background actors": (_set("background_actors.count", {"min": 0, "max": 3_000_000_000}), "background_actors.count.max", "at most 50"),
     "future format": (_set("format_version", 99), "format_version", "newer than this phav"),
+    "format written as a float": (_set("format_version", 2.0), "format_version", "must be a whole number, got 2.0"),
+    "format written as text": (_set("format_version", "7"), "format_version", "must be a whole number, got '7'"),
+    "format below one": (_set("format_version", -3), "format_version", "Input should be 1"),
+    "frame rate written yes": (_set("video.fps", True), "video.fps", "valid integer"),
+    # A sum of two huge weights overflows (every draw the last value); tiny ones are subnormal.
+    "weights that overflow": (_set("theta_w", {"clear": 1e308, "fog": 1e308}), "theta_w", "must be 0 or in [1e-100, 1e+100]"),
+    "subnormal weights": (_set("theta_w", {"clear": 5e-324, "fog": 5e-324}), "theta_w", "must be 0 or in [1e-100, 1e+100]"),
     "unknown clip start": (_set("motion.start", "middle"), "motion.start", "'uniform' or 'active'"),
 }  # fmt: skip
 
@@ -163,6 +170,50 @@ def test_duplicate_keys_are_refused(tmp_path):
     path.write_text(text, encoding="utf-8")
     with pytest.raises(PhavUserError, match=r"dup\.yaml: line \d+: theta_w: key written twice"):
         load_theta(path)
+
+
+def test_keys_that_read_as_the_same_number_are_refused(tmp_path):
+    path = theta_variant(tmp_path, _set("cameras.kite.springs.min_distance_weights", {0: 1, 1: 1, 2: 1}))
+    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
+    at = next(i for i, line in enumerate(lines) if line.strip() == "2: 1")
+    indent = lines[at][: len(lines[at]) - len(lines[at].lstrip())]
+    lines.insert(at + 1, f"{indent}2.0: 0\n")  # the same key as 2, in another spelling
+    path.write_text("".join(lines), encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"line \d+: 2\.0: key written twice"):
+        load_theta(path)
+
+
+def test_a_node_shared_by_aliases_is_checked_once(tmp_path, monkeypatch):
+    """Aliases share their node: walked again at every use, 30 levels of them were 2^30 visits."""
+    from phav_spec import theta as theta_module
+
+    levels = ["a0: &a0 [x, y]"] + [f"a{i}: &a{i} [*a{i - 1}, *a{i - 1}]" for i in range(1, 31)]
+    path = tmp_path / "aliases.yaml"
+    path.write_text("\n".join(levels) + "\n", encoding="utf-8")
+    visits = []
+    walk = theta_module._refuse_duplicate_keys
+    monkeypatch.setattr(theta_module, "_refuse_duplicate_keys", lambda node, **kw: visits.append(1) or walk(node, **kw))
+    with pytest.raises(PhavUserError):  # no θ, but its keys were looked at first
+        load_theta(path)
+    assert len(visits) < 200
+
+
+def test_a_number_past_pythons_digit_limit_is_a_one_line_error(tmp_path):
+    path = tmp_path / "huge.yaml"
+    path.write_text(f"format_version: 1{'0' * 5000}\n", encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"huge\.yaml: invalid YAML: Exceeds the limit"):
+        load_theta(path)
+    with pytest.raises(PhavUserError, match=r"r\.json: invalid JSON: Exceeds the limit"):
+        parse_json_object('{"dataset_seed": 1' + "0" * 5000 + "}", source="r.json")
+
+
+def test_a_negative_zero_weight_is_the_theta_of_zero():
+    base = preset_dict()
+    zero = dict(base, theta_d={**base["theta_d"], "night": 0.0}) if isinstance(base.get("theta_d"), dict) else None
+    if zero is None:
+        pytest.skip("the preset writes theta_d as a word")
+    negative = dict(base, theta_d={**base["theta_d"], "night": -0.0})
+    assert parse_theta(negative, source="x").hash == parse_theta(zero, source="x").hash
 
 
 def test_deep_nesting_a_device_and_an_unreadable_place_are_one_line_errors(tmp_path, monkeypatch):
