@@ -33,7 +33,7 @@ from phav_spec.webdataset import decode_png
 if TYPE_CHECKING:
     from phav_spec.manifest import DatasetManifest
 
-__all__ = ["CLIP_MODALITIES", "ClipReader", "tsn_frames"]
+__all__ = ["CLIP_MODALITIES", "ClipReader", "check_size", "tsn_frames"]
 
 #: What a clip can carry: the six image modalities and the frame's metadata (its people's
 #: rows and its camera's, as in people.parquet and cameras.parquet).
@@ -99,15 +99,31 @@ def _labels(path: Path) -> dict[str, int]:
 
 def _resize_flow(flow: np.ndarray, valid: np.ndarray, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Flow (T, H, W, 2) in pixels and its validity at ``size`` (width, height): vectors
-    area-averaged and scaled with the image, validity by nearest neighbour."""
+    area-averaged over the valid pixels only (an invalid pixel's zero would shrink its
+    neighbours' motion) and scaled with the image, validity by nearest neighbour, the flow 0
+    where it is invalid."""
     import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when frames are decoded
 
     h, w = flow.shape[1:3]
-    out = np.stack([cv2.resize(x, size, interpolation=cv2.INTER_AREA) for x in flow])
+    weight = valid.astype(np.float32)
+    summed = np.stack([cv2.resize(x * m[..., None], size, interpolation=cv2.INTER_AREA)
+                       for x, m in zip(flow, weight, strict=True)])  # fmt: skip
+    share = np.stack([cv2.resize(m, size, interpolation=cv2.INTER_AREA) for m in weight])
+    kept = np.stack([cv2.resize(v.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) for v in valid]) > 0
+    out = np.where((kept & (share > 0))[..., None], summed / np.maximum(share, 1e-12)[..., None], 0.0)
+    out = out.astype(np.float32)
     out[..., 0] *= size[0] / w
     out[..., 1] *= size[1] / h
-    kept = np.stack([cv2.resize(v.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) for v in valid])
-    return out, kept.astype(bool)
+    return out, kept
+
+
+def check_size(size: tuple[int, int] | None) -> None:
+    """A frame size is None (as rendered) or two positive whole numbers, width and height."""
+    if size is None:
+        return
+    ok = isinstance(size, tuple | list) and len(size) == 2
+    if not ok or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in size):
+        raise PhavUserError(f"size must be (width, height) in whole pixels above 0, got {size!r}", field="size")
 
 
 class ClipReader:
@@ -190,6 +206,11 @@ class ClipReader:
         if video_id not in self.labels or video_id not in self.n_frames:
             raise PhavUserError(f"no video {video_id!r} with a recipe and frames", source=str(self.root))
         order = list(range(self.n_frames[video_id])) if frames is None else [int(f) for f in frames]
+        outside = [f for f in order if not 0 <= f < self.n_frames[video_id]]
+        if not order or outside:
+            raise PhavUserError(f"frames must be a non-empty list within 0–{self.n_frames[video_id] - 1}, got "
+                                f"{outside[:3] or 'none'}", field=f"{video_id} frames")  # fmt: skip
+        check_size(size)
         out: dict[str, Any] = {"video_id": video_id, "label": self.labels[video_id], "frames": order}
         metadata = [m for m in modalities if m in ("people", "camera")]
         if metadata:  # one read of each frame's JSON serves both

@@ -15,7 +15,8 @@ each clip exactly once per epoch, and resumable.
 The order of an epoch is a permutation of the videos drawn from (seed, epoch); worker w of W
 reads the batches w, w + W, … of it, so the loader's batches come in exactly that order.
 After n clips, ``state_dict(n)`` saved and later ``load_state_dict`` on a fresh
-``PhavClips`` continue with clip n + 1. ``videos=`` takes a split's ids, e.g. from
+``PhavClips`` continue with clip n + 1 (the loop's ``set_epoch`` of that epoch keeps its
+place). The epoch is in shared memory: persistent workers follow ``set_epoch`` too. ``videos=`` takes a split's ids, e.g. from
 ``phav_validators.learn.splits.dataset_split`` (held-out performers, as the learnability
 check splits). Needs torch (``pip install 'phav[train]'``).
 """
@@ -30,7 +31,7 @@ import numpy as np
 import torch
 from torch.utils.data import IterableDataset, get_worker_info
 
-from phav_spec.clips import ClipReader, tsn_frames
+from phav_spec.clips import ClipReader, check_size, tsn_frames
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 
@@ -66,19 +67,34 @@ class PhavClips(IterableDataset):
             raise PhavUserError(f"videos not in the dataset: {missing[:5]}", source=str(root), field="videos")
         if batch_size < 1 or (segments is not None and segments < 1):
             raise PhavUserError(f"batch_size and segments must be positive, got {batch_size}, {segments}")
+        check_size(size)  # now, not in a worker at the first clip
         self.videos = chosen
         self.modalities = tuple(modalities)
         self.segments, self.size, self.batch_size = segments, size, batch_size
         self.shuffle, self.train, self.seed = shuffle, train, seed
-        self.epoch = 0
-        self._skip = 0  # clips of this epoch already consumed (a resumed run)
+        # The epoch and the clips of it already consumed (a resumed run), in shared memory:
+        # a DataLoader's persistent workers keep the copy of this object they started with,
+        # and would never see set_epoch's next epoch in a plain attribute.
+        self._state = torch.zeros(2, dtype=torch.int64).share_memory_()
+        self._resumed: int | None = None  # the epoch load_state_dict resumes, until it is set
+
+    @property
+    def epoch(self) -> int:
+        return int(self._state[0])
+
+    @property
+    def _skip(self) -> int:
+        return int(self._state[1])
 
     def __len__(self) -> int:
         return len(self.videos)
 
     def set_epoch(self, epoch: int) -> None:
-        """Start ``epoch``: its order, and its frames when training."""
-        self.epoch, self._skip = epoch, 0
+        """Start ``epoch``: its order, and its frames when training. The epoch a loaded state
+        resumes keeps its consumed clips (an epoch loop calls set_epoch after load_state_dict)."""
+        skip = self._skip if epoch == self._resumed else 0
+        self._resumed = None
+        self._state[0], self._state[1] = epoch, skip
 
     def order(self, epoch: int | None = None) -> list[str]:
         """The epoch's videos in the order the loader yields them."""
@@ -94,7 +110,8 @@ class PhavClips(IterableDataset):
 
     def load_state_dict(self, state: dict[str, int]) -> None:
         """Continue where ``state_dict`` was taken."""
-        self.epoch, self._skip = int(state["epoch"]), int(state["consumed"])
+        self._state[0], self._state[1] = int(state["epoch"]), int(state["consumed"])
+        self._resumed = int(state["epoch"])
 
     def __iter__(self):
         info = get_worker_info()

@@ -37,7 +37,8 @@ def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes
     """
     import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when a 16-bit PNG is decoded
 
-    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+    # OpenCV asserts (cv2.error) on an empty buffer rather than returning None.
+    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED) if data else None
     if image is None:
         raise ValueError(f"{source}: not a readable PNG ({len(data)} bytes)")
     channels = 1 if image.ndim == 2 else image.shape[2]

@@ -125,6 +125,7 @@ class TrainConfig:
                                 field="--distill")  # fmt: skip
         if not self.diff_gain > 0:
             raise PhavUserError(f"must be positive, got {self.diff_gain}", field="--diff-gain")
+        self.arch  # noqa: B018 - the network's options (--widths, --dropout) checked now, not after the data is read
         if self.rgb_diff and (self.stream != "rgb" or self.rgb_frames < 2):
             raise PhavUserError("needs the rgb stream with --rgb-frames of 2 or more", field="--rgb-diff")
 

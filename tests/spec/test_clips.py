@@ -65,8 +65,28 @@ def test_tsn_frames_take_one_frame_per_segment():
         tsn_frames(0, 3)
 
 
+def test_resized_flow_averages_valid_vectors_only_and_is_zero_where_invalid():
+    from phav_spec.clips import _resize_flow
+
+    flow = np.zeros((1, 4, 8, 2), np.float32)
+    valid = np.zeros((1, 4, 8), bool)
+    flow[0, :, :3] = (2.0, -1.0)  # the left 2x2-block column wholly valid, the next one in part
+    valid[0, :, :3] = True
+    out, kept = _resize_flow(flow, valid, (4, 2))  # 2x2 blocks, vectors halved with the size
+    assert np.allclose(out[0, :, 0], (1.0, -0.5)) and np.allclose(out[0, :, 1][kept[0, :, 1]], (1.0, -0.5))
+    assert not out[0][~kept[0]].any()
+
+
 def test_bad_requests_are_one_line_errors(small_dataset, tmp_path):
     reader = ClipReader(small_dataset)
+    vid = reader.video_ids[0]
+    n = reader.n_frames[vid]
+    for frames in ([n], [-1], []):  # the video's frames are 0 … n − 1: the shard is not to blame
+        with pytest.raises(PhavUserError, match=rf"{vid} frames: frames must be a non-empty list within 0–{n - 1}"):
+            reader.read(vid, frames)
+    for size in ((0, 64), (64,), (64.5, 48)):
+        with pytest.raises(PhavUserError, match=r"size: size must be \(width, height\) in whole pixels"):
+            reader.read(vid, [0], size=size)
     with pytest.raises(PhavUserError, match="unknown modalities"):
         reader.read(reader.video_ids[0], modalities=("rgb", "thermal"))
     with pytest.raises(PhavUserError, match="no video 'v999999' with a recipe and frames"):
@@ -113,6 +133,38 @@ def test_a_resumed_iterator_continues_where_it_stopped(small_dataset):
     fresh = PhavClips(small_dataset, modalities=("rgb",), segments=2, batch_size=1, seed=1)
     fresh.load_state_dict(state)
     assert _epoch(fresh, workers=2) == whole[2:]
+    # The module's epoch loop, resumed: set_epoch of the resumed epoch keeps its consumed
+    # clips, the next epoch starts whole.
+    looped = PhavClips(small_dataset, modalities=("rgb",), segments=2, batch_size=1, seed=1)
+    looped.load_state_dict(state)
+    looped.set_epoch(3)
+    assert _epoch(looped, workers=0) == whole[2:]
+    looped.set_epoch(4)
+    assert len(_epoch(looped, workers=0)) == len(looped.videos)
+
+
+def test_a_clip_dataset_of_a_size_no_frame_can_have_is_refused_at_once(small_dataset):
+    pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    with pytest.raises(PhavUserError, match=r"size: size must be"):
+        PhavClips(small_dataset, size=(0, 64))
+
+
+def test_persistent_workers_follow_set_epoch(small_dataset):
+    """Persistent workers keep the dataset object they started with: the epoch reaches them
+    all the same (each epoch its own order and frames)."""
+    pytest.importorskip("torch")
+    from torch.utils.data import DataLoader
+
+    from phav_spec.torchdata import PhavClips, collate
+
+    clips = PhavClips(small_dataset, modalities=("camera",), segments=2, batch_size=1, seed=2)
+    loader = DataLoader(clips, batch_size=1, num_workers=2, collate_fn=collate, persistent_workers=True)
+    for epoch in range(3):
+        clips.set_epoch(epoch)
+        got = [(vid, f.tolist()) for b in loader for vid, f in zip(b["video_id"], b["frames"], strict=True)]
+        assert got == _epoch(clips, workers=0), epoch
 
 
 def test_a_clips_metadata_rows_are_the_tables(small_dataset):

@@ -542,3 +542,10 @@ def test_the_recommended_settings_follow_the_streams_trained():
     assert recommended_config(["rgb", "flow"], rgb_frames=2).rgb_diff
     # TSN's multi-scale crops, unless turned off
     assert both.scale_jitter and not recommended_config(["flow"], scale_jitter=False).scale_jitter
+
+
+@pytest.mark.parametrize(("change", "field"), [({"dropout": 1.0}, "--dropout"), ({"widths": (0, 64)}, "--widths")])
+def test_the_networks_options_are_checked_with_the_rest_before_any_data(change, field):
+    with pytest.raises(PhavUserError) as e:
+        TrainConfig(**change)
+    assert e.value.field == field
