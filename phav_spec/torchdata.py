@@ -16,9 +16,9 @@ The order of an epoch is a permutation of the videos drawn from (seed, epoch); w
 reads the batches w, w + W, … of it, so the loader's batches come in exactly that order.
 After n clips, ``state_dict(n)`` saved and later ``load_state_dict`` on a fresh
 ``PhavClips`` continue with clip n + 1 (the loop's ``set_epoch`` of that epoch keeps its
-place). The epoch is in shared memory: persistent workers follow ``set_epoch`` too. ``videos=`` takes a split's ids, e.g. from
-``phav_validators.learn.splits.dataset_split`` (held-out performers, as the learnability
-check splits). Needs torch (``pip install 'phav[train]'``).
+place). The epoch is in shared memory: persistent workers follow ``set_epoch`` too.
+``videos=`` takes a split's ids, e.g. from ``phav_validators.learn.splits.dataset_split``
+(held-out performers, as the learnability check splits). Needs torch (``pip install 'phav[train]'``).
 """
 
 from __future__ import annotations
