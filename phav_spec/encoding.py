@@ -67,7 +67,8 @@ def encode_depth(depth_m: np.ndarray) -> np.ndarray:
     ``code = clip(rint(d * 100), 1, 65535)`` computed in float64 (a float32 input times 100
     is exact in float64, so the code depends only on the stored value). ``np.rint`` rounds
     half to even. NaN and +inf mean sky / no surface and give 65535, as does anything that
-    rounds to 65535 or more (d >= 655.345 m; the far code is documented as ">= 655.35 m").
+    rounds to 65535 or more (d > 655.345 m: 655.345 m itself is 65534.5 cm, rounded to even
+    65534; the far code is documented as ">= 655.35 m").
     Code 0 is never written: a surface closer than 5 mm gets 1.
 
     Args:
