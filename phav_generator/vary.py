@@ -17,6 +17,7 @@ from pydantic import ValidationError
 from phav_generator.sampling import VARIABLES, RecipeSampler
 from phav_spec.errors import PhavUserError, format_validation_error
 from phav_spec.recipe import Recipe
+from phav_spec.scene import CAMERA_INFO
 from phav_spec.theta import Theta
 from phav_spec.vocab import CAMERAS, DAY_PHASES, WEATHERS
 
@@ -32,6 +33,8 @@ def parse_settings(items: list[str]) -> dict[str, Any]:
         key, text = key.strip(), text.strip()
         if not sep or not key:
             raise PhavUserError(f"expected NAME=VALUE, got {item!r}", field="--set")
+        if key in out:  # the last would silently win
+            raise PhavUserError(f"{key} is set twice; set it once", field="--set")
         if key not in VARIABLES:
             raise PhavUserError(f"unknown variable {key!r}; choose from {', '.join(VARIABLES)}", field="--set")
         if key in _CHOICES:
@@ -74,6 +77,10 @@ def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
             "it cannot be varied consistently",
             field=recipe.video_id,
         )
+    camera = settings.get("camera")
+    if camera is not None and CAMERA_INFO[camera].indoor_only and not recipe.environment.indoor:
+        raise PhavUserError(f"camera {camera} films indoors only; {recipe.video_id} is in {recipe.environment.name}",
+                            field="--set camera")  # fmt: skip
     try:
         return sampler.sample(recipe.dataset_seed, recipe.index, force=settings)
     except ValidationError as e:  # a value out of its range: name the recipe field it would set

@@ -15,7 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StrictInt, model_validator
 
 from phav_spec.errors import PhavUserError, validate_user_data
 from phav_spec.files import parse_json_object, read_text
@@ -50,7 +50,7 @@ RGB = tuple[
     Annotated[int, Field(ge=0, le=255)],
     Annotated[int, Field(ge=0, le=255)],
 ]
-Seed = Annotated[int, Field(ge=0, lt=2**32)]
+Seed = Annotated[StrictInt, Field(ge=0, lt=2**32)]  # `true` is no seed
 
 
 def _within(bounds: tuple[float, float] | tuple[str, float, float]) -> Any:
@@ -321,8 +321,8 @@ class Recipe(BaseModel):
     model_config = _FROZEN
     schema_version: Literal[3] = RECIPE_SCHEMA_VERSION
     video_id: str = Field(pattern=r"^v\d{6,}$")
-    index: int = Field(ge=0)
-    dataset_seed: int = Field(ge=0)
+    index: StrictInt = Field(ge=0)
+    dataset_seed: StrictInt = Field(ge=0)  # `true` is no seed
     theta_hash: str = Field(pattern=r"^[0-9a-f]{64}$")
     action: ActionName
     n_people: int = Field(ge=1)

@@ -102,6 +102,8 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
         (lambda d: d["world"].update(fog_intensity=1.5), "world.fog_intensity", "less than or equal to 1"),
         (lambda d: d["motion"].update(start_s=1000.0), "motion.start_s", "past the take's end"),
         (lambda d: d.update(duration_s=1e308), "", "duration_s 1e+308 is too long to count its frames"),
+        (lambda d: d.update(dataset_seed=True), "dataset_seed", "valid integer"),
+        (lambda d: d["seeds"].update(physics=1.0), "seeds.physics", "valid integer"),
         # Values θ's bounds rule out, which crashed the physics (a massless camera divides by 0).
         (lambda d: d["motion"].update(speed=1e300), "motion.speed", "less than or equal to 5"),
         (lambda d: d["camera"].update(kind="kite", springs=None), "camera", "springs: a kite camera needs springs"),
