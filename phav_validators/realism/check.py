@@ -83,6 +83,9 @@ class Tally:
     def __init__(self) -> None:
         self.parts: dict[str, dict[str, list[float]]] = {}
         self.present: set[str] = set()
+        #: The videos whose frames show what each key is about (a bootstrap resample of
+        #: videos none of which shows a class leaves the class out, as the figure does).
+        self.shown: dict[str, set[str]] = {}
 
     def add(self, key: str, video: str, num: float, den: float, *, present: bool = True) -> None:
         cell = self.parts.setdefault(key, {}).setdefault(video, [0.0, 0.0])
@@ -90,6 +93,7 @@ class Tally:
         cell[1] += den
         if present:
             self.present.add(key)
+            self.shown.setdefault(key, set()).add(video)
 
     def figure(self, key: str, seed: int) -> Figure | None:
         """The ratio of ``key`` over every video, with a bootstrap over videos (None when
@@ -301,15 +305,19 @@ def cityscapes_miou(tally: Tally, seed: int, group: str = "all") -> Figure | Non
         return None
     num = np.array([[tally.parts[k].get(v, [0.0, 0.0])[0] for v in videos] for k in keys])
     den = np.array([[tally.parts[k].get(v, [0.0, 0.0])[1] for v in videos] for k in keys])
+    shown = np.array([[v in tally.shown.get(k, ()) for v in videos] for k in keys])
 
     def mean_iou(sel: np.ndarray) -> float:
+        """The figure over the videos ``sel``: its classes are those they show (a class's
+        false answers elsewhere give it a denominator, not a place in the mean)."""
         d = den[:, sel].sum(axis=1)
-        return float(np.mean(num[:, sel].sum(axis=1)[d > 0] / d[d > 0]))
+        kept = (d > 0) & shown[:, sel].any(axis=1)
+        return float(np.mean(num[:, sel].sum(axis=1)[kept] / d[kept])) if kept.any() else math.nan
 
     name = "cityscapes_miou" if group == "all" else f"cityscapes_miou|{group}"
     draws = stream(seed, f"realism/bootstrap/{name}").integers(0, len(videos), (RESAMPLES, len(videos)))
     boot = [mean_iou(d) for d in draws]
-    low, high = np.percentile(boot, [2.5, 97.5])
+    low, high = np.nanpercentile(boot, [2.5, 97.5])
     return Figure(mean_iou(np.arange(len(videos))), float(low), float(high), float(len(keys)), len(videos))
 
 
@@ -358,7 +366,9 @@ def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory |
                     advance(1)
     finally:
         reader.close()
-    figures = tally.figures(opts.seed)
+    # Per action only where enough videos were judged (docs/realism.md): one video's figure
+    # with a bootstrap of one is no interval.
+    figures = {k: f for k, f in tally.figures(opts.seed).items() if "|action=" not in k or f.videos >= MIN_VIDEOS}
     if (miou := cityscapes_miou(tally, opts.seed)) is not None:
         figures["cityscapes_miou"] = miou
     for group in sorted({g for v in chosen for g in conditions[v]}):

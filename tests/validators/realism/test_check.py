@@ -53,6 +53,8 @@ def test_the_check_judges_people_and_world_with_intervals(judged):
     assert {k.split("|")[1].split("=")[0] for k in by_condition} == {"weather", "day_phase"}
     # People are scored as one class, never as parts.
     assert not any("|head|" in k or "|chest|" in k for k in judged.figures)
+    # Per action only where MIN_VIDEOS videos were judged (three videos of three actions: none).
+    assert not any("|action=" in k for k in judged.figures)
     # The sample's frames add up: every judged frame is in one of the three videos' groups.
     assert sum(f.count for k, f in judged.figures.items() if k.startswith("person_found|view=")) <= judged.people
 
@@ -143,6 +145,26 @@ def test_false_answers_count_in_every_frame_as_the_benchmarks_pool_them():
     # the mean is over the classes present: bus 2 of 4, grass 3 of its 6 pixels (no false answers)
     assert tally.figure("class_iou|cityscapes|terrain|all", seed=0).value == pytest.approx(3 / 6)
     assert cityscapes_miou(tally, 0).value == pytest.approx((2 / 4 + 3 / 6) / 2)
+
+
+def test_the_miou_interval_is_of_the_figure_each_resample_would_give():
+    """A resample of videos that show no road leaves road out of its mean, as the figure on
+    those videos would, though the judge's `road` elsewhere gives road a denominator there."""
+    from phav_spec.judge_classes import CITYSCAPES
+    from phav_spec.vocab import PIXEL_CLASSES
+
+    road, sky, grass = (PIXEL_CLASSES[c].class_id for c in ("road", "sky", "terrain"))
+    label = {c: CITYSCAPES.label_id(c) for c in ("road", "sky", "terrain")}
+    tally = Tally()
+    a = np.array([[road, road, sky, sky]], np.uint8)  # named right
+    judge_world(np.array([[label["road"]] * 2 + [label["sky"]] * 2]), a, CITYSCAPES, tally, "a", ("all",))
+    b = np.array([[sky, sky, grass, grass, grass, grass, grass, grass, grass, grass]], np.uint8)
+    said = np.array([[label["sky"]] * 2 + [label["terrain"]] * 7 + [label["road"]]])  # one lawn pixel `road`
+    judge_world(said, b, CITYSCAPES, tally, "b", ("all",))
+    whole = cityscapes_miou(tally, 0)
+    only_b = (1.0 + 7 / 8) / 2  # sky, grass: the road's one false answer is no class of b's
+    assert whole.value == pytest.approx((2 / 3 + 1.0 + 7 / 8) / 3)
+    assert whole.low >= min(only_b, whole.value, 1.0) - 1e-9 and whole.high <= 1.0
 
 
 def test_answers_on_a_class_the_judge_does_not_judge_are_void_where_its_benchmark_voids_them():
