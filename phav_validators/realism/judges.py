@@ -112,11 +112,26 @@ def _interpreter(path: Path, threads: int) -> Any:
 class _Model:
     """A TFLite interpreter with one input; ``_run`` returns the outputs by position."""
 
+    #: The shape of each output the judge reads, first ones first, without the batch axis
+    #: (None: any length there): another model under the file's name is refused on loading.
+    OUTPUTS: tuple[tuple[int | None, ...], ...] = ()
+
     def __init__(self, path: Path, threads: int):
         self.path = path
         self._interp = _interpreter(path, threads)
-        self._input = self._interp.get_input_details()[0]
-        self._outputs = [d["index"] for d in self._interp.get_output_details()]
+        inputs, outputs = self._interp.get_input_details(), self._interp.get_output_details()
+        shapes = [tuple(int(n) for n in d["shape"][1:]) for d in outputs]
+        square = len(inputs) == 1 and len(inputs[0]["shape"]) == 4 and inputs[0]["shape"][1] == inputs[0]["shape"][2]
+        fits = len(shapes) >= len(self.OUTPUTS) and all(
+            len(got) == len(want) and all(w is None or g == w for g, w in zip(got, want, strict=True))
+            for got, want in zip(shapes, self.OUTPUTS, strict=False)
+        )
+        if not (square and fits):
+            given = [tuple(int(n) for n in d["shape"]) for d in inputs]
+            raise PhavUserError(f"not the {type(self).__name__} model this check reads (inputs {given}, "
+                                f"outputs {shapes})", source=str(path))  # fmt: skip
+        self._input = inputs[0]
+        self._outputs = [d["index"] for d in outputs]
         self.input_size = int(self._input["shape"][2]), int(self._input["shape"][1])
 
     def _run(self, tensor: np.ndarray) -> list[np.ndarray]:
@@ -155,6 +170,8 @@ class Letterbox:
 
 class Segmenter(_Model):
     """A DeepLab trained on real photographs: a label per frame pixel, in ``classes.labels``."""
+
+    OUTPUTS = ((None, None),)  # a label map
 
     def __init__(self, path: Path, classes: JudgeClasses, threads: int = 1):
         super().__init__(path, threads)
@@ -208,6 +225,8 @@ class PersonDetection:
 
 class PoseDetector(_Model):
     """BlazePose's person detector on the whole frame (letterboxed to 224², values in [−1, 1])."""
+
+    OUTPUTS = ((None, 12), (None, 1))  # per anchor: its box and keypoints, its score
 
     def __init__(self, path: Path, threads: int = 1):
         super().__init__(path, threads)
@@ -299,6 +318,8 @@ def _sigmoid(x: np.ndarray) -> np.ndarray:
 
 class PoseLandmarks(_Model):
     """BlazePose GHUM's full landmark model on a person crop (256², values in [0, 1])."""
+
+    OUTPUTS = ((195,), (1,))  # 39 landmarks × 5 values, the person's presence
 
     def landmarks(self, rgb: np.ndarray, crop: Crop) -> Landmarks:
         size = self.input_size[0]

@@ -233,6 +233,13 @@ def test_a_corrupt_model_or_a_missing_extra_is_one_line_and_exit_2(small_dataset
     args = ("validate!", str(small_dataset), "--checks", "realism", "--realism-frames", "2")
     _one_line_exit_2(invoke_cli(*args, "--realism-models", str(models)), "not a TensorFlow Lite model", bad.name)
     _one_line_exit_2(invoke_cli(*args, "--realism-models", str(tmp_path / "none")), "missing model file")
+    # A TFLite model of another kind under a judge's name is refused on loading, not judged with.
+    shutil.copy(MODELS_DIR / JUDGE_MODELS["pascal_voc"].file, bad)
+    detector = models / JUDGE_MODELS["pose_detector"].file
+    shutil.copy(MODELS_DIR / JUDGE_MODELS["pascal_voc"].file, detector)
+    _one_line_exit_2(invoke_cli(*args, "--realism-models", str(models)), "not the PoseDetector model", detector.name)
+    shutil.copy(MODELS_DIR / JUDGE_MODELS["pose_detector"].file, detector)
+    bad.write_bytes(bad.read_bytes()[:1000])
     _one_line_exit_2(invoke_cli(*args, "--realism-min", "pck=1"), "--realism-min", "unknown figure")
     monkeypatch.setitem(sys.modules, "ai_edge_litert.interpreter", None)  # as if the extra were not installed
     shutil.copy(MODELS_DIR / JUDGE_MODELS["pascal_voc"].file, bad)
