@@ -31,7 +31,7 @@ from phav_spec.release import RELEASE_FILE
 from phav_validators.as_is import validate_as_is
 from phav_validators.findings import ProgressFactory, Reason
 from phav_validators.options import DatasetReport, Options, sample_videos
-from phav_validators.report import keep_flagged_pictures
+from phav_validators.report import flagged_pictures
 from phav_validators.source import MANIFEST, RECIPES, THETA, DatasetInput
 
 if TYPE_CHECKING:
@@ -163,8 +163,8 @@ def validate_release(
         shards = None if len(chosen) == len(plan.shards) else [into / n for n in marker["shards"]]
         report = validate_as_is(DatasetInput(into, shards=shards, named=list(inp.named)), theta=theta,
                                 options=options, progress=progress)  # fmt: skip
-        if options.regenerate_into is None:
-            keep_flagged_pictures(report)
+        if options.regenerate_into is None:  # the shards go with the directory: the pictures are read now
+            report.flagged_pictures = flagged_pictures(report)
     report.source = f"{inp.label} (recipe-only release)"
     expected = plan.expected.renderer if plan.expected is not None else None
     made_by = RendererFingerprint.model_validate(marker["renderer"]) if marker.get("renderer") else None

@@ -152,15 +152,17 @@ def _frame_png(shard: str, video_id: str, frame: int) -> str | None:
     return _rgb_png_url(first)
 
 
-def keep_flagged_pictures(report: DatasetReport) -> None:
-    """Read the frames the HTML report shows into the report now: the shards they come from
-    are about to go (a recipe-only release regenerated into a temporary directory)."""
+def flagged_pictures(report: DatasetReport) -> dict[str, str]:
+    """The frame the HTML report shows of each of the worst flagged videos, as a PNG data URL:
+    the one kept in the report (``flagged_pictures``), else read from its shard now."""
+    out = {}
     for vid, _, _, _ in report.worst_videos(MAX_FRAMES):
         if vid in report.flagged_frames:
             shard, frame = report.flagged_frames[vid]
-            url = _frame_png(shard, vid, frame)
+            url = report.flagged_pictures.get(vid) or _frame_png(shard, vid, frame)
             if url is not None:
-                report.flagged_pictures[vid] = url
+                out[vid] = url
+    return out
 
 
 def _png_url(png: bytes) -> str:
@@ -315,14 +317,12 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
         if r.framing is not None and r.framing.groups:
             out.append(framing_html(r.framing))
         frames = []
+        pictures = flagged_pictures(r)
         for vid, _, _, reasons in r.worst_videos(MAX_FRAMES):
-            if vid not in r.flagged_frames:
-                continue
-            shard, frame = r.flagged_frames[vid]
-            url = r.flagged_pictures.get(vid) or _frame_png(shard, vid, frame)
-            if url is not None:
-                frames.append(f"<figure><img src='{url}' width='340'><figcaption>{esc(vid)} frame {frame:05d}: "
-                              f"{esc(', '.join(reasons))}</figcaption></figure>")  # fmt: skip
+            if vid in pictures:
+                frame = r.flagged_frames[vid][1]
+                frames.append(f"<figure><img src='{pictures[vid]}' width='340'><figcaption>{esc(vid)} frame "
+                              f"{frame:05d}: {esc(', '.join(reasons))}</figcaption></figure>")  # fmt: skip
         if frames:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
         if r.learnability is not None:
