@@ -17,6 +17,7 @@ from pydantic import ValidationError
 from phav_generator.sampling import VARIABLES, RecipeSampler
 from phav_spec.errors import PhavUserError, format_validation_error
 from phav_spec.recipe import Recipe
+from phav_spec.scene import CAMERA_INFO
 from phav_spec.theta import Theta
 from phav_spec.vocab import CAMERAS, DAY_PHASES, WEATHERS
 
@@ -76,11 +77,14 @@ def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
             "it cannot be varied consistently",
             field=recipe.video_id,
         )
+    camera = settings.get("camera")
+    if camera is not None and CAMERA_INFO[camera].indoor_only and not recipe.environment.indoor:
+        raise PhavUserError(f"camera {camera} films indoors only; {recipe.video_id} is in {recipe.environment.name}",
+                            field="--set camera")  # fmt: skip
     try:
         return sampler.sample(recipe.dataset_seed, recipe.index, force=settings)
     except ValidationError as e:  # a value out of its range: name the recipe field it would set
         where, message = format_validation_error(e)
-        said = f"{where}: {message}" if where else message  # a rule of the whole recipe names no field
-        raise PhavUserError(f"the varied recipe is invalid: {said}", field="--set") from None
+        raise PhavUserError(f"the varied recipe is invalid: {where}: {message}", field="--set") from None
     except ValueError as e:
         raise PhavUserError(f"the varied recipe is invalid: {str(e).splitlines()[0]}", field="--set") from None

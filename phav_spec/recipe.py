@@ -350,8 +350,6 @@ class Recipe(BaseModel):
             )
         if self.video_id != video_id(self.index):
             raise ValueError(f"video_id {self.video_id!r} does not match index {self.index}")
-        if CAMERA_INFO[self.camera.kind].indoor_only and not self.environment.indoor:
-            raise ValueError(f"camera {self.camera.kind} films indoors only, the recipe is in {self.environment.name}")
         if self.n_people != 1 + len(self.supporting_characters):
             raise ValueError("n_people must count the protagonist and the supporting characters")
         ids = [0] + [p.person_id for p in self.supporting_characters] + [p.person_id for p in self.background_actors]

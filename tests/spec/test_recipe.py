@@ -108,14 +108,6 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
         (lambda d: d["motion"].update(speed=1e300), "motion.speed", "less than or equal to 5"),
         (lambda d: d["camera"].update(kind="kite", springs=None), "camera", "springs: a kite camera needs springs"),
         (
-            lambda d: (
-                d["environment"].update(indoor=False, name="urban")
-                or d["camera"].update(kind="indoors", springs=None, impulse=None)
-            ),
-            "",
-            "camera indoors films indoors only, the recipe is in urban",
-        ),
-        (
             lambda d: d["variation"].update(kind="teleport"),
             "variation",
             "does not match any of the expected tags",
