@@ -1,13 +1,18 @@
 """The Cityscapes judge on real photographs at our frames' size, beside our frames: the
 closest real frames to be had offline, for the targets our frames miss (docs/realism-gap.md).
-The photographs are OpenCV's sample data, from Debian's opencv-doc package (not shipped):
+The photographs are OpenCV's sample data, from Debian's opencv-doc package, and Google
+Coral's test data: a Cityscapes frame (a street in Germany) and three frames of a highway
+video (its ``automl_video_ondevice/traffic_frames``). Neither is shipped:
 
     apt-get download opencv-doc && dpkg-deb -x opencv-doc_*.deb opencv-doc
-    .venv/bin/python docs/measure/judged_real.py opencv-doc/usr/share/doc/opencv-doc/examples/data --ours r52
+    git clone --depth 1 https://github.com/google-coral/test_data coral
+    .venv/bin/python docs/measure/judged_real.py opencv-doc/usr/share/doc/opencv-doc/examples/data coral --ours r52
 
 Each photograph is scaled to cover 340 × 256 and centre-cropped, as a frame is; inside boxes
 drawn by hand that hold one class only, it prints the share of pixels the judge names as
-that class (its recall there) and what it names most. With --ours DATASET, the same share
+that class (its recall there), the share PASCAL VOC's judge names so where it judges the
+class, and what the street model names most. Photographs in none of the folders given are
+listed and left out. With --ours DATASET, the same share
 over our frames' pixels of each class at least 4 px from any other class (the realism
 check's sample of outdoor frames): all of them, and the clear or overcast daytime ones;
 with --dump FOLDER (judged_frames.py --dump) and --group, the same share over its frames
@@ -31,7 +36,7 @@ from judged_repaint import display, linear
 from PIL import Image
 
 from phav_spec.clips import ClipReader
-from phav_spec.judge_classes import CITYSCAPES
+from phav_spec.judge_classes import CITYSCAPES, PASCAL_VOC
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.vocab import PIXEL_CLASSES
@@ -52,6 +57,16 @@ REGIONS: dict[str, list[tuple[str, tuple[int, int, int, int]]]] = {
     "leuvenB.jpg": [("sky", (220, 20, 320, 90)), ("building", (0, 90, 170, 170)), ("road", (60, 225, 340, 256))],
     "messi5.jpg": [("person", (125, 100, 180, 165)), ("terrain", (0, 205, 120, 256))],
     "licenseplate_motion.jpg": [("car", (10, 40, 330, 250))],
+    # A Cityscapes frame: a red hatchback whole (63 px), a grey estate behind a pole.
+    "cityscapes_segmentation.bmp": [("car", (105, 30, 190, 70)), ("car", (262, 28, 320, 62)),
+                                    ("road", (0, 110, 340, 256)), ("pole", (198, 0, 204, 60)),
+                                    ("vegetation", (60, 3, 100, 18))],
+    # A highway from above its verge: a saloon whole (60 px), a pick-up and a white car cut
+    # by the frame's right edge.
+    "automl_video_ondevice/traffic_frames/0001.bmp": [("car", (80, 170, 155, 205)), ("car", (290, 160, 338, 200)),
+                                                      ("car", (320, 210, 340, 240)), ("road", (0, 225, 250, 256))],
+    "automl_video_ondevice/traffic_frames/0003.bmp": [("car", (52, 168, 132, 205)), ("car", (275, 160, 338, 198)),
+                                                      ("car", (300, 205, 338, 240)), ("road", (0, 225, 250, 256))],
 }  # fmt: skip
 #: Most-named classes shown per row.
 SHOWN = 3
@@ -65,6 +80,11 @@ def as_frame(path: Path) -> np.ndarray:
         im = im.resize((round(im.width * scale), round(im.height * scale)), Image.Resampling.LANCZOS)
         left, top = (im.width - W) // 2, (im.height - H) // 2
         return np.asarray(im.crop((left, top, left + W, top + H)))
+
+
+def found(folders: list[Path], photo: str) -> Path | None:
+    """The first of ``folders`` that holds ``photo`` (a path relative to it), joined; None if none does."""
+    return next((folder / photo for folder in folders if (folder / photo).is_file()), None)
 
 
 def veiled(rgb: np.ndarray, transmission: float, airlight: float) -> np.ndarray:
@@ -160,7 +180,7 @@ def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counte
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("photos", type=Path, help="the directory of OpenCV's sample data")
+    parser.add_argument("photos", type=Path, nargs="+", help="folders of the photographs: OpenCV's sample data, Coral's test data")
     parser.add_argument("--ours", type=Path, help="a dataset: the same figure on its frames")
     parser.add_argument("--frames", type=int, default=400)
     parser.add_argument("--dump", type=Path, help="judged_frames.py --dump's folder: the same figure on its frames")
@@ -171,20 +191,31 @@ def main() -> None:
     veils = transmissions(args.veil) if args.veil else []
     if not 0.0 <= args.airlight <= 255.0:
         raise SystemExit(f"--airlight {args.airlight}: an 8-bit grey, 0 to 255")
-    segmenter = load_judges(threads=2).segmenters["cityscapes"]
+    judges = load_judges(threads=2).segmenters
+    segmenter, voc = judges["cityscapes"], judges["pascal_voc"]
     names = segmenter.classes.labels
     through = "".join(f" through fog, T = {t:g} |" for t in veils)
-    print(f"| photograph | class | box (x0, y0, x1, y1) | named as the class |{through} named most |")
-    print("| --- | --- | --- | ---: |" + " ---: |" * len(veils) + " --- |")
+    print(f"| photograph | class | box (x0, y0, x1, y1) | named as the class |{through} VOC | named most |")
+    print("| --- | --- | --- | ---: |" + " ---: |" * len(veils) + " ---: | --- |")
+    missing = []
     for photo, regions in REGIONS.items():
-        frame = as_frame(args.photos / photo)
+        path = found(args.photos, photo)
+        if path is None:
+            missing.append(photo)
+            continue
+        frame = as_frame(path)
         said, *fogged = (segmenter.labels(f) for f in [frame] + [veiled(frame, t, args.airlight) for t in veils])
+        voc_said = voc.labels(frame)
         for m, (x0, y0, x1, y1) in regions:
             inside = said[y0:y1, x0:x1]
             shares = [float(np.isin(s[y0:y1, x0:x1], CITYSCAPES.answer_ids(m)).mean()) for s in (said, *fogged)]
             answers = Counter(dict(zip(*(a.tolist() for a in np.unique(inside, return_counts=True)), strict=True)))
             cells = " | ".join(f"{v:.2f}" for v in shares)
-            print(f"| {photo} | {m} | {x0}, {y0}, {x1}, {y1} | {cells} | {named(answers, names)} |")
+            by_voc = f"{float(np.isin(voc_said[y0:y1, x0:x1], PASCAL_VOC.answer_ids(m)).mean()):.2f}" if (
+                m in PASCAL_VOC.labels) else ""
+            print(f"| {photo} | {m} | {x0}, {y0}, {x1}, {y1} | {cells} | {by_voc} | {named(answers, names)} |")
+    if missing:
+        print(f"\nNot in {', '.join(str(f) for f in args.photos)}, left out: {', '.join(missing)}")
     if args.ours is None and args.dump is None:
         return
     ours = judge_dump(args.dump, args.group) if args.dump else judge_ours(args.ours, segmenter, args.frames)

@@ -102,3 +102,17 @@ def test_a_photograph_s_outline_is_cropped_and_tiled_with_it(tmp_path):
     assert small.height(quarter[: h // 4]) == pytest.approx(25, abs=1)
     assert quarter.sum() == pytest.approx(mask.sum(), rel=0.1)  # 16 tiles, each a sixteenth of its area
     assert np.array_equal(small.box_mask((10, 20, 30, 60)).nonzero()[0][[0, -1]], [20, 59])
+
+
+def test_a_photograph_is_read_from_the_first_folder_that_holds_it(script, tmp_path):
+    first, second = tmp_path / "a", tmp_path / "b"
+    (second / "frames").mkdir(parents=True)
+    first.mkdir()
+    (second / "frames" / "0001.bmp").write_bytes(b"x")
+    assert script.found([first, second], "frames/0001.bmp") == second / "frames" / "0001.bmp"
+    (first / "frames").mkdir()
+    (first / "frames" / "0001.bmp").write_bytes(b"y")
+    assert script.found([first, second], "frames/0001.bmp") == first / "frames" / "0001.bmp"
+    assert script.found([first, second], "frames/0002.bmp") is None
+    (first / "folder.bmp").mkdir()  # a folder of the name is not the photograph
+    assert script.found([first], "folder.bmp") is None
