@@ -180,7 +180,7 @@ def judge_ours(root: Path, segmenter, frames: int) -> dict[str, dict[str, Counte
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("photos", type=Path, nargs="+", help="folders of the photographs: OpenCV's sample data, Coral's test data")
+    parser.add_argument("photos", type=Path, nargs="+", help="the photographs' folders (OpenCV's, Coral's)")
     parser.add_argument("--ours", type=Path, help="a dataset: the same figure on its frames")
     parser.add_argument("--frames", type=int, default=400)
     parser.add_argument("--dump", type=Path, help="judged_frames.py --dump's folder: the same figure on its frames")
@@ -211,8 +211,11 @@ def main() -> None:
             shares = [float(np.isin(s[y0:y1, x0:x1], CITYSCAPES.answer_ids(m)).mean()) for s in (said, *fogged)]
             answers = Counter(dict(zip(*(a.tolist() for a in np.unique(inside, return_counts=True)), strict=True)))
             cells = " | ".join(f"{v:.2f}" for v in shares)
-            by_voc = f"{float(np.isin(voc_said[y0:y1, x0:x1], PASCAL_VOC.answer_ids(m)).mean()):.2f}" if (
-                m in PASCAL_VOC.labels) else ""
+            by_voc = (
+                f"{float(np.isin(voc_said[y0:y1, x0:x1], PASCAL_VOC.answer_ids(m)).mean()):.2f}"
+                if (m in PASCAL_VOC.labels)
+                else ""
+            )
             print(f"| {photo} | {m} | {x0}, {y0}, {x1}, {y1} | {cells} | {by_voc} | {named(answers, names)} |")
     if missing:
         print(f"\nNot in {', '.join(str(f) for f in args.photos)}, left out: {', '.join(missing)}")
