@@ -174,6 +174,8 @@ def stats(
     if recipes.is_dir():
         recipes = recipes / "recipes.parquet"
     rt = read_recipe_table(recipes)
+    if rt.table.num_rows == 0:
+        raise PhavUserError("the table has no recipes: nothing to test", source=str(recipes))
     th = _theta_for(rt, theta)
     result = check_distributions(
         {name: rt.column(name) for name in rt.table.column_names},

@@ -729,6 +729,8 @@ def _distribution(loaded: _Loaded, opts: Options) -> tuple[CheckResult, Distribu
         return CheckResult.skipped("distribution", why), None
 
     rt = loaded.table
+    if rt.table.num_rows == 0:
+        return CheckResult.skipped("distribution", "the recipes table has no rows: nothing to test"), None
     result = check_distributions(
         {name: rt.column(name) for name in rt.table.column_names}, loaded.theta, alpha=opts.alpha,
         source=str(rt.path.name),
