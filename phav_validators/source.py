@@ -56,7 +56,9 @@ class DatasetInput:
 def resolve(paths: list[Path]) -> list[DatasetInput]:
     """Group command-line paths into datasets (in the order first named)."""
     if not paths:
-        raise PhavUserError("give a dataset directory, shard (.tar), manifest.json or recipes.parquet", field="PATH")
+        raise PhavUserError(
+            "give a dataset directory, shard (.tar), manifest.json, release.json or recipes.parquet", field="PATH"
+        )
     out: dict[Path, DatasetInput] = {}
     for path in paths:
         if not path.exists():
@@ -70,16 +72,17 @@ def resolve(paths: list[Path]) -> list[DatasetInput]:
             inp = out.setdefault(root, DatasetInput(root, shards=[]))
             if inp.shards is not None and path.resolve() not in inp.shards:  # named twice: scanned once
                 inp.shards.append(path.resolve())
-        elif path.name == MANIFEST or path.suffix == ".json":
+        elif path.name in (MANIFEST, RELEASE_FILE):
             root = path.resolve().parent
             inp = out.setdefault(root, DatasetInput(root))
             inp.shards = None  # the whole dataset the manifest lists
         elif path.suffix == ".parquet":
             root = path.resolve().parent
             inp = out.setdefault(root, DatasetInput(root, recipes_path=path.resolve()))
-        else:
+        else:  # another .json (a report, a recipe) would have validated the directory beside it
             raise PhavUserError(
-                "expected a dataset directory, a shard .tar, a manifest.json or a recipes.parquet", source=str(path)
+                "expected a dataset directory, a shard .tar, a manifest.json, a release.json or a recipes.parquet",
+                source=str(path),
             )
         inp.named.append(path)
     return list(out.values())

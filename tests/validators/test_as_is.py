@@ -3,6 +3,9 @@ tasks), the checks that need no pixels running meanwhile, give the report one pr
 
 from __future__ import annotations
 
+import pytest
+
+from phav_spec.errors import PhavUserError
 from phav_validators.findings import Reason
 from phav_validators.options import CHECKS, Options
 from phav_validators.source import resolve
@@ -67,3 +70,17 @@ def test_a_named_shard_is_what_every_check_covers_and_the_sample_is_drawn_from(s
     report = validate_dataset(second, options=Options(checks=("integrity",), sample=0.1))
     integrity = next(c for c in report.checks if c.name == "integrity")
     assert (integrity.numbers["videos"], integrity.numbers["hashed"]) == (1, 1) and report.n_videos == 1
+
+
+def test_only_a_dataset_s_own_json_files_name_it(tmp_path):
+    """manifest.json and release.json name their directory's dataset; another .json (a
+    report, a recipe) is refused in one line, where it used to validate the directory beside it."""
+    for name in ("manifest.json", "release.json"):
+        (tmp_path / name).write_text("{}", encoding="utf-8")
+        (inp,) = resolve([tmp_path / name])
+        assert inp.root == tmp_path.resolve() and inp.shards is None
+    report = tmp_path / "report.json"
+    report.write_text("{}", encoding="utf-8")
+    with pytest.raises(PhavUserError, match="expected a dataset directory") as caught:
+        resolve([report])
+    assert caught.value.source == str(report)
