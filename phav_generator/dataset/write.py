@@ -287,13 +287,18 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
 def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, name: str, theta: Theta | None,
               dataset_seed: int) -> DatasetManifest | None:  # fmt: skip
     """The manifest of this very run if ``out`` holds it finished (every shard in place at
-    its size), None if ``out`` holds no finished run or one short of a shard (rendered
-    again). A finished run with other settings is refused: running over it would replace
+    its size, and its tables), None if ``out`` holds no finished run or one short of a shard
+    or a table (rendered again: the tables are joined from the videos' parts, deleted once
+    finished). A finished run with other settings is refused: running over it would replace
     another dataset's files."""
     if not (out / "manifest.json").is_file() or (out / WORK_DIR).exists():
         return None
     manifest = load_manifest(out / "manifest.json")
-    recipes = [r.model_dump_json() for r in read_recipe_table(out / "recipes.parquet").recipes()]
+    tables = ["recipes.parquet", "cameras.parquet", "people.parquet", *(["theta.yaml"] if theta is not None else [])]
+    have = all((out / table).is_file() for table in tables)
+    recipes = [t.recipe for t in tasks]  # the table gone: made again from these
+    if (out / "recipes.parquet").is_file():
+        recipes = [r.model_dump_json() for r in read_recipe_table(out / "recipes.parquet").recipes()]
     differs = [field for field, same in (
         ("name", manifest.name == name),
         ("theta_hash", manifest.theta_hash == (theta.hash if theta is not None else None)),
@@ -311,7 +316,7 @@ def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, n
             source=str(out),
             field=differs[0],
         )
-    if not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
+    if not have or not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
         return None
     return manifest
 

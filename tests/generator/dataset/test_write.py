@@ -199,7 +199,7 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(smal
                                                                            small_theta):  # fmt: skip
     """Rerunning a finished run (the shared dataset's, copied) renders nothing and leaves every
     file as it was; a run with other settings is refused before it touches a file; a finished
-    run missing a shard is made again."""
+    run missing a shard or a table is made again."""
     out = small_dataset_copy
     shards = chunk(small_recipes, SMALL_SHARD_SIZE)
     before = file_bytes(out)
@@ -227,3 +227,8 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(smal
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
     assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
     assert file_bytes(out) == before
+    # A table gone: joined from the videos' parts, which a finished run has deleted, so made again.
+    (out / "people.parquet").unlink()
+    (out / "recipes.parquet").unlink()
+    remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert not remade.already_finished and file_bytes(out) == before
