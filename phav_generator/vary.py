@@ -23,6 +23,8 @@ from phav_spec.vocab import CAMERAS, DAY_PHASES, WEATHERS
 
 _CHOICES = {"weather": WEATHERS, "day_phase": DAY_PHASES, "camera": CAMERAS}
 _BOOLEANS = ("rain", "fog", "clouds", "wet_ground")
+#: Each weather element with an intensity, and that intensity's variable.
+_INTENSITIES = {"clouds": "cloud_intensity", "fog": "fog_intensity", "rain": "rain_intensity"}
 
 
 def parse_settings(items: list[str]) -> dict[str, Any]:
@@ -82,9 +84,24 @@ def vary(recipe: Recipe, theta: Theta, settings: Mapping[str, Any]) -> Recipe:
         raise PhavUserError(f"camera {camera} films indoors only; {recipe.video_id} is in {recipe.environment.name}",
                             field="--set camera")  # fmt: skip
     try:
-        return sampler.sample(recipe.dataset_seed, recipe.index, force=settings)
+        varied = sampler.sample(recipe.dataset_seed, recipe.index, force=settings)
     except ValidationError as e:  # a value out of its range: name the recipe field it would set
         where, message = format_validation_error(e)
         raise PhavUserError(f"the varied recipe is invalid: {where}: {message}", field="--set") from None
     except ValueError as e:
         raise PhavUserError(f"the varied recipe is invalid: {str(e).splitlines()[0]}", field="--set") from None
+    _check_intensities(varied, settings)
+    return varied
+
+
+def _check_intensities(varied: Recipe, settings: Mapping[str, Any]) -> None:
+    """Refuse a weather element forced on where θ's weather draws it at intensity 0 (fog in
+    clear weather): the recipe would be drawn with next to none (fog as a 1 km haze)."""
+    world = varied.world
+    for element, key in _INTENSITIES.items():
+        if settings.get(element) is True and key not in settings and getattr(world, key) == 0.0:
+            raise PhavUserError(
+                f"{element}=true in {world.weather} weather: θ draws its {key} as 0 there, which would show "
+                f"next to no {element}; set {key} too, or a weather in which θ draws {element}",
+                field=f"--set {element}",
+            )

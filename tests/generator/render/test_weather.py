@@ -64,6 +64,13 @@ def test_vary_changes_only_the_named_variables_and_what_follows_from_them():
             theta_for("walk", "urban", seconds=SECONDS, variation="none"),
             {"camera": "indoors"},
         )
+    # Fog forced on where θ's clear weather draws its intensity as 0: a 1 km haze, not fog.
+    recipe, theta = (f("walk", "urban", seconds=SECONDS, variation="none") for f in (recipe_for, theta_for))
+    with pytest.raises(PhavUserError, match=r"fog=true in clear weather: θ draws its fog_intensity as 0") as e:
+        vary(recipe, theta, {"weather": "clear", "fog": True})
+    assert e.value.field == "--set fog"
+    foggy = vary(recipe, theta, {"weather": "clear", "fog": True, "fog_intensity": 0.6})
+    assert foggy.world.fog and foggy.world.fog_intensity == 0.6
 
 
 def _first_frame(ctx, recipe, trajectory, lighting):
