@@ -97,16 +97,19 @@ class Tally:
 
     def figure(self, key: str, seed: int) -> Figure | None:
         """The ratio of ``key`` over every video, with a bootstrap over videos (None when
-        nothing was counted or nothing it is about was seen)."""
+        nothing was counted or nothing it is about was seen). A resample of videos none of
+        which shows what ``key`` is about gives no figure, as the whole would not, and is left
+        out of the interval (it scored 0 through false answers elsewhere)."""
         cells = self.parts.get(key, {})
         videos = sorted(v for v, (_, d) in cells.items() if d > 0)
         if not videos or key not in self.present:
             return None
         num = np.array([cells[v][0] for v in videos])
         den = np.array([cells[v][1] for v in videos])
+        shown = np.array([v in self.shown.get(key, ()) for v in videos])
         draws = stream(seed, f"realism/bootstrap/{key}").integers(0, len(videos), (RESAMPLES, len(videos)))
         ratios = num[draws].sum(axis=1) / np.maximum(den[draws].sum(axis=1), 1e-12)
-        low, high = np.percentile(ratios, [2.5, 97.5])
+        low, high = np.percentile(ratios[shown[draws].any(axis=1)], [2.5, 97.5])
         return Figure(float(num.sum() / den.sum()), float(low), float(high), float(den.sum()), len(videos))
 
     def figures(self, seed: int) -> dict[str, Figure]:

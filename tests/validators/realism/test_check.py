@@ -105,6 +105,19 @@ def test_a_ratio_is_of_sums_over_videos_with_a_seeded_interval():
     assert tally.figure("x", seed=0) == fig and tally.figure("y", seed=0) is None
 
 
+def test_a_class_s_interval_leaves_out_resamples_that_do_not_show_it():
+    """One video of ten shows the class (named right on 8 of 10 pixels); the nine others
+    give it only false answers: a resample without that video has no figure, not 0."""
+    tally = Tally()
+    tally.add("iou", "v0", 8, 10)
+    for k in range(1, 10):
+        tally.add("iou", f"v{k}", 0, 1, present=False)
+    fig = tally.figure("iou", seed=0)
+    assert fig.value == pytest.approx(8 / 19) and fig.videos == 10
+    # v0 drawn k ≥ 1 times of 10: 8k / (10k + 10 − k), at least 8 / 19 (it was 0)
+    assert 8 / 19 - 1e-9 <= fig.low < fig.high <= 0.8
+
+
 def test_a_judges_answer_merged_into_a_class_counts_as_it():
     from phav_spec.judge_classes import CITYSCAPES
     from phav_spec.vocab import PIXEL_CLASSES
