@@ -14,6 +14,9 @@ each clip exactly once per epoch, and resumable.
 
 The order of an epoch is a permutation of the videos drawn from (seed, epoch); worker w of W
 reads the batches w, w + W, … of it, so the loader's batches come in exactly that order.
+Under ``torch.distributed`` (or with ``rank`` and ``world_size`` given), replica r of R takes
+the clips r, r + R, … of that order, padded as ``DistributedSampler`` pads it (with its
+first clips again) to a multiple of R, so every replica has as many batches.
 After n clips, ``state_dict(n)`` saved and later ``load_state_dict`` on a fresh
 ``PhavClips`` continue with clip n + 1 (the loop's ``set_epoch`` of that epoch keeps its
 place). The epoch is in shared memory: persistent workers follow ``set_epoch`` too.
@@ -57,6 +60,8 @@ class PhavClips(IterableDataset):
         shuffle: bool = True,
         train: bool = True,
         seed: int = 0,
+        rank: int | None = None,
+        world_size: int | None = None,
     ):
         super().__init__()
         self.reader = ClipReader(root)
@@ -68,6 +73,7 @@ class PhavClips(IterableDataset):
         if batch_size < 1 or (segments is not None and segments < 1):
             raise PhavUserError(f"batch_size and segments must be positive, got {batch_size}, {segments}")
         check_size(size)  # now, not in a worker at the first clip
+        self.rank, self.world_size = _replica(rank, world_size)
         self.videos = chosen
         self.modalities = tuple(modalities)
         self.segments, self.size, self.batch_size = segments, size, batch_size
@@ -87,7 +93,8 @@ class PhavClips(IterableDataset):
         return int(self._state[1])
 
     def __len__(self) -> int:
-        return len(self.videos)
+        """The clips this replica reads per epoch (every video's once when it is the only one)."""
+        return -(-len(self.videos) // self.world_size)
 
     def set_epoch(self, epoch: int) -> None:
         """Start ``epoch``: its order, and its frames when training. The epoch a loaded state
@@ -97,12 +104,18 @@ class PhavClips(IterableDataset):
         self._state[0], self._state[1] = epoch, skip
 
     def order(self, epoch: int | None = None) -> list[str]:
-        """The epoch's videos in the order the loader yields them."""
+        """The epoch's videos in the order the loader yields them (this replica's)."""
+        return [video for _, video in self._placed(epoch)]
+
+    def _placed(self, epoch: int | None = None) -> list[tuple[int, str]]:
+        """This replica's clips of the epoch: (place in the whole epoch's padded order, video)."""
         epoch = self.epoch if epoch is None else epoch
-        if not self.shuffle:
-            return list(self.videos)
-        rng = seeded_rng(self.seed, epoch)
-        return [self.videos[i] for i in rng.permutation(len(self.videos))]
+        whole = list(self.videos)
+        if self.shuffle:
+            whole = [self.videos[i] for i in seeded_rng(self.seed, epoch).permutation(len(self.videos))]
+        total = len(self) * self.world_size  # more replicas than videos: round it again
+        padded = (whole * -(-total // len(whole)))[:total] if whole else []
+        return list(enumerate(padded))[self.rank :: self.world_size]
 
     def state_dict(self, consumed: int) -> dict[str, int]:
         """What resumes after ``consumed`` clips of the current epoch."""
@@ -116,10 +129,10 @@ class PhavClips(IterableDataset):
     def __iter__(self):
         info = get_worker_info()
         worker, workers = (info.id, info.num_workers) if info is not None else (0, 1)
-        order = self.order()
-        for start in range(self._skip + worker * self.batch_size, len(order), workers * self.batch_size):
-            for position in range(start, min(start + self.batch_size, len(order))):
-                yield self._clip(order[position], position)
+        placed = self._placed()
+        for start in range(self._skip + worker * self.batch_size, len(placed), workers * self.batch_size):
+            for position, video_id in placed[start : start + self.batch_size]:
+                yield self._clip(video_id, position)
 
     def _clip(self, video_id: str, position: int) -> dict[str, Any]:
         n = self.reader.n_frames[video_id]
@@ -136,6 +149,18 @@ class PhavClips(IterableDataset):
             elif key in ("people", "camera"):
                 out[key] = value
         return out
+
+
+def _replica(rank: int | None, world_size: int | None) -> tuple[int, int]:
+    """(rank, world size): as given, else the initialised ``torch.distributed`` group's, else (0, 1)."""
+    dist = torch.distributed
+    live = dist.is_available() and dist.is_initialized()
+    world_size = world_size if world_size is not None else (dist.get_world_size() if live else 1)
+    rank = rank if rank is not None else (dist.get_rank() if live else 0)
+    if world_size < 1 or not 0 <= rank < world_size:
+        raise PhavUserError(f"rank must be in [0, world_size) and world_size positive, got {rank}, {world_size}",
+                            field="rank")  # fmt: skip
+    return rank, world_size
 
 
 def collate(clips: list[dict[str, Any]]) -> dict[str, Any]:

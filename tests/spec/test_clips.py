@@ -143,6 +143,46 @@ def test_a_resumed_iterator_continues_where_it_stopped(small_dataset):
     assert len(_epoch(looped, workers=0)) == len(looped.videos)
 
 
+def test_replicas_split_an_epoch_as_distributed_sampler_does(small_dataset):
+    """Replica r of R reads the clips r, r + R, … of the epoch's order, padded with its first
+    videos to a multiple of R: every replica as many clips, every clip read, the frames of a
+    clip those its place in the whole epoch draws."""
+    pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    whole = PhavClips(small_dataset, modalities=("camera",), segments=2, batch_size=1, seed=4)
+    whole.set_epoch(2)
+    alone = _epoch(whole, workers=0)
+    n = len(whole.videos)
+    for world in (2, n + 2):  # more replicas than videos too
+        reads = []
+        for rank in range(world):
+            replica = PhavClips(small_dataset, modalities=("camera",), segments=2, batch_size=1, seed=4,
+                                rank=rank, world_size=world)  # fmt: skip
+            replica.set_epoch(2)
+            reads.append(_epoch(replica, workers=2 if rank == 0 else 0))
+            assert len(reads[-1]) == len(replica) == -(-n // world)
+        padded = [reads[k % world][k // world] for k in range(world * len(reads[0]))]
+        assert padded[:n] == alone  # the repeats pad with the first videos, drawn at their own places
+        assert [v for v, _ in padded[n:]] == [v for v, _ in alone * world][: len(padded) - n]
+    with pytest.raises(PhavUserError, match="rank must be in"):
+        PhavClips(small_dataset, rank=2, world_size=2)
+
+
+def test_an_initialised_process_group_gives_the_replica(small_dataset, monkeypatch):
+    """Without rank and world_size, a DDP run's process group says which replica this is."""
+    torch = pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    assert (PhavClips(small_dataset).rank, PhavClips(small_dataset).world_size) == (0, 1)
+    monkeypatch.setattr(torch.distributed, "is_initialized", lambda: True)
+    monkeypatch.setattr(torch.distributed, "get_world_size", lambda: 3)
+    monkeypatch.setattr(torch.distributed, "get_rank", lambda: 1)
+    clips = PhavClips(small_dataset)
+    assert (clips.rank, clips.world_size) == (1, 3) and len(clips) == -(-len(clips.videos) // 3)
+    assert PhavClips(small_dataset, rank=0, world_size=1).world_size == 1  # given, it wins
+
+
 def test_a_clip_dataset_of_a_size_no_frame_can_have_is_refused_at_once(small_dataset):
     pytest.importorskip("torch")
     from phav_spec.torchdata import PhavClips
