@@ -836,8 +836,7 @@ def load_theta(path: str | Path) -> Theta:
     presets = ", ".join(p.stem for p in sorted(PRESETS_DIR.glob("*.yaml")))
     text = read_text(path, hint=f"give a θ file or a preset name ({presets})")
     try:
-        data = yaml.safe_load(text)
-        _refuse_duplicate_keys(yaml.compose(text, Loader=yaml.SafeLoader), source=str(path))
+        data = _load_yaml(text, source=str(path))
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark is not None else "yaml"
@@ -848,6 +847,23 @@ def load_theta(path: str | Path) -> Theta:
     except ValueError as e:  # Python's limit on an integer's digits
         raise PhavUserError(f"invalid YAML: {str(e).splitlines()[0]}", source=str(path)) from None
     return parse_theta(data, source=str(path))
+
+
+#: libyaml's parser where PyYAML was built with it (about ten times as fast as the pure-Python
+#: one, which took most of a second over phav-v1); the values are the same either way.
+_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def _load_yaml(text: str, *, source: str) -> Any:
+    """The YAML document ``text`` as Python values, parsed once: its node graph is checked
+    for keys written twice, then constructed."""
+    loader = _LOADER(text)
+    try:
+        node = loader.get_single_node()
+        _refuse_duplicate_keys(node, source=source)
+        return loader.construct_document(node) if node is not None else None
+    finally:
+        loader.dispose()
 
 
 def _refuse_duplicate_keys(node: yaml.Node | None, *, source: str, visited: set[int] | None = None) -> None:
