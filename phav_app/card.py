@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import logging
+import re
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -159,7 +160,7 @@ def hf_front_matter(manifest: DatasetManifest, index: ReleaseIndex) -> dict[str,
     recipe-only release reads its recipes table. ``datasets`` serves every config of a card
     with one loader, so the metadata tables are not configs here (docs/loading.md)."""
     if index.recipes_only:
-        return {"license": index.license.lower(),
+        return {**_hf_license(index.license),
                 "configs": [{"config_name": "recipes", "default": True,
                              "data_files": [{"split": "train", "path": "recipes.parquet"}]}]}  # fmt: skip
     frame = [{"name": "camera", "struct": _hf_struct(CAMERA_COLUMNS)},
@@ -171,11 +172,19 @@ def hf_front_matter(manifest: DatasetManifest, index: ReleaseIndex) -> dict[str,
     features += [{"name": "json", "struct": frame}, {"name": "__key__", "dtype": "string"},
                  {"name": "__url__", "dtype": "string"}]  # fmt: skip
     return {
-        "license": index.license.lower(),
+        **_hf_license(index.license),
         "configs": [{"config_name": "frames", "default": True,
                      "data_files": [{"split": "train", "path": f"{manifest.name}-*.tar"}]}],
         "dataset_info": [{"config_name": "frames", "features": features}],
     }  # fmt: skip
+
+
+def _hf_license(license: str) -> dict[str, str]:
+    """The card's license: the Hub's lower-case id, or ``other`` with a link for a URL (the
+    Hub knows licenses by id only)."""
+    if re.match(r"https?://", license.strip()):
+        return {"license": "other", "license_link": license.strip()}
+    return {"license": license.strip().lower()}
 
 
 def dataset_card(

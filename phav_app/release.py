@@ -175,6 +175,8 @@ def make_release(
         raise PhavUserError("the release and the dataset must not contain each other", source=str(out),
                             field="--out")  # fmt: skip
     check_output_dir(out)
+    if not license.strip():
+        raise PhavUserError("give the data's license (an SPDX id such as CC-BY-4.0, or a URL)", field="--license")
     if not re.fullmatch(r"\d+\.\d+\.\d+", version):
         raise PhavUserError(f"not MAJOR.MINOR.PATCH: {version!r}", field="--dataset-version")
     if date is not None:

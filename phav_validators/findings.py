@@ -34,6 +34,7 @@ class Reason(StrEnum):
     TRUNCATED_SHARD = "TRUNCATED_SHARD"  # the tar ends mid-member or cannot be read
     HASH_MISMATCH = "HASH_MISMATCH"  # decoded pixels differ from the manifest's content hash
     SHARD_BYTES_CHANGED = "SHARD_BYTES_CHANGED"  # tar bytes differ, pixels identical (re-encoded)
+    RELEASE_FILE_CHANGED = "RELEASE_FILE_CHANGED"  # a file's size or sha256 differs from release.json's
     # schema
     VIDEO_RECIPE_MISMATCH = "VIDEO_RECIPE_MISMATCH"  # videos and recipes do not pair one to one
     VERSION_UNKNOWN = "VERSION_UNKNOWN"  # a spec / metadata version this phav does not know

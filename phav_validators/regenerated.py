@@ -27,7 +27,7 @@ from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse_json_object, read_text
 from phav_spec.manifest import RendererFingerprint, renderer_differences
-from phav_spec.release import RELEASE_FILE
+from phav_spec.release import RECIPE_FILES, RELEASE_FILE
 from phav_validators.as_is import validate_as_is
 from phav_validators.findings import ProgressFactory, Reason
 from phav_validators.options import DatasetReport, Options, sample_videos
@@ -114,32 +114,52 @@ def _regenerate(inp: DatasetInput, plan: RegenerationPlan, chosen: list[int], in
     wanted = {"release_manifest_sha256": file_sha256(inp.root / MANIFEST), "shards": names}
     before = _earlier(into)
     same = before is not None and {k: before.get(k) for k in wanted} == wanted
-    if same and not before.get("begun"):
+    if same and not before.get("begun") and _intact(into, names, plan):
         return before, True
-    if before is not None and not same:
+    if before is not None and (not same or not before.get("begun")):  # another request's, or damaged since
         _clear(into, before)
+        before = None
     # Said before the first write: a run stopped half-way leaves a directory that is ours,
     # resumed by the same request (write_dataset's journal) or cleared by another.
     may_write = [*names, MANIFEST, RECIPES, THETA, *(f"{table}.parquet" for table, _ in PART_TABLES)]
-    with atomic_write(into / MARKER) as tmp:
-        tmp.write_text(pretty_json(wanted | {"begun": True, "files": sorted(may_write)}) + "\n", encoding="utf-8")
-    n_videos = sum(len(plan.shards[i]) for i in chosen)
-    advance = progress("regenerating", n_videos) if progress is not None else None
-    result = write_dataset([plan.shards[i] for i in chosen], into, name=plan.name, theta=plan.theta,
-                           dataset_seed=plan.dataset_seed, workers=options.workers, shard_names=names,
-                           progress=(lambda videos, frames: advance(videos)) if advance else None,
-                           engine=options.engine, address=options.address)  # fmt: skip
+    begun = wanted | {"begun": True, "files": sorted(may_write)}
+    release_copy = (into / MANIFEST).is_file() and file_sha256(into / MANIFEST) == wanted["release_manifest_sha256"]
+    if release_copy and before is not None and before.get("renderer") is not None:
+        renderer = before["renderer"]  # stopped while the release's files were copied in: every shard is made
+    else:
+        if release_copy:  # not the run's own manifest: the run is made again, not taken as another's
+            (into / MANIFEST).unlink()
+        with atomic_write(into / MARKER) as tmp:
+            tmp.write_text(pretty_json(begun) + "\n", encoding="utf-8")
+        n_videos = sum(len(plan.shards[i]) for i in chosen)
+        advance = progress("regenerating", n_videos) if progress is not None else None
+        result = write_dataset([plan.shards[i] for i in chosen], into, name=plan.name, theta=plan.theta,
+                               dataset_seed=plan.dataset_seed, workers=options.workers, shard_names=names,
+                               progress=(lambda videos, frames: advance(videos)) if advance else None,
+                               engine=options.engine, address=options.address)  # fmt: skip
+        made = result.manifest.renderer
+        renderer = made.model_dump(mode="json") if made is not None else None
+        # Who made the shards, said before the subset's manifest is replaced by the release's.
+        with atomic_write(into / MARKER) as tmp:
+            tmp.write_text(pretty_json(begun | {"renderer": renderer}) + "\n", encoding="utf-8")
     for name in (MANIFEST, RECIPES, THETA):  # the release's, not the subset's
         with atomic_write(into / name) as tmp:
             shutil.copyfile(inp.root / name, tmp)
-    renderer = result.manifest.renderer
     marker = wanted | {
-        "renderer": renderer.model_dump(mode="json") if renderer is not None else None,
+        "renderer": renderer,
         "files": sorted(p.name for p in into.iterdir() if p.is_file() and not p.name.startswith(".")),
     }
     with atomic_write(into / MARKER) as tmp:
         tmp.write_text(pretty_json(marker) + "\n", encoding="utf-8")
     return marker, False
+
+
+def _intact(into: Path, names: list[str], plan: RegenerationPlan) -> bool:
+    """Whether an earlier regeneration's shards are all in ``into`` at the sizes the release
+    records, beside the release's manifest, recipes and θ (else it is made again)."""
+    sizes = {s.name: s.bytes for s in plan.expected.shards} if plan.expected is not None else {}
+    shards = all((into / n).is_file() and (into / n).stat().st_size == sizes.get(n) for n in names)
+    return shards and all((into / n).is_file() for n in (MANIFEST, RECIPES, THETA))
 
 
 def validate_release(
@@ -148,6 +168,9 @@ def validate_release(
     """Regenerate the shards the chosen checks read, then validate them as the release."""
 
     try:
+        missing = [name for name in RECIPE_FILES if not (inp.root / name).is_file()]
+        if missing:
+            raise PhavUserError(f"{', '.join(missing)} missing", source=str(inp.root))
         plan = plan_regeneration(inp.manifest_path)
     except PhavUserError as e:  # a broken release: validated as it is, the checks say what is wrong
         report = validate_as_is(dataclasses.replace(inp, shards=None), theta=theta,

@@ -71,6 +71,34 @@ def test_a_full_release_carries_every_file_with_its_hash(dataset, tmp_path):
     assert errors == [] and warnings == []
 
 
+def test_a_full_release_s_files_are_checked_against_release_json(dataset, tmp_path):
+    rel = tmp_path / "full"
+    make_release(dataset, rel, date="2026-11-21")
+    assert _validate(rel, "--checks", "integrity")["_rc"] == 0
+    index = json.loads((rel / RELEASE_FILE).read_text(encoding="utf-8"))
+    for f in index["files"]:
+        if f["path"] == "people.parquet":
+            f["sha256"] = "0" * 64
+    (rel / RELEASE_FILE).write_text(json.dumps(index), encoding="utf-8")
+    (rel / "cameras.parquet").unlink()
+    checks = _validate(rel, "--checks", "integrity")
+    assert checks["_rc"] == 1
+    found = {(f["reason"], f["file"]) for f in checks["integrity"]["findings"]}
+    assert found == {("RELEASE_FILE_CHANGED", "people.parquet"), ("MISSING_FILE", "cameras.parquet")}
+
+
+def test_the_license_is_given_and_a_url_is_linked_on_the_card(dataset, tmp_path):
+    result = invoke_cli("release", str(dataset), "--out", str(tmp_path / "r0"), "--recipes-only", "--license", " ")
+    assert result.returncode == 2 and "--license: give the data's license" in result.stderr
+    assert not (tmp_path / "r0").exists()
+    url = "https://creativecommons.org/licenses/by-sa/4.0/"
+    make_release(dataset, tmp_path / "r1", recipes_only=True, license=url)
+    card = (tmp_path / "r1" / "README.md").read_text(encoding="utf-8")
+    assert f"license: other\nlicense_link: {url}\n" in card
+    make_release(dataset, tmp_path / "r2", recipes_only=True, license="CC-BY-SA-4.0")
+    assert "license: cc-by-sa-4.0\n" in (tmp_path / "r2" / "README.md").read_text(encoding="utf-8")
+
+
 def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
     """A Croissant loader reads the recipes and every modality's frames out of the tars, each
     equal to the writer's (flow as its PNG's bytes)."""
@@ -263,6 +291,16 @@ def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset
     result = invoke_cli("regenerate", str(recipe_release / "manifest.json"), "--out", str(recipe_release))
     assert result.returncode == 2 and "--out" in result.stderr and "apart from the source" in result.stderr
 
+    # Asked again into the same directory, nothing is rebuilt: its shards are read again,
+    # not taken from its manifest, so a byte changed since is a mismatch.
+    shard = out / "phav-000000.tar"
+    data = bytearray(shard.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    shard.write_bytes(bytes(data))
+    result = invoke_cli("regenerate", str(recipe_release / "manifest.json"), "--out", str(out))
+    assert result.returncode == 1 and "already held these 3 video(s), nothing rebuilt" in result.stdout
+    assert "mismatch phav-000000.tar: sha256" in result.stdout
+
     # A release whose metadata table no longer matches what the recipes render is caught.
     bad = tmp_path / "bad"
     shutil.copytree(recipe_release, bad)
@@ -301,6 +339,27 @@ def test_phav_validate_regenerates_a_recipe_only_release(recipe_release, local_v
     again = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(px))
     assert any("reused 2 of 2 shards" in n for n in again["integrity"]["notes"])
     assert again["integrity"]["status"] == "pass"
+
+
+def test_a_regeneration_is_reused_only_whole_and_resumed_where_it_stopped(recipe_release, local_validation, tmp_path):
+    """A shard gone from an earlier regeneration: made again, not blamed on the release. A
+    run stopped while the release's own files were copied in (its marker still "begun"):
+    the same request finishes it."""
+    _, px = local_validation
+    damaged = tmp_path / "damaged"
+    shutil.copytree(px, damaged)
+    (damaged / "phav-000000.tar").unlink()
+    checks = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(damaged))
+    assert checks["_rc"] == 0 and any("regenerated 2 of 2 shards" in n for n in checks["integrity"]["notes"])
+    stopped = tmp_path / "stopped"
+    shutil.copytree(px, stopped)
+    marker = stopped / ".phav-regenerated.json"
+    marker.write_text(json.dumps(json.loads(marker.read_text(encoding="utf-8")) | {"begun": True}), encoding="utf-8")
+    shards = {p.name: p.stat().st_mtime_ns for p in stopped.glob("*.tar")}
+    checks = _validate(recipe_release, "--checks", "integrity", "--regenerate-into", str(stopped))
+    assert checks["_rc"] == 0 and checks["integrity"]["status"] == "pass", checks["_stdout"]
+    assert {p.name: p.stat().st_mtime_ns for p in stopped.glob("*.tar")} == shards  # not rendered again
+    assert "begun" not in json.loads(marker.read_text(encoding="utf-8"))
 
 
 def test_a_recipe_only_release_regenerated_with_other_numerics_passes_on_its_pixels(recipe_release, tmp_path):
@@ -365,6 +424,13 @@ def test_phav_validate_says_what_is_wrong_with_a_broken_release(recipe_release, 
     result = invoke_cli("validate!", str(recipe_release), "--regenerate-into", str(recipe_release / "px"))
     assert result.returncode == 2 and "--regenerate-into" in result.stderr and "Traceback" not in result.stderr
     assert not (recipe_release / "px").exists()
+
+    no_theta = tmp_path / "no-theta"
+    shutil.copytree(recipe_release, no_theta)
+    (no_theta / "theta.yaml").unlink()
+    checks = _validate(no_theta)
+    assert checks["_rc"] == 1 and any("theta.yaml missing" in n for n in checks["integrity"]["notes"])
+    assert any(f["reason"] == "MISSING_FILE" and f["file"] == "theta.yaml" for f in checks["integrity"]["findings"])
 
     corrupt = tmp_path / "corrupt"
     shutil.copytree(recipe_release, corrupt)
