@@ -51,7 +51,9 @@ def _checks(text: str | None) -> tuple[str, ...]:
 def validate(
     paths: Annotated[
         list[Path],
-        typer.Argument(help="Dataset directories, shards (.tar), manifest.json files or a recipes.parquet."),
+        typer.Argument(
+            help="Dataset directories, shards (.tar), manifest.json or release.json files, or a recipes.parquet."
+        ),
     ],
     theta: Annotated[
         str | None,
