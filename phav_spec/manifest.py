@@ -43,7 +43,7 @@ __all__ = [
 #: Version of the manifest format this code reads and writes; readers refuse newer ones.
 MANIFEST_VERSION = 1
 #: Version of the renderer fingerprint's fields this code writes (``RendererFingerprint``).
-FINGERPRINT_VERSION = 2
+FINGERPRINT_VERSION = 3
 
 VIDEO_ID_PATTERN = r"^v\d{6,}$"  # as a recipe's: v1000000 and on past a million videos
 SHARD_NAME_PATTERN = r"^[A-Za-z0-9_-]+-\d{6}\.tar$"
@@ -91,6 +91,13 @@ class RendererFingerprint(BaseModel):
     cpu_flags: str | None = None
     #: Package versions, e.g. ``{"phav": ..., "numpy": ..., "mujoco": ..., "moderngl": ...}``.
     versions: dict[str, str]
+    #: The environment's settings that change the GL driver's code without changing its
+    #: strings (llvmpipe's ``GALLIVM_*`` and ``LP_*`` variables), ``NAME=value`` joined by
+    #: ``;``, sorted; empty: none set. Version 3 on (earlier: not recorded, read as none).
+    gl_settings: str | None = None
+    #: What only the files' bytes depend on, not their pixels: the PNG encoder (OpenCV and
+    #: its zlib and libpng) and the Parquet writer (pyarrow). Version 3 on.
+    file_versions: dict[str, str] = Field(default_factory=dict)
 
     @model_validator(mode="after")
     def _fields_of_its_version(self) -> Self:
@@ -99,7 +106,9 @@ class RendererFingerprint(BaseModel):
                 f"renderer fingerprint version {self.fingerprint_version} is newer than this phav reads "
                 f"({FINGERPRINT_VERSION}); upgrade phav"
             )
-        needs = ("cpu_flags",) if self.fingerprint_version == 1 else ("cpu_class", "numeric_class")
+        needs = {1: ("cpu_flags",), 2: ("cpu_class", "numeric_class")}.get(
+            self.fingerprint_version, ("cpu_class", "numeric_class", "gl_settings")
+        )
         for name in needs:
             if getattr(self, name) is None:
                 raise ValueError(f"a version {self.fingerprint_version} renderer fingerprint needs {name}")
@@ -118,10 +127,11 @@ class RendererFingerprint(BaseModel):
     def key(self, scope: Scope = "pixels") -> dict[str, str]:
         """The fields that decide the bytes of ``scope``, flat (``versions.numpy``, …)."""
         fields = {"gl_vendor": self.gl_vendor, "gl_renderer": self.gl_renderer, "gl_version": self.gl_version,
-                  "cpu_class": self.simd_class}  # fmt: skip
+                  "cpu_class": self.simd_class, "gl_settings": self.gl_settings or ""}  # fmt: skip
         fields |= {f"versions.{k}": v for k, v in sorted(self.versions.items())}
         if scope == "files":  # version 1 has no numerics: its CPU's flags (the old rule) stand in
             fields["numeric_class"] = self.numeric_class or f"CPU flags {self.cpu_flags}"
+            fields |= {f"files.{k}": v for k, v in sorted(self.file_versions.items())}
         return fields
 
     def differences(self, other: RendererFingerprint, scope: Scope = "pixels") -> list[str]:

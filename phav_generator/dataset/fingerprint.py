@@ -12,7 +12,7 @@ import platform
 import re
 import sys
 import tomllib
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from functools import cache
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -78,6 +78,35 @@ def numeric_class() -> str:
     else:
         targets = " ".join(t for t in __cpu_dispatch__ if __cpu_features__.get(t)) or "baseline"
     return f"numpy {targets}; OpenBLAS {_openblas_core()}"
+
+
+#: Environment variables the GL driver reads that can change its code, not its strings:
+#: llvmpipe's and gallivm's (``GALLIVM_PERF`` turns off exact filtering, for one). Left out:
+#: the thread count (tiles are drawn alike on any), the CPU caps (``cpu_class`` has them)
+#: and the driver's choice (its strings name it).
+GL_SETTING_PREFIXES = ("GALLIVM_", "LP_", "GALLIUM_")
+GL_SETTINGS_NOT_PIXELS = ("LP_NUM_THREADS", GALLIUM_CAPS_ENV, "GALLIUM_DRIVER")
+
+
+def gl_settings(environ: Mapping[str, str] | None = None) -> str:
+    """The GL settings the environment gives (``GL_SETTING_PREFIXES``), ``NAME=value`` joined
+    by ``;``, sorted by name; empty when none is set."""
+    env = os.environ if environ is None else environ
+    return ";".join(f"{k}={env[k]}" for k in sorted(env)
+                    if k.startswith(GL_SETTING_PREFIXES) and k not in GL_SETTINGS_NOT_PIXELS)  # fmt: skip
+
+
+def file_versions() -> dict[str, str]:
+    """The versions only the files' bytes depend on: OpenCV, its zlib and libpng (the PNG
+    streams), pyarrow (the Parquet tables)."""
+    import cv2
+
+    out = {"opencv": cv2.__version__, "pyarrow": package_version("pyarrow")}
+    build = cv2.getBuildInformation()
+    for name, key in (("ZLib", "zlib"), ("PNG", "libpng")):
+        found = re.search(rf"^\s*{name}:\s*(.+)$", build, re.MULTILINE)
+        out[key] = found.group(1).strip() if found else "unknown"
+    return out
 
 
 #: The ``versions`` key of the body data's sha256 (the people's meshes are made from it).
@@ -166,4 +195,6 @@ def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
         numeric_class=numeric_class(),
         cpu_model=model,
         versions=versions,
+        gl_settings=gl_settings(),
+        file_versions=file_versions(),
     )

@@ -139,8 +139,10 @@ def without_code(fingerprint: RendererFingerprint) -> RendererFingerprint:
 
 def as_recorded(recorded: RendererFingerprint, here: RendererFingerprint) -> RendererFingerprint:
     """``here`` as ``recorded`` can be compared with it: without the code's versions when
-    ``recorded`` names none of them (the package's reference, ``without_code``)."""
-    return here if any(k in recorded.versions for k in CODE_KEYS) else without_code(here)
+    ``recorded`` names none of them (the package's reference, ``without_code``), and without
+    the files' encoders when it names none (a reference holds no shard or table bytes)."""
+    here = here if any(k in recorded.versions for k in CODE_KEYS) else without_code(here)
+    return here if recorded.file_versions else here.model_copy(update={"file_versions": {}})
 
 
 def promised_stages(recorded: RendererFingerprint, here: RendererFingerprint) -> tuple[str, ...]:

@@ -167,14 +167,23 @@ def test_fingerprints_compare_by_simd_class_across_versions() -> None:
     other_blas = v2.model_copy(update={"numeric_class": "numpy X86_V3; OpenBLAS Zen"})
     assert v2.differences(no_avx) == ["cpu_class"] and v2.differences(newer_numpy) == ["versions.numpy"]
     assert v2.differences(other_blas) == [] and v2.differences(other_blas, "files") == ["numeric_class"]
+    # Version 3: the driver's settings count for the pixels (version 2's unrecorded ones as
+    # none), the files' encoders for the files only.
+    v3 = v2.model_copy(update={"fingerprint_version": 3, "gl_settings": "", "file_versions": {"opencv": "5.0.0"}})
+    assert v2.differences(v3) == [] and v2.differences(v3, "files") == ["files.opencv"]
+    tuned = v3.model_copy(update={"gl_settings": "GALLIVM_PERF=no_quad_lerp"})
+    assert v3.differences(tuned) == ["gl_settings"]
+    encoder = v3.model_copy(update={"file_versions": {"opencv": "4.9.0"}})
+    assert v3.differences(encoder) == [] and v3.differences(encoder, "files") == ["files.opencv"]
 
 
 @pytest.mark.parametrize(
     ("changes", "fragment"),
     [
-        ({"fingerprint_version": 3}, "newer than this phav reads"),
+        ({"fingerprint_version": 4}, "newer than this phav reads"),
         ({"fingerprint_version": 2}, "needs cpu_class"),
         ({"fingerprint_version": 2, "cpu_class": "x86-64-avx"}, "needs numeric_class"),
+        ({"fingerprint_version": 3, "cpu_class": "x86-64-avx", "numeric_class": "numpy X86_V3"}, "needs gl_settings"),
         ({"cpu_flags": None}, "needs cpu_flags"),
     ],
 )

@@ -45,6 +45,23 @@ def test_the_fingerprint_records_the_first_processors_model_and_simd_class(monke
     assert fingerprint._cpu() == (model, f"aarch64: {model}")  # not measured: its model decides
 
 
+def test_the_drivers_settings_from_the_environment_are_recorded():
+    """llvmpipe's GALLIVM_* and LP_* variables change its code, not its GL strings (GALLIVM_PERF
+    changes rgb): recorded, sorted; the thread count, the CPU caps and the driver's choice not."""
+    env = {"LP_DEBUG": "fs", "GALLIVM_PERF": "no_quad_lerp", "LP_NUM_THREADS": "2", "GALLIUM_DRIVER": "llvmpipe",
+           "GALLIUM_OVERRIDE_CPU_CAPS": "avx", "HOME": "/root"}  # fmt: skip
+    assert fingerprint.gl_settings(env) == "GALLIVM_PERF=no_quad_lerp;LP_DEBUG=fs"
+    assert fingerprint.gl_settings({"PATH": "/bin"}) == ""
+
+
+def test_the_files_encoders_are_recorded():
+    import cv2
+
+    found = fingerprint.file_versions()
+    assert found["opencv"] == cv2.__version__ and found["pyarrow"] == package_version("pyarrow") != "unknown"
+    assert set(found) == {"opencv", "pyarrow", "zlib", "libpng"} and "unknown" not in (found["zlib"], found["libpng"])
+
+
 @pytest.fixture
 def uncached_world_sha256():
     """``world_sha256`` without its in-process cache, before and after (a fake never stays)."""
