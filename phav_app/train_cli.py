@@ -211,6 +211,8 @@ def _streams(text: str) -> tuple[str, ...]:
     stream_list = tuple(s.strip() for s in text.split(",") if s.strip())
     if not stream_list:
         raise PhavUserError("name at least one stream", field="--streams")
+    if len(set(stream_list)) != len(stream_list):  # a stream twice made a "fused" row of one stream
+        raise PhavUserError(f"name each stream once, got {text!r}", field="--streams")
     return stream_list
 
 
@@ -222,6 +224,8 @@ def _check_mode(mode: str, real_source: tuple[str, Path] | None, dataset: Path |
         raise PhavUserError("Cool-TSN mixes PHAV clips into every batch: give a PHAV dataset", field="--mode")
     if real_source is not None and mode == "ft" and init is None:
         raise PhavUserError("TSN-FT starts from a PHAV run: give --init (a phav train output folder)", field="--init")
+    if init is not None and not init.exists():  # now, not once every real video is decoded
+        raise PhavUserError("no such folder or checkpoint", source=str(init), field="--init")
 
 
 def _mix(text: str) -> tuple[int, int]:

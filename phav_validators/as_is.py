@@ -838,7 +838,13 @@ def _learnability(
     learn = opts.learn if opts.learn is not None else LearnOptions()
     if learn.workers != opts.workers:
         learn = dataclasses.replace(learn, workers=opts.workers)
-    return check_learnability(inp.root, learn, progress=progress, manifest=loaded.manifest, table=loaded.table)
+    try:
+        return check_learnability(inp.root, learn, progress=progress, manifest=loaded.manifest, table=loaded.table)
+    except PhavUserError as e:
+        if e.field != "--split":
+            raise
+        # Data the split cannot divide (one performer): nothing to measure, not a user's error.
+        return CheckResult.skipped("learnability", f"cannot split the data: {e.detail}"), None
 
 
 def _realism(

@@ -91,7 +91,8 @@ def held_out_split(
     """Hold out about ``test_fraction`` of each kind in ``hold`` (the module's policy).
 
     Actors are drawn among the protagonists; motions per label among its clips' base
-    motions (at least one of each label's motions stays on each side when it has two or more)."""
+    motions (at least one of each label's motions stays in training, and one is tested
+    where it has two or more that no other label needs to keep)."""
     unknown = [h for h in hold if h not in HOLD_OUT]
     if unknown or not hold:
         raise PhavUserError(f"can hold out {' and '.join(HOLD_OUT)}, got {list(hold)!r}", field="--split")
@@ -106,13 +107,7 @@ def held_out_split(
         k = min(len(actors) - 1, max(1, round(test_fraction * len(actors))))
         held["actor"] = {actors[int(i)] for i in rng.permutation(len(actors))[:k]}
     if "motion" in hold:
-        held["motion"] = set()
-        for label in sorted({c.label for c in clips}):
-            motions = sorted({_group(c, "motion")[0] for c in clips if c.label == label})
-            if len(motions) < 2:
-                continue
-            k = min(len(motions) - 1, max(1, math.floor(test_fraction * len(motions) + 0.5)))
-            held["motion"] |= {motions[int(i)] for i in rng.permutation(len(motions))[:k]}
+        held["motion"] = _held_motions(clips, test_fraction, rng)
     train, test, dropped, seen_background, background_dropped = [], [], 0, [], 0
     for i, clip in enumerate(clips):
         deciding = [_group(clip, kind)[0] in held[kind] for kind in hold]
@@ -136,6 +131,29 @@ def held_out_split(
     mixed = [i for i in test if any(m in seen[kind] for kind in hold for m in _group(clips[i], kind)[1:])]
     return Split("held-out " + "+".join(hold), train, test, dropped, {k: sorted(v) for k, v in held.items()},
                  mixed, seen_background, background_dropped)  # fmt: skip
+
+
+def _held_motions(clips: Sequence[Grouped], test_fraction: float, rng: np.random.Generator) -> set[str]:
+    """About ``test_fraction`` of each label's base motions, drawn per label, never the last
+    one a label keeps: θ shares motions between actions (a walk on a line is a walk's motion
+    too), and a motion held for one label is held for every label that shows it."""
+    motions = {label: sorted({_group(c, "motion")[0] for c in clips if c.label == label})
+               for label in sorted({c.label for c in clips})}  # fmt: skip
+    held: set[str] = set()
+
+    def may_hold(motion: str) -> bool:
+        return all(any(m not in held and m != motion for m in ms) for ms in motions.values() if motion in ms)
+
+    for ms in motions.values():
+        if len(ms) < 2:
+            continue
+        k = min(len(ms) - 1, max(1, math.floor(test_fraction * len(ms) + 0.5)))
+        for i in rng.permutation(len(ms)):
+            if sum(m in held for m in ms) >= k:
+                break
+            if ms[int(i)] not in held and may_hold(ms[int(i)]):
+                held.add(ms[int(i)])
+    return held
 
 
 def _group(clip: Grouped, kind: str) -> tuple[str, ...]:

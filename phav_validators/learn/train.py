@@ -5,7 +5,9 @@ Mini-batches take a fixed number of clips from each source (the paper: blocks of
 offset while training and at segment centres when testing. The loss is the multi-task loss
 of ``model.multitask_loss``. A checkpoint is written atomically after every epoch, with
 the optimiser and random states, so an interrupted run resumes to the same weights an
-uninterrupted one reaches. Results are deterministic for a given seed and thread count.
+uninterrupted one reaches. Results are deterministic for a given seed and thread count on
+a CPU; on a GPU cuDNN is held to its deterministic algorithms, which has not been measured
+bit-exact.
 """
 
 from __future__ import annotations
@@ -118,6 +120,9 @@ class TrainConfig:
             raise PhavUserError(f"every source needs at least one clip per batch, got {dict(self.mix)}", field="--mix")
         if self.precision not in PRECISIONS:
             raise PhavUserError(f"choose {' or '.join(PRECISIONS)}, got {self.precision!r}", field="--precision")
+        for name, value in (("lr", self.lr), ("diff_gain", self.diff_gain), ("distill", self.distill)):
+            if not math.isfinite(value):  # inf passed the checks below and diverged as --lr
+                raise PhavUserError(f"must be finite, got {value}", field=f"--{name.replace('_', '-')}")
         if not self.lr > 0:
             raise PhavUserError(f"must be positive, got {self.lr}", field="--lr")
         if self.distill < 0 or (self.distill > 0 and self.stream != "rgb"):
@@ -483,6 +488,8 @@ def _fingerprint(
     or one removed that was left at its default, does not orphan a checkpoint made before it."""
     h = hashlib.sha256(json.dumps(config.changed(), sort_keys=True).encode())
     h.update(json.dumps([dict(sorted(heads.items())), None if init is None else Path(init).name]).encode())
+    if init is not None:  # the weights it starts from, not the file's name (every run's is split1-flow.pt)
+        h.update(Path(init).read_bytes())
     for name in sorted(data):
         for clip in data[name]:
             h.update(f"{name}\0{clip.key}\0{clip.label}\0{clip.rgb.shape}\n".encode())
@@ -563,13 +570,15 @@ def train(
         opt = torch.optim.SGD(model.parameters(), lr=config.lr, momentum=config.momentum,
                               weight_decay=config.weight_decay)  # fmt: skip
         rng = seeded_rng(config.seed)
-        fingerprint = _fingerprint(config, data, heads, init)
+        without_teacher = _fingerprint(config, data, heads, init)
+        fingerprint = without_teacher
         if teacher is not None:
             fingerprint = hashlib.sha256(f"{fingerprint}\0{teacher.digest()}".encode()).hexdigest()
         ckpt = Path(checkpoint) if checkpoint is not None else None
-        resumed = _resumable(ckpt, fingerprint)
+        resumed = _resumable(ckpt, fingerprint, without_teacher if teacher is not None else None)
         batches = MixedBatches({name: list(range(len(data[name]))) for name in config.sources}, config.mix, rng=rng)
-        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev, teacher, cutter)
+        run = _Run(data, heads, config, fingerprint, model, opt, rng, gen, batches, dev, teacher, cutter,
+                   without_teacher)  # fmt: skip
         result = TrainResult(model, config)
         if resumed is not None:
             run.restore(resumed, result)
@@ -606,15 +615,19 @@ def _model(config: TrainConfig, heads: Mapping[str, int], init: str | Path | Non
     return model
 
 
-def _resumable(ckpt: Path | None, fingerprint: str) -> dict[str, Any] | None:
-    """The checkpoint to resume, None to start afresh; one made for other settings or data is an error."""
+def _resumable(ckpt: Path | None, fingerprint: str, without_teacher: str | None = None) -> dict[str, Any] | None:
+    """The checkpoint to resume, None to start afresh; one made for other settings or data is an
+    error. One that differs only in its teacher (``without_teacher``: a flow stream the budget
+    stopped, trained on since) starts afresh: distilled from a teacher that has moved on, it
+    is not what an uninterrupted run against today's teacher reaches."""
     if ckpt is None or not ckpt.exists():
         return None
     state = load_checkpoint(ckpt)
-    if state["fingerprint"] != fingerprint:
-        raise PhavUserError("made with other settings or data; delete it or choose another output",
-                            source=str(ckpt))  # fmt: skip
-    return state
+    if state["fingerprint"] == fingerprint:
+        return state
+    if without_teacher is not None and state.get("fingerprint_without_teacher") == without_teacher:
+        return None
+    raise PhavUserError("made with other settings or data; delete it or choose another output", source=str(ckpt))
 
 
 def _in_turn(f: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
@@ -639,6 +652,8 @@ class _Run:
     teacher: Teacher | None = None
     #: Maps a function over a batch's clips (``cutting``): in turn or in a thread pool.
     cutter: Mapper = _in_turn
+    #: The fingerprint less the teacher's weights (``_resumable``).
+    fingerprint_without_teacher: str | None = None
 
     @property
     def steps_per_epoch(self) -> int:
@@ -660,7 +675,8 @@ class _Run:
     def checkpoint(self, result: TrainResult) -> dict[str, Any]:
         """Everything ``restore`` needs to reach the weights an uninterrupted run reaches."""
         return {
-            "format": "phav-tsn-1", "fingerprint": self.fingerprint, "config": self.config.to_json(),
+            "format": "phav-tsn-1", "fingerprint": self.fingerprint,
+            "fingerprint_without_teacher": self.fingerprint_without_teacher, "config": self.config.to_json(),
             "heads": dict(self.heads), "model": self.model.state_dict(), "optimizer": self.opt.state_dict(),
             "numpy_rng": self.rng.bit_generator.state, "torch_rng": self.gen.get_state(),
             "batches": self.batches.state(), "history": [asdict(e) for e in result.history],
@@ -790,6 +806,9 @@ def torch_device(name: str) -> Any:
     if dev.index is not None and dev.index >= torch.cuda.device_count():
         raise PhavUserError(f"no GPU {name!r} on this machine; torch counts {torch.cuda.device_count()}, "
                             "numbered from cuda:0", field="--device")  # fmt: skip
+    if dev.type == "cuda":  # its fastest convolutions' backward passes sum in any order
+        torch.backends.cudnn.deterministic = True
+        torch.backends.cudnn.benchmark = False
     return dev
 
 

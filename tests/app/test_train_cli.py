@@ -121,6 +121,15 @@ def test_cool_tsn_and_fine_tuning_on_a_ucf101_folder(phav, tmp_path):
         assert runs[0]["test_clips"] == 3
         virtual = 3 if mode == "cool" else 0
         assert [r["train_clips"] for r in runs] == [3 + virtual, 3 + virtual]  # half of 1 per class rounds up
+    # TSN-FT again into its folder from another PHAV run: its weights, not the file's name,
+    # decide whether the checkpoints there are resumed
+    other = tmp_path / "synthetic2"
+    made = invoke_cli("train", str(phav), "--out", str(other), "--streams", "flow", "--seed", "5", *FAST)
+    assert made.returncode == 0, made.stderr
+    result = invoke_cli("train", str(phav), "--real", f"ucf101={ucf}", "--mode", "ft", "--streams", "flow",
+                        "--real-fraction", "0.5,1", "--out", str(tmp_path / "ft"), *FAST,
+                        "--init", str(other))  # fmt: skip
+    assert result.returncode == 2 and "made with other settings or data" in result.stderr, result.stderr
 
 
 def _one_error_line(stderr: str) -> str:
@@ -142,6 +151,9 @@ def _one_error_line(stderr: str) -> str:
         pytest.param(("--rgb-diff", "--rgb-frames", "1"), "--rgb-diff", id="rgb-diff-single-frame"),
         pytest.param(("--precision", "fp16"), "--precision", id="precision"),
         pytest.param(("--mode", "ft", "--real", "ucf101=REAL"), "--init", id="ft-without-init"),
+        pytest.param(("--mode", "ft", "--real", "ucf101=REAL", "--init", "REAL/none"), "--init", id="init-missing"),
+        pytest.param(("--streams", "flow,flow"), "--streams", id="a-stream-twice"),
+        pytest.param(("--diff-gain", "inf"), "--diff-gain", id="diff-gain-inf"),
         # read after the options are checked: the official split files are missing
         pytest.param(("--real", "ucf101=REAL"), "ucfTrainTestlist", id="no-split-files"),
     ],

@@ -158,6 +158,19 @@ def test_held_out_splits_share_no_group_with_training(kind):
     assert make_split(clips, kind, seed=5) != split
 
 
+def test_a_motion_shared_between_actions_is_never_the_last_one_an_action_keeps():
+    """θ shares base motions between actions: a motion held out for one label is held out
+    for every label showing it, so no label may lose its last training motion so."""
+    shared = ("walk_a", "walk_b")  # walk's motions, and the only ones walk_the_line has
+    motions = {0: (*shared, "walk_c", "walk_d"), 1: shared, 2: ("hop_a", "hop_b", "hop_c")}
+    clips = [_clip(f"v{label}{m}{r}", label, (f"m{r}",), (m,)) for label, ms in motions.items()
+             for m in ms for r in range(3)]  # fmt: skip
+    for seed in range(40):
+        split = make_split(clips, "motion", seed=seed, test_fraction=0.5)
+        assert {clips[i].label for i in split.train} == {0, 1, 2}, seed
+        assert {clips[i].label for i in split.test} >= {0, 2}, seed
+
+
 def _clip(key: str, label: int, actor: tuple[str, ...], motion: tuple[str, ...], background=()) -> Clip:
     rgb, flow = np.zeros((1, 2, 2, 3), np.uint8), np.zeros((1, 2, 2, 2), np.float16)
     return Clip(key, label, "virtual", rgb, flow, {"actor": actor, "motion": motion, "background": background})

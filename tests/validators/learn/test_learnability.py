@@ -145,3 +145,19 @@ def test_the_report_shows_a_frame_of_each_class_of_a_confused_pair(phav):
 def test_a_budget_that_is_no_positive_finite_number_is_refused(minutes):
     with pytest.raises(PhavUserError, match=r"--learn-minutes: must be a positive, finite number"):
         LearnOptions(budget_minutes=minutes)
+
+
+def test_data_the_split_cannot_divide_skips_the_check_and_keeps_the_report(phav):
+    """Three clips of three actions, one motion each: holding out motions tests none. The
+    check is skipped with the reason, the other checks report; it was a user error naming
+    an option phav-validate lacks, and the whole report was lost."""
+    from phav_validators.options import Options
+    from phav_validators.source import resolve
+    from phav_validators.validate import validate_dataset
+
+    opts = Options(checks=("schema", "learnability"), learn=LearnOptions(split="motion", epochs=1, rgb_epochs=1))
+    report = validate_dataset(resolve([phav])[0], options=opts)
+    checks = {c.name: c for c in report.checks}
+    assert checks["schema"].status == Status.PASS
+    assert checks["learnability"].status == Status.SKIP
+    assert "cannot split the data: holding out motion leaves" in checks["learnability"].summary

@@ -122,6 +122,28 @@ def test_an_interrupted_run_resumes_to_the_uninterrupted_weights(tmp_path):
         train({"virtual": data.clips}, {"virtual": 3}, dataclasses.replace(config, lr=0.1), checkpoint=ckpt)
 
 
+def test_a_distilled_stream_begun_against_a_teacher_that_trained_on_starts_again(tmp_path):
+    """The budget stopped the flow stream, the RGB stream distilled from it; rerun with more
+    time, the flow stream trains on and the RGB stream starts again against the finished
+    teacher, as an uninterrupted run does (its checkpoint used to be refused)."""
+    data = {"virtual": motion_clips(3, 6).clips}
+    flow = dataclasses.replace(SMALL, epochs=2)
+    rgb = TrainConfig(stream="rgb", widths=(8, 16), epochs=2, mix=(("virtual", 8),), threads=1, lr=0.05,
+                      distill=1.0)  # fmt: skip
+    early = train(data, {"virtual": 3}, dataclasses.replace(flow, epochs=1))
+    ckpt = tmp_path / "rgb.pt"
+    train(data, {"virtual": 3}, rgb, checkpoint=ckpt, teacher=Teacher(early.model, early.config))
+    finished = train(data, {"virtual": 3}, flow)
+    teacher = Teacher(finished.model, finished.config)
+    again = train(data, {"virtual": 3}, rgb, checkpoint=ckpt, teacher=teacher)
+    whole = train(data, {"virtual": 3}, rgb, teacher=teacher)
+    assert again.resumed_from == 0 and len(again.history) == 2
+    wa, ww = _weights(again.model), _weights(whole.model)
+    assert all(torch.equal(wa[k], ww[k]) for k in ww)
+    with pytest.raises(PhavUserError, match="other settings"):  # another config is still refused
+        train(data, {"virtual": 3}, dataclasses.replace(rgb, lr=0.1), checkpoint=ckpt, teacher=teacher)
+
+
 def test_a_checkpoint_fingerprint_leaves_out_the_settings_at_their_defaults():
     """A setting added later (at its default) does not orphan a checkpoint made before it."""
     data = {"virtual": motion_clips(3, 2).clips}
