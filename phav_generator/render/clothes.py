@@ -16,6 +16,7 @@ import functools
 
 import numpy as np
 
+from phav_generator.body.data import BodyData, load_body_data
 from phav_generator.body.model import RestBody, at_points, rest_body
 from phav_generator.body.uv import atlas_texels
 from phav_generator.motion.skeleton import BONE_INDEX, BONES, FIRST_CHILD
@@ -127,9 +128,10 @@ def skirt_uv() -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=1)
-def _canvas_texels() -> tuple[RestBody, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _canvas_texels(data: BodyData) -> tuple[RestBody, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The canvas body, its covered atlas texels' points and bodies, the skirt strip's
-    points (row-major, ``STRIP`` × ``ATLAS``) and every atlas texel's source texel."""
+    points (row-major, ``STRIP`` × ``ATLAS``) and every atlas texel's source texel, of the
+    body ``data``."""
     body = rest_body(CANVAS)
     faces, bary, source = atlas_texels(ATLAS, ATLAS)
     corners = body.faces[faces]
@@ -182,11 +184,15 @@ def _linear(rgb) -> np.ndarray:
     return linear_colour(np.asarray(rgb, dtype=np.float64) / 255.0)
 
 
-@functools.lru_cache(maxsize=64)
 def outfit_texture(outfit: Outfit, skin_rgb: tuple[int, int, int]) -> np.ndarray:
     """The clothes texture of an outfit over a skin colour: (height, width, 3) float16 linear
-    colours, row 0 at v = 0 (cached per process: a few tens of ms)."""
-    body, points, owner, strip, source = _canvas_texels()
+    colours, row 0 at v = 0 (cached per process and body data: a few tens of ms)."""
+    return _outfit_texture(outfit, skin_rgb, load_body_data())
+
+
+@functools.lru_cache(maxsize=64)
+def _outfit_texture(outfit: Outfit, skin_rgb: tuple[int, int, int], data: BodyData) -> np.ndarray:
+    body, points, owner, strip, source = _canvas_texels(data)
     region = regions(body, points, owner, outfit)
     colours = np.zeros((len(points), 3))
     colours[region == 0] = _linear(skin_rgb)

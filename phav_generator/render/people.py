@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from phav_generator.body.data import BodyData, load_body_data
 from phav_generator.body.model import RestBody, lod_body, rest_body
 from phav_generator.body.uv import corner_uvs
 from phav_generator.motion.skeleton import (
@@ -128,11 +129,12 @@ def level_of_detail(height_px: float) -> int:
 def person_mesh(phenotype: Phenotype, outfit: Outfit, level: int = 0) -> PersonMesh:
     """The render mesh of a phenotype dressed in an outfit at a level of detail (cached per
     process; of the outfit only whether it has a skirt changes the mesh)."""
-    return _person_mesh(phenotype, outfit.bottom.kind == "skirt", level)
+    return _person_mesh(phenotype, outfit.bottom.kind == "skirt", level, load_body_data())
 
 
 @functools.lru_cache(maxsize=32)
-def _person_mesh(phenotype: Phenotype, skirted: bool, level: int) -> PersonMesh:
+def _person_mesh(phenotype: Phenotype, skirted: bool, level: int, data: BodyData) -> PersonMesh:
+    """``person_mesh``, kept per body data too: a mesh of other data is never served stale."""
     body = lod_body(phenotype, level)
     owner = np.argmax(body.weights, axis=1)
     faces = body.faces
@@ -210,10 +212,14 @@ def _curtain(centre: np.ndarray, r: float, bottom: float) -> tuple[np.ndarray, n
     return np.array(positions), np.array(normals), ring_triangles(len(heights), _AROUND, closed=False)[:, [0, 2, 1]]
 
 
-@functools.lru_cache(maxsize=32)
 def hair_mesh(phenotype: Phenotype, style: str, level: int = 0) -> Mesh | None:
     """Hair fitted to a body's scalp at a level of detail, skinned to its head (long hair's
-    curtain also to the chest at its bottom); None for bald."""
+    curtain also to the chest at its bottom); None for bald. Cached per process and body data."""
+    return _hair_mesh(phenotype, style, level, load_body_data())
+
+
+@functools.lru_cache(maxsize=32)
+def _hair_mesh(phenotype: Phenotype, style: str, level: int, data: BodyData) -> Mesh | None:
     if style == "bald":
         return None
     body = lod_body(phenotype, level)

@@ -142,3 +142,21 @@ def test_a_garments_pattern_scale_sets_the_size_of_its_stripes(ctx):
         bright = column[on_chest] > 128
         changes.append(int(np.count_nonzero(np.diff(bright))))
     assert changes[0] >= 4 and changes[1] < changes[0], changes
+
+
+def test_meshes_hair_and_clothes_are_kept_per_body_data(monkeypatch):
+    """The per-process memos are kept per body data: body data of another build (another
+    PHAV_CACHE_DIR, or rebuilt) never gets a mesh or texture made from the one before."""
+    import dataclasses
+
+    from phav_generator.body.data import load_body_data
+    from phav_generator.render import clothes, people
+
+    mesh, hair = person_mesh(PHENOTYPE, OUTFIT, 3), people.hair_mesh(PHENOTYPE, "short", 3)
+    texture = clothes.outfit_texture(OUTFIT, (224, 172, 105))
+    assert person_mesh(PHENOTYPE, OUTFIT, 3) is mesh and people.hair_mesh(PHENOTYPE, "short", 3) is hair
+    other = dataclasses.replace(load_body_data())  # another instance: other data, as far as a memo can tell
+    monkeypatch.setattr(people, "load_body_data", lambda: other)
+    monkeypatch.setattr(clothes, "load_body_data", lambda: other)
+    assert person_mesh(PHENOTYPE, OUTFIT, 3) is not mesh and people.hair_mesh(PHENOTYPE, "short", 3) is not hair
+    assert clothes.outfit_texture(OUTFIT, (224, 172, 105)) is not texture
