@@ -29,7 +29,13 @@ from typing import Any
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from phav_generator.dataset.fingerprint import package_version, renderer_fingerprint
+from phav_generator.body.data import load_body_data
+from phav_generator.dataset.fingerprint import (
+    BODY_DATA_KEY,
+    package_version,
+    renderer_fingerprint,
+    source_sha256,
+)
 from phav_generator.dataset.journal import JOURNAL_FILE, Journal, check_run
 from phav_generator.dataset.lock import exclusive, remove_stale_temporaries
 from phav_generator.engines import Progress, check_engine, run_tasks
@@ -239,8 +245,14 @@ def write_dataset(
 def render_task(task: VideoTask, report: Progress | None = None, *, parts: Path) -> dict[str, Any]:
     """``run_task`` in a worker, its record carrying the fingerprint of the renderer and code
     that made the video: the manifest's is theirs, and a run is never finished by two."""
+    source_sha256()  # phav's code as this process loaded it, hashed before its first video, not after
+    body = load_body_data().sha256  # the data the people are made of, read before they are
     record = run_task(task, report, parts=parts)
-    return {**record, "renderer": renderer_fingerprint(record["gl"]).model_dump(mode="json")}
+    made = renderer_fingerprint(record["gl"])
+    if made.versions[BODY_DATA_KEY] != body:  # rebuilt meanwhile: the record would name other data
+        raise PhavUserError("the body data changed while the video was rendered; rerun to resume",
+                            field=task.video_id)  # fmt: skip
+    return {**record, "renderer": made.model_dump(mode="json")}
 
 
 def _check_one_renderer(out: Path, what: str, records: Sequence[dict[str, Any]]) -> None:

