@@ -543,11 +543,15 @@ def _value_problems(path: Path, name: str, videos: set[str] | None) -> list[str]
 
 
 def _read_tables(inp: DatasetInput) -> tuple[pa.Table | None, pa.Table | None]:
+    """``people.parquet`` and ``cameras.parquet``, each None where it cannot be read."""
 
-    try:
-        return read_parquet(inp.root / PEOPLE), read_parquet(inp.root / CAMERAS)
-    except Exception:  # reported by the schema check
-        return None, None
+    def read(name: str) -> pa.Table | None:
+        try:
+            return read_parquet(inp.root / name)
+        except Exception:  # pyarrow raises several types for damaged files
+            return None
+
+    return read(PEOPLE), read(CAMERAS)
 
 
 def validate_as_is(
@@ -785,9 +789,16 @@ def _failures(
     progress: ProgressFactory | None,
 ) -> CheckResult:
     """Failure cases recomputed from the metadata tables, the recipes and instance pixels."""
+    missing = [name for name in (PEOPLE, CAMERAS) if not (inp.root / name).is_file()]
+    if missing:  # the schema check reports a missing table
+        return CheckResult.skipped("failures", f"no {' or '.join(missing)}")
     people, cameras = _read_tables(inp)
-    if people is None or cameras is None:
-        return CheckResult.skipped("failures", "people.parquet / cameras.parquet unreadable")
+    if people is None or cameras is None:  # there but damaged: a finding, whichever checks run
+        report = Report()
+        for name, table in ((PEOPLE, people), (CAMERAS, cameras)):
+            if table is None:
+                report.add(Finding(Reason.METADATA_INVALID, "not a readable Parquet table", file=name))
+        return CheckResult.from_report("failures", report, "the metadata tables cannot be read", {})
 
     chosen = {vid: loaded.recipes[vid] for vid in selected if vid in loaded.recipes}
     if not chosen:  # nothing was checked: not a pass

@@ -25,6 +25,7 @@ from scipy.spatial import ConvexHull
 
 from phav_generator.motion.skeleton import BONES, JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.scene import plan_scene
+from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_spec.errors import PhavUserError
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
@@ -162,10 +163,14 @@ class BoxSet:
     """An environment's collision boxes as arrays, for vectorised inside / crossing tests; a
     collider with hulls (a parked car) is its hulls, as it collides."""
 
-    def __init__(self, colliders: Sequence[Collider]):
+    def __init__(self, colliders: Sequence[Collider], ground_z: float = -np.inf):
         self.colliders = tuple(colliders)
         self.center = np.array([c.center for c in colliders], dtype=float).reshape(-1, 3)
         self.half = np.array([c.half_size for c in colliders], dtype=float).reshape(-1, 3)
+        # A box standing on the ground (a raised plaza, a bank, a step) is solid down to it
+        # and below: a point sunk into it is as deep as it is under its top, not nearer the
+        # buried bottom face the deeper it goes.
+        self.grounded = self.center[:, 2] - self.half[:, 2] <= ground_z + GROUNDED_TOLERANCE_M
         # math's cos and sin, not numpy's CPU-dispatched kernels: a point on a box's face is
         # inside or out by the same bits on every machine.
         yaw = [math.radians(c.yaw_deg) for c in colliders]
@@ -189,7 +194,9 @@ class BoxSet:
             shape = points.shape[:-1]
             return np.full(shape, -np.inf), np.full(shape, -1)
         local = self.local(points)
-        depth = (self.half - np.abs(local)).min(axis=-1)  # (..., B)
+        room = self.half - np.abs(local)
+        room[..., 2] = np.where(self.grounded, self.half[:, 2] - local[..., 2], room[..., 2])
+        depth = room.min(axis=-1)  # (..., B)
         for i, hulls in self.planes.items():
             depth[..., i] = np.max([-_plane_distances(local[..., i, :], e).max(axis=-1) for e in hulls], axis=0)
         which = depth.argmax(axis=-1)
@@ -239,14 +246,29 @@ def _through_hull(a: np.ndarray, b: np.ndarray, planes: np.ndarray) -> np.ndarra
     return (enter < leave) & (leave > 0) & (enter < 1) & ~parallel_outside
 
 
+#: How far (m) above the ground a box's bottom may lie and the box still stand on it.
+GROUNDED_TOLERANCE_M = 0.02
+
 _BOXES: dict[str, BoxSet] = {}
 
 
 def boxes(environment: str) -> BoxSet:
     """The environment's collision boxes (cached per process)."""
     if environment not in _BOXES:
-        _BOXES[environment] = BoxSet(ENVIRONMENT_SCENES[environment].colliders)
+        scene = ENVIRONMENT_SCENES[environment]
+        _BOXES[environment] = BoxSet(scene.colliders, scene.ground_z)
     return _BOXES[environment]
+
+
+def clip_boxes(recipe: Recipe, plan: ScenePlan | None = None) -> BoxSet:
+    """The environment's boxes and those the recipe's action builds (stairs, a chair, a door's
+    frame, a pull-up bar), from its ``plan`` (re-planned from the recipe when not given)."""
+    built = (plan if plan is not None else plan_scene(recipe)).boxes
+    if not built:
+        return boxes(recipe.environment.name)
+    scene = ENVIRONMENT_SCENES[recipe.environment.name]
+    own = [Collider(b.pixel_class, b.center, b.half_size, b.yaw_deg) for b in built]
+    return BoxSet((*scene.colliders, *own), scene.ground_z)
 
 
 def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -262,11 +284,12 @@ def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple
     return uv, z
 
 
-def base_motion_joints(recipe: Recipe) -> tuple[np.ndarray, np.ndarray] | None:
+def base_motion_joints(recipe: Recipe, plan: ScenePlan | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """The protagonist's animated (unperturbed) joints per frame (T, 13, 3) and whether the
-    pins hold the body to the animation then (T,), re-planned from the recipe."""
+    pins hold the body to the animation then (T,), from its ``plan`` (re-planned from the
+    recipe when not given)."""
 
-    plan = plan_scene(recipe)
+    plan = plan if plan is not None else plan_scene(recipe)
     person = next((p for p in plan.people if p.person_id == recipe.protagonist.person_id), None)
     if person is None:
         return None
@@ -304,20 +327,23 @@ def video_failures(
     def fail(reason: Reason, message: str) -> None:
         out.failures.append((reason, message))
 
+    plan = plan_scene(recipe)  # once: the action's boxes and, for a perturbation, its base motion
+    box = clip_boxes(recipe, plan)
     valid = {id(person) for person in people if _frames_valid(recipe, person, fail)}
     for person in people:
         if id(person) in valid:
-            _pose(recipe, person, th, m, fail)
+            _pose(recipe, person, box, th, m, fail)
     protagonist = next((p for p in people if p.person_id == recipe.protagonist.person_id), None)
-    if protagonist is None:
-        fail(Reason.OFF_SCREEN, "no protagonist rows in people.parquet")
+    if protagonist is None:  # a broken table, not a protagonist out of view
+        fail(Reason.METADATA_INVALID,
+             f"people.parquet: no rows for the protagonist (person_id {recipe.protagonist.person_id})")  # fmt: skip
         return out
     if id(protagonist) not in valid or not np.isfinite(protagonist.joints).all():
         return out
-    if _cameras_valid(protagonist, cams, fail):
+    if _cameras_valid(recipe, protagonist, cams, fail):
         _off_screen(recipe, protagonist, cams, instance_pixels, th, m, fail)
-        _camera_in_geometry(recipe, cams, th, m, fail)
-    _perturbation(recipe, protagonist, th, m, fail)
+        _camera_in_geometry(recipe, cams, box, th, m, fail)
+    _perturbation(recipe, protagonist, plan, th, m, fail)
     _sliding(recipe, protagonist, th, m, fail)
     return out
 
@@ -338,11 +364,16 @@ def _frames_valid(recipe: Recipe, person: PersonSeries, fail: _Fail) -> bool:
     return True
 
 
-def _cameras_valid(protagonist: PersonSeries, cams: CameraSeries | None, fail: _Fail) -> bool:
+def _cameras_valid(recipe: Recipe, protagonist: PersonSeries, cams: CameraSeries | None, fail: _Fail) -> bool:
     """The video's camera rows (None: none given, its measures not taken): one per frame of
-    the protagonist's, finite. Where they are not, the camera's measures cannot be taken,
-    and that is a broken file."""
+    the protagonist's, none outside the clip, finite. Where they are not, the camera's
+    measures cannot be taken, and that is a broken file."""
     if cams is None:
+        return False
+    if len(cams.frames) and (cams.frames[0] < 0 or cams.frames[-1] >= recipe.n_frames):
+        outside = int(cams.frames[0] if cams.frames[0] < 0 else cams.frames[-1])
+        fail(Reason.METADATA_INVALID,
+             f"cameras.parquet: a row for frame {outside}, outside the clip's {recipe.n_frames}")  # fmt: skip
         return False
     missing = ~np.isin(protagonist.frames, cams.frames)
     if missing.any():
@@ -367,7 +398,7 @@ def _cameras_valid(protagonist: PersonSeries, cams: CameraSeries | None, fail: _
     return True
 
 
-def _pose(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
+def _pose(recipe: Recipe, person: PersonSeries, box: BoxSet, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
     """One person's joints: finite, no explosion, no interpenetration, knees (not for the
     background actors, who only walk)."""
     j = person.joints
@@ -377,7 +408,7 @@ def _pose(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, flo
         fail(Reason.NAN_POSE, f"{who}: non-finite joints in {len(bad)} frames (first {int(person.frames[bad[0]])})")
         return
     _explosion(person, recipe.video.fps, who, th, m, fail)
-    _interpenetration(person, recipe.environment.name, who, th, m, fail)
+    _interpenetration(person, recipe.environment.name, box, who, th, m, fail)
     if person.role != "background":
         _knees(j, person.pinned, who, th, m, fail, person.person_id)
 
@@ -400,11 +431,11 @@ def _explosion(person: PersonSeries, fps: int, who: str, th: Thresholds, m: dict
 
 
 def _interpenetration(
-    person: PersonSeries, environment: str, who: str, th: Thresholds, m: dict[str, float], fail: _Fail
+    person: PersonSeries, environment: str, box: BoxSet, who: str, th: Thresholds, m: dict[str, float], fail: _Fail
 ) -> None:
-    """Joints and limb midpoints deep inside a box or the ground; else hips passing through a box."""
+    """Joints and limb midpoints deep inside a box (``box``: the environment's and the
+    action's) or the ground; else hips passing through a box."""
     j = person.joints
-    box = boxes(environment)
     ground = ENVIRONMENT_SCENES[environment].ground_z
     points = probe_points(j)
     depth, which = box.depth_inside(points)
@@ -455,10 +486,11 @@ def _off_screen(
         fail(Reason.OFF_SCREEN, f"the protagonist is in view in {share:.0%} of frames")
 
 
-def _camera_in_geometry(recipe: Recipe, cams: CameraSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
-    """The camera inside a box or below the ground."""
+def _camera_in_geometry(
+    recipe: Recipe, cams: CameraSeries, box: BoxSet, th: Thresholds, m: dict[str, float], fail: _Fail
+) -> None:
+    """The camera inside a box (the environment's and the action's) or below the ground."""
     env = recipe.environment.name
-    box = boxes(env)
     ground = ENVIRONMENT_SCENES[env].ground_z
     cam_pos = cams.poses[:, :3, 3]
     depth, _ = box.depth_inside(cam_pos)
@@ -503,12 +535,14 @@ def _knees(
         fail(Reason.JOINT_LIMIT, f"{who}: a knee bends backwards ({worst * 100:.0f} cm behind the hip–ankle line)")
 
 
-def _perturbation(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
+def _perturbation(
+    recipe: Recipe, person: PersonSeries, plan: ScenePlan, th: Thresholds, m: dict[str, float], fail: _Fail
+) -> None:
     """A random perturbation that moves the action's necessary muscles far from the motion,
     judged while the pins hold the body."""
     if recipe.variation.kind != "random_perturbation":
         return
-    base = base_motion_joints(recipe)
+    base = base_motion_joints(recipe, plan)
     if base is None:
         return
     target, pinned = base
@@ -598,7 +632,8 @@ def check_failures(
         for reason, message in result.failures:
             hard = reason in (Reason.NAN_POSE, Reason.METADATA_INVALID)
             # A camera's failure is the cameras table's; every other one is the people table's.
-            where = "cameras.parquet" if message.startswith("cameras.parquet:") else source
+            camera = reason == Reason.CAMERA_IN_GEOMETRY or message.startswith("cameras.parquet:")
+            where = "cameras.parquet" if camera else source
             report.add(Finding(reason, message, file=where, video_id=vid, numbers=dict(result.measures),
                                severity="fail" if hard else "warn"))  # fmt: skip
         if progress is not None:

@@ -297,3 +297,74 @@ def test_without_a_valid_recipe_the_failures_check_is_skipped_not_passed(data):
         edit_recipes(data, video, lambda d: d.update(schema_version=99))
     result = check(validate(data, "schema", "failures"), "failures")
     assert result.status == Status.SKIP and "no video has a valid recipe" in result.summary
+
+
+def test_a_body_sunk_into_raised_ground_reads_deeper_the_deeper_it_goes():
+    """A slab standing on the ground (a bank, a plaza) is solid down to it and below: a point
+    under its top is as deep as it is under it, not nearer its buried bottom face."""
+    from phav_spec.scene import Collider
+
+    slab = Collider("terrain", (0.0, 0.0, 0.1), (2.0, 2.0, 0.1))  # from the ground (0) to 0.2
+    grounded, floating = BoxSet([slab], ground_z=0.0), BoxSet([slab])
+    points = np.array([[0.0, 0.0, z] for z in (0.19, 0.1, -0.1, -0.3)])
+    np.testing.assert_allclose(grounded.depth_inside(points)[0], [0.01, 0.1, 0.3, 0.5])
+    np.testing.assert_allclose(floating.depth_inside(points)[0][:2], [0.01, 0.1])  # a box in the air: its faces
+    lifted = Collider("table", (0.0, 0.0, 0.5), (1.0, 1.0, 0.05))  # off the ground: both faces count
+    assert BoxSet([lifted], ground_z=0.0).depth_inside(np.array([[0.0, 0.0, 0.46]]))[0][0] == pytest.approx(0.01)
+
+
+def test_a_climber_walking_through_its_own_stairs_is_caught():
+    """The flight an action builds is a box of the check's, as it is of the physics': the
+    climber kept at the ground's height walks through its treads."""
+    from tests.generator.physics.support import recipe_for
+
+    recipe = recipe_for("climb_stairs", "urban", seconds=2.0)
+    people = simulated_people(recipe)
+    assert not video_failures(recipe, people, None).failed
+    pid = recipe.protagonist.person_id
+    flat = [dataclasses.replace(p, joints=p.joints - np.array([0.0, 0.0, 1.0]) * (p.joints[:, 7:9, 2].mean(axis=1)
+            - p.joints[0, 7:9, 2].mean())[:, None, None]) if p.person_id == pid else p for p in people]  # fmt: skip
+    result = video_failures(recipe, flat, None)
+    assert [r for r, _ in result.failures] == [Reason.INTERPENETRATION], result.failures
+    assert "inside a stairs box" in result.failures[0][1]
+
+
+def test_a_video_without_its_protagonist_or_with_a_camera_row_past_its_end_is_a_broken_file(small_dataset):
+    recipes, people, cameras = _tables(small_dataset)
+    vids, pids = np.array(people.column("video_id").to_pylist()), people.column("person_id").to_numpy()
+    protagonist = recipes["v000001"].protagonist.person_id
+    result, videos = check_failures(recipes, _drop_rows(people, ~((vids == "v000001") & (pids == protagonist))),
+                                    cameras)  # fmt: skip
+    assert _reasons(videos) == {"v000001": [Reason.METADATA_INVALID]} and result.status == Status.FAIL
+    assert _message(videos, "v000001") == f"people.parquet: no rows for the protagonist (person_id {protagonist})"
+    cam_vids, cam_frames = np.array(cameras.column("video_id").to_pylist()), cameras.column("frame").to_numpy()
+    last = int(np.flatnonzero(cam_vids == "v000002")[-1])
+    late = _with(cameras, "frame", [int(f) + (100 if i == last else 0) for i, f in enumerate(cam_frames)])
+    result, videos = check_failures(recipes, people, late)
+    assert _reasons(videos) == {"v000002": [Reason.METADATA_INVALID]}
+    assert "cameras.parquet: a row for frame" in _message(videos, "v000002") and "outside the clip" in _message(
+        videos, "v000002"
+    )
+    assert [f.file for f in result.report.findings if f.video_id == "v000002"] == ["cameras.parquet"]
+
+
+def test_a_camera_inside_geometry_is_the_cameras_tables_finding(small_dataset):
+    recipes, people, cameras = _tables(small_dataset)
+    vids = np.array(cameras.column("video_id").to_pylist())
+    poses = cameras.column("cam_to_world").to_pylist()
+    for i in np.flatnonzero(vids == "v000000"):
+        pose = np.array(poses[i]).reshape(4, 4)
+        pose[2, 3] = -1.0  # a metre under the ground
+        poses[i] = pose.reshape(16).tolist()
+    result, _ = check_failures(recipes, people, _with(cameras, "cam_to_world", poses))
+    found = [f for f in result.report.findings if f.reason == Reason.CAMERA_IN_GEOMETRY]
+    assert found and all(f.file == "cameras.parquet" for f in found)
+
+
+def test_a_damaged_metadata_table_fails_the_check_asked_alone(data):
+    """`--checks failures` on a garbled people.parquet: a finding naming it (it was skipped,
+    and the run passed, when the schema check was not asked for); a missing one is skipped."""
+    (data / "people.parquet").write_bytes(b"garbage\n")
+    assert_fails(validate(data, "failures"), "failures", Reason.METADATA_INVALID, file="people.parquet")
+    (data / "people.parquet").unlink()
+    assert check(validate(data, "failures"), "failures").status == Status.SKIP
