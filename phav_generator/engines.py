@@ -16,6 +16,8 @@ import contextlib
 import multiprocessing
 import os
 import queue
+import signal
+import socket
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -76,9 +78,24 @@ def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, 
 _worker_events: Any = None
 
 
+class WorkerTerminated(BaseException):
+    """SIGTERM in a pool's worker (a scheduler's time limit signals the whole process group):
+    raised so that the write under way removes its temporary, as Ctrl-C makes it."""
+
+
+_in_task = False
+
+
+def _raise_worker_terminated(signum: int, frame: object) -> None:
+    if not _in_task:  # between videos: nothing is half-written
+        os._exit(128 + signum)
+    raise WorkerTerminated
+
+
 def _init_worker(events: Any, parent: int) -> None:
     global _worker_events
     _worker_events = events
+    signal.signal(signal.SIGTERM, _raise_worker_terminated)
     exit_with_parent(parent)
 
 
@@ -102,7 +119,14 @@ def _report(videos: int, frames: int) -> None:
 
 
 def _pool_call(stage: Stage, task: Any) -> dict[str, Any]:
-    return stage(task, _report)
+    global _in_task
+    _in_task = True
+    try:
+        return stage(task, _report)
+    except WorkerTerminated:  # the write under way has removed its temporary; the pool's loop would go on
+        os._exit(128 + signal.SIGTERM)
+    finally:
+        _in_task = False
 
 
 def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, progress: Progress | None,
@@ -169,16 +193,44 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
                                "runtime_env": {"env_vars": env} if env else None}  # fmt: skip
     if address:
         options["address"] = address
+        _check_reachable(address)
     else:
         options.update(num_cpus=workers, object_store_memory=LOCAL_OBJECT_STORE_BYTES)
+    # ray.init puts in its own SIGTERM handler (it exits 15 with a stack dump); ours stays,
+    # so that SIGTERM still cleans up and exits 143.
+    handler = signal.getsignal(signal.SIGTERM)
     try:
         ray.init(**options)
-    except ConnectionError as e:
-        raise PhavUserError(f"cannot reach the Ray cluster: {e}", source=address, field="--address") from None
+    except (ConnectionError, ValueError) as e:
+        raise PhavUserError(f"cannot reach the Ray cluster: {str(e).splitlines()[0]}", source=address,
+                            field="--address") from None  # fmt: skip
+    finally:
+        if handler is not None and threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGTERM, handler)
     try:
         yield ray
     finally:
         ray.shutdown()
+
+
+#: How long (s) a cluster's address has to answer before ``ray.init`` is tried (it retries
+#: an address that never answers for minutes).
+REACH_TIMEOUT_S = 10.0
+
+
+def _check_reachable(address: str) -> None:
+    """A ``HOST:PORT`` cluster address that accepts a connection, else a one-line error
+    naming ``--address`` (``auto`` and ``ray://`` addresses are left to Ray)."""
+    if address == "auto" or "://" in address:
+        return
+    host, sep, port = address.rpartition(":")
+    if not sep or not host or not port.isdigit():
+        raise PhavUserError("expected HOST:PORT (the head node's GCS address), auto or ray://HOST:PORT",
+                            source=address, field="--address")  # fmt: skip
+    try:
+        socket.create_connection((host, int(port)), timeout=REACH_TIMEOUT_S).close()
+    except (OSError, ValueError) as e:
+        raise PhavUserError(f"cannot reach the Ray cluster ({e})", source=address, field="--address") from None
 
 
 def _ray_stage(stage: Stage, task: Any) -> dict[str, Any]:
@@ -237,7 +289,13 @@ class RayPool:
 
 def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:
     """A task's record; a user error raised in a task is raised here as itself."""
-    from ray.exceptions import RayTaskError, WorkerCrashedError  # optional extra, as above
+    from ray.exceptions import (  # optional extra, as above
+        LocalRayletDiedError,
+        NodeDiedError,
+        OutOfMemoryError,
+        RayTaskError,
+        WorkerCrashedError,
+    )
 
     try:
         return ray.get(ref)
@@ -245,7 +303,7 @@ def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:
         if isinstance(e.cause, PhavUserError):
             raise e.cause from None
         raise
-    except WorkerCrashedError:
+    except (WorkerCrashedError, OutOfMemoryError, NodeDiedError, LocalRayletDiedError):
         raise PhavUserError(
             "a Ray worker died (killed, or out of memory); finished videos are kept, rerun to resume",
             source=str(out),

@@ -12,7 +12,7 @@ from typing import Any
 from phav_generator.faults import armed, crash_point
 from phav_spec.canonical import canonical_json
 from phav_spec.errors import PhavUserError
-from phav_spec.files import atomic_write
+from phav_spec.files import WriteError, atomic_write
 
 RUN_FILE = "run.json"
 JOURNAL_FILE = "journal.jsonl"
@@ -55,14 +55,17 @@ class Journal:
     def append(self, kind: str, record: dict[str, Any]) -> None:
         line = (canonical_json({"kind": kind, "record": record}) + "\n").encode("utf-8")
         self._lines += 1
-        with open(self.path, "ab") as fh:
-            if armed(f"journal:{self._lines}"):
-                fh.write(line[: len(line) // 2])
+        try:
+            with open(self.path, "ab") as fh:
+                if armed(f"journal:{self._lines}"):
+                    fh.write(line[: len(line) // 2])
+                    fh.flush()
+                    crash_point(f"journal:{self._lines}")
+                fh.write(line)
                 fh.flush()
-                crash_point(f"journal:{self._lines}")
-            fh.write(line)
-            fh.flush()
-            os.fsync(fh.fileno())
+                os.fsync(fh.fileno())
+        except OSError as e:  # a full disk: said of the journal (a half line is cut off on resuming)
+            raise WriteError(e, str(self.path)) from None
         self._remember(kind, record)
 
     def _remember(self, kind: str, record: dict[str, Any]) -> None:

@@ -32,3 +32,42 @@ def test_an_unknown_engine_is_a_one_line_error(small_theta, tmp_path):
 def test_a_ray_address_without_the_ray_engine_is_refused_not_ignored(small_theta, tmp_path):
     with pytest.raises(PhavUserError, match=r"--address: a Ray cluster address needs --engine ray"):
         write_dataset([], tmp_path / "x", name="demo", theta=small_theta, dataset_seed=0, address="10.0.0.1:6379")
+
+
+@pytest.mark.parametrize(
+    ("address", "said"),
+    [("notahost", "expected HOST:PORT"), ("127.0.0.1:1", "cannot reach the Ray cluster")],
+)
+def test_a_cluster_address_that_is_malformed_or_silent_is_one_line(address, said):
+    """Ray raised a ValueError traceback for a malformed address and retried a silent one
+    for minutes; both are a one-line error naming --address, before Ray starts."""
+    pytest.importorskip("ray")
+    from phav_generator.engines import ray_session
+
+    with pytest.raises(PhavUserError, match=said) as caught, ray_session(2, address):
+        pass
+    assert caught.value.field == "--address" and caught.value.source == address
+
+
+def test_starting_ray_keeps_the_sigterm_handler(monkeypatch):
+    """ray.init puts in a SIGTERM handler of its own (exit 15 and a stack dump): ours is put back."""
+    import signal
+
+    ray = pytest.importorskip("ray")
+    from phav_generator.engines import ray_session
+
+    def ours(signum, frame):
+        raise KeyboardInterrupt
+
+    def init(**options):
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # as Ray's own handler replaces ours
+
+    monkeypatch.setattr(ray, "is_initialized", lambda: False)
+    monkeypatch.setattr(ray, "init", init)
+    monkeypatch.setattr(ray, "shutdown", lambda: None)
+    before = signal.signal(signal.SIGTERM, ours)
+    try:
+        with ray_session(2, None):
+            assert signal.getsignal(signal.SIGTERM) is ours
+    finally:
+        signal.signal(signal.SIGTERM, before)

@@ -107,6 +107,34 @@ def test_a_killed_worker_is_a_one_line_error_and_the_rerun_resumes(generate, ref
     assert file_bytes(out) == reference
 
 
+def test_a_worker_sent_sigterm_removes_the_part_it_was_writing(small_dataset, tmp_path):
+    """A scheduler's time limit signals the whole process group: a pool's worker stopped while
+    it writes a video's part removes its temporary, as the driver's writes do (it died where
+    it stood and left it)."""
+    out = tmp_path / "data"
+    args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", str(SMALL_VIDEOS), "--seed", str(SMALL_SEED),
+            "--shard-size", str(SMALL_SHARD_SIZE), "--out", str(out), "--workers", "2")  # fmt: skip
+    env = cli_env() | {KILL_AT_ENV: "part:v000002:2", SIGNAL_ENV: "TERM"}  # the worker signals itself
+    run = subprocess.run([sys.executable, "-m", "phav_app.cli", "generate", *args], capture_output=True, text=True,
+                         env=env, timeout=180)  # fmt: skip
+    assert run.returncode == 2 and "worker process died" in run.stderr and "Traceback" not in run.stderr, run.stderr
+    assert not [p for p in out.rglob(".*.tmp")], "a temporary was left behind"
+
+
+def test_a_full_journal_is_said_of_the_journal(monkeypatch, tmp_path):
+    """A full disk while a record is appended names the journal file (it named the folder)."""
+    from phav_generator.dataset import journal as journal_module
+
+    def full(fd: int) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    journal = Journal(tmp_path / JOURNAL_FILE)
+    monkeypatch.setattr(journal_module.os, "fsync", full)
+    with pytest.raises(PhavUserError, match="the disk is full") as caught:
+        journal.append("video", {"video_id": "v000000"})
+    assert caught.value.source == str(tmp_path / JOURNAL_FILE)
+
+
 def test_a_file_size_limit_is_a_clear_error_that_keeps_finished_videos(generate, reference, tmp_path):
     """RLIMIT_FSIZE below a shard's size: the videos' parts fit, joining them does not."""
     out = tmp_path / "data"
