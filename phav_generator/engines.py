@@ -185,6 +185,8 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     """Ray, connected: to the cluster at ``address``, else to a local Ray with ``workers``
     CPUs started here and stopped on exit (an already initialised Ray is used as it is)."""
     ray = _require_ray()
+    if address:  # first: a malformed or silent address is the user's error, Ray started or not
+        _check_reachable(address)
     if ray.is_initialized():
         yield ray
         return
@@ -193,7 +195,6 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
                                "runtime_env": {"env_vars": env} if env else None}  # fmt: skip
     if address:
         options["address"] = address
-        _check_reachable(address)
     else:
         options.update(num_cpus=workers, object_store_memory=LOCAL_OBJECT_STORE_BYTES)
     # ray.init puts in its own SIGTERM handler (it exits 15 with a stack dump); ours stays,

@@ -38,12 +38,17 @@ def test_a_ray_address_without_the_ray_engine_is_refused_not_ignored(small_theta
     ("address", "said"),
     [("notahost", "expected HOST:PORT"), ("127.0.0.1:1", "cannot reach the Ray cluster")],
 )
-def test_a_cluster_address_that_is_malformed_or_silent_is_one_line(address, said):
+def test_a_cluster_address_that_is_malformed_or_silent_is_one_line(address, said, monkeypatch):
     """Ray raised a ValueError traceback for a malformed address and retried a silent one
     for minutes; both are a one-line error naming --address, before Ray starts."""
-    pytest.importorskip("ray")
+    ray = pytest.importorskip("ray")
     from phav_generator.engines import ray_session
 
+    def init(**options):
+        raise AssertionError("ray.init was called")
+
+    monkeypatch.setattr(ray, "is_initialized", lambda: False)  # another test's Ray may be up
+    monkeypatch.setattr(ray, "init", init)
     with pytest.raises(PhavUserError, match=said) as caught, ray_session(2, address):
         pass
     assert caught.value.field == "--address" and caught.value.source == address
