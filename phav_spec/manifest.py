@@ -92,8 +92,8 @@ class RendererFingerprint(BaseModel):
     #: Package versions, e.g. ``{"phav": ..., "numpy": ..., "mujoco": ..., "moderngl": ...}``.
     versions: dict[str, str]
     #: The environment's settings that change the GL driver's code without changing its
-    #: strings (llvmpipe's ``GALLIVM_*`` and ``LP_*`` variables), ``NAME=value`` joined by
-    #: ``;``, sorted; empty: none set. Version 3 on (earlier: not recorded, read as none).
+    #: strings (llvmpipe's ``GALLIVM_*``, ``LP_*`` and ``GALLIUM_*`` variables), ``NAME=value``
+    #: joined by ``;``, sorted; empty: none set. Version 3 on (earlier: not recorded, read as none).
     gl_settings: str | None = None
     #: What only the files' bytes depend on, not their pixels: the PNG encoder (OpenCV and
     #: its zlib and libpng) and the Parquet writer (pyarrow). Version 3 on.
