@@ -138,7 +138,12 @@ def people_series(table: pa.Table, source: str = "people.parquet") -> dict[str, 
     pids = tables.numbers(table, "person_id", source, key=True)
     roles = tables.keys(table, "role", source)
     joints = tables.fixed_lists(table, "joints3d", 39, source).reshape(-1, 13, 3)
-    pinned = tables.fixed_lists(table, "pin_weight", 15, source)[:, 0] >= 0.5
+    weights = tables.fixed_lists(table, "pin_weight", 15, source)
+    unknown = ~np.isfinite(weights).all(axis=1)
+    if unknown.any():  # NaN ≥ 0.5 is False: read as released, the pinned measures went unjudged
+        raise PhavUserError(f"{int(unknown.sum())} rows with a weight that is not a number", source=source,
+                            field="pin_weight")  # fmt: skip
+    pinned = weights[:, 0] >= 0.5
     out: dict[str, list[PersonSeries]] = {}
     for rows in _runs((frames, pids, vids)):
         i0 = rows[0]

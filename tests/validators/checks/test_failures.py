@@ -209,6 +209,8 @@ def test_a_null_pose_row_is_a_broken_pose_of_its_own_video_alone(small_dataset):
         (lambda p, c: (p.drop_columns(["joints3d"]), c), "people.parquet: joints3d: no such column"),
         (lambda p, c: (_with(p, "pin_weight", [1.0] * len(p), pa.float64()), c),
          "people.parquet: pin_weight: double, not a list of 15 numbers"),
+        (lambda p, c: (_with(p, "pin_weight", [[float("nan")] * 15, *p.column("pin_weight").to_pylist()[1:]]), c),
+         "people.parquet: pin_weight: 1 rows with a weight that is not a number"),
         (lambda p, c: (p, _with(c, "cam_to_world", [[0.0] * 12] * len(c), pa.list_(pa.float64()))),
          "cameras.parquet: cam_to_world: rows of 12 values, not 16"),
         (lambda p, c: (p, _with(c, "fx", ["wide"] * len(c), pa.string())),
