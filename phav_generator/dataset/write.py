@@ -270,8 +270,9 @@ def _check_one_renderer(out: Path, what: str, records: Sequence[dict[str, Any]])
 
 
 def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
-    """Refuse to resume a run that another phav or package set began (its finished videos'
-    code and versions against this process's): the rest would be made otherwise."""
+    """Refuse to resume a run that another phav, package set or llvmpipe setting began (its
+    finished videos' code, versions, encoders and GL settings against this process's): the
+    rest would be made otherwise."""
     here: dict[str, RendererFingerprint] = {}
     seen: set[str] = set()
     for record in records:
@@ -286,11 +287,12 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
             if gl not in here:
                 here[gl] = renderer_fingerprint(record["gl"])
             theirs = RendererFingerprint.model_validate(record["renderer"])
-            differ = [k for k in theirs.differences(here[gl], "files") if k.startswith("versions.")]
+            differ = [k for k in theirs.differences(here[gl], "files")  # the packages, encoders and GL settings
+                      if k.startswith(("versions.", "files.")) or k == "gl_settings"]  # fmt: skip
         if differ:
             raise PhavUserError(
-                f"the run was begun by another phav or package set ({', '.join(differ)} differ); finish it with "
-                "the phav that began it, or delete the directory to start over",
+                f"the run was begun by another phav, package set or llvmpipe setting ({', '.join(differ)} differ); "
+                "finish it as it began, or delete the directory to start over",
                 source=str(out),
                 field=differ[0],
             )

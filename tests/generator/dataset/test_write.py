@@ -158,8 +158,16 @@ def test_a_run_begun_by_other_code_or_packages_is_not_resumed(small_recipes, sma
     assert entry["record"]["renderer"] == renderer_fingerprint(entry["record"]["gl"]).model_dump(mode="json")
     entry["record"]["renderer"]["versions"]["phav-source"] = "0" * 64
     journal.write_text(json.dumps(entry) + "\n")
-    with pytest.raises(PhavUserError, match=r"another phav or package set \(versions.phav-source differ\)"):
+    begun_by = r"the run was begun by another phav, package set or llvmpipe setting"
+    with pytest.raises(PhavUserError, match=rf"{begun_by} \(versions.phav-source differ\)"):
         write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
+    made = renderer_fingerprint(entry["record"]["gl"]).model_dump(mode="json")
+    for key, value, said in (("file_versions", {**made["file_versions"], "opencv": "4.0.0"}, "files.opencv"),
+                             ("gl_settings", "GALLIVM_PERF=brilinear", "gl_settings")):  # fmt: skip
+        entry["record"]["renderer"] = {**made, key: value}  # another encoder, another llvmpipe setting
+        journal.write_text(json.dumps(entry) + "\n")
+        with pytest.raises(PhavUserError, match=rf"{begun_by} \({said} differ\)"):
+            write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
     del entry["record"]["renderer"]
     journal.write_text(json.dumps(entry) + "\n")
     with pytest.raises(PhavUserError, match=r"\(renderer differ\)"):
