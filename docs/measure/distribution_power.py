@@ -10,8 +10,8 @@ Skew 0 measures the false-alarm rate. No rendering is needed.
 
 from __future__ import annotations
 
+import argparse
 import copy
-import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -41,17 +41,33 @@ def run(args: tuple[float, int]) -> tuple[float, int, bool, bool]:
     return skew, rep, any(f.message.startswith("weather") for f in mismatches), bool(mismatches)
 
 
+def skew_list(text: str) -> list[float]:
+    """``0,1,2``: the skews in percentage points, each in [0, 75)."""
+    try:
+        skews = [float(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"comma-separated numbers, as in 0,1,2; got {text!r}") from None
+    if not skews or not all(0.0 <= s < 75.0 for s in skews):
+        raise argparse.ArgumentTypeError(f"skews in [0, 75) percentage points; got {text!r}")
+    return skews
+
+
 def main() -> None:
-    skews = [float(s) for s in sys.argv[1].split(",")]
-    reps = int(sys.argv[2])
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("skews", type=skew_list, help="comma-separated skews of θ_W onto clear (pp), e.g. 0,1,2")
+    parser.add_argument("replicates", type=int, help="seeded recipe tables per skew")
+    args = parser.parse_args()
+    if args.replicates < 1:
+        parser.error("replicates: at least 1")
     start = time.time()
     with ProcessPoolExecutor(2) as pool:
-        out = list(pool.map(run, [(s, r) for s in skews for r in range(reps)]))
-    print("| skew of θ_W (pp) | weather rejected | any test rejected |")
-    print("| ---: | ---: | ---: |")
-    for s in skews:
-        rows = [o for o in out if o[0] == s]
-        print(f"| {s:g} | {sum(o[2] for o in rows)}/{len(rows)} | {sum(o[3] for o in rows)}/{len(rows)} |")
+        out = list(pool.map(run, [(s, r) for s in args.skews for r in range(args.replicates)]))
+    share = {s: [o for o in out if o[0] == s] for s in args.skews}
+    print("| skew of θ_W (pp) | " + " | ".join(f"{s:g}" for s in args.skews) + " |")
+    print("| --- |" + " ---: |" * len(args.skews))
+    for label, column in (("weather test rejects", 2), ("any test rejects", 3)):
+        cells = " | ".join(f"{100 * sum(o[column] for o in rows) / len(rows):.0f} %" for rows in share.values())
+        print(f"| {label} | {cells} |")
     print(f"\n{len(out)} runs of {N_VIDEOS} recipes in {time.time() - start:.0f} s")
 
 

@@ -64,6 +64,8 @@ def main() -> None:
             shown.append((recipe, trajectory, sorted({max(0, f - SIDE), f, min(last, f + SIDE)})))
         print(f"\r{k + 1}/{len(recipes)} videos looked at, {len(shown)} with a bus", end="", file=sys.stderr)
     print(file=sys.stderr)
+    if not shown:  # nothing to judge: say so, not a row of NaNs per livery
+        raise SystemExit(f"none of the first {args.videos} recipes' urban videos shows a bus; give more --videos")
     judges = load_judges().segmenters
     city, voc = judges["cityscapes"], judges["pascal_voc"]
     print(f"{len(shown)} videos: {', '.join(r.video_id for r, _, _ in shown)}\n")

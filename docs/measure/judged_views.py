@@ -76,13 +76,13 @@ def table(views: dict[str, Counter]) -> str:
     total = Counter()
     for c in views.values():
         total.update(c)
-    head = "| view | objects | pixels (share) | " + " | ".join(f"{j} recall" for j in judges) + " |"
+    head = "| " + " | ".join(["view", "objects", "pixels (share)", *(f"{j} recall" for j in judges)]) + " |"
     lines = [head, "| --- | ---: | ---: |" + " ---: |" * len(judges)]
     order = [f"{cut}, {band}" for cut in ("whole", "cut by the edge") for _, band in _BANDS]
     for name, c in [*sorted(views.items(), key=lambda kv: order.index(kv[0])), ("all", total)]:
         recalls = [f"{c[f'named:{j}'] / c[f'seen:{j}']:.2f}" if c[f"seen:{j}"] else "—" for j in judges]
         share = c["pixels"] / max(total["pixels"], 1)
-        lines.append(f"| {name} | {c['objects']} | {c['pixels']:,} ({share:.2f}) | " + " | ".join(recalls) + " |")
+        lines.append("| " + " | ".join([name, str(c["objects"]), f"{c['pixels']:,} ({share:.2f})", *recalls]) + " |")
     return "\n".join(lines)
 
 

@@ -52,7 +52,7 @@ def main(heights: list[int]) -> None:
     height = rest_body(PHENOTYPE).dims.height_m
     ground = np.eye(4)
     print("| height on screen (px) | level | triangles | labelled pass (ms/frame) | mask IoU vs full "
-          "| mean abs RGB diff |")  # fmt: skip
+          "| mean abs raw-RGB diff |")  # fmt: skip
     print("| ---: | ---: | ---: | ---: | ---: | ---: |")
     for px in heights:
         distance = F * height / px

@@ -38,6 +38,12 @@ def table(title: str, rows: list[tuple[str, str]], runs: dict[str, dict]) -> lis
     return out
 
 
+def _show(lines: list[str]) -> None:
+    """A table, unless it has no rows (no figure of its kind in any report)."""
+    if len(lines) > 2:
+        print("\n".join(lines) + "\n")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", nargs="+", help="name=report.json")
@@ -55,28 +61,28 @@ def main() -> None:
         rows += [(f"{label.split(':')[0]} — found", f"person_found|{group}"),
                  (f"{label.split(':')[0]} — PCK 0.2", f"person_pck_0.2|{group}"),
                  (f"{label.split(':')[0]} — left/right swapped", f"person_swap|{group}")]  # fmt: skip
-    print("\n".join(table("people (view)", rows, runs)) + "\n")
+    _show(table("people (view)", rows, runs))
     for judge in ("pascal_voc", "cityscapes"):
         ours = sorted({k.split("|")[2] for r in runs.values() for k in r["figures"] if k.startswith(f"iou|{judge}|")})
         rows = [(c, f"iou|{judge}|{c}|all") for c in ours]
-        print("\n".join(table(f"{judge}: IoU of our class", rows, runs)) + "\n")
+        _show(table(f"{judge}: IoU of our class", rows, runs))
     # The street model per weather, day phase and in fair daylight, the light it was trained in.
     groups = sorted({k.split("|")[1] for r in runs.values() for k in r["figures"] if k.startswith("cityscapes_miou|")})
     rows = [(g, f"cityscapes_miou|{g}") for g in groups]
     rows += [(f"light=fair_day: IoU of {m}", f"class_iou|cityscapes|{m}|light=fair_day")
              for m in ("road", "building", "vegetation", "terrain", "car", "sky", "person")]  # fmt: skip
-    print("\n".join(table("cityscapes: mIoU by conditions", rows, runs)) + "\n")
+    _show(table("cityscapes: mIoU by conditions", rows, runs))
     # Per environment and per action (where at least MIN_VIDEOS videos were judged).
     for judge, c in (("pascal_voc", "person"), ("cityscapes", "person"), ("cityscapes", "road"),
                      ("cityscapes", "building"), ("cityscapes", "terrain")):  # fmt: skip
         envs = sorted({k.split("|")[3] for r in runs.values() for k in r["figures"]
                        if k.startswith(f"iou|{judge}|{c}|environment=")})  # fmt: skip
         rows = [(e.removeprefix("environment="), f"iou|{judge}|{c}|{e}") for e in envs]
-        print("\n".join(table(f"{judge}: IoU of {c}, by environment", rows, runs)) + "\n")
+        _show(table(f"{judge}: IoU of {c}, by environment", rows, runs))
     actions = sorted({k.split("|")[1] for r in runs.values() for k, f in r["figures"].items()
                       if k.startswith("person_pck_0.2|action=") and f["videos"] >= MIN_VIDEOS})  # fmt: skip
     rows = [(a.removeprefix("action="), f"person_pck_0.2|{a}") for a in actions]
-    print("\n".join(table(f"PCK 0.2 by action (at least {MIN_VIDEOS} videos)", rows, runs)) + "\n")
+    _show(table(f"PCK 0.2 by action (at least {MIN_VIDEOS} videos)", rows, runs))
 
 
 if __name__ == "__main__":
