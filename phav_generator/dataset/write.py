@@ -36,7 +36,7 @@ from phav_generator.dataset.fingerprint import (
     renderer_fingerprint,
     source_sha256,
 )
-from phav_generator.dataset.journal import JOURNAL_FILE, Journal, check_run
+from phav_generator.dataset.journal import JOURNAL_FILE, RUN_FILE, Journal, check_run
 from phav_generator.dataset.lock import exclusive, remove_stale_temporaries
 from phav_generator.engines import Progress, check_engine, run_tasks
 from phav_generator.faults import crash_point
@@ -94,6 +94,12 @@ class DatasetResult:
     resumed_videos: int = 0
     #: The directory held this run finished already: nothing was written.
     already_finished: bool = False
+
+    @classmethod
+    def finished_before(cls, manifest: DatasetManifest) -> DatasetResult:
+        """The run found finished in its directory: every shard and video resumed."""
+        return cls(manifest, rendered_shards=0, resumed_shards=len(manifest.shards),
+                   resumed_videos=len(manifest.videos), already_finished=True)  # fmt: skip
 
 
 class _Run:
@@ -226,13 +232,17 @@ def write_dataset(
              for n, recipes in zip(names, shards, strict=True) for r in recipes]  # fmt: skip
     work = out / WORK_DIR
     shutil.rmtree(out / DONE_DIR, ignore_errors=True)  # a finished run's work folder a kill left
-    finished = _finished(out, names, tasks, gl, name=name, theta=theta, dataset_seed=dataset_seed)
-    if finished is not None:
-        return DatasetResult(finished, rendered_shards=0, resumed_shards=len(names), resumed_videos=len(tasks),
-                             already_finished=True)  # fmt: skip
+    look = functools.partial(_finished, out, names, tasks, gl, name=name, theta=theta, dataset_seed=dataset_seed)
+    if (finished := look()) is not None:
+        return DatasetResult.finished_before(finished)
     try:
-        (work / PARTS_DIR).mkdir(parents=True, exist_ok=True)
         with exclusive(work):
+            # A run that held the lock may have finished since the look above (its work folder
+            # moved away, this one new): look again, as the lock's holder.
+            if not (work / RUN_FILE).exists() and (finished := look(locked=True)) is not None:
+                shutil.rmtree(work, ignore_errors=True)
+                return DatasetResult.finished_before(finished)
+            (work / PARTS_DIR).mkdir(exist_ok=True)
             remove_stale_temporaries(out, work, work / PARTS_DIR)
             return _write_locked(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
                                  workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
@@ -299,13 +309,14 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
 
 
 def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, name: str, theta: Theta | None,
-              dataset_seed: int) -> DatasetManifest | None:  # fmt: skip
+              dataset_seed: int, locked: bool = False) -> DatasetManifest | None:  # fmt: skip
     """The manifest of this very run if ``out`` holds it finished (every shard in place at
     its size, and its tables), None if ``out`` holds no finished run or one short of a shard
     or a table (rendered again: the tables are joined from the videos' parts, deleted once
     finished). A finished run with other settings is refused: running over it would replace
-    another dataset's files."""
-    if not (out / "manifest.json").is_file() or (out / WORK_DIR).exists():
+    another dataset's files. A work folder means the run is unfinished, unless ``locked``:
+    the caller holds the lock of a work folder it has just made."""
+    if not (out / "manifest.json").is_file() or (not locked and (out / WORK_DIR).exists()):
         return None
     manifest = load_manifest(out / "manifest.json")
     tables = ["recipes.parquet", "cameras.parquet", "people.parquet", *(["theta.yaml"] if theta is not None else [])]

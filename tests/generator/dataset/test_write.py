@@ -242,6 +242,58 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(smal
     assert not remade.already_finished and file_bytes(out) == before
 
 
+def test_a_run_another_finished_before_the_lock_is_not_made_again(monkeypatch, small_dataset_copy, small_recipes,
+                                                                   small_theta):  # fmt: skip
+    """The look for a finished run comes before the lock: another run may finish in between
+    (its work folder moved away). Looked at again under the lock, the run is found finished
+    and nothing is rendered; one with other settings is refused, its files left as they were."""
+    out = small_dataset_copy
+    shards = chunk(small_recipes, SMALL_SHARD_SIZE)
+    before = file_bytes(out)
+    looked = write_module._finished
+    looks: list[bool] = []
+
+    def first_look_unfinished(*args, locked=False, **kwargs):  # as when the other run still held its folder
+        looks.append(locked)
+        return None if not locked else looked(*args, locked=locked, **kwargs)
+
+    monkeypatch.setattr(write_module, "_finished", first_look_unfinished)
+    monkeypatch.setattr(write_module, "run_tasks", lambda *a, **k: pytest.fail("a finished run was rendered again"))
+    again = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert again.already_finished and again.resumed_videos == len(small_recipes) and looks == [False, True]
+    assert file_bytes(out) == before and not (out / WORK_DIR).exists()
+    with pytest.raises(PhavUserError, match=r"finished dataset with other settings \(dataset_seed differ\)"):
+        write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED + 1)
+    assert file_bytes(out) == before
+
+
+def test_the_lock_of_a_work_folder_moved_away_meanwhile_is_not_kept(monkeypatch, tmp_path):
+    """A finishing run moves its work folder away, then lets its lock go: a run that opened
+    that lock file before the move takes the lock of the folder now at the path instead, so
+    two runs never both hold "the" lock."""
+    import fcntl
+
+    from phav_generator.dataset import lock
+
+    work = tmp_path / WORK_DIR
+    flock = fcntl.flock
+    moves = []
+
+    def finish_meanwhile(fh, op):  # the other run finishes between this run's open and its lock
+        if not moves:
+            moves.append(work.rename(tmp_path / DONE_DIR))
+        flock(fh, op)
+
+    monkeypatch.setattr(lock.fcntl, "flock", finish_meanwhile)
+    with lock.exclusive(work):
+        assert moves and (work / lock.LOCK_FILE).is_file()
+        with open(work / lock.LOCK_FILE, "a+b") as other, pytest.raises(BlockingIOError):
+            flock(other, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    monkeypatch.setattr(lock.fcntl, "flock", flock)
+    with lock.exclusive(work), pytest.raises(PhavUserError, match="another run is writing"), lock.exclusive(work):
+        pass
+
+
 def test_a_video_rendered_while_the_body_data_changed_is_refused(monkeypatch, tmp_path):
     """The record names the body data the fingerprint reads after the video: were it rebuilt
     meanwhile, the record would name data the people were not made of."""
