@@ -153,10 +153,32 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
                 "a worker process died (killed, or out of memory); finished videos are kept, rerun to resume",
                 source=str(out),
             ) from None
+        except BaseException:
+            # Stopped here (Ctrl-C, SIGTERM, a failed task): the pool lets the tasks under way
+            # finish before it shuts down, so hand on those that do; a resume need not redo them.
+            _finish_under_way(futures, pending, finished)
+            raise
         finally:
             for fut in pending:
                 fut.cancel()
         _drain(events, progress)
+
+
+def _finish_under_way(futures: dict[Future, int], pending: set[Future],
+                      finished: Callable[[dict[str, Any]], None]) -> None:  # fmt: skip
+    """Cancel the tasks not begun, wait for those under way and hand on each that succeeds,
+    in task order. Best effort while the run stops: a task that fails, or a record that
+    cannot be handed on, is left for the resume to redo."""
+    for fut in pending:
+        fut.cancel()
+    done, _ = wait(pending)
+    for fut in sorted(done, key=lambda f: futures[f]):
+        if fut.cancelled() or fut.exception() is not None:
+            continue
+        try:
+            finished(fut.result())
+        except Exception:  # the stop's own exception is the one to raise
+            continue
 
 
 def _drain(events: Any, progress: Progress | None) -> None:
