@@ -4,6 +4,7 @@ scene geometry; every injected case is caught, and known false alarms are not ra
 from __future__ import annotations
 
 import dataclasses
+from types import SimpleNamespace
 
 import numpy as np
 import pyarrow as pa
@@ -19,6 +20,8 @@ from phav_validators.checks.failures import (
     BoxSet,
     CameraSeries,
     PersonSeries,
+    Thresholds,
+    _camera_in_geometry,
     base_motion_joints,
     camera_series,
     check_failures,
@@ -170,6 +173,36 @@ def test_a_parked_car_is_its_hulls_to_the_penetration_tests():
     a, b = above_hood - 2.0 * across, above_hood + 2.0 * across
     low_a, low_b = in_body - 2.0 * across, in_body + 2.0 * across
     assert list(box.crossed(np.stack([a, low_a]), np.stack([b, low_b]))) == [-1, 0]
+
+
+def test_a_point_at_the_seam_of_a_cars_hulls_is_as_deep_as_the_car_around_it():
+    """A car is the union of its hulls: 1 cm under the belt, where the body meets the
+    greenhouse, mid-car, a point is inside the car by the way out nearest it (the floor, a
+    side), not 1 cm; 1 cm under the hood it is 1 cm deep; a camera there is in the car."""
+    from phav_spec.car_shapes import car_profile
+
+    car = next(c for c in ENVIRONMENT_SCENES["urban"].colliders if c.hulls)
+    outline = car_profile(car.model, car.half_size)
+    yaw = np.radians(car.yaw_deg)
+    forward = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+    centre = np.asarray(car.center)
+    mid_cabin = centre + 0.5 * (outline.windscreen + outline.rear_window) * forward
+    seam = [mid_cabin + np.array([0.0, 0.0, outline.belt + dz]) for dz in (-0.01, 0.01)]
+    hood_x = 0.5 * (outline.front + outline.windscreen)
+    hood = centre + hood_x * forward + np.array([0.0, 0.0, outline.hood_front - 0.01])
+    box = BoxSet([car])
+    depth, _ = box.depth_inside(np.stack([*seam, hood]))
+    below_belt = outline.belt - outline.bottom  # the floor under the seam, or the side beside it
+    assert depth[0] == pytest.approx(min(below_belt - 0.01, outline.side), abs=0.01)
+    assert depth[1] == pytest.approx(min(below_belt + 0.01, outline.side), abs=0.05)  # the glass leans in
+    body_alone = BoxSet([dataclasses.replace(car, hulls=car.hulls[:1])]).depth_inside(hood[None])[0][0]
+    assert 0 < depth[2] == pytest.approx(body_alone, abs=1e-9) and depth[2] < 0.03  # under the hood: its face
+    cams = CameraSeries(np.arange(2), np.stack([np.eye(4)] * 2), np.ones((2, 4)))
+    cams.poses[:, :3, 3] = seam
+    failed: list = []
+    recipe = SimpleNamespace(environment=SimpleNamespace(name="urban"))
+    _camera_in_geometry(recipe, cams, BoxSet([car]), Thresholds(), {}, lambda r, msg: failed.append(r))
+    assert failed == [Reason.CAMERA_IN_GEOMETRY]
 
 
 def _tables(small_dataset) -> tuple[dict, pa.Table, pa.Table]:
