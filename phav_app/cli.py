@@ -103,6 +103,8 @@ app.add_typer(body_app, name="body")
 app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
+#: A dataset's θ, written beside its recipes (``phav generate``).
+THETA_FILE = "theta.yaml"
 #: What `phav bench --sections` can run.
 BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "generation", "validation", "training", "realism")
 
@@ -291,7 +293,7 @@ def recipe_check(
         typer.Option(
             "--theta",
             help="The recipe's θ, to say whether the recipe is what θ and its seed give "
-            "(default: the shipped preset with its hash, if one has it).",
+            "(default: the shipped preset with its hash, or a theta.yaml with it beside the file).",
         ),
     ] = None,
 ) -> None:
@@ -303,10 +305,10 @@ def recipe_check(
         f"{file}: valid recipe {r.video_id} (schema {r.schema_version}): {r.action}, {r.environment.name}, "
         f"{r.world.weather}, {r.world.day_phase}, {r.camera.kind}, {r.variation.kind}, {r.n_frames} frames"
     )
-    th = load_theta(theta) if theta else _shipped_preset(r.theta_hash)
+    th = load_theta(theta) if theta else _known_theta(r.theta_hash, file)
     if th is None:
-        console.print(f"θ {r.theta_hash[:12]}… is no shipped preset: pass it with --theta to compare the recipe "
-                      "with what it gives")  # fmt: skip
+        console.print(f"θ {r.theta_hash[:12]}… is no shipped preset, nor a {THETA_FILE} beside the recipe: pass it "
+                      "with --theta to compare the recipe with what it gives")  # fmt: skip
         return
     try:
         sampler = drawn_sampler(r, th)
@@ -615,7 +617,8 @@ def vary(
         list[str], typer.Option("--set", help="NAME=VALUE, e.g. weather=fog, clock_hour=22, camera=static.")
     ],
     theta: Annotated[
-        str | None, typer.Option("--theta", help="The recipe's θ (default: the preset with its hash).")
+        str | None,
+        typer.Option("--theta", help="The recipe's θ (default: the preset with its hash, or a theta.yaml beside it)."),
     ] = None,
     out: Annotated[Path | None, typer.Option("--out", help="Where to write (default: <video_id>-varied.json).")] = None,
 ) -> None:
@@ -623,7 +626,7 @@ def vary(
 
     forced = parse_settings(settings)
     r = load_recipe(recipe_file)
-    chosen = load_theta(theta) if theta else _preset_for(r.theta_hash)
+    chosen = load_theta(theta) if theta else _preset_for(r.theta_hash, recipe_file)
     try:
         varied = vary_recipe(r, chosen, forced)
     except PhavUserError as e:  # about this recipe (not a --set value): name its file
@@ -638,22 +641,22 @@ def vary(
     console.print(f"wrote {escape(str(target))}: changed {escape(', '.join(changed) or 'nothing')}")
 
 
-def _preset_for(theta_hash: str) -> Theta:
-    """The shipped preset whose hash a recipe records."""
+def _preset_for(theta_hash: str, recipe_file: Path) -> Theta:
+    """The θ a recipe records by its hash: a shipped preset, or the ``theta.yaml`` beside it."""
 
-    th = _shipped_preset(theta_hash)
+    th = _known_theta(theta_hash, recipe_file)
     if th is None:
-        raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…; pass the recipe's θ with --theta",
-                            field="--theta")  # fmt: skip
+        raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…, nor a {THETA_FILE} beside the recipe; "
+                            "pass the recipe's θ with --theta", field="--theta")  # fmt: skip
     return th
 
 
-def _shipped_preset(theta_hash: str) -> Theta | None:
-    """The shipped preset with this θ hash, if one has it."""
+def _known_theta(theta_hash: str, recipe_file: Path) -> Theta | None:
+    """The shipped preset with this θ hash, else the ``theta.yaml`` beside ``recipe_file`` if
+    it has it (a dataset's θ, where its recipes were saved), else None."""
 
-    for path in sorted(PRESETS_DIR.glob("*.yaml")):
-        th = load_theta(path)
-        if th.hash == theta_hash:
+    for path in [*sorted(PRESETS_DIR.glob("*.yaml")), recipe_file.parent / THETA_FILE]:
+        if path.is_file() and (th := load_theta(path)).hash == theta_hash:
             return th
     return None
 

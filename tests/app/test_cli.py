@@ -96,6 +96,25 @@ def test_recipe_show_and_check_round_trip(tmp_path):
     assert missing.returncode == 2 and "no video 'v000099'" in missing.stderr
 
 
+def test_recipe_check_and_vary_find_a_datasets_theta_beside_the_recipe(small_theta, small_recipes, tmp_path):
+    """A θ that is no shipped preset (the tests' tiny one): the recipe check and vary take it
+    from the theta.yaml beside the recipe when its hash is the recipe's, as a dataset's
+    directory holds it; without it they ask for --theta."""
+    path = tmp_path / "v000000.json"
+    path.write_text(small_recipes[0].model_dump_json(), encoding="utf-8")
+    alone = invoke_cli("recipe", "check", str(path))
+    assert alone.returncode == 0 and "pass it with --theta" in alone.stdout
+    refused = invoke_cli("vary", str(path), "--set", "weather=fog", "--out", str(tmp_path / "o.json"))
+    assert refused.returncode == 2 and "nor a theta.yaml beside the recipe" in refused.stderr
+    (tmp_path / "theta.yaml").write_text(small_theta.to_yaml(), encoding="utf-8")
+    checked = invoke_cli("recipe", "check", str(path))
+    assert checked.returncode == 0 and f"what θ {small_theta.name} at seed" in checked.stdout, checked.stdout
+    varied = invoke_cli("vary", str(path), "--set", "weather=fog", "--out", str(tmp_path / "o.json"))
+    assert varied.returncode == 0 and (tmp_path / "o.json").is_file()
+    (tmp_path / "theta.yaml").write_text(load_preset("phav-v1-short").to_yaml(), encoding="utf-8")  # another θ
+    assert "pass it with --theta" in invoke_cli("recipe", "check", str(path)).stdout
+
+
 def test_bad_recipes_on_the_command_line(tmp_path):
     table = tmp_path / "r.parquet"
     assert invoke_cli("sample", "--n", "1", "--out", str(table)).returncode == 0
