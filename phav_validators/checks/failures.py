@@ -15,6 +15,7 @@ rather than a failure case and always fail.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -170,6 +171,7 @@ class BoxSet:
 
     def __init__(self, colliders: Sequence[Collider], ground_z: float = -np.inf):
         self.colliders = tuple(colliders)
+        self.ground_z = ground_z
         self.center = np.array([c.center for c in colliders], dtype=float).reshape(-1, 3)
         self.half = np.array([c.half_size for c in colliders], dtype=float).reshape(-1, 3)
         # A box standing on the ground (a raised plaza, a bank, a step) is solid down to it
@@ -184,6 +186,19 @@ class BoxSet:
         # Each hull as its faces' planes (n, d) in its box's frame: n·p + d ≤ 0 inside.
         self.planes = {i: [ConvexHull(np.asarray(h)).equations for h in c.hulls]
                        for i, c in enumerate(colliders) if c.hulls}  # fmt: skip
+
+    def plus(self, extra: Sequence[Collider]) -> BoxSet:
+        """These boxes and ``extra`` after them, on the same ground: these boxes' arrays and
+        hulls' planes are reused, not computed again (an action's few boxes beside an
+        environment's many, per video)."""
+        more = BoxSet(extra, self.ground_z)
+        both = copy.copy(self)
+        both.colliders = self.colliders + more.colliders
+        for name in ("center", "half", "grounded", "cos", "sin"):
+            setattr(both, name, np.concatenate([getattr(self, name), getattr(more, name)]))
+        n = len(self.colliders)
+        both.planes = {**self.planes, **{n + i: e for i, e in more.planes.items()}}
+        return both
 
     def local(self, points: np.ndarray) -> np.ndarray:
         """Points (..., 3) in every box's frame: (..., B, 3)."""
@@ -318,9 +333,8 @@ def clip_boxes(recipe: Recipe, plan: ScenePlan | None = None) -> BoxSet:
     built = (plan if plan is not None else plan_scene(recipe)).boxes
     if not built:
         return boxes(recipe.environment.name)
-    scene = ENVIRONMENT_SCENES[recipe.environment.name]
-    own = [Collider(b.pixel_class, b.center, b.half_size, b.yaw_deg) for b in built]
-    return BoxSet((*scene.colliders, *own), scene.ground_z)
+    return boxes(recipe.environment.name).plus([Collider(b.pixel_class, b.center, b.half_size, b.yaw_deg)
+                                                for b in built])  # fmt: skip
 
 
 def _project(joints: np.ndarray, cams: CameraSeries, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -205,6 +205,24 @@ def test_a_point_at_the_seam_of_a_cars_hulls_is_as_deep_as_the_car_around_it():
     assert failed == [Reason.CAMERA_IN_GEOMETRY]
 
 
+def test_an_environments_boxes_plus_an_actions_are_the_boxes_made_whole():
+    """``BoxSet.plus`` reuses the environment's arrays and its cars' hulls: a point is as deep
+    in, and a segment crosses, the same box as in the set made from every collider at once."""
+    from phav_spec.scene import Collider
+
+    scene = ENVIRONMENT_SCENES["urban"]
+    own = [Collider("chair", (1.0, 2.0, 0.45), (0.25, 0.25, 0.45), 30.0), Collider("door", (-3.0, 0.5, 1.0),
+                                                                                  (0.1, 2.0, 1.0), 0.0)]  # fmt: skip
+    plus = BoxSet(scene.colliders, scene.ground_z).plus(own)
+    whole = BoxSet((*scene.colliders, *own), scene.ground_z)
+    centres = np.array([c.center for c in (*own, *(c for c in scene.colliders if c.hulls))])  # the new boxes, the cars
+    points = (centres[None] + np.random.default_rng(0).normal(0.0, 0.6, (40, *centres.shape))).reshape(-1, 3)
+    for a, b in zip(plus.depth_inside(points), whole.depth_inside(points), strict=True):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(plus.crossed(points[:-1], points[1:]), whole.crossed(points[:-1], points[1:]))
+    assert (plus.depth_inside(points)[0] > 0).sum() > 10 and plus.colliders == whole.colliders
+
+
 def _tables(small_dataset) -> tuple[dict, pa.Table, pa.Table]:
     recipes = {r.video_id: r for r in read_recipe_table(small_dataset / "recipes.parquet").recipes()}
     return recipes, pq.read_table(small_dataset / "people.parquet"), pq.read_table(small_dataset / "cameras.parquet")
