@@ -85,7 +85,7 @@ from phav_validators.framing import read_framing
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
 from phav_validators.learn.train import RECOMMENDED, RGB_EPOCH_SHARE, default_threads, recommended_config
-from phav_validators.realism.check import HEADLINES
+from phav_validators.realism.check import HEADLINES, Figure
 
 app = typer.Typer(
     name="phav",
@@ -641,6 +641,13 @@ def vary(
     console.print(f"wrote {escape(str(target))}: changed {escape(', '.join(changed) or 'nothing')}")
 
 
+def _plus_minus(fig: Figure) -> str:
+    """A realism figure as value ± half its 95 % interval (none from one video)."""
+    if fig.low is None or fig.high is None:
+        return f"{fig.value:.3f} (one video)"
+    return f"{fig.value:.3f} ± {(fig.high - fig.low) / 2:.3f}"
+
+
 def _preset_for(theta_hash: str, recipe_file: Path) -> Theta:
     """The θ a recipe records by its hash: a shipped preset, or the ``theta.yaml`` beside it."""
 
@@ -845,7 +852,7 @@ def _bench_realism_table(*, data: Path | None, videos: int, frames: list[int], s
     for col in ("frames", "people", "seconds", "s/frame", *names):
         table.add_column(col, justify="right")
     for p in points:
-        cells = [f"{f.value:.3f} ± {(f.high - f.low) / 2:.3f}" if (f := p.figures.get(n)) else "" for n in names]
+        cells = [_plus_minus(f) if (f := p.figures.get(n)) else "" for n in names]
         table.add_row(str(p.frames), str(p.people), f"{p.seconds:.1f}", f"{p.seconds_per_frame:.2f}", *cells)
     console.print(table)
 

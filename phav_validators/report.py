@@ -216,7 +216,8 @@ def learnability_html(learn: LearnResult, root: Path) -> list[str]:
 def _figure_cell(fig: Any) -> str:
     if fig is None:
         return "<td></td>"
-    return f"<td>{fig.value:.2f} <small>({fig.low:.2f}–{fig.high:.2f}; n {fig.count:,.0f})</small></td>"
+    interval = "one video" if fig.low is None else f"{fig.low:.2f}–{fig.high:.2f}"
+    return f"<td>{fig.value:.2f} <small>({interval}; n {fig.count:,.0f})</small></td>"
 
 
 def realism_html(result: RealismResult) -> list[str]:
@@ -257,7 +258,7 @@ def realism_html(result: RealismResult) -> list[str]:
         out.append("</table>")
     if fig("cityscapes_miou") is not None:
         m = fig("cityscapes_miou")
-        out.append(f"<p>Cityscapes mIoU over its classes present: {m.value:.2f} ({m.low:.2f}–{m.high:.2f}).")
+        out.append(f"<p>Cityscapes mIoU over its classes present: {m.said()}.")
         for kind in ("weather", "day_phase", "light"):
             parts = [f"{k.split('=')[1]} {result.figures[k].value:.2f}" for k in sorted(result.figures)
                      if k.startswith(f"cityscapes_miou|{kind}=")]  # fmt: skip

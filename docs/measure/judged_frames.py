@@ -63,8 +63,9 @@ def main() -> None:
     out: dict[str, dict[str, float]] = {}
     for group in sorted({key.rsplit("|", 1)[1] for key in tally.parts}):
         miou = cityscapes_miou(tally, args.check_seed, group)
-        row = {} if miou is None else {"miou": round(miou.value, 3), "low": round(miou.low, 3),
-                                       "high": round(miou.high, 3), "videos": miou.videos}  # fmt: skip
+        row = {} if miou is None else {"miou": round(miou.value, 3), "videos": miou.videos,
+                                       **({} if miou.low is None else {"low": round(miou.low, 3),
+                                                                       "high": round(miou.high, 3)})}  # fmt: skip
         for key in sorted(tally.present):
             judge, c = key.split("|")[1:3]
             if key.endswith(f"|{group}") and (key.startswith("class_iou|cityscapes|") or
@@ -74,7 +75,10 @@ def main() -> None:
             continue
         out[group] = row
         classes = " ".join(f"{c} {v:.2f}" for c, v in row.items() if c not in ("miou", "low", "high", "videos"))
-        head = f"mIoU {row['miou']:.3f} ({row['low']:.2f}–{row['high']:.2f}, {row['videos']} videos)" if miou else ""
+        head = ""
+        if miou is not None:
+            spread = "one video" if miou.low is None else f"{miou.low:.2f}–{miou.high:.2f}, {miou.videos} videos"
+            head = f"mIoU {miou.value:.3f} ({spread})"
         print(f"{group:26s} {head}  {classes}")
     if args.json:
         args.json.write_text(json.dumps({"forced": parse_settings(args.set), "groups": out}, indent=1) + "\n")
@@ -99,10 +103,10 @@ def _judged(args: argparse.Namespace) -> Iterator[tuple[str, tuple[str, ...], np
                  f"hour={int(world.clock_hour):02d}")  # fmt: skip
         judges = (*(() if indoor[recipe.video_id] else ("cityscapes",)), *(("pascal_voc",) if args.voc else ()))
         trajectory = simulate(recipe, keep_state=False)
-        last = recipe.n_frames - 1
         with inputs_renderer(scene_inputs(recipe, trajectory), ctx) as renderer:
             for f in chosen[recipe.video_id]:
-                frame = renderer.render(f, trajectory.cam_to_world[f], trajectory.cam_to_world[min(f + 1, last)],
+                # The trajectory holds one camera pose past the last frame, as render_video reads it.
+                frame = renderer.render(f, trajectory.cam_to_world[f], trajectory.cam_to_world[f + 1],
                                         trajectory.intrinsics)  # fmt: skip
                 encoded = encode_frame(frame)
                 rgb = np.ascontiguousarray(encoded["rgb"])

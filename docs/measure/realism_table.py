@@ -24,6 +24,8 @@ def realism_numbers(path: Path) -> dict:
 def cell(fig: dict | None) -> str:
     if fig is None:
         return "—"
+    if fig["ci95"] is None:  # from one video
+        return f"{fig['value']:.2f} (one video)"
     low, high = fig["ci95"]
     return f"{fig['value']:.2f} ({low:.2f}–{high:.2f})"
 

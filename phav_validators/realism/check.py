@@ -10,8 +10,9 @@ one video are not independent). A figure never fails a dataset unless a minimum 
 
 from __future__ import annotations
 
+import hashlib
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -37,7 +38,7 @@ _MIRROR = {n: n.replace("left", "right") if n.startswith("left") else n.replace(
            for n in BLAZEPOSE_JOINTS}  # fmt: skip
 #: Camera views of a person: the angle between where it faces and where the camera is.
 VIEWS = ("front", "side", "back")
-#: A group (an action, an environment) is shown apart from at least this many videos.
+#: An action's figures are shown from at least this many videos (35 actions share a sample).
 MIN_VIDEOS = 5
 #: Bootstrap resamples of the videos for each interval.
 RESAMPLES = 1000
@@ -65,14 +66,30 @@ class Figure:
     """A ratio of sums over videos, its 95 % bootstrap interval and what it counts."""
 
     value: float
-    low: float
-    high: float
+    low: float | None  # None from one video: a bootstrap of one is no interval
+    high: float | None
     count: float
     videos: int
 
     def to_json(self) -> dict[str, Any]:
-        return {"value": round(self.value, 4), "ci95": [round(self.low, 4), round(self.high, 4)],
-                "count": round(self.count, 3), "videos": self.videos}  # fmt: skip
+        ci = None if self.low is None or self.high is None else [round(self.low, 4), round(self.high, 4)]
+        return {"value": round(self.value, 4), "ci95": ci, "count": round(self.count, 3), "videos": self.videos}
+
+    def said(self) -> str:
+        """The value and its interval in words: ``0.36 (0.32–0.41)``, or ``0.36 (one video)``."""
+        if self.low is None or self.high is None:
+            return f"{self.value:.2f} (one video)"
+        return f"{self.value:.2f} ({self.low:.2f}–{self.high:.2f})"
+
+
+def _resamples(seed: int, videos: Sequence[str]) -> np.ndarray | None:
+    """The bootstrap's resamples of ``videos`` (RESAMPLES × n indices), drawn once per set of
+    videos: figures over the same videos share them, so one ratio reported under two names
+    has one interval. None for a single video."""
+    if len(videos) < 2:
+        return None
+    key = hashlib.sha256("\n".join(videos).encode()).hexdigest()[:16]
+    return stream(seed, f"realism/bootstrap/{key}").integers(0, len(videos), (RESAMPLES, len(videos)))
 
 
 class Tally:
@@ -107,10 +124,13 @@ class Tally:
         num = np.array([cells[v][0] for v in videos])
         den = np.array([cells[v][1] for v in videos])
         shown = np.array([v in self.shown.get(key, ()) for v in videos])
-        draws = stream(seed, f"realism/bootstrap/{key}").integers(0, len(videos), (RESAMPLES, len(videos)))
+        value = float(num.sum() / den.sum())
+        draws = _resamples(seed, videos)
+        if draws is None:
+            return Figure(value, None, None, float(den.sum()), 1)
         ratios = num[draws].sum(axis=1) / np.maximum(den[draws].sum(axis=1), 1e-12)
         low, high = np.percentile(ratios[shown[draws].any(axis=1)], [2.5, 97.5])
-        return Figure(float(num.sum() / den.sum()), float(low), float(high), float(den.sum()), len(videos))
+        return Figure(value, float(low), float(high), float(den.sum()), len(videos))
 
     def figures(self, seed: int) -> dict[str, Figure]:
         return {k: f for k in sorted(self.parts) if (f := self.figure(k, seed)) is not None}
@@ -317,11 +337,12 @@ def cityscapes_miou(tally: Tally, seed: int, group: str = "all") -> Figure | Non
         kept = (d > 0) & shown[:, sel].any(axis=1)
         return float(np.mean(num[:, sel].sum(axis=1)[kept] / d[kept])) if kept.any() else math.nan
 
-    name = "cityscapes_miou" if group == "all" else f"cityscapes_miou|{group}"
-    draws = stream(seed, f"realism/bootstrap/{name}").integers(0, len(videos), (RESAMPLES, len(videos)))
-    boot = [mean_iou(d) for d in draws]
-    low, high = np.nanpercentile(boot, [2.5, 97.5])
-    return Figure(mean_iou(np.arange(len(videos))), float(low), float(high), float(len(keys)), len(videos))
+    value = mean_iou(np.arange(len(videos)))
+    draws = _resamples(seed, videos)
+    if draws is None:
+        return Figure(value, None, None, float(len(keys)), 1)
+    low, high = np.nanpercentile([mean_iou(d) for d in draws], [2.5, 97.5])
+    return Figure(value, float(low), float(high), float(len(keys)), len(videos))
 
 
 def run_realism(root: Path, opts: RealismOptions, *, progress: ProgressFactory | None = None) -> RealismResult:
@@ -393,7 +414,7 @@ def realism_check(result: RealismResult, opts: RealismOptions) -> CheckResult:
         elif fig.value < least:
             report.add(Finding(Reason.REALISM_BELOW_MIN, f"{name} {fig.value:.3f} below its minimum {least}",
                                numbers={"value": fig.value, "minimum": least}))  # fmt: skip
-    said = [f"{name} {fig.value:.2f} ({fig.low:.2f}–{fig.high:.2f})" for name, fig in headline.items() if fig]
+    said = [f"{name} {fig.said()}" for name, fig in headline.items() if fig]
     summary = (f"{result.frames} frames of {result.videos} videos, {result.people} people judged: "
                + ("; ".join(said) if said else "nothing to judge"))  # fmt: skip
     numbers = result.to_json()

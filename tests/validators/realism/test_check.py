@@ -105,6 +105,22 @@ def test_a_ratio_is_of_sums_over_videos_with_a_seeded_interval():
     assert tally.figure("x", seed=0) == fig and tally.figure("y", seed=0) is None
 
 
+def test_one_ratio_under_two_names_has_one_interval_and_one_video_has_none():
+    """The bootstrap draws once per set of videos: a judge class that is one of our classes
+    (`class_iou` and `iou` of terrain) gets one interval under both names. A figure from one
+    video has no interval: resampling one video gives it back every time."""
+    tally = Tally()
+    for video, (num, den) in {"a": (9, 10), "b": (1, 10), "c": (5, 5)}.items():
+        tally.add("class_iou|cityscapes|terrain|all", video, num, den)
+        tally.add("iou|cityscapes|terrain|all", video, num, den)
+    tally.add("iou|cityscapes|terrain|weather=fog", "a", 9, 10)
+    one, other = (tally.figure(f"{k}|cityscapes|terrain|all", seed=0) for k in ("class_iou", "iou"))
+    assert one == other and one.low < one.value < one.high
+    fog = tally.figure("iou|cityscapes|terrain|weather=fog", seed=0)
+    assert (fog.value, fog.low, fog.high, fog.videos) == (0.9, None, None, 1)
+    assert fog.to_json()["ci95"] is None and fog.said() == "0.90 (one video)"
+
+
 def test_a_class_s_interval_leaves_out_resamples_that_do_not_show_it():
     """One video of ten shows the class (named right on 8 of 10 pixels); the nine others
     give it only false answers: a resample without that video has no figure, not 0."""
@@ -281,4 +297,12 @@ def test_an_example_sheet_puts_what_a_judge_should_answer_beside_its_answer(judg
     expected = palette(voc)[expected_labels(ex["classes"], voc)]
     assert np.array_equal(sheet[:, 344:684], expected)
     assert np.array_equal(sheet[:, 688:1028], palette(voc)[ex["pascal_voc"]])
-    assert (expected == NOT_JUDGED).all(axis=-1).any()  # the scene around the objects is not judged
+    # VOC counts its answers on what it has no class for (the ground, the walls) against it:
+    # it should answer background there, where Cityscapes' benchmark voids such pixels.
+    from phav_spec.vocab import PIXEL_CLASSES
+
+    unjudged = ~np.isin(ex["classes"], [PIXEL_CLASSES[c].class_id for c in voc.judged_as])
+    assert unjudged.any() and not (expected == NOT_JUDGED).all(axis=-1).any()
+    assert (expected[unjudged] == palette(voc)[voc.label_id("background")]).all()
+    city = JUDGE_CLASSES["cityscapes"]
+    assert (palette(city)[expected_labels(np.array([PIXEL_CLASSES["chair"].class_id]), city)] == NOT_JUDGED).all()
