@@ -113,6 +113,7 @@ CITYSCAPES = JudgeClasses(
                 "unlabeled": "void",
                 "misc": "mixed objects (cups, bottles, boxes, carts, bars)",
                 "bench": "no Cityscapes class",
+                "stairs": "no one Cityscapes class: outdoor steps, and the stadium's stands (void, as bench)",
                 "guard_rail": "Cityscapes labels guard rails as their own class, left out of training (trainId 255)",
             },
             "no Cityscapes class (an indoor class or a prop)",

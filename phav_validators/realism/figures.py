@@ -42,8 +42,10 @@ def palette(judge: JudgeClasses) -> np.ndarray:
 
 
 def expected_labels(classes: np.ndarray, judge: JudgeClasses) -> np.ndarray:
-    """Our class ids → the judge's label each should get (len(labels): not judged)."""
-    lut = np.full(256, len(judge.labels), np.int64)
+    """Our class ids → the judge's label each should get (len(labels): void). Our classes a
+    judge has no class for are void where its benchmark leaves them out (Cityscapes), and its
+    background where an answer there counts against it (VOC)."""
+    lut = np.full(256, len(judge.labels) if judge.void_unjudged else judge.label_id("background"), np.int64)
     for name, info in PIXEL_CLASSES.items():
         if name in judge.judged_as:
             lut[info.class_id] = judge.label_id(judge.judged_as[name])
