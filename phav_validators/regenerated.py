@@ -46,9 +46,11 @@ MARKER = ".phav-regenerated.json"
 
 
 def _shards_to_build(plan: RegenerationPlan, opts: Options) -> list[int]:
-    """Indices of the plan's shards the checks read: those holding the sampled videos."""
+    """Indices of the plan's shards the checks read: those holding the sampled videos, or
+    every shard for the checks that sample the whole dataset themselves (learnability,
+    realism)."""
 
-    if opts.sample >= 1.0 or "learnability" in opts.checks:
+    if opts.sample >= 1.0 or "learnability" in opts.checks or "realism" in opts.checks:
         return list(range(len(plan.shards)))
     ids = [v.video_id for v in plan.expected.videos] if plan.expected is not None else []
     chosen = sample_videos(ids, opts.sample, opts.seed)

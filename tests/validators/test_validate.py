@@ -247,3 +247,20 @@ def test_report_files_that_cannot_be_written_are_refused_before_any_check(good, 
         assert "distribution" not in result.stdout  # no check ran
     result = invoke_cli("validate!", str(good), "--engine", "local", "--address", "10.0.0.1:6379")
     assert result.returncode == 2 and "--address: a Ray cluster address needs --engine ray" in result.stderr
+
+
+def test_a_recipe_only_release_regenerates_every_shard_for_the_checks_that_read_them_all():
+    """Learnability and realism sample the whole dataset themselves: with --sample below 1,
+    the shards rebuilt from a recipe-only release are all of them, not only those holding the
+    sampled videos (realism was then skipped, asking for the directory the user had named)."""
+    from types import SimpleNamespace
+
+    from phav_validators.options import Options
+    from phav_validators.regenerated import _shards_to_build
+
+    shards = [[SimpleNamespace(video_id=f"v{i:06d}")] for i in range(8)]
+    plan = SimpleNamespace(shards=shards, expected=SimpleNamespace(videos=[s[0] for s in shards]))
+    some = _shards_to_build(plan, Options(checks=("integrity",), sample=0.25))
+    assert 0 < len(some) < len(shards)
+    for check in ("learnability", "realism"):
+        assert _shards_to_build(plan, Options(checks=("integrity", check), sample=0.25)) == list(range(len(shards)))
