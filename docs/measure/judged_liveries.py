@@ -36,9 +36,9 @@ SCAN_STEP, SIDE = 15, 10
 MIN_JUDGED_PX = 1000
 
 
-def _render(renderer, trajectory, f: int, last: int) -> dict[str, np.ndarray]:
-    frame = renderer.render(f, trajectory.cam_to_world[f], trajectory.cam_to_world[min(f + 1, last)],
-                            trajectory.intrinsics)  # fmt: skip
+def _render(renderer, trajectory, f: int) -> dict[str, np.ndarray]:
+    """Frame ``f`` as the dataset has it (the trajectory holds a pose past the last frame)."""
+    frame = renderer.render(f, trajectory.cam_to_world[f], trajectory.cam_to_world[f + 1], trajectory.intrinsics)
     return encode_frame(frame)
 
 
@@ -57,7 +57,7 @@ def main() -> None:
     for k, recipe in enumerate(recipes):
         trajectory, last = simulate(recipe, keep_state=False), recipe.n_frames - 1
         with inputs_renderer(scene_inputs(recipe, trajectory), ctx) as renderer:
-            counts = [(int((lut[rgb_code(_render(renderer, trajectory, f, last)["semantic"])] == bus).sum()), f)
+            counts = [(int((lut[rgb_code(_render(renderer, trajectory, f)["semantic"])] == bus).sum()), f)
                       for f in range(0, recipe.n_frames, SCAN_STEP)]  # fmt: skip
         most, f = max(counts)
         if most >= args.min_px:
@@ -79,7 +79,7 @@ def main() -> None:
             for recipe, trajectory, frames in shown:
                 with inputs_renderer(scene_inputs(recipe, trajectory), ctx) as renderer:
                     for f in frames:
-                        encoded = _render(renderer, trajectory, f, recipe.n_frames - 1)
+                        encoded = _render(renderer, trajectory, f)
                         ours = lut[rgb_code(encoded["semantic"])] == bus
                         if ours.sum() < MIN_JUDGED_PX:
                             continue
