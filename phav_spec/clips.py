@@ -14,9 +14,10 @@ OpenCV and pyarrow are imported on first use (phav_spec imports light, DESIGN.md
 
 from __future__ import annotations
 
-import json
+import errno
 import os
 import tarfile
+from collections import OrderedDict
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,8 +25,9 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
-from phav_spec.encoding import decode_depth, flow_pixels, modality
+from phav_spec.encoding import MODALITIES, decode_depth, flow_pixels, modality
 from phav_spec.errors import PhavUserError
+from phav_spec.files import parse_json_object
 from phav_spec.manifest import load_manifest
 from phav_spec.vocab import ACTIONS
 from phav_spec.webdataset import decode_png
@@ -45,11 +47,28 @@ MAX_MEMBER_BYTES = 64 * 2**20
 _NEAREST = ("semantic", "instance", "depth")
 
 
+#: The members a frame has, in the index's column order: its six PNGs and its JSON.
+MEMBER_KEYS = (*(m.key for m in MODALITIES), "json")
+_COLUMN = {key: i for i, key in enumerate(MEMBER_KEYS)}
+#: Shards a reader keeps open at once (the least recently read is closed first): a loader
+#: worker reading PHAV's thousands of shards would otherwise run out of file handles.
+MAX_OPEN_SHARDS = 32
+
+
 @dataclass(frozen=True)
-class _Member:
-    shard: Path
-    offset: int
-    size: int
+class _ShardIndex:
+    """Where each frame's members lie in one shard: per video, (frames, members) arrays of
+    byte offsets (−1: not in the shard) and sizes, in ``MEMBER_KEYS`` order. About 12 bytes
+    a member, where a dict of objects took ~380: PHAV's 42 M members in every loader worker."""
+
+    offsets: dict[str, np.ndarray]
+    sizes: dict[str, np.ndarray]
+
+    def member(self, vid: str, frame: int, key: str) -> tuple[int, int] | None:
+        offsets = self.offsets.get(vid)
+        if offsets is None or frame >= len(offsets) or offsets[frame, _COLUMN[key]] < 0:
+            return None
+        return int(offsets[frame, _COLUMN[key]]), int(self.sizes[vid][frame, _COLUMN[key]])
 
 
 def tsn_frames(n_frames: int, segments: int, rng: np.random.Generator | None = None) -> list[int]:
@@ -65,9 +84,10 @@ def tsn_frames(n_frames: int, segments: int, rng: np.random.Generator | None = N
     return [min(int(p), n_frames - 1) for p in picks]
 
 
-def _index_shard(path: Path) -> dict[tuple[str, int, str], _Member]:
-    """(video id, frame, member key) → where the member's bytes lie in the tar."""
-    out: dict[tuple[str, int, str], _Member] = {}
+def _index_shard(path: Path) -> _ShardIndex:
+    """Where every frame's members lie in the tar (its headers only). A header damaged after
+    the first ends ``tarfile``'s listing silently: the end-of-archive marker must follow."""
+    found: dict[str, list[tuple[int, int, int, int]]] = {}
     try:
         with tarfile.open(path, "r:") as tar:
             for info in tar:
@@ -76,11 +96,26 @@ def _index_shard(path: Path) -> dict[tuple[str, int, str], _Member]:
                     continue
                 vid, rest = name.split("/", 1)
                 frame, _, key = rest.partition(".")
-                if frame.isdigit():
-                    out[(vid, int(frame), key)] = _Member(path, info.offset_data, info.size)
+                if frame.isdigit() and key in _COLUMN:
+                    found.setdefault(vid, []).append((int(frame), _COLUMN[key], info.offset_data, info.size))
+            end = tar.offset
+        with open(path, "rb") as fh:
+            fh.seek(end)
+            block = fh.read(tarfile.BLOCKSIZE)
     except (tarfile.TarError, OSError) as e:
         raise PhavUserError(f"not a readable shard ({e}); run phav-validate", source=str(path)) from None
-    return out
+    if len(block) < tarfile.BLOCKSIZE or block.count(0) != tarfile.BLOCKSIZE:
+        raise PhavUserError(f"a damaged tar header at byte {end}: the members after it cannot be read; run "
+                            "phav-validate", source=str(path))  # fmt: skip
+    offsets, sizes = {}, {}
+    for vid, rows in found.items():
+        table = np.array(rows, dtype=np.int64)
+        frames = int(table[:, 0].max()) + 1
+        offsets[vid] = np.full((frames, len(MEMBER_KEYS)), -1, dtype=np.int64)
+        sizes[vid] = np.zeros((frames, len(MEMBER_KEYS)), dtype=np.int64)
+        offsets[vid][table[:, 0], table[:, 1]] = table[:, 2]
+        sizes[vid][table[:, 0], table[:, 1]] = table[:, 3]
+    return _ShardIndex(offsets, sizes)
 
 
 def _labels(path: Path) -> dict[str, int]:
@@ -143,18 +178,37 @@ class ClipReader:
         self.labels = dict(labels) if labels is not None else _labels(self.root / "recipes.parquet")
         self.n_frames = {v.video_id: v.n_frames for v in manifest.videos}
         self._shard_of = {v.video_id: self.root / v.shard for v in manifest.videos}
-        self._index: dict[Path, dict[tuple[str, int, str], _Member]] = {}
-        self._files: dict[Path, BinaryIO] = {}
+        self._index: dict[Path, _ShardIndex] = {}
+        self._files: OrderedDict[Path, BinaryIO] = OrderedDict()
         self._pid = os.getpid()
 
     def __getstate__(self) -> dict[str, Any]:
-        return {**self.__dict__, "_files": {}}
+        return {**self.__dict__, "_files": OrderedDict()}
 
     def close(self) -> None:
         """Close the shards this reader opened (it reopens them when read again)."""
         for fh in self._files.values():
             fh.close()
-        self._files = {}
+        self._files = OrderedDict()
+
+    def _open(self, shard: Path) -> BinaryIO:
+        """The shard's file, kept open across reads, at most ``MAX_OPEN_SHARDS`` at once."""
+        if self._pid != os.getpid():  # a forked worker: the parent's files share its offsets
+            self._files, self._pid = OrderedDict(), os.getpid()
+        fh = self._files.get(shard)
+        if fh is not None:
+            self._files.move_to_end(shard)
+            return fh
+        while len(self._files) >= MAX_OPEN_SHARDS:
+            self._files.popitem(last=False)[1].close()
+        try:
+            fh = self._files[shard] = open(shard, "rb")
+        except OSError as e:
+            if e.errno == errno.EMFILE:
+                raise PhavUserError("too many open files in this process (ulimit -n); close other readers",
+                                    source=str(shard)) from None  # fmt: skip
+            raise PhavUserError(f"cannot be read ({e.strerror or e})", source=str(shard)) from None
+        return fh
 
     @property
     def video_ids(self) -> list[str]:
@@ -165,21 +219,18 @@ class ClipReader:
         shard = self._shard_of[vid]
         if shard not in self._index:
             self._index[shard] = _index_shard(shard)
-        member = self._index[shard].get((vid, frame, key))
+        member = self._index[shard].member(vid, frame, key)
         if member is None:
             raise PhavUserError(f"video {vid}: frames missing from the shard (frame {frame}'s {key}); run "
                                 "phav-validate", source=str(shard))  # fmt: skip
-        if member.size > MAX_MEMBER_BYTES:
-            raise PhavUserError(f"{vid}/{frame:05d}.{key}: {member.size} bytes, larger than any frame can be",
+        offset, size = member
+        if size > MAX_MEMBER_BYTES:
+            raise PhavUserError(f"{vid}/{frame:05d}.{key}: {size} bytes, larger than any frame can be",
                                 source=str(shard))  # fmt: skip
-        if self._pid != os.getpid():  # a forked worker: the parent's files share its offsets
-            self._files, self._pid = {}, os.getpid()
-        if shard not in self._files:
-            self._files[shard] = open(shard, "rb")  # kept open across reads; close() and pickling drop it
-        fh = self._files[shard]
-        fh.seek(member.offset)
-        data = fh.read(member.size)
-        if len(data) != member.size:
+        fh = self._open(shard)
+        fh.seek(offset)
+        data = fh.read(size)
+        if len(data) != size:
             raise PhavUserError(f"{vid}/{frame:05d}.{key}: the shard ends early", source=str(shard))
         return data
 
@@ -214,7 +265,14 @@ class ClipReader:
         out: dict[str, Any] = {"video_id": video_id, "label": self.labels[video_id], "frames": order}
         metadata = [m for m in modalities if m in ("people", "camera")]
         if metadata:  # one read of each frame's JSON serves both
-            rows = [json.loads(self._bytes(video_id, f, "json")) for f in order]
+            rows = []
+            for f in order:
+                source = f"{self._shard_of[video_id]}: {video_id}/{f:05d}.json"
+                row = parse_json_object(self._bytes(video_id, f, "json"), source=source)
+                absent = [name for name in metadata if name not in row]
+                if absent:
+                    raise PhavUserError("missing from the frame's metadata", source=source, field=absent[0])
+                rows.append(row)
             out |= {name: [row[name] for row in rows] for name in metadata}
         for name in modalities:
             if name in metadata:

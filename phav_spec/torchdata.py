@@ -14,7 +14,8 @@ each clip exactly once per epoch, and resumable.
 
 The order of an epoch is a permutation of the videos drawn from (seed, epoch); worker w of W
 reads the batches w, w + W, … of it, so the loader's batches come in exactly that order.
-Under ``torch.distributed`` (or with ``rank`` and ``world_size`` given), replica r of R takes
+Under ``torch.distributed`` (its group read when ``PhavClips`` is made and at each
+``set_epoch``; or with ``rank`` and ``world_size`` given), replica r of R takes
 the clips r, r + R, … of that order, padded as ``DistributedSampler`` pads it (with its
 first clips again) to a multiple of R, so every replica has as many batches.
 After n clips, ``state_dict(n)`` saved and later ``load_state_dict`` on a fresh
@@ -34,11 +35,15 @@ import numpy as np
 import torch
 from torch.utils.data import IterableDataset, get_worker_info
 
-from phav_spec.clips import ClipReader, check_size, tsn_frames
+from phav_spec.clips import CLIP_MODALITIES, ClipReader, check_size, tsn_frames
 from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 
 __all__ = ["PhavClips", "collate"]
+
+#: The last salt of each seeded stream: numpy's seeding pads its words with zeros, so
+#: (seed, epoch) and (seed, epoch, 0), or (seed) and (seed, 0), would draw one stream.
+_ORDER_STREAM, _FRAMES_STREAM = 0x0D3E, 0xF4A3
 
 
 class PhavClips(IterableDataset):
@@ -73,7 +78,11 @@ class PhavClips(IterableDataset):
         if batch_size < 1 or (segments is not None and segments < 1):
             raise PhavUserError(f"batch_size and segments must be positive, got {batch_size}, {segments}")
         check_size(size)  # now, not in a worker at the first clip
-        self.rank, self.world_size = _replica(rank, world_size)
+        unknown = [m for m in modalities if m not in CLIP_MODALITIES]
+        if unknown:
+            raise PhavUserError(f"unknown modalities {unknown}; choose from {', '.join(CLIP_MODALITIES)}",
+                                field="modalities")  # fmt: skip
+        self._given = (rank, world_size)
         self.videos = chosen
         self.modalities = tuple(modalities)
         self.segments, self.size, self.batch_size = segments, size, batch_size
@@ -81,8 +90,26 @@ class PhavClips(IterableDataset):
         # The epoch and the clips of it already consumed (a resumed run), in shared memory:
         # a DataLoader's persistent workers keep the copy of this object they started with,
         # and would never see set_epoch's next epoch in a plain attribute.
-        self._state = torch.zeros(2, dtype=torch.int64).share_memory_()
+        # The replica (rank, world size) is there too, read from the process group in this
+        # process (a spawned worker has none) now and at each set_epoch: the group may be
+        # initialised after this object is made.
+        self._state = torch.zeros(4, dtype=torch.int64).share_memory_()
+        self._find_replica()
         self._resumed: int | None = None  # the epoch load_state_dict resumes, until it is set
+
+    def _find_replica(self) -> None:
+        self._state[2], self._state[3] = _replica(*self._given)
+
+    @property
+    def rank(self) -> int:
+        """This replica's rank: as given, else the ``torch.distributed`` group's (read when
+        this object is made and at each ``set_epoch``), else 0."""
+        return int(self._state[2])
+
+    @property
+    def world_size(self) -> int:
+        """The replicas: as given, else the ``torch.distributed`` group's, else 1."""
+        return int(self._state[3])
 
     @property
     def epoch(self) -> int:
@@ -102,6 +129,7 @@ class PhavClips(IterableDataset):
         skip = self._skip if epoch == self._resumed else 0
         self._resumed = None
         self._state[0], self._state[1] = epoch, skip
+        self._find_replica()
 
     def order(self, epoch: int | None = None) -> list[str]:
         """The epoch's videos in the order the loader yields them (this replica's)."""
@@ -110,12 +138,14 @@ class PhavClips(IterableDataset):
     def _placed(self, epoch: int | None = None) -> list[tuple[int, str]]:
         """This replica's clips of the epoch: (place in the whole epoch's padded order, video)."""
         epoch = self.epoch if epoch is None else epoch
+        rank, world_size = self.rank, self.world_size
         whole = list(self.videos)
         if self.shuffle:
-            whole = [self.videos[i] for i in seeded_rng(self.seed, epoch).permutation(len(self.videos))]
-        total = len(self) * self.world_size  # more replicas than videos: round it again
+            order = seeded_rng(self.seed, epoch, _ORDER_STREAM).permutation(len(self.videos))
+            whole = [self.videos[i] for i in order]
+        total = -(-len(whole) // world_size) * world_size  # more replicas than videos: round it again
         padded = (whole * -(-total // len(whole)))[:total] if whole else []
-        return list(enumerate(padded))[self.rank :: self.world_size]
+        return list(enumerate(padded))[rank::world_size]
 
     def state_dict(self, consumed: int) -> dict[str, int]:
         """What resumes after ``consumed`` clips of the current epoch."""
@@ -128,6 +158,8 @@ class PhavClips(IterableDataset):
 
     def __iter__(self):
         info = get_worker_info()
+        if info is None:  # in the training process itself: its group as it is now
+            self._find_replica()
         worker, workers = (info.id, info.num_workers) if info is not None else (0, 1)
         placed = self._placed()
         for start in range(self._skip + worker * self.batch_size, len(placed), workers * self.batch_size):
@@ -139,7 +171,7 @@ class PhavClips(IterableDataset):
         frames = None
         if self.segments is not None:
             # Seeded by the clip's place in the epoch: the same frames whatever the workers.
-            rng = seeded_rng(self.seed, self.epoch, position) if self.train else None
+            rng = seeded_rng(self.seed, self.epoch, position, _FRAMES_STREAM) if self.train else None
             frames = tsn_frames(n, self.segments, rng)
         clip = self.reader.read(video_id, frames, self.modalities, self.size)
         out: dict[str, Any] = {"video_id": video_id, "label": clip["label"], "frames": torch.tensor(clip["frames"])}

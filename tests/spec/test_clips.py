@@ -93,6 +93,71 @@ def test_bad_requests_are_one_line_errors(small_dataset, tmp_path):
         reader.read("v999999")
     with pytest.raises(PhavUserError, match=r"no manifest\.json"):
         ClipReader(tmp_path)
+    pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    with pytest.raises(PhavUserError, match="modalities: unknown modalities"):  # at once, not in a worker
+        PhavClips(small_dataset, modalities=("rgb", "optical_flow"))
+
+
+def test_damaged_frame_metadata_and_tar_headers_name_the_file(small_dataset_copy):
+    """A frame's JSON that does not parse, or lacks what is read, names the member; a tar
+    header damaged after the first (which ends tarfile's listing without a word) names the
+    damage, not frames missing from the shard."""
+    import io
+    import tarfile
+
+    shard = small_dataset_copy / "phav-000000.tar"
+    with tarfile.open(shard) as tar:
+        members = [(m, tar.extractfile(m).read()) for m in tar.getmembers()]
+
+    def rewrite(edit) -> None:
+        with tarfile.open(shard, "w", format=tarfile.USTAR_FORMAT) as tar:
+            for m, data in members:
+                data = edit(m.name, data)
+                m.size = len(data)
+                tar.addfile(m, io.BytesIO(data))
+
+    first = members[0][0].name.split("/")[0]
+    rewrite(lambda name, data: b"{not json" if name == f"{first}/00001.json" else data)
+    with pytest.raises(PhavUserError, match=rf"{first}/00001\.json: invalid JSON"):
+        ClipReader(small_dataset_copy).read(first, modalities=("people",))
+    rewrite(lambda name, data: b'{"camera": {}}' if name == f"{first}/00001.json" else data)
+    with pytest.raises(PhavUserError, match=rf"{first}/00001\.json: people: missing"):
+        ClipReader(small_dataset_copy).read(first, modalities=("people",))
+    rewrite(lambda name, data: data)
+    raw = bytearray(shard.read_bytes())
+    with tarfile.open(shard) as tar:
+        third = tar.getmembers()[2].offset  # a header, not the first
+    raw[third + 148 : third + 156] = b"0000000\0"  # its checksum broken
+    shard.write_bytes(bytes(raw))
+    with pytest.raises(PhavUserError, match=rf"a damaged tar header at byte {third}"):
+        ClipReader(small_dataset_copy).read(first, [0], modalities=("rgb",))
+
+
+def test_a_reader_keeps_few_shards_open_and_a_compact_index(small_dataset, monkeypatch):
+    """Loader workers read thousands of shards: open files are capped (the least recently
+    read closed), and the index holds a few bytes a member, not an object each."""
+    import tracemalloc
+
+    from phav_spec import clips
+
+    monkeypatch.setattr(clips, "MAX_OPEN_SHARDS", 1)
+    reader = ClipReader(small_dataset)
+    by_shard = {}
+    for vid in reader.video_ids:
+        by_shard.setdefault(reader._shard_of[vid], vid)
+    assert len(by_shard) >= 2
+    for vid in [*by_shard.values(), *by_shard.values()]:
+        reader.read(vid, [0], modalities=("rgb",))
+        assert len(reader._files) == 1
+    tracemalloc.start()
+    before = tracemalloc.get_traced_memory()[0]
+    index = clips._index_shard(next(iter(by_shard)))
+    grown = tracemalloc.get_traced_memory()[0] - before
+    tracemalloc.stop()
+    members = sum(int((o >= 0).sum()) for o in index.offsets.values())
+    assert members > 0 and grown / members < 100, grown / members
 
 
 def _epoch(clips, workers: int) -> list[tuple[str, list[int]]]:
@@ -181,6 +246,38 @@ def test_an_initialised_process_group_gives_the_replica(small_dataset, monkeypat
     clips = PhavClips(small_dataset)
     assert (clips.rank, clips.world_size) == (1, 3) and len(clips) == -(-len(clips.videos) // 3)
     assert PhavClips(small_dataset, rank=0, world_size=1).world_size == 1  # given, it wins
+
+
+def test_a_process_group_initialised_after_the_clips_are_made_gives_the_replica(small_dataset, monkeypatch):
+    """A training script may make its PhavClips before init_process_group: the group is read
+    again at set_epoch, so the replica does not read the whole epoch as if it were alone."""
+    torch = pytest.importorskip("torch")
+    from phav_spec.torchdata import PhavClips
+
+    clips = PhavClips(small_dataset, shuffle=False)
+    assert (clips.rank, clips.world_size, clips.order()) == (0, 1, clips.videos)
+    monkeypatch.setattr(torch.distributed, "is_initialized", lambda: True)
+    monkeypatch.setattr(torch.distributed, "get_world_size", lambda: 2)
+    monkeypatch.setattr(torch.distributed, "get_rank", lambda: 1)
+    clips.set_epoch(0)
+    padded = (clips.videos * 2)[: -(-len(clips.videos) // 2) * 2]  # as DistributedSampler pads
+    assert (clips.rank, clips.world_size) == (1, 2) and clips.order() == padded[1::2]
+    assert [vid for vid, _ in _epoch(clips, 0)] == padded[1::2]
+
+
+def test_an_epochs_order_and_its_clips_frames_are_drawn_from_streams_of_their_own():
+    """numpy's seeding pads its words with zeros: (seed, epoch) and (seed, epoch, 0) drew one
+    stream, so the first clip's frames followed the order's first draw, and epoch 0's order
+    the split's seed (seed). Each stream ends with a salt of its own."""
+    from phav_spec.seeding import seeded_rng
+    from phav_spec.torchdata import _FRAMES_STREAM, _ORDER_STREAM
+
+    assert seeded_rng(0, 3).random() == seeded_rng(0, 3, 0).random()  # the padding
+    for seed in range(3):
+        for epoch in range(3):
+            order, frames = seeded_rng(seed, epoch, _ORDER_STREAM), seeded_rng(seed, epoch, 0, _FRAMES_STREAM)
+            firsts = {order.random(), frames.random(), seeded_rng(seed).random()}
+            assert len(firsts) == 3
 
 
 def test_a_clip_dataset_of_a_size_no_frame_can_have_is_refused_at_once(small_dataset):
