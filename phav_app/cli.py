@@ -62,7 +62,7 @@ from phav_generator.body.data import (
     build_body_data,
     load_body_data,
 )
-from phav_generator.dataset.write import chunk, write_dataset
+from phav_generator.dataset.write import check_dataset_dir, chunk, write_dataset
 from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ
 from phav_generator.physics.probe import evaluate_probe, format_confusion
 from phav_generator.physics.simulate import simulate
@@ -141,6 +141,7 @@ def sample(
     out: Annotated[Path, typer.Option("--out", help="Output Parquet file.")] = Path("recipes.parquet"),
 ) -> None:
     """Sample N recipes from θ into a Parquet table (one row per video, recipe JSON included)."""
+    check_output_file(out, field="--out")
     th = load_theta(theta)
     with _progress() as progress:
         task = progress.add_task("sampling recipes", total=n)
@@ -368,6 +369,8 @@ def preview(
     """A contact sheet of a video: all six modalities side by side (depth and flow colour-mapped)
     for a few frames, and an animated GIF of its RGB; or, with --skeleton, stick figures."""
 
+    if out is not None:
+        check_output_file(out, field="--out")
     if skeleton:
         _skeleton_preview(source, out, frames)
         return
@@ -504,6 +507,7 @@ def generate(
     is refused."""
 
     _check_name(name)
+    check_dataset_dir(out)
     th = load_theta(theta)
     recipes = list(sample_recipes(th, n=videos, seed=seed))
     with _RenderProgress(len(recipes), "rendering") as progress:
@@ -545,6 +549,7 @@ def regenerate(
 
     plan = plan_regeneration(source, videos=video)
     check_target(source, out)
+    check_dataset_dir(out)
     with _RenderProgress(plan.n_videos, "regenerating") as progress:
         result = write_dataset(plan.shards, out, name=plan.name, theta=plan.theta, dataset_seed=plan.dataset_seed,
                                workers=workers, progress=progress, shard_names=plan.shard_names, engine=engine,
@@ -625,6 +630,11 @@ def vary(
     """Write a counterfactual recipe that changes only the named variables (seeds stay)."""
 
     forced = parse_settings(settings)
+    if out is not None:
+        check_output_file(out, field="--out")
+        if out.exists() and out.resolve() == recipe_file.resolve():
+            raise PhavUserError("is the recipe being varied; write the counterfactual elsewhere", source=str(out),
+                                field="--out")  # fmt: skip
     r = load_recipe(recipe_file)
     chosen = load_theta(theta) if theta else _preset_for(r.theta_hash, recipe_file)
     try:

@@ -173,6 +173,7 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
     entry = videos[vid]
     shard = manifest_path.parent / entry.shard
     frames = []
+    size: tuple[int, ...] | None = None  # every image the size of the first
     try:
         with tarfile.open(shard) as tar:
             for f in range(entry.n_frames):
@@ -182,7 +183,12 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
                     member = tar.extractfile(name)
                     if member is None:
                         raise KeyError(name)
-                    modalities[m.name] = decode_png(member.read(), m, source=f"{shard}:{name}")
+                    image = decode_png(member.read(), m, source=f"{shard}:{name}")
+                    size = size or image.shape[:2]
+                    if image.shape[:2] != size:
+                        raise ValueError(f"{name} is {image.shape[1]}×{image.shape[0]}, the video's frames "
+                                         f"{size[1]}×{size[0]}")  # fmt: skip
+                    modalities[m.name] = image
                 frames.append(modalities)
     except (OSError, tarfile.TarError, KeyError, ValueError) as e:
         raise PhavUserError(f"cannot read the video's frames ({str(e).splitlines()[0]})", source=str(shard)) from None

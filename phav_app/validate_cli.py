@@ -173,6 +173,9 @@ def validate(
     for target, field in ((json_out, "--json"), (html_out, "--html")):
         if target is not None:
             check_output_file(target, field=field)
+            if any(Path(p).exists() and Path(p).resolve() == target.resolve() for p in paths):
+                raise PhavUserError("is a file being validated; write the report elsewhere", source=str(target),
+                                    field=field)  # fmt: skip
     inputs = resolve(paths)
     tune_allocator()  # this process scans too when --workers is 1
     reports = []

@@ -9,6 +9,7 @@ import json
 import os
 import secrets
 import stat
+import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -154,13 +155,42 @@ def check_output_dir(out: Path, *, field: str = "--out") -> None:
         raise PhavUserError(f"{above} is not a directory", source=str(out), field=field)
 
 
+#: The files of a dataset directory (``phav generate``) or a release besides its shards.
+DATASET_FILES = ("manifest.json", "release.json", "recipes.parquet", "cameras.parquet", "people.parquet", "theta.yaml")
+
+
 def check_output_file(path: str | os.PathLike[str], *, field: str) -> None:
     """Refuse, before any work, an output file that cannot be one: a directory, a device or a
-    pipe, or a place below a file (its write would fail only after the work it was to keep)."""
+    pipe, or a place below a file (its write would fail only after the work it was to keep);
+    and one that is a dataset's own file (its manifest, a table, a shard), which a report,
+    a sheet or a recipe would replace."""
+    target = Path(path)
     try:
-        _check_writable_place(Path(path))
+        _check_writable_place(target)
+        _check_can_create_in(target.parent)
+        folder = target.parent
+        dataset = (folder / "manifest.json").is_file() or (folder / "release.json").is_file()
     except OSError as e:
         raise PhavUserError(f"cannot be written here: {e.strerror}", source=str(path), field=field) from None
+    if dataset and (target.name in DATASET_FILES or target.suffix == ".tar"):
+        raise PhavUserError("is a file of the dataset in that directory; write elsewhere", source=str(path),
+                            field=field)  # fmt: skip
+
+
+def _check_can_create_in(folder: Path) -> None:
+    """Refuse a folder (or, where it is yet to be made, the nearest one above it) in which
+    this process cannot create a file: a read-only file system, a folder not its own, a
+    kernel's (/proc, /sys). Tried with a file made and removed at once: permission bits do
+    not tell (root passes them)."""
+    existing = next((p for p in (folder, *folder.parents) if p.exists()), None)
+    if existing is None or not existing.is_dir():
+        return
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".phav-probe.", suffix=".tmp", dir=existing)
+    except OSError as e:
+        raise PermissionError(e.errno, f"the place is not writable ({e.strerror or e})") from None
+    os.close(fd)
+    os.unlink(probe)
 
 
 def _file_above(path: Path) -> Path | None:

@@ -831,7 +831,9 @@ def load_theta(path: str | Path) -> Theta:
     given = str(path)
     path = Path(path)
     is_bare_name = "/" not in given and "\\" not in given and path.suffix not in (".yaml", ".yml")
-    if is_bare_name and not path.exists() and (PRESETS_DIR / f"{given}.yaml").exists():
+    # A preset's name, unless a file of that name is here (a folder named after the preset,
+    # such as a dataset made from it, does not hide it).
+    if is_bare_name and not path.is_file() and (PRESETS_DIR / f"{given}.yaml").exists():
         path = PRESETS_DIR / f"{given}.yaml"
     presets = ", ".join(p.stem for p in sorted(PRESETS_DIR.glob("*.yaml")))
     text = read_text(path, hint=f"give a θ file or a preset name ({presets})")

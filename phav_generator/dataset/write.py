@@ -58,6 +58,7 @@ from phav_spec.manifest import (
 from phav_spec.metadata import arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
+from phav_spec.release import RELEASE_FILE
 from phav_spec.theta import Theta
 
 WORK_DIR = ".phav-work"
@@ -250,6 +251,27 @@ def write_dataset(
         raise e.with_hint(RESUME_HINT) from None
     except OSError as e:
         raise WriteError(e, str(e.filename or out), RESUME_HINT) from None
+
+
+def check_dataset_dir(out: Path) -> None:
+    """For a run the user names the directory of (``phav generate``, ``phav regenerate``):
+    refuse one that holds files but no run to resume or find finished (neither a manifest nor
+    a work folder), or that holds a release: the run would write over them (a θ file passed as
+    --theta, a sampled table, another dataset's shards, a release's manifest)."""
+    try:
+        if not out.is_dir():
+            return
+        if (out / RELEASE_FILE).exists():
+            raise PhavUserError("holds a release; write the dataset to another directory (phav-validate "
+                                "--regenerate-into regenerates a release's pixels)",
+                                source=str(out), field="--out")  # fmt: skip
+        if (out / "manifest.json").is_file() or (out / WORK_DIR).is_dir():
+            return
+        if any(out.iterdir()):
+            raise PhavUserError("holds other files and no run of phav generate to resume; choose an empty "
+                                "directory", source=str(out), field="--out")  # fmt: skip
+    except OSError:  # a place it cannot look into: the first write reports it
+        return
 
 
 def render_task(task: VideoTask, report: Progress | None = None, *, parts: Path) -> dict[str, Any]:

@@ -15,7 +15,7 @@ import pytest
 
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.theta import load_preset
-from tests.helpers import cli_env, invoke_cli, run_cli
+from tests.helpers import cli_env, file_bytes, invoke_cli, run_cli
 
 
 def test_help_lists_the_commands():
@@ -66,7 +66,7 @@ def test_output_paths_that_cannot_be_written(tmp_path):
     below = tmp_path / "afile.txt" / "x.parquet"
     result = invoke_cli("sample", "--n", "2", "--out", str(below))
     assert result.returncode == 2 and "Traceback" not in result.stderr
-    assert f"{below}: cannot write: Not a directory: {tmp_path / 'afile.txt'}" in result.stderr
+    assert f"{below}: --out: cannot be written here: Not a directory: {tmp_path / 'afile.txt'}" in result.stderr
     assert (tmp_path / "afile.txt").read_text() == "kept\n"
     pipe = tmp_path / "pipe.parquet"
     os.mkfifo(pipe)
@@ -205,7 +205,9 @@ def test_sample_refuses_a_place_it_cannot_write_before_drawing(monkeypatch):
 
     monkeypatch.setattr("phav_app.cli.sample_recipes", never)
     result = invoke_cli("sample", "--n", "100000000", "--out", str(place))
-    assert result.returncode == 2 and f"{place}: the place is not writable" in result.stderr, result.stderr
+    assert result.returncode == 2 and f"{place}: --out: cannot be written here: the place is not writable" in (
+        result.stderr
+    ), result.stderr
     assert "Traceback" not in result.stderr
 
 
@@ -231,3 +233,53 @@ def test_sigterm_stops_sample_and_leaves_the_previous_table(tmp_path):
     ]
     assert out.read_bytes() == b"previous"
     assert [p.name for p in tmp_path.iterdir()] == ["recipes.parquet"]
+
+
+def test_outputs_never_replace_what_is_read_or_a_datasets_files(small_dataset_copy, small_recipes, tmp_path):
+    """A report, a sheet, a counterfactual recipe or a sampled table named as a dataset's own
+    file (its manifest, a table), or as the file being read, is refused before any work; so is
+    an output in a place this process cannot write, before the work it would keep."""
+    data = small_dataset_copy
+    before = file_bytes(data)
+    recipe = tmp_path / "v000000.json"
+    recipe.write_text(small_recipes[0].model_dump_json(), encoding="utf-8")
+    table = tmp_path / "r.parquet"
+    assert invoke_cli("sample", "--n", "3", "--out", str(table)).returncode == 0
+    refusals = {
+        ("validate!", str(data), "--checks", "schema", "--json", str(data / "manifest.json")): "--json",
+        ("validate!", str(data), "--checks", "schema", "--html", str(data / "recipes.parquet")): "--html",
+        ("validate!", str(table), "--json", str(table)): "--json",
+        ("preview", str(data), "--out", str(data / "manifest.json")): "--out",
+        ("vary", str(recipe), "--set", "weather=fog", "--out", str(data / "recipes.parquet")): "--out",
+        ("vary", str(recipe), "--set", "weather=fog", "--out", str(recipe)): "--out",
+        ("sample", "--n", "2", "--out", str(data / "recipes.parquet")): "--out",
+        ("validate!", str(data), "--checks", "schema", "--json", "/proc/phav-report.json"): "--json",
+    }
+    for args, field in refusals.items():
+        result = invoke_cli(*args)
+        lines = [line for line in result.stderr.splitlines() if line.strip()]
+        assert result.returncode == 2 and len(lines) == 1 and f"{field}:" in lines[0], (args, result.stderr)
+    assert file_bytes(data) == before and json.loads(recipe.read_text())["video_id"] == "v000000"
+
+
+def test_generate_writes_only_into_an_empty_directory_or_its_own_run(small_theta, tmp_path):
+    """A directory holding other files (a θ file, a sampled table, a dataset that lost its
+    manifest) or a release is refused before anything is sampled or written; a directory
+    holding a run (its manifest, or its work folder) is the run's to resume or find finished."""
+    from phav_generator.dataset.write import WORK_DIR, check_dataset_dir
+    from phav_spec.errors import PhavUserError
+
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "theta.yaml").write_text(small_theta.to_yaml(), encoding="utf-8")
+    result = invoke_cli("generate", "--theta", str(project / "theta.yaml"), "--videos", "1", "--out", str(project))
+    assert result.returncode == 2 and "holds other files and no run of phav generate" in result.stderr
+    assert sorted(p.name for p in project.iterdir()) == ["theta.yaml"]
+    release = tmp_path / "release"
+    release.mkdir()
+    (release / "release.json").write_text("{}", encoding="utf-8")
+    with pytest.raises(PhavUserError, match="--out: holds a release"):
+        check_dataset_dir(release)
+    (project / WORK_DIR).mkdir()  # a run stopped before its manifest: resumed
+    check_dataset_dir(project)
+    check_dataset_dir(tmp_path / "new")

@@ -29,3 +29,27 @@ def test_a_gif_named_as_the_sheet_goes_beside_it_and_an_empty_dataset_is_said(sm
     assert invoke_cli("regenerate", str(tmp_path / "none.parquet"), "--out", str(empty)).returncode == 0
     result = invoke_cli("preview", str(empty))
     assert result.returncode == 2 and result.stderr.strip().endswith("manifest.json: the dataset holds no videos")
+
+
+def test_a_frame_of_another_size_is_one_line_naming_it(small_dataset_copy, tmp_path):
+    """A shard whose image of one frame has another size than the video's (re-encoded by
+    hand): the preview names the member, where it raised a numpy traceback."""
+    import io
+    import tarfile
+
+    import cv2
+    import numpy as np
+
+    shard = small_dataset_copy / "phav-000000.tar"
+    with tarfile.open(shard) as tar:
+        members = [(m, tar.extractfile(m).read()) for m in tar.getmembers()]
+    name = "v000001/00003.seg.png"
+    with tarfile.open(shard, "w", format=tarfile.USTAR_FORMAT) as tar:
+        for m, data in members:
+            if m.name == name:
+                data = cv2.imencode(".png", np.zeros((100, 100, 3), np.uint8))[1].tobytes()
+                m.size = len(data)
+            tar.addfile(m, io.BytesIO(data))
+    result = invoke_cli("preview", str(small_dataset_copy), "--video", "v000001", "--out", str(tmp_path / "s.png"))
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert result.returncode == 2 and len(lines) == 1 and f"{name} is 100×100, the video's frames 340×256" in lines[0]

@@ -260,10 +260,13 @@ def test_deep_nesting_a_device_and_an_unreadable_place_are_one_line_errors(tmp_p
         load_theta(tmp_path / "locked" / "t.yaml")
 
 
-def test_only_bare_names_fall_back_to_presets(tmp_path):
+def test_only_bare_names_fall_back_to_presets(tmp_path, monkeypatch):
     assert load_theta("phav-v1").name == "phav-v1"
     with pytest.raises(PhavUserError, match="no such file"):
         load_theta(tmp_path / "phav-v1")
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "phav-v1-short").mkdir()  # a dataset named after its preset: resuming it reads the preset
+    assert load_theta("phav-v1-short").name == "phav-v1-short"
 
 
 def test_name_and_description_do_not_change_the_hash():
