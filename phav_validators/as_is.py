@@ -35,7 +35,7 @@ from phav_spec.manifest import DatasetManifest, load_manifest
 from phav_spec.metadata import CAMERA_COLUMNS, METADATA_VERSION, PEOPLE_COLUMNS, ROLES, MetaColumn, arrow_schema
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
-from phav_spec.release import RELEASE_FILE, ReleaseIndex, load_release_index
+from phav_spec.release import RELEASE_FILE, load_release_index
 from phav_spec.theta import Theta, load_theta
 from phav_validators import tables
 from phav_validators.checks.distribution import check_distributions
@@ -97,31 +97,40 @@ class _Loaded:
         return self.table.table.num_rows if self.table is not None else 0
 
 
-def _release_files(root: Path, index: ReleaseIndex, out: _Loaded) -> None:
-    """Every file ``release.json`` says the release carries, against its size and sha256:
-    shards against the manifest's entries (the scan hashes their bytes), the rest read here."""
-    shards = {s.name: s for s in out.manifest.shards} if out.manifest is not None else {}
+def release_file_findings(root: Path, manifest: DatasetManifest | None) -> list[Finding]:
+    """Every file the release at ``root`` says (``release.json``) it carries, against its size
+    and sha256: shards against the manifest's entries (the scan hashes their bytes), the rest
+    read here. None where ``root`` holds no release."""
+    release = root / RELEASE_FILE
+    if not release.exists():
+        return []
+    try:
+        index = load_release_index(release)
+    except PhavUserError as e:
+        return [Finding(Reason.MANIFEST_INVALID, e.detail, file=str(release), numbers={"field": e.field})]
+    shards = {s.name: s for s in manifest.shards} if manifest is not None else {}
+    found = []
     for f in index.files:
         path = root / f.path
         if not f.included:
             continue
         if not path.is_file():
-            out.integrity.add(Finding(Reason.MISSING_FILE, "listed in release.json, not in the release",
-                                      file=f.path))  # fmt: skip
+            found.append(Finding(Reason.MISSING_FILE, "listed in release.json, not in the release", file=f.path))
             continue
         if f.kind == "shard":
             listed = shards.get(f.path)
             if listed is not None and (listed.sha256, listed.bytes) != (f.sha256, f.bytes):
-                out.integrity.add(Finding(Reason.RELEASE_FILE_CHANGED, "release.json and manifest.json record "
-                                          "other bytes for the shard", file=f.path))  # fmt: skip
+                found.append(Finding(Reason.RELEASE_FILE_CHANGED, "release.json and manifest.json record other "
+                                     "bytes for the shard", file=f.path))  # fmt: skip
             continue
         size, digest = path.stat().st_size, file_sha256(path)
         if (size, digest) != (f.bytes, f.sha256):
-            out.integrity.add(Finding(
+            found.append(Finding(
                 Reason.RELEASE_FILE_CHANGED,
                 f"{size} bytes, sha256 {digest[:12]}…; release.json records {f.bytes} bytes, {f.sha256[:12]}…",
                 file=f.path,
             ))  # fmt: skip
+    return found
 
 
 def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -> _Loaded:
@@ -136,15 +145,8 @@ def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -
                                           numbers={"field": e.field}))  # fmt: skip
         else:
             out.integrity.add(Finding(Reason.MISSING_FILE, "the dataset has no manifest.json", file=str(inp.root)))
-        release = inp.root / RELEASE_FILE
-        if release.exists():
-            try:
-                index = load_release_index(release)
-            except PhavUserError as e:
-                out.integrity.add(Finding(Reason.MANIFEST_INVALID, e.detail, file=str(release),
-                                          numbers={"field": e.field}))  # fmt: skip
-            else:
-                _release_files(inp.root, index, out)
+    for finding in release_file_findings(inp.root, out.manifest):  # a release's, recipe-only or not
+        out.integrity.add(finding)
     timings["integrity"] = time.perf_counter() - start
     start = time.perf_counter()
     table_path = inp.recipes_table

@@ -28,7 +28,7 @@ from phav_spec.errors import PhavUserError
 from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse_json_object, read_text
 from phav_spec.manifest import RendererFingerprint, renderer_differences
 from phav_spec.release import RECIPE_FILES, RELEASE_FILE
-from phav_validators.as_is import validate_as_is
+from phav_validators.as_is import release_file_findings, validate_as_is
 from phav_validators.findings import ProgressFactory, Reason
 from phav_validators.options import DatasetReport, Options, sample_videos
 from phav_validators.report import flagged_pictures
@@ -217,5 +217,8 @@ def validate_release(
         if lenient:
             check.report.findings = [dataclasses.replace(f, severity="warn") if f.reason in lenient
                                      else f for f in check.report.findings]  # fmt: skip
-            check.status = type(check).from_report(check.name, check.report, check.summary, check.numbers).status
+        # The release's own files against release.json: the copy validated above has none.
+        for finding in release_file_findings(inp.root, plan.expected):
+            check.report.add(finding)
+        check.status = type(check).from_report(check.name, check.report, check.summary, check.numbers).status
     return report

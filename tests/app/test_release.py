@@ -87,6 +87,22 @@ def test_a_full_release_s_files_are_checked_against_release_json(dataset, tmp_pa
     assert found == {("RELEASE_FILE_CHANGED", "people.parquet"), ("MISSING_FILE", "cameras.parquet")}
 
 
+def test_a_recipe_only_release_s_files_are_checked_against_release_json(recipe_release, tmp_path):
+    """The pixels are regenerated into another directory and validated there; the release's
+    own files are checked against release.json all the same (an edited θ file passed)."""
+    import shutil
+
+    rel = tmp_path / "rel"
+    shutil.copytree(recipe_release, rel)
+    with (rel / "theta.yaml").open("a", encoding="utf-8") as fh:
+        fh.write("# edited\n")
+    checks = _validate(rel, "--checks", "integrity", "--regenerate-into", str(tmp_path / "px"))
+    assert checks["_rc"] == 1
+    assert {(f["reason"], f["file"]) for f in checks["integrity"]["findings"]} == {
+        ("RELEASE_FILE_CHANGED", "theta.yaml")
+    }
+
+
 def test_the_license_is_given_and_a_url_is_linked_on_the_card(dataset, tmp_path):
     result = invoke_cli("release", str(dataset), "--out", str(tmp_path / "r0"), "--recipes-only", "--license", " ")
     assert result.returncode == 2 and "--license: give the data's license" in result.stderr
@@ -453,7 +469,8 @@ def test_phav_validate_fails_a_recipe_only_release_whose_hashes_lie(recipe_relea
     checks = _validate(bad, "--checks", "integrity", "--html", str(page))
     assert checks["_rc"] == 1
     assert checks["integrity"]["status"] == "fail"
-    assert checks["integrity"]["finding_counts"] == {"HASH_MISMATCH": 1}
+    # The edited manifest is no longer the one release.json records, either.
+    assert checks["integrity"]["finding_counts"] == {"HASH_MISMATCH": 1, "RELEASE_FILE_CHANGED": 1}
     # The flagged video's frame is on the page, read before the temporary shards went.
     html = page.read_text(encoding="utf-8")
     assert "<h3>Flagged videos</h3>" in html and f"{video.video_id} frame 00000" in html
