@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from phav_generator.dataset.write import WORK_DIR
 from phav_spec.errors import PhavUserError
 from phav_spec.release import RELEASE_FILE, load_release_index
 
@@ -43,10 +44,13 @@ class DatasetInput:
     @property
     def recipes_only(self) -> bool:
         """A recipes table alone (named directly, or a directory with neither manifest nor
-        shards): only the recipe checks (schema, distribution) apply."""
+        shards, nor what a run of ``phav generate`` leaves): only the recipe checks (schema,
+        distribution) apply. A dataset that lost its manifest and shards is not one: its
+        integrity check says what is missing."""
         if self.recipes_path is not None and self.recipes_path.name != RECIPES:
             return True
-        return not self.manifest_path.exists() and not any(self.root.glob("*.tar")) and self.shards is None
+        made = any((self.root / name).exists() for name in (CAMERAS, PEOPLE, WORK_DIR))
+        return not made and not self.manifest_path.exists() and not any(self.root.glob("*.tar")) and self.shards is None
 
     @property
     def label(self) -> str:

@@ -45,3 +45,21 @@ def test_exit_codes_and_single_shard_input(small_dataset, tmp_path):
     integrity = ds["checks"][0]
     assert integrity["numbers"]["shards"] == 1 and integrity["numbers"]["videos"] == 1
     assert ds["checks"][2]["numbers"]["videos"] == 1
+
+
+def test_a_dataset_that_lost_its_manifest_and_shards_is_not_a_recipes_table(small_dataset_copy, tmp_path):
+    """A run's directory emptied (or a killed run's) keeps the tables a run writes: it fails
+    integrity for what is missing, where it passed as "a recipes table alone"."""
+    data = small_dataset_copy
+    (data / "manifest.json").unlink()
+    for shard in data.glob("*.tar"):
+        shard.unlink()
+    report = tmp_path / "r.json"
+    result = invoke_cli("validate!", str(data), "--checks", "integrity,schema", "--json", str(report))
+    checks = {c["name"]: c for c in json.loads(report.read_text())["datasets"][0]["checks"]}
+    assert result.returncode == 1 and checks["integrity"]["status"] == "fail"
+    assert "MISSING_FILE" in checks["integrity"]["finding_counts"]
+    table_alone = tmp_path / "alone"
+    table_alone.mkdir()
+    (table_alone / "recipes.parquet").write_bytes((data / "recipes.parquet").read_bytes())
+    assert invoke_cli("validate!", str(table_alone), "--checks", "schema").returncode == 0
