@@ -308,7 +308,7 @@ def _user_error(source: str, error: ValidationError) -> PhavUserError:
     """Turn the first pydantic error into a one-line user error naming the field and a fix."""
     first = error.errors(include_url=False)[0]
     field = ".".join(str(part) for part in first["loc"]) or None
-    message = first["msg"]
+    message = first["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")  # pydantic's wrapping
     hint = _HINTS.get(first["type"], "fix the value or regenerate the manifest")
     if first["type"] == "string_pattern_mismatch":
         names = [part for part in first["loc"] if isinstance(part, str)]

@@ -97,6 +97,11 @@ class _Loaded:
         return self.table.table.num_rows if self.table is not None else 0
 
 
+def _named(e: PhavUserError) -> str:
+    """The error's words led by the field it names (the finding names the file)."""
+    return f"{e.field}: {e.detail}" if e.field else e.detail
+
+
 def release_file_findings(root: Path, manifest: DatasetManifest | None) -> list[Finding]:
     """Every file the release at ``root`` says (``release.json``) it carries, against its size
     and sha256: shards against the manifest's entries (the scan hashes their bytes), the rest
@@ -107,7 +112,7 @@ def release_file_findings(root: Path, manifest: DatasetManifest | None) -> list[
     try:
         index = load_release_index(release)
     except PhavUserError as e:
-        return [Finding(Reason.MANIFEST_INVALID, e.detail, file=str(release), numbers={"field": e.field})]
+        return [Finding(Reason.MANIFEST_INVALID, _named(e), file=str(release), numbers={"field": e.field})]
     shards = {s.name: s for s in manifest.shards} if manifest is not None else {}
     found = []
     for f in index.files:
@@ -141,7 +146,7 @@ def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -
             try:
                 out.manifest = load_manifest(inp.manifest_path)
             except PhavUserError as e:
-                out.integrity.add(Finding(Reason.MANIFEST_INVALID, e.detail, file=str(inp.manifest_path),
+                out.integrity.add(Finding(Reason.MANIFEST_INVALID, _named(e), file=str(inp.manifest_path),
                                           numbers={"field": e.field}))  # fmt: skip
         else:
             out.integrity.add(Finding(Reason.MISSING_FILE, "the dataset has no manifest.json", file=str(inp.root)))

@@ -76,3 +76,18 @@ def test_without_a_readable_manifest_the_schema_check_does_not_pass(data):
     (data / "manifest.json").unlink()
     hits = assert_fails(validate(data, "schema", "encoding"), "schema", Reason.MISSING_FILE, file="manifest.json")
     assert hits[0].message == "videos and recipes cannot be paired: the manifest is missing"
+
+
+def test_a_manifest_finding_names_the_field_and_says_no_pydantic_wrapping(data):
+    """A manifest without its videos, or with a content hash that is no digest: the finding
+    names the field, and its words are ours, not pydantic's "Value error, "."""
+    import json
+
+    manifest = json.loads((data / "manifest.json").read_text())
+    (data / "manifest.json").write_text(json.dumps({k: v for k, v in manifest.items() if k != "videos"}))
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.MANIFEST_INVALID)
+    assert hits[0].message.startswith("videos: Field required")
+    manifest["videos"][0]["content_hash"] = "0" * 64
+    (data / "manifest.json").write_text(json.dumps(manifest))
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.MANIFEST_INVALID)
+    assert hits[0].message.startswith("videos.0: ") and "Value error" not in hits[0].message, hits[0].message
