@@ -81,6 +81,7 @@ from phav_spec.scene import ENVIRONMENT_SCENES
 from phav_spec.theta import PRESETS_DIR, Theta, load_theta
 from phav_spec.vocab import ACTIONS, VOCABULARIES
 from phav_validators.checks.distribution import check_distributions
+from phav_validators.checks.recipes import check_recipe_table
 from phav_validators.framing import read_framing
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
@@ -190,6 +191,9 @@ def stats(
         result.report.notes.append(
             f"the table was sampled from θ {rt.theta.hash[:12]}…, tested against {th.hash[:12]}…"
         )
+    # The rows themselves, as phav-validate's schema check reads them: a duplicated video is
+    # counted twice above, a row whose recipe does not parse still counted by its columns.
+    check_recipe_table(rt, None, result.report)
     print_distribution(result, console)
     people = recipes.parent / "people.parquet"
     if people.exists():
@@ -200,7 +204,7 @@ def stats(
     else:
         console.print("protagonist framing: no people.parquet beside the table (sampled recipes have no pixels)")
     print_report(result.report, console)
-    if not result.ok:
+    if not result.report.ok:
         raise typer.Exit(EXIT_FINDINGS)
 
 

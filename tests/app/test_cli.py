@@ -283,3 +283,19 @@ def test_generate_writes_only_into_an_empty_directory_or_its_own_run(small_theta
     (project / WORK_DIR).mkdir()  # a run stopped before its manifest: resumed
     check_dataset_dir(project)
     check_dataset_dir(tmp_path / "new")
+
+
+def test_stats_reads_the_rows_as_the_schema_check_does(tmp_path):
+    """A table with a video twice (counted twice by the tests) or a row whose recipe does not
+    parse is not "all checks passed": its rows' findings, exit 1."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = tmp_path / "r.parquet"
+    assert invoke_cli("sample", "--n", "40", "--out", str(table)).returncode == 0
+    clean = invoke_cli("stats", str(table))
+    assert clean.returncode == 0 and "all checks passed" in clean.stdout
+    rows = pq.read_table(table)
+    pq.write_table(pa.concat_tables([rows, rows.slice(0, 1)]), tmp_path / "twice.parquet")
+    twice = invoke_cli("stats", str(tmp_path / "twice.parquet"))
+    assert twice.returncode == 1 and "DUPLICATE_VIDEO" in twice.stdout, twice.stdout
