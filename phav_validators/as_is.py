@@ -746,6 +746,13 @@ def _scan_results(
     for s in scans:
         for f in s.findings["encoding"]:
             encoding.add(f)
+    if frames_decoded == 0 and not encoding.findings:  # every shard missing or unreadable: nothing checked
+        why = "no frame could be read (the integrity check says why)"
+        out["encoding"], out["consistency"] = (
+            CheckResult.skipped("encoding", why),
+            CheckResult.skipped("consistency", why),
+        )
+        return out
     out["encoding"] = CheckResult.from_report(
         "encoding", encoding, f"{frames_decoded} frames decoded and checked ({opts.sample:.0%} sample)",
         {"frames_decoded": frames_decoded, "sample": opts.sample},

@@ -52,3 +52,19 @@ def test_a_manifest_without_its_renderer_warns_and_compares_within_tolerances(da
     assert result.report.findings[0].file == "manifest.json"
     assert result.numbers["exact"] is False and result.numbers["matched"] == 1
     assert "the manifest records no renderer fingerprint" in result.summary
+
+
+def test_a_missing_shard_is_integritys_finding_not_a_regeneration_mismatch(data):
+    """The videos of a deleted shard regenerate to the manifest's content hashes: the
+    integrity check says the shard is missing, reproducibility notes the frames it could not
+    compare and blames nothing on the renderer."""
+    (data / "phav-000001.tar").unlink()
+    report = validate(data, "integrity", "reproducibility", regenerate=3)
+    assert_fails(report, "integrity", Reason.MISSING_FILE)
+    reproducibility = check(report, "reproducibility")
+    assert reproducibility.status == Status.PASS and reproducibility.numbers["matched"] == 3
+    assert any("v000002: 6 of 6 frames not in its shard" in n for n in reproducibility.report.notes)
+    for shard in data.glob("*.tar"):  # no frame left to read: encoding and consistency checked nothing
+        shard.unlink()
+    report = validate(data, "integrity", "encoding", "consistency")
+    assert [check(report, c).status for c in ("encoding", "consistency")] == [Status.SKIP, Status.SKIP]
