@@ -24,6 +24,7 @@ from phav_spec.files import atomic_write
 from phav_spec.manifest import load_manifest
 from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import read_recipe_table
+from phav_spec.release import RELEASE_FILE
 from phav_spec.webdataset import decode_png
 
 _ROLE_COLOURS = {"protagonist": (220, 40, 40), "supporting": (40, 90, 220), "background": (120, 120, 120)}
@@ -172,6 +173,9 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
                             field="--video")  # fmt: skip
     entry = videos[vid]
     shard = manifest_path.parent / entry.shard
+    if not shard.exists() and (manifest_path.parent / RELEASE_FILE).exists():
+        raise PhavUserError("a recipe-only release carries no shards: preview a recipe (phav recipe show), or "
+                            "its regenerated pixels (phav regenerate)", source=str(manifest_path.parent))  # fmt: skip
     frames = []
     size: tuple[int, ...] | None = None  # every image the size of the first
     try:

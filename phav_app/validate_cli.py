@@ -16,7 +16,7 @@ from rich.table import Table
 
 from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distribution, print_framing, run_app
 from phav_spec.errors import PhavUserError
-from phav_spec.files import check_output_file
+from phav_spec.files import check_output_dir, check_output_file
 from phav_validators.checks.scan import tune_allocator
 from phav_validators.findings import Reason
 from phav_validators.learn.learnability import LearnOptions
@@ -170,6 +170,8 @@ def validate(
                                threads=realism_threads, seed=seed),
         engine=engine, address=address, regenerate_into=regenerate_into,
     )  # fmt: skip
+    if regenerate_into is not None:
+        check_output_dir(regenerate_into, field="--regenerate-into")
     for target, field in ((json_out, "--json"), (html_out, "--html")):
         if target is not None:
             check_output_file(target, field=field)

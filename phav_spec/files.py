@@ -31,9 +31,24 @@ def read_text(path: str | os.PathLike[str], *, hint: str = "check the path") -> 
     except FileNotFoundError:
         raise PhavUserError(f"no such file; {hint}", source=str(path)) from None
     except UnicodeDecodeError:
-        raise PhavUserError("not UTF-8 text", source=str(path)) from None
+        raise PhavUserError(f"not UTF-8 text{_what_binary(p)}", source=str(path)) from None
     except OSError as e:
         raise PhavUserError(f"cannot read: {e.strerror}", source=str(path)) from None
+
+
+#: What a binary file phav writes starts with, and what it is (for a text file's error).
+_MAGIC = ((0, b"PAR1", "a Parquet table"), (0, b"\x89PNG", "a PNG image"), (257, b"ustar", "a tar shard"),
+          (0, b"PK\x03\x04", "a zip archive"))  # fmt: skip
+
+
+def _what_binary(path: Path) -> str:
+    """``": it is a Parquet table"`` and the like, where the file's first bytes say what it is."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(262)
+    except OSError:
+        return ""
+    return next((f": it is {what}" for at, magic, what in _MAGIC if head[at : at + len(magic)] == magic), "")
 
 
 def read_parquet(path: str | os.PathLike[str], columns: list[str] | None = None) -> pa.Table:

@@ -299,3 +299,17 @@ def test_stats_reads_the_rows_as_the_schema_check_does(tmp_path):
     pq.write_table(pa.concat_tables([rows, rows.slice(0, 1)]), tmp_path / "twice.parquet")
     twice = invoke_cli("stats", str(tmp_path / "twice.parquet"))
     assert twice.returncode == 1 and "DUPLICATE_VIDEO" in twice.stdout, twice.stdout
+
+
+def test_a_file_of_another_kind_says_what_it_is(tmp_path):
+    """A Parquet table, a shard or a PNG given where a recipe or θ's text is read: the error
+    says what the file is, not only that it is not UTF-8; --regenerate-into a file names
+    the option."""
+    table = tmp_path / "r.parquet"
+    assert invoke_cli("sample", "--n", "2", "--out", str(table)).returncode == 0
+    for args in (("recipe", "check", str(table)), ("theta", "check", str(table))):
+        result = invoke_cli(*args)
+        assert result.returncode == 2 and f"{table}: not UTF-8 text: it is a Parquet table" in result.stderr, args
+    (tmp_path / "afile").write_text("x")
+    result = invoke_cli("validate!", str(table), "--regenerate-into", str(tmp_path / "afile"))
+    assert result.returncode == 2 and "--regenerate-into: exists and is not a directory" in result.stderr

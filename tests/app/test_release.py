@@ -518,3 +518,8 @@ def test_a_recipe_only_release_of_100_videos(tmp_path):
     n_shards = len(load_manifest(rel / "manifest.json").shards)
     assert f"100/100 videos match; files: {n_shards + 2}/{n_shards + 2} sha256 match" in result.stdout
     assert file_bytes(rebuilt) == file_bytes(data)
+
+
+def test_previewing_a_recipe_only_release_says_it_carries_no_shards(recipe_release, tmp_path):
+    result = invoke_cli("preview", str(recipe_release), "--out", str(tmp_path / "s.png"))
+    assert result.returncode == 2 and "a recipe-only release carries no shards" in result.stderr, result.stderr
