@@ -156,6 +156,20 @@ def _regenerate(inp: DatasetInput, plan: RegenerationPlan, chosen: list[int], in
     return marker, False
 
 
+def _name_the_release(report: DatasetReport, into: Path, release: Path) -> None:
+    """Findings about the files copied from the release (its manifest, recipes, θ) name the
+    release's own, not their copies where the pixels were regenerated (a temporary directory
+    gone once the report is read); a regenerated shard is named by its file name."""
+    for check in report.checks:
+        findings = check.report.findings
+        for i, f in enumerate(findings):
+            if f.file is None or not Path(f.file).is_relative_to(into):
+                continue
+            name = Path(f.file).relative_to(into)
+            where = release / name if str(name) in (MANIFEST, RECIPES, THETA) else name
+            findings[i] = dataclasses.replace(f, file=str(where))
+
+
 def _intact(into: Path, names: list[str], plan: RegenerationPlan) -> bool:
     """Whether an earlier regeneration's shards are all in ``into`` at the sizes the release
     records, beside the release's manifest, recipes and θ (else it is made again)."""
@@ -188,6 +202,7 @@ def validate_release(
         shards = None if len(chosen) == len(plan.shards) else [into / n for n in marker["shards"]]
         report = validate_as_is(DatasetInput(into, shards=shards, named=list(inp.named)), theta=theta,
                                 options=options, progress=progress)  # fmt: skip
+        _name_the_release(report, into, inp.root)
         if options.regenerate_into is None:  # the shards go with the directory: the pictures are read now
             report.flagged_pictures = flagged_pictures(report)
     report.source = f"{inp.label} (recipe-only release)"

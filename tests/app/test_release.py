@@ -523,3 +523,18 @@ def test_a_recipe_only_release_of_100_videos(tmp_path):
 def test_previewing_a_recipe_only_release_says_it_carries_no_shards(recipe_release, tmp_path):
     result = invoke_cli("preview", str(recipe_release), "--out", str(tmp_path / "s.png"))
     assert result.returncode == 2 and "a recipe-only release carries no shards" in result.stderr, result.stderr
+
+
+def test_a_recipe_only_release_s_findings_name_its_own_files(recipe_release, tmp_path):
+    """The release's recipes table with a video twice: the schema finding names the release's
+    table, not its copy in the temporary directory the pixels were regenerated into."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    rel = tmp_path / "rel"
+    shutil.copytree(recipe_release, rel)
+    rows = pq.read_table(rel / "recipes.parquet")
+    pq.write_table(pa.concat_tables([rows, rows.slice(0, 1)]), rel / "recipes.parquet")
+    checks = _validate(rel, "--checks", "integrity,schema")
+    files = {f["file"] for f in checks["schema"]["findings"] if f["reason"] == "DUPLICATE_VIDEO"}
+    assert files == {str(rel / "recipes.parquet")}, checks["schema"]["findings"]

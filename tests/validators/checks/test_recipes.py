@@ -91,3 +91,13 @@ def test_a_manifest_finding_names_the_field_and_says_no_pydantic_wrapping(data):
     (data / "manifest.json").write_text(json.dumps(manifest))
     hits = assert_fails(validate(data, "integrity"), "integrity", Reason.MANIFEST_INVALID)
     assert hits[0].message.startswith("videos.0: ") and "Value error" not in hits[0].message, hits[0].message
+
+
+def test_a_manifest_whose_dataset_seed_is_not_the_recipes_fails_the_schema_check(data):
+    import json
+
+    manifest = json.loads((data / "manifest.json").read_text())
+    manifest["dataset_seed"] += 5
+    (data / "manifest.json").write_text(json.dumps(manifest))
+    hits = assert_fails(validate(data, "schema"), "schema", Reason.VIDEO_RECIPE_MISMATCH)
+    assert hits[0].message.startswith(f"dataset seed {manifest['dataset_seed']}, the recipes' ")
