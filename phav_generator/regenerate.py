@@ -83,9 +83,14 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
         recipe = load_recipe(recipe_path)
         if videos and recipe.video_id not in videos:
             raise PhavUserError(f"the recipe is {recipe.video_id}, not {', '.join(videos)}", field="--video")
-        return RegenerationPlan([[recipe]], None, "phav", None, 0, None)
+        return RegenerationPlan([[recipe]], None, "phav", None, recipe.dataset_seed, None)
     assert table_path is not None
     table = read_recipe_table(table_path)
+    ids = table.column("video_id")
+    twice = sorted({v for v in ids if ids.count(v) > 1}) if len(set(ids)) < len(ids) else []
+    if twice:  # which of its recipes would be the video's?
+        raise PhavUserError(f"video {twice[0]} has {ids.count(twice[0])} recipes in the table; run phav-validate",
+                            source=str(table_path), field="video_id")  # fmt: skip
     by_id = {r.video_id: r for r in table.recipes()}
     wanted = list(by_id) if not videos else videos
     unknown = [v for v in wanted if v not in by_id]
@@ -93,9 +98,10 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
         raise PhavUserError(f"no video {unknown[0]!r} in {len(by_id)} recipes", source=str(table_path), field="--video")
     keep = set(wanted)
     theta = _theta_beside(table_path, table.theta)
-    # A table of hand-made recipes has no dataset seed; its recipes carry their own seeds,
-    # so the seed is bookkeeping only and the manifest records 0.
-    seed = 0 if table.dataset_seed is None else table.dataset_seed
+    # A table of hand-made recipes has no dataset seed; its recipes carry their own seeds, so
+    # the manifest records theirs where they share one, else 0 (bookkeeping only).
+    seeds = {r.dataset_seed for r in by_id.values()}
+    seed = table.dataset_seed if table.dataset_seed is not None else (seeds.pop() if len(seeds) == 1 else 0)
     if manifest_path is None:
         recipes = [by_id[v] for v in by_id if v in keep]
         return RegenerationPlan(chunk(recipes, DEFAULT_SHARD_SIZE), None, "phav", theta, seed, None)

@@ -6,8 +6,11 @@ from __future__ import annotations
 import json
 import shutil
 
+import pytest
+
 from phav_generator.dataset import fingerprint
 from phav_spec.encoding import video_content_hash
+from phav_spec.errors import PhavUserError
 from phav_spec.manifest import load_manifest
 from tests.helpers import invoke_cli, run_cli
 
@@ -60,3 +63,17 @@ def test_regenerate_names_a_tampered_video(small_dataset_copy, tmp_path):
     result = invoke_cli("regenerate", str(small_dataset_copy), "--video", "v000001", "--out", str(tmp_path / "re"))
     assert result.returncode == 1
     assert "0/1 videos match" in result.stdout and "v000001: depth" in result.stdout
+
+
+def test_a_table_with_a_video_twice_is_refused_not_regenerated_from_one_of_them(tmp_path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from phav_generator.regenerate import plan_regeneration
+
+    table = tmp_path / "r.parquet"
+    assert invoke_cli("sample", "--n", "3", "--out", str(table)).returncode == 0
+    rows = pq.read_table(table)
+    pq.write_table(pa.concat_tables([rows, rows.slice(1, 1)]), table)
+    with pytest.raises(PhavUserError, match=r"video_id: video v000001 has 2 recipes in the table"):
+        plan_regeneration(table)
