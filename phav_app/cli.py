@@ -507,8 +507,8 @@ def generate(
     """Sample N recipes from θ and render them into WebDataset shards with metadata and a
     manifest. Rerun the same command on the same --out to resume an interrupted run: the
     videos and shards its journal records are kept, and the result is byte for byte the
-    uninterrupted one. A finished run is left as it is; another finished dataset in --out
-    is refused."""
+    uninterrupted one. A finished run is left as it is; another finished dataset, a release
+    or other files in --out are refused."""
 
     _check_name(name)
     check_dataset_dir(out)
