@@ -255,7 +255,7 @@ def _card_recipe_only(index: ReleaseIndex) -> list[str]:
 
 def _card_check() -> list[str]:
     """How to check a full release."""
-    return ["Check it: `phav-validate .` (integrity, encoding, distribution, failure cases, consistency, "
+    return ["Check it: `phav-validate .` (integrity, schema, encoding, distribution, failure cases, consistency, "
             "reproducibility).", ""]  # fmt: skip
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import re
+import shlex
 import tempfile
 import time
 from collections.abc import Iterator
@@ -605,7 +606,7 @@ def release(
     kept = f" ({result.kept} file(s) already in place)" if result.kept else ""
     console.print(
         f"wrote the {kind} of {escape(index.name)} to {escape(str(out))}{kept}: {result.release_bytes:,} bytes, "
-        f"{result.share_of_full:.2%} of the full release's {index.full_bytes:,}"
+        f"{result.share_of_full:.2%} of the full release's data files' {index.full_bytes:,}"
     )
     issues = check_croissant(out / CROISSANT_FILE)
     if issues is None:
@@ -655,6 +656,15 @@ def vary(
     console.print(f"wrote {escape(str(target))}: changed {escape(', '.join(changed) or 'nothing')}")
 
 
+def _options_given(ctx: typer.Context, leave_out: tuple[str, ...]) -> str:
+    """The command's options as its command line gave them (`` --n 500 …``), so that a
+    report's "made by" line reruns what made it."""
+    sources = {p.name: ctx.get_parameter_source(p.name) for p in ctx.command.params}
+    given = [p for p in ctx.command.params if p.name not in leave_out and p.opts
+             and getattr(sources[p.name], "name", None) == "COMMANDLINE"]  # fmt: skip
+    return "".join(f" {p.opts[0]} {shlex.quote(str(ctx.params[p.name]))}" for p in given)
+
+
 def _plus_minus(fig: Figure) -> str:
     """A realism figure as value ± half its 95 % interval (none from one video)."""
     if fig.low is None or fig.high is None:
@@ -684,6 +694,7 @@ def _known_theta(theta_hash: str, recipe_file: Path) -> Theta | None:
 
 @app.command()
 def bench(
+    ctx: typer.Context,
     n: Annotated[int, typer.Option("--n", min=100, help="Recipes in the largest sampling run.")] = 40000,
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
     out_dir: Annotated[Path | None, typer.Option("--out-dir", help="Keep the Parquet files here.")] = None,
@@ -782,7 +793,11 @@ def bench(
     finally:
         console.record = False
     if report is not None:
-        command = "phav bench --sections " + ",".join(s for s in BENCH_SECTIONS if s in chosen)
+        command = (
+            "phav bench --sections "
+            + ",".join(s for s in BENCH_SECTIONS if s in chosen)
+            + _options_given(ctx, leave_out=("sections", "report"))
+        )
         with atomic_write(report) as tmp:
             tmp.write_text(benchmark_report(recorded, command=command, gl=gl), encoding="utf-8")
         console.print(f"wrote {escape(str(report))}")

@@ -29,8 +29,8 @@ from phav_spec.files import WriteError, atomic_write, file_sha256, nested, parse
 from phav_spec.manifest import RendererFingerprint, renderer_differences
 from phav_spec.release import RECIPE_FILES, RELEASE_FILE
 from phav_validators.as_is import release_file_findings, validate_as_is
-from phav_validators.findings import ProgressFactory, Reason
-from phav_validators.options import DatasetReport, Options, sample_videos
+from phav_validators.findings import CheckResult, ProgressFactory, Reason
+from phav_validators.options import ALL_CHECKS, DatasetReport, Options, sample_videos
 from phav_validators.report import flagged_pictures
 from phav_validators.source import MANIFEST, RECIPES, THETA, DatasetInput
 
@@ -40,6 +40,9 @@ if TYPE_CHECKING:
 #: Integrity reasons that mean "these bytes differ from the release's": expected, not a
 #: failure, when the regenerating renderer is not the release's renderer of record.
 _RENDERER_DEPENDENT = (Reason.HASH_MISMATCH, Reason.SHARD_BYTES_CHANGED)
+#: The checks that read only a release's own files (no pixels): they run on a release too
+#: broken to regenerate.
+_PIXEL_FREE = ("integrity", "schema", "distribution")
 #: In a ``--regenerate-into`` directory: what was regenerated there, for which release, by
 #: which renderer, and the files it wrote.
 MARKER = ".phav-regenerated.json"
@@ -189,10 +192,15 @@ def validate_release(
             raise PhavUserError(f"{', '.join(missing)} missing", source=str(inp.root))
         plan = plan_regeneration(inp.manifest_path)
     except PhavUserError as e:  # a broken release: validated as it is, the checks say what is wrong
+        why = f"cannot regenerate the release: {e}"
+        # The checks asked for that need no pixels run on the release's files; integrity
+        # (which says what is missing) where none was asked for; the rest are skipped, why said.
+        free = tuple(c for c in options.checks if c in _PIXEL_FREE) or ("integrity",)
         report = validate_as_is(dataclasses.replace(inp, shards=None), theta=theta,
-                                options=dataclasses.replace(options, checks=("integrity", "schema")),
-                                progress=progress)  # fmt: skip
-        report.checks[0].report.notes.append(f"cannot regenerate the release: {e}")
+                                options=dataclasses.replace(options, checks=free), progress=progress)  # fmt: skip
+        report.checks[0].report.notes.append(why)
+        report.checks += [CheckResult.skipped(c, why) for c in options.checks if c not in free]
+        report.checks.sort(key=lambda c: ALL_CHECKS.index(c.name))
         return report
     chosen = _shards_to_build(plan, options)
     if options.regenerate_into is not None:
@@ -200,8 +208,10 @@ def validate_release(
     with _directory(options) as into:
         marker, reused = _regenerate(inp, plan, chosen, into, options, progress)
         shards = None if len(chosen) == len(plan.shards) else [into / n for n in marker["shards"]]
+        # The sample chose the shards; every video in them is checked, not a sample drawn again.
+        scanned = options if shards is None else dataclasses.replace(options, sample=1.0)
         report = validate_as_is(DatasetInput(into, shards=shards, named=list(inp.named)), theta=theta,
-                                options=options, progress=progress)  # fmt: skip
+                                options=scanned, progress=progress)  # fmt: skip
         _name_the_release(report, into, inp.root)
         if options.regenerate_into is None:  # the shards go with the directory: the pictures are read now
             report.flagged_pictures = flagged_pictures(report)
@@ -223,8 +233,10 @@ def validate_release(
                  + ": hash differences are warnings, pixels may differ in the last bits")  # fmt: skip
         lenient = _RENDERER_DEPENDENT
     verb = "reused" if reused else "regenerated"
-    note = f"{verb} {len(chosen)} of {len(plan.shards)} shards from the release's recipes ({where}); "
-    note += f"the renderer that made them {basis}"
+    note = f"{verb} {len(chosen)} of {len(plan.shards)} shards from the release's recipes ({where}"
+    if len(chosen) < len(plan.shards):
+        note += f"; --sample {options.sample:g}: those holding the sampled videos, every video in them checked"
+    note += f"); the renderer that made them {basis}"
     for check in report.checks:
         if check.name != "integrity":
             continue

@@ -420,8 +420,13 @@ def test_phav_validate_regenerates_only_the_sampled_shards_then_others_when_aske
     px = str(tmp_path / "px")
     first = _validate(recipe_release, "--checks", "integrity,encoding", "--sample", "0.25", "--regenerate-into", px)
     assert first["_rc"] == 0, first["_stdout"]
-    assert any("regenerated 1 of 2 shards" in n for n in first["integrity"]["notes"])
+    assert any("regenerated 1 of 2 shards" in n and "every video in them checked" in n
+               for n in first["integrity"]["notes"])  # fmt: skip
     assert len(list((tmp_path / "px").glob("*.tar"))) == 1
+    [made] = (tmp_path / "px").glob("*.tar")
+    in_shard = next(len(s.video_ids) for s in load_manifest(tmp_path / "px" / "manifest.json").shards
+                    if s.name == made.name)  # fmt: skip
+    assert first["integrity"]["numbers"]["hashed"] == in_shard  # the shard's videos, not a sample of them
     full = _validate(recipe_release, "--checks", "integrity,failures", "--regenerate-into", px)
     assert full["_rc"] == 0, full["_stdout"]
     assert any("regenerated 2 of 2 shards" in n for n in full["integrity"]["notes"])
@@ -447,6 +452,10 @@ def test_phav_validate_says_what_is_wrong_with_a_broken_release(recipe_release, 
     checks = _validate(no_theta)
     assert checks["_rc"] == 1 and any("theta.yaml missing" in n for n in checks["integrity"]["notes"])
     assert any(f["reason"] == "MISSING_FILE" and f["file"] == "theta.yaml" for f in checks["integrity"]["findings"])
+    # The checks asked for: those that need no pixels run, the rest are skipped with why.
+    asked = _validate(no_theta, "--checks", "integrity,encoding")
+    assert "schema" not in asked and asked["encoding"]["status"] == "skip"
+    assert "cannot regenerate the release: " in asked["encoding"]["summary"]
 
     corrupt = tmp_path / "corrupt"
     shutil.copytree(recipe_release, corrupt)

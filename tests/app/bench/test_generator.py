@@ -15,7 +15,7 @@ def test_bench_reports_speed_against_error(tmp_path):
     assert result.returncode == 0, result.stderr
     # The Markdown report: the machine and renderer, then the section's table as printed.
     text = report.read_text(encoding="utf-8")
-    assert text.startswith("# Benchmarks\n") and "`phav bench --sections sampling`" in text
+    assert text.startswith("# Benchmarks\n") and "`phav bench --sections sampling --n 400`" in text  # rerunnable
     fingerprint = next(line for line in text.splitlines() if line.startswith("| renderer fingerprint |"))
     assert len(fingerprint.split("`")[1]) == 64
     gl = next(line for line in text.splitlines() if line.startswith("| GL | "))
