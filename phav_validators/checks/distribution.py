@@ -326,11 +326,18 @@ def parse_recipes_arrow(recipes_json: Sequence[str | None]) -> pa.Table:
     """
 
     def read(texts: Sequence[str]) -> pa.Table:
-        return pj.read_json(io.BytesIO("\n".join(texts).encode("utf-8"))) if texts else pa.table({})
+        if not texts:
+            return pa.table({})
+        blob = "\n".join(texts).encode("utf-8")
+        # One block, one thread: the types are inferred from every row at once. In blocks read
+        # in parallel, a block without any supporting person typed that list as null, and the
+        # blocks then failed to join, on some runs and not others.
+        options = pj.ReadOptions(use_threads=False, block_size=min(len(blob) + 1, 2**31 - 1))
+        return pj.read_json(io.BytesIO(blob), read_options=options)
 
     try:
         return read(recipes_json)  # type: ignore[arg-type]  # a null row fails the join: sorted out below
-    except (pa.ArrowInvalid, ValueError, TypeError):
+    except (pa.ArrowException, ValueError, TypeError):
         good = []
         for text in recipes_json:
             try:
@@ -339,7 +346,7 @@ def parse_recipes_arrow(recipes_json: Sequence[str | None]) -> pa.Table:
                 continue
         try:
             return read(good)
-        except pa.ArrowInvalid:  # structurally foreign recipes: nothing to test here
+        except pa.ArrowException:  # structurally foreign recipes: nothing to test here
             return pa.table({})
 
 
