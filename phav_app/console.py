@@ -123,12 +123,14 @@ def print_distribution(result: DistributionResult, console: Console, *, max_valu
     for t in result.tests:
         by_var.setdefault(t.variable, []).append(t)
     for var, ts in by_var.items():
-        worst = min(ts, key=lambda t: t.p_value)
+        tested = [t for t in ts if t.tested]
+        worst = min(tested or ts, key=lambda t: t.p_value)
         impossible = sum(t.impossible for t in ts if t.condition == "marginal") or sum(t.impossible for t in ts)
         bad = any(t.rejected for t in ts)
+        status = "[red]FAIL[/]" if bad else ("[green]ok[/]" if tested else "[yellow]too few to test[/]")
         tests.add_row(
-            var, str(len(ts)), worst.condition, f"{worst.p_value:.3g}", str(impossible),
-            "[red]FAIL[/]" if bad else "[green]ok[/]",
+            var, f"{len(tested)}" + (f" (+{len(ts) - len(tested)} too small)" if len(tested) < len(ts) else ""),
+            worst.condition if tested else "", f"{worst.p_value:.3g}" if tested else "", str(impossible), status,
         )  # fmt: skip
     console.print(tests)
     console.print(

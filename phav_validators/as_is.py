@@ -789,10 +789,13 @@ def _distribution(loaded: _Loaded, opts: Options) -> tuple[CheckResult, Distribu
     for f in result.report.findings:
         loaded.distribution.add(f)
     rejected = sum(t.rejected for t in result.tests)
+    tested = sum(t.tested for t in result.tests)
+    untested = len(result.tests) - tested
     check = CheckResult.from_report(
         "distribution", loaded.distribution,
-        f"{len(result.tests)} tests against θ {loaded.theta.name}, {rejected} rejected (Holm, α = {opts.alpha:g})",
-        {"tests": len(result.tests), "rejected": rejected, "videos": result.n_videos,
+        f"{tested} tests against θ {loaded.theta.name}, {rejected} rejected (Holm, α = {opts.alpha:g}); "
+        f"{untested} rows too small to test",
+        {"tests": tested, "untested_rows": untested, "rejected": rejected, "videos": result.n_videos,
          "mean_duration_s": result.mean_duration, "expected_mean_duration_s": result.expected_mean_duration},
     )  # fmt: skip
     return check, result

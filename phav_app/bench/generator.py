@@ -74,9 +74,9 @@ def bench_sampling(theta: Theta, *, n: int, seed: int, out_dir: Path | None = No
                 camera_error=_max_abs_error(rows.columns["camera"], exact["camera"]),
                 action_error=_max_abs_error(rows.columns["action"], exact["action"]),
                 duration_error=abs(result.mean_duration - result.expected_mean_duration),
-                worst_p=min(t.p_value for t in result.tests),
+                worst_p=min((t.p_value for t in result.tests if t.tested), default=1.0),
                 rejected=sum(t.rejected for t in result.tests),
-                n_tests=len(result.tests),
+                n_tests=sum(t.tested for t in result.tests),
             ))  # fmt: skip
     return runs
 

@@ -54,6 +54,13 @@ class FitTest:
     impossible: int = 0
     rejected: bool = False  # set after the Holm correction
 
+    @property
+    def tested(self) -> bool:
+        """Whether the data could test anything: a chi-square left with two cells or more
+        once its small cells are pooled, a KS test with a sample. Rows too small to test
+        are reported, never counted in the Holm family as passed tests."""
+        return self.n > 0 and (self.kind != "chi2" or self.dof > 0 or math.isnan(self.p_value))
+
 
 @dataclass
 class VariableSummary:
@@ -223,11 +230,13 @@ def _finite_column(columns: Mapping[str, Sequence[Any]], name: str, report: Repo
 
 
 def holm(tests: list[FitTest], alpha: float) -> list[FitTest]:
-    """Mark rejections with the Holm–Bonferroni step-down procedure at family-wise ``alpha``."""
+    """Mark rejections with the Holm–Bonferroni step-down procedure at family-wise ``alpha``,
+    over the tests that could test anything (``FitTest.tested``)."""
     # A NaN p-value (a test that could not be computed) sorts first and is rejected.
-    order = sorted(range(len(tests)), key=lambda i: -1.0 if math.isnan(tests[i].p_value) else tests[i].p_value)
+    family = [i for i, t in enumerate(tests) if t.tested]
+    order = sorted(family, key=lambda i: -1.0 if math.isnan(tests[i].p_value) else tests[i].p_value)
     rejected = [False] * len(tests)
-    m = len(tests)
+    m = len(family)
     for rank, i in enumerate(order):
         if math.isnan(tests[i].p_value) or tests[i].p_value <= alpha / (m - rank):
             rejected[i] = True
