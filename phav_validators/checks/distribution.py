@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import math
+from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -53,6 +54,7 @@ class FitTest:
     p_value: float
     impossible: int = 0
     rejected: bool = False  # set after the Holm correction
+    unit: str = "videos"  # what ``n`` counts: a list column's elements (background actors, muscles)
 
     @property
     def tested(self) -> bool:
@@ -117,6 +119,11 @@ def _codes(column: Sequence[Any], values: tuple[Any, ...]) -> tuple[np.ndarray, 
     return codes, int((codes < 0).sum())
 
 
+def _unit(table: ExactTable) -> str:
+    """What one observation of ``table`` is: a video, or one element of a list column."""
+    return table.applies_to if table.multi else "videos"
+
+
 def _fmt(parents: tuple[str, ...], key: tuple[Any, ...]) -> str:
     return ", ".join(f"{p}={k}" for p, k in zip(parents, key, strict=True)) or "marginal"
 
@@ -135,10 +142,18 @@ def check_table(
     codes, unknown = _codes(values, table.values)
     findings: list[Finding] = []
     probs = table.marginal()
+    if table.multi and table.parents:
+        # A video's elements share its parents and their number varies: mixed by θ's parent
+        # probabilities, the marginal's counts spread more than a chi-square allows (false
+        # alarms with many background actors). Mixed by the elements each parent holds.
+        held = Counter(zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True))
+        mixed = sum((n * table.rows[key] for key, n in held.items() if key in table.rows), np.zeros(len(table.values)))
+        if mixed.sum() > 0:
+            probs = mixed / mixed.sum()
     observed = np.bincount(codes[codes >= 0], minlength=len(table.values))
     stat, dof, p, impossible = chi_square(observed, probs)
     impossible += unknown
-    tests = [FitTest(table.variable, "marginal", "chi2", len(values), stat, dof, p, impossible)]
+    tests = [FitTest(table.variable, "marginal", "chi2", len(values), stat, dof, p, impossible, unit=_unit(table))]
     if impossible:
         hit = [j for j, c in enumerate(codes) if c < 0 or probs[c] <= 0]
         bad = sorted({str(values[j]) for j in hit})
@@ -146,7 +161,7 @@ def check_table(
         videos = sorted({str(ids[idx[j]]) for j in hit}) if ids is not None else []
         findings.append(Finding(
             Reason.IMPOSSIBLE_VALUE,
-            f"{table.variable}: {impossible} videos have values θ gives probability zero ({', '.join(bad[:5])})"
+            f"{table.variable}: {impossible} {_unit(table)} have values θ gives probability zero ({', '.join(bad[:5])})"
             + (f": {', '.join(videos[:5])}" if videos else ""),
             file=source, video_id=videos[0] if len(videos) == 1 else None,
             numbers={"count": impossible, "values": bad[:20], "videos": videos[:50]},
@@ -161,7 +176,7 @@ def check_table(
             if key not in table.rows:
                 findings.append(Finding(
                     Reason.IMPOSSIBLE_VALUE,
-                    f"{table.variable}: {len(members)} videos have {_fmt(table.parents, key)}, "
+                    f"{table.variable}: {len(members)} {_unit(table)} have {_fmt(table.parents, key)}, "
                     "which θ gives probability zero",
                     file=source, numbers={"count": len(members)},
                 ))  # fmt: skip
@@ -181,13 +196,14 @@ def check_table(
                     dof,
                     p,
                     imp,
+                    unit=_unit(table),
                 )
             )
             if imp:
                 bad = sorted({str(table.values[c]) if c >= 0 else "?" for c in sub if c < 0 or row[c] <= 0})
                 findings.append(Finding(
                     Reason.IMPOSSIBLE_VALUE,
-                    f"{table.variable} given {_fmt(table.parents, key)}: {imp} videos with "
+                    f"{table.variable} given {_fmt(table.parents, key)}: {imp} {_unit(table)} with "
                     f"probability-zero values ({', '.join(bad[:5])})",
                     file=source, numbers={"count": imp, "values": bad[:20]},
                 ))  # fmt: skip
@@ -309,7 +325,7 @@ def check_distributions(
         if t.rejected and t.impossible == 0:
             report.add(Finding(
                 Reason.DISTRIBUTION_MISMATCH,
-                f"{t.variable} ({t.condition}): {t.kind} = {t.statistic:.4g}, p = {t.p_value:.3g} on {t.n} videos "
+                f"{t.variable} ({t.condition}): {t.kind} = {t.statistic:.4g}, p = {t.p_value:.3g} on {t.n} {t.unit} "
                 f"(Holm-corrected family-wise α = {alpha:g})",
                 file=source, numbers={"statistic": t.statistic, "p_value": t.p_value, "n": t.n, "dof": t.dof},
             ))  # fmt: skip
