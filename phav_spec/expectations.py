@@ -62,6 +62,9 @@ class ExactTable:
     parent_probs: dict[tuple[Any, ...], float]
     applies_to: str = "every video"
     multi: bool = False  # the column holds a list per video, each element one observation
+    #: A video's elements are a subset (drawn without replacement) of its row's support: its
+    #: counts spread less than independent draws', by (m − k)/(m − 1) for k of m.
+    subset: bool = False
 
     def marginal(self) -> np.ndarray:
         """P(variable | applies) = Σ_parents P(parents) P(variable | parents)."""
@@ -332,7 +335,7 @@ def _muscle_count_table(theta: Theta, p: ModelProbabilities) -> list[ExactTable]
     total = sum(weight.values())
     muscles = ExactTable(
         "varied_muscles", ("action", "variation"), MUSCLES.names, which,
-        {k: v / total for k, v in weight.items()}, "muscles of muscle variations", multi=True,
+        {k: v / total for k, v in weight.items()}, "muscles of muscle variations", multi=True, subset=True,
     )  # fmt: skip
     return [counts, muscles]
 

@@ -3,6 +3,8 @@ value is named, a skewed marginal rejected."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from phav_generator.sampling import RecipeSampler
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import load_theta
@@ -75,3 +77,37 @@ def test_many_background_actors_a_video_are_no_false_alarm(tmp_path):
     result = check_distributions({n: rt.column(n) for n in rt.table.column_names}, theta, alpha=1e-3)
     marginal = next(t for t in result.tests if t.variable == "background_start_waypoints" and t.condition == "marginal")
     assert marginal.p_value > 1e-3 and marginal.unit == "background actors" and result.ok, marginal
+
+
+def _subsets(rng, videos: int, weights=None) -> list[list[str]]:
+    """Each video's varied muscles: k uniform in 1..15, drawn without replacement."""
+    from phav_spec.vocab import MUSCLES
+
+    names = list(MUSCLES.names)
+    p = None if weights is None else np.asarray(weights, float) / np.sum(weights)
+    return [[names[j] for j in rng.choice(15, size=int(rng.integers(1, 16)), replace=False, p=p)]
+            for _ in range(videos)]  # fmt: skip
+
+
+def test_muscle_subsets_are_tested_at_their_own_spread():
+    """A video's varied muscles are a subset, drawn without replacement: their counts spread
+    by (m − k)/(m − 1) of independent draws'. Scaled to it, the test's p-values are uniform
+    on subsets drawn as θ says (they averaged 0.85–0.90: no power) and a tilted draw fails."""
+    from phav_spec.expectations import ExactTable
+    from phav_spec.vocab import MUSCLES
+    from phav_validators.checks.distribution import check_table
+
+    key = ("walk", "muscle_weakening")
+    table = ExactTable("varied_muscles", ("action", "variation"), MUSCLES.names, {key: np.full(15, 1 / 15)},
+                       {key: 1.0}, "muscles of muscle variations", multi=True, subset=True)  # fmt: skip
+
+    def p_value(subsets) -> float:
+        columns = {"varied_muscles": subsets, "action": ["walk"] * len(subsets),
+                   "variation": ["muscle_weakening"] * len(subsets)}  # fmt: skip
+        return check_table(table, columns)[0][1].p_value  # the row's test
+
+    rng = np.random.default_rng(0)
+    null = np.array([p_value(_subsets(rng, 300)) for _ in range(300)])
+    assert 0.45 < null.mean() < 0.55 and 0.02 < (null < 0.05).mean() < 0.09, (null.mean(), (null < 0.05).mean())
+    tilted = [p_value(_subsets(rng, 300, weights=np.arange(1, 16) ** 0.5)) for _ in range(20)]
+    assert np.mean(np.array(tilted) < 1e-3) > 0.8, tilted
