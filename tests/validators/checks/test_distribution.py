@@ -4,6 +4,7 @@ value is named, a skewed marginal rejected."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from phav_generator.sampling import RecipeSampler
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
@@ -111,3 +112,17 @@ def test_muscle_subsets_are_tested_at_their_own_spread():
     assert 0.45 < null.mean() < 0.55 and 0.02 < (null < 0.05).mean() < 0.09, (null.mean(), (null < 0.05).mean())
     tilted = [p_value(_subsets(rng, 300, weights=np.arange(1, 16) ** 0.5)) for _ in range(20)]
     assert np.mean(np.array(tilted) < 1e-3) > 0.8, tilted
+
+
+def test_one_cell_against_the_pooled_rest_takes_the_exact_binomial_p():
+    """A motion expected 5.7 times of 300 and seen 17, the other 127 pooled: the chi-square
+    says p = 1.9e-6, under Holm's first threshold; the exact binomial p is 8e-5."""
+    from scipy import stats
+
+    from phav_validators.checks.distribution import chi_square
+
+    probs = np.array([5.71 / 300, *([(1 - 5.71 / 300) / 127] * 127)])
+    observed = np.array([17, *([2] * 127)])
+    observed[1] += 300 - observed.sum()
+    _, dof, p, _ = chi_square(observed, probs)
+    assert dof == 1 and p == pytest.approx(stats.binomtest(17, 300, 5.71 / 300).pvalue) and p > 5e-5
