@@ -354,6 +354,9 @@ def recipe_show(
         raise PhavUserError(
             f"no video {video!r} in this table ({len(ids)} videos)", source=str(recipes), field="video_id"
         )
+    if ids.count(video) > 1:  # which of its recipes would be the video's?
+        raise PhavUserError(f"video {video} has {ids.count(video)} recipes in this table; run phav-validate",
+                            source=str(recipes), field="video_id")  # fmt: skip
     recipe = parse_json_object(rt.column("recipe")[ids.index(video)], source=f"{recipes}[{video}]")
     print(json.dumps(recipe, indent=2))
 

@@ -175,6 +175,14 @@ def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -
     elif out.table is not None and out.table.theta is not None:
         out.theta = out.table.theta
     m = out.manifest
+    if (
+        m is not None
+        and m.theta_hash is not None
+        and not (inp.root / THETA).exists()
+        and not (inp.root / RELEASE_FILE).exists()
+    ):  # a run made from θ writes it beside its recipes (a release's files are checked above)
+        out.integrity.add(Finding(Reason.MISSING_FILE, f"the manifest records θ {m.theta_hash[:12]}…, and the "
+                                  "dataset has no theta.yaml", file=THETA))  # fmt: skip
     if out.theta is not None and m is not None and m.theta_hash is not None and m.theta_hash != out.theta.hash:
         out.distribution.add(Finding(
             Reason.THETA_MISMATCH,

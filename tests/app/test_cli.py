@@ -299,6 +299,8 @@ def test_stats_reads_the_rows_as_the_schema_check_does(tmp_path):
     pq.write_table(pa.concat_tables([rows, rows.slice(0, 1)]), tmp_path / "twice.parquet")
     twice = invoke_cli("stats", str(tmp_path / "twice.parquet"))
     assert twice.returncode == 1 and "DUPLICATE_VIDEO" in twice.stdout, twice.stdout
+    shown = invoke_cli("recipe", "show", str(tmp_path / "twice.parquet"), "--video", "v000000")
+    assert shown.returncode == 2 and "video_id: video v000000 has 2 recipes in this table" in shown.stderr
 
 
 def test_a_file_of_another_kind_says_what_it_is(tmp_path):

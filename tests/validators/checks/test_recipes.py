@@ -101,3 +101,11 @@ def test_a_manifest_whose_dataset_seed_is_not_the_recipes_fails_the_schema_check
     (data / "manifest.json").write_text(json.dumps(manifest))
     hits = assert_fails(validate(data, "schema"), "schema", Reason.VIDEO_RECIPE_MISMATCH)
     assert hits[0].message.startswith(f"dataset seed {manifest['dataset_seed']}, the recipes' ")
+
+
+def test_a_dataset_made_from_theta_without_its_theta_file_fails_integrity(data):
+    """The manifest records the θ the videos were made from; without theta.yaml the check
+    read θ from the table's metadata and passed (phav release refuses such a dataset)."""
+    (data / "theta.yaml").unlink()
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.MISSING_FILE)
+    assert hits[0].file == "theta.yaml" and "the dataset has no theta.yaml" in hits[0].message
