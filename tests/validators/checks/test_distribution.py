@@ -114,15 +114,28 @@ def test_muscle_subsets_are_tested_at_their_own_spread():
     assert np.mean(np.array(tilted) < 1e-3) > 0.8, tilted
 
 
-def test_one_cell_against_the_pooled_rest_takes_the_exact_binomial_p():
-    """A motion expected 5.7 times of 300 and seen 17, the other 127 pooled: the chi-square
-    says p = 1.9e-6, under Holm's first threshold; the exact binomial p is 8e-5."""
+def test_two_cells_take_the_exact_binomial_p():
+    """One value expected 5.7 times of 300 and seen 17, against the rest: the chi-square says
+    p = 1.9e-6, under Holm's first threshold on a table of this size; the exact binomial p
+    is 8e-5."""
     from scipy import stats
 
     from phav_validators.checks.distribution import chi_square
 
-    probs = np.array([5.71 / 300, *([(1 - 5.71 / 300) / 127] * 127)])
-    observed = np.array([17, *([2] * 127)])
-    observed[1] += 300 - observed.sum()
-    _, dof, p, _ = chi_square(observed, probs)
+    _, dof, p, _ = chi_square(np.array([17, 283]), np.array([5.71 / 300, 1 - 5.71 / 300]))
     assert dof == 1 and p == pytest.approx(stats.binomtest(17, 300, 5.71 / 300).pvalue) and p > 5e-5
+
+
+def test_many_small_cells_are_grouped_and_tested_not_pooled_into_one():
+    """128 values at 3.1 expected each (the blend motions at a few thousand videos): joined
+    in pairs, 64 groups test the row (pooled into one cell, the row had no test: every blend
+    of one motion passed)."""
+    from phav_validators.checks.distribution import chi_square
+
+    probs = np.full(128, 1 / 128)
+    rng = np.random.default_rng(1)
+    _, dof, p, _ = chi_square(np.bincount(rng.choice(128, 400), minlength=128), probs)
+    assert dof == 63 and p > 1e-3
+    one_motion = np.zeros(128, dtype=np.int64)
+    one_motion[5] = 400
+    assert chi_square(one_motion, probs)[2] < 1e-12
