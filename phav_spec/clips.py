@@ -58,7 +58,7 @@ MAX_OPEN_SHARDS = 32
 @dataclass(frozen=True)
 class _ShardIndex:
     """Where each frame's members lie in one shard: per video, (frames, members) arrays of
-    byte offsets (−1: not in the shard) and sizes, in ``MEMBER_KEYS`` order. About 12 bytes
+    byte offsets (−1: not in the shard) and sizes, in ``MEMBER_KEYS`` order: 16 bytes
     a member, where a dict of objects took ~380: PHAV's 42 M members in every loader worker."""
 
     offsets: dict[str, np.ndarray]
