@@ -144,12 +144,11 @@ def _codes(column: Sequence[Any], values: tuple[Any, ...]) -> tuple[np.ndarray, 
     return codes, int((codes < 0).sum())
 
 
-def _support_sizes(table: ExactTable, columns: Mapping[str, Sequence[Any]], idx: np.ndarray) -> np.ndarray:
-    """Per element, how many values its video's row allows (its subset is drawn from them)."""
-    keys = zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True) if table.parents else None
-    if keys is None:
-        return np.full(len(idx), int((table.rows[()] > 0).sum()))
-    return np.array([int((table.rows[k] > 0).sum()) if k in table.rows else 0 for k in keys])
+def _support_sizes(table: ExactTable, keys: Sequence[tuple[Any, ...]], n: int) -> np.ndarray:
+    """Per element (``keys``: its video's parent values; none without parents), how many
+    values its row allows (its subset is drawn from them)."""
+    sizes = {key: int((row > 0).sum()) for key, row in table.rows.items()}
+    return np.array([sizes.get(k, 0) for k in keys] if keys else [sizes.get((), 0)] * n, dtype=np.int64)
 
 
 def _subset_corrected(stat: float, dof: int, p: float, video: np.ndarray, support: np.ndarray) -> tuple[float, float]:
@@ -191,20 +190,22 @@ def check_table(
         idx = np.flatnonzero(np.array([x is not None for x in column], dtype=bool))
         values = [column[i] for i in idx]
     codes, unknown = _codes(values, table.values)
+    # Each observation's parent values (its video's), in the order of ``values``.
+    keys = list(zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True)) if table.parents else []
     findings: list[Finding] = []
     probs = table.marginal()
     if table.multi and table.parents:
         # A video's elements share its parents and their number varies: mixed by θ's parent
         # probabilities, the marginal's counts spread more than a chi-square allows (false
         # alarms with many background actors). Mixed by the elements each parent holds.
-        held = Counter(zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True))
+        held = Counter(keys)
         mixed = sum((n * table.rows[key] for key, n in held.items() if key in table.rows), np.zeros(len(table.values)))
         if mixed.sum() > 0:
             probs = mixed / mixed.sum()
     observed = np.bincount(codes[codes >= 0], minlength=len(table.values))
     stat, dof, p, impossible = chi_square(observed, probs)
     if table.subset:
-        stat, p = _subset_corrected(stat, dof, p, idx, _support_sizes(table, columns, idx))
+        stat, p = _subset_corrected(stat, dof, p, idx, _support_sizes(table, keys, len(idx)))
     impossible += unknown
     tests = [FitTest(table.variable, "marginal", "chi2", len(values), stat, dof, p, impossible, unit=_unit(table))]
     if impossible:
@@ -220,7 +221,6 @@ def check_table(
             numbers={"count": impossible, "values": bad[:20], "videos": videos[:50]},
         ))  # fmt: skip
     if table.parents:
-        keys = list(zip(*(([columns[p][i] for i in idx]) for p in table.parents), strict=True))
         groups: dict[tuple[Any, ...], list[int]] = {}
         for j, key in enumerate(keys):
             groups.setdefault(key, []).append(j)
