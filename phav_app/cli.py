@@ -689,10 +689,15 @@ def _known_theta(theta_hash: str, recipe_file: Path) -> Theta | None:
     """The shipped preset with this θ hash, else the ``theta.yaml`` beside ``recipe_file`` if
     it has it (a dataset's θ, where its recipes were saved), else None."""
 
-    for path in [*sorted(PRESETS_DIR.glob("*.yaml")), recipe_file.parent / THETA_FILE]:
-        if path.is_file() and (th := load_theta(path)).hash == theta_hash:
+    for path in sorted(PRESETS_DIR.glob("*.yaml")):
+        if (th := load_theta(path)).hash == theta_hash:
             return th
-    return None
+    beside = recipe_file.parent / THETA_FILE
+    try:
+        th = load_theta(beside) if beside.is_file() else None
+    except PhavUserError:  # not a θ at all: not the recipe's either
+        return None
+    return th if th is not None and th.hash == theta_hash else None
 
 
 @app.command()

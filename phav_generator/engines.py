@@ -138,12 +138,15 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
     ) as pool:
         futures: dict[Future, int] = {pool.submit(_pool_call, stage, t): i for i, t in enumerate(tasks)}
         pending = set(futures)
+        unhanded: set[Future] = set()  # finished, not yet handed on
         try:
             while pending:
                 done, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+                unhanded = set(done)
                 _drain(events, progress)
                 # Handed on in task order within a batch: which finishes first cannot change a byte.
                 for fut in sorted(done, key=lambda f: futures[f]):
+                    unhanded.discard(fut)
                     record = fut.result()
                     if progress is not None:
                         progress(1, 0)
@@ -156,7 +159,7 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
         except BaseException:
             # Stopped here (Ctrl-C, SIGTERM, a failed task): the pool lets the tasks under way
             # finish before it shuts down, so hand on those that do; a resume need not redo them.
-            _finish_under_way(futures, pending, finished)
+            _finish_under_way(futures, pending | unhanded, finished)
             raise
         finally:
             for fut in pending:

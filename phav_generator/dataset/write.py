@@ -240,9 +240,15 @@ def write_dataset(
         with exclusive(work):
             # A run that held the lock may have finished since the look above (its work folder
             # moved away, this one new): look again, as the lock's holder.
-            if not (work / RUN_FILE).exists() and (finished := look(locked=True)) is not None:
-                shutil.rmtree(work, ignore_errors=True)
-                return DatasetResult.finished_before(finished)
+            if not (work / RUN_FILE).exists():
+                try:
+                    finished = look(locked=True)
+                except PhavUserError:  # another finished dataset: refused, leaving no work folder beside it
+                    shutil.rmtree(work, ignore_errors=True)
+                    raise
+                if finished is not None:
+                    shutil.rmtree(work, ignore_errors=True)
+                    return DatasetResult.finished_before(finished)
             (work / PARTS_DIR).mkdir(exist_ok=True)
             remove_stale_temporaries(out, work, work / PARTS_DIR)
             return _write_locked(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,

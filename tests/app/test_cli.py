@@ -315,3 +315,13 @@ def test_a_file_of_another_kind_says_what_it_is(tmp_path):
     (tmp_path / "afile").write_text("x")
     result = invoke_cli("validate!", str(table), "--regenerate-into", str(tmp_path / "afile"))
     assert result.returncode == 2 and "--regenerate-into: exists and is not a directory" in result.stderr
+
+
+def test_a_theta_file_beside_a_recipe_that_is_no_theta_is_not_its_theta(small_recipes, tmp_path):
+    """A broken or foreign theta.yaml beside the recipe is passed over (the hint to give
+    --theta), not an error that fails a valid recipe."""
+    path = tmp_path / "v000000.json"
+    path.write_text(small_recipes[0].model_dump_json(), encoding="utf-8")
+    (tmp_path / "theta.yaml").write_text("foo: [\n", encoding="utf-8")
+    checked = invoke_cli("recipe", "check", str(path))
+    assert checked.returncode == 0 and "pass it with --theta" in checked.stdout, checked.stderr

@@ -107,3 +107,24 @@ def test_a_stopped_pool_hands_on_the_tasks_under_way_that_finish():
                   finished=finished)  # fmt: skip
     # Task 1 was under way, and the pool may have handed a few more to its workers' queue.
     assert records[:2] == [0, 1] and records == sorted(records) and len(records) < len(tasks)
+
+
+def _fail_first(task, report):
+    """A pool stage: task 0 fails, the others return their index."""
+    if task == 0:
+        raise ValueError("task 0 fails")
+    return {"task": task}
+
+
+def test_a_failed_task_does_not_lose_the_records_finished_beside_it(monkeypatch):
+    """Tasks finished in one batch with a failed one are handed on (journalled) before the
+    failure is raised: a resume does not make them again."""
+    from phav_generator import engines
+
+    real_wait = engines.wait
+    monkeypatch.setattr(engines, "wait", lambda fs, timeout=None, return_when=None: real_wait(fs))  # one batch
+    records: list[int] = []
+    with pytest.raises(ValueError, match="task 0 fails"):
+        engines.run_tasks(_fail_first, [0, 1, 2], engine="local", workers=2, address=None, out=Path("."),
+                          progress=None, finished=lambda r: records.append(r["task"]))  # fmt: skip
+    assert records == [1, 2]

@@ -311,3 +311,19 @@ def test_a_video_rendered_while_the_body_data_changed_is_refused(monkeypatch, tm
     monkeypatch.setattr(write_module, "load_body_data", lambda: before)
     with pytest.raises(PhavUserError, match="v000000: the body data changed while the video was rendered"):
         write_module.render_task(task, parts=tmp_path)
+
+
+def test_a_second_look_that_refuses_leaves_no_work_folder(monkeypatch, small_dataset_copy, small_recipes, small_theta):
+    """Another finished dataset found under the lock is refused, and the work folder the lock
+    made is not left beside it."""
+    out = small_dataset_copy
+    looked = write_module._finished
+
+    def only_under_the_lock(*args, locked=False, **kwargs):  # the first look saw the other run unfinished
+        return looked(*args, locked=locked, **kwargs) if locked else None
+
+    monkeypatch.setattr(write_module, "_finished", only_under_the_lock)
+    with pytest.raises(PhavUserError, match=r"finished dataset with other settings \(dataset_seed differ\)"):
+        write_dataset(chunk(small_recipes, SMALL_SHARD_SIZE), out, name="phav", theta=small_theta,
+                      dataset_seed=SMALL_SEED + 1)  # fmt: skip
+    assert not (out / WORK_DIR).exists()

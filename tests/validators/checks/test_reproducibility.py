@@ -68,3 +68,15 @@ def test_a_missing_shard_is_integritys_finding_not_a_regeneration_mismatch(data)
         shard.unlink()
     report = validate(data, "integrity", "encoding", "consistency")
     assert [check(report, c).status for c in ("encoding", "consistency")] == [Status.SKIP, Status.SKIP]
+
+
+def test_under_another_renderer_a_video_without_frames_to_compare_is_not_a_match(data, monkeypatch):
+    """Within tolerances (another renderer) there is no content hash to fall back on: a video
+    whose shard is gone is not compared, and with none compared the check is skipped."""
+    from phav_validators.checks import reproduce
+
+    monkeypatch.setattr(reproduce, "renderer_differences", lambda *args, **kwargs: ["gl_settings"])
+    for shard in data.glob("*.tar"):
+        shard.unlink()
+    result = check(validate(data, "integrity", "reproducibility", regenerate=1), "reproducibility")
+    assert result.status == Status.SKIP and "no regenerated video's frames are in the shards" in result.summary
