@@ -27,7 +27,7 @@ import numpy as np
 
 from phav_spec.encoding import MODALITIES, decode_depth, flow_pixels, modality
 from phav_spec.errors import PhavUserError
-from phav_spec.files import parse_json_object
+from phav_spec.files import parse_json_object, tar_end_problem
 from phav_spec.manifest import load_manifest
 from phav_spec.vocab import ACTIONS
 from phav_spec.webdataset import decode_png
@@ -100,11 +100,10 @@ def _index_shard(path: Path) -> _ShardIndex:
                     found.setdefault(vid, []).append((int(frame), _COLUMN[key], info.offset_data, info.size))
             end = tar.offset
         with open(path, "rb") as fh:
-            fh.seek(end)
-            block = fh.read(tarfile.BLOCKSIZE)
+            unended = tar_end_problem(fh, end)
     except (tarfile.TarError, OSError) as e:
         raise PhavUserError(f"not a readable shard ({e}); run phav-validate", source=str(path)) from None
-    if len(block) < tarfile.BLOCKSIZE or block.count(0) != tarfile.BLOCKSIZE:
+    if unended is not None:
         raise PhavUserError(f"a damaged tar header at byte {end}: the members after it cannot be read; run "
                             "phav-validate", source=str(path))  # fmt: skip
     offsets, sizes = {}, {}

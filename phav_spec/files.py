@@ -12,7 +12,7 @@ import stat
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 from phav_spec.errors import PhavUserError
 
@@ -49,6 +49,19 @@ def _what_binary(path: Path) -> str:
     except OSError:
         return ""
     return next((f": it is {what}" for at, magic, what in _MAGIC if head[at : at + len(magic)] == magic), "")
+
+
+def tar_end_problem(raw: BinaryIO, offset: int) -> str | None:
+    """None when a zero block (tar's end-of-archive marker) follows the last member at
+    ``offset``; otherwise why not. A tar cut at a member boundary, or a header damaged after
+    the first, reads like a shorter complete tar to ``tarfile``: only the marker tells."""
+    position = raw.tell()
+    raw.seek(offset)
+    block = raw.read(512)  # tarfile.BLOCKSIZE
+    raw.seek(position)
+    if len(block) < 512 or block.count(0) != 512:
+        return f"no end-of-archive marker after the last member (at byte {offset})"
+    return None
 
 
 def read_parquet(path: str | os.PathLike[str], columns: list[str] | None = None) -> pa.Table:

@@ -17,6 +17,8 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import BinaryIO
 
+from phav_spec.files import tar_end_problem
+
 #: The largest member read (bytes). A 340×256 16-bit RGB PNG is at most ~0.6 MB even stored
 #: uncompressed; frames up to 4K in 16-bit RGB (≈ 50 MB raw) still fit.
 MAX_MEMBER_BYTES = 64 * 2**20
@@ -76,19 +78,6 @@ def unsafe_reason(info: tarfile.TarInfo) -> str | None:
     return None
 
 
-def _end_marker(raw: BinaryIO, offset: int) -> str | None:
-    """None when a zero block (tar's end-of-archive marker) follows the last member at
-    ``offset``; otherwise why not. A tar cut at a member boundary reads like a shorter
-    complete one in stream mode; only the missing marker tells it apart."""
-    position = raw.tell()
-    raw.seek(offset)
-    block = raw.read(tarfile.BLOCKSIZE)
-    raw.seek(position)
-    if len(block) < tarfile.BLOCKSIZE or block.count(0) != tarfile.BLOCKSIZE:
-        return f"no end-of-archive marker after the last member (at byte {offset})"
-    return None
-
-
 def iter_members(
     path: str | Path, scan: TarScan, only: Callable[[str], bool] | None = None
 ) -> Iterator[tuple[str, bytes]]:
@@ -131,7 +120,7 @@ def iter_members(
                         raise tarfile.ReadError(f"member {info.name!r} ends after {len(data)} of {info.size} bytes")
                     yield info.name, data
                 end = tar.offset
-            raw_end = _end_marker(raw, end)
+            raw_end = tar_end_problem(raw, end)
             if raw_end is not None:
                 scan.truncated = raw_end
         except (tarfile.TarError, EOFError, OSError) as e:
