@@ -88,6 +88,7 @@ from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
 from phav_validators.learn.train import RECOMMENDED, RGB_EPOCH_SHARE, default_threads, recommended_config
 from phav_validators.realism.check import HEADLINES, Figure
+from phav_validators.source import THETA
 
 app = typer.Typer(
     name="phav",
@@ -105,8 +106,6 @@ app.add_typer(body_app, name="body")
 app.add_typer(spec_app, name="spec")
 app.add_typer(recipe_app, name="recipe")
 
-#: A dataset's θ, written beside its recipes (``phav generate``).
-THETA_FILE = "theta.yaml"
 #: What `phav bench --sections` can run.
 BENCH_SECTIONS = ("sampling", "physics", "probe", "render", "generation", "validation", "training", "realism")
 
@@ -313,7 +312,7 @@ def recipe_check(
     )
     th = load_theta(theta) if theta else _known_theta(r.theta_hash, file)
     if th is None:
-        console.print(f"θ {r.theta_hash[:12]}… is no shipped preset, nor a {THETA_FILE} beside the recipe: pass it "
+        console.print(f"θ {r.theta_hash[:12]}… is no shipped preset, nor a {THETA} beside the recipe: pass it "
                       "with --theta to compare the recipe with what it gives")  # fmt: skip
         return
     try:
@@ -680,7 +679,7 @@ def _preset_for(theta_hash: str, recipe_file: Path) -> Theta:
 
     th = _known_theta(theta_hash, recipe_file)
     if th is None:
-        raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…, nor a {THETA_FILE} beside the recipe; "
+        raise PhavUserError(f"no preset has θ hash {theta_hash[:12]}…, nor a {THETA} beside the recipe; "
                             "pass the recipe's θ with --theta", field="--theta")  # fmt: skip
     return th
 
@@ -692,7 +691,7 @@ def _known_theta(theta_hash: str, recipe_file: Path) -> Theta | None:
     for path in sorted(PRESETS_DIR.glob("*.yaml")):
         if (th := load_theta(path)).hash == theta_hash:
             return th
-    beside = recipe_file.parent / THETA_FILE
+    beside = recipe_file.parent / THETA
     try:
         th = load_theta(beside) if beside.is_file() else None
     except PhavUserError:  # not a θ at all: not the recipe's either
