@@ -10,6 +10,7 @@ fingerprint → identical pixels), and the report says when they are not.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -87,9 +88,9 @@ def plan_regeneration(source: str | Path, *, videos: list[str] | None = None) ->
     assert table_path is not None
     table = read_recipe_table(table_path)
     ids = table.column("video_id")
-    twice = sorted({v for v in ids if ids.count(v) > 1}) if len(set(ids)) < len(ids) else []
+    twice = sorted((v, k) for v, k in Counter(ids).items() if k > 1)
     if twice:  # which of its recipes would be the video's?
-        raise PhavUserError(f"video {twice[0]} has {ids.count(twice[0])} recipes in the table; run phav-validate",
+        raise PhavUserError(f"video {twice[0][0]} has {twice[0][1]} recipes in the table; run phav-validate",
                             source=str(table_path), field="video_id")  # fmt: skip
     by_id = {r.video_id: r for r in table.recipes()}
     wanted = list(by_id) if not videos else videos
