@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 from typing import Any, TypeVar
 
@@ -57,9 +58,15 @@ def _is_union_tag(part: object) -> bool:
 M = TypeVar("M", bound=BaseModel)
 
 
-def validate_user_data(model: type[M], data: Any, *, source: str) -> M:
-    """``model.model_validate(data)``, with a failure as a PhavUserError naming source and field."""
+def validate_user_data(model: type[M], data: Any, *, source: str, strict: bool = False) -> M:
+    """``model.model_validate(data)``, with a failure as a PhavUserError naming source and field.
+
+    ``strict`` reads ``data`` as the JSON it came from, with JSON's types as written: ``"30"``
+    is no integer and ``30.5`` no string (pydantic's lax mode would take both), while an
+    array is still a tuple."""
     try:
+        if strict:
+            return model.model_validate_json(json.dumps(data), strict=True)
         return model.model_validate(data)
     except ValidationError as e:
         field, msg = format_validation_error(e)

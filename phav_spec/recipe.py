@@ -446,7 +446,7 @@ def parse_recipe(data: Mapping[str, Any] | str | bytes, *, source: str = "<recip
         data = parse_json_object(data, source=source)
     if not isinstance(data, Mapping):
         raise PhavUserError("a recipe must be a JSON object", source=source)
-    return validate_user_data(Recipe, upgrade_recipe(data, source=source), source=source)
+    return validate_user_data(Recipe, upgrade_recipe(data, source=source), source=source, strict=True)
 
 
 def load_recipe(path: str | Path) -> Recipe:

@@ -104,6 +104,10 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
         (lambda d: d.update(duration_s=1e308), "", "duration_s 1e+308 is too long to count its frames"),
         (lambda d: d.update(dataset_seed=True), "dataset_seed", "valid integer"),
         (lambda d: d["seeds"].update(physics=1.0), "seeds.physics", "valid integer"),
+        # JSON's types as written: a number in quotes is a hand edit, not a number.
+        (lambda d: d["video"].update(fps="30"), "video.fps", "valid integer"),
+        (lambda d: d.update(duration_s="4.0"), "duration_s", "valid number"),
+        (lambda d: d["camera"].update(fov_deg="60"), "camera.fov_deg", "valid number"),
         # Values θ's bounds rule out, which crashed the physics (a massless camera divides by 0).
         (lambda d: d["motion"].update(speed=1e300), "motion.speed", "less than or equal to 5"),
         (lambda d: d["camera"].update(kind="kite", springs=None), "camera", "springs: a kite camera needs springs"),
