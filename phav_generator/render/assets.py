@@ -58,7 +58,12 @@ def wheel_spin(transforms: np.ndarray, radius: float) -> np.ndarray:
 
 def wheels_drawable(vehicle: Vehicle, transforms: np.ndarray) -> Drawable:
     """A vehicle's wheels as one mesh skinned to one bone per wheel, each turning about its
-    axle as the vehicle moves: rigid per wheel, so their flow is exact."""
+    axle as the vehicle moves: rigid per wheel, so their flow is exact.
+
+    Bone 0 carries the vehicle's pose without a turn and holds no vertex: the renderer's
+    culling follows a skinned mesh's first bone, and the wheels, baked at their axles,
+    keep that bone's bounding sphere round all of them (one wheel's, following the front
+    wheel, dropped every wheel where the front one left the view)."""
     k, n = len(vehicle.axles), len(vehicle.wheel.positions)
     spin = wheel_spin(transforms, vehicle.wheel_radius)
     # Scalar libm, not numpy's CPU-dispatched cos and sin: the same turn on every CPU.
@@ -68,16 +73,18 @@ def wheels_drawable(vehicle: Vehicle, transforms: np.ndarray) -> Drawable:
     turn = np.zeros((len(spin), 4, 4))
     turn[:, 0, 0], turn[:, 0, 2], turn[:, 2, 0], turn[:, 2, 2] = c, s, -s, c  # about +y: forward rolls on
     turn[:, 1, 1] = turn[:, 3, 3] = 1.0
-    bones = np.zeros((len(spin), k, 4, 4))
+    bones = np.zeros((len(spin), k + 1, 4, 4))
+    bones[:, 0] = transforms
     for i, axle in enumerate(vehicle.axles):
-        at = np.eye(4)
-        at[:3, 3] = axle
-        bones[:, i] = transforms @ at @ turn
+        at, back = np.eye(4), np.eye(4)
+        at[:3, 3], back[:3, 3] = axle, -np.asarray(axle)
+        bones[:, i + 1] = transforms @ at @ turn @ back
     w = vehicle.wheel
     mesh = Mesh(
-        np.tile(w.positions, (k, 1)), np.tile(w.normals, (k, 1)),
+        np.concatenate([w.positions + np.asarray(axle, dtype=w.positions.dtype) for axle in vehicle.axles]),
+        np.tile(w.normals, (k, 1)),
         np.concatenate([w.triangles + i * n for i in range(k)]).astype(np.uint32),
-        bones=np.repeat(np.arange(k, dtype=np.uint32), n)[:, None] * np.array([1, 0, 0, 0], dtype=np.uint32),
+        bones=np.repeat(np.arange(1, k + 1, dtype=np.uint32), n)[:, None] * np.array([1, 0, 0, 0], dtype=np.uint32),
         weights=np.tile(np.array([[1.0, 0.0, 0.0, 0.0]], dtype=np.float32), (k * n, 1)),
     )  # fmt: skip
     tiled = Asset(mesh.positions, mesh.normals, mesh.triangles, np.tile(w.class_ids, k), np.tile(w.materials, k),

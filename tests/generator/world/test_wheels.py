@@ -100,3 +100,20 @@ def test_a_bus_shows_its_wheels_in_arches(seed):
     for x, y, z in bus_.axles[bus_.axles[:, 1] > 0]:
         tyre_face = y + 0.15
         assert _first_hit_y(bus_.body, np.array([x, 5.0, z])) < tyre_face - 0.05
+
+
+def test_the_rear_wheels_are_drawn_with_the_front_ones_out_of_view(ctx):
+    """The renderer culls a skinned mesh by its first bone's bounding sphere: the wheels'
+    must hold all of them, not only the front wheel's (which dropped the rear wheels of a
+    bus or a parked car cut by the frame's edge)."""
+    vehicle = bus((6.0, 1.2, 1.5), stream(0, "cull"), 0)
+    rear = vehicle.axles[np.argmin(vehicle.axles[:, 0])]
+    assert np.argmin(vehicle.axles[:, 0]) != 0  # the first wheel is a front one
+    c2w = np.eye(4)
+    c2w[:3, :3] = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]).T  # looking along +y
+    c2w[:3, 3] = (rear[0], -6.0, rear[2])  # beside the rear axle: the front wheels far out of view
+    sky = PIXEL_CLASSES["sky"].class_id
+    still = np.tile(np.eye(4), (2, 1, 1))
+    with FrameRenderer(ctx, 320, 240, [wheels_drawable(vehicle, still)], sky_class=sky, supersample=1) as r:
+        frame = r.render_labels(0, c2w, c2w, (300.0, 300.0, 160.0, 120.0))
+    assert (frame.class_id != sky).sum() > 1000
