@@ -18,7 +18,7 @@ from __future__ import annotations
 import copy
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -395,7 +395,9 @@ def video_failures(
 
     plan = plan_scene(recipe)  # once: the action's boxes and, for a perturbation, its base motion
     box = clip_boxes(recipe, plan)
-    valid = {id(person) for person in people if _frames_valid(recipe, person, fail)}
+    framed = [_frames_valid(recipe, person, fail) for person in people]
+    people = [_held_as_planned(person, plan) if ok else person for person, ok in zip(people, framed, strict=True)]
+    valid = {id(person) for person, ok in zip(people, framed, strict=True) if ok}
     for person in people:
         if id(person) in valid:
             _pose(recipe, person, box, th, m, fail)
@@ -412,6 +414,21 @@ def video_failures(
     _perturbation(recipe, protagonist, plan, th, m, fail)
     _sliding(recipe, protagonist, th, m, fail)
     return out
+
+
+def _held_as_planned(person: PersonSeries, plan: ScenePlan) -> PersonSeries:
+    """The person with the pins the plan holds them by, not the ones the table records: a
+    written weight of 0 would switch off the knee, perturbation and sliding measures. Only
+    a body the plan lets a touch release (the protagonist of ``car_hit``) may be let go
+    earlier than planned, as the table records it."""
+    planned = next((p for p in plan.people if p.person_id == person.person_id), None)
+    if planned is None:
+        return person
+    # A physical body's plan runs on the physics steps, a kinematic walker's on the frames.
+    held = planned.pin[person.frames * (plan.substeps if planned.physical else 1)] >= 0.5
+    if planned.release_on_contact_with is not None:
+        held &= person.pinned
+    return replace(person, pinned=held)
 
 
 def _frames_valid(recipe: Recipe, person: PersonSeries, fail: _Fail) -> bool:

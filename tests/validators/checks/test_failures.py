@@ -123,6 +123,23 @@ def test_a_body_released_by_a_hit_is_not_judged_as_perturbed():
     assert Reason.PERTURBATION_TOO_STRONG in [r for r, _ in video_failures(recipe, [still_pinned], None).failures]
 
 
+def test_a_written_release_does_not_switch_the_pinned_measures_off():
+    """The table's ``pin_weight`` is the generator's word: a person the plan holds is judged
+    as held whatever it says (written 0, the perturbation measure went silent); only the
+    body a touch may release (car_hit's protagonist) is let go where the table says."""
+    recipes = sample_recipes(load_theta("phav-v1-short"), n=200, seed=0)
+    recipe = next(r for r in recipes if r.variation.kind == "random_perturbation" and r.action != "car_hit")
+    joints, pinned = base_motion_joints(recipe)
+    n = len(joints)
+    me = PersonSeries(recipe.protagonist.person_id, "protagonist", np.arange(n), joints, pinned)
+    intrinsics = np.tile([300.0, 300.0, 170.0, 128.0], (n, 1))
+    cams = CameraSeries(np.arange(n), np.repeat(np.eye(4)[None], n, axis=0), intrinsics)
+    (moved,), _ = inject("perturbation", recipe, [me], cams)
+    written_off = dataclasses.replace(moved, pinned=np.zeros(n, dtype=bool))
+    reasons = [r for r, _ in video_failures(recipe, [written_off], None).failures]
+    assert Reason.PERTURBATION_TOO_STRONG in reasons, reasons
+
+
 def _short_recipes(*ids: str) -> dict:
     return {r.video_id: r for r in sample_recipes(load_theta("phav-v1-short"), n=100, seed=0) if r.video_id in ids}
 
