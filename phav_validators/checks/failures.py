@@ -30,7 +30,7 @@ from phav_generator.physics.plan.scene_plan import ScenePlan
 from phav_spec.errors import PhavUserError
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.recipe import Recipe
-from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, Collider, walkable_heights
+from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES, WALKABLE_PIXEL_CLASSES, Collider
 from phav_validators import tables
 from phav_validators.findings import CheckResult, Finding, Reason, Report
 
@@ -199,6 +199,17 @@ class BoxSet:
         n = len(self.colliders)
         both.planes = {**self.planes, **{n + i: e for i, e in more.planes.items()}}
         return both
+
+    def support(self, points: np.ndarray, reach: float) -> np.ndarray:
+        """What each point (..., 3) stands on: the top of the highest walkable box (a road,
+        a terrace, a stair of the action's flight) whose footprint holds it and whose top is
+        at most ``reach`` above it, else the ground (``walkable_heights`` over these boxes)."""
+        local = self.local(points)
+        tops = self.center[:, 2] + self.half[:, 2]
+        walkable = np.array([c.pixel_class in WALKABLE_PIXEL_CLASSES for c in self.colliders], dtype=bool)
+        holds = (np.abs(local[..., 0]) <= self.half[:, 0]) & (np.abs(local[..., 1]) <= self.half[:, 1])
+        under = walkable & holds & (tops <= points[..., 2:3] + reach)
+        return np.maximum(np.where(under, tops, -np.inf).max(axis=-1, initial=-np.inf), self.ground_z)
 
     def local(self, points: np.ndarray) -> np.ndarray:
         """Points (..., 3) in every box's frame: (..., B, 3)."""
@@ -412,7 +423,7 @@ def video_failures(
         _off_screen(recipe, protagonist, cams, instance_pixels, th, m, fail)
         _camera_in_geometry(recipe, cams, box, th, m, fail)
     _perturbation(recipe, protagonist, plan, th, m, fail)
-    _sliding(recipe, protagonist, th, m, fail)
+    _sliding(recipe, protagonist, box, th, m, fail)
     return out
 
 
@@ -651,13 +662,16 @@ def _perturbation(
              f"the necessary muscles are {distance * 100:.0f} cm from the base motion on average")  # fmt: skip
 
 
-def _sliding(recipe: Recipe, person: PersonSeries, th: Thresholds, m: dict[str, float], fail: _Fail) -> None:
+def _sliding(
+    recipe: Recipe, person: PersonSeries, box: BoxSet, th: Thresholds, m: dict[str, float], fail: _Fail
+) -> None:
     """Feet on the ground that move: mean horizontal speed of the slowest planted ankle
-    (not for an action whose feet slide on purpose: the moonwalk)."""
+    (not for an action whose feet slide on purpose: the moonwalk). A foot stands on the
+    environment's walkable boxes and the action's (a flight of stairs)."""
     if len(person.frames) < 3 or ACTION_SCENES[recipe.action].slides_feet:
         return
     ankles = person.joints[:, [_J["left_ankle"], _J["right_ankle"]]]  # (T, 2, 3)
-    support = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)
+    support = box.support(ankles, 0.05)
     height = ankles[..., 2] - support
     step = np.diff(ankles, axis=0) * recipe.video.fps / np.diff(person.frames)[:, None, None]
     horizontal = np.linalg.norm(step[..., :2], axis=-1)

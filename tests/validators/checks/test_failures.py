@@ -14,13 +14,14 @@ import pytest
 from phav_generator.sampling import sample_recipes
 from phav_spec.recipe import HumanSpec
 from phav_spec.recipe_table import read_recipe_table
-from phav_spec.scene import ENVIRONMENT_SCENES, HUMAN_MODELS
+from phav_spec.scene import ENVIRONMENT_SCENES, HUMAN_MODELS, walkable_heights
 from phav_spec.theta import load_theta
 from phav_validators.checks.failures import (
     BoxSet,
     CameraSeries,
     PersonSeries,
     Thresholds,
+    _J,
     _camera_in_geometry,
     base_motion_joints,
     camera_series,
@@ -30,7 +31,7 @@ from phav_validators.checks.failures import (
 )
 from phav_validators.checks.inject import INJECTIONS, inject
 from phav_validators.findings import Reason, Status
-from tests.generator.physics.support import simulated_people, theta_for
+from tests.generator.physics.support import recipe_for, simulated_people, theta_for
 from tests.validators.checks.support import assert_fails, check, edit_people, edit_recipes, validate
 
 
@@ -138,6 +139,28 @@ def test_a_written_release_does_not_switch_the_pinned_measures_off():
     written_off = dataclasses.replace(moved, pinned=np.zeros(n, dtype=bool))
     reasons = [r for r, _ in video_failures(recipe, [written_off], None).failures]
     assert Reason.PERTURBATION_TOO_STRONG in reasons, reasons
+
+
+def test_feet_gliding_on_a_flight_of_stairs_are_caught():
+    """A foot on a stair the action builds is planted. The frames on the flight alone (both
+    feet over 0.3 m above the environment's ground): as climbed, the measure is taken and
+    passes; the body gliding 1 m/s along the treads fails (with the environment's boxes alone
+    the feet stood on nothing, and the measure was never taken)."""
+    recipe = recipe_for("climb_stairs", "urban", seconds=3.0)
+    joints, pinned = base_motion_joints(recipe)
+    ankles = joints[:, [_J["left_ankle"], _J["right_ankle"]]]
+    ground = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)
+    up = np.flatnonzero((ankles[..., 2] - ground > 0.3).all(axis=1))
+    assert len(up) > 30
+    climb = PersonSeries(recipe.protagonist.person_id, "protagonist", up, joints[up], pinned[up])
+    clean = video_failures(recipe, [climb], None)
+    assert clean.measures["planted_foot_speed_m_s"] < 0.2 and not clean.failed, clean.failures
+    way = joints[-1, 0, :2] - joints[0, 0, :2]
+    along_treads = np.array([-way[1], way[0]]) / np.linalg.norm(way)
+    glide = joints[up].copy()
+    glide[:, :, :2] += ((up - up[0]) / recipe.video.fps)[:, None, None] * along_treads
+    gliding = dataclasses.replace(climb, joints=glide)
+    assert Reason.FOOT_SLIDING in [r for r, _ in video_failures(recipe, [gliding], None).failures]
 
 
 def _short_recipes(*ids: str) -> dict:
