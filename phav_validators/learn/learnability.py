@@ -241,6 +241,14 @@ def chance_level(labels: np.ndarray, predicted: np.ndarray, n_classes: int) -> f
     return max(1.0 / n_classes, float(p @ q))
 
 
+def best_possible(labels: np.ndarray, n_classes: int) -> tuple[float, float]:
+    """The p-value and times-chance of every test clip answered right: no network can do
+    better, so a test set where even that does not pass cannot show anything."""
+    labels = np.asarray(labels, dtype=np.int64)
+    chance = chance_level(labels, labels, n_classes)
+    return binomial_p(len(labels), len(labels), chance), (1.0 / chance if len(labels) else 0.0)
+
+
 def wilson_interval(correct: int, n: int, z: float = 1.959964) -> tuple[float, float]:
     """The Wilson score interval of a proportion ``correct / n`` (95 % for the default z)."""
     if n == 0:
@@ -377,7 +385,18 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
                 f"binomial p = {result.p_value:.2g}; needs p < {opts.alpha:g} and "
                 f"≥ {opts.min_over_chance:g}× chance")  # fmt: skip
     full = result.minutes_needed() if result.stopped_on_time else None
-    if not passes and full is not None:
+    best_p, best_ratio = best_possible(result.labels, len(result.classes))
+    undecidable = not passes and not (best_p < opts.alpha and best_ratio >= opts.min_over_chance)
+    if undecidable:  # what no longer training could change comes first
+        report.add(Finding(
+            Reason.LEARNING_INCONCLUSIVE,
+            f"inconclusive: too few or too alike test clips to decide (every one of the {n} right would "
+            f"give p = {best_p:.2g} at {best_ratio:.1f}× chance); generate more videos; {measured}",
+            file=str(root), severity="warn",
+            numbers={"accuracy": fused, "chance": result.chance, "p_value": result.p_value,
+                     "best_possible_p_value": best_p},
+        ))  # fmt: skip
+    elif not passes and full is not None:
         report.add(Finding(
             Reason.LEARNING_INCONCLUSIVE,
             f"inconclusive: {result.budget_note(opts.budget_minutes)}; {measured}",
@@ -426,7 +445,7 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
         apart = (f" ({len(mixed)} with {seen} seen in training: {result.accuracy(among=mixed):.1%}; "
                  f"the other {len(clean)}: {result.accuracy(among=clean):.1%})")  # fmt: skip
     held = "held-out " + opts.split if opts.split != "random" else "random-split"
-    verdict = "inconclusive, " if (not passes and full is not None) else ""
+    verdict = "inconclusive, " if (undecidable or (not passes and full is not None)) else ""
     summary = (f"{verdict}{flow}: fused {fused:.1%} (95 % CI {lo:.1%}–{hi:.1%}; {ratio:.1f}× chance "
                f"{result.chance:.1%}, p = {result.p_value:.2g}) on {n} {held} clips{apart}; {streams}; "
                f"{result.minutes:.1f} min training")  # fmt: skip
