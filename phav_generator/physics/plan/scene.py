@@ -15,7 +15,13 @@ import numpy as np
 from phav_generator.motion.skeleton import forward_kinematics
 from phav_generator.physics.plan.background import background_people
 from phav_generator.physics.plan.builder import PlanBuilder
-from phav_generator.physics.plan.camera import anchor_point, clear_camera_start, driven_lanes, view_blockers
+from phav_generator.physics.plan.camera import (
+    LANE_MARGIN_MIN_M,
+    anchor_point,
+    clear_camera_start,
+    driven_lanes,
+    view_blockers,
+)
 from phav_generator.physics.plan.car_hit import car_hit
 from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
 from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
@@ -47,15 +53,23 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     anchors = _view_anchors(recipe, people[0], substeps)
     blockers = () if not anchors else view_blockers(
         ENVIRONMENT_SCENES[recipe.environment.name].colliders, b.boxes, b.props)  # fmt: skip
+    wide, narrow = driven_lanes(b.props), driven_lanes(b.props, LANE_MARGIN_MIN_M)
     camera_start = clear_camera_start(
-        recipe, shift=shift, blockers=blockers, anchors=anchors, keep_out=driven_lanes(b.props) if anchors else ()
+        recipe, shift=shift, blockers=blockers, anchors=anchors, keep_out=wide if anchors else ()
     )
+    if anchors and any(lane.holds(camera_start) for lane in wide):  # no turn clears the wide lane
+        camera_start = clear_camera_start(recipe, shift=shift, blockers=blockers, anchors=anchors, keep_out=narrow)
     # A spring camera started clear of a car's lane keeps out of it: it films the hit from
-    # beside the road instead of following the thrown body into the car's way.
+    # beside the road instead of following the thrown body into the car's way. The wide
+    # lane where the start is clear of it, else the narrow one.
+    cars = [p for p in b.props if p.object == "car"]
     walls = tuple(
         (lane.center, lane.half, math.degrees(math.atan2(lane.axes[0][1], lane.axes[0][0])))
-        for lane in driven_lanes([p for p in b.props if p.object == "car"])
-        if not lane.holds(camera_start)
+        for lane in (
+            next((lane for lane in ways if not lane.holds(camera_start)), None)
+            for ways in zip(driven_lanes(cars), driven_lanes(cars, LANE_MARGIN_MIN_M), strict=True)
+        )
+        if lane is not None
     )
     return ScenePlan(
         recipe=recipe,

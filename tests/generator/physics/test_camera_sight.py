@@ -18,6 +18,7 @@ import pytest
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.camera import (
+    LANE_MARGIN_MIN_M,
     SIGHT_TURNS_DEG,
     Blocker,
     clear_camera_start,
@@ -72,18 +73,21 @@ def test_a_box_holds_the_points_inside_it_grown_by_a_margin() -> None:
 def test_a_kite_start_in_the_car_s_lane_is_turned_out_of_it(monkeypatch) -> None:
     """phav-v1, seed 0, v000029: a car hit whose kite started where the car drives through
     (its lane: the car's path over the clip, as wide as the car and 0.5 m more each side).
-    The plan turns it about the target, keeping distance and height, out of the lane."""
+    The plan turns it about the target, keeping distance and height, out of the lane. So
+    close to its target, no turn clears the wide lane (2.5 m more each side): the narrow one
+    is kept, and it is the camera's wall."""
     recipe = _phav_v1(29)
     assert recipe.action == "car_hit" and recipe.camera.kind == "kite"
     plan = plan_scene(recipe)
-    (lane,) = driven_lanes(plan.props)
+    (wide,), (lane,) = driven_lanes(plan.props), driven_lanes(plan.props, LANE_MARGIN_MIN_M)
     car = next(p for p in plan.props if p.object == "car")
     # The lane runs to where the car, braking from a late touch, must have stopped: its
     # path's end, where the path holds from lane_end on.
     assert all(lane.holds(point) for point in car.path)
     assert np.allclose(car.path[car.lane_end :], car.path[-1], atol=1e-3)
-    assert not lane.holds(plan.camera_start, 0.25)
-    monkeypatch.setattr("phav_generator.physics.plan.scene.driven_lanes", lambda props: ())
+    assert not lane.holds(plan.camera_start, 0.25) and wide.holds(plan.camera_start, 0.25)
+    assert [tuple(w[1]) for w in plan.camera_walls] == [tuple(lane.half)]
+    monkeypatch.setattr("phav_generator.physics.plan.scene.driven_lanes", lambda props, margin=0.0: ())
     unturned = plan_scene(recipe).camera_start
     assert lane.holds(unturned, 0.25)
     target = np.asarray(plan.camera_target)
@@ -91,6 +95,20 @@ def test_a_kite_start_in_the_car_s_lane_is_turned_out_of_it(monkeypatch) -> None
         np.hypot(*(np.subtract(unturned, target)[:2])), np.hypot(*(np.subtract(plan.camera_start, target)[:2]))
     )
     assert unturned[2] == plan.camera_start[2]
+
+
+def test_a_kite_start_beside_the_car_s_way_is_turned_out_of_the_wide_lane() -> None:
+    """phav-v1, seed 0, v000036: the kite started 0.5–2.5 m beside the car's way, where the
+    passing car would fill the frame with a door at arm's length. It is turned out of the
+    wide lane, which is then its wall."""
+    recipe = _phav_v1(36)
+    plan = plan_scene(recipe)
+    (wide,), (narrow,) = driven_lanes(plan.props), driven_lanes(plan.props, LANE_MARGIN_MIN_M)
+    shift = np.subtract(plan.camera_target, recipe.camera.target)
+    sampled = np.add(recipe.camera.position, shift)
+    assert wide.holds(sampled, 0.25) and not narrow.holds(sampled, 0.25)
+    assert not wide.holds(plan.camera_start, 0.25)
+    assert [tuple(w[1]) for w in plan.camera_walls] == [tuple(wide.half)]
 
 
 def test_a_kite_that_started_beside_the_car_s_lane_keeps_out_of_it() -> None:
