@@ -26,6 +26,7 @@ from phav_spec.scene import (
     CAMERA_PLACEMENT_VARIABLES,
     HUMAN_MODELS,
     KITE_SPRING_VARIABLES,
+    MAX_CAMERA_KICK_MPS,
     PARAMETER_BOUNDS,
     WEATHER_LEVELS,
 )
@@ -266,6 +267,13 @@ class CameraSpec(BaseModel):
             if (getattr(self, name) is not None) != tracked:  # the physics would read them, or find none
                 need = "needs" if tracked else "takes no"
                 raise ValueError(f"{name}: a {self.kind} camera {need} {name}")
+        if self.springs is not None and self.impulse is not None:
+            kick = self.impulse.strength / self.springs.camera_mass
+            if kick > MAX_CAMERA_KICK_MPS:
+                raise ValueError(
+                    f"impulse.strength: {self.impulse.strength:g} N·s on a camera of {self.springs.camera_mass:g} kg "
+                    f"throws it at {kick:.0f} m/s; at most {MAX_CAMERA_KICK_MPS:g}"
+                )
         return self
 
 

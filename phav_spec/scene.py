@@ -1183,6 +1183,11 @@ KITE_SPRING_VARIABLES: dict[str, tuple[str, float, float]] = {
     "target_drag": ("1/s", 0.0, 50.0),
 }
 
+#: The fastest a spring camera's initial impulse may throw it (m/s): the impulse over the
+#: camera's mass. Faster, the camera outruns its springs and the physics step: a 0.01 kg
+#: camera kicked with 6 N·s stopped the whole clip's physics at its first frame.
+MAX_CAMERA_KICK_MPS = 50.0
+
 #: The spring dead zone (minimum distance at which a spring starts pulling), metres.
 SPRING_MIN_DISTANCES_M: tuple[int, ...] = (0, 1, 2)
 

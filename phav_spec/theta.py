@@ -51,6 +51,7 @@ from phav_spec.scene import (
     HUMAN_MODELS,
     KITE_SPRING_VARIABLES,
     MAX_BACKGROUND_ACTORS,
+    MAX_CAMERA_KICK_MPS,
     PARAMETER_BOUNDS,
     SPRING_MIN_DISTANCES_M,
     WEATHER_LEVELS,
@@ -404,6 +405,13 @@ class CameraTheta(BaseModel):
     def _bounds(self) -> CameraTheta:
         for name, (_, lo, hi) in CAMERA_PLACEMENT_VARIABLES.items():
             _check_support(getattr(self, name), lo, hi, name)
+        if self.springs is not None and self.impulse is not None:
+            strongest, lightest = self.impulse.strength.support[1], self.springs.camera_mass.support[0]
+            if strongest > MAX_CAMERA_KICK_MPS * lightest:
+                raise ValueError(
+                    f"impulse.strength: up to {strongest:g} N·s on a camera of {lightest:g} kg (springs.camera_mass) "
+                    f"throws it at up to {strongest / lightest:.0f} m/s; at most {MAX_CAMERA_KICK_MPS:g}"
+                )
         return self
 
 

@@ -424,6 +424,7 @@ def video_failures(
         _camera_in_geometry(recipe, cams, box, th, m, fail)
     _perturbation(recipe, protagonist, plan, th, m, fail)
     _sliding(recipe, protagonist, box, th, m, fail)
+    _physics_stopped(recipe, protagonist, plan, fail)
     return out
 
 
@@ -660,6 +661,38 @@ def _perturbation(
     if distance > th.perturbation_m:
         fail(Reason.PERTURBATION_TOO_STRONG,
              f"the necessary muscles are {distance * 100:.0f} cm from the base motion on average")  # fmt: skip
+
+
+#: How far (m) the protagonist's planned motion must move while its recorded joints hold
+#: still, bit for bit, to the clip's end, for the physics to count as stopped.
+STOPPED_MOTION_M = 0.05
+
+
+def _physics_stopped(recipe: Recipe, person: PersonSeries, plan: ScenePlan, fail: _Fail) -> None:
+    """The generator stops a clip's physics where a step explodes and holds the last good
+    state to the end: every joint still, bit for bit, while the pins should still move the
+    body along its motion. A body at rest is never so still under the servos, and a
+    released ragdoll's frames are not judged (only those the pins hold)."""
+    j = person.joints
+    if len(j) < 3:
+        return
+    same = np.all(j[1:] == j[:-1], axis=(1, 2))
+    if not same[-1]:
+        return
+    still = len(same) - int(np.argmin(same[::-1])) if not same.all() else 0  # first row of the still tail
+    base = base_motion_joints(recipe, plan)
+    if base is None:
+        return
+    target, _ = base
+    rows = np.arange(still, len(j))
+    rows = rows[person.pinned[rows] & (person.frames[rows] < len(target))]
+    if len(rows) < 2:
+        return
+    moved = float(np.linalg.norm(target[person.frames[rows]] - target[person.frames[rows[0]]], axis=-1).max())
+    if moved > STOPPED_MOTION_M:
+        fail(Reason.ENERGY_EXPLOSION,
+             f"the physics stopped at frame {int(person.frames[still])}: every joint of the protagonist still to the "
+             f"clip's end while its motion moves {moved:.2f} m")  # fmt: skip
 
 
 def _sliding(

@@ -69,6 +69,8 @@ def _rename(old: str, new: str):
 
 BAD = {
     "negative weight": (_set("theta_a", {"walk": -1, "run": 1}), "theta_a", "non-negative"),
+    "a camera kicked too fast": (_set("cameras.kite.springs.camera_mass", {"kind": "uniform", "low": 0.01, "high": 1.0}),
+                                 "cameras.kite", "throws it at up to 500 m/s; at most 50"),
     "NaN weight": (_set("theta_w", {"clear": math.nan, "fog": 1}), "theta_w", "finite"),
     "infinite weight": (_set("theta_h", {"model_01": math.inf, "model_02": 1}), "theta_h", "finite"),
     "all-zero row": (_set("theta_ae.rows.walk", {}), "theta_ae.rows.walk", "all-zero row"),

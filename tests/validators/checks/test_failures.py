@@ -163,6 +163,24 @@ def test_feet_gliding_on_a_flight_of_stairs_are_caught():
     assert Reason.FOOT_SLIDING in [r for r, _ in video_failures(recipe, [gliding], None).failures]
 
 
+def test_a_clip_whose_physics_stopped_is_an_explosion():
+    """Where a step explodes the generator holds the last good state to the end: the
+    protagonist's joints still, bit for bit, while its walk moves on. Caught; a walk, or a
+    last frame that repeats the one before, is not."""
+    recipe = recipe_for("walk", seconds=2.0)
+    joints, pinned = base_motion_joints(recipe)
+    frozen = joints.copy()
+    frozen[20:] = joints[20]
+    person = PersonSeries(recipe.protagonist.person_id, "protagonist", np.arange(len(joints)), frozen, pinned)
+    found = [m for r, m in video_failures(recipe, [person], None).failures if r == Reason.ENERGY_EXPLOSION]
+    assert found and found[0].startswith("the physics stopped at frame 20"), found
+    walking = dataclasses.replace(person, joints=joints)
+    assert Reason.ENERGY_EXPLOSION not in [r for r, _ in video_failures(recipe, [walking], None).failures]
+    # Still only from the last frame on: a body stopping there is no stopped physics.
+    last = dataclasses.replace(person, joints=np.concatenate([joints[:-1], joints[-2:-1]]))
+    assert Reason.ENERGY_EXPLOSION not in [r for r, _ in video_failures(recipe, [last], None).failures]
+
+
 def _short_recipes(*ids: str) -> dict:
     return {r.video_id: r for r in sample_recipes(load_theta("phav-v1-short"), n=100, seed=0) if r.video_id in ids}
 
