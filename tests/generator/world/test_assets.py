@@ -97,7 +97,9 @@ def test_meshes_are_valid_and_within_their_triangle_budget(kind, level):
 
 
 def _assert_valid(asset: Asset, what: str) -> None:
-    """Finite, no degenerate or inside-out triangle, every closed part watertight."""
+    """Finite, no degenerate or inside-out triangle, every closed part watertight and wound
+    outwards (positive signed volume: a flat part's normals come from its own triangles,
+    so the winding test alone cannot see a part turned inside out whole)."""
     p, tri = asset.positions.astype(np.float64), asset.triangles.astype(np.int64)
     assert np.isfinite(p).all()
     a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
@@ -110,6 +112,9 @@ def _assert_valid(asset: Asset, what: str) -> None:
     for name, first, end, closed in asset.parts:
         if closed:
             assert _closed_edges_pair_up(p, tri[first:end]), f"{what}: part {name} is not closed"
+            t = p[tri[first:end]]
+            volume = np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])).sum() / 6.0
+            assert volume > 0, f"{what}: part {name} is inside out (signed volume {volume:.3g} m³)"
 
 
 @pytest.mark.parametrize("env", ENVIRONMENT_SCENES.names)
