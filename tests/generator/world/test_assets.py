@@ -33,6 +33,9 @@ from tests.helpers import outside_hulls, part_corners
 
 #: How far (m) a drawn shape may stray outside the box it stands in.
 FIT_M = 0.02
+#: The coarser levels' fit: drawn far enough away to be chosen, 4 cm is under a pixel (a car
+#: at level 2 rounds its sides with one station where its hulls, level 0's, take four).
+FIT_COARSE_M = 0.04
 KINDS = sorted(CATALOGUE)
 
 
@@ -180,11 +183,13 @@ FITTED = [(name, i) for name in ENVIRONMENT_SCENES.names for i in modelled_indic
 def test_each_drawn_shape_fits_its_collider(env, index):
     c = ENVIRONMENT_SCENES[env].colliders[index]
     built = collider_asset(env, index, 0)
-    for asset in [built.body] if isinstance(built, Vehicle) else [built]:
-        outside, gaps = _box_gaps(asset, c.half_size)
-        assert outside <= FIT_M, f"{c}: drawn {outside:.3f} m outside its box"
-        for face in _TOUCHED.get(c.pixel_class, ()):
-            assert gaps[face] <= FIT_M, f"{c}: face {face} is {gaps[face]:.3f} m from the drawn shape"
+    for level in range(LEVELS):
+        at_level, fit = collider_asset(env, index, level), FIT_M if level == 0 else FIT_COARSE_M
+        for asset in [at_level.body] if isinstance(at_level, Vehicle) else [at_level]:
+            outside, gaps = _box_gaps(asset, c.half_size)
+            assert outside <= fit, f"{c} at level {level}: drawn {outside:.3f} m outside its box"
+            for face in _TOUCHED.get(c.pixel_class, ()):
+                assert gaps[face] <= fit, f"{c} at level {level}: face {face} is {gaps[face]:.3f} m from the drawn shape"
     if c.hulls:  # a parked car collides as the solids it is drawn from
         _assert_drawn_as_hulls(built.body, c.hulls, f"{env} {index}")
     if isinstance(built, Vehicle):  # its wheels stand on the ground inside the box's footprint
