@@ -22,6 +22,7 @@ occlusion from depth, bloom, colour grading, vignette). ``FrameRenderer.render``
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
@@ -752,8 +753,15 @@ def _layout(vbo: moderngl.Buffer, program: moderngl.Program) -> list[tuple]:
 
 
 def linear_colour(colour) -> np.ndarray:
-    """Display colours (0–1) made linear for shading (vertex colours, texture images)."""
-    return np.power(np.asarray(colour, dtype=np.float64), 2.2)
+    """Display colours (0–1) made linear for shading (vertex colours, texture images).
+
+    Scalar libm's pow over the distinct values, not numpy's CPU-dispatched ``power``, whose
+    float64 results differ with the SIMD level: the same colours on every CPU by
+    construction, not by the float32 rounding that follows."""
+    values = np.asarray(colour, dtype=np.float64)
+    distinct, where = np.unique(values, return_inverse=True)
+    table = np.array([math.pow(x, 2.2) if x >= 0.0 else math.nan for x in distinct.tolist()], dtype=np.float64)
+    return table[where].reshape(values.shape)
 
 
 def material_coordinates(positions: np.ndarray, transforms: np.ndarray) -> np.ndarray:
