@@ -189,7 +189,8 @@ def test_each_drawn_shape_fits_its_collider(env, index):
             outside, gaps = _box_gaps(asset, c.half_size)
             assert outside <= fit, f"{c} at level {level}: drawn {outside:.3f} m outside its box"
             for face in _TOUCHED.get(c.pixel_class, ()):
-                assert gaps[face] <= fit, f"{c} at level {level}: face {face} is {gaps[face]:.3f} m from the drawn shape"
+                gap = gaps[face]
+                assert gap <= fit, f"{c} at level {level}: face {face} is {gap:.3f} m from the drawn shape"
     if c.hulls:  # a parked car collides as the solids it is drawn from
         _assert_drawn_as_hulls(built.body, c.hulls, f"{env} {index}")
     if isinstance(built, Vehicle):  # its wheels stand on the ground inside the box's footprint

@@ -17,11 +17,11 @@ from phav_spec.recipe_table import read_recipe_table
 from phav_spec.scene import ENVIRONMENT_SCENES, HUMAN_MODELS, walkable_heights
 from phav_spec.theta import load_theta
 from phav_validators.checks.failures import (
+    _J,
     BoxSet,
     CameraSeries,
     PersonSeries,
     Thresholds,
-    _J,
     _camera_in_geometry,
     base_motion_joints,
     camera_series,

@@ -16,9 +16,9 @@ from phav_validators.findings import CheckResult, Reason, Status
 from phav_validators.learn.learnability import (
     LearnOptions,
     LearnResult,
+    best_possible,
     binomial_p,
     chance_level,
-    best_possible,
     learnability_check,
     wilson_interval,
 )
