@@ -32,6 +32,7 @@ from phav_spec.scene import (
     CAMERA_PLACEMENT_VARIABLES,
     ENVIRONMENT_SCENES,
     HUMAN_MODELS,
+    MAX_CAMERA_KICK_MPS,
     PARAMETER_BOUNDS,
     SPRING_MIN_DISTANCES_M,
     why_not_hosted,
@@ -714,7 +715,8 @@ def _camera(draw: st.DrawFn, indoor: bool, position: tuple[float, float, float])
             "tp_min_distance_m": draw(st.sampled_from(SPRING_MIN_DISTANCES_M)),
         }
         impulse = {
-            "strength": draw(st.floats(0.0, 10.0)),
+            # at most MAX_CAMERA_KICK_MPS over the camera's mass: a recipe refuses a harder kick
+            "strength": draw(st.floats(0.0, min(10.0, MAX_CAMERA_KICK_MPS * springs["camera_mass"]))),
             "azimuth_deg": draw(st.floats(-180.0, 180.0)),
             "elevation_deg": draw(st.floats(-90.0, 90.0)),
         }
