@@ -9,15 +9,31 @@ import numpy as np
 from phav_generator.body.model import rest_body
 from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params
 from phav_generator.motion.library import get_motion
+from phav_generator.motion.skeleton import JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.scene_plan import PersonPlan
+from phav_spec.metadata import JOINT_ORDER
 from phav_spec.scene import MAX_STEP_M, walkable_heights
 from phav_spec.vocab import MUSCLES
 
-#: How far ahead of and behind its pelvis a background walker's feet reach (m), and how
-#: far to either side of its path (a foot's width off the hip's line).
-BACKGROUND_REACH_M = 0.5
+#: The highest step (m) a walker takes in its stride: a kerb, a low terrace. A higher
+#: ledge on its way (a plaza, a park's terrace, up to ``MAX_STEP_M``) stops it short of it,
+#: as someone stops at a wall they would have to climb.
+STEP_M = 0.3
+#: How far short of such a ledge (m) its pelvis stops: a stride's front foot and its toes
+#: clear of it.
+LEDGE_STOP_M = 0.65
+#: How far to either side of its path a walker's feet reach (m): a foot's width off the
+#: hip's line.
 BACKGROUND_SIDE_M = 0.2
+#: How far ahead of its ankle a foot's sole reaches (m): a foot stands on the highest
+#: surface under its heel or its toes.
+SOLE_M = 0.15
+#: A foot within this (m) of its lowest over the clip is planted.
+PLANTED_M = 0.03
+#: How fast (m/s) the pelvis moves onto a new level: a kerb's 15 cm over three frames.
+LEVEL_RATE_MPS = 1.5
+_ANKLES = [JOINT_BODIES[JOINT_ORDER.index(f"{side}_ankle")] for side in ("left", "right")]
 
 
 def background_people(b: PlanBuilder) -> list[PersonPlan]:
@@ -39,29 +55,21 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
         speed = actor.speed_mps / max(nominal * scale, 1e-6)
         params = motion_params(speed, False, r.seeds.background, f"background/{actor.person_id}")
         pose = animate(walk, frame_times, params.phase * walk.length_s, params, dims, (0.0, 0.0, 0.0), heading)
-        # Progress along the path, clamped at the destination; the gait's own advance is
-        # replaced by the straight segment so the actor arrives where the recipe says.
-        travelled = np.minimum(actor.speed_mps * frame_times, dist)
         along = delta / max(dist, 1e-9)
-        root = start[None, :] + travelled[:, None] * along[None, :]
-        # Walkers step up onto kerbs and terraces on their way instead of wading through them:
-        # the highest surface within a stride ahead of or behind the pelvis and a foot's
-        # width to either side, where the feet reach (the pelvis alone stepped up only once
-        # the front foot was in the kerb; a path along a terrace's edge put one foot in it).
         reach = max(start[2], dest[2]) + MAX_STEP_M
-        side = np.array([-along[1], along[0]])
-        root[:, 2] = np.max(
-            [
-                walkable_heights(r.environment.name, *(root[:, :2] + o * along[:2] + w * side).T, reach)
-                for o in (-BACKGROUND_REACH_M, -BACKGROUND_REACH_M / 2, 0.0, BACKGROUND_REACH_M / 2, BACKGROUND_REACH_M)
-                for w in (-BACKGROUND_SIDE_M, 0.0, BACKGROUND_SIDE_M)
-            ],
-            axis=0,
-        )
-        root[:, 2] += pose.root_pos[:, 2]  # the gait's own bob and standing height
-        arrived = travelled >= dist
+        stop = _ledge_stop(r.environment.name, start, along, dist, reach)
+        # Progress along the path, clamped where it stops; the gait's own advance is
+        # replaced by the straight segment so the actor arrives where the recipe says (or
+        # short of a ledge it would have to climb).
+        travelled = np.minimum(actor.speed_mps * frame_times, stop)
+        root = start[None, :] + travelled[:, None] * along[None, :]
+        arrived = travelled >= stop
         q = pose.q.copy()
         q[arrived] = 0.0
+        root[:, 2] = pose.root_pos[:, 2]  # the gait's own bob and standing height, over z = 0
+        if arrived.any():  # standing on straight legs, its feet where the gait plants them
+            root[arrived, 2] = _standing_height(dims, root, pose, arrived)
+        root[:, 2] += _stance_level(r.environment.name, dims, root, pose.root_quat, q, along, reach, r.video.fps)
         n = len(frame_times)
         out.append(
             PersonPlan(
@@ -77,3 +85,69 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
             )
         )
     return out
+
+
+def _standing_height(dims, root: np.ndarray, pose: Pose, arrived: np.ndarray) -> np.ndarray:
+    """The pelvis height (over z = 0) of a walker standing where it arrived: its legs
+    straight (every angle 0) and its lower ankle as high as the gait plants one. The gait's
+    bob went on under the standing pose, bouncing it a few centimetres in and out of the
+    ground."""
+    walking, _ = forward_kinematics(dims, root, pose.root_quat, pose.q)
+    planted = walking[:, _ANKLES, 2].min()
+    flat = np.zeros((int(arrived.sum()), 3))
+    standing, _ = forward_kinematics(dims, flat, pose.root_quat[arrived], np.zeros_like(pose.q[arrived]))
+    return planted - standing[:, _ANKLES, 2].min(axis=1)
+
+
+def _ledge_stop(env: str, start: np.ndarray, along: np.ndarray, dist: float, reach: float) -> float:
+    """How far along its path a walker goes: to its destination, or ``LEDGE_STOP_M`` short
+    of the first ledge higher than ``STEP_M`` under its feet (the surface under the path's
+    line and a foot's width to either side, every 5 cm)."""
+    d = np.arange(0.0, dist + 0.05, 0.05)
+    side = np.array([-along[1], along[0]])
+    heights = np.max(
+        [walkable_heights(env, *(start[:2] + d[:, None] * along[:2] + w * side).T, reach)
+         for w in (-BACKGROUND_SIDE_M, 0.0, BACKGROUND_SIDE_M)],
+        axis=0,
+    )  # fmt: skip
+    ledges = np.flatnonzero(np.abs(np.diff(heights)) > STEP_M)
+    return dist if len(ledges) == 0 else max(0.0, float(d[ledges[0]]) - LEDGE_STOP_M)
+
+
+def _stance_level(
+    env: str,
+    dims,
+    root: np.ndarray,
+    root_quat: np.ndarray,
+    q: np.ndarray,
+    along: np.ndarray,
+    reach: float,
+    fps: int,
+) -> np.ndarray:
+    """The height (T,) of the surface the walker's planted feet stand on: per frame, the
+    highest under a planted foot's heel or toes (a kerb is stepped onto by the foot that
+    lands on it, not by a pelvis that sees it coming), kept through frames no foot is
+    planted, and moved onto a new level at ``LEVEL_RATE_MPS``: rising before the step
+    lands, falling after the foot has left the higher surface, so no planted foot sinks
+    into a kerb and none hangs over one for more than a few frames."""
+    bodies, _ = forward_kinematics(dims, root, root_quat, q)
+    ankles = bodies[:, _ANKLES]  # (T, 2, 3) over the ground at z = 0
+    toes = ankles[..., :2] + SOLE_M * along[:2]
+    heels = walkable_heights(env, ankles[..., 0], ankles[..., 1], reach)
+    under = np.maximum(heels, walkable_heights(env, toes[..., 0], toes[..., 1], reach))
+    planted = ankles[..., 2] < ankles[..., 2].min(axis=0) + PLANTED_M
+    level = np.where(planted, under, -np.inf).max(axis=1)
+    known = np.flatnonzero(np.isfinite(level))
+    if len(known) == 0:
+        level = under.max(axis=1)
+    else:  # frames with no foot planted keep the level of the nearest planted one before (or after)
+        index = np.maximum.accumulate(np.where(np.isfinite(level), np.arange(len(level)), 0))
+        index = np.where(np.arange(len(level)) < known[0], known[0], index)
+        level = level[index]
+    rate = LEVEL_RATE_MPS / fps
+    rising, falling = level.copy(), level.copy()
+    for k in range(len(level) - 2, -1, -1):  # reach a higher level by the frame its foot lands there
+        rising[k] = max(rising[k], rising[k + 1] - rate)
+    for k in range(1, len(level)):  # leave a higher level only once no planted foot is on it
+        falling[k] = max(falling[k], falling[k - 1] - rate)
+    return np.maximum(rising, falling)

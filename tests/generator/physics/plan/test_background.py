@@ -1,7 +1,17 @@
-"""Background pedestrians: walkers step up onto kerbs on their way."""
+"""Background pedestrians: walkers step up onto kerbs on their way, and stop short of a
+ledge they would have to climb."""
 
 from __future__ import annotations
 
+import numpy as np
+
+from phav_generator.motion.skeleton import forward_kinematics
+from phav_generator.physics.plan.background import _ANKLES, STEP_M, background_people
+from phav_generator.physics.plan.builder import PlanBuilder
+from phav_generator.physics.plan.timestep import choose_substeps
+from phav_generator.sampling import sample_recipes
+from phav_spec.scene import walkable_heights
+from phav_spec.theta import load_theta
 from phav_validators.checks.failures import video_failures
 from tests.generator.physics.support import short_recipe, simulated_people
 
@@ -14,3 +24,30 @@ def test_background_walkers_step_onto_kerbs() -> None:
     assert walkers.background_actors and walkers.environment.name == "urban"
     result = video_failures(walkers, simulated_people(walkers), None)
     assert not result.failed, (walkers.video_id, result.failures)
+
+
+def _feet_over_ground(recipe) -> list[tuple[float, float]]:
+    """Per walker: how high both ankles stand over the surface under each (its worst frame;
+    an ankle joint is ~10 cm over its sole), and its pelvis's largest rise or fall a frame."""
+    plan = PlanBuilder(recipe, choose_substeps(recipe))
+    out = []
+    for walker in background_people(plan):
+        t = walker.targets
+        bodies, _ = forward_kinematics(walker.dims, t.root_pos, t.root_quat, t.q)
+        ankles = bodies[:, _ANKLES]
+        ground = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)
+        out.append((float((ankles[..., 2] - ground).min(axis=1).max()), float(np.abs(np.diff(t.root_pos[:, 2])).max())))
+    return out
+
+
+def test_walkers_stop_short_of_a_ledge_they_would_have_to_climb() -> None:
+    """phav-v1, seed 0: walkers whose way crosses the urban plaza's 0.6 m edge hovered
+    there, both feet up to 0.72 m over the ground, their pelvis leaping 0.6 m in a frame
+    (the pelvis rose for any surface within half a metre). A walker now steps onto what a
+    planted foot stands on, and stops short of a ledge higher than a step."""
+    recipes = {r.video_id: r for r in sample_recipes(load_theta("phav-v1"), n=272, seed=0)}
+    for video in ("v000185", "v000271"):
+        walkers = _feet_over_ground(recipes[video])
+        assert walkers
+        assert max(f for f, _ in walkers) < 0.3, (video, walkers)
+        assert max(j for _, j in walkers) < STEP_M, (video, walkers)
