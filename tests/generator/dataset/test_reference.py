@@ -27,7 +27,7 @@ from phav_generator.dataset.reference import (
 from phav_generator.regenerate import compare_hashes, plan_regeneration
 from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.errors import PhavUserError
-from phav_spec.manifest import load_manifest
+from phav_spec.manifest import FINGERPRINT_VERSION, load_manifest
 from tests.helpers import invoke_cli, run_cli
 
 V1 = Path(__file__).parents[2] / "golden" / "v1-fingerprint"
@@ -71,7 +71,7 @@ def test_the_first_differing_stage_follows_the_data_flow():
 def test_the_shipped_reference_loads_and_a_malformed_one_is_one_error(tmp_path):
     ref = load_reference()
     assert sorted(ref.recipes) == sorted(ref.stages) and len(ref.recipes) >= 2
-    assert ref.fingerprint.fingerprint_version == 2 and ref.fingerprint.cpu_class
+    assert ref.fingerprint.fingerprint_version == FINGERPRINT_VERSION and ref.fingerprint.cpu_class
     data = json.loads(REFERENCE_FILE.read_text(encoding="utf-8"))
     name = sorted(data["videos"])[0]
     del data["videos"][name]["stages"]["flow"]
