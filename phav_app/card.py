@@ -89,7 +89,8 @@ RECIPE_FIELDS = {"video_id": "sc:Text", "action": "sc:Text", "environment": "sc:
 CAMERA_FIELDS = {"video_id": "sc:Text", "frame": "sc:Integer", "time_s": "sc:Float", "fx": "sc:Float",
                  "fy": "sc:Float", "cx": "sc:Float", "cy": "sc:Float"}  # fmt: skip
 PEOPLE_FIELDS = {"video_id": "sc:Text", "frame": "sc:Integer", "person_id": "sc:Integer", "role": "sc:Text",
-                 "human_model": "sc:Text", "pixels": "sc:Integer"}  # fmt: skip
+                 "human_model": "sc:Text", "pixels": "sc:Integer", "penetration_m": "sc:Float",
+                 "joint_limit_excess": "sc:Float"}  # fmt: skip
 
 
 def _shares(counts: np.ndarray) -> list[float]:

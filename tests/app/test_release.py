@@ -127,6 +127,13 @@ def test_a_full_release_can_be_read_through_croissant(dataset, tmp_path):
     recipes = list(ds.records("recipes"))
     manifest = load_manifest(dataset / "manifest.json")
     assert sorted(r["recipes/video_id"].decode() for r in recipes) == [v.video_id for v in manifest.videos]
+    people = list(ds.records("people"))  # every scalar column of the table
+    table = pq.read_table(rel / "people.parquet")
+    assert len(people) == table.num_rows
+    for column in ("penetration_m", "joint_limit_excess"):
+        got = np.array([np.nan if r[f"people/{column}"] is None else r[f"people/{column}"] for r in people])
+        want = table.column(column).to_numpy()  # NaN for a background walker (read back as None)
+        assert np.allclose(np.sort(got), np.sort(want), equal_nan=True), column
     first = next(iter(ds.records("depth")))
     assert first["depth/key"] == b"v000000/00000" and first["depth/image"].size == (340, 256)
     rgb = list(itertools.islice(ds.records("rgb"), 3))
