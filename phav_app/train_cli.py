@@ -162,7 +162,7 @@ def train_command(
     torch_device(device)
     fractions = _fractions(real_fraction)
     real_source = _real(real) if real is not None else None
-    _check_mode(mode, real_source, dataset, init)
+    _check_mode(mode, real_source, dataset, init, stream_list)
     if flow not in FLOW_SOURCES:
         raise PhavUserError(f"choose from {', '.join(FLOW_SOURCES)}, got {flow!r}", field="--flow")
     clips_per_batch = _mix(mix)
@@ -216,16 +216,28 @@ def _streams(text: str) -> tuple[str, ...]:
     return stream_list
 
 
-def _check_mode(mode: str, real_source: tuple[str, Path] | None, dataset: Path | None, init: Path | None) -> None:
-    """A known mode, with what it needs: Cool-TSN a PHAV dataset, TSN-FT a PHAV run to start from."""
+def _check_mode(
+    mode: str, real_source: tuple[str, Path] | None, dataset: Path | None, init: Path | None, streams: tuple[str, ...]
+) -> None:
+    """A known mode, with what it needs: Cool-TSN a PHAV dataset, TSN-FT a PHAV run to start
+    from, holding a checkpoint for each stream trained (found now, not once every real video
+    is decoded and the first stream trained)."""
     if mode not in MODES:
         raise PhavUserError(f"choose from {', '.join(MODES)}, got {mode!r}", field="--mode")
     if real_source is not None and mode == "cool" and dataset is None:
         raise PhavUserError("Cool-TSN mixes PHAV clips into every batch: give a PHAV dataset", field="--mode")
     if real_source is not None and mode == "ft" and init is None:
         raise PhavUserError("TSN-FT starts from a PHAV run: give --init (a phav train output folder)", field="--init")
-    if init is not None and not init.exists():  # now, not once every real video is decoded
+    if init is not None and not init.exists():
         raise PhavUserError("no such folder or checkpoint", source=str(init), field="--init")
+    if init is not None and init.is_file() and len(streams) != 1:
+        raise PhavUserError(f"a checkpoint starts one stream: name its stream alone with --streams, not "
+                            f"{','.join(streams)}", source=str(init), field="--init")  # fmt: skip
+    if init is not None and init.is_dir():
+        missing = [f"split1-{s}.pt" for s in streams if not (init / f"split1-{s}.pt").is_file()]
+        if missing:
+            raise PhavUserError(f"no {', '.join(missing)} to start from (a phav train output folder holds "
+                                "split1-STREAM.pt)", source=str(init), field="--init")  # fmt: skip
 
 
 def _mix(text: str) -> tuple[int, int]:

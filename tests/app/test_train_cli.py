@@ -176,6 +176,22 @@ def test_a_device_torch_knows_but_training_does_not_is_one_line(tmp_path):
     assert not (tmp_path / "x").exists()
 
 
+def test_an_init_that_cannot_start_every_stream_is_refused_before_training(phav, tmp_path):
+    """``--init`` is checked against ``--streams`` before any video is read: a checkpoint file
+    starts one stream (the flow stream trained in full, then the RGB one failed on its
+    shapes), and a folder must hold ``split1-STREAM.pt`` for each."""
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "split1-flow.pt").write_bytes(b"")
+    for init, words in ((tmp_path / "run" / "split1-flow.pt", "a checkpoint starts one stream"),
+                        (tmp_path / "run", "no split1-rgb.pt to start from")):  # fmt: skip
+        result = invoke_cli("train", str(phav), "--out", str(tmp_path / "x"), *FAST, "--mode", "ft",
+                            "--real", f"ucf101={tmp_path}", "--init", str(init))  # fmt: skip
+        assert result.returncode == 2, (result.stdout, result.stderr)
+        line = _one_error_line(result.stderr)
+        assert "--init" in line and words in line, line
+        assert not (tmp_path / "x").exists()
+
+
 def test_cool_tsn_without_a_phav_dataset_is_a_user_error(tmp_path):
     result = invoke_cli("train", "--real", f"ucf101={tmp_path}", "--mode", "cool", *FAST)
     assert result.returncode == 2 and "PHAV dataset" in _one_error_line(result.stderr)
