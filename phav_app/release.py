@@ -157,6 +157,12 @@ def _index(src: _Source, *, recipes_only: bool, about: dict[str, str | None],
                         files=files, **about)  # fmt: skip
 
 
+#: What ``--license`` may be: an SPDX license id (the Hub's card takes it lower-cased) or
+#: an http(s) URL; and what ``--url`` must be.
+_SPDX_ID = r"[A-Za-z0-9][A-Za-z0-9.+-]*"
+_WEB_URL = r"https?://[^\s]+"
+
+
 def make_release(
     source: str | Path,
     out: str | Path,
@@ -175,8 +181,11 @@ def make_release(
         raise PhavUserError("the release and the dataset must not contain each other", source=str(out),
                             field="--out")  # fmt: skip
     check_output_dir(out)
-    if not license.strip():
-        raise PhavUserError("give the data's license (an SPDX id such as CC-BY-4.0, or a URL)", field="--license")
+    if not (re.fullmatch(_SPDX_ID, license.strip()) or re.fullmatch(_WEB_URL, license.strip())):
+        raise PhavUserError(f"give the data's license as an SPDX id such as CC-BY-4.0, or a URL, not {license!r}",
+                            field="--license")  # fmt: skip
+    if url is not None and not re.fullmatch(_WEB_URL, url):
+        raise PhavUserError(f"not an http(s) URL: {url!r}", field="--url")
     if not re.fullmatch(r"\d+\.\d+\.\d+", version):
         raise PhavUserError(f"not MAJOR.MINOR.PATCH: {version!r}", field="--dataset-version")
     if date is not None:

@@ -106,6 +106,10 @@ def test_a_recipe_only_release_s_files_are_checked_against_release_json(recipe_r
 def test_the_license_is_given_and_a_url_is_linked_on_the_card(dataset, tmp_path):
     result = invoke_cli("release", str(dataset), "--out", str(tmp_path / "r0"), "--recipes-only", "--license", " ")
     assert result.returncode == 2 and "--license: give the data's license" in result.stderr
+    for option, value in (("--license", "MIT License; see file"), ("--url", "my site")):  # the card's YAML header
+        result = invoke_cli("release", str(dataset), "--out", str(tmp_path / "r0"), "--recipes-only", option, value)
+        assert result.returncode == 2 and f"{option}: " in result.stderr and repr(value) in result.stderr
+    assert not (tmp_path / "r0").exists()
     assert not (tmp_path / "r0").exists()
     url = "https://creativecommons.org/licenses/by-sa/4.0/"
     make_release(dataset, tmp_path / "r1", recipes_only=True, license=url)
