@@ -493,8 +493,10 @@ def _fingerprint(
     for name in sorted(data):
         for clip in data[name]:
             h.update(f"{name}\0{clip.key}\0{clip.label}\0{clip.rgb.shape}\n".encode())
-            h.update(clip.rgb[0].tobytes())  # pixels and flow as stored (size, flow source)
-            h.update(clip.flow[-1].tobytes())
+            # every frame's pixels and flow as stored (size, flow source): a dataset re-rendered
+            # in place differs anywhere, not only in a clip's first frame
+            h.update(np.ascontiguousarray(clip.rgb).data)
+            h.update(np.ascontiguousarray(clip.flow).data)
     return h.hexdigest()
 
 

@@ -152,6 +152,13 @@ def test_a_checkpoint_fingerprint_leaves_out_the_settings_at_their_defaults():
     print_ = _fingerprint(config, data, {"virtual": 3}, None)
     assert print_ == _fingerprint(dataclasses.replace(config, diff_gain=1.0), data, {"virtual": 3}, None)
     assert print_ != _fingerprint(dataclasses.replace(config, lr=0.05), data, {"virtual": 3}, None)
+    # Any frame's pixels or flow, not only a clip's first RGB and last flow frame.
+    for modality in ("rgb", "flow"):
+        clips = [dataclasses.replace(c) for c in data["virtual"]]
+        changed = getattr(clips[0], modality).copy()
+        changed[1] += 1
+        clips[0] = dataclasses.replace(clips[0], **{modality: changed})
+        assert print_ != _fingerprint(config, {"virtual": clips}, {"virtual": 3}, None), modality
 
 
 def test_a_damaged_checkpoint_is_a_user_error(tmp_path):
