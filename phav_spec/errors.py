@@ -39,6 +39,11 @@ def format_validation_error(error: ValidationError) -> tuple[str, str]:
     msg = first["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
     if first["type"] == "extra_forbidden":
         msg = "unknown key (misspelt?); remove it or check the spelling"
+    elif first["type"] in _TYPE_ERRORS and "input" in first:
+        got = first["input"]
+        msg += f", got {type(got).__name__} {got!r}"
+        if isinstance(got, str):
+            msg += "; write numbers without quotes"
     elif first["type"] == "missing":
         msg = "missing required field"
     while (m := _PATH_PREFIX.match(msg)) is not None:
@@ -50,12 +55,31 @@ def format_validation_error(error: ValidationError) -> tuple[str, str]:
     return ".".join(parts), msg
 
 
+#: pydantic's errors for a value of the wrong JSON type: the message names what was written.
+_TYPE_ERRORS = frozenset({"int_type", "float_type", "bool_type", "string_type", "int_from_float"})
+
+
 def _is_union_tag(part: object) -> bool:
     """Pydantic inserts union member tags into error locations; users never wrote them."""
     return isinstance(part, str) and (part in ("uniform", "triangular") or "[" in part or "function-" in part)
 
 
 M = TypeVar("M", bound=BaseModel)
+
+
+def _json_text(data: Any, source: str) -> str:
+    """``data`` as JSON text; numpy scalars (a row read with Arrow or pandas) as the numbers
+    they hold, anything else JSON has no type for a user error naming its type."""
+
+    def scalar(value: Any) -> Any:
+        if hasattr(value, "item") and getattr(value, "shape", None) == ():
+            return value.item()
+        raise TypeError(f"a value of type {type(value).__name__} has no JSON form")
+
+    try:
+        return json.dumps(data, default=scalar)
+    except (TypeError, ValueError) as e:
+        raise PhavUserError(str(e), source=source) from None
 
 
 def validate_user_data(model: type[M], data: Any, *, source: str, strict: bool = False) -> M:
@@ -66,7 +90,7 @@ def validate_user_data(model: type[M], data: Any, *, source: str, strict: bool =
     array is still a tuple."""
     try:
         if strict:
-            return model.model_validate_json(json.dumps(data), strict=True)
+            return model.model_validate_json(_json_text(data, source), strict=True)
         return model.model_validate(data)
     except ValidationError as e:
         field, msg = format_validation_error(e)

@@ -268,11 +268,11 @@ class CameraSpec(BaseModel):
                 need = "needs" if tracked else "takes no"
                 raise ValueError(f"{name}: a {self.kind} camera {need} {name}")
         if self.springs is not None and self.impulse is not None:
-            kick = self.impulse.strength / self.springs.camera_mass
-            if kick > MAX_CAMERA_KICK_MPS:
+            strength, mass = self.impulse.strength, self.springs.camera_mass
+            if strength > MAX_CAMERA_KICK_MPS * mass:  # as θ and the strategies bound it: no division's rounding
                 raise ValueError(
-                    f"impulse.strength: {self.impulse.strength:g} N·s on a camera of {self.springs.camera_mass:g} kg "
-                    f"throws it at {kick:.0f} m/s; at most {MAX_CAMERA_KICK_MPS:g}"
+                    f"impulse.strength: {strength:g} N·s on a camera of {mass:g} kg throws it at "
+                    f"{strength / mass:.4g} m/s; at most {MAX_CAMERA_KICK_MPS:g}"
                 )
         return self
 

@@ -76,7 +76,7 @@ class Thresholds:
     """Where a measure becomes a failure (metres, seconds, radians; docs/validation.md)."""
 
     max_speed_m_s: float = 30.0  # a joint faster than this between frames, the pins holding the body: explosion
-    max_thrown_speed_m_s: float = 45.0  # the same once a touch released it (a car's hit throws limbs faster)
+    max_thrown_speed_m_s: float = 45.0  # the same once a car's touch threw it (its hit throws limbs faster)
     max_stretch_m: float = 0.03  # a rigid joint pair longer or shorter than its median by this
     penetration_m: float = 0.08  # a joint or limb midpoint this deep inside a box or the ground
     knee_hyperextension_m: float = 0.08  # knee this far behind the hip–ankle line
@@ -96,6 +96,8 @@ class PersonSeries:
     frames: np.ndarray  # (T,) frame numbers, sorted
     joints: np.ndarray  # (T, 13, 3)
     pinned: np.ndarray  # (T,) root pin ≥ 0.5: the body follows its animation, physics does not own it
+    #: (T,) let go by a touch the plan allows (car_hit's protagonist after the hit), or None
+    thrown: np.ndarray | None = None
 
 
 @dataclass
@@ -439,9 +441,9 @@ def _held_as_planned(person: PersonSeries, plan: ScenePlan) -> PersonSeries:
         return person
     # A physical body's plan runs on the physics steps, a kinematic walker's on the frames.
     held = planned.pin[person.frames * (plan.substeps if planned.physical else 1)] >= 0.5
-    if planned.release_on_contact_with is not None:
-        held &= person.pinned
-    return replace(person, pinned=held)
+    if planned.release_on_contact_with is None:
+        return replace(person, pinned=held)
+    return replace(person, pinned=held & person.pinned, thrown=held & ~person.pinned)
 
 
 def _frames_valid(recipe: Recipe, person: PersonSeries, fail: _Fail) -> bool:
@@ -517,12 +519,13 @@ def _explosion(person: PersonSeries, fps: int, who: str, th: Thresholds, m: dict
         spacing = np.diff(person.frames) / fps
         speeds = np.linalg.norm(np.diff(j, axis=0), axis=-1).max(axis=1) / spacing
         m[f"max_joint_speed_m_s/{person.person_id}"] = float(speeds.max())
-        held = person.pinned[:-1] & person.pinned[1:]
-        limit = np.where(held, th.max_speed_m_s, th.max_thrown_speed_m_s)
+        # Faster once a touch has thrown the body (a car's hit), not wherever the pins are slack.
+        thrown = np.zeros(len(speeds), dtype=bool) if person.thrown is None else person.thrown[1:]
+        limit = np.where(thrown, th.max_thrown_speed_m_s, th.max_speed_m_s)
         if (speeds > limit).any():
             k = int(np.argmax(speeds - limit))
             fail(Reason.ENERGY_EXPLOSION, f"{who}: a joint moves at {speeds[k]:.1f} m/s (> {limit[k]:g}"
-                 f"{'' if held[k] else ', thrown'}) at frame {int(person.frames[k + 1])}")  # fmt: skip
+                 f"{', thrown' if thrown[k] else ''}) at frame {int(person.frames[k + 1])}")  # fmt: skip
     lengths = np.stack([np.linalg.norm(j[:, a] - j[:, b], axis=-1) for a, b in RIGID_PAIRS], axis=1)
     stretch = float(np.abs(lengths - np.median(lengths, axis=0)).max())
     m[f"max_limb_stretch_m/{person.person_id}"] = stretch

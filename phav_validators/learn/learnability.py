@@ -241,12 +241,28 @@ def chance_level(labels: np.ndarray, predicted: np.ndarray, n_classes: int) -> f
     return max(1.0 / n_classes, float(p @ q))
 
 
-def best_possible(labels: np.ndarray, n_classes: int) -> tuple[float, float]:
-    """The p-value and times-chance of every test clip answered right: no network can do
-    better, so a test set where even that does not pass cannot show anything."""
+def could_pass(labels: np.ndarray, n_classes: int, alpha: float, min_over_chance: float) -> tuple[bool, float]:
+    """Whether any answers to this test set could pass (p < ``alpha`` at ``min_over_chance``
+    times chance), and the smallest p-value any reach. Chance follows the answers (``chance_level``),
+    so the best answers for c right are those right on the c clips of the rarest classes, every
+    other answer a class the test set lacks: chance is then as low as c right allows."""
     labels = np.asarray(labels, dtype=np.int64)
-    chance = chance_level(labels, labels, n_classes)
-    return binomial_p(len(labels), len(labels), chance), (1.0 / chance if len(labels) else 0.0)
+    n = len(labels)
+    if n == 0:
+        return False, 1.0
+    counts = np.bincount(labels, minlength=n_classes)
+    share = counts / n
+    # The c right answers, taken from the rarest classes first: the class of each in turn.
+    order = np.repeat(np.argsort(counts, kind="stable"), counts[np.argsort(counts, kind="stable")])
+    overlap = np.cumsum(share[order]) / n  # Σ_k p_k q_k after c = 1 … n right answers
+    best = 1.0
+    for c in range(1, n + 1):
+        chance = max(1.0 / n_classes, float(overlap[c - 1]))
+        p = binomial_p(c, n, chance)
+        best = min(best, p)
+        if p < alpha and c / n >= min_over_chance * chance:
+            return True, p
+    return False, best
 
 
 def wilson_interval(correct: int, n: int, z: float = 1.959964) -> tuple[float, float]:
@@ -385,13 +401,13 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
                 f"binomial p = {result.p_value:.2g}; needs p < {opts.alpha:g} and "
                 f"≥ {opts.min_over_chance:g}× chance")  # fmt: skip
     full = result.minutes_needed() if result.stopped_on_time else None
-    best_p, best_ratio = best_possible(result.labels, len(result.classes))
-    undecidable = not passes and not (best_p < opts.alpha and best_ratio >= opts.min_over_chance)
+    decidable, best_p = could_pass(result.labels, len(result.classes), opts.alpha, opts.min_over_chance)
+    undecidable = not passes and not decidable
     if undecidable:  # what no longer training could change comes first
         report.add(Finding(
             Reason.LEARNING_INCONCLUSIVE,
-            f"inconclusive: too few or too alike test clips to decide (every one of the {n} right would "
-            f"give p = {best_p:.2g} at {best_ratio:.1f}× chance); generate more videos; {measured}",
+            f"inconclusive: too few or too alike test clips to decide (no answers to these {n} could pass: "
+            f"the best reach p = {best_p:.2g}); generate more videos; {measured}",
             file=str(root), severity="warn",
             numbers={"accuracy": fused, "chance": result.chance, "p_value": result.p_value,
                      "best_possible_p_value": best_p},

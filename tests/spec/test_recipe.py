@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from phav_generator.sampling import RecipeSampler
@@ -110,9 +111,9 @@ def _kicked(d: dict) -> None:
         (lambda d: d.update(duration_s=1e308), "", "duration_s 1e+308 is too long to count its frames"),
         (lambda d: d.update(dataset_seed=True), "dataset_seed", "valid integer"),
         (lambda d: d["seeds"].update(physics=1.0), "seeds.physics", "valid integer"),
-        (_kicked, "camera", "throws it at 545 m/s; at most 50"),
+        (_kicked, "camera", "throws it at 545.5 m/s; at most 50"),
         # JSON's types as written: a number in quotes is a hand edit, not a number.
-        (lambda d: d["video"].update(fps="30"), "video.fps", "valid integer"),
+        (lambda d: d["video"].update(fps="30"), "video.fps", "valid integer, got str '30'; write numbers without"),
         (lambda d: d.update(duration_s="4.0"), "duration_s", "valid number"),
         (lambda d: d["camera"].update(fov_deg="60"), "camera.fov_deg", "valid number"),
         # Values θ's bounds rule out, which crashed the physics (a massless camera divides by 0).
@@ -133,6 +134,17 @@ def test_malformed_recipes_name_the_field(recipe, edit, field, words):
     message = str(info.value)
     assert message.startswith(f"r.json: {field}" if field else "r.json: "), message
     assert words in message and "\n" not in message
+
+
+def test_a_recipe_mapping_may_hold_numpy_scalars_but_nothing_json_cannot_write(recipe):
+    """A row read with Arrow or pandas holds numpy scalars: they are the numbers they hold."""
+    data = json.loads(recipe.model_dump_json())
+    data["video"]["fps"] = np.int64(data["video"]["fps"])
+    data["duration_s"] = np.float64(data["duration_s"])
+    assert parse_recipe(data, source="r.json") == recipe
+    data["video"]["fps"] = object()
+    with pytest.raises(PhavUserError, match=r"^r\.json: a value of type object has no JSON form$"):
+        parse_recipe(data, source="r.json")
 
 
 def test_a_key_written_twice_is_refused(recipe):

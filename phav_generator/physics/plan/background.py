@@ -29,10 +29,10 @@ BACKGROUND_SIDE_M = 0.2
 #: How far ahead of its ankle a foot's sole reaches (m): a foot stands on the highest
 #: surface under its heel or its toes.
 SOLE_M = 0.15
-#: A foot within this (m) of its lowest over the clip is planted.
-PLANTED_M = 0.03
-#: How fast (m/s) the pelvis moves onto a new level: a kerb's 15 cm over three frames.
-LEVEL_RATE_MPS = 1.5
+#: How fast (m/s) the pelvis moves onto a new level: a step of ``STEP_M`` over three frames.
+LEVEL_RATE_MPS = 3.0
+#: Heights the scenes declare in decimetres differ by a float's last bit (0.2 − (−0.1)).
+_TOLERANCE_M = 1e-6
 _ANKLES = [JOINT_BODIES[JOINT_ORDER.index(f"{side}_ankle")] for side in ("left", "right")]
 
 
@@ -103,14 +103,16 @@ def _ledge_stop(env: str, start: np.ndarray, along: np.ndarray, dist: float, rea
     """How far along its path a walker goes: to its destination, or ``LEDGE_STOP_M`` short
     of the first ledge higher than ``STEP_M`` under its feet (the surface under the path's
     line and a foot's width to either side, every 5 cm)."""
-    d = np.arange(0.0, dist + 0.05, 0.05)
+    d = np.minimum(np.arange(0.0, dist + 0.05, 0.05), dist)
     side = np.array([-along[1], along[0]])
-    heights = np.max(
+    lines = np.array(
         [walkable_heights(env, *(start[:2] + d[:, None] * along[:2] + w * side).T, reach)
-         for w in (-BACKGROUND_SIDE_M, 0.0, BACKGROUND_SIDE_M)],
-        axis=0,
+         for w in (-BACKGROUND_SIDE_M, 0.0, BACKGROUND_SIDE_M)]
     )  # fmt: skip
-    ledges = np.flatnonzero(np.abs(np.diff(heights)) > STEP_M)
+    # A ledge ahead, or beside the way (a path along a plaza's edge puts one foot on it).
+    ahead = np.abs(np.diff(lines.max(axis=0))) > STEP_M + _TOLERANCE_M
+    beside = np.ptp(lines, axis=0)[1:] > STEP_M + _TOLERANCE_M
+    ledges = np.flatnonzero(ahead | beside)
     return dist if len(ledges) == 0 else max(0.0, float(d[ledges[0]]) - LEDGE_STOP_M)
 
 
@@ -124,30 +126,29 @@ def _stance_level(
     reach: float,
     fps: int,
 ) -> np.ndarray:
-    """The height (T,) of the surface the walker's planted feet stand on: per frame, the
-    highest under a planted foot's heel or toes (a kerb is stepped onto by the foot that
-    lands on it, not by a pelvis that sees it coming), kept through frames no foot is
-    planted, and moved onto a new level at ``LEVEL_RATE_MPS``: rising before the step
-    lands, falling after the foot has left the higher surface, so no planted foot sinks
-    into a kerb and none hangs over one for more than a few frames."""
+    """The height (T,) the walker's gait stands on: per frame, the least that keeps each
+    foot over the surface under its heel or toes as far as the gait lifts it over flat
+    ground (a kerb is stepped onto by the foot that lands on it, not by a pelvis that sees
+    it coming), moved onto a new level at ``LEVEL_RATE_MPS``: rising before a foot needs it,
+    falling once none does, so no foot sinks into a kerb and none hangs over one for more
+    than a few frames."""
     bodies, _ = forward_kinematics(dims, root, root_quat, q)
     ankles = bodies[:, _ANKLES]  # (T, 2, 3) over the ground at z = 0
     toes = ankles[..., :2] + SOLE_M * along[:2]
     heels = walkable_heights(env, ankles[..., 0], ankles[..., 1], reach)
-    under = np.maximum(heels, walkable_heights(env, toes[..., 0], toes[..., 1], reach))
-    planted = ankles[..., 2] < ankles[..., 2].min(axis=0) + PLANTED_M
-    level = np.where(planted, under, -np.inf).max(axis=1)
-    known = np.flatnonzero(np.isfinite(level))
-    if len(known) == 0:
-        level = under.max(axis=1)
-    else:  # frames with no foot planted keep the level of the nearest planted one before (or after)
-        index = np.maximum.accumulate(np.where(np.isfinite(level), np.arange(len(level)), 0))
-        index = np.where(np.arange(len(level)) < known[0], known[0], index)
-        level = level[index]
+    tips = walkable_heights(env, toes[..., 0], toes[..., 1], reach)
+    # The higher of heel and toes, unless they straddle a ledge no stride takes: then the
+    # foot stands below it (a walker stopped at a plaza's edge, its toes over it).
+    under = np.where(np.abs(tips - heels) > STEP_M + _TOLERANCE_M, np.minimum(heels, tips), np.maximum(heels, tips))
+    # Each foot as high over its surface as the gait holds it over flat ground: a planted
+    # foot on it, a swinging one as far above it as it is lifted. The pelvis's level is the
+    # least that keeps both so (a foot swinging over a kerb's edge clears it).
+    lift = ankles[..., 2] - ankles[..., 2].min(axis=0)
+    level = (under - lift).max(axis=1)
     rate = LEVEL_RATE_MPS / fps
     rising, falling = level.copy(), level.copy()
-    for k in range(len(level) - 2, -1, -1):  # reach a higher level by the frame its foot lands there
+    for k in range(len(level) - 2, -1, -1):  # reach a higher level by the frame a foot needs it
         rising[k] = max(rising[k], rising[k + 1] - rate)
-    for k in range(1, len(level)):  # leave a higher level only once no planted foot is on it
+    for k in range(1, len(level)):  # leave it only once no foot needs it
         falling[k] = max(falling[k], falling[k - 1] - rate)
     return np.maximum(rising, falling)

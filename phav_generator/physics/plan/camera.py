@@ -273,18 +273,20 @@ def _cleared(
     return tuple(float(v) for v in target)  # type: ignore[return-value]
 
 
-#: How far (m) beside a driven prop's path its lane keeps the camera: a car's width and
-#: more, as a camera films a stunt from beside the road, so the car passes in view instead
-#: of filling the frame with a door at arm's length. Where no turn of the start clears it
-#: (a kite as close to its target as this), the narrower ``LANE_MARGIN_MIN_M`` is kept.
+#: How far (m) beside a car's path its lane keeps the camera: a car's width and more, as a
+#: camera films a stunt from beside the road, so the car passes in view instead of filling
+#: the frame with a door at arm's length. Where no turn of the start clears it (a kite as
+#: close to its target as this), the narrower ``LANE_MARGIN_MIN_M`` is kept, as it is beside
+#: a pushed load.
 LANE_MARGIN_M = 2.5
 LANE_MARGIN_MIN_M = 0.5
 
 
-def driven_lanes(props: Sequence[PropPlan], margin: float = LANE_MARGIN_M) -> tuple[Blocker, ...]:
+def driven_lanes(props: Sequence[PropPlan], margin: float | None = None) -> tuple[Blocker, ...]:
     """Where each driven prop (a car, a pushed load) passes over the clip: a box round its
     path, from its first position to the last it can reach (``PropPlan.lane_end``), as wide
-    and tall as the prop plus ``margin`` each side, which a camera should not start in."""
+    and tall as the prop plus ``margin`` each side, which a camera should not start in
+    (by default ``LANE_MARGIN_M`` for a car, ``LANE_MARGIN_MIN_M`` for a pushed load)."""
     out = []
     for prop in props:
         if prop.path is None or prop.shape != "box":
@@ -304,7 +306,8 @@ def driven_lanes(props: Sequence[PropPlan], margin: float = LANE_MARGIN_M) -> tu
             sum(abs(sum(u[i] * rot[i][k] for i in range(3))) * float(prop.size[k]) for k in range(3))
             for u in directions
         ]
-        half = (run / 2 + reach[0] + margin, reach[1] + margin, reach[2] + margin)
+        room = margin if margin is not None else LANE_MARGIN_M if prop.object == "car" else LANE_MARGIN_MIN_M
+        half = (run / 2 + reach[0] + room, reach[1] + room, reach[2] + room)
         out.append(Blocker.turned(((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2), half, math.degrees(heading)))
     return tuple(out)
 

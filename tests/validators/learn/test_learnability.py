@@ -16,9 +16,9 @@ from phav_validators.findings import CheckResult, Reason, Status
 from phav_validators.learn.learnability import (
     LearnOptions,
     LearnResult,
-    best_possible,
     binomial_p,
     chance_level,
+    could_pass,
     learnability_check,
     wilson_interval,
 )
@@ -110,13 +110,16 @@ def test_a_test_set_that_could_not_pass_even_answered_right_is_inconclusive_not_
     """Two test clips, or four of four classes: even all right, p stays over 10⁻³. That says
     nothing about the data, so the verdict is a warning naming why, not NOT_LEARNABLE."""
     for labels in ([0, 0], [0, 1, 2, 3]):
-        assert best_possible(np.array(labels), 4)[0] > 1e-3
+        assert not could_pass(np.array(labels), 4, 1e-3, 2.0)[0]
         answers = (np.array(labels) + 1) % 4  # all wrong
         result = _result(labels, answers, [f"v{i:06d}" for i in range(len(labels))], ["a", "b", "c", "d"])
         verdict = learnability_check(result, LearnOptions(), Path("set"))
         assert verdict.status == Status.WARN and verdict.report.counts == {Reason.LEARNING_INCONCLUSIVE: 1}
         assert "too few or too alike test clips" in verdict.report.findings[0].message
-    assert best_possible(np.arange(40) % 4, 4)[0] < 1e-3  # 40 clips of 4 classes can decide
+    assert could_pass(np.arange(40) % 4, 4, 1e-3, 2.0)[0]  # 40 clips of 4 classes can decide
+    # 180 clips of one class and 20 of another, of 35: every answer right is only 1.2× chance,
+    # but the 20 rare ones right and nothing answered the common class is 6.6× chance.
+    assert could_pass(np.repeat([0, 1], [180, 20]), 35, 1e-3, 2.0)[0]
 
 
 def test_the_wilson_interval_of_an_accuracy():
