@@ -111,6 +111,16 @@ def test_a_kite_start_beside_the_car_s_way_is_turned_out_of_the_wide_lane() -> N
     assert [tuple(w[1]) for w in plan.camera_walls] == [tuple(wide.half)]
 
 
+def test_a_pushed_load_s_lane_keeps_the_narrow_margin() -> None:
+    """phav-v1, seed 0, v000068: a pushed box's lane is 0.5 m wider than the box, as before
+    (the car's 2.5 m is for a car passing at speed, not a load at walking pace)."""
+    plan = plan_scene(_phav_v1(68))
+    loads = [p for p in plan.props if p.path is not None and p.object != "car"]
+    assert loads
+    (lane,), (narrow,) = driven_lanes(loads), driven_lanes(loads, LANE_MARGIN_MIN_M)
+    assert lane.half == narrow.half
+
+
 def test_a_kite_that_started_beside_the_car_s_lane_keeps_out_of_it() -> None:
     """phav-v1, seed 0, v000387: the kite followed the thrown body into the van's way, where
     the van stopped against it (74 frames of its side). The lane is now a wall the camera
