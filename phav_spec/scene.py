@@ -1184,8 +1184,8 @@ KITE_SPRING_VARIABLES: dict[str, tuple[str, float, float]] = {
 }
 
 #: The fastest a spring camera's initial impulse may throw it (m/s): the impulse over the
-#: camera's mass. Faster, the camera outruns its springs and the physics step: a 0.01 kg
-#: camera kicked with 6 N·s stopped the whole clip's physics at its first frame.
+#: camera's mass. Faster, the camera outruns its springs and the physics step, and the
+#: explosion guard, which watches every joint the camera's included, stops the whole clip.
 MAX_CAMERA_KICK_MPS = 50.0
 
 #: The spring dead zone (minimum distance at which a spring starts pulling), metres.

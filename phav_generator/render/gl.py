@@ -756,10 +756,9 @@ def linear_colour(colour) -> np.ndarray:
     """Display colours (0–1) made linear for shading (vertex colours, texture images).
 
     Scalar libm's pow over the distinct values, not numpy's CPU-dispatched ``power``, whose
-    float64 results differ with the SIMD level in the last bit of about 1 in 20 values.
-    glibc's pow picks an FMA or an SSE2 path too, which differ in the last bit of about 1 in
-    1,400 random inputs (none of the 256 8-bit values): the float32 the vertex buffers
-    hold rounds those away."""
+    float64 results change in their last bit with the SIMD level far more often than
+    glibc's: its pow picks an FMA or an SSE2 path too, but those agree on every 8-bit value,
+    and the float32 the vertex buffers hold rounds away what else they differ on."""
     values = np.asarray(colour, dtype=np.float64)
     distinct, where = np.unique(values, return_inverse=True)
     table = np.array([math.pow(x, 2.2) if x >= 0.0 else math.nan for x in distinct.tolist()], dtype=np.float64)

@@ -89,9 +89,9 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
 
 def _standing_height(dims, root: np.ndarray, pose: Pose, arrived: np.ndarray) -> np.ndarray:
     """The pelvis height (over z = 0) of a walker standing where it arrived: its legs
-    straight (every angle 0) and its lower ankle as high as the gait plants one. The gait's
-    bob went on under the standing pose, bouncing it a few centimetres in and out of the
-    ground."""
+    straight (every angle 0) and its lower ankle as high as the gait plants one, not the
+    gait's own pelvis height, whose bob would lift a straight-legged body off the ground and
+    sink it in again."""
     walking, _ = forward_kinematics(dims, root, pose.root_quat, pose.q)
     planted = walking[:, _ANKLES, 2].min()
     flat = np.zeros((int(arrived.sum()), 3))
