@@ -253,7 +253,8 @@ def could_pass(labels: np.ndarray, n_classes: int, alpha: float, min_over_chance
     counts = np.bincount(labels, minlength=n_classes)
     share = counts / n
     # The c right answers, taken from the rarest classes first: the class of each in turn.
-    order = np.repeat(np.argsort(counts, kind="stable"), counts[np.argsort(counts, kind="stable")])
+    rarest = np.argsort(counts, kind="stable")
+    order = np.repeat(rarest, counts[rarest])
     overlap = np.cumsum(share[order]) / n  # Σ_k p_k q_k after c = 1 … n right answers
     best = 1.0
     for c in range(1, n + 1):
@@ -401,8 +402,10 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
                 f"binomial p = {result.p_value:.2g}; needs p < {opts.alpha:g} and "
                 f"≥ {opts.min_over_chance:g}× chance")  # fmt: skip
     full = result.minutes_needed() if result.stopped_on_time else None
-    decidable, best_p = could_pass(result.labels, len(result.classes), opts.alpha, opts.min_over_chance)
-    undecidable = not passes and not decidable
+    # Only a result that does not pass asks whether any could (up to a binomial test per count).
+    decidable, best_p = (True, result.p_value) if passes else could_pass(
+        result.labels, len(result.classes), opts.alpha, opts.min_over_chance)  # fmt: skip
+    undecidable = not decidable
     if undecidable:  # what no longer training could change comes first
         report.add(Finding(
             Reason.LEARNING_INCONCLUSIVE,
