@@ -524,7 +524,9 @@ def generate(
     m = result.manifest
     frames = sum(v.n_frames for v in m.videos)
     if result.already_finished:
-        console.print(f"nothing to do: {escape(str(out))} already holds this run's {len(m.videos)} videos "
+        done = (f"made {', '.join(result.remade_tables)} again from its recipes and shards, nothing rendered"
+                if result.remade_tables else "nothing to do")  # fmt: skip
+        console.print(f"{done}: {escape(str(out))} already holds this run's {len(m.videos)} videos "
                       f"({frames:,} frames); θ {escape(th.name)} {th.hash[:12]}…, seed {seed}")  # fmt: skip
         return
     resumed = f", {result.resumed_videos} video(s) already finished" if result.resumed_videos else ""

@@ -13,6 +13,7 @@ pyarrow is imported inside functions: reading the contract needs nothing heavy.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -32,6 +33,7 @@ __all__ = [
     "MetaColumn",
     "arrow_schema",
     "frame_json",
+    "frame_rows",
 ]
 
 #: Version of the per-frame metadata contract (bumped when a column changes meaning).
@@ -131,3 +133,32 @@ def frame_json(camera: Mapping[str, Any], people: Sequence[Mapping[str, Any]]) -
         "people": [{k: _nan_to_none(v) for k, v in row.items()} for row in people],
     }
     return canonical_json(data).encode("utf-8")
+
+
+def _none_to_nan(value: Any) -> Any:
+    if value is None:
+        return math.nan
+    if isinstance(value, list):
+        return [_none_to_nan(v) for v in value]
+    return value
+
+
+#: The columns whose values (or list items) are floats: where a frame's json holds null for NaN.
+_FLOAT_COLUMNS = frozenset(c.name for c in (*CAMERA_COLUMNS, *PEOPLE_COLUMNS) if "float" in c.arrow_type)
+
+
+def frame_rows(data: bytes) -> tuple[dict[str, Any], list[dict[str, Any]]]:
+    """A frame's ``json`` member back into its camera row and people rows (``frame_json``'s
+    inverse: null read as NaN in the float columns). Raises ``ValueError`` for another
+    metadata version or a member that is not the contract's."""
+    meta = json.loads(data)
+    if not isinstance(meta, dict) or meta.get("metadata_version") != METADATA_VERSION:
+        raise ValueError(f"not metadata version {METADATA_VERSION}")
+    camera, people = meta.get("camera"), meta.get("people")
+    if not isinstance(camera, dict) or not isinstance(people, list) or not all(isinstance(p, dict) for p in people):
+        raise ValueError("no camera row or people rows")
+
+    def row(values: dict[str, Any]) -> dict[str, Any]:
+        return {k: _none_to_nan(v) if k in _FLOAT_COLUMNS else v for k, v in values.items()}
+
+    return row(camera), [row(p) for p in people]

@@ -21,6 +21,7 @@ import contextlib
 import functools
 import os
 import shutil
+import tarfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,7 +41,7 @@ from phav_generator.dataset.journal import JOURNAL_FILE, RUN_FILE, Journal, chec
 from phav_generator.dataset.lock import exclusive, remove_stale_temporaries
 from phav_generator.engines import Progress, check_engine, run_tasks
 from phav_generator.faults import crash_point
-from phav_generator.io.shards import assemble_shard
+from phav_generator.io.shards import assemble_shard, read_members
 from phav_generator.pipeline import PART_TABLES, VideoTask, part_path, run_task
 from phav_generator.render.context import check_gl_kind, is_software_renderer, require_gl
 from phav_spec.canonical import canonical_json, sha256_hex
@@ -55,7 +56,7 @@ from phav_spec.manifest import (
     dump_manifest,
     load_manifest,
 )
-from phav_spec.metadata import arrow_schema
+from phav_spec.metadata import arrow_schema, frame_rows
 from phav_spec.recipe import RECIPE_SCHEMA_VERSION, Recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.release import RELEASE_FILE
@@ -93,14 +94,17 @@ class DatasetResult:
     resumed_shards: int
     rendered_videos: int = 0
     resumed_videos: int = 0
-    #: The directory held this run finished already: nothing was written.
+    #: The directory held this run finished already: no video was rendered.
     already_finished: bool = False
+    #: Tables the finished run lacked, made again from its recipes and shards.
+    remade_tables: tuple[str, ...] = ()
 
     @classmethod
-    def finished_before(cls, manifest: DatasetManifest) -> DatasetResult:
+    def finished_before(cls, manifest: DatasetManifest, remade_tables: tuple[str, ...] = ()) -> DatasetResult:
         """The run found finished in its directory: every shard and video resumed."""
         return cls(manifest, rendered_shards=0, resumed_shards=len(manifest.shards),
-                   resumed_videos=len(manifest.videos), already_finished=True)  # fmt: skip
+                   resumed_videos=len(manifest.videos), already_finished=True,
+                   remade_tables=remade_tables)  # fmt: skip
 
 
 class _Run:
@@ -181,7 +185,11 @@ class _Run:
 
 def _concat_parquet(parts: Sequence[Path], columns: Any, target: Path) -> None:
     """Rows of ``parts``, in order, into one zstd Parquet file at ``target`` (atomically)."""
-    tables = [read_parquet(p) for p in parts]
+    _write_tables([read_parquet(p) for p in parts], columns, target)
+
+
+def _write_tables(tables: Sequence[pa.Table], columns: Any, target: Path) -> None:
+    """``tables``, in order, as one zstd Parquet file at ``target`` (atomically)."""
     merged = pa.concat_tables(tables) if tables else arrow_schema(columns).empty_table()
     with atomic_write(target) as tmp:
         pq.write_table(merged, tmp, compression="zstd")
@@ -234,7 +242,7 @@ def write_dataset(
     work = out / WORK_DIR
     shutil.rmtree(out / DONE_DIR, ignore_errors=True)  # a finished run's work folder a kill left
     look = functools.partial(_finished, out, names, tasks, gl, name=name, theta=theta, dataset_seed=dataset_seed)
-    if (finished := look()) is not None:
+    if (finished := look()) is not None and not _missing_tables(out, theta):
         return DatasetResult.finished_before(finished)
     try:
         with exclusive(work):
@@ -247,8 +255,10 @@ def write_dataset(
                     shutil.rmtree(work, ignore_errors=True)
                     raise
                 if finished is not None:
-                    shutil.rmtree(work, ignore_errors=True)
-                    return DatasetResult.finished_before(finished)
+                    remade = _make_tables_again(out, finished, shards, theta=theta, dataset_seed=dataset_seed)
+                    if remade is not None:
+                        shutil.rmtree(work, ignore_errors=True)
+                        return DatasetResult.finished_before(finished, remade)
             (work / PARTS_DIR).mkdir(exist_ok=True)
             remove_stale_temporaries(out, work, work / PARTS_DIR)
             return _write_locked(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
@@ -339,16 +349,14 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
 def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, name: str, theta: Theta | None,
               dataset_seed: int, locked: bool = False) -> DatasetManifest | None:  # fmt: skip
     """The manifest of this very run if ``out`` holds it finished (every shard in place at
-    its size, and its tables), None if ``out`` holds no finished run or one short of a shard
-    or a table (rendered again: the tables are joined from the videos' parts, deleted once
-    finished). A finished run with other settings is refused: running over it would replace
-    another dataset's files. A work folder means the run is unfinished, unless ``locked``:
-    the caller holds the lock of a work folder it has just made."""
+    its size; a table it lacks is made again from the shards, ``_make_tables_again``), None
+    if ``out`` holds no finished run or one short of a shard (rendered again). A finished run
+    with other settings is refused: running over it would replace another dataset's files. A
+    work folder means the run is unfinished, unless ``locked``: the caller holds the lock of a
+    work folder it has just made."""
     if not (out / "manifest.json").is_file() or (not locked and (out / WORK_DIR).exists()):
         return None
     manifest = load_manifest(out / "manifest.json")
-    tables = ["recipes.parquet", "cameras.parquet", "people.parquet", *(["theta.yaml"] if theta is not None else [])]
-    have = all((out / table).is_file() for table in tables)
     recipes = [t.recipe for t in tasks]  # the table gone: made again from these
     if (out / "recipes.parquet").is_file():
         recipes = [r.model_dump_json() for r in read_recipe_table(out / "recipes.parquet").recipes()]
@@ -369,9 +377,72 @@ def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, n
             source=str(out),
             field=differs[0],
         )
-    if not have or not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
+    if not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
         return None
     return manifest
+
+
+def _missing_tables(out: Path, theta: Theta | None) -> list[str]:
+    """The files beside the shards a finished run writes that ``out`` lacks."""
+    tables = ["recipes.parquet", *(f"{t}.parquet" for t, _ in PART_TABLES), *(["theta.yaml"] if theta else [])]
+    return [t for t in tables if not (out / t).is_file()]
+
+
+def _make_tables_again(out: Path, manifest: DatasetManifest, shards: Sequence[Sequence[Recipe]], *,
+                       theta: Theta | None, dataset_seed: int) -> tuple[str, ...] | None:  # fmt: skip
+    """Write the tables a finished run lacks without rendering: θ and the recipes from this
+    run's, the metadata tables from the frames' json in its shards (the rows the videos' parts
+    held), each shard read whole and its bytes checked against the manifest first. None, and
+    nothing written, where a shard differs from the manifest or its json is not this
+    contract's: the run is then rendered again."""
+    missing = _missing_tables(out, theta)
+    wanted = [(t, columns) for t, columns in PART_TABLES if f"{t}.parquet" in missing]
+    per_shard: dict[str, list[pa.Table]] = {t: [] for t, _ in wanted}
+    if wanted:
+        schemas = {t: arrow_schema(columns) for t, columns in wanted}
+        for entry in manifest.shards:
+            try:
+                members, digest = read_members(out / entry.name, lambda n: n.endswith(".json"))
+                if (digest.sha256, digest.bytes) != (entry.sha256, entry.bytes):
+                    return None
+                rows: dict[str, dict[str, list[dict[str, Any]]]] = {v: {"cameras": [], "people": []}
+                                                                    for v in entry.video_ids}  # fmt: skip
+                for member, data in members:  # frames in order, as the parts were written
+                    camera, people = frame_rows(data)
+                    rows[member.partition("/")[0]]["cameras"].append(camera)
+                    rows[member.partition("/")[0]]["people"] += people
+                # Each video's table and each shard's through Parquet, as the run's parts and shard
+                # tables went (Parquet names a list's items `element`): the joined file is the run's.
+                for t, _ in wanted:
+                    videos = [_read_back(pa.Table.from_pylist(rows[vid][t], schema=schemas[t]))
+                              for vid in entry.video_ids]  # fmt: skip
+                    per_shard[t].append(_read_back(pa.concat_tables(videos)))
+            except (OSError, tarfile.TarError, ValueError, KeyError, pa.ArrowException):
+                return None
+    _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed, only=missing)
+    for t, columns in wanted:
+        _write_tables(per_shard[t], columns, out / f"{t}.parquet")
+    return tuple(missing)
+
+
+def _read_back(table: pa.Table) -> pa.Table:
+    """``table`` written as a zstd Parquet file and read again, in memory."""
+    sink = pa.BufferOutputStream()
+    pq.write_table(table, sink, compression="zstd")
+    with pq.ParquetFile(pa.BufferReader(sink.getvalue())) as f:  # as read_parquet reads
+        return f.read()
+
+
+def _write_sidecars(out: Path, shards: Sequence[Sequence[Recipe]], *, theta: Theta | None, dataset_seed: int,
+                    only: Sequence[str] = ("theta.yaml", "recipes.parquet")) -> None:  # fmt: skip
+    """``theta.yaml`` (when θ is given) and ``recipes.parquet``, those of them in ``only``."""
+    if theta is not None and "theta.yaml" in only:
+        with atomic_write(out / "theta.yaml") as tmp:
+            tmp.write_text(theta.to_yaml(), encoding="utf-8")
+    if "recipes.parquet" in only:
+        all_recipes = [r for recipes in shards for r in recipes]
+        write_recipe_table(RecipeRows().extend(all_recipes).to_arrow(theta=theta, dataset_seed=dataset_seed),
+                           out / "recipes.parquet")  # fmt: skip
 
 
 def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], tasks: list[VideoTask], *,
@@ -388,12 +459,7 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
         "recipes_hash": sha256_hex(canonical_json([t.recipe for t in tasks])),
         "gl": tasks[0].gl if tasks else None,  # a run never mixes renderers
     })  # fmt: skip
-    if theta is not None:
-        with atomic_write(out / "theta.yaml") as tmp:
-            tmp.write_text(theta.to_yaml(), encoding="utf-8")
-    all_recipes = [r for recipes in shards for r in recipes]
-    write_recipe_table(RecipeRows().extend(all_recipes).to_arrow(theta=theta, dataset_seed=dataset_seed),
-                       out / "recipes.parquet")  # fmt: skip
+    _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed)
 
     state = _Run(out, names, shards, progress)
     # Longest videos first: workers that pick the next task as they finish then end close

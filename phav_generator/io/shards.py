@@ -48,6 +48,25 @@ class _HashingWriter(io.RawIOBase):
         return view.nbytes
 
 
+class _HashingReader(io.RawIOBase):
+    """A read-only file that hashes and counts what is read from ``source``."""
+
+    def __init__(self, source: BinaryIO):
+        self.source = source
+        self.sha256 = hashlib.sha256()
+        self.size = 0
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer) -> int:  # type: ignore[override]
+        n = self.source.readinto(buffer)  # type: ignore[attr-defined]
+        view = memoryview(buffer)[:n]
+        self.sha256.update(view)
+        self.size += n
+        return n
+
+
 @dataclass
 class ShardDigest:
     """A finished shard's sha256 and size in bytes (filled in when the writer closes)."""
@@ -147,3 +166,21 @@ def assemble_shard(
             if checkpoint is not None:
                 checkpoint(k)
     return digest
+
+
+def read_members(path: str | Path, wanted: Callable[[str], bool]) -> tuple[list[tuple[str, bytes]], ShardDigest]:
+    """The (name, bytes) of a shard's members that ``wanted`` accepts, in tar order, and the
+    digest of the whole file, read once (its bytes checked against a manifest's before the
+    members are trusted). A damaged tar raises ``tarfile.TarError``."""
+    found: list[tuple[str, bytes]] = []
+    with open(path, "rb") as raw:
+        reader = _HashingReader(raw)
+        with tarfile.open(fileobj=io.BufferedReader(reader, 1 << 20), mode="r|") as tar:
+            for info in tar:
+                if info.isfile() and wanted(info.name):
+                    member = tar.extractfile(info)
+                    if member is not None:
+                        found.append((info.name, member.read()))
+        while reader.read(1 << 20):  # the end-of-archive blocks and anything after them
+            pass
+    return found, ShardDigest(reader.sha256.hexdigest(), reader.size)

@@ -203,11 +203,11 @@ def test_a_directory_holding_another_run_is_refused(small_recipes, small_theta, 
                       gl="egl-gpu")  # fmt: skip
 
 
-def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(small_dataset_copy, small_recipes,
-                                                                           small_theta):  # fmt: skip
+def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(monkeypatch, small_dataset_copy,
+                                                                           small_recipes, small_theta):  # fmt: skip
     """Rerunning a finished run (the shared dataset's, copied) renders nothing and leaves every
     file as it was; a run with other settings is refused before it touches a file; a finished
-    run missing a shard or a table is made again."""
+    run missing a shard is rendered again, one missing a table has it made from its shards."""
     out = small_dataset_copy
     shards = chunk(small_recipes, SMALL_SHARD_SIZE)
     before = file_bytes(out)
@@ -235,11 +235,32 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(smal
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
     assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
     assert file_bytes(out) == before
-    # A table gone: joined from the videos' parts, which a finished run has deleted, so made again.
-    (out / "people.parquet").unlink()
-    (out / "recipes.parquet").unlink()
+    # Tables gone: made again from the recipes and the frames' json in the shards, not rendered,
+    # byte for byte; the files still there are not written.
+    for table in ("people.parquet", "cameras.parquet", "recipes.parquet", "theta.yaml"):
+        (out / table).unlink()
+    times = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    monkeypatch.setattr(write_module, "run_tasks", lambda *a, **k: pytest.fail("rendered to remake a table"))
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
-    assert not remade.already_finished and file_bytes(out) == before
+    assert remade.already_finished and set(remade.remade_tables) == {
+        "people.parquet",
+        "cameras.parquet",
+        "recipes.parquet",
+        "theta.yaml",
+    }
+    assert file_bytes(out) == before and not (out / WORK_DIR).exists()
+    assert all(p.stat().st_mtime_ns == t for p in out.iterdir() if (t := times.get(p.name)) is not None)
+    monkeypatch.undo()
+    # A shard no longer the manifest's (one byte changed, its size kept): its json is not
+    # trusted, and the run is rendered again.
+    (out / "people.parquet").unlink()
+    shard = out / "phav-000000.tar"
+    data = bytearray(shard.read_bytes())
+    data[600] ^= 0xFF
+    shard.write_bytes(bytes(data))
+    remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
+    assert file_bytes(out) == before
 
 
 def test_a_run_another_finished_before_the_lock_is_not_made_again(monkeypatch, small_dataset_copy, small_recipes,
