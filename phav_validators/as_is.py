@@ -239,7 +239,8 @@ def _jobs(inp: DatasetInput, loaded: _Loaded, opts: Options) -> tuple[list[Shard
         for i, part in enumerate(parts):
             others = frozenset(v.video_id for v in expects) - {v.video_id for v in part}
             jobs.append(ShardJob(str(path), part, shard.sha256 if shard else None, shard.bytes if shard else None,
-                                 consistency="consistency" in opts.checks, others=others, primary=i == 0))  # fmt: skip
+                                 consistency="consistency" in opts.checks, others=others, primary=i == 0,
+                                 listed_order=tuple(shard.video_ids) if shard and i == 0 else ()))  # fmt: skip
     return jobs, report
 
 

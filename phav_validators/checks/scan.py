@@ -12,6 +12,7 @@ import ctypes
 import ctypes.util
 import json
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -127,6 +128,8 @@ class ShardJob:
     consistency: bool = True
     others: frozenset[str] = frozenset()
     primary: bool = True
+    #: The shard's videos in the order the manifest lists them (empty: no manifest lists it).
+    listed_order: tuple[str, ...] = ()
 
 
 @dataclass
@@ -319,6 +322,8 @@ class _Layout:
         self.current: tuple[str, int] | None = None
         self.exts: set[str] = set()
         self.seen: set[tuple[str, int]] = set()
+        #: The listed videos in the order their frames begin in the tar.
+        self.videos: list[str] = []
 
     def member(self, name: str, key: str, sample: tuple[str, int] | None, ext: str, video_id: str | None) -> None:
         add = self.scanner.add
@@ -331,11 +336,29 @@ class _Layout:
                 add("integrity", Reason.UNLISTED_MEMBER,
                     f"member {name!r}: sample {key} appears twice or its members are not contiguous",
                     video_id=video_id)  # fmt: skip
+            elif self.current is None or sample[0] != self.current[0]:
+                if sample[0] in self.videos:  # a video never spans shards, nor is split within one
+                    add("integrity", Reason.UNLISTED_MEMBER,
+                        f"member {name!r}: the frames of {sample[0]} are not contiguous in the tar",
+                        video_id=video_id)  # fmt: skip
+                else:
+                    self.videos.append(sample[0])
             self.seen.add(sample)
             self.current, self.exts = sample, set()
         if ext in self.exts:
             add("integrity", Reason.UNLISTED_MEMBER, f"duplicate member {name!r}", video_id=video_id)
         self.exts.add(ext)
+
+    def check_order(self, listed: Sequence[str]) -> None:
+        """Say where the tar holds its videos in another order than the manifest lists them."""
+        in_list = set(listed)
+        held = [v for v in self.videos if v in in_list]
+        expected = [v for v in listed if v in set(held)]
+        if held != expected:
+            at = next(i for i, (a, b) in enumerate(zip(held, expected, strict=True)) if a != b)
+            self.scanner.add("integrity", Reason.MANIFEST_INVALID,
+                             f"the tar holds {held[at]} where the manifest lists {expected[at]} (video {at + 1} "
+                             "of the shard): the manifest's order is not the shard's", video_id=held[at])  # fmt: skip
 
 
 class ShardScanner:
@@ -378,6 +401,8 @@ class ShardScanner:
             frame[ext] = data
         if current is not None:
             self._frame(current, frame)
+        if layout is not None and self.job.listed_order:
+            layout.check_order(self.job.listed_order)
         if not self.job.primary:
             tar.refused, tar.truncated = [], None
         for refusal in tar.refused:

@@ -11,6 +11,7 @@ import tarfile
 import cv2
 import numpy as np
 
+from phav_spec.manifest import dump_manifest, load_manifest
 from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import Reason, Status
 from tests.validators.checks.support import assert_fails, check, png_edit, rewrite_tar, shard_of, validate
@@ -102,7 +103,7 @@ def test_frames_out_of_order_in_a_shard_are_named_as_such(data):
 def test_every_member_is_looked_at_whichever_part_of_its_shard_decodes_it(data):
     """A shard's videos are decoded in parts (v000000's and v000001's here, one process): a
     stray member of the second part's video, and a sample of it split by another video's
-    whole sample, are named all the same."""
+    whole sample, are named all the same (and that video, split by it)."""
     shard = shard_of(data, "v000001")
     with tarfile.open(shard) as tar:
         members = [(info, tar.extractfile(info).read()) for info in tar.getmembers()]
@@ -117,7 +118,39 @@ def test_every_member_is_looked_at_whichever_part_of_its_shard_decodes_it(data):
     rewrite_tar(shard, lambda name, raw: raw, extra=[("v000001/00000.extra", b"x"), ("v000001/xx.rgb.png", b"y")])
     hits = assert_fails(validate(data, "integrity"), "integrity", Reason.UNLISTED_MEMBER, video="v000001")
     assert sorted(f.message for f in hits) == [
+        "member 'v000000/00005.rgb.png': the frames of v000000 are not contiguous in the tar",
         "member 'v000001/00000.extra' belongs to no listed video frame",
         "member 'v000001/00003.raw.png': sample v000001/00003 appears twice or its members are not contiguous",
         "member 'v000001/xx.rgb.png' belongs to no listed video frame",
     ]
+
+
+def test_a_manifest_listing_a_shards_videos_in_another_order_fails(data):
+    """The shard's bytes and every content hash as written, its two videos listed the other
+    way round: the manifest is not the shard's, and the finding says where they part."""
+    m = load_manifest(data / "manifest.json")
+    assert m.shards[0].video_ids == ["v000000", "v000001"]
+    m.shards[0].video_ids.reverse()
+    dump_manifest(m, data / "manifest.json")
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.MANIFEST_INVALID, file="phav-000000.tar")
+    assert [f.message for f in hits] == ["the tar holds v000000 where the manifest lists v000001 (video 1 of the "
+                                         "shard): the manifest's order is not the shard's"]  # fmt: skip
+
+
+def test_a_video_whose_frames_are_split_by_anothers_is_named(data):
+    """v000001's first frame moved ahead of v000000's: each sample whole and each video's
+    frames in order, but v000001 is split in two."""
+    shard = shard_of(data, "v000001")
+    with tarfile.open(shard) as tar:
+        members = [(info, tar.extractfile(info).read()) for info in tar.getmembers()]
+    moved = [m for m in members if m[0].name.startswith("v000001/00000.")]
+    rest = [m for m in members if m not in moved]
+    buf = io.BytesIO()
+    with tarfile.open(fileobj=buf, mode="w", format=tarfile.USTAR_FORMAT) as tar:
+        for info, raw in moved + rest:
+            tar.addfile(info, io.BytesIO(raw))
+    shard.write_bytes(buf.getvalue())
+    hits = assert_fails(validate(data, "integrity"), "integrity", Reason.UNLISTED_MEMBER, video="v000001")
+    assert [f.message for f in hits] == ["member 'v000001/00001.rgb.png': the frames of v000001 are not "
+                                         "contiguous in the tar"]  # fmt: skip
+    assert_fails(validate(data, "integrity"), "integrity", Reason.MANIFEST_INVALID, file=shard.name)
