@@ -2,10 +2,11 @@
 (docs/realism-gap.md): K evenly spaced frames of each of the first N `car_hit` recipes of
 (θ, seed), rendered and judged without writing a dataset.
 
-    .venv/bin/python docs/measure/car_hit_iou.py [--videos 12] [--frames 8] [--margin 2.5]
+    .venv/bin/python docs/measure/car_hit_iou.py [--videos 12] [--skip 0] [--frames 8] [--margin 2.5]
 
 ``--margin`` sets ``LANE_MARGIN_M``, how far the camera keeps from the car's way (the
-narrower fallback stays 0.5 m). It prints each video's car pixels and IoUs, then the pooled
+narrower fallback stays 0.5 m); ``--skip`` passes over the first recipes (another set to
+check a change on). It prints each video's car pixels and IoUs, then the pooled
 IoU, recall and precision of each judge.
 """
 
@@ -33,12 +34,13 @@ def main() -> None:
     parser.add_argument("--theta", default="phav-v1", help="preset name")
     parser.add_argument("--seed", type=int, default=52)
     parser.add_argument("--videos", type=int, default=12)
+    parser.add_argument("--skip", type=int, default=0, help="car_hit recipes passed over first")
     parser.add_argument("--frames", type=int, default=8)
     parser.add_argument("--margin", type=float, default=camera.LANE_MARGIN_M)
     args = parser.parse_args()
     camera.LANE_MARGIN_M = args.margin  # read by driven_lanes at each call
-    drawn = sample_recipes(load_preset(args.theta), n=300 * args.videos, seed=args.seed)
-    recipes = [r for r in drawn if r.action == "car_hit"][: args.videos]
+    drawn = sample_recipes(load_preset(args.theta), n=300 * (args.skip + args.videos), seed=args.seed)
+    recipes = [r for r in drawn if r.action == "car_hit"][args.skip : args.skip + args.videos]
     segmenters, lut, ctx = load_judges().segmenters, class_lut()[0], gl_context()
     car = list(PIXEL_CLASSES).index("car")
     judged = {name: JUDGE_CLASSES[name].answer_ids(JUDGE_CLASSES[name].judged_as["car"]) for name in segmenters}
