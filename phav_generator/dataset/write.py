@@ -384,7 +384,9 @@ def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, n
 
 def _missing_tables(out: Path, theta: Theta | None) -> list[str]:
     """The files beside the shards a finished run writes that ``out`` lacks."""
-    tables = ["recipes.parquet", *(f"{t}.parquet" for t, _ in PART_TABLES), *(["theta.yaml"] if theta else [])]
+    tables = ["recipes.parquet", *(f"{t}.parquet" for t, _ in PART_TABLES)]
+    if theta is not None:
+        tables.append("theta.yaml")
     return [t for t in tables if not (out / t).is_file()]
 
 
