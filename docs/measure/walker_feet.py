@@ -1,9 +1,11 @@
 """Where background walkers' feet stand (docs/physics.md): plans the walkers of the first N
 recipes of (θ, seed), without physics or pixels, and measures per walker the worst frame's
-height of both ankles over the surface under each (an ankle joint stands ~10 cm over its
-sole), the deepest an ankle goes under it, and the pelvis's largest rise or fall in a frame.
+height of both ankles over the surface under each foot (the higher under its heel or its
+toes, ``SOLE_M`` ahead along its path, as the planner stands a foot; ``--heel``: under the
+ankle only; an ankle joint stands ~10 cm over its sole), the deepest an ankle goes under
+it, and the pelvis's largest rise or fall in a frame.
 
-    .venv/bin/python docs/measure/walker_feet.py [--theta phav-v1] [--recipes 300] [--seed 0]
+    .venv/bin/python docs/measure/walker_feet.py [--theta phav-v1] [--recipes 300] [--seed 0] [--heel]
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import argparse
 import numpy as np
 
 from phav_generator.motion.skeleton import forward_kinematics
-from phav_generator.physics.plan.background import _ANKLES, background_people
+from phav_generator.physics.plan.background import _ANKLES, SOLE_M, background_people
 from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.timestep import choose_substeps
 from phav_generator.sampling import sample_recipes
@@ -26,17 +28,27 @@ def main() -> None:
     parser.add_argument("--theta", default="phav-v1", help="preset name")
     parser.add_argument("--recipes", type=int, default=300)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--heel", action="store_true", help="the surface under the ankle only, not its toes")
     args = parser.parse_args()
     over, under, step, videos = [], [], [], 0
     for recipe in sample_recipes(load_preset(args.theta), n=args.recipes, seed=args.seed):
         if not recipe.background_actors:
             continue
         videos += 1
+        actors = {a.person_id: a for a in recipe.background_actors}
+        env = recipe.environment.name
         for walker in background_people(PlanBuilder(recipe, choose_substeps(recipe))):
             t = walker.targets
             bodies, _ = forward_kinematics(walker.dims, t.root_pos, t.root_quat, t.q)
             ankles = bodies[:, _ANKLES]
-            ground = walkable_heights(recipe.environment.name, ankles[..., 0], ankles[..., 1], ankles[..., 2] + 0.05)
+            reach = ankles[..., 2] + 0.05
+            ground = walkable_heights(env, ankles[..., 0], ankles[..., 1], reach)
+            if not args.heel:  # a foot whose toes stand on a terrace's edge stands on it
+                actor = actors[walker.person_id]
+                path = np.subtract(actor.destination, actor.start)[:2]
+                along = path / max(float(np.linalg.norm(path)), 1e-9) * SOLE_M
+                ground = np.maximum(ground, walkable_heights(env, ankles[..., 0] + along[0], ankles[..., 1] + along[1],
+                                                             reach))  # fmt: skip
             height = ankles[..., 2] - ground
             over.append(float(height.min(axis=1).max()))
             under.append(float(-height.min()))
