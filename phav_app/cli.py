@@ -524,7 +524,7 @@ def generate(
     m = result.manifest
     frames = sum(v.n_frames for v in m.videos)
     if result.already_finished:
-        done = (f"made {', '.join(result.remade_tables)} again from its recipes and shards, nothing rendered"
+        done = (f"made {', '.join(result.remade_tables)} again from its shards and θ, nothing rendered"
                 if result.remade_tables else "nothing to do")  # fmt: skip
         console.print(f"{done}: {escape(str(out))} already holds this run's {len(m.videos)} videos "
                       f"({frames:,} frames); θ {escape(th.name)} {th.hash[:12]}…, seed {seed}")  # fmt: skip

@@ -152,6 +152,8 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
                         progress(1, 0)
                     finished(record)
         except BrokenProcessPool:
+            # The tasks that succeeded before the pool broke are handed on: a resume need not redo them.
+            _finish_under_way(futures, pending | unhanded, finished)
             raise PhavUserError(
                 "a worker process died (killed, or out of memory); finished videos are kept, rerun to resume",
                 source=str(out),

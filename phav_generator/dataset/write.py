@@ -111,7 +111,8 @@ class _Run:
     """The driver's side of one run: journals finished videos, joins shards as their last
     video arrives, and knows what is left to do."""
 
-    def __init__(self, out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], progress: Progress | None):
+    def __init__(self, out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], progress: Progress | None,
+                 *, here: bool) -> None:  # fmt: skip
         self.out, self.work = out, out / WORK_DIR
         self.parts = self.work / PARTS_DIR
         self.names = names
@@ -133,7 +134,7 @@ class _Run:
                 rec["shard"] in self.journal.shards or _has_size(part, rec["part_bytes"])
             ):
                 del self.journal.videos[vid]
-        _check_code(out, [*self.journal.videos.values(), *self.journal.shards.values()])
+        _check_code(out, [*self.journal.videos.values(), *self.journal.shards.values()], here=here)
 
     def todo(self, tasks: Sequence[VideoTask]) -> list[VideoTask]:
         """Videos not finished yet, in index order; reports the finished ones as progress."""
@@ -151,6 +152,11 @@ class _Run:
         return left
 
     def finished(self, record: dict[str, Any]) -> None:
+        # A Ray cluster's workers are checked as their videos arrive: one of another machine
+        # stops the run now, not once its shard is joined.
+        first = next(iter(self.journal.videos.values()), None) or next(iter(self.journal.shards.values()), None)
+        if first is not None:
+            _check_one_renderer(self.out, "the run's videos", [first, record])
         self.journal.append("video", record)
         self._maybe_join(record["shard"])
 
@@ -242,10 +248,12 @@ def write_dataset(
     work = out / WORK_DIR
     shutil.rmtree(out / DONE_DIR, ignore_errors=True)  # a finished run's work folder a kill left
     look = functools.partial(_finished, out, names, tasks, gl, name=name, theta=theta, dataset_seed=dataset_seed)
-    if (finished := look()) is not None and not _missing_tables(out, theta):
+    if (finished := look()) is not None and not _tables_to_remake(out, theta):
         return DatasetResult.finished_before(finished)
     try:
         with exclusive(work):
+            (work / PARTS_DIR).mkdir(exist_ok=True)
+            remove_stale_temporaries(out, work, work / PARTS_DIR)
             # A run that held the lock may have finished since the look above (its work folder
             # moved away, this one new): look again, as the lock's holder.
             if not (work / RUN_FILE).exists():
@@ -259,8 +267,6 @@ def write_dataset(
                     if remade is not None:
                         shutil.rmtree(work, ignore_errors=True)
                         return DatasetResult.finished_before(finished, remade)
-            (work / PARTS_DIR).mkdir(exist_ok=True)
-            remove_stale_temporaries(out, work, work / PARTS_DIR)
             return _write_locked(out, names, shards, tasks, name=name, theta=theta, dataset_seed=dataset_seed,
                                  workers=workers, progress=progress, engine=engine, address=address)  # fmt: skip
     except WriteError as e:
@@ -317,11 +323,13 @@ def _check_one_renderer(out: Path, what: str, records: Sequence[dict[str, Any]])
         )
 
 
-def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
+def _check_code(out: Path, records: Sequence[dict[str, Any]], *, here: bool) -> None:
     """Refuse to resume a run that another phav, package set or llvmpipe setting began (its
     finished videos' code, versions, encoders and GL settings against this process's): the
-    rest would be made otherwise."""
-    here: dict[str, RendererFingerprint] = {}
+    rest would be made otherwise. ``here``: this machine renders the rest (the local engine),
+    so its renderer and CPU class must be the run's too; a Ray cluster's workers may be other
+    machines than its driver, whose shards are checked as they are joined."""
+    made_here: dict[str, RendererFingerprint] = {}
     seen: set[str] = set()
     for record in records:
         if "renderer" not in record:
@@ -332,15 +340,15 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
                 continue
             seen.add(made)
             gl = canonical_json(record["gl"])
-            if gl not in here:
-                here[gl] = renderer_fingerprint(record["gl"])
+            if gl not in made_here:
+                made_here[gl] = renderer_fingerprint(record["gl"])
             theirs = RendererFingerprint.model_validate(record["renderer"])
-            differ = [k for k in theirs.differences(here[gl], "files")  # the packages, encoders and GL settings
-                      if k.startswith(("versions.", "files.")) or k == "gl_settings"]  # fmt: skip
+            differ = [k for k in theirs.differences(made_here[gl], "files")  # the packages, encoders and GL settings
+                      if here or k.startswith(("versions.", "files.")) or k == "gl_settings"]  # fmt: skip
         if differ:
             raise PhavUserError(
-                f"the run was begun by another phav, package set or llvmpipe setting ({', '.join(differ)} differ); "
-                "finish it as it began, or delete the directory to start over",
+                f"the run was begun by another phav, package set, llvmpipe setting or machine ({', '.join(differ)} "
+                "differ); finish it as it began, or delete the directory to start over",
                 source=str(out),
                 field=differ[0],
             )
@@ -349,11 +357,12 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]]) -> None:
 def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, name: str, theta: Theta | None,
               dataset_seed: int, locked: bool = False) -> DatasetManifest | None:  # fmt: skip
     """The manifest of this very run if ``out`` holds it finished (every shard in place at
-    its size; a table it lacks is made again from the shards, ``_make_tables_again``), None
-    if ``out`` holds no finished run or one short of a shard (rendered again). A finished run
-    with other settings is refused: running over it would replace another dataset's files. A
-    work folder means the run is unfinished, unless ``locked``: the caller holds the lock of a
-    work folder it has just made."""
+    its size, and its recipes; a metadata table or θ it lacks is made again from the shards,
+    ``_make_tables_again``), None if ``out`` holds no finished run, or one short of a shard or
+    of ``recipes.parquet``: rendered again, as nothing else records which recipes made the
+    shards. A finished run with other settings is refused: running over it would replace
+    another dataset's files. A work folder means the run is unfinished, unless ``locked``:
+    the caller holds the lock of a work folder it has just made."""
     if not (out / "manifest.json").is_file() or (not locked and (out / WORK_DIR).exists()):
         return None
     manifest = load_manifest(out / "manifest.json")
@@ -377,27 +386,41 @@ def _finished(out: Path, names: list[str], tasks: list[VideoTask], gl: str, *, n
             source=str(out),
             field=differs[0],
         )
-    if not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
+    if not (out / "recipes.parquet").is_file() or not all(_has_size(out / sh.name, sh.bytes) for sh in manifest.shards):
         return None
     return manifest
 
 
-def _missing_tables(out: Path, theta: Theta | None) -> list[str]:
-    """The files beside the shards a finished run writes that ``out`` lacks."""
-    tables = ["recipes.parquet", *(f"{t}.parquet" for t, _ in PART_TABLES)]
+def _tables_to_remake(out: Path, theta: Theta | None) -> list[str]:
+    """The metadata tables and θ beside a finished run's shards that ``out`` lacks, or holds
+    unreadable (a Parquet file without its footer or columns) or changed (``theta.yaml``)."""
+    remake = []
+    for table, columns in PART_TABLES:
+        try:
+            with pq.ParquetFile(out / f"{table}.parquet") as f:
+                readable = f.schema_arrow.names == [c.name for c in columns]
+        except (OSError, pa.ArrowException):
+            readable = False
+        if not readable:
+            remake.append(f"{table}.parquet")
     if theta is not None:
-        tables.append("theta.yaml")
-    return [t for t in tables if not (out / t).is_file()]
+        try:
+            same = (out / "theta.yaml").read_text(encoding="utf-8") == theta.to_yaml()
+        except (OSError, UnicodeDecodeError):
+            same = False
+        if not same:
+            remake.append("theta.yaml")
+    return remake
 
 
 def _make_tables_again(out: Path, manifest: DatasetManifest, shards: Sequence[Sequence[Recipe]], *,
                        theta: Theta | None, dataset_seed: int) -> tuple[str, ...] | None:  # fmt: skip
-    """Write the tables a finished run lacks without rendering: θ and the recipes from this
-    run's, the metadata tables from the frames' json in its shards (the rows the videos' parts
-    held), each shard read whole and its bytes checked against the manifest first. None, and
-    nothing written, where a shard differs from the manifest or its json is not this
-    contract's: the run is then rendered again."""
-    missing = _missing_tables(out, theta)
+    """Write the tables a finished run lacks without rendering (``_tables_to_remake``): θ from
+    this run's (its hash the manifest's), the metadata tables from the frames' json in its
+    shards (the rows the videos' parts held), each shard read whole and its bytes checked
+    against the manifest first. None, and nothing written, where a shard differs from the
+    manifest or its json is not this contract's: the run is then rendered again."""
+    missing = _tables_to_remake(out, theta)
     wanted = [(t, columns) for t, columns in PART_TABLES if f"{t}.parquet" in missing]
     per_shard: dict[str, list[pa.Table]] = {t: [] for t, _ in wanted}
     if wanted:
@@ -421,7 +444,8 @@ def _make_tables_again(out: Path, manifest: DatasetManifest, shards: Sequence[Se
                     per_shard[t].append(_read_back(pa.concat_tables(videos)))
             except (OSError, tarfile.TarError, ValueError, KeyError, pa.ArrowException):
                 return None
-    _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed, only=missing)
+    if theta is not None and "theta.yaml" in missing:
+        _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed, only=("theta.yaml",))
     for t, columns in wanted:
         _write_tables(per_shard[t], columns, out / f"{t}.parquet")
     return tuple(missing)
@@ -463,7 +487,7 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
     })  # fmt: skip
     _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed)
 
-    state = _Run(out, names, shards, progress)
+    state = _Run(out, names, shards, progress, here=engine == "local")
     # Longest videos first: workers that pick the next task as they finish then end close
     # together (no worker rendering one long video alone at the end). Which order the videos
     # are rendered in cannot change a byte.

@@ -158,13 +158,16 @@ def test_a_run_begun_by_other_code_or_packages_is_not_resumed(small_recipes, sma
     assert entry["record"]["renderer"] == renderer_fingerprint(entry["record"]["gl"]).model_dump(mode="json")
     entry["record"]["renderer"]["versions"]["phav-source"] = "0" * 64
     journal.write_text(json.dumps(entry) + "\n")
-    begun_by = r"the run was begun by another phav, package set or llvmpipe setting"
+    begun_by = r"the run was begun by another phav, package set, llvmpipe setting or machine"
     with pytest.raises(PhavUserError, match=rf"{begun_by} \(versions.phav-source differ\)"):
         write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
     made = renderer_fingerprint(entry["record"]["gl"]).model_dump(mode="json")
+    # Another encoder, another llvmpipe setting, another CPU class (the local engine renders
+    # the rest on this machine: with another's SIMD its pixels would differ, found only at the join).
     for key, value, said in (("file_versions", {**made["file_versions"], "opencv": "4.0.0"}, "files.opencv"),
-                             ("gl_settings", "GALLIVM_PERF=brilinear", "gl_settings")):  # fmt: skip
-        entry["record"]["renderer"] = {**made, key: value}  # another encoder, another llvmpipe setting
+                             ("gl_settings", "GALLIVM_PERF=brilinear", "gl_settings"),
+                             ("cpu_class", "x86-64 other", "cpu_class")):  # fmt: skip
+        entry["record"]["renderer"] = {**made, key: value}
         journal.write_text(json.dumps(entry) + "\n")
         with pytest.raises(PhavUserError, match=rf"{begun_by} \({said} differ\)"):
             write_dataset(first, out, name="demo", theta=small_theta, dataset_seed=SMALL_SEED)
@@ -207,7 +210,8 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(monk
                                                                            small_recipes, small_theta):  # fmt: skip
     """Rerunning a finished run (the shared dataset's, copied) renders nothing and leaves every
     file as it was; a run with other settings is refused before it touches a file; a finished
-    run missing a shard is rendered again, one missing a table has it made from its shards."""
+    run missing a shard or its recipes is rendered again, one missing a metadata table or θ
+    has it made from its shards and θ."""
     out = small_dataset_copy
     shards = chunk(small_recipes, SMALL_SHARD_SIZE)
     before = file_bytes(out)
@@ -235,22 +239,27 @@ def test_a_finished_run_run_again_writes_nothing_and_another_run_is_refused(monk
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
     assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
     assert file_bytes(out) == before
-    # Tables gone: made again from the recipes and the frames' json in the shards, not rendered,
-    # byte for byte; the files still there are not written.
-    for table in ("people.parquet", "cameras.parquet", "recipes.parquet", "theta.yaml"):
-        (out / table).unlink()
+    # Metadata tables and θ gone, damaged or changed: made again from the frames' json in the
+    # shards and from θ, not rendered, byte for byte; the files still sound are not written,
+    # and a temporary a killed remake left is deleted.
+    (out / "people.parquet").unlink()
+    (out / "cameras.parquet").write_bytes((out / "cameras.parquet").read_bytes()[:1000])
+    (out / "theta.yaml").write_text("name: edited\n")
+    (out / ".people.parquet.0123456789abcdef.tmp").write_bytes(b"half")
     times = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
     monkeypatch.setattr(write_module, "run_tasks", lambda *a, **k: pytest.fail("rendered to remake a table"))
     remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
-    assert remade.already_finished and set(remade.remade_tables) == {
-        "people.parquet",
-        "cameras.parquet",
-        "recipes.parquet",
-        "theta.yaml",
-    }
+    assert remade.already_finished and remade.remade_tables == ("cameras.parquet", "people.parquet", "theta.yaml")
     assert file_bytes(out) == before and not (out / WORK_DIR).exists()
-    assert all(p.stat().st_mtime_ns == t for p in out.iterdir() if (t := times.get(p.name)) is not None)
+    assert sorted(p.name for p in out.iterdir()) == sorted(before)  # the temporary gone
+    assert all(p.stat().st_mtime_ns == times[p.name] for p in out.iterdir() if p.name.endswith(".tar"))
     monkeypatch.undo()
+    # recipes.parquet gone: nothing else records which recipes made the shards (a phav that
+    # samples otherwise, the same θ and seed), so the run is rendered again from this one's.
+    (out / "recipes.parquet").unlink()
+    remade = write_dataset(shards, out, name="phav", theta=small_theta, dataset_seed=SMALL_SEED)
+    assert not remade.already_finished and remade.rendered_videos == len(small_recipes)
+    assert file_bytes(out) == before
     # A shard no longer the manifest's (one byte changed, its size kept): its json is not
     # trusted, and the run is rendered again.
     (out / "people.parquet").unlink()
