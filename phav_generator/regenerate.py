@@ -20,7 +20,7 @@ from phav_spec.files import file_sha256, parse_json_object, read_text
 from phav_spec.manifest import DatasetManifest, load_manifest, renderer_differences
 from phav_spec.recipe import Recipe, load_recipe
 from phav_spec.recipe_table import read_recipe_table
-from phav_spec.release import RELEASE_FILE, ReleaseIndex, load_release_index
+from phav_spec.release import METADATA_FILES, RELEASE_FILE, ReleaseIndex, load_release_index
 from phav_spec.theta import Theta, load_theta
 
 
@@ -209,6 +209,11 @@ def compare_hashes(
             report._file(shard.name, old_shard.sha256, shard.sha256)
     if release is not None and out is not None and len(rebuilt.videos) == len(expected.videos):
         for f in release.files:
-            if f.kind == "metadata":  # renderer outputs (recipes and θ are the inputs)
+            if f.kind != "metadata":  # renderer outputs (recipes and θ are the inputs)
+                continue
+            if f.path in METADATA_FILES:
                 report._file(f.path, f.sha256, file_sha256(out / f.path))
+            else:  # a file a run does not write: the release lists what phav did not make
+                report.files_compared += 1
+                report.mismatches.append(f"{f.path}: listed as metadata by release.json, not made by phav")
     return report

@@ -41,7 +41,7 @@ class ReleaseFile(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
-    path: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    path: str = Field(pattern=r"^[A-Za-z0-9_.-]*[A-Za-z0-9_-][A-Za-z0-9_.-]*$")  # a file's name, not "." or ".."
     bytes: int = Field(ge=0)
     sha256: Sha256Hex
     included: bool

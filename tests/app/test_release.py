@@ -328,16 +328,19 @@ def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset
     assert result.returncode == 1 and "already held these 3 video(s), nothing rebuilt" in result.stdout
     assert "mismatch phav-000000.tar: sha256" in result.stdout
 
-    # A release whose metadata table no longer matches what the recipes render is caught.
+    # A release whose metadata table no longer matches what the recipes render is caught, and
+    # one listing a metadata file phav does not make is a mismatch, not a crash.
     bad = tmp_path / "bad"
     shutil.copytree(recipe_release, bad)
     index = json.loads((bad / RELEASE_FILE).read_text(encoding="utf-8"))
     people = next(f for f in index["files"] if f["path"] == "people.parquet")
     people["sha256"] = "0" * 64
+    index["files"].append({**people, "path": "objects.parquet"})
     (bad / RELEASE_FILE).write_text(json.dumps(index), encoding="utf-8")
     result = invoke_cli("regenerate", str(bad / "manifest.json"), "--out", str(tmp_path / "rebuilt2"))
-    assert result.returncode == 1
-    assert "mismatch people.parquet: sha256" in result.stdout and "files: 3/4 sha256 match" in result.stdout
+    assert result.returncode == 1 and "Traceback" not in result.stderr, result.stderr
+    assert "mismatch people.parquet: sha256" in result.stdout and "files: 3/5 sha256 match" in result.stdout
+    assert "mismatch objects.parquet: listed as metadata by release.json, not made by phav" in result.stdout
 
 
 def _validate(release: Path, *extra: str) -> dict:
@@ -558,3 +561,14 @@ def test_a_recipe_only_release_s_findings_name_its_own_files(recipe_release, tmp
     checks = _validate(rel, "--checks", "integrity,schema")
     files = {f["file"] for f in checks["schema"]["findings"] if f["reason"] == "DUPLICATE_VIDEO"}
     assert files == {str(rel / "recipes.parquet")}, checks["schema"]["findings"]
+
+
+@pytest.mark.parametrize("name", [".", "..", "...", "a/b", ""])
+def test_a_release_index_names_files_not_folders(recipe_release, tmp_path, name):
+    """release.json's paths are files' names beside it: "." or ".." would name a folder (a
+    crash where the regenerated files are compared), a slash another folder's file."""
+    index = json.loads((recipe_release / RELEASE_FILE).read_text(encoding="utf-8"))
+    index["files"][0]["path"] = name
+    (tmp_path / RELEASE_FILE).write_text(json.dumps(index), encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"files\.0\.path"):
+        load_release_index(tmp_path / RELEASE_FILE)
