@@ -161,7 +161,7 @@ def world_sha256() -> str:
     path = cache_root() / "world" / f"{key}.sha256"
     try:
         kept = path.read_text(encoding="utf-8").strip()
-    except OSError:
+    except (OSError, UnicodeDecodeError):  # missing, unreadable or damaged: built again
         kept = ""
     if re.fullmatch(r"[0-9a-f]{64}", kept):
         return kept

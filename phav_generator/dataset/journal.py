@@ -42,9 +42,11 @@ class Journal:
             try:
                 entry = json.loads(line)
                 kind, record = entry["kind"], entry["record"]
-                self._remember(kind, record)
             except (ValueError, KeyError, TypeError):  # damaged from here on: cut off, redone
                 break
+            if not _well_formed(kind, record):  # the driver wrote no such line: damaged, as above
+                break
+            self._remember(kind, record)
             good += len(line)
             self._lines += 1
         if good != len(data):
@@ -73,6 +75,28 @@ class Journal:
             self.videos[record["video_id"]] = record
         else:
             self.shards[record["name"]] = record
+
+
+_VIDEO_FIELDS = {"video_id": str, "shard": str, "n_frames": int, "part_bytes": int, "content_hash": str,
+                 "modality_hashes": dict, "gl": dict}  # fmt: skip
+_SHARD_FIELDS = {"name": str, "shard": dict, "videos": list, "gl": dict, "renderer": dict}
+
+
+def _well_formed(kind: Any, record: Any) -> bool:
+    """Whether a journal line holds what the driver writes: a video's or a shard's record with
+    its fields of their types (a video's ``renderer`` may be absent: an older phav's, refused
+    by name on resuming)."""
+    fields = {"video": _VIDEO_FIELDS, "shard": _SHARD_FIELDS}.get(kind) if isinstance(kind, str) else None
+    if fields is None or not isinstance(record, dict):
+        return False
+    if not all(isinstance(record.get(k), t) and not isinstance(record.get(k), bool) for k, t in fields.items()):
+        return False
+    if kind == "video":
+        return isinstance(record.get("renderer", {}), dict)
+    shard = record["shard"]
+    return (isinstance(shard.get("bytes"), int) and isinstance(shard.get("sha256"), str)
+            and isinstance(shard.get("video_ids"), list) and all(isinstance(v, str) for v in shard["video_ids"])
+            and all(isinstance(v, dict) for v in record["videos"]))  # fmt: skip
 
 
 def check_run(work: Path, run: dict[str, Any]) -> None:

@@ -87,9 +87,10 @@ def test_the_world_librarys_hash_is_built_once_per_machine_and_code(tmp_path, mo
     assert fingerprint.world_sha256() == built  # read back, not built
     # a corrupt file, or other code (another key), builds it again
     monkeypatch.setattr(fingerprint, "world_library_sha256", lambda: "ab" * 32)
-    kept.write_text("not a hash\n")
-    fingerprint.world_sha256.cache_clear()
-    assert fingerprint.world_sha256() == "ab" * 32 and kept.read_text().strip() == "ab" * 32
+    for damaged in (b"not a hash\n", b"\xff\xfe garbage"):  # not a hash, not even text
+        kept.write_bytes(damaged)
+        fingerprint.world_sha256.cache_clear()
+        assert fingerprint.world_sha256() == "ab" * 32 and kept.read_text().strip() == "ab" * 32
     monkeypatch.setattr(fingerprint, "source_sha256", lambda: "0" * 64)
     monkeypatch.setattr(fingerprint, "world_library_sha256", lambda: "cd" * 32)
     fingerprint.world_sha256.cache_clear()
