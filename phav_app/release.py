@@ -25,6 +25,7 @@ from pathlib import Path
 
 from phav_app.card import RecipeFit, croissant, dataset_card, histograms
 from phav_generator.dataset.fingerprint import package_version
+from phav_generator.dataset.lock import remove_stale_temporaries
 from phav_spec.canonical import pretty_json
 from phav_spec.errors import PhavUserError
 from phav_spec.files import (
@@ -232,6 +233,8 @@ def _write_release(src: _Source, out: Path, *, recipes_only: bool, about: dict[s
     _claim(out, src, recipes_only)
     for stale in out.rglob(".*.link.tmp"):  # a link a killed run made and never put in place
         stale.unlink()
+    # and the temporaries of its copies and writes (a release that is ours: no one else's)
+    remove_stale_temporaries(*(d for d in (out, out / HISTOGRAMS_DIR) if d.is_dir()))
     small = sum((src.root / n).stat().st_size for n in RECIPE_FILES + METADATA_FILES)
     advance = progress("hashing", small) if progress is not None else None
     index = _index(src, recipes_only=recipes_only, about=about, advance=advance)

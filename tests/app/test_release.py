@@ -254,9 +254,11 @@ def test_an_interrupted_release_is_never_mistaken_for_a_finished_one(dataset, re
         make_release(dataset, out, recipes_only=True, date="2026-11-21", progress=stop_when_placing)
     assert not (out / RELEASE_FILE).exists() and (out / ".phav-release.json").exists()
     (out / ".cameras.parquet.link.tmp").write_bytes(b"")  # a link a killed run made (not placed again here)
+    (out / ".README.md.0123456789abcdef.tmp").write_bytes(b"half a card")  # and a write it began
+    (out / "histograms").mkdir(exist_ok=True)
+    (out / "histograms" / ".action.svg.fedcba9876543210.tmp").write_bytes(b"<svg")
     make_release(dataset, out, recipes_only=True, date="2026-11-21")  # resumes its own directory
-    assert tree_bytes(out) == tree_bytes(recipe_release)
-    assert not list(out.glob(".*.link.tmp"))
+    assert tree_bytes(out) == tree_bytes(recipe_release)  # neither temporary left in it
 
 
 def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_path):
