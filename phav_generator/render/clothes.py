@@ -112,6 +112,8 @@ def skirt(body: RestBody, owner: np.ndarray):
             thigh = SKIRT_THIGH * t
             weights.append((1.0 - thigh, thigh * (1.0 + s) / 2.0, thigh * (1.0 - s) / 2.0, 0.0))
             sides.append((s >= 0.0, t))
+    # Per vertex: a triangle across the left/right or hip/thigh line takes its last corner's
+    # class (the shader's flat value), colour and label alike.
     names = [("left" if is_left else "right") + ("_hip" if t < 0.5 else "_upper_leg") for is_left, t in sides]
     classes = np.array([PIXEL_CLASSES[n].class_id for n in names], dtype=np.uint16)
     n = len(positions)

@@ -73,8 +73,8 @@ RAIN_SPEED_MPS = 9.0
 @dataclass(frozen=True)
 class VertexLook:
     """Labels and look that vary over a mesh (a person's parts and clothes): pixel classes
-    per vertex (triangles take their first vertex's, flat) and a texture image over it,
-    mipmapped; they override the drawable's class and colour."""
+    per vertex (a triangle takes its last vertex's, OpenGL's provoking vertex: flat) and a
+    texture image over it, mipmapped; they override the drawable's class and colour."""
 
     class_ids: np.ndarray  # (N,) pixel classes
     uvs: np.ndarray  # (N, 2) texture coordinates, (0, 0) the texture's first texel
@@ -238,6 +238,7 @@ class FrameRenderer:
         supersample: int = 2,
         post: PostSettings | None = None,
         rain_seed: int = 0,
+        fps: float = 30.0,
     ):
         if supersample not in SAMPLE_PATTERNS:
             choices = sorted(SAMPLE_PATTERNS)
@@ -247,6 +248,7 @@ class FrameRenderer:
         self.drawables = drawables
         self.lighting = lighting if lighting is not None else _default_lighting()
         self.post_settings = post if post is not None else PostSettings()
+        self.fps = fps  # the clip's: rain falls by its time, not its frame count
         self.supersample = supersample
         lamps = np.zeros((0, 3)) if lamps is None else np.asarray(lamps, dtype=np.float64).reshape(-1, 3)
         self.lamps = lamps[:MAX_LAMPS] if self.lighting.lamp_intensity > 0.01 else np.zeros((0, 3))
@@ -645,11 +647,11 @@ class FrameRenderer:
 
     def _rain_lines(self, frame: int, eye: np.ndarray) -> np.ndarray:
         """Streak end points (2N, 3) at this frame: falling, wrapped into a box around the eye."""
-        t = frame / 30.0
+        t = frame / self.fps
         fall = np.array([0.6, 0.25, -RAIN_SPEED_MPS])
         top = self.rain_origin + fall * t
         top = np.mod(top - eye + RAIN_BOX_M, 2.0 * RAIN_BOX_M) - RAIN_BOX_M + eye
-        bottom = top + fall * (0.5 / 30.0)  # half a frame of motion: a streak
+        bottom = top + fall * (0.5 / self.fps)  # half a frame of motion: a streak
         return np.stack([top, bottom], axis=1).reshape(-1, 3).astype(np.float32)
 
     def _supersample(self, n_near: int, n_indices: int, intrinsics, rain: np.ndarray | None) -> None:

@@ -138,7 +138,8 @@ def _person_mesh(phenotype: Phenotype, skirted: bool, level: int, data: BodyData
     body = lod_body(phenotype, level)
     owner = np.argmax(body.weights, axis=1)
     faces = body.faces
-    # A triangle's class: its first corner's (the shader's flat value).
+    # A triangle's class: its first corner's, given to all three of its corners (split below),
+    # so that the shader's flat value (the last corner's) is it.
     face_class = _classes(body, owner)[faces[:, 0]]
     source, corner_class, corner_uv, triangles = _split_corners(faces, face_class, atlas_uv(corner_uvs(level)))
     bones, weights = top_bones(body.weights)

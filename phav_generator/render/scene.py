@@ -57,7 +57,8 @@ def class_id(name: str) -> int:
 
 
 def _static(mesh, transform: np.ndarray, cls: str, n: int, **look) -> Drawable:
-    material = GROUND if cls in WET_CLASSES else look.pop("material", 0)
+    given = look.pop("material", 0)
+    material = GROUND if cls in WET_CLASSES else given  # wet ground darkens: its own material
     return Drawable(mesh, np.broadcast_to(transform, (n, 4, 4)), class_id(cls), 0,
                     look.pop("colour", _CLASS_COLOURS.get(cls, (0.5,) * 3)), material=material, **look)  # fmt: skip
 

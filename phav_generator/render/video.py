@@ -51,6 +51,7 @@ class SceneInputs:
     supersample: int
     post: PostSettings
     rain_seed: int
+    fps: int
 
 
 def scene_inputs(
@@ -78,7 +79,7 @@ def scene_inputs(
     return SceneInputs(
         recipe.video.width, recipe.video.height, drawables,
         lighting, lamps, focus, recipe.render.supersampling if supersample is None else supersample,
-        PostSettings.from_render(recipe.render) if post is None else post, recipe.seeds.render,
+        PostSettings.from_render(recipe.render) if post is None else post, recipe.seeds.render, recipe.video.fps,
     )  # fmt: skip
 
 
@@ -103,7 +104,7 @@ def inputs_renderer(s: SceneInputs, ctx: moderngl.Context) -> FrameRenderer:
     lighting, say)."""
     return FrameRenderer(
         ctx, s.width, s.height, s.drawables, sky_class=class_id("sky"), lighting=s.lighting, lamps=s.lamps,
-        focus=s.focus, supersample=s.supersample, post=s.post, rain_seed=s.rain_seed,
+        focus=s.focus, supersample=s.supersample, post=s.post, rain_seed=s.rain_seed, fps=s.fps,
     )  # fmt: skip
 
 

@@ -8,8 +8,9 @@ import pytest
 
 from phav_generator.physics.simulate import simulate
 from phav_generator.render import gl
-from phav_generator.render.gl import FrameRenderer
-from phav_generator.render.scene import build_drawables, class_id
+from phav_generator.render.gl import GROUND, WATER, FrameRenderer
+from phav_generator.render.meshes import box
+from phav_generator.render.scene import _static, build_drawables, class_id
 from phav_generator.world.materials import Material
 from phav_spec.vocab import PIXEL_CLASSES
 from tests.generator.physics.support import recipe_for
@@ -95,3 +96,9 @@ def test_each_colour_program_holds_only_the_materials_of_its_draws_and_no_pixel_
     whole, _, _ = frame_and_flags()
     np.testing.assert_array_equal(split.rgb, whole.rgb)
     np.testing.assert_array_equal(split.colour, whole.colour)
+
+
+def test_a_static_draw_of_wet_ground_takes_the_grounds_material_whatever_it_is_given():
+    wet = _static(box((1.0, 1.0, 0.1)), np.eye(4), "road", 1, material=WATER)
+    dry = _static(box((1.0, 1.0, 0.1)), np.eye(4), "misc", 1, material=WATER)
+    assert (wet.material, dry.material) == (GROUND, WATER)

@@ -372,3 +372,19 @@ def test_the_camera_meters_dim_light_and_keeps_night_dark(ctx):
     assert np.array_equal(m.flow, f.flow)
     ground = m.class_id != class_id("sky")
     assert luma(m.colour)[ground].mean() > 1.5 * luma(f.colour)[ground].mean()
+
+
+def test_rain_falls_by_the_clips_time_whatever_its_frame_rate():
+    """Frame 2k of a 60 fps clip shows the streaks where frame k of a 30 fps clip does, each
+    half a frame of motion long: rain falls at its speed in metres per second."""
+    origin = np.random.default_rng(0).random((50, 3)) * 10.0
+    eye = np.array([1.0, 2.0, 1.5])
+
+    def lines(fps: float, frame: int) -> np.ndarray:
+        renderer = type("Renderer", (), {"rain_origin": origin, "fps": fps})()
+        return FrameRenderer._rain_lines(renderer, frame, eye).reshape(-1, 2, 3)
+
+    for k in (0, 3, 17):
+        slow, fast = lines(30, k), lines(60, 2 * k)
+        assert np.allclose(slow[:, 0], fast[:, 0], atol=1e-5)
+        assert np.allclose(slow[:, 1] - slow[:, 0], 2.0 * (fast[:, 1] - fast[:, 0]), atol=1e-5)
