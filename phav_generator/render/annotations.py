@@ -18,14 +18,15 @@ from phav_generator.motion.skeleton import DOF_BODY, JOINT_BODIES, PARENTS, Body
 from phav_generator.physics.trajectory import PersonTrack, Trajectory
 from phav_generator.render.camera import project, view
 from phav_generator.render.gl import Frame
-from phav_generator.render.people import JOINT_SURFACES, joint_reach
+from phav_generator.render.people import JOINT_SURFACES, visibility_reach
 from phav_generator.render.scene import humans_by_id
 from phav_spec.encoding import instance_rgb
 from phav_spec.recipe import Recipe
 
 #: A joint counts as visible when nothing at its pixel is in front of it, or when what is in
 #: front is this person's surface around the joint (its class or a part meeting there,
-#: ``render.people.JOINT_SURFACES``) no nearer than the joint's reach plus this (m).
+#: ``render.people.JOINT_SURFACES``) no nearer than the joint's depth under the body's
+#: surface (``render.people.visibility_reach``) plus this (m).
 VISIBILITY_SLACK_M = 0.003
 
 
@@ -72,7 +73,7 @@ class MetadataBuilder:
             (track, humans[track.person_id], rest_body(humans[track.person_id].phenotype).dims)
             for track in trajectory.people
         ]
-        self._radii = {track.person_id: joint_reach(dims) for track, _, dims in self._people}
+        self._radii = {track.person_id: visibility_reach(dims) for track, _, dims in self._people}
         self._limits = {track.person_id: _muscle_limits(track) for track, _, _ in self._people}
 
     def camera_row(self, f: int) -> dict[str, Any]:

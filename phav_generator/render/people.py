@@ -76,6 +76,15 @@ def joint_reach(dims: BodyDims) -> np.ndarray:
     ])  # fmt: skip
 
 
+def visibility_reach(dims: BodyDims) -> np.ndarray:
+    """How deep (m) under the surface seen at its pixel each of the 13 joints may lie and still
+    count as visible: ``JOINT_REACH`` of the thicker body meeting there. A joint on the trunk
+    (neck, shoulders, hips) lies deeper under the trunk's surface than its limb is thick; its
+    class reaches only as far as the limb's (``joint_reach``)."""
+    radii = np.array([c.radius for c in dims.capsules])
+    return np.array([JOINT_REACH * max(radii[k], radii[PARENTS[k]]) for k in JOINT_BODIES])
+
+
 def _part_class(body: int, side: str) -> str:
     """The part class of a ragdoll body: the pelvis shows as the hip half on ``side``."""
     name = BONES[body].name
@@ -298,4 +307,5 @@ __all__ = [
     "person_drawables",
     "person_mesh",
     "top_bones",
+    "visibility_reach",
 ]  # fmt: skip
