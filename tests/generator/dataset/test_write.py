@@ -188,6 +188,31 @@ def test_videos_of_other_machines_are_never_joined(tmp_path):
         write_module._check_one_renderer(tmp_path, "v", records)
 
 
+def test_a_video_of_another_renderer_stops_the_run_as_it_arrives(small_recipes, tmp_path):
+    """A Ray cluster's workers may be other machines than its driver: the first video one of
+    another CPU class finishes is refused as it arrives, before it is journalled, not once its
+    shard is joined (the rest of the run rendered in vain, and the journal then mixed two)."""
+    gl = {"GL_VENDOR": "Mesa", "GL_RENDERER": "llvmpipe (LLVM 19, 256 bits)", "GL_VERSION": "4.5"}
+    made = renderer_fingerprint(gl).model_dump(mode="json")
+
+    def record(recipe, renderer) -> dict:
+        return {"video_id": recipe.video_id, "shard": "demo-000000.tar", "n_frames": recipe.n_frames,
+                "part_bytes": 10, "content_hash": "0" * 64, "modality_hashes": {}, "gl": gl,
+                "renderer": renderer}  # fmt: skip
+
+    shards = chunk(small_recipes, len(small_recipes))
+    run = write_module._Run(tmp_path, ["demo-000000.tar"], shards, None, here=False)
+    for recipe in small_recipes[:2]:
+        (run.parts / f"{recipe.video_id}.tar.part").write_bytes(b"0" * 10)
+    run.finished(record(small_recipes[0], made))
+    before = (run.work / "journal.jsonl").read_bytes()
+    with pytest.raises(PhavUserError, match=r"the run's videos were made by different .*\(cpu_class differ\)"):
+        run.finished(record(small_recipes[1], {**made, "cpu_class": "x86-64 other"}))
+    assert (run.work / "journal.jsonl").read_bytes() == before and list(run.journal.videos) == [
+        small_recipes[0].video_id
+    ]
+
+
 def test_a_directory_holding_another_run_is_refused(small_recipes, small_theta, tmp_path):
     out = tmp_path / "ds"
     first = chunk(small_recipes[:1], 1)
