@@ -48,23 +48,20 @@ class _HashingWriter(io.RawIOBase):
         return view.nbytes
 
 
-class _HashingReader(io.RawIOBase):
-    """A read-only file that hashes and counts what is read from ``source``."""
+class HashingReader:
+    """A read-only file that hashes and counts what is read through it (sequential reads,
+    as tarfile's stream mode makes them)."""
 
-    def __init__(self, source: BinaryIO):
-        self.source = source
+    def __init__(self, raw: BinaryIO):
+        self._raw = raw
         self.sha256 = hashlib.sha256()
         self.size = 0
 
-    def readable(self) -> bool:
-        return True
-
-    def readinto(self, buffer) -> int:  # type: ignore[override]
-        n = self.source.readinto(buffer)  # type: ignore[attr-defined]
-        view = memoryview(buffer)[:n]
-        self.sha256.update(view)
-        self.size += n
-        return n
+    def read(self, n: int = -1) -> bytes:
+        data = self._raw.read(n)
+        self.sha256.update(data)
+        self.size += len(data)
+        return data
 
 
 @dataclass
@@ -174,8 +171,8 @@ def read_members(path: str | Path, wanted: Callable[[str], bool]) -> tuple[list[
     members are trusted). A damaged tar raises ``tarfile.TarError``."""
     found: list[tuple[str, bytes]] = []
     with open(path, "rb") as raw:
-        reader = _HashingReader(raw)
-        with tarfile.open(fileobj=io.BufferedReader(reader, 1 << 20), mode="r|") as tar:
+        reader = HashingReader(raw)
+        with tarfile.open(fileobj=reader, mode="r|") as tar:  # type: ignore[call-overload]
             for info in tar:
                 if info.isfile() and wanted(info.name):
                     member = tar.extractfile(info)

@@ -10,13 +10,12 @@ The file's sha256 and size are computed on the same pass.
 
 from __future__ import annotations
 
-import hashlib
 import tarfile
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
-from typing import BinaryIO
 
+from phav_generator.io.shards import HashingReader
 from phav_spec.files import tar_end_problem
 
 #: The largest member read (bytes). A 340×256 16-bit RGB PNG is at most ~0.6 MB even stored
@@ -41,21 +40,6 @@ class TarScan:
     truncated: str | None = None  # why reading stopped early, None when the tar ended cleanly
     sha256: str = ""
     bytes: int = 0
-
-
-class _HashingReader:
-    """A read-only file that hashes and counts what is read through it (sequential reads)."""
-
-    def __init__(self, raw: BinaryIO):
-        self._raw = raw
-        self.sha256 = hashlib.sha256()
-        self.size = 0
-
-    def read(self, n: int = -1) -> bytes:
-        data = self._raw.read(n)
-        self.sha256.update(data)
-        self.size += len(data)
-        return data
 
 
 def unsafe_reason(info: tarfile.TarInfo) -> str | None:
@@ -98,7 +82,7 @@ def iter_members(
         scan.truncated = f"cannot be read ({e.strerror or e})"
         return
     with raw:
-        reader = _HashingReader(raw)
+        reader = HashingReader(raw)
         try:
             # Stream mode ("r|"): sequential reads only, so the digest covers every byte.
             with tarfile.open(fileobj=reader, mode="r|") as tar:  # type: ignore[call-overload]
