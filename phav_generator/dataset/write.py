@@ -96,7 +96,7 @@ class DatasetResult:
     resumed_videos: int = 0
     #: The directory held this run finished already: no video was rendered.
     already_finished: bool = False
-    #: Tables the finished run lacked, made again from its recipes and shards.
+    #: Tables the finished run lacked, made again from its shards and θ.
     remade_tables: tuple[str, ...] = ()
 
     @classmethod
@@ -263,7 +263,7 @@ def write_dataset(
                     shutil.rmtree(work, ignore_errors=True)
                     raise
                 if finished is not None:
-                    remade = _make_tables_again(out, finished, shards, theta=theta, dataset_seed=dataset_seed)
+                    remade = _make_tables_again(out, finished, theta)
                     if remade is not None:
                         shutil.rmtree(work, ignore_errors=True)
                         return DatasetResult.finished_before(finished, remade)
@@ -328,7 +328,7 @@ def _check_code(out: Path, records: Sequence[dict[str, Any]], *, here: bool) -> 
     finished videos' code, versions, encoders and GL settings against this process's): the
     rest would be made otherwise. ``here``: this machine renders the rest (the local engine),
     so its renderer and CPU class must be the run's too; a Ray cluster's workers may be other
-    machines than its driver, whose shards are checked as they are joined."""
+    machines than its driver, whose videos are checked as they arrive (``_Run.finished``)."""
     made_here: dict[str, RendererFingerprint] = {}
     seen: set[str] = set()
     for record in records:
@@ -413,8 +413,7 @@ def _tables_to_remake(out: Path, theta: Theta | None) -> list[str]:
     return remake
 
 
-def _make_tables_again(out: Path, manifest: DatasetManifest, shards: Sequence[Sequence[Recipe]], *,
-                       theta: Theta | None, dataset_seed: int) -> tuple[str, ...] | None:  # fmt: skip
+def _make_tables_again(out: Path, manifest: DatasetManifest, theta: Theta | None) -> tuple[str, ...] | None:
     """Write the tables a finished run lacks without rendering (``_tables_to_remake``): θ from
     this run's (its hash the manifest's), the metadata tables from the frames' json in its
     shards (the rows the videos' parts held), each shard read whole and its bytes checked
@@ -436,16 +435,15 @@ def _make_tables_again(out: Path, manifest: DatasetManifest, shards: Sequence[Se
                     camera, people = frame_rows(data)
                     rows[member.partition("/")[0]]["cameras"].append(camera)
                     rows[member.partition("/")[0]]["people"] += people
-                # Each video's table and each shard's through Parquet, as the run's parts and shard
-                # tables went (Parquet names a list's items `element`): the joined file is the run's.
+                # Each shard's table through Parquet, as the run's shard tables went (Parquet names a
+                # list's items `element`, and reads one chunk back): the joined file is the run's.
                 for t, _ in wanted:
-                    videos = [_read_back(pa.Table.from_pylist(rows[vid][t], schema=schemas[t]))
-                              for vid in entry.video_ids]  # fmt: skip
+                    videos = [pa.Table.from_pylist(rows[vid][t], schema=schemas[t]) for vid in entry.video_ids]
                     per_shard[t].append(_read_back(pa.concat_tables(videos)))
             except (OSError, tarfile.TarError, ValueError, KeyError, pa.ArrowException):
                 return None
     if theta is not None and "theta.yaml" in missing:
-        _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed, only=("theta.yaml",))
+        _write_theta(out, theta)
     for t, columns in wanted:
         _write_tables(per_shard[t], columns, out / f"{t}.parquet")
     return tuple(missing)
@@ -459,16 +457,9 @@ def _read_back(table: pa.Table) -> pa.Table:
         return f.read()
 
 
-def _write_sidecars(out: Path, shards: Sequence[Sequence[Recipe]], *, theta: Theta | None, dataset_seed: int,
-                    only: Sequence[str] = ("theta.yaml", "recipes.parquet")) -> None:  # fmt: skip
-    """``theta.yaml`` (when θ is given) and ``recipes.parquet``, those of them in ``only``."""
-    if theta is not None and "theta.yaml" in only:
-        with atomic_write(out / "theta.yaml") as tmp:
-            tmp.write_text(theta.to_yaml(), encoding="utf-8")
-    if "recipes.parquet" in only:
-        all_recipes = [r for recipes in shards for r in recipes]
-        write_recipe_table(RecipeRows().extend(all_recipes).to_arrow(theta=theta, dataset_seed=dataset_seed),
-                           out / "recipes.parquet")  # fmt: skip
+def _write_theta(out: Path, theta: Theta) -> None:
+    with atomic_write(out / "theta.yaml") as tmp:
+        tmp.write_text(theta.to_yaml(), encoding="utf-8")
 
 
 def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]], tasks: list[VideoTask], *,
@@ -485,7 +476,11 @@ def _write_locked(out: Path, names: list[str], shards: Sequence[Sequence[Recipe]
         "recipes_hash": sha256_hex(canonical_json([t.recipe for t in tasks])),
         "gl": tasks[0].gl if tasks else None,  # a run never mixes renderers
     })  # fmt: skip
-    _write_sidecars(out, shards, theta=theta, dataset_seed=dataset_seed)
+    if theta is not None:
+        _write_theta(out, theta)
+    all_recipes = [r for recipes in shards for r in recipes]
+    write_recipe_table(RecipeRows().extend(all_recipes).to_arrow(theta=theta, dataset_seed=dataset_seed),
+                       out / "recipes.parquet")  # fmt: skip
 
     state = _Run(out, names, shards, progress, here=engine == "local")
     # Longest videos first: workers that pick the next task as they finish then end close
