@@ -353,7 +353,8 @@ class _Layout:
         """Say where the tar holds its videos in another order than the manifest lists them."""
         in_list = set(listed)
         held = [v for v in self.videos if v in in_list]
-        expected = [v for v in listed if v in set(held)]
+        in_tar = set(held)
+        expected = [v for v in listed if v in in_tar]
         if held != expected:
             at = next(i for i, (a, b) in enumerate(zip(held, expected, strict=True)) if a != b)
             self.scanner.add("integrity", Reason.MANIFEST_INVALID,
