@@ -35,7 +35,7 @@ from phav_generator.render.context import gl_context, gl_strings
 from phav_generator.render.video import RenderedFrame, render_video
 from phav_spec.encoding import VideoHashes
 from phav_spec.files import atomic_write
-from phav_spec.metadata import CAMERA_COLUMNS, PEOPLE_COLUMNS, arrow_schema, frame_json
+from phav_spec.metadata import CAMERA_COLUMNS, PEOPLE_COLUMNS, arrow_schema, finite_row, frame_json
 from phav_spec.recipe import Recipe, parse_recipe
 
 #: The metadata tables a video's part carries beside its tar members, with their columns.
@@ -74,10 +74,11 @@ def write_part(task: VideoTask, recipe: Recipe, frames: Iterator[RenderedFrame],
     with open_part(part_path(parts, recipe.video_id, "tar.part")) as part:
         for rf in frames:
             hashes.add(rf.index, rf.modalities)
-            meta = frame_json(rf.camera, rf.people)
-            part.add_frame(recipe.video_id, rf.index, rf.modalities, meta, recipe.render.png_compression)
-            rows["cameras"].append(rf.camera)
-            rows["people"] += rf.people
+            camera, people = finite_row(rf.camera), [finite_row(row) for row in rf.people]
+            part.add_frame(recipe.video_id, rf.index, rf.modalities, frame_json(camera, people),
+                           recipe.render.png_compression)  # fmt: skip
+            rows["cameras"].append(camera)
+            rows["people"] += people
             crash_point(f"part:{recipe.video_id}:{rf.index}")
             if report is not None:
                 report(0, 1)

@@ -140,17 +140,21 @@ class WriteError(PhavUserError):
 
 
 @contextlib.contextmanager
-def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
+def atomic_write(path: str | os.PathLike[str], *, sweep: bool = False) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; on success it is fsynced and renamed over it.
 
     A reader never sees a half-written file, and an interrupted write leaves the previous
-    file (or none) and no temporary behind.
+    file (or none) and no temporary behind. A killed process (SIGKILL) cannot remove its
+    temporary: with ``sweep``, those ``path``'s earlier writers left are removed first, when
+    no write into its folder is under way (every write holds a shared lock on the folder).
     """
     target = Path(path)
     tmp = target.with_name(f".{target.name}.{secrets.token_hex(8)}.tmp")
+    folder = None
     try:
         _check_writable_place(target)
         target.parent.mkdir(parents=True, exist_ok=True)
+        folder = _writing_in(target, sweep)
         yield tmp
         fd = os.open(tmp, os.O_RDONLY)  # the writer must have created it: no empty files
         try:
@@ -166,7 +170,42 @@ def atomic_write(path: str | os.PathLike[str]) -> Iterator[Path]:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+    finally:
+        if folder is not None:
+            os.close(folder)  # lets the folder's lock go
     _fsync_directory(target.parent)
+
+
+def _writing_in(target: Path, sweep: bool) -> int | None:
+    """Hold a shared lock on ``target``'s folder for a write into it (None where the folder
+    cannot be locked); with ``sweep``, first remove ``atomic_write``'s temporaries of
+    ``target`` if the folder can be locked alone: then no writer is alive to own them."""
+    import fcntl  # POSIX only, as the rest of phav's locking
+
+    try:
+        fd = os.open(target.parent, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError:
+        return None
+    try:
+        if sweep:
+            with contextlib.suppress(BlockingIOError):
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                prefix = f".{target.name}."
+                for name in sorted(os.listdir(target.parent)):
+                    hexpart = name[len(prefix) : -len(".tmp")]
+                    if name.startswith(prefix) and name.endswith(".tmp") and _is_token(hexpart):
+                        with contextlib.suppress(FileNotFoundError):
+                            os.unlink(target.parent / name)
+        fcntl.flock(fd, fcntl.LOCK_SH)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _is_token(text: str) -> bool:
+    """Whether ``text`` is ``atomic_write``'s 16 lower-case hex digits."""
+    return len(text) == 16 and all(c in "0123456789abcdef" for c in text)
 
 
 def check_output_dir(out: Path, *, field: str = "--out") -> None:

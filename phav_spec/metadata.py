@@ -3,7 +3,7 @@
 Consumers and validators rely on these names, types and meanings (README, "Dataset
 layout"). Each frame's WebDataset sample carries the same rows as JSON (``json`` member:
 ``{"camera": {...}, "people": [...]}``, NaN written as ``null``), so a WebDataset reader
-needs no Parquet.
+needs no Parquet. A float is finite or NaN (unknown) in both: ``finite_row`` makes ±inf NaN.
 
 Conventions (DESIGN.md): world metres, +Z up; the camera looks down its −Z axis, +Y up, +X
 right; pixel (u, v) has its centre at (u + 0.5, v + 0.5), v downwards, so a pixel with depth
@@ -32,6 +32,7 @@ __all__ = [
     "ROLES",
     "MetaColumn",
     "arrow_schema",
+    "finite_row",
     "frame_json",
     "frame_rows",
 ]
@@ -122,6 +123,27 @@ def _nan_to_none(value: Any) -> Any:
         return None
     if isinstance(value, list | tuple):
         return [_nan_to_none(v) for v in value]
+    return value
+
+
+def finite_row(row: Mapping[str, Any]) -> dict[str, Any]:
+    """A metadata row with every ±inf (a value or a list item) as NaN, unknown: the tables and
+    the frames' json then hold the same values, and a table remade from the json
+    (``frame_rows``) is the one written."""
+    return {k: _inf_to_nan(v) if _has_inf(v) else v for k, v in row.items()}
+
+
+def _has_inf(value: Any) -> bool:
+    if isinstance(value, float):
+        return math.isinf(value)
+    return isinstance(value, list | tuple) and any(_has_inf(v) for v in value)
+
+
+def _inf_to_nan(value: Any) -> Any:
+    if isinstance(value, float) and math.isinf(value):
+        return math.nan
+    if isinstance(value, list | tuple):
+        return [_inf_to_nan(v) for v in value]
     return value
 
 

@@ -172,8 +172,9 @@ def write_recipe_stream(
     batch_rows: int = STREAM_BATCH_ROWS,
 ) -> tuple[int, int]:
     """Write recipes as they come, a row group per ``batch_rows``, atomically (nothing at
-    ``path`` until the last row is written); returns (rows, the file's bytes). The table reads
-    back as ``RecipeRows().extend(recipes).to_arrow(...)`` would, in a bounded memory."""
+    ``path`` until the last row is written, and a killed writer's temporary removed first);
+    returns (rows, the file's bytes). The table reads back as
+    ``RecipeRows().extend(recipes).to_arrow(...)`` would, in a bounded memory."""
     import pyarrow.parquet as pq  # phav_spec imports light (DESIGN.md): pyarrow only when a table is read or written
 
     if batch_rows < 1:
@@ -183,7 +184,7 @@ def write_recipe_stream(
         return rows.to_arrow(theta=theta, dataset_seed=dataset_seed)
 
     written = 0
-    with atomic_write(path) as tmp:
+    with atomic_write(path, sweep=True) as tmp:
         # Opened before the first recipe is drawn: a place that cannot be written fails now.
         with pq.ParquetWriter(tmp, table(RecipeRows()).schema, compression=_COMPRESSION) as writer:
             rows = RecipeRows()

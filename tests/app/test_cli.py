@@ -235,6 +235,28 @@ def test_sigterm_stops_sample_and_leaves_the_previous_table(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["recipes.parquet"]
 
 
+def test_sample_after_a_sigkill_removes_the_killed_runs_temporary(tmp_path):
+    """A SIGKILLed `phav sample` cannot remove its temporary; the next `phav sample` to the
+    same file does, and leaves a live writer's temporary (another file's) alone."""
+    out = tmp_path / "recipes.parquet"
+    run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "sample", "--n", "100000000", "--out", str(out)],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=cli_env())  # fmt: skip
+    try:
+        deadline = time.monotonic() + 60.0
+        # The table's temporary, not the writable-place probe made and removed before it.
+        while not (left := [p for p in tmp_path.iterdir() if p.name.startswith(".recipes.parquet.")]):
+            assert run.poll() is None and time.monotonic() < deadline, "the run never started writing"
+            time.sleep(0.05)
+    finally:
+        run.kill()
+        run.wait(timeout=60)
+    assert left[0].exists() and not out.exists()
+    other = tmp_path / f".other.parquet.{'0' * 16}.tmp"  # another file's, left as it is
+    other.write_bytes(b"x")
+    assert invoke_cli("sample", "--n", "3", "--out", str(out)).returncode == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == [other.name, "recipes.parquet"]
+
+
 def test_outputs_never_replace_what_is_read_or_a_datasets_files(small_dataset_copy, small_recipes, tmp_path):
     """A report, a sheet, a counterfactual recipe or a sampled table named as a dataset's own
     file (its manifest, a table), or as the file being read, is refused before any work; so is

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from phav_spec.canonical import canonical_json
-from phav_spec.metadata import METADATA_VERSION, frame_json, frame_rows
+from phav_spec.metadata import METADATA_VERSION, finite_row, frame_json, frame_rows
 
 CAMERA = {"video_id": "v000001", "frame": 3, "time_s": 0.1, "fx": 300.0, "fy": 300.0, "cx": 170.0, "cy": 128.0,
           "cam_to_world": [1.0, 0.0, 0.0, 2.5] * 4}  # fmt: skip
@@ -32,6 +32,17 @@ def test_a_frame_json_reads_back_into_its_rows_nan_included():
     camera, people = frame_rows(frame_json(CAMERA, [PERSON, PERSON]))
     assert _same(camera, CAMERA) and len(people) == 2 and all(_same(p, PERSON) for p in people)
     assert people[0]["pixels"] == 0 and isinstance(people[0]["pixels"], int)  # ints stay ints
+
+
+def test_an_infinite_value_is_written_as_nan_so_the_rows_read_back_as_written():
+    """±inf would come back from the json as NaN: the rows written to a table and a frame's
+    json are both ``finite_row``'s, which reads back the same."""
+    person = PERSON | {"penetration_m": math.inf, "joints2d": [10.5, -math.inf] * 13}
+    row = finite_row(person)
+    assert math.isnan(row["penetration_m"]) and row["joints2d"][:2] == [10.5, row["joints2d"][1]]
+    assert math.isnan(row["joints2d"][1]) and row["instance_rgb"] is person["instance_rgb"]
+    camera, people = frame_rows(frame_json(finite_row(CAMERA), [row]))
+    assert _same(camera, CAMERA) and _same(people[0], row)
 
 
 @pytest.mark.parametrize(
