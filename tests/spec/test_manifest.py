@@ -320,4 +320,3 @@ def test_video_ids_past_a_million_are_a_manifests_too(tmp_path: Path) -> None:
     data["videos"][2]["video_id"] = "v1000000"
     dump_manifest(DatasetManifest.model_validate(data), tmp_path / "manifest.json")
     assert load_manifest(tmp_path / "manifest.json").videos[2].video_id == "v1000000"
-
