@@ -17,15 +17,39 @@ OpenCV (``opencv-python-headless``) is imported on first use only.
 from __future__ import annotations
 
 import json
+import struct
+import zlib
 from typing import Any
 
 import numpy as np
 
 from phav_spec.encoding import MODALITIES, ModalityEncoding
 
-__all__ = ["decode_png", "phav_decoder"]
+__all__ = ["decode_png", "phav_decoder", "png_damage"]
 
 _BY_KEY = {m.key: m for m in MODALITIES}
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_damage(data: bytes) -> str | None:
+    """What is wrong with a PNG's chunks (a truncation, a chunk whose CRC does not match),
+    None where each chunk up to IEND is whole. Checked before decoding: libpng says why it
+    cannot read a damaged file on the process's stderr, not to the caller."""
+    if data[:8] != _PNG_SIGNATURE:
+        return "no PNG signature"
+    at = 8
+    while at + 12 <= len(data):
+        (length,) = struct.unpack_from(">I", data, at)
+        kind = data[at + 4 : at + 8]
+        end = at + 8 + length
+        if end + 4 > len(data):
+            return f"truncated in chunk {kind.decode('latin-1')!r} at byte {at}"
+        if zlib.crc32(data[at + 4 : end]) != struct.unpack_from(">I", data, end)[0]:
+            return f"chunk {kind.decode('latin-1')!r} at byte {at} fails its CRC"
+        if kind == b"IEND":
+            return None
+        at = end + 4
+    return "truncated: no IEND chunk"
 
 
 def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes>") -> np.ndarray:
@@ -37,8 +61,9 @@ def decode_png(data: bytes, encoding: ModalityEncoding, *, source: str = "<bytes
     """
     import cv2  # phav_spec imports light (DESIGN.md): OpenCV only when a 16-bit PNG is decoded
 
-    # OpenCV asserts (cv2.error) on an empty buffer rather than returning None.
-    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED) if data else None
+    if damage := png_damage(data):
+        raise ValueError(f"{source}: not a readable PNG: {damage}")
+    image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
     if image is None:
         raise ValueError(f"{source}: not a readable PNG ({len(data)} bytes)")
     channels = 1 if image.ndim == 2 else image.shape[2]

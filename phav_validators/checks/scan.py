@@ -32,6 +32,7 @@ from phav_spec.encoding import (
 )
 from phav_spec.metadata import METADATA_VERSION
 from phav_spec.vocab import PIXEL_CLASSES, PixelGroup
+from phav_spec.webdataset import png_damage
 from phav_validators.checks.tarsafe import TarScan, iter_members
 from phav_validators.findings import Finding, Reason
 
@@ -196,8 +197,10 @@ def png_header(data: bytes) -> tuple[int, int, int, int] | None:
 
 
 def decode_image(data: bytes) -> np.ndarray | None:
-    """PNG bytes → array in RGB order (None if unreadable); the caller checks the header first."""
-
+    """PNG bytes → array in RGB order (None if unreadable or damaged, ``png_damage``); the
+    caller checks the header first."""
+    if png_damage(data):
+        return None
     image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
     if image is None:
         return None
@@ -489,7 +492,9 @@ class ShardScanner:
                 return None
             image = decode_image(data)
             if image is None or image.shape[:2] != (height, width):
-                self.add("encoding", Reason.PNG_FORMAT, f"{where} cannot be decoded", video_id=vid, frame=f)
+                why = png_damage(data)
+                self.add("encoding", Reason.PNG_FORMAT, f"{where} cannot be decoded" + (f": {why}" if why else ""),
+                         video_id=vid, frame=f)  # fmt: skip
                 return None
             arrays[m.name] = image
         return arrays

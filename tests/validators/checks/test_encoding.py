@@ -19,6 +19,27 @@ def test_eight_bit_depth_fails_encoding(data):
     assert "8-bit" in hits[0].message and "00004.depth.png" in hits[0].message
 
 
+@pytest.mark.parametrize(
+    ("damage", "said"),
+    [
+        (lambda png: png[:60] + bytes([png[60] ^ 0xFF]) + png[61:], "fails its CRC"),  # a bit flipped in IDAT
+        (lambda png: png[: len(png) // 2], "truncated in chunk 'IDAT'"),
+    ],
+)
+def test_a_damaged_png_fails_encoding_by_its_reason_and_libpng_says_nothing(data, capfd, damage, said):
+    """A flipped byte or a cut PNG is reported with what is wrong; libpng and OpenCV, which
+    would write their own lines to the process's stderr, never see it."""
+
+    def edit(name: str, raw: bytes) -> bytes:
+        return damage(raw) if name == "v000001/00003.flow.png" else raw
+
+    rewrite_tar(shard_of(data, "v000001"), edit)
+    capfd.readouterr()
+    hits = assert_fails(validate(data, "encoding"), "encoding", Reason.PNG_FORMAT, video="v000001")
+    assert "00003.flow.png cannot be decoded: " in hits[0].message and said in hits[0].message
+    assert capfd.readouterr().err == ""
+
+
 def test_foreign_segmentation_colour_fails_encoding(data):
     def paint(image):
         image[10:12, 20:22] = (3, 2, 1)  # BGR of (1, 2, 3)
