@@ -245,7 +245,7 @@ def theta_ab(regexes: Mapping[str, str], motions: Registry[Motion] = MOTIONS) ->
 #: ``motion.start: active`` keeps the windows that move at least this share of the best
 #: window's moving time.
 ACTIVE_SHARE = 0.75
-#: Starts are considered on the video's frame grid (s).
+#: Starts are considered every 1/30 s (a 30 fps frame grid, whatever the video's frame rate).
 _START_STEP_S = 1.0 / 30.0
 
 

@@ -69,6 +69,8 @@ class MotionParams:
 
 #: A motion: (τ seconds (T,), params) → Pose in the motion frame, reference height.
 MotionFn = Callable[[np.ndarray, MotionParams], Pose]
+#: A motion's pelvis yaw about the way it faces (rad) at τ seconds (T,): a gait's swing.
+SwingFn = Callable[[np.ndarray, MotionParams], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -85,6 +87,9 @@ class MotionDef:
     #: A stairs motion's own flight (``gait.STAIR_*`` geometry): +1 up, −1 down,
     #: 0 for none. The physics builds exactly those treads under the feet.
     stairs: int = 0
+    #: The pelvis's yaw about the way the motion faces (a gait's swing from step to step);
+    #: None where the pelvis faces that way (``anchor`` turns the clip by what it faces).
+    swing: SwingFn | None = None
 
 
 def _yaw_of(quat: np.ndarray) -> np.ndarray:
@@ -107,9 +112,10 @@ def play(motion: MotionDef, clip_times: np.ndarray, start_s: float, params: Moti
     if not np.any(laps > 0):
         return pose
     ends = motion.fn(np.array([0.0, length]), params)
-    d_pos = ends.root_pos[1] - ends.root_pos[0]
-    d_pos[2] = 0.0
     d_yaw = float(_yaw_of(ends.root_quat[1]) - _yaw_of(ends.root_quat[0]))
+    # A lap turned by d_yaw starts where the last ended: its start, turned, lands on the end.
+    d_pos = ends.root_pos[1] - yaw_matrix(d_yaw) @ ends.root_pos[0]
+    d_pos[2] = 0.0
     root_pos = pose.root_pos.copy()
     root_rot = quat_to_matrix(pose.root_quat)
     for k in np.unique(laps[laps > 0]).astype(int):
@@ -151,17 +157,30 @@ def blend(base: Pose, other: Pose, muscles: tuple[str, ...] | list[str], weight:
     return Pose(base.root_pos, base.root_quat, q)
 
 
-def anchor(pose: Pose) -> Pose:
+def anchor(pose: Pose, swing: float = 0.0) -> Pose:
     """The pose re-expressed so its first sample stands at the motion frame's origin facing
     +X (planar position and yaw; height and joints unchanged). A clip that starts part-way
     into a motion then starts where the recipe puts the person, facing its heading, instead
-    of wherever the motion had travelled by then."""
-    yaw0 = float(_yaw_of(pose.root_quat[0]))
-    undo = yaw_matrix(-yaw0)
+    of wherever the motion had travelled by then. ``swing`` (rad) is the first sample's
+    pelvis yaw about the way it faces (``swing_at``): a walk goes along the heading, not
+    off it by where in its stride the clip starts."""
+    undo = yaw_matrix(-(float(_yaw_of(pose.root_quat[0])) - swing))
     offset = pose.root_pos[0] * np.array([1.0, 1.0, 0.0])
     root_pos = (pose.root_pos - offset) @ undo.T
     root_rot = undo @ quat_to_matrix(pose.root_quat)
     return Pose(root_pos, matrix_to_quat(root_rot), pose.q)
+
+
+def swing_at(motion: MotionDef, t: float, start_s: float, params: MotionParams) -> float:
+    """The played pelvis's yaw about the way the motion faces (rad) at clip time ``t``
+    (``MotionDef.swing`` where ``play`` samples it, the other way when mirrored); 0 for a
+    motion whose pelvis faces its way."""
+    if motion.swing is None:
+        return 0.0
+    tau = start_s + params.speed * t
+    local = tau - math.floor(tau / motion.length_s) * motion.length_s
+    s = float(motion.swing(np.array([local]), params)[0])
+    return -s if params.mirror else s
 
 
 def motion_scale(dims: BodyDims) -> float:
@@ -183,7 +202,7 @@ def place(pose: Pose, dims: BodyDims, position: tuple[float, float, float], head
 @dataclass(frozen=True)
 class Placement:
     """How ``animate`` maps one clip's motion frame to the world: ``anchor`` removes the
-    planar position ``origin`` and yaw ``yaw0`` of the clip's first sample, ``place`` scales
+    planar position ``origin`` and facing ``yaw0`` of the clip's first sample, ``place`` scales
     by ``scale`` and turns to ``heading_rad`` about ``position``."""
 
     origin: np.ndarray  # (3,), z = 0
@@ -218,9 +237,9 @@ def placement(
     if params.mirror:
         pose = mirror(pose)
     origin = pose.root_pos[0] * np.array([1.0, 1.0, 0.0])
-    scale = motion_scale(dims)
+    yaw0 = float(_yaw_of(pose.root_quat[0])) - swing_at(motion, 0.0, start_s, params)
     heading = float(np.deg2rad(heading_deg))
-    return Placement(origin, float(_yaw_of(pose.root_quat[0])), scale, heading, np.asarray(position, dtype=np.float64))
+    return Placement(origin, yaw0, motion_scale(dims), heading, np.asarray(position, dtype=np.float64))
 
 
 def motion_params(speed: float, mirror_motion: bool, seed: int, role: str = "protagonist") -> MotionParams:
@@ -248,7 +267,8 @@ def animate(
     pose = play(motion, clip_times, start_s, params)
     if params.mirror:
         pose = mirror(pose)
-    return place(anchor(pose), dims, position, heading_deg)
+    swing = swing_at(motion, float(np.asarray(clip_times, dtype=np.float64).reshape(-1)[0]), start_s, params)
+    return place(anchor(pose, swing), dims, position, heading_deg)
 
 
 #: Physics targets are the animation convolved with a Gaussian of this width (s). Procedural

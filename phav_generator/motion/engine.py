@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from phav_generator.motion.animation import MotionFn, MotionParams, Pose
+from phav_generator.motion.animation import MotionFn, MotionParams, Pose, SwingFn
 from phav_generator.motion.channels import DEG, Channels, Posture, default, expand
 from phav_generator.motion.gait import Gait, GaitOut, generate_gait, moonwalk, pivot_offset
 from phav_generator.motion.ik import LegGoal, arm_ik, leg_ik
@@ -48,13 +48,11 @@ from phav_generator.motion.reference import (
     REF_BODY,
     SHOULDER,
 )
-from phav_generator.motion.rotations import euler_quat, euler_zyx_matrix, rot_x, rot_y, rot_z
+from phav_generator.motion.rotations import euler_quat, euler_zyx_matrix, quat_to_matrix, rot_x, rot_y, rot_z
 from phav_generator.motion.skeleton import DOF_INDEX, LOWER, N_DOFS, UPPER, capsule_points, forward_kinematics
 
 #: Root channels a keyframe layer adds to the gait's instead of replacing them.
 _ROOT_ADD = ("x", "y", "z", "yaw", "pitch", "roll")
-#: Channels whose sign flips on the right side when one value drives both.
-_RIGHT_NEGATED = ("rf_y", "rh_y", "re_y")
 
 
 @dataclass(frozen=True)
@@ -173,8 +171,8 @@ def _osc_layer(o: Osc, ch: Channels, tau: np.ndarray, p: MotionParams, length: f
     val = o.amp * p.amplitude * np.sin(2 * np.pi * (tau / fit_period(o.period, length) + o.offset + p.phase))
     if o.env is not None:
         val = val * track(o.env, tau)
-    for k in expand({o.channel: 1.0}):
-        ch.add(k, val * (-1.0 if k in _RIGHT_NEGATED else 1.0))
+    for k, side in expand({o.channel: 1.0}).items():  # a shorthand's right side: −1 where mirrored
+        ch.add(k, val * side)
 
 
 def layers(spec: Spec, tau: np.ndarray, p: MotionParams, length: float) -> tuple[Channels, GaitOut | None]:
@@ -194,7 +192,7 @@ def layers(spec: Spec, tau: np.ndarray, p: MotionParams, length: float) -> tuple
     if spec.advance:
         ch.add("x", spec.advance * p.amplitude * tau)
     for k, v in expand({**FAMILY_STYLE.get(spec.family, {}), **spec.style}).items():
-        ch.add(k, p.style * v * (-1.0 if k in _RIGHT_NEGATED else 1.0))
+        ch.add(k, p.style * v)
     return ch, gait
 
 
@@ -383,3 +381,20 @@ def build_motion(spec: Spec, length: float) -> MotionFn:
         return solve(spec, ch, gait)
 
     return fn
+
+
+def build_swing(spec: Spec, length: float) -> SwingFn | None:
+    """A table row's pelvis yaw about its path's heading (rad), τ clipped as ``build_motion``'s:
+    the swing of a gait's pelvis from step to step, which the way it walks leaves out. None
+    for a row without a gait, whose pelvis faces the way it goes."""
+    if spec.gait is None and spec.custom != "moonwalk":
+        return None
+
+    def swing(tau: np.ndarray, params: MotionParams) -> np.ndarray:
+        t = np.clip(np.asarray(tau, dtype=np.float64).reshape(-1), 0.0, length)
+        ch, gait = layers(spec, t, params, length)
+        heading = gait.path[:, 2] if gait is not None else 0.0  # a gait's rows always have one
+        m = quat_to_matrix(solve(spec, ch, gait).root_quat)
+        return (np.arctan2(m[:, 1, 0], m[:, 0, 0]) - heading + np.pi) % (2.0 * np.pi) - np.pi
+
+    return swing

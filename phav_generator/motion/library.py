@@ -24,7 +24,7 @@ import numpy as np
 
 from phav_generator.motion.animation import MotionDef
 from phav_generator.motion.catalogue import SPECS
-from phav_generator.motion.engine import build_motion
+from phav_generator.motion.engine import build_motion, build_swing
 from phav_spec.motions import MOTIONS
 
 
@@ -68,7 +68,8 @@ def _catalogue_motion(name: str, *, level: bool = False) -> MotionDef:
     if level and spec.gait is not None:
         spec = replace(spec, gait=replace(spec.gait, stairs=0))
     stairs = spec.gait.stairs if spec.gait is not None else 0
-    return MotionDef(name, m.length_s, build_motion(spec, m.length_s), m.description, spec.sole_friction, stairs)
+    return MotionDef(name, m.length_s, build_motion(spec, m.length_s), m.description, spec.sole_friction, stairs,
+                     build_swing(spec, m.length_s))  # fmt: skip
 
 
 def catalogue_library() -> MotionLibrary:

@@ -1,7 +1,7 @@
 """The reference person the motion library is written for, and the lengths IK reads off it.
 
 Motions are authored in the motion frame for one body, ``body_dims(1.75, 70, 0.40, 0.34,
-1.0)``; playback scales them to each recipe's human by height (``animation.place``). The
+1.0)``; playback scales them to each recipe's human by leg length (``animation.place``). The
 gait generator, the IK solvers and the postures read their segment lengths, joint positions
 and foot geometry here, so they all agree with the skeleton's proportions.
 """

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from phav_generator.body.model import rest_body
-from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params
+from phav_generator.motion.animation import MotionParams, Pose, animate, motion_params, motion_scale
 from phav_generator.motion.library import get_motion
 from phav_generator.motion.skeleton import JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
@@ -51,8 +51,7 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
         delta = dest - start
         dist = float(np.linalg.norm(delta[:2]))
         heading = math.degrees(math.atan2(delta[1], delta[0])) if dist > 1e-6 else 0.0
-        scale = dims.height_m / 1.75
-        speed = actor.speed_mps / max(nominal * scale, 1e-6)
+        speed = actor.speed_mps / max(nominal * motion_scale(dims), 1e-6)
         params = motion_params(speed, False, r.seeds.background, f"background/{actor.person_id}")
         pose = animate(walk, frame_times, params.phase * walk.length_s, params, dims, (0.0, 0.0, 0.0), heading)
         along = delta / max(dist, 1e-9)
@@ -60,10 +59,13 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
         stop = _ledge_stop(r.environment.name, start, along, dist, reach)
         # Progress along the path, clamped where it stops; the gait's own advance is
         # replaced by the straight segment so the actor arrives where the recipe says (or
-        # short of a ledge it would have to climb).
+        # short of a ledge it would have to climb). Its sway and surge about that advance
+        # are kept while it walks: they carry the pelvis over the planted foot, which would
+        # slide without them.
         travelled = np.minimum(actor.speed_mps * frame_times, stop)
-        root = start[None, :] + travelled[:, None] * along[None, :]
         arrived = travelled >= stop
+        root = start[None, :] + travelled[:, None] * along[None, :]
+        root[~arrived, :2] += _stride_sway(pose.root_pos[:, :2])[~arrived]
         q = pose.q.copy()
         q[arrived] = 0.0
         root[:, 2] = pose.root_pos[:, 2]  # the gait's own bob and standing height, over z = 0
@@ -85,6 +87,16 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
             )
         )
     return out
+
+
+def _stride_sway(root_xy: np.ndarray) -> np.ndarray:
+    """A walk's pelvis (T, 2) about the straight, steady line from its first to its last
+    sample: the sway and surge of its stride, without its advance."""
+    n = len(root_xy)
+    if n < 2:
+        return np.zeros_like(root_xy)
+    u = (np.arange(n) / (n - 1))[:, None]
+    return root_xy - (root_xy[0] + u * (root_xy[-1] - root_xy[0]))
 
 
 def _standing_height(dims, root: np.ndarray, pose: Pose, arrived: np.ndarray) -> np.ndarray:

@@ -40,11 +40,12 @@ def animate_person(
     heading: float,
     times: np.ndarray,
     *,
-    flight: bool = True,
+    flight: bool,
 ) -> Pose:
     """The pins' and servos' targets: the motion placed in the world, smoothed (continuous
     velocities) so every physics timestep follows the same function of time; a stairs take
-    climbs only with a ``flight`` built under it (``get_motion``)."""
+    climbs only with a ``flight`` built under it (``get_motion``), and strides on level ground
+    without."""
     clip = get_motion(motion, flight=flight)
     return smooth_targets(lambda t: animate(clip, t, start_s, params, dims, tuple(position), heading), times)
 

@@ -29,7 +29,9 @@ def apply_variation(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
         )
     if v.kind == "action_blending":
         other_params = motion_params(p.params.speed, p.params.mirror, b.recipe.seeds.physics, f"blend/{p.person_id}")
-        other = animate_person(v.blend_motion, v.blend_start_s, other_params, p.dims, (0.0, 0.0, 0.0), 0.0, b.times)
+        # A stairs take blends its strides on level ground: no flight is built for it.
+        other = animate_person(v.blend_motion, v.blend_start_s, other_params, p.dims, (0.0, 0.0, 0.0), 0.0, b.times,
+                               flight=False)  # fmt: skip
         return replace(
             p, targets=blend(p.targets, other, v.muscles, _grounded_weight(b, p, other, v.muscles, v.weight))
         )

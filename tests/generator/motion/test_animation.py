@@ -6,7 +6,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from phav_generator.motion.animation import MotionParams, Pose, animate, gaussian_smooth, play, smooth_targets
+from phav_generator.motion.animation import (
+    MotionParams,
+    Pose,
+    animate,
+    gaussian_smooth,
+    play,
+    smooth_targets,
+    swing_at,
+)
 from phav_generator.motion.library import get_motion
 from phav_generator.motion.reference import REFERENCE_HEIGHT_M
 from phav_generator.motion.rotations import quat_to_matrix
@@ -18,7 +26,8 @@ REF = body_dims(1.75, 70.0, 0.40, 0.34, 1.0)
 @pytest.mark.parametrize("name", ["walk_forward_01", "run_away_panic_01", "walk_circle_01"])
 def test_a_clip_starting_part_way_into_a_motion_starts_where_the_recipe_puts_it(name):
     """Started seconds into a travelling motion, the clip's first frame still stands on the
-    recipe's position facing its heading, and then moves as the motion does from there."""
+    recipe's position facing its heading (its pelvis turned by the gait's swing), and then
+    moves as the motion does from there."""
     motion = get_motion(name)
     dims = REF
     times = np.arange(31) / 30.0
@@ -27,12 +36,43 @@ def test_a_clip_starting_part_way_into_a_motion_starts_where_the_recipe_puts_it(
     placed = animate(motion, times, start, params, dims, (4.0, -2.0, 0.5), 30.0)
     np.testing.assert_allclose(placed.root_pos[0, :2], (4.0, -2.0), atol=1e-9)
     m = quat_to_matrix(placed.root_quat[0])
-    assert np.degrees(np.arctan2(m[1, 0], m[0, 0])) == pytest.approx(30.0, abs=1e-6)
+    swing = np.degrees(swing_at(motion, 0.0, start, params))
+    assert np.degrees(np.arctan2(m[1, 0], m[0, 0])) == pytest.approx(30.0 + swing, abs=1e-6)
     # The path from there is the motion's own, rigidly moved: distances along it are kept.
     raw = play(motion, times, start, params).root_pos * (1.75 / REFERENCE_HEIGHT_M)
     np.testing.assert_allclose(np.linalg.norm(np.diff(placed.root_pos[:, :2], axis=0), axis=1),
                                np.linalg.norm(np.diff(raw[:, :2], axis=0), axis=1), atol=1e-9)  # fmt: skip
     assert np.linalg.norm(raw[0, :2]) > 0.5  # the motion had travelled: the anchoring mattered
+
+
+@pytest.mark.parametrize("name", ["walk_forward_01", "run_away_panic_01", "walk_hand_in_hand_01"])
+def test_a_walk_goes_along_its_heading_wherever_in_its_stride_the_clip_starts(name):
+    """The clip is turned by the way the motion faces, not by its pelvis's yaw at the first
+    frame, which swings ±5° from step to step: taken as the heading, that sent a walk up to
+    6° off it (two people walking hand in hand into each other)."""
+    motion = get_motion(name)
+    times = np.arange(121) / 30.0
+    off = []
+    for start in np.linspace(0.05, 0.95, 10) * motion.length_s:
+        for mirror in (False, True):
+            params = MotionParams(speed=1.0, amplitude=1.1, phase=0.3, style=0.2, mirror=mirror)
+            placed = animate(motion, times, start, params, REF, (0.0, 0.0, 0.0), 30.0)
+            way = placed.root_pos[-1, :2] - placed.root_pos[0, :2]
+            off.append(abs(np.degrees(np.arctan2(way[1], way[0])) - 30.0))
+    assert max(off) < 0.5, off
+
+
+def test_a_turning_motion_continues_where_its_last_lap_ended():
+    """Played past its end, a motion that turns as it goes starts its next lap where and as
+    the last ended: no step in the root at the wrap."""
+    motion = get_motion("walk_forward_turn_left_01")
+    params = MotionParams(speed=1.0)
+    wrap = motion.length_s
+    at = np.array([wrap - 1e-4, wrap + 1e-4, 2 * wrap - 1e-4, 2 * wrap + 1e-4])
+    pose = play(motion, at, 0.0, params)
+    speed = np.linalg.norm(np.diff(play(motion, np.array([0.5, 0.5 + 1e-3]), 0.0, params).root_pos[:, :2], axis=0))
+    for k in (0, 2):
+        assert np.linalg.norm(pose.root_pos[k + 1, :2] - pose.root_pos[k, :2]) < 10 * speed * 0.2
 
 
 KNEE = DOF_INDEX["right_knee_flex"]

@@ -14,6 +14,7 @@ import pytest
 
 from phav_generator.motion.animation import MotionParams, mirror, play
 from phav_generator.motion.catalogue import SPECS
+from phav_generator.motion.engine import Osc, Spec, layers
 from phav_generator.motion.gait import stair_height
 from phav_generator.motion.library import get_motion
 from phav_generator.motion.rotations import quat_to_matrix
@@ -441,3 +442,26 @@ def test_actions_are_distinguishable_by_a_nearest_centroid_classifier():
     )
     print(summary)
     assert acc >= 0.6, summary
+
+
+@pytest.mark.parametrize(
+    ("spec", "left", "right"),
+    [
+        (Spec("gesture", style={"h_w": 0.1}), "lh_y", "rh_y"),  # hands apart: left +y, right −y
+        (Spec("gesture", osc=(Osc("f_out", 8.0, 2.0),)), "lf_yaw", "rf_yaw"),  # toes out: yaws opposite
+        (Spec("gesture", style={"rh_y": -0.1}), None, "rh_y"),  # a right-side channel as written
+    ],
+)
+def test_a_shorthand_moves_the_two_sides_as_mirror_images(spec, left, right):
+    """The style and oscillator layers give a shorthand's two sides as ``expand`` does (the
+    right side mirrored once, not twice), and a channel written for one side as written."""
+    tau = np.linspace(0.0, 2.0, 9)
+    params = MotionParams(style=1.0, phase=0.1)
+    ch, _ = layers(spec, tau, params, 2.0)
+    plain, _ = layers(Spec("gesture"), tau, params, 2.0)
+    r = ch[right] - plain[right]
+    assert np.abs(r).max() > 1e-3
+    if left is None:
+        np.testing.assert_allclose(r, -0.1)
+    else:
+        np.testing.assert_allclose(ch[left] - plain[left], -r, atol=1e-12)

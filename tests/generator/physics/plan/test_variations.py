@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import phav_generator.physics.plan.variations as variations
 from phav_generator.motion.animation import blend, muscle_dof_mask
 from phav_generator.motion.skeleton import forward_kinematics, lowest_point
 from phav_generator.physics.plan.scene import plan_scene
@@ -75,3 +76,23 @@ def test_blending_keeps_a_lying_body_above_ground() -> None:
     weight = run.variation.weight
     full = blend(targets(run, 0.0), targets(run, 1.0), run.variation.muscles, weight)
     np.testing.assert_allclose(targets(run, weight).q, full.q, atol=1e-12)
+
+
+def test_a_stairs_take_blends_its_level_strides(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Blended into a standing action's legs, a stairs take strides on level ground: the
+    climbing version reached for treads that are not there, sank a foot and had its weight
+    cut to a third (the legs moved a third as far from the action's own)."""
+    base = recipe_for("wave", seconds=3.0)
+    legs = [m for m in ACTION_SCENES["wave"].complementary_muscles if m.endswith(("_leg", "_foot"))]
+    variation = {"kind": "action_blending", "muscles": legs, "blend_motion": "climb_up_stairs_01",
+                 "blend_start_s": 1.0, "weight": 0.8}  # fmt: skip
+
+    def legs_moved() -> float:
+        plans = [base.model_validate({**base.model_dump(), "variation": v}) for v in ({"kind": "none"}, variation)]
+        plain, blended = (plan_scene(r).people[0].targets for r in plans)
+        return float(np.abs(blended.q - plain.q)[:, muscle_dof_mask(legs)].mean())
+
+    level = legs_moved()
+    climbing = variations.animate_person
+    monkeypatch.setattr(variations, "animate_person", lambda *a, **k: climbing(*a, **{**k, "flight": True}))
+    assert level > 2.0 * legs_moved() and level > 0.05
