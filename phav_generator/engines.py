@@ -18,6 +18,7 @@ import os
 import queue
 import signal
 import socket
+import sys
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -59,6 +60,8 @@ def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, 
     Each finished task also counts as one video for ``progress``.
     """
     check_engine(engine, address)
+    if workers < 1:
+        raise PhavUserError(f"must be at least 1, got {workers}", field="--workers")
     if not tasks:
         return
     if engine == "ray":
@@ -76,26 +79,34 @@ def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, 
 # --- a local pool of spawned processes -------------------------------------------------------
 
 _worker_events: Any = None
+#: Set by the driver when the run stops: a task a worker takes after it is skipped.
+_worker_stopping: Any = None
 
 
 class WorkerTerminated(BaseException):
-    """SIGTERM in a pool's worker (a scheduler's time limit signals the whole process group):
-    raised so that the write under way removes its temporary, as Ctrl-C makes it."""
+    """SIGTERM or SIGINT in a pool's worker (a scheduler's time limit or a terminal's Ctrl-C
+    signals the whole process group): raised so that the write under way removes its
+    temporary before the worker exits."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
 
 
 _in_task = False
 
 
 def _raise_worker_terminated(signum: int, frame: object) -> None:
-    if not _in_task:  # between videos: nothing is half-written
+    if not _in_task:  # between videos: nothing is half-written (and no traceback from the pool's queue)
         os._exit(128 + signum)
-    raise WorkerTerminated
+    raise WorkerTerminated(signum)
 
 
-def _init_worker(events: Any, parent: int) -> None:
-    global _worker_events
-    _worker_events = events
+def _init_worker(events: Any, stopping: Any, parent: int) -> None:
+    global _worker_events, _worker_stopping
+    _worker_events, _worker_stopping = events, stopping
     signal.signal(signal.SIGTERM, _raise_worker_terminated)
+    signal.signal(signal.SIGINT, _raise_worker_terminated)
     exit_with_parent(parent)
 
 
@@ -118,13 +129,17 @@ def _report(videos: int, frames: int) -> None:
         _worker_events.put((videos, frames))
 
 
-def _pool_call(stage: Stage, task: Any) -> dict[str, Any]:
+def _pool_call(stage: Stage, task: Any) -> dict[str, Any] | None:
+    """``stage(task)`` in a worker; None, not run, once the driver has stopped (the pool has
+    handed a few tasks to its workers' queue, which cancelling cannot take back)."""
     global _in_task
+    if _worker_stopping is not None and _worker_stopping.is_set():
+        return None
     _in_task = True
     try:
         return stage(task, _report)
-    except WorkerTerminated:  # the write under way has removed its temporary; the pool's loop would go on
-        os._exit(128 + signal.SIGTERM)
+    except WorkerTerminated as e:  # the write under way has removed its temporary; the pool's loop would go on
+        os._exit(128 + e.signum)
     finally:
         _in_task = False
 
@@ -132,10 +147,11 @@ def _pool_call(stage: Stage, task: Any) -> dict[str, Any]:
 def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, progress: Progress | None,
                  finished: Callable[[dict[str, Any]], None]) -> None:  # fmt: skip
     mp = multiprocessing.get_context("spawn")
-    events = mp.Queue()
+    events, stopping = mp.Queue(), mp.Event()
     with ProcessPoolExecutor(
-        max_workers=min(workers, len(tasks)), mp_context=mp, initializer=_init_worker, initargs=(events, os.getpid())
-    ) as pool:
+        max_workers=min(workers, len(tasks)), mp_context=mp, initializer=_init_worker,
+        initargs=(events, stopping, os.getpid()),
+    ) as pool:  # fmt: skip
         futures: dict[Future, int] = {pool.submit(_pool_call, stage, t): i for i, t in enumerate(tasks)}
         pending = set(futures)
         unhanded: set[Future] = set()  # finished, not yet handed on
@@ -153,6 +169,7 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
                     finished(record)
         except BrokenProcessPool:
             # The tasks that succeeded before the pool broke are handed on: a resume need not redo them.
+            stopping.set()
             _finish_under_way(futures, pending | unhanded, finished)
             raise PhavUserError(
                 "a worker process died (killed, or out of memory); finished videos are kept, rerun to resume",
@@ -161,6 +178,8 @@ def _run_on_pool(stage: Stage, tasks: Sequence[Any], workers: int, out: Path, pr
         except BaseException:
             # Stopped here (Ctrl-C, SIGTERM, a failed task): the pool lets the tasks under way
             # finish before it shuts down, so hand on those that do; a resume need not redo them.
+            # Those not begun are skipped, queued to a worker or not.
+            stopping.set()
             _finish_under_way(futures, pending | unhanded, finished)
             raise
         finally:
@@ -178,7 +197,7 @@ def _finish_under_way(futures: dict[Future, int], pending: set[Future],
         fut.cancel()
     done, _ = wait(pending)
     for fut in sorted(done, key=lambda f: futures[f]):
-        if fut.cancelled() or fut.exception() is not None:
+        if fut.cancelled() or fut.exception() is not None or fut.result() is None:  # None: skipped
             continue
         try:
             finished(fut.result())
@@ -212,8 +231,13 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     """Ray, connected: to the cluster at ``address``, else to a local Ray with ``workers``
     CPUs started here and stopped on exit (an already initialised Ray is used as it is)."""
     ray = _require_ray()
+    # Ray itself would follow RAY_ADDRESS (or a cluster `ray start` left on this machine) and
+    # then refuse the CPU count asked of a local Ray: a set RAY_ADDRESS is the cluster's
+    # address, and a local Ray is asked for as such.
+    field = "--address" if address else "RAY_ADDRESS"
+    address = address or os.environ.get("RAY_ADDRESS") or None
     if address:  # first: a malformed or silent address is the user's error, Ray started or not
-        _check_reachable(address)
+        _check_reachable(address, field)
     if ray.is_initialized():
         yield ray
         return
@@ -223,7 +247,7 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     if address:
         options["address"] = address
     else:
-        options.update(num_cpus=workers, object_store_memory=LOCAL_OBJECT_STORE_BYTES)
+        options.update(address="local", num_cpus=workers, object_store_memory=LOCAL_OBJECT_STORE_BYTES)
     # ray.init puts in its own SIGTERM handler (it exits 15 with a stack dump); ours stays,
     # so that SIGTERM still cleans up and exits 143.
     handler = signal.getsignal(signal.SIGTERM)
@@ -231,7 +255,7 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
         ray.init(**options)
     except (ConnectionError, ValueError) as e:
         raise PhavUserError(f"cannot reach the Ray cluster: {str(e).splitlines()[0]}", source=address,
-                            field="--address") from None  # fmt: skip
+                            field=field) from None  # fmt: skip
     finally:
         if handler is not None and threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGTERM, handler)
@@ -246,19 +270,20 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
 REACH_TIMEOUT_S = 10.0
 
 
-def _check_reachable(address: str) -> None:
+def _check_reachable(address: str, field: str = "--address") -> None:
     """A ``HOST:PORT`` cluster address that accepts a connection, else a one-line error
-    naming ``--address`` (``auto`` and ``ray://`` addresses are left to Ray)."""
+    naming ``field``, where it was given (``auto`` and ``ray://`` addresses are left to Ray)."""
     if address == "auto" or "://" in address:
         return
     host, sep, port = address.rpartition(":")
+    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host  # [IPv6]:PORT
     if not sep or not host or not port.isdigit():
         raise PhavUserError("expected HOST:PORT (the head node's GCS address), auto or ray://HOST:PORT",
-                            source=address, field="--address")  # fmt: skip
+                            source=address, field=field)  # fmt: skip
     try:
         socket.create_connection((host, int(port)), timeout=REACH_TIMEOUT_S).close()
     except (OSError, ValueError) as e:
-        raise PhavUserError(f"cannot reach the Ray cluster ({e})", source=address, field="--address") from None
+        raise PhavUserError(f"cannot reach the Ray cluster ({e})", source=address, field=field) from None
 
 
 def _ray_stage(stage: Stage, task: Any) -> dict[str, Any]:
@@ -315,15 +340,21 @@ class RayPool:
         self._session.__exit__(None, None, None)
 
 
+def worker_died(error: BaseException) -> bool:
+    """Whether ``error`` says a worker process died under its task (killed, out of memory, its
+    node lost), in a local pool or on Ray: not the task's own failure."""
+    if isinstance(error, BrokenProcessPool):
+        return True
+    if "ray" not in sys.modules:  # no Ray task ran in this process
+        return False
+    from ray.exceptions import LocalRayletDiedError, NodeDiedError, OutOfMemoryError, WorkerCrashedError
+
+    return isinstance(error, WorkerCrashedError | OutOfMemoryError | NodeDiedError | LocalRayletDiedError)
+
+
 def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:
     """A task's record; a user error raised in a task is raised here as itself."""
-    from ray.exceptions import (  # optional extra, as above
-        LocalRayletDiedError,
-        NodeDiedError,
-        OutOfMemoryError,
-        RayTaskError,
-        WorkerCrashedError,
-    )
+    from ray.exceptions import RayTaskError  # optional extra, as above
 
     try:
         return ray.get(ref)
@@ -331,8 +362,10 @@ def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:
         if isinstance(e.cause, PhavUserError):
             raise e.cause from None
         raise
-    except (WorkerCrashedError, OutOfMemoryError, NodeDiedError, LocalRayletDiedError):
-        raise PhavUserError(
-            "a Ray worker died (killed, or out of memory); finished videos are kept, rerun to resume",
-            source=str(out),
-        ) from None
+    except Exception as e:
+        if worker_died(e):
+            raise PhavUserError(
+                "a Ray worker died (killed, or out of memory); finished videos are kept, rerun to resume",
+                source=str(out),
+            ) from None
+        raise

@@ -16,6 +16,7 @@ import itertools
 import math
 import multiprocessing
 import os
+import signal
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -28,7 +29,7 @@ import cv2
 import numpy as np
 import pyarrow.parquet as pq
 
-from phav_generator.engines import RayPool, exit_with_parent
+from phav_generator.engines import RayPool, exit_with_parent, worker_died
 from phav_spec.errors import PhavUserError
 from phav_spec.files import file_sha256, read_parquet
 from phav_spec.manifest import DatasetManifest, load_manifest
@@ -270,11 +271,14 @@ def _ids_in(path: Path, recipes: Mapping[str, Recipe]) -> list[str]:
 
 def _init_worker(parent: int | None = None) -> None:
     """One thread per worker process: OpenCV's own pool would fight the other workers; a
-    local pool's worker ends with the process that started it (``parent``)."""
+    local pool's worker ends with the process that started it (``parent``), and at Ctrl-C
+    (a terminal signals the whole process group) at once and silently: it writes nothing,
+    and the pool's queue would print a traceback."""
 
     cv2.setNumThreads(1)
     tune_allocator()
     if parent is not None:
+        signal.signal(signal.SIGINT, lambda signum, frame: os._exit(128 + signum))
         exit_with_parent(parent)
 
 
@@ -318,7 +322,13 @@ class _Scans:
         if i not in self._results:
             start = time.perf_counter()
             if self._pool is not None:
-                self._results[i] = self._futures[i].result()
+                try:
+                    self._results[i] = self._futures[i].result()
+                except Exception as e:
+                    if not worker_died(e):
+                        raise
+                    raise PhavUserError("a scanning worker process died (killed, or out of memory); "
+                                        "nothing was written, rerun to validate", source=self.jobs[i].path) from None  # fmt: skip
             else:
                 self._results[i] = scan_shard(self.jobs[i])
                 if self._advance is not None:

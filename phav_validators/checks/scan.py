@@ -20,6 +20,7 @@ from typing import Any
 import cv2
 import numpy as np
 
+from phav_generator.faults import crash_point
 from phav_generator.render.camera import project, view
 from phav_spec.encoding import (
     DEPTH_MAX_CODE,
@@ -654,4 +655,5 @@ class ShardScanner:
 
 def scan_shard(job: ShardJob) -> ShardScan:
     """Scan one shard (a pure function of the file and ``job``; safe in a worker process)."""
+    crash_point(f"scan:{Path(job.path).name}")
     return ShardScanner(job).run()

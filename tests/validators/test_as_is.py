@@ -3,13 +3,19 @@ tasks), the checks that need no pixels running meanwhile, give the report one pr
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
+
+from phav_generator.faults import KILL_AT_ENV
 
 from phav_spec.errors import PhavUserError
 from phav_validators.findings import Reason
 from phav_validators.options import CHECKS, Options
 from phav_validators.source import resolve
 from phav_validators.validate import validate_dataset
+from tests.helpers import cli_env
 from tests.validators.checks.support import assert_fails, png_edit, rewrite_tar, shard_of, validate
 
 
@@ -31,6 +37,19 @@ def test_worker_count_does_not_change_the_report(small_dataset_copy):
         for c in report["checks"]:
             c.pop("seconds")
     assert one_json == two_json
+
+
+def test_a_scanning_worker_killed_is_a_one_line_error(small_dataset):
+    """A scan worker killed (the OOM killer, a kill -9) broke the pool: a traceback and exit
+    code 1. It is the one-line error the generator gives for its own workers, exit code 2."""
+    shard = sorted(small_dataset.glob("*.tar"))[0]
+    env = cli_env() | {KILL_AT_ENV: f"scan:{shard.name}"}
+    run = subprocess.run([sys.executable, "-m", "phav_app.validate_cli", str(small_dataset), "--workers", "2",
+                          "--checks", "integrity,encoding"], capture_output=True, text=True, env=env, timeout=180)  # fmt: skip
+    lines = [line for line in run.stderr.splitlines() if line.strip()]
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr[-800:]
+    assert lines == [f"error: {shard}: a scanning worker process died (killed, or out of memory); nothing was "
+                     "written, rerun to validate"], lines  # fmt: skip
 
 
 def test_ray_scans_give_the_report_one_process_gives(ray_with_delays, small_dataset):

@@ -19,7 +19,7 @@ import pytest
 from phav_generator.dataset import write as write_module
 from phav_generator.dataset.journal import JOURNAL_FILE, Journal
 from phav_generator.dataset.write import WORK_DIR, chunk, write_dataset
-from phav_generator.faults import KILL_AT_ENV, SIGNAL_ENV
+from phav_generator.faults import DELAY_ENV, KILL_AT_ENV, SIGNAL_ENV, delay_for
 from phav_spec.errors import PhavUserError
 from tests.helpers import SMALL_SEED, SMALL_SHARD_SIZE, SMALL_VIDEOS, cli_env, file_bytes
 
@@ -105,6 +105,38 @@ def test_a_killed_worker_is_a_one_line_error_and_the_rerun_resumes(generate, ref
     assert "worker process died" in result.stderr and "Traceback" not in result.stderr
     assert generate(out, "--workers", "2").returncode == 0
     assert file_bytes(out) == reference
+
+
+def test_ctrl_c_at_a_terminal_stops_a_pool_in_one_line(small_dataset, tmp_path):
+    """Ctrl-C at a terminal signals the whole process group: the pool's workers stop the
+    video under way (removing its temporaries) or, idle, exit without the traceback their
+    pool's queue printed, and the run says one line. One worker is idle here: v000000 is
+    finished and v000001 still waits out its injected delay."""
+    out = tmp_path / "data"
+    args = ("--theta", str(small_dataset / "theta.yaml"), "--videos", "2", "--seed", str(SMALL_SEED),
+            "--shard-size", str(SMALL_SHARD_SIZE), "--out", str(out), "--workers", "2")  # fmt: skip
+    assert delay_for("v000000", 60.0) < 1.0 < 20.0 < delay_for("v000001", 60.0)
+    run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "generate", *args], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, text=True, env=cli_env() | {DELAY_ENV: "60"},
+                           start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
+    journal = out / WORK_DIR / JOURNAL_FILE
+    try:
+        deadline = time.monotonic() + 120.0
+        while not (journal.exists() and journal.read_text(encoding="utf-8").count("\n") >= 1):  # v000000 finished
+            assert run.poll() is None and time.monotonic() < deadline, "v000000 was never finished"
+            time.sleep(0.05)
+        time.sleep(0.5)  # the finished worker back at the pool's queue
+        os.killpg(run.pid, signal.SIGINT)
+        _, err = run.communicate(timeout=120)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(run.pid, signal.SIGKILL)
+    assert run.returncode == 130, err[-800:]
+    assert [line for line in err.splitlines() if line.strip()] == [
+        "interrupted; finished files are intact (writes are atomic)"
+    ], err[-1500:]
+    assert not [p for p in out.rglob(".*.tmp")], "a temporary was left behind"
+    assert not (out / "manifest.json").exists()
 
 
 def test_a_worker_sent_sigterm_removes_the_part_it_was_writing(small_dataset, tmp_path):
