@@ -327,8 +327,8 @@ class _Scans:
                 except Exception as e:
                     if not worker_died(e):
                         raise
-                    raise PhavUserError("a scanning worker process died (killed, or out of memory); "
-                                        "nothing was written, rerun to validate", source=self.jobs[i].path) from None  # fmt: skip
+                    said = "a scanning worker process died (killed, or out of memory); nothing was written, rerun"
+                    raise PhavUserError(f"{said} to validate", source=self.jobs[i].path) from None
             else:
                 self._results[i] = scan_shard(self.jobs[i])
                 if self._advance is not None:

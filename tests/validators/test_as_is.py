@@ -9,7 +9,6 @@ import sys
 import pytest
 
 from phav_generator.faults import KILL_AT_ENV
-
 from phav_spec.errors import PhavUserError
 from phav_validators.findings import Reason
 from phav_validators.options import CHECKS, Options
@@ -44,8 +43,9 @@ def test_a_scanning_worker_killed_is_a_one_line_error(small_dataset):
     code 1. It is the one-line error the generator gives for its own workers, exit code 2."""
     shard = sorted(small_dataset.glob("*.tar"))[0]
     env = cli_env() | {KILL_AT_ENV: f"scan:{shard.name}"}
-    run = subprocess.run([sys.executable, "-m", "phav_app.validate_cli", str(small_dataset), "--workers", "2",
-                          "--checks", "integrity,encoding"], capture_output=True, text=True, env=env, timeout=180)  # fmt: skip
+    args = (str(small_dataset), "--workers", "2", "--checks", "integrity,encoding")
+    run = subprocess.run([sys.executable, "-m", "phav_app.validate_cli", *args], capture_output=True, text=True,
+                         env=env, timeout=180)  # fmt: skip
     lines = [line for line in run.stderr.splitlines() if line.strip()]
     assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr[-800:]
     assert lines == [f"error: {shard}: a scanning worker process died (killed, or out of memory); nothing was "

@@ -117,8 +117,8 @@ def test_ctrl_c_at_a_terminal_stops_a_pool_in_one_line(small_dataset, tmp_path):
             "--shard-size", str(SMALL_SHARD_SIZE), "--out", str(out), "--workers", "2")  # fmt: skip
     assert delay_for("v000000", 60.0) < 1.0 < 20.0 < delay_for("v000001", 60.0)
     run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "generate", *args], stdout=subprocess.DEVNULL,
-                           stderr=subprocess.PIPE, text=True, env=cli_env() | {DELAY_ENV: "60"},
-                           start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
+                           stderr=subprocess.PIPE, text=True, env=cli_env() | {DELAY_ENV: "60"}, start_new_session=True,
+                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
     journal = out / WORK_DIR / JOURNAL_FILE
     try:
         deadline = time.monotonic() + 120.0

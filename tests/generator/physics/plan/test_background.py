@@ -53,7 +53,6 @@ def test_walkers_stop_short_of_a_ledge_they_would_have_to_climb() -> None:
         assert max(j for _, j in walkers) < STEP_M, (video, walkers)
 
 
-
 def test_a_walkers_planted_foot_stays_planted() -> None:
     """A walker's pelvis follows a straight, steady line to its destination: the gait's sway
     and surge about its own advance are kept, its speed is scaled by leg length as its
