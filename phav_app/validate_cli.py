@@ -21,7 +21,7 @@ from phav_validators.checks.scan import tune_allocator
 from phav_validators.findings import Reason
 from phav_validators.learn.learnability import LearnOptions
 from phav_validators.learn.train import RGB_EPOCH_SHARE
-from phav_validators.options import CHECKS, Options
+from phav_validators.options import CHECKS, Options, run_exit_code, run_status
 from phav_validators.realism.check import HEADLINES, RealismOptions, parse_minimums
 from phav_validators.report import write_html, write_json
 from phav_validators.source import resolve
@@ -172,6 +172,9 @@ def validate(
     )  # fmt: skip
     if regenerate_into is not None:
         check_output_dir(regenerate_into, field="--regenerate-into")
+    if json_out is not None and html_out is not None and json_out.resolve() == html_out.resolve():
+        raise PhavUserError("is the --json report's file too; write the two reports apart", source=str(html_out),
+                            field="--html")  # fmt: skip
     for target, field in ((json_out, "--json"), (html_out, "--html")):
         if target is not None:
             check_output_file(target, field=field)
@@ -193,7 +196,7 @@ def validate(
     if html_out is not None:
         write_html(reports, html_out)
         console.print(f"HTML report: {escape(str(html_out))}")
-    if any(r.status.value == "fail" for r in reports):
+    if run_exit_code(run_status(reports)):
         raise typer.Exit(EXIT_FINDINGS)
 
 
@@ -247,6 +250,8 @@ def print_summary(report: DatasetReport, *, details: bool = False, per_reason_li
     verdict = report.status.value
     if verdict == "pass":
         console.print("[bold green]all checks passed[/]")
+    elif verdict == "skip":
+        console.print("[bold red]nothing checked[/]: every check was skipped (see why above)")
     elif verdict == "warn":
         console.print("[yellow]passed with warnings[/]")
     else:

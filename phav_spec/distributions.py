@@ -123,8 +123,8 @@ class Uniform(BaseModel):
 
     model_config = _FROZEN
     kind: Literal["uniform"] = "uniform"
-    low: float = Field(allow_inf_nan=False)
-    high: float = Field(allow_inf_nan=False)
+    low: float = Field(allow_inf_nan=False, strict=True)
+    high: float = Field(allow_inf_nan=False, strict=True)
 
     @model_validator(mode="after")
     def _ordered(self) -> Uniform:
@@ -165,7 +165,7 @@ class Bernoulli(BaseModel):
 
     model_config = _FROZEN
     kind: Literal["bernoulli"] = "bernoulli"
-    p: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+    p: float = Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)
 
     def sample(self, *, rng: np.random.Generator) -> bool:
         """True with probability p (one uniform double)."""
@@ -191,10 +191,10 @@ class Triangular(BaseModel):
 
     model_config = _FROZEN
     kind: Literal["triangular"] = "triangular"
-    min: float = Field(allow_inf_nan=False)
-    max: float = Field(allow_inf_nan=False)
-    mode: float = Field(allow_inf_nan=False)
-    period: float | None = Field(default=None, gt=0.0, allow_inf_nan=False)
+    min: float = Field(allow_inf_nan=False, strict=True)
+    max: float = Field(allow_inf_nan=False, strict=True)
+    mode: float = Field(allow_inf_nan=False, strict=True)
+    period: float | None = Field(default=None, gt=0.0, allow_inf_nan=False, strict=True)
 
     @model_validator(mode="after")
     def _ordered(self) -> Triangular:

@@ -129,7 +129,10 @@ def _table_field(rows: Registry, cols: Registry) -> Any:
         uncovered = [name for name in rows.names if name not in given]
         if uncovered and "default" not in value:
             raise ValueError(f"missing 'default' row (no row given for {uncovered[0]!r})")
-        default = _weights(cols, value["default"]) if uncovered else {}
+        try:  # checked where every row is given too: a wrong default is a mistake all the same
+            default = _weights(cols, value["default"]) if "default" in value else {}
+        except ValueError as e:
+            raise ValueError(f"default: {e}") from None
         table = {}
         for name in rows.names:
             try:
@@ -175,8 +178,8 @@ class VideoFormat(BaseModel):
     """Resolution and frame rate (paper: 340×256 at 30 fps)."""
 
     model_config = _FROZEN
-    width: int = Field(340, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
-    height: int = Field(256, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE)
+    width: int = Field(340, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE, strict=True)
+    height: int = Field(256, ge=MIN_FRAME_SIDE, le=MAX_FRAME_SIDE, strict=True)
     fps: StrictInt = Field(30, ge=1, le=MAX_FPS)  # not `yes`, not 29.97
 
 
@@ -184,9 +187,9 @@ class Durations(BaseModel):
     """T_min, T_max and T_mod in seconds (Section "Generated video duration")."""
 
     model_config = _FROZEN
-    t_min: float = Field(gt=0.0, allow_inf_nan=False)
-    t_max: float = Field(gt=0.0, allow_inf_nan=False)
-    t_mod: float = Field(gt=0.0, allow_inf_nan=False)
+    t_min: float = Field(gt=0.0, allow_inf_nan=False, strict=True)
+    t_max: float = Field(gt=0.0, allow_inf_nan=False, strict=True)
+    t_mod: float = Field(gt=0.0, allow_inf_nan=False, strict=True)
 
     @model_validator(mode="after")
     def _ordered(self) -> Durations:
@@ -223,9 +226,9 @@ class ClockHour(BaseModel):
     """Tr(t | min, max, mode) in hours on a 24 h clock; min > max wraps midnight."""
 
     model_config = _FROZEN
-    min: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False)
-    max: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False)
-    mode: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False)
+    min: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False, strict=True)
+    max: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False, strict=True)
+    mode: float = Field(ge=0.0, lt=24.0, allow_inf_nan=False, strict=True)
 
     @model_validator(mode="after")
     def _valid(self) -> ClockHour:
@@ -240,8 +243,8 @@ class DependentBernoulli(BaseModel):
     """P(element on | parent on) and P(element on | parent off)."""
 
     model_config = _FROZEN
-    p_if_parent: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
-    p_otherwise: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+    p_if_parent: float = Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)
+    p_otherwise: float = Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)
 
 
 class WeatherElementsTheta(BaseModel):
@@ -300,8 +303,8 @@ class IntegerRange(BaseModel):
     """A uniform integer on [min, max]."""
 
     model_config = _FROZEN
-    min: int = Field(ge=0)
-    max: int = Field(ge=0)
+    min: int = Field(ge=0, strict=True)
+    max: int = Field(ge=0, strict=True)
 
     @model_validator(mode="after")
     def _ordered(self) -> IntegerRange:
@@ -313,8 +316,8 @@ class IntegerRange(BaseModel):
 class MuscleCount(IntegerRange):
     """How many muscles a variation acts on: at least one (capped by what the action has)."""
 
-    min: int = Field(ge=1)
-    max: int = Field(ge=1)
+    min: int = Field(ge=1, strict=True)
+    max: int = Field(ge=1, strict=True)
 
 
 class BackgroundActors(BaseModel):
@@ -348,8 +351,33 @@ class MotionParameters(BaseModel):
 
     model_config = _FROZEN
     speed: bounded("motion_speed")
-    p_mirror: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+    p_mirror: float = Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)
     start: Literal["uniform", "active"] = "uniform"
+
+
+def _distance_weights(value: Any) -> Any:
+    """``min_distance_weights`` as given (its keys as integers), under the rules of every
+    categorical's weights (``_weights``): a distance of ``SPRING_MIN_DISTANCES_M``, named once
+    (``1`` and ``"1"`` are one key), each weight a number, 0 or within [MIN_WEIGHT, MAX_WEIGHT]."""
+    if not isinstance(value, Mapping):
+        return value  # pydantic says what it expected
+    out: dict[int, float] = {}
+    for key, w in value.items():
+        d = key if isinstance(key, int) and not isinstance(key, bool) else None
+        if isinstance(key, str) and key.strip().isdigit():
+            d = int(key)
+        if d not in SPRING_MIN_DISTANCES_M:
+            raise ValueError(f"{key!r} m is not one of {SPRING_MIN_DISTANCES_M}")
+        if d in out:
+            raise ValueError(f"{d} m is given twice")
+        if isinstance(w, bool) or not isinstance(w, int | float):
+            raise ValueError(f"weight of {d} m must be a number, got {w!r}")
+        if not math.isfinite(w) or w < 0:
+            raise ValueError(f"weight of {d} m must be finite and non-negative, got {w}")
+        if w != 0 and not MIN_WEIGHT <= w <= MAX_WEIGHT:  # as _weights: sums stay exact enough
+            raise ValueError(f"weight of {d} m must be 0 or in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {w}")
+        out[d] = float(w) + 0.0
+    return out
 
 
 class KiteSprings(BaseModel):
@@ -362,17 +390,12 @@ class KiteSprings(BaseModel):
     target_mass: Continuous
     camera_drag: Continuous
     target_drag: Continuous
-    min_distance_weights: dict[int, float]
+    min_distance_weights: Annotated[dict[int, float], BeforeValidator(_distance_weights)]
 
     @model_validator(mode="after")
     def _bounds(self) -> KiteSprings:
         for name, (_, lo, hi) in KITE_SPRING_VARIABLES.items():
             _check_support(getattr(self, name), lo, hi, name)
-        for d, w in self.min_distance_weights.items():
-            if d not in SPRING_MIN_DISTANCES_M:
-                raise ValueError(f"min_distance_weights: {d} m is not one of {SPRING_MIN_DISTANCES_M}")
-            if not (math.isfinite(w) and w >= 0):
-                raise ValueError(f"min_distance_weights.{d}: weight must be finite and non-negative")
         if sum(self.min_distance_weights.values()) <= 0:
             raise ValueError("min_distance_weights: all zero, no dead zone has support")
         return self
@@ -488,8 +511,8 @@ class GreyHair(BaseModel):
     ``p_full`` at ``full_years`` and stays there."""
 
     model_config = _FROZEN
-    start_years: float = Field(ge=0.0, le=MAX_AGE_YEARS, allow_inf_nan=False)
-    full_years: float = Field(ge=0.0, le=MAX_AGE_YEARS, allow_inf_nan=False)
+    start_years: float = Field(ge=0.0, le=MAX_AGE_YEARS, allow_inf_nan=False, strict=True)
+    full_years: float = Field(ge=0.0, le=MAX_AGE_YEARS, allow_inf_nan=False, strict=True)
     p_full: Probability
 
     @model_validator(mode="after")
@@ -590,7 +613,7 @@ class RenderSettings(BaseModel):
     screen_space_reflection: bool = True
     color_grading: bool = True
     vignette: bool = True
-    png_compression: int = Field(1, ge=0, le=9)
+    png_compression: int = Field(1, ge=0, le=9, strict=True)
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,10 @@ class Registry(Generic[T]):
         return iter(self.names)
 
     def __contains__(self, name: object) -> bool:
-        return name in self._index
+        try:
+            return name in self._index
+        except TypeError:  # unhashable (a list or a mapping from a malformed file): no name
+            return False
 
     def __getitem__(self, name: str) -> T:
         self.check(name)

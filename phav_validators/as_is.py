@@ -162,7 +162,7 @@ def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -
         try:
             out.table = read_recipe_table(table_path)
         except PhavUserError as e:
-            out.schema.add(Finding(Reason.RECIPE_INVALID, e.detail, file=str(table_path)))
+            out.schema.add(Finding(Reason.RECIPE_INVALID, _named(e), file=str(table_path)))
     else:
         out.schema.add(Finding(Reason.MISSING_FILE, "no recipes table", file=str(table_path)))
     # θ: --theta (a user error when unreadable), else the dataset's theta.yaml, else the table's.
@@ -172,7 +172,7 @@ def _load(inp: DatasetInput, theta_arg: str | None, timings: dict[str, float]) -
         try:
             out.theta = load_theta(str(inp.root / THETA))
         except PhavUserError as e:
-            out.distribution.add(Finding(Reason.THETA_MISMATCH, e.detail, file=str(inp.root / THETA)))
+            out.distribution.add(Finding(Reason.THETA_MISMATCH, _named(e), file=str(inp.root / THETA)))
     elif out.table is not None and out.table.theta is not None:
         out.theta = out.table.theta
     m = out.manifest
@@ -794,6 +794,8 @@ def _distribution(loaded: _Loaded, opts: Options) -> tuple[CheckResult, Distribu
     """The recipes table against θ's exact expectations."""
     if loaded.table is None or loaded.theta is None:
         why = "no readable recipes table" if loaded.table is None else "no θ: pass --theta or ship theta.yaml"
+        if loaded.table is not None and loaded.distribution.findings:  # theta.yaml there, and invalid
+            why = "theta.yaml is not a valid θ: pass --theta or mend it"
         if loaded.distribution.findings:
             return CheckResult.from_report("distribution", loaded.distribution, why, {}), None
         return CheckResult.skipped("distribution", why), None

@@ -4,6 +4,7 @@ options, the report, and the seeded choice of which videos a sampled check reads
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -95,9 +96,13 @@ class DatasetReport:
 
     @property
     def status(self) -> Status:
+        """fail if a check failed; skip if every check was skipped (nothing was checked);
+        warn if a check warned; pass."""
         states = {c.status for c in self.checks}
         if Status.FAIL in states:
             return Status.FAIL
+        if states == {Status.SKIP}:
+            return Status.SKIP
         return Status.WARN if Status.WARN in states else Status.PASS
 
     def worst_videos(self, limit: int = 10) -> list[tuple[str, int, int, list[str]]]:
@@ -147,3 +152,16 @@ def sample_videos(video_ids: list[str], fraction: float, seed: int) -> set[str]:
     rng = seeded_rng(seed)
     order = rng.permutation(len(video_ids))
     return {video_ids[i] for i in sorted(order[:k])}
+
+
+def run_status(reports: Sequence[DatasetReport]) -> Status:
+    """A run's verdict over its datasets: fail if one failed, skip if on one nothing was
+    checked, warn if one warned, else pass."""
+    states = {r.status for r in reports}
+    return next((s for s in (Status.FAIL, Status.SKIP, Status.WARN) if s in states), Status.PASS)
+
+
+def run_exit_code(status: Status) -> int:
+    """``phav-validate``'s exit code for a run's verdict: 1 where a check failed or nothing
+    was checked (a skip is no evidence), 0 otherwise."""
+    return 1 if status in (Status.FAIL, Status.SKIP) else 0

@@ -26,7 +26,7 @@ from phav_spec.manifest import load_manifest
 from phav_validators.checks.reproduce import shard_video_frames
 from phav_validators.framing import FRAMING_BINS, FramingResult
 from phav_validators.learn.learnability import LearnResult, confusion_png
-from phav_validators.options import DatasetReport
+from phav_validators.options import DatasetReport, run_exit_code, run_status
 from phav_validators.realism.check import MIN_VIDEOS, VIEWS, RealismResult
 from phav_validators.realism.figures import example_sheet
 
@@ -38,12 +38,12 @@ MAX_FRAMES = 6
 
 def report_json(reports: Sequence[DatasetReport]) -> dict[str, Any]:
     """The whole run as one JSON document."""
-    failed = any(r.status.value == "fail" for r in reports)
+    status = run_status(reports)
     return {
         "report_version": REPORT_VERSION,
         "phav_version": package_version("phav"),
-        "status": "fail" if failed else "warn" if any(r.status.value == "warn" for r in reports) else "pass",
-        "exit_code": 1 if failed else 0,
+        "status": status.value,
+        "exit_code": run_exit_code(status),
         "datasets": [r.to_json() for r in reports],
     }
 

@@ -309,6 +309,8 @@ def parse_minimums(text: str | None) -> dict[str, float]:
         name = name.strip()
         if name not in HEADLINES:
             raise PhavUserError(f"unknown figure {name!r}; choose from {', '.join(HEADLINES)}", field="--realism-min")
+        if name in out:
+            raise PhavUserError(f"{name} is given twice", field="--realism-min")
         try:
             out[name] = float(value)
         except ValueError:

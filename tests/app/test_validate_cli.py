@@ -4,6 +4,7 @@ JSON and HTML reports; user errors exit 2; one shard can be checked alone."""
 from __future__ import annotations
 
 import json
+import shutil
 
 from phav_validators.options import CHECKS
 from tests.helpers import invoke_cli, run_cli
@@ -38,6 +39,9 @@ def test_exit_codes_and_single_shard_input(small_dataset, tmp_path):
     assert bad.returncode == 2 and "--checks" in bad.stderr and "bogus" in bad.stderr
     sample = invoke_cli("validate!", str(small_dataset), "--sample", "0")
     assert sample.returncode == 2 and "--sample" in sample.stderr
+    same = tmp_path / "report"  # the HTML was written over the JSON
+    both = invoke_cli("validate!", str(small_dataset), "--checks", "schema", "--json", str(same), "--html", str(same))
+    assert both.returncode == 2 and "--html: is the --json report's file too" in both.stderr and not same.exists()
     one = invoke_cli("validate!", str(small_dataset / "phav-000001.tar"), "--checks", "integrity,encoding,failures",
                      "--json", str(tmp_path / "one.json"))  # fmt: skip
     assert one.returncode == 0, one.stdout + one.stderr
@@ -63,3 +67,23 @@ def test_a_dataset_that_lost_its_manifest_and_shards_is_not_a_recipes_table(smal
     table_alone.mkdir()
     (table_alone / "recipes.parquet").write_bytes((data / "recipes.parquet").read_bytes())
     assert invoke_cli("validate!", str(table_alone), "--checks", "schema").returncode == 0
+
+
+def test_a_run_where_every_check_was_skipped_is_not_a_pass(small_dataset, tmp_path):
+    """Integrity asked of a recipes table alone, or reproducibility with no video to make
+    again, checks nothing: it said "all checks passed" with exit code 0. Nothing checked is
+    no evidence: status ``skip``, exit code 1, and the line says so."""
+    table = tmp_path / "alone" / "recipes.parquet"  # beside no dataset
+    table.parent.mkdir()
+    shutil.copyfile(small_dataset / "recipes.parquet", table)
+    cases = [(str(table), "--checks", "integrity,encoding"),
+             (str(small_dataset), "--checks", "reproducibility", "--regenerate", "0")]  # fmt: skip
+    for i, args in enumerate(cases):
+        report = tmp_path / f"r{i}.json"
+        result = invoke_cli("validate!", *args, "--json", str(report))
+        data = json.loads(report.read_text(encoding="utf-8"))
+        assert result.returncode == 1 and data["status"] == "skip" and data["exit_code"] == 1, result.stdout
+        assert {c["status"] for c in data["datasets"][0]["checks"]} == {"skip"}
+        assert "nothing checked: every check was skipped" in result.stdout and "all checks passed" not in result.stdout
+    mixed = invoke_cli("validate!", str(table), "--checks", "integrity,schema")
+    assert mixed.returncode == 0 and "all checks passed" in mixed.stdout  # one check ran and passed

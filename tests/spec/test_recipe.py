@@ -281,3 +281,13 @@ def test_a_kite_cameras_springs_and_impulse_are_bounded_as_thetas_are(recipe):
     static["camera"]["kind"] = "static"
     with pytest.raises(PhavUserError, match=r"springs: a static camera takes no springs"):
         parse_recipe(static, source="r.json")
+
+
+@pytest.mark.parametrize("model", [["x"], {"a": 1}])
+def test_a_version_1_person_whose_model_is_not_a_name_is_one_line(model):
+    """A malformed v1 person (a list or a mapping for its model) was looked up in the model
+    registry and raised a TypeError traceback, which stopped `phav-validate` outright."""
+    data = json.loads(V1_RECIPES[0].read_text(encoding="utf-8"))
+    data["protagonist"]["human"]["model"] = model
+    with pytest.raises(PhavUserError, match=r"^bad\.json: protagonist\.human\."):
+        parse_recipe(json.dumps(data), source="bad.json")

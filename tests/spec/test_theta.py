@@ -200,6 +200,47 @@ def test_keys_that_read_as_the_same_number_are_refused(tmp_path):
         load_theta(path)
 
 
+@pytest.mark.parametrize(
+    ("weights", "said"),
+    [
+        ({0: 1e308, 1: 1e308, 2: 1e308}, "must be 0 or in"),  # their sum is inf: every draw the same
+        ({0: 1e-320}, "must be 0 or in"),
+        ({1: 1, "1": 0, 0: 1}, "1 m is given twice"),  # one distance in two spellings: one was lost
+        ({0: True}, "must be a number"),
+        ({5: 1}, "5 m is not one of"),
+        ({0: -1}, "finite and non-negative"),
+    ],
+)
+def test_dead_zone_weights_follow_the_rules_of_every_categorical(tmp_path, weights, said):
+    """The kite's ``min_distance_weights`` took any finite non-negative number: sums
+    overflowing to inf gave one distance for every draw, and ``1`` and ``"1"`` merged."""
+    path = theta_variant(tmp_path, _set("cameras.kite.springs.min_distance_weights", weights))
+    with pytest.raises(PhavUserError, match=rf"cameras\.kite\.springs\.min_distance_weights: .*{said}"):
+        load_theta(path)
+
+
+@pytest.mark.parametrize(
+    ("path", "value"),
+    [("durations.t_min", True), ("motion.p_mirror", True), ("video.width", "340"), ("video.width", True),
+     ("background_actors.count.max", "3")],
+)  # fmt: skip
+def test_a_number_is_a_number_not_a_boolean_or_a_quoted_string(tmp_path, path, value):
+    """YAML's ``yes`` or ``true`` read as 1 and ``"340"`` as 340 wherever θ wants a number,
+    as the categoricals' weights and the frame rate already refused."""
+    with pytest.raises(PhavUserError, match=rf"{path.replace('.', '[.]')}: Input should be a valid"):
+        load_theta(theta_variant(tmp_path, _set(path, value)))
+
+
+def test_a_tables_default_row_is_checked_when_every_row_is_given(tmp_path):
+    """A ``default`` every action overrides was not read at all: ``{bogus: -5}`` loaded."""
+    from phav_spec.vocab import ACTIONS
+
+    rows = {a: "uniform" for a in ACTIONS.names}
+    path = theta_variant(tmp_path, _set("theta_ac", {"default": {"bogus": -5}, "rows": rows}))
+    with pytest.raises(PhavUserError, match=r"theta_ac\.default: unknown camera 'bogus'"):
+        load_theta(path)
+
+
 def test_a_node_shared_by_aliases_is_checked_once(tmp_path, monkeypatch):
     """Aliases share their node: walked again at every use, 30 levels of them were 2^30 visits."""
     from phav_spec import theta as theta_module

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pyarrow as pa
@@ -13,8 +14,11 @@ from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import RecipeRows, read_recipe_table, write_recipe_table
 from phav_spec.theta import load_preset
+from phav_validators.findings import Reason
 from phav_validators.options import Options, sample_videos
 from tests.helpers import PRESET_PATH, invoke_cli, run_cli, theta_variant
+from tests.validators.checks.support import check as check_of
+from tests.validators.checks.support import validate
 
 #: Recipes in the good table: enough for every distribution test to run, and for the wrong θ
 #: below to be rejected by far.
@@ -264,3 +268,15 @@ def test_a_recipe_only_release_regenerates_every_shard_for_the_checks_that_read_
     assert 0 < len(some) < len(shards)
     for check in ("learnability", "realism"):
         assert _shards_to_build(plan, Options(checks=("integrity", check), sample=0.25)) == list(range(len(shards)))
+
+
+def test_an_invalid_theta_yaml_is_a_finding_naming_its_field(small_dataset_copy):
+    """A dataset's theta.yaml that is not a valid θ: the finding names the field (it gave
+    pydantic's words alone), and the summary says the file is there and wrong."""
+    data = small_dataset_copy
+    text = (data / "theta.yaml").read_text(encoding="utf-8")
+    (data / "theta.yaml").write_text(re.sub(r"t_min: [0-9.]+", "t_min: -1.0", text, count=1), encoding="utf-8")
+    report = validate(data, "distribution")
+    (finding,) = check_of(report, "distribution").report.findings
+    assert finding.reason == Reason.THETA_MISMATCH and finding.message.startswith("durations.t_min: "), finding.message
+    assert "theta.yaml is not a valid θ" in check_of(report, "distribution").summary

@@ -270,6 +270,8 @@ def test_a_corrupt_model_or_a_missing_extra_is_one_line_and_exit_2(small_dataset
     shutil.copy(MODELS_DIR / JUDGE_MODELS["pose_detector"].file, detector)
     bad.write_bytes(bad.read_bytes()[:1000])
     _one_line_exit_2(invoke_cli(*args, "--realism-min", "pck=1"), "--realism-min", "unknown figure")
+    twice = "person_pck_0.2=0.5,person_pck_0.2=0.9"  # the last one won, unsaid
+    _one_line_exit_2(invoke_cli(*args, "--realism-min", twice), "--realism-min", "person_pck_0.2 is given twice")
     monkeypatch.setitem(sys.modules, "ai_edge_litert.interpreter", None)  # as if the extra were not installed
     shutil.copy(MODELS_DIR / JUDGE_MODELS["pascal_voc"].file, bad)
     _one_line_exit_2(invoke_cli(*args, "--realism-models", str(models)), "pip install 'phav[realism]'")
