@@ -93,14 +93,19 @@ def _weights(registry: Registry, value: Any) -> dict[str, float]:
     for key, w in value.items():
         if key not in registry:
             raise ValueError(unknown_name_message(registry, key))
-        if isinstance(w, bool) or not isinstance(w, int | float):
-            raise ValueError(f"weight of {key!r} must be a number, got {w!r}")
-        if not math.isfinite(w) or w < 0:
-            raise ValueError(f"weight of {key!r} must be finite and non-negative, got {w}")
-        if w != 0 and not MIN_WEIGHT <= w <= MAX_WEIGHT:  # sums and products of weights stay exact enough
-            raise ValueError(f"weight of {key!r} must be 0 or in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {w}")
-        out[key] = float(w) + 0.0  # -0.0 is 0.0: one spelling, one hash
+        out[key] = _weight(repr(key), w)
     return out
+
+
+def _weight(name: str, w: Any) -> float:
+    """One categorical weight: a number (not a boolean), 0 or within [MIN_WEIGHT, MAX_WEIGHT]."""
+    if isinstance(w, bool) or not isinstance(w, int | float):
+        raise ValueError(f"weight of {name} must be a number, got {w!r}")
+    if not math.isfinite(w) or w < 0:
+        raise ValueError(f"weight of {name} must be finite and non-negative, got {w}")
+    if w != 0 and not MIN_WEIGHT <= w <= MAX_WEIGHT:  # sums and products of weights stay exact enough
+        raise ValueError(f"weight of {name} must be 0 or in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {w}")
+    return float(w) + 0.0  # -0.0 is 0.0: one spelling, one hash
 
 
 def _weights_field(registry: Registry) -> Any:
@@ -357,8 +362,8 @@ class MotionParameters(BaseModel):
 
 def _distance_weights(value: Any) -> Any:
     """``min_distance_weights`` as given (its keys as integers), under the rules of every
-    categorical's weights (``_weights``): a distance of ``SPRING_MIN_DISTANCES_M``, named once
-    (``1`` and ``"1"`` are one key), each weight a number, 0 or within [MIN_WEIGHT, MAX_WEIGHT]."""
+    categorical's weights (``_weight``): a distance of ``SPRING_MIN_DISTANCES_M``, named once
+    (``1`` and ``"1"`` are one key)."""
     if not isinstance(value, Mapping):
         return value  # pydantic says what it expected
     out: dict[int, float] = {}
@@ -370,13 +375,7 @@ def _distance_weights(value: Any) -> Any:
             raise ValueError(f"{key!r} m is not one of {SPRING_MIN_DISTANCES_M}")
         if d in out:
             raise ValueError(f"{d} m is given twice")
-        if isinstance(w, bool) or not isinstance(w, int | float):
-            raise ValueError(f"weight of {d} m must be a number, got {w!r}")
-        if not math.isfinite(w) or w < 0:
-            raise ValueError(f"weight of {d} m must be finite and non-negative, got {w}")
-        if w != 0 and not MIN_WEIGHT <= w <= MAX_WEIGHT:  # as _weights: sums stay exact enough
-            raise ValueError(f"weight of {d} m must be 0 or in [{MIN_WEIGHT:g}, {MAX_WEIGHT:g}], got {w}")
-        out[d] = float(w) + 0.0
+        out[d] = _weight(f"{d} m", w)
     return out
 
 
