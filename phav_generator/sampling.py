@@ -252,7 +252,7 @@ class RecipeSampler:
         env = ENVIRONMENT_SCENES[env_name]
 
         background = self._background(env, first_id=ACTIONS[action].n_people)
-        variation = self._variation(a, b, duration)
+        variation = self._variation(a, b, duration * motion["speed"])
         camera = self._camera(a, e, position, heading, _stature(protagonist), force.get("camera"))
         supporting = self._supporting(action, h, position, heading)
 
@@ -398,8 +398,9 @@ class RecipeSampler:
             })  # fmt: skip
         return actors
 
-    def _variation(self, a: int, b: int, duration: float) -> dict:
-        """V | A and its parameters Θ_v (Section "Action variations")."""
+    def _variation(self, a: int, b: int, played_s: float) -> dict:
+        """V | A and its parameters Θ_v (Section "Action variations"); ``played_s``: how much of
+        a motion the clip plays (its duration × speed), the blended motion's too."""
         rng = self._streams["variation"]
         kind = VARIATIONS.names[self._v[a].sample(rng=rng)]
         scene = ACTION_SCENES[ACTIONS.names[a]]
@@ -433,7 +434,7 @@ class RecipeSampler:
                 "kind": kind,
                 "muscles": muscles,
                 "blend_motion": MOTIONS.names[other],
-                "blend_start_s": rng.random() * max(0.0, other_len - duration),
+                "blend_start_s": rng.random() * max(0.0, other_len - played_s),
                 "weight": spec.weight.sample(rng=rng),
             }
         if kind == "objects":

@@ -213,3 +213,19 @@ def test_short_clips_start_where_the_body_moves():
         gained.append(share - float(moving_share(spans, np.array([plain.motion.start_s]), window)[0]))
         assert recipe.model_dump(exclude={"motion", "theta_hash"}) == plain.model_dump(exclude={"motion", "theta_hash"})
     assert np.mean(gained) > 0.1  # uniform windows hold poses a fair share of the time
+
+
+def test_a_blended_motion_is_played_within_its_length():
+    """The blended motion plays at the clip's speed: its start was drawn as if it played at
+    1×, so a fast clip ran past its end (and wrapped) where it need not."""
+    from phav_spec.motions import MOTIONS
+
+    sampler = RecipeSampler(load_preset("phav-v1"))
+    blended = [r for r in (sampler.sample(3, i) for i in range(400))
+               if r.variation.kind == "action_blending"]  # fmt: skip
+    assert len(blended) >= 20
+    for r in blended:
+        played = r.n_frames / r.video.fps * r.motion.speed
+        length = MOTIONS[r.variation.blend_motion].length_s
+        frame = r.motion.speed / r.video.fps  # the clip's frames round its duration
+        assert r.variation.blend_start_s + played <= max(length, played) + frame, r.video_id
