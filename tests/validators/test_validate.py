@@ -61,14 +61,15 @@ def test_good_table_passes(good):
 
 def test_an_empty_table_has_nothing_to_test(tmp_path):
     """0 recipes: `phav stats` refuses (it printed a NaN mean and "all checks passed"), and
-    phav-validate skips the distribution check rather than passing it."""
+    phav-validate skips the distribution check rather than passing it: nothing checked."""
     empty = tmp_path / "empty.parquet"
     assert invoke_cli("sample", "--n", "0", "--out", str(empty)).returncode == 0
     stats = invoke_cli("stats", str(empty))
     assert stats.returncode == 2 and "empty.parquet: the table has no recipes" in stats.stderr, stats.stderr
     assert "nan" not in stats.stdout + stats.stderr and "Traceback" not in stats.stderr
     result = invoke_cli("validate!", str(empty), "--checks", "distribution")
-    assert result.returncode == 0 and "SKIP" in result.stdout and "has no rows" in result.stdout, result.stdout
+    assert result.returncode == 1 and "SKIP" in result.stdout and "has no rows" in result.stdout, result.stdout
+    assert "nothing checked" in result.stdout
 
 
 def test_dataset_directory_with_theta_yaml(good):
