@@ -171,7 +171,7 @@ def _osc_layer(o: Osc, ch: Channels, tau: np.ndarray, p: MotionParams, length: f
     val = o.amp * p.amplitude * np.sin(2 * np.pi * (tau / fit_period(o.period, length) + o.offset + p.phase))
     if o.env is not None:
         val = val * track(o.env, tau)
-    for k, side in expand({o.channel: 1.0}).items():  # a shorthand's right side: −1 where mirrored
+    for k, side in expand({o.channel: 1.0}).items():  # each side with its sign (a shorthand mirrors the right)
         ch.add(k, val * side)
 
 
