@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -11,6 +12,7 @@ from phav_generator.motion.animation import MotionParams, Pose, animate, motion_
 from phav_generator.motion.library import get_motion
 from phav_generator.motion.skeleton import JOINT_BODIES, forward_kinematics
 from phav_generator.physics.plan.builder import PlanBuilder
+from phav_generator.physics.plan.people import halt, planted_before
 from phav_generator.physics.plan.scene_plan import PersonPlan
 from phav_spec.metadata import JOINT_ORDER
 from phav_spec.scene import MAX_STEP_M, walkable_heights
@@ -57,35 +59,34 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
         along = delta / max(dist, 1e-9)
         reach = max(start[2], dest[2]) + MAX_STEP_M
         stop = _ledge_stop(r.environment.name, start, along, dist, reach)
-        # Progress along the path, clamped where it stops; the gait's own advance is
-        # replaced by the straight segment so the actor arrives where the recipe says (or
-        # short of a ledge it would have to climb). Its sway and surge about that advance
-        # are kept while it walks: they carry the pelvis over the planted foot, which would
-        # slide without them.
-        travelled = np.minimum(actor.speed_mps * frame_times, stop)
-        arrived = travelled >= stop
-        root = start[None, :] + travelled[:, None] * along[None, :]
-        root[~arrived, :2] += _stride_sway(pose.root_pos[:, :2])[~arrived]
-        q = pose.q.copy()
-        q[arrived] = 0.0
+        # The gait's own advance is replaced by the straight segment, so the walker arrives
+        # where the recipe says (or short of a ledge it would have to climb). Its sway and
+        # surge about that advance are kept: they carry the pelvis over the planted foot,
+        # which would slide without them.
+        root = start[None, :] + (actor.speed_mps * frame_times)[:, None] * along[None, :]
+        root[:, :2] += _stride_sway(pose.root_pos[:, :2])
         root[:, 2] = pose.root_pos[:, 2]  # the gait's own bob and standing height, over z = 0
-        if arrived.any():  # standing on straight legs, its feet where the gait plants them
-            root[arrived, 2] = _standing_height(dims, root, pose, arrived)
-        root[:, 2] += _stance_level(r.environment.name, dims, root, pose.root_quat, q, along, reach, r.video.fps)
         n = len(frame_times)
-        out.append(
-            PersonPlan(
-                person_id=actor.person_id,
-                role="background",
-                dims=dims,
-                params=params,
-                motion="walk_forward_01",
-                targets=Pose(root, pose.root_quat, q),
-                strengths=np.ones((n, len(MUSCLES))),
-                pin=np.ones(n),
-                physical=False,
-            )
+        walker = PersonPlan(
+            person_id=actor.person_id,
+            role="background",
+            dims=dims,
+            params=params,
+            motion="walk_forward_01",
+            targets=Pose(root, pose.root_quat, pose.q),
+            strengths=np.ones((n, len(MUSCLES))),
+            pin=np.ones(n),
+            physical=False,
         )
+        if stop <= 0.0:  # nowhere to go: standing where it starts
+            walker = _standing(walker)
+        elif stop < actor.speed_mps * frame_times[-1]:  # it arrives: it slows to its last stance there
+            at = int(np.searchsorted(frame_times, stop / actor.speed_mps, side="right")) - 1
+            walker = halt(walker, frame_times, float(frame_times[planted_before(walker, frame_times, at)]))
+        t = walker.targets
+        lift = _stance_level(r.environment.name, dims, t.root_pos, t.root_quat, t.q, along, reach, r.video.fps)
+        out.append(replace(walker, targets=Pose(t.root_pos + lift[:, None] * np.array([0.0, 0.0, 1.0]),
+                                                t.root_quat, t.q)))  # fmt: skip
     return out
 
 
@@ -99,16 +100,16 @@ def _stride_sway(root_xy: np.ndarray) -> np.ndarray:
     return root_xy - (root_xy[0] + u * (root_xy[-1] - root_xy[0]))
 
 
-def _standing_height(dims, root: np.ndarray, pose: Pose, arrived: np.ndarray) -> np.ndarray:
-    """The pelvis height (over z = 0) of a walker standing where it arrived: its legs
-    straight (every angle 0) and its lower ankle as high as the gait plants one, not the
-    gait's own pelvis height, whose bob would lift a straight-legged body off the ground and
-    sink it in again."""
-    walking, _ = forward_kinematics(dims, root, pose.root_quat, pose.q)
-    planted = walking[:, _ANKLES, 2].min()
-    flat = np.zeros((int(arrived.sum()), 3))
-    standing, _ = forward_kinematics(dims, flat, pose.root_quat[arrived], np.zeros_like(pose.q[arrived]))
-    return planted - standing[:, _ANKLES, 2].min(axis=1)
+def _standing(walker: PersonPlan) -> PersonPlan:
+    """A walker that has nowhere to go, standing where it starts: its legs straight (every
+    angle 0), facing its way, its lower ankle as high as its gait plants one."""
+    t = walker.targets
+    walking, _ = forward_kinematics(walker.dims, t.root_pos, t.root_quat, t.q)
+    n = len(t.root_pos)
+    still = Pose(np.repeat(t.root_pos[:1], n, axis=0), np.repeat(t.root_quat[:1], n, axis=0), np.zeros_like(t.q))
+    standing, _ = forward_kinematics(walker.dims, still.root_pos, still.root_quat, still.q)
+    still.root_pos[:, 2] += walking[:, _ANKLES, 2].min() - standing[:, _ANKLES, 2].min(axis=1)
+    return replace(walker, targets=still)
 
 
 def _ledge_stop(env: str, start: np.ndarray, along: np.ndarray, dist: float, reach: float) -> float:

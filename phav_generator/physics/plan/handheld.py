@@ -36,9 +36,18 @@ def _world_grip(body_pos: np.ndarray, body_rot: np.ndarray, rel: np.ndarray) -> 
     return body_pos + body_rot @ rel
 
 
-def free_hand(necessary: tuple[str, ...]) -> str:
-    """The hand the action does not need (the objects variation's prop goes there)."""
-    return "left_hand" if "right_hand" in necessary else "right_hand"
+def hands(motion: str, mirror: bool) -> tuple[str, str]:
+    """The body's (acting, other) hand in a clip of ``motion``: a take acts with its right
+    hand unless it is named for its left (``brush_hair_left_hand_01``); mirrored, with the
+    other. An action's scene names the muscles of a right-handed take."""
+    acting_right = ("left_hand" in motion) == mirror
+    return ("right_hand", "left_hand") if acting_right else ("left_hand", "right_hand")
+
+
+def free_hand(necessary: tuple[str, ...], acting: str, other: str) -> str:
+    """The hand the action does not need (the objects variation's prop goes there): the
+    other hand where the action needs its acting one, else the acting one."""
+    return other if "right_hand" in necessary else acting
 
 
 def hold(
@@ -122,8 +131,16 @@ def catch(b: PlanBuilder, p: PersonPlan, body: str) -> None:
                   b.times[-1] + 1.0, grip, vel=vel)  # fmt: skip
 
 
+#: How far over the bottle's place on the ground (m) the grip may stay at its lowest and
+#: still pick it up (a hand reaching for a bottle's neck is ~0.1 m over its centre): the weld
+#: closes that gap as the hand closes; a wider one would pull the bottle through the air.
+PICK_REACH_M = 0.25
+
+
 def pick(b: PlanBuilder, p: PersonPlan, hand: str) -> None:
-    """Pick up: the object rests on the ground under the hand's lowest point; held after."""
+    """Pick up: the object rests on the ground under the hand's lowest point; held after. A
+    clip whose hand never comes down to it (its window misses the bend) holds it instead:
+    the weld would have pulled it up into the hand from the ground."""
     pos, rot = body_poses(p.dims, p.targets)
     h = pos[:, BONE_INDEX[hand]]
     i = int(np.argmin(h[:, 2]))
@@ -132,6 +149,9 @@ def pick(b: PlanBuilder, p: PersonPlan, hand: str) -> None:
     grip = _grip(rel, p.dims.height_m / 1.75)
     grip_world = _world_grip(h[i], rot[i, BONE_INDEX[hand]], grip[0])
     start = np.array([grip_world[0], grip_world[1], ground + size[0] + size[1] + 0.005])
+    if grip_world[2] - start[2] > PICK_REACH_M:
+        hold(b, p, "bottle", hand, name="bottle_pick")
+        return
     t_pick = float(b.times[i])
     _gripped_prop(b, p, "bottle", hand, "bottle_pick", start, np.array([1.0, 0, 0, 0]), "pick", t_pick,
                   b.times[-1] + 1.0, grip)  # fmt: skip

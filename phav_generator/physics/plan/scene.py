@@ -24,7 +24,7 @@ from phav_generator.physics.plan.camera import (
 )
 from phav_generator.physics.plan.car_hit import car_hit
 from phav_generator.physics.plan.furniture import chair_under_pelvis, pull_up_bar
-from phav_generator.physics.plan.handheld import catch, free_hand, hold, kick, pick, throw
+from phav_generator.physics.plan.handheld import catch, free_hand, hands, hold, kick, pick, throw
 from phav_generator.physics.plan.obstacles import let_go_at_obstacles
 from phav_generator.physics.plan.people import plan_person
 from phav_generator.physics.plan.push import push_target
@@ -162,8 +162,7 @@ def _action_props(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     r = b.recipe
     action = r.action
     scene = ACTION_SCENES[action]
-    right = "left_hand" if r.motion.mirror else "right_hand"
-    left = "right_hand" if r.motion.mirror else "left_hand"
+    right, left = hands(r.motion.base_motion, r.motion.mirror)  # a right-handed take's right hand, and left
     for obj in scene.objects:
         if obj in ("hair_brush", "gun", "golf_club", "baseball_bat"):
             hold(b, p, obj, right)
@@ -188,7 +187,8 @@ def _action_props(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     if action == "push":
         p = push_target(b, p)
     if r.variation.kind == "objects":
-        hold(b, p, r.variation.object, free_hand(scene.necessary_muscles), name=f"{r.variation.object}_variation")
+        free = free_hand(scene.necessary_muscles, right, left)
+        hold(b, p, r.variation.object, free, name=f"{r.variation.object}_variation")
     return p
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
+
 from phav_generator.motion.animation import Pose
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder
@@ -13,6 +15,8 @@ from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, Person
 
 #: Servo strength of an arm whose hand is tied to someone else's body.
 TIED_ARM_STRENGTH = 0.4
+#: A partner walking with the protagonist keeps pace where both go at least this far (m).
+TRAVEL_MATCHED_M = 0.5
 
 
 def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPlan]:
@@ -21,10 +25,21 @@ def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPla
     r = b.recipe
     out = []
     for s in r.supporting_characters:
-        person = plan_person(
-            b, s.person_id, "supporting", s.human, r.motion.base_motion, r.motion.start_s, r.motion.speed,
-            r.motion.mirror, s.position, s.heading_deg,
-        )  # fmt: skip
+
+        def planned(speed: float, s=s) -> PersonPlan:
+            return plan_person(
+                b, s.person_id, "supporting", s.human, r.motion.base_motion, r.motion.start_s, speed,
+                r.motion.mirror, s.position, s.heading_deg,
+            )  # fmt: skip
+
+        person = planned(r.motion.speed)
+        if s.placement in ("side_by_side", "behind"):
+            # Walking with the protagonist: its own strides (as long as its legs and its
+            # amplitude make them) at the cadence that keeps pace. The same motion at the same
+            # speed travels in proportion to those, and held hands came apart by up to 1.6 m.
+            mine, theirs = _travel(protagonist), _travel(person)
+            if mine > TRAVEL_MATCHED_M and theirs > TRAVEL_MATCHED_M:
+                person = planned(r.motion.speed * mine / theirs)
         out.append(person)
     if not out:
         return out
@@ -40,6 +55,12 @@ def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPla
         b.ties.append(HandTie(0, "right_hand", partner.person_id, "chest", (0.0, 0.0, -0.08 * scale), shoulder))
         b.manipulations.append(Manipulation("hug", 0, "right_hand", "hold", 0.0, float(b.times[-1])))
     return out
+
+
+def _travel(p: PersonPlan) -> float:
+    """How far (m) a person's pelvis goes over the ground from the clip's first frame to its last."""
+    root = p.targets.root_pos
+    return float(np.linalg.norm(root[-1, :2] - root[0, :2]))
 
 
 def arm_pose_for_tie(p: PersonPlan, action: str) -> PersonPlan:

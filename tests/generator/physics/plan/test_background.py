@@ -75,3 +75,16 @@ def test_a_walkers_planted_foot_stays_planted() -> None:
                     worse = max(worse, float(np.median(speed[stands])))
             slides.append(worse)
     assert len(slides) >= 10 and max(slides) < 0.1 and float(np.median(slides)) < 0.06, np.round(slides, 3)
+
+
+def test_a_walker_that_arrives_slows_to_a_stance_not_a_snap() -> None:
+    """A walker arriving at its destination (or a ledge) was set standing on straight legs
+    in one frame: some body part moved up to 16.7 m/s in that frame (2.6 m/s is a walking
+    body's median). It now slows to a standstill in its last stance with both feet down."""
+    fastest = []
+    for recipe in sample_recipes(load_theta("phav-v1"), n=120, seed=0):
+        for walker in background_people(PlanBuilder(recipe, choose_substeps(recipe))):
+            t = walker.targets
+            bodies, _ = forward_kinematics(walker.dims, t.root_pos, t.root_quat, t.q)
+            fastest.append(float(np.linalg.norm(np.diff(bodies, axis=0), axis=-1).max()) * recipe.video.fps)
+    assert len(fastest) > 100 and max(fastest) < 8.0, sorted(fastest)[-5:]

@@ -6,7 +6,10 @@ import numpy as np
 
 from phav_generator.motion.rotations import quat_to_matrix
 from phav_generator.motion.skeleton import BONE_INDEX
+from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate
+from phav_generator.sampling import RecipeSampler
+from phav_spec.theta import load_theta
 from tests.generator.physics.support import assert_healthy, recipe_for
 
 
@@ -19,3 +22,18 @@ def test_walk_holding_hands_keeps_hands_tied() -> None:
     pb = b.body_pos[:, BONE_INDEX["left_hand"]] + quat_to_matrix(b.body_quat[:, BONE_INDEX["left_hand"]]) @ palm
     gap = np.linalg.norm(pa - pb, axis=-1)
     assert gap[10:].max() < 0.05, f"palms {np.round(gap, 3)} m apart"
+
+
+def test_a_partner_keeps_pace_whatever_its_legs_and_stride() -> None:
+    """phav-v1, seed 0: walking hand in hand with a 1.50 m partner, a 1.95 m protagonist
+    (1804) walked away from them by 1.6 m over the clip, the partner's pelvis 0.79 → 1.82 m
+    from theirs: the same motion at the same speed travels in proportion to leg length and
+    stride. The partner now walks at the cadence that keeps pace."""
+    sampler = RecipeSampler(load_theta("phav-v1"))
+    for index in (1804, 3697):
+        recipe = sampler.sample(0, index)
+        assert recipe.action == "walk_holding_hands"
+        plan = plan_scene(recipe)
+        a, b = plan.people[0].targets.root_pos, plan.people[1].targets.root_pos
+        apart = np.linalg.norm((a - b)[:, :2], axis=1)
+        assert abs(apart[-1] - apart[0]) < 0.1, (index, np.round(apart[[0, -1]], 2))
