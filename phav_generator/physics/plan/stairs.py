@@ -26,8 +26,9 @@ def build_stairs(b: PlanBuilder, probe: PersonPlan, start: np.ndarray) -> np.nda
     in the motion frame): those treads are built in the world through the clip's
     ``Placement``, so every plant lands on a tread whatever the person's height, the
     clip's start in the flight or the handedness. Going up, the tread under the feet at
-    the clip's start is the waypoint's floor; going down, the lowest tread the clip reaches
-    is, and the person starts on the tread (or landing) above it: ``stand_offset_z``.
+    the clip's start is the waypoint's floor (or, where the swing foot is still coming up
+    from the tread below, that tread is); going down, the lowest tread the clip reaches is;
+    the person starts on the tread (or landing) above the floor: ``stand_offset_z``.
     """
     motion = get_motion(probe.motion)
     direction = motion.stairs
@@ -48,7 +49,14 @@ def build_stairs(b: PlanBuilder, probe: PersonPlan, start: np.ndarray) -> np.nda
     standing = clearance < 0.02 / pl.scale
     h0 = float(under[standing].min() if standing.any() else under[np.argmin(clearance)])
     lo, hi = float(motion_x.min()) - 0.3, float(motion_x.max()) + STAIR_RUN
-    h_low = float(stair_height(np.array([hi]), direction)[0]) if direction < 0 else h0
+    if direction < 0:
+        h_low = float(stair_height(np.array([hi]), direction)[0])
+    else:
+        # Going up from part-way along the flight, the swing foot may still be coming up
+        # from the tread below: the floor is the lowest tread a sole comes down past, and
+        # the person starts on the tread above it.
+        below = in_motion[..., 2] - radius < h0 - 0.005 / pl.scale
+        h_low = min(h0, float(stair_height(motion_x[below], direction).min())) if below.any() else h0
     z0 = float(start[2])
     b.stand_offset_z = pl.scale * (h0 - h_low)
     stand = np.array([start[0], start[1], z0 - pl.scale * h0])

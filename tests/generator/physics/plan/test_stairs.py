@@ -67,6 +67,28 @@ def test_stairs_feet_land_on_the_treads_the_plan_builds() -> None:
     assert late >= 5  # the clips that used to start metres off the ground
 
 
+def test_a_clip_starting_mid_stride_up_a_flight_has_the_tread_below_built() -> None:
+    """phav-v1, seed 0: clips cut from part-way up a flight whose swing foot is still coming
+    up from the tread below (v000520, v000956) started that foot 12–15 cm under the floor:
+    the standing foot's tread was the floor, and the one below was not built."""
+    recipes = {r.video_id: r for r in sample_recipes(load_theta("phav-v1"), n=960, seed=0)}
+    feet = [BONE_INDEX["left_foot"], BONE_INDEX["right_foot"]]
+    for video in ("v000520", "v000956"):
+        r = recipes[video]
+        plan = plan_scene(r)
+        me = plan.people[0]
+        t = me.targets
+        s = plan.substeps
+        pos, rot = forward_kinematics(me.dims, t.root_pos[: 3 * s : s], t.root_quat[: 3 * s : s], t.q[: 3 * s : s])
+        a, b = capsule_points(me.dims, pos, rot)
+        radius = me.dims.capsules[feet[0]].radius
+        for f in range(len(pos)):
+            for k in feet:
+                low = a[f, k] if a[f, k, 2] < b[f, k, 2] else b[f, k]
+                gap = low[2] - radius - _tread_top(plan, low[0], low[1], r.protagonist.position[2])
+                assert gap > -0.03, (video, f, k, gap)
+
+
 def test_a_stairs_motion_without_its_own_flight_gets_steps_from_its_rise() -> None:
     """An imported climb (no catalogue treads: ``MotionDef.stairs == 0``) still gets a flight,
     built from its pelvis's rise, and starts on the waypoint with the climb before the clip
