@@ -106,7 +106,8 @@ def _init_worker(events: Any, stopping: Any, parent: int) -> None:
     global _worker_events, _worker_stopping
     _worker_events, _worker_stopping = events, stopping
     signal.signal(signal.SIGTERM, _raise_worker_terminated)
-    signal.signal(signal.SIGINT, _raise_worker_terminated)
+    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # a run started ignoring Ctrl-C keeps doing so
+        signal.signal(signal.SIGINT, _raise_worker_terminated)
     exit_with_parent(parent)
 
 
@@ -234,8 +235,10 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     # Ray itself would follow RAY_ADDRESS (or a cluster `ray start` left on this machine) and
     # then refuse the CPU count asked of a local Ray: a set RAY_ADDRESS is the cluster's
     # address, and a local Ray is asked for as such.
-    field = "--address" if address else "RAY_ADDRESS"
+    field = "--address" if address else "RAY_ADDRESS" if os.environ.get("RAY_ADDRESS") else "--engine"
     address = address or os.environ.get("RAY_ADDRESS") or None
+    if address == "local":  # Ray's own word for a local Ray: started here with ``workers`` CPUs
+        address = None
     if address:  # first: a malformed or silent address is the user's error, Ray started or not
         _check_reachable(address, field)
     if ray.is_initialized():
@@ -254,8 +257,8 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
     try:
         ray.init(**options)
     except (ConnectionError, ValueError) as e:
-        raise PhavUserError(f"cannot reach the Ray cluster: {str(e).splitlines()[0]}", source=address,
-                            field=field) from None  # fmt: skip
+        what = "cannot reach the Ray cluster" if address else "cannot start a local Ray"
+        raise PhavUserError(f"{what}: {str(e).splitlines()[0]}", source=address, field=field) from None
     finally:
         if handler is not None and threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGTERM, handler)

@@ -502,7 +502,14 @@ def _has_support(name: str, weights: Mapping[str, float]) -> None:
         raise ValueError(f"{name}: all weights are zero, no value has support")
 
 
-Probability = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
+Probability = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)]
+
+
+def _a_number(value: Any) -> Any:
+    """A value a number must be, not a boolean or a quoted string (YAML's ``yes`` is True)."""
+    if isinstance(value, bool | str):
+        raise ValueError(f"expected a number, got {value!r}")
+    return value
 
 
 class GreyHair(BaseModel):
@@ -605,7 +612,7 @@ class RenderSettings(BaseModel):
     Frames"), and the PNGs' zlib level; labels, depth and flow are always one sample a pixel."""
 
     model_config = _FROZEN
-    supersampling: Literal[1, 2, 4] = 2
+    supersampling: Annotated[Literal[1, 2, 4], BeforeValidator(_a_number)] = 2
     motion_blur: bool = True
     bloom: bool = True
     ambient_occlusion: bool = True

@@ -278,7 +278,8 @@ def _init_worker(parent: int | None = None) -> None:
     cv2.setNumThreads(1)
     tune_allocator()
     if parent is not None:
-        signal.signal(signal.SIGINT, lambda signum, frame: os._exit(128 + signum))
+        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # a run started ignoring Ctrl-C keeps doing so
+            signal.signal(signal.SIGINT, lambda signum, frame: os._exit(128 + signum))
         exit_with_parent(parent)
 
 

@@ -3,7 +3,13 @@ dataset byte for byte (issue: scale-out, crash safety)."""
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
 import socket
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -83,6 +89,19 @@ def test_ray_address_is_the_clusters_and_a_local_ray_is_asked_for_as_such(monkey
     with pytest.raises(PhavUserError, match="cannot reach the Ray cluster") as caught, ray_session(3, None):
         pass
     assert caught.value.field == "RAY_ADDRESS" and caught.value.source == "127.0.0.1:1"
+    monkeypatch.setenv("RAY_ADDRESS", "local")  # Ray's word for a local Ray
+    with ray_session(3, None):
+        pass
+    assert asked[-1]["address"] == "local" and asked[-1]["num_cpus"] == 3
+    monkeypatch.delenv("RAY_ADDRESS")
+
+    def fails(**options):
+        raise ValueError("The requested object store memory size is greater than the total available memory.")
+
+    monkeypatch.setattr(ray, "init", fails)  # a local Ray that cannot start names no address
+    with pytest.raises(PhavUserError, match="^--engine: cannot start a local Ray: The requested object store"):
+        with ray_session(3, None):
+            pass
 
 
 def test_a_bracketed_ipv6_cluster_address_is_reached():
@@ -159,6 +178,34 @@ def test_a_stopped_pool_hands_on_the_tasks_under_way_that_finish():
     # At most tasks 1 and 2 were under way when the first record was handed on (the two
     # workers'), and 3 was queued: before, it and the next were run too.
     assert records[0] == 0 and records == sorted(records) and set(records) <= {0, 1, 2}, records
+
+
+_IGNORING_CTRL_C = """
+import signal, sys
+from pathlib import Path
+signal.signal(signal.SIGINT, signal.SIG_IGN)  # as a job a script starts in the background
+from phav_generator.engines import run_tasks
+from tests.generator.test_engines import _sleep_for
+done = []
+run_tasks(_sleep_for, [(i, 1.5) for i in range(4)], engine="local", workers=2, address=None, out=Path("."),
+          progress=None, finished=lambda r: done.append(r["task"]))
+print(sorted(done))
+"""
+
+
+def test_a_run_started_ignoring_ctrl_c_keeps_ignoring_it_in_its_workers():
+    """A run started with SIGINT ignored (a background job) finishes when Ctrl-C reaches its
+    process group: its workers, which inherit the ignoring, do not stop on it either."""
+    run = subprocess.Popen([sys.executable, "-c", _IGNORING_CTRL_C], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True, start_new_session=True, cwd=Path(__file__).resolve().parents[2])  # fmt: skip
+    try:
+        time.sleep(4.0)  # the workers started and busy
+        os.killpg(run.pid, signal.SIGINT)
+        out, err = run.communicate(timeout=120)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(run.pid, signal.SIGKILL)
+    assert run.returncode == 0 and out.strip() == "[0, 1, 2, 3]", err[-800:]
 
 
 def _fail_first(task, report):

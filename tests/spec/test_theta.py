@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import threading
@@ -222,13 +223,22 @@ def test_dead_zone_weights_follow_the_rules_of_every_categorical(tmp_path, weigh
 @pytest.mark.parametrize(
     ("path", "value"),
     [("durations.t_min", True), ("motion.p_mirror", True), ("video.width", "340"), ("video.width", True),
-     ("background_actors.count.max", "3")],
+     ("background_actors.count.max", "3"), ("render.supersampling", True)],
 )  # fmt: skip
 def test_a_number_is_a_number_not_a_boolean_or_a_quoted_string(tmp_path, path, value):
     """YAML's ``yes`` or ``true`` read as 1 and ``"340"`` as 340 wherever θ wants a number,
     as the categoricals' weights and the frame rate already refused."""
-    with pytest.raises(PhavUserError, match=rf"{path.replace('.', '[.]')}: Input should be a valid"):
+    with pytest.raises(PhavUserError, match=rf"{path.replace('.', '[.]')}: (Input should be a valid|expected a number)"):
         load_theta(theta_variant(tmp_path, _set(path, value)))
+
+
+@pytest.mark.parametrize("value", [True, "0.5"])
+def test_a_probability_is_a_number_not_a_boolean_or_a_quoted_string(tmp_path, value):
+    text = (PRESETS_DIR / "phav-people.yaml").read_text(encoding="utf-8")
+    path = tmp_path / "people.yaml"
+    path.write_text(text.replace("  p_female: 0.5", f"  p_female: {json.dumps(value)}"), encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"people\.p_female: Input should be a valid number"):
+        load_theta(path)
 
 
 def test_a_tables_default_row_is_checked_when_every_row_is_given(tmp_path):

@@ -78,10 +78,10 @@ def background_people(b: PlanBuilder) -> list[PersonPlan]:
             pin=np.ones(n),
             physical=False,
         )
-        if stop <= 0.0:  # nowhere to go: standing where it starts
+        at = int(np.searchsorted(frame_times, stop / actor.speed_mps, side="right")) - 1  # where it arrives
+        if at <= 0:  # nowhere to go (or less than a frame's walk): standing where it starts
             walker = _standing(walker)
-        elif stop < actor.speed_mps * frame_times[-1]:  # it arrives: it slows to its last stance there
-            at = int(np.searchsorted(frame_times, stop / actor.speed_mps, side="right")) - 1
+        elif at < n - 1:  # it arrives: it slows to its last stance there
             walker = halt(walker, frame_times, float(frame_times[planted_before(walker, frame_times, at)]))
         t = walker.targets
         lift = _stance_level(r.environment.name, dims, t.root_pos, t.root_quat, t.q, along, reach, r.video.fps)

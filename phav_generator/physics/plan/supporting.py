@@ -36,7 +36,7 @@ def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPla
         if s.placement in ("side_by_side", "behind"):
             # Walking with the protagonist: its own strides (as long as its legs and its
             # amplitude make them) at the cadence that keeps pace. The same motion at the same
-            # speed travels in proportion to those, and held hands came apart by up to 1.6 m.
+            # speed travels in proportion to those, and held hands came apart by over a metre.
             mine, theirs = _travel(protagonist), _travel(person)
             if mine > TRAVEL_MATCHED_M and theirs > TRAVEL_MATCHED_M:
                 person = planned(r.motion.speed * mine / theirs)
