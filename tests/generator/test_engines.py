@@ -99,7 +99,7 @@ def test_ray_address_is_the_clusters_and_a_local_ray_is_asked_for_as_such(monkey
         raise ValueError("The requested object store memory size is greater than the total available memory.")
 
     monkeypatch.setattr(ray, "init", fails)  # a local Ray that cannot start names no address
-    with pytest.raises(PhavUserError, match="^--engine: cannot start a local Ray: The requested object store"):
+    with pytest.raises(PhavUserError, match=r"^--engine: cannot start a local Ray: The requested object store"):
         with ray_session(3, None):
             pass
 
