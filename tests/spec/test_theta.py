@@ -228,7 +228,9 @@ def test_dead_zone_weights_follow_the_rules_of_every_categorical(tmp_path, weigh
 def test_a_number_is_a_number_not_a_boolean_or_a_quoted_string(tmp_path, path, value):
     """YAML's ``yes`` or ``true`` read as 1 and ``"340"`` as 340 wherever θ wants a number,
     as the categoricals' weights and the frame rate already refused."""
-    with pytest.raises(PhavUserError, match=rf"{path.replace('.', '[.]')}: (Input should be a valid|expected a number)"):
+    with pytest.raises(
+        PhavUserError, match=rf"{path.replace('.', '[.]')}: (Input should be a valid|expected a number)"
+    ):
         load_theta(theta_variant(tmp_path, _set(path, value)))
 
 
