@@ -7,6 +7,7 @@ import errno
 import hashlib
 import json
 import os
+import re
 import secrets
 import stat
 import tempfile
@@ -190,10 +191,8 @@ def _writing_in(target: Path, sweep: bool) -> int | None:
         if sweep:
             with contextlib.suppress(BlockingIOError):
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                prefix = f".{target.name}."
                 for name in sorted(os.listdir(target.parent)):
-                    hexpart = name[len(prefix) : -len(".tmp")]
-                    if name.startswith(prefix) and name.endswith(".tmp") and _is_token(hexpart):
+                    if temporary_of(name) == target.name:
                         with contextlib.suppress(FileNotFoundError):
                             os.unlink(target.parent / name)
         fcntl.flock(fd, fcntl.LOCK_SH)
@@ -203,9 +202,14 @@ def _writing_in(target: Path, sweep: bool) -> int | None:
     return fd
 
 
-def _is_token(text: str) -> bool:
-    """Whether ``text`` is ``atomic_write``'s 16 lower-case hex digits."""
-    return len(text) == 16 and all(c in "0123456789abcdef" for c in text)
+#: ``atomic_write``'s temporaries: ``.{name}.{16 hex}.tmp``.
+_TEMPORARY = re.compile(r"\.(.+)\.[0-9a-f]{16}\.tmp")
+
+
+def temporary_of(name: str) -> str | None:
+    """The file name whose ``atomic_write`` temporary ``name`` is, None if it is none."""
+    match = _TEMPORARY.fullmatch(name)
+    return match.group(1) if match else None
 
 
 def check_output_dir(out: Path, *, field: str = "--out") -> None:

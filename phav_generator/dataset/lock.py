@@ -5,16 +5,14 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import os
-import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
 
 from phav_spec.errors import PhavUserError
+from phav_spec.files import temporary_of
 
 LOCK_FILE = "lock"
-#: ``atomic_write``'s temporaries: ``.{name}.{16 hex}.tmp``.
-_TEMPORARY = re.compile(r"\..+\.[0-9a-f]{16}\.tmp")
 
 
 @contextlib.contextmanager
@@ -52,5 +50,5 @@ def remove_stale_temporaries(*folders: Path) -> None:
     """Temporaries a killed run left behind (a live run holds the lock, so none is in use)."""
     for folder in folders:
         for path in folder.iterdir():
-            if _TEMPORARY.fullmatch(path.name) and path.is_file():
+            if temporary_of(path.name) is not None and path.is_file():
                 path.unlink()
