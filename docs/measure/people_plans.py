@@ -7,7 +7,9 @@ without physics or pixels, and measures
   fastest any body part moves in a frame (a walker set standing in one frame);
 - partners walking with the protagonist: how much their pelvises' distance changes over
   the clip;
-- `climb_stairs`: the deepest a sole goes into the floor or a tread.
+- `climb_stairs`: the deepest a sole goes into the floor or a tread;
+- people walking into each other (`facing`): how near their chests come (the pelvises'
+  closest distance less the two chests' radii; below zero, one walks into the other).
 
     .venv/bin/python docs/measure/people_plans.py [--theta phav-v1] [--recipes 1200] [--seed 0]
 """
@@ -79,15 +81,16 @@ def main() -> None:
     parser.add_argument("--recipes", type=int, default=1200)
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
-    heading, slide, fastest, drift, stairs = [], [], [], [], []
+    heading, slide, fastest, drift, stairs, facing = [], [], [], [], [], []
     for recipe in sample_recipes(load_preset(args.theta), n=args.recipes, seed=args.seed):
         for walker in background_people(PlanBuilder(recipe, choose_substeps(recipe))):
             s, f = walker_feet(walker, recipe.video.fps)
             slide.append(s)
             fastest.append(f)
         walks = recipe.motion.base_motion in STRAIGHT
-        pair = recipe.supporting_characters and recipe.supporting_characters[0].placement != "facing"
-        if not (walks or pair or recipe.action == "climb_stairs"):
+        placement = recipe.supporting_characters[0].placement if recipe.supporting_characters else None
+        pair = placement is not None and placement != "facing"
+        if not (walks or placement or recipe.action == "climb_stairs"):
             continue
         plan = plan_scene(recipe)
         if walks:
@@ -96,6 +99,10 @@ def main() -> None:
             a, b = plan.people[0].targets.root_pos, plan.people[1].targets.root_pos
             apart = np.linalg.norm((a - b)[:, :2], axis=1)
             drift.append(abs(float(apart[-1] - apart[0])))
+        if placement == "facing":
+            a, b = plan.people[0], plan.people[1]
+            apart = np.linalg.norm((a.targets.root_pos - b.targets.root_pos)[:, :2], axis=1)
+            facing.append(float(apart.min()) - sum(p.dims.capsules[BONE_INDEX["chest"]].radius for p in (a, b)))
         if recipe.action == "climb_stairs":
             stairs.append(stairs_depth(recipe, plan))
     print(f"the first {args.recipes} recipes of {args.theta}, seed {args.seed}")
@@ -110,6 +117,13 @@ def main() -> None:
         if values:
             p50, p90, top = np.percentile(values, [50, 90, 100])
             print(f"  {name:42s} n {len(values):4d}  median {p50:.3f}  90 % {p90:.3f}  max {top:.3f}")
+    if facing:
+        gaps = np.array(facing)
+        print(
+            f"  {'walking into each other: chests apart (m)':42s} n {len(gaps):4d}  min {gaps.min():.3f}  "
+            f"median {np.median(gaps):.3f}  into each other {int((gaps < 0).sum())}  "
+            f"within 0.5 m {int(((gaps >= 0) & (gaps < 0.5)).sum())}  never within 1 m {int((gaps >= 1).sum())}"
+        )
 
 
 if __name__ == "__main__":

@@ -10,18 +10,22 @@ import numpy as np
 from phav_generator.motion.animation import Pose
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_INDEX
 from phav_generator.physics.plan.builder import PlanBuilder
-from phav_generator.physics.plan.people import plan_person
+from phav_generator.physics.plan.people import halt, plan_person, planted_before
 from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, PersonPlan
 
 #: Servo strength of an arm whose hand is tied to someone else's body.
 TIED_ARM_STRENGTH = 0.4
 #: A partner walking with the protagonist keeps pace where both go at least this far (m).
 TRAVEL_MATCHED_M = 0.5
+#: How far back (s) from where two people walking into each other would meet the stances
+#: they stop at are looked for.
+BUMP_LOOKBACK_S = 1.5
 
 
 def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPlan]:
-    """The supporting characters, doing the protagonist's motion; the first is tied to the
-    protagonist in the two-person actions (hand in hand, or a hand on the far shoulder)."""
+    """The protagonist and the supporting characters, doing the protagonist's motion; the
+    first is tied to the protagonist in the two-person actions (hand in hand, or a hand on
+    the far shoulder), or walks into it (``facing``: both stop where they meet)."""
     r = b.recipe
     out = []
     for s in r.supporting_characters:
@@ -42,7 +46,9 @@ def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPla
                 person = planned(r.motion.speed * mine / theirs)
         out.append(person)
     if not out:
-        return out
+        return [protagonist]
+    if r.supporting_characters[0].placement == "facing":
+        protagonist, out[0] = bump(b, protagonist, out[0])
     partner = out[0]
     scale = protagonist.dims.height_m / 1.75
     if r.action == "walk_holding_hands":
@@ -54,7 +60,31 @@ def supporting_people(b: PlanBuilder, protagonist: PersonPlan) -> list[PersonPla
         shoulder = (0.0, -0.12 * scale, 0.17 * scale)  # the partner's far (right) shoulder
         b.ties.append(HandTie(0, "right_hand", partner.person_id, "chest", (0.0, 0.0, -0.08 * scale), shoulder))
         b.manipulations.append(Manipulation("hug", 0, "right_hand", "hold", 0.0, float(b.times[-1])))
-    return out
+    return [protagonist, *out]
+
+
+def bump(b: PlanBuilder, a: PersonPlan, c: PersonPlan) -> tuple[PersonPlan, PersonPlan]:
+    """Two people walking into each other (``facing``): where their plans would pass chest
+    through chest, each halts at one of its own stances (both feet down) before, the pair
+    of stances that leaves them nearest to touching. Pinned, they would walk through each
+    other; people who never meet in the clip walk on."""
+    times = b.times
+    touching = a.dims.capsules[BONE_INDEX["chest"]].radius + c.dims.capsules[BONE_INDEX["chest"]].radius
+    ra, rc = a.targets.root_pos[:, :2], c.targets.root_pos[:, :2]
+    meet = np.flatnonzero(np.linalg.norm(ra - rc, axis=1) < touching)
+    if not meet.size:
+        return a, c
+    dt = float(times[1] - times[0])
+    frame = max(1, round(1.0 / (b.recipe.video.fps * dt)))
+    grid = range(int(meet[0]), max(-1, int(meet[0]) - round(BUMP_LOOKBACK_S / dt)), -frame)
+    stances_a = sorted({planted_before(a, times, k) for k in grid})
+    stances_c = sorted({planted_before(c, times, k) for k in grid})
+    gaps = np.linalg.norm(ra[stances_a][:, None] - rc[stances_c][None], axis=2)
+    apart = gaps >= touching
+    # The nearest pair still apart; where none is (they meet within a stance of the
+    # clip's start), the farthest.
+    i, j = np.unravel_index(np.argmin(np.where(apart, gaps, np.inf)) if apart.any() else np.argmax(gaps), gaps.shape)
+    return halt(a, times, float(times[stances_a[i]])), halt(c, times, float(times[stances_c[j]]))
 
 
 def _travel(p: PersonPlan) -> float:

@@ -37,3 +37,24 @@ def test_a_partner_keeps_pace_whatever_its_legs_and_stride() -> None:
         a, b = plan.people[0].targets.root_pos, plan.people[1].targets.root_pos
         apart = np.linalg.norm((a - b)[:, :2], axis=1)
         assert abs(apart[-1] - apart[0]) < 0.1, (index, np.round(apart[[0, -1]], 2))
+
+
+def test_people_walking_into_each_other_stop_before_their_chests_meet() -> None:
+    """phav-v1, seed 0: in `bump_into_each_other` both walk the same motion towards each
+    other from θ's distance, pinned to their plans; the pelvises of 119, 182 and 249 came
+    within 0.00–0.04 m, the two walking through each other. Each now halts at a stance
+    before, the chests no nearer than touching, and the physics keeps them apart."""
+    sampler = RecipeSampler(load_theta("phav-v1"))
+    for index in (119, 182, 249):
+        recipe = sampler.sample(0, index)
+        assert recipe.action == "bump_into_each_other"
+        plan = plan_scene(recipe)
+        a, b = plan.people[0], plan.people[1]
+        touching = sum(p.dims.capsules[BONE_INDEX["chest"]].radius for p in (a, b))
+        apart = np.linalg.norm((a.targets.root_pos - b.targets.root_pos)[:, :2], axis=1)
+        assert apart.min() >= touching, (index, round(float(apart.min()), 3), round(touching, 3))
+        assert apart.min() < touching + 1.5, (index, round(float(apart.min()), 3))  # they did walk up
+        assert np.ptp(a.targets.root_pos[-10:, :2], axis=0).max() < 1e-6  # standing still
+    tr = simulate(recipe, keep_state=False)
+    gap = np.linalg.norm((tr.people[0].body_pos[:, 0] - tr.person(1).body_pos[:, 0])[:, :2], axis=1)
+    assert gap.min() >= 0.9 * touching, round(float(gap.min()), 3)
