@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from phav_generator.motion.rotations import matrix_to_quat
-from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, PropPlan, StaticBox
+from phav_generator.physics.plan.scene_plan import HandTie, Manipulation, PersonPlan, PropPlan, StaticBox
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import stream
 
@@ -26,6 +26,9 @@ class PlanBuilder:
         self.ties: list[HandTie] = []
         self.manipulations: list[Manipulation] = []
         self.stand_offset_z = 0.0
+        #: The background walkers, planned first: kinematic, they keep to their ways whatever
+        #: comes, so what the action drives (the car of ``car_hit``) keeps clear of them.
+        self.walkers: tuple[PersonPlan, ...] = ()
 
 
 def uniform(lo: float, hi: float, *, rng: np.random.Generator) -> float:

@@ -34,6 +34,9 @@ CAR_ACCELERATION_MPS2 = 3.5
 #: colliders (and stays on the raised ground it drives on), so it never drives out of a
 #: wall, through a tree or off a plaza's edge.
 CAR_TURNS_DEG = (0.0, *(sign * 15.0 * k for k in range(1, 12) for sign in (1.0, -1.0)), 180.0)
+#: How far (m) the car keeps from a background walker's pelvis, beyond its box: a body's
+#: half width and a stride. Walkers are not simulated: a car driven into one passes through.
+CAR_WALKER_KEEP_M = 0.5
 #: Where no direction is clear at the drawn hit time (the protagonist walking into a wall
 #: or a rail), the hit comes earlier, in steps of this (s)...
 CAR_EARLIER_HIT_S = 0.25
@@ -58,13 +61,8 @@ def car_hit(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     ground = b.recipe.protagonist.position[2]
     way = _approach(b, p, Approach(heading, speed, speed * t_hit, t_hit, ground), side, half)
     speed, t_hit, ground = way.speed, way.t_hit, way.ground
-    pelvis = _pelvis_at(b, p, t_hit)
-    across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
     # The car's front reaches the pelvis at t_hit; then it brakes once it has touched.
-    centre_hit = np.array([pelvis[0], pelvis[1], ground + half[2] + CAR_CLEARANCE_M]) + across * (
-        half[0] + CAR_HIT_GAP_M
-    )
-    path = centre_hit[None, :] - across[None, :] * _run(way, b.times)[:, None]
+    path = _car_path(b, p, way, side, half)
     yaw = way.heading + side * math.pi / 2 + math.pi
     quat = rot_to_quat(yaw_matrix(yaw))
     # The car has stopped by the time it has braked from a late touch (its path's end).
@@ -101,7 +99,8 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
     clip's start, hit and brake to a stop without meeting a collider; else the first whose
     way behind is long enough to reach its speed from a standstill; else the way that allows
     the most speed, speeding up from a standstill and braking to a stop short of what stands
-    ahead at no more than the car's acceleration and braking (``_allowed``)."""
+    ahead at no more than the car's acceleration and braking (``_allowed``). Each of these
+    first among the ways that keep clear of the background walkers (``_meets_walkers``)."""
     env = b.recipe.environment.name
     scene = ENVIRONMENT_SCENES[env]
     speed = drawn.speed
@@ -127,18 +126,52 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
             back, ahead = clear_run(scene.colliders, centre, (-float(across[0]), -float(across[1])), tuple(half),
                                     ground + CAR_CLEARANCE_M, ground, raised=raised)  # fmt: skip
             runs.append((turned, back, ahead))
-        for turned, back, ahead in runs:
-            if back >= speed * t_hit and ahead >= stop_m:
+        clear = [
+            back > 0.0
+            and not _meets_walkers(b, p, Approach(turned, speed, min(back, speed * t_hit), t_hit, ground, ahead), side,
+                                   half)  # fmt: skip
+            for turned, back, ahead in runs
+        ]
+        for (turned, back, ahead), ok in zip(runs, clear, strict=True):
+            if ok and back >= speed * t_hit and ahead >= stop_m:
                 return Approach(turned, speed, speed * t_hit, t_hit, ground)
-        for turned, back, ahead in runs:
-            if back >= reach and ahead >= stop_m:
+        for (turned, back, ahead), ok in zip(runs, clear, strict=True):
+            if ok and back >= reach and ahead >= stop_m:
                 return Approach(turned, speed, back, t_hit, ground)
-        ways += [(_allowed(speed, back, ahead), back, -k, t_hit, turned, ahead, ground)
-                 for k, (turned, back, ahead) in enumerate(runs)]  # fmt: skip
-    v, back, _, t_hit, turned, ahead, ground = max(ways, key=lambda w: w[:4])
+        ways += [(_allowed(speed, back, ahead) > 0.0, ok, _allowed(speed, back, ahead), back, -k, t_hit, turned, ahead,
+                  ground) for k, ((turned, back, ahead), ok) in enumerate(zip(runs, clear, strict=True))]  # fmt: skip
+    *_, v, back, _, t_hit, turned, ahead, ground = max(ways, key=lambda w: w[:6])
     if v <= 0.0:
         return drawn  # hemmed in all round: square across, as drawn
     return Approach(turned, v, min(back, v * t_hit), t_hit, ground, ahead)
+
+
+def _car_path(b: PlanBuilder, p: PersonPlan, way: Approach, side: float, half: np.ndarray) -> np.ndarray:
+    """The car's centre at every plan step along ``way``: its front reaching the protagonist's
+    pelvis at the hit, then braking once it has touched."""
+    pelvis = _pelvis_at(b, p, way.t_hit)
+    across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
+    centre_hit = np.array([pelvis[0], pelvis[1], way.ground + half[2] + CAR_CLEARANCE_M]) + across * (
+        half[0] + CAR_HIT_GAP_M
+    )
+    return centre_hit[None, :] - across[None, :] * _run(way, b.times)[:, None]
+
+
+def _meets_walkers(b: PlanBuilder, p: PersonPlan, way: Approach, side: float, half: np.ndarray) -> bool:
+    """Whether the car driven along ``way`` comes within ``CAR_WALKER_KEEP_M`` of a background
+    walker's pelvis at any frame (in the car's frame, elementwise: no BLAS summation order)."""
+    if not b.walkers:
+        return False
+    centre = _car_path(b, p, way, side, half)[:: b.substeps, :2]
+    across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
+    along, lateral = (float(across[0]), float(across[1])), (-float(across[1]), float(across[0]))
+    for walker in b.walkers:
+        d = walker.targets.root_pos[:, :2] - centre
+        ahead = np.abs(d[:, 0] * along[0] + d[:, 1] * along[1]) <= half[0] + CAR_WALKER_KEEP_M
+        beside = np.abs(d[:, 0] * lateral[0] + d[:, 1] * lateral[1]) <= half[1] + CAR_WALKER_KEEP_M
+        if bool(np.any(ahead & beside)):
+            return True
+    return False
 
 
 def _allowed(speed: float, back: float, ahead: float) -> float:

@@ -44,10 +44,11 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     """The simulation plan of a recipe (deterministic, pure)."""
     substeps = choose_substeps(recipe, physics_hz)
     b = PlanBuilder(recipe, substeps)
+    b.walkers = tuple(background_people(b))
     protagonist = _action_props(b, _protagonist_rules(b, _protagonist(b)))
     people = loosen_tied_arms(supporting_people(b, protagonist), b.ties)
     people = [let_go_at_obstacles(b, person) for person in people]
-    people = (*people, *background_people(b))
+    people = (*people, *b.walkers)
     camera_target = _camera_target(recipe, people[0])
     shift = None if camera_target is None else np.array(camera_target) - np.array(recipe.camera.target)
     anchors = _view_anchors(recipe, people[0], substeps)

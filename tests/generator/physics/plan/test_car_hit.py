@@ -27,8 +27,10 @@ from phav_generator.physics.plan.obstacles import clear_run
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate, simulate_plan
 from phav_generator.render.scene import drawn_vehicle
+from phav_generator.sampling import RecipeSampler
 from phav_spec.car_shapes import CAR_BODIES, car_profile
 from phav_spec.scene import ENVIRONMENT_SCENES, Collider, support_height
+from phav_spec.theta import load_theta
 from phav_validators.checks.failures import BoxSet
 from tests.generator.physics.support import assert_healthy, recipe_for
 from tests.helpers import outside_hulls, run_measure
@@ -238,3 +240,23 @@ def test_the_way_measure_reports_the_car_s_way():
     assert (
         "2 car_hit videos with a driven car (seed 7)" in out and "the car inside a collider: 0 videos, 0 frames" in out
     )
+
+
+def test_the_car_keeps_clear_of_the_background_walkers() -> None:
+    """phav-v1, seed 1: the car of 128, 273, 297 and 675 drove through a background walker
+    (kinematic, on its way whatever comes), most of its body inside the car's box for up to
+    19 frames: the walkers start on the road the car comes along. It now comes from a
+    direction whose way keeps clear of them."""
+    sampler = RecipeSampler(load_theta("phav-v1"))
+    for index in (128, 273, 297, 675):
+        recipe = sampler.sample(1, index)
+        assert recipe.action == "car_hit" and recipe.background_actors
+        plan = plan_scene(recipe)
+        car = _car(plan)
+        rot = np.empty(9)
+        mujoco.mju_quat2Mat(rot, np.asarray(car.quat, dtype=np.float64))
+        centre = car.path[:: plan.substeps]
+        for walker in (p for p in plan.people if p.role == "background"):
+            local = np.abs((walker.targets.root_pos - centre) @ rot.reshape(3, 3))
+            inside = np.all(local[:, :2] <= np.array(CAR_HALF[:2]) + 0.3, axis=1)
+            assert not inside.any(), (index, walker.person_id, np.flatnonzero(inside))
