@@ -54,7 +54,7 @@ from phav_app.console import (
 from phav_app.fingerprint_cli import fingerprint_command
 from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet, write_gif
 from phav_app.release import make_release
-from phav_app.sheets import render_sheet, sheet_specs, write_index
+from phav_app.sheets import check_sheets_dir, render_sheet, sheet_specs, write_index
 from phav_app.train_cli import train_command
 from phav_generator.body.data import (
     ANNY_VERSION,
@@ -260,6 +260,8 @@ def spec_schema(
     out: Annotated[Path | None, typer.Option("--out", help="Write to a file instead of stdout.")] = None,
 ) -> None:
     """JSON Schema of the recipe (current schema version)."""
+    if out is not None:
+        check_output_file(out, field="--out")
     text = json.dumps(recipe_json_schema(), indent=2, sort_keys=True) + "\n"
     if out is None:
         print(text, end="")
@@ -425,6 +427,7 @@ def sheets(
     chosen = tuple(k.strip() for k in kinds.split(",") if k.strip())
     th = load_theta(theta)
     check_output_dir(out)
+    check_sheets_dir(out)
     try:
         specs = list(sheet_specs(th, seed, chosen))  # checks the kinds
     except ValueError as e:

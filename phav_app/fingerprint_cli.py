@@ -30,7 +30,7 @@ from phav_generator.dataset.reference import (
 )
 from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.canonical import pretty_json
-from phav_spec.files import atomic_write
+from phav_spec.files import atomic_write, check_output_file
 from phav_spec.manifest import RendererFingerprint
 
 
@@ -61,6 +61,8 @@ def fingerprint_command(
     """This machine's renderer fingerprint, and whether it renders the reference recipes bit
     for bit as the renderer of record did. Exit 1 when the fingerprints promise identical
     bytes of a stage and they differ; 0 otherwise, the report saying what differs."""
+    if json_out is not None:
+        check_output_file(json_out, field="--json")
     ref = load_reference(reference if reference is not None else REFERENCE_FILE)
     ctx = gl_context()
     try:

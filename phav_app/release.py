@@ -38,6 +38,7 @@ from phav_spec.files import (
     read_text,
 )
 from phav_spec.manifest import DatasetManifest, load_manifest
+from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import RecipeTable, read_recipe_table
 from phav_spec.release import (
     CARD_FILE,
@@ -104,6 +105,7 @@ def _load_source(root: Path) -> _Source:
     listed = [v.video_id for v in manifest.videos]
     if sorted(ids) != sorted(listed):
         raise PhavUserError("the recipes table and the manifest list different videos", source=str(root))
+    _check_recipes(root / "recipes.parquet", table, manifest)
     for name in (*(s.name for s in manifest.shards), *RECIPE_FILES, *METADATA_FILES):
         if not (root / name).is_file():
             raise PhavUserError("missing from the dataset; regenerate it before releasing", source=str(root / name))
@@ -112,6 +114,23 @@ def _load_source(root: Path) -> _Source:
         if problems:
             raise PhavUserError(f"{problems[0]}; run phav-validate on the dataset", source=str(root / name))
     return _Source(root, manifest, table, theta)
+
+
+def _check_recipes(path: Path, table: RecipeTable, manifest: DatasetManifest) -> None:
+    """Refuse recipes that are not the ones the videos were made from: a recipe-only release
+    ships them to be regenerated, and another seed's (same ids, same θ) or a blank cell would
+    be published as the dataset's."""
+    if table.dataset_seed is not None and table.dataset_seed != manifest.dataset_seed:
+        raise PhavUserError(f"recipes of seed {table.dataset_seed}; the manifest's videos are of seed "
+                            f"{manifest.dataset_seed}", source=str(path), field="phav.dataset_seed")  # fmt: skip
+    frames = {v.video_id: v.n_frames for v in manifest.videos}
+    for vid, cell in zip(table.column("video_id"), table.column("recipe"), strict=True):
+        if cell is None:
+            raise PhavUserError("no recipe", source=f"{path}[{vid}]", field="recipe")
+        recipe = parse_recipe(cell, source=f"{path}[{vid}]")
+        if recipe.video_id != vid or recipe.n_frames != frames[vid]:
+            raise PhavUserError(f"the recipe is {recipe.video_id}'s with {recipe.n_frames} frames; the manifest's "
+                                f"{vid} has {frames[vid]}", source=f"{path}[{vid}]", field="recipe")  # fmt: skip
 
 
 def _same_file(path: Path, size: int, sha256: str) -> bool:

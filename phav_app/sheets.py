@@ -23,6 +23,7 @@ from phav_generator.render.context import gl_context
 from phav_generator.render.modalities import encode_frame
 from phav_generator.render.video import scene_renderer
 from phav_generator.sampling import RecipeSampler
+from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
@@ -132,10 +133,29 @@ def render_sheet(spec: SheetSpec, ctx: moderngl.Context | None = None) -> Image.
     return sheet
 
 
+#: The index page's first line: a README.md that begins otherwise is not ours to replace.
+INDEX_TITLE = "# Contact sheets"
+
+
+def check_sheets_dir(directory: Path) -> None:
+    """Refuse, before any work, a folder whose README.md the index would replace though the
+    sheets did not write it (a project's notes, a release's dataset card), or a dataset's."""
+    if any((directory / name).is_file() for name in ("manifest.json", "release.json")):
+        raise PhavUserError("holds a dataset; write the sheets elsewhere", source=str(directory), field="--out")
+    readme = directory / "README.md"
+    try:
+        first = readme.read_text(encoding="utf-8", errors="replace").split("\n", 1)[0] if readme.is_file() else None
+    except OSError:
+        return  # the first write reports it
+    if first is not None and first.strip() != INDEX_TITLE:
+        raise PhavUserError("holds a README.md that phav sheets did not write; write the sheets elsewhere",
+                            source=str(directory), field="--out")  # fmt: skip
+
+
 def write_index(specs: list[SheetSpec], directory: Path, theta: Theta, seed: int) -> Path:
     """A Markdown page listing the sheets by kind, with the recipe each shows."""
 
-    lines = ["# Contact sheets", "",
+    lines = [INDEX_TITLE, "",
              f"Made by `phav sheets --theta {theta.name} --seed {seed}`: one sheet per value. Top row: RGB at",
              "the first, middle and last frame; bottom row: the middle frame's semantic labels, depth",
              "(inverse depth, turbo; sky black) and flow (hue = direction, brightness = speed).",
@@ -153,4 +173,4 @@ def write_index(specs: list[SheetSpec], directory: Path, theta: Theta, seed: int
     return target
 
 
-__all__ = ["SHEET_KINDS", "SheetSpec", "render_sheet", "sheet_specs", "write_index"]
+__all__ = ["INDEX_TITLE", "SHEET_KINDS", "SheetSpec", "check_sheets_dir", "render_sheet", "sheet_specs", "write_index"]

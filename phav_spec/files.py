@@ -92,6 +92,9 @@ def _no_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
 def parse_json_object(text: str | bytes, *, source: str) -> dict[str, Any]:
     """A JSON object from text; anything else is a PhavUserError naming the line, and a key
     written twice one naming the key."""
+    if not isinstance(text, str | bytes | bytearray):  # a table's empty cell, read as None
+        raise PhavUserError(f"expected a JSON object, got {'nothing' if text is None else type(text).__name__}",
+                            source=source)  # fmt: skip
     try:
         data = json.loads(text, object_pairs_hook=_no_duplicate_keys)
     except json.JSONDecodeError as e:

@@ -323,6 +323,23 @@ def test_stats_reads_the_rows_as_the_schema_check_does(tmp_path):
     assert twice.returncode == 1 and "DUPLICATE_VIDEO" in twice.stdout, twice.stdout
     shown = invoke_cli("recipe", "show", str(tmp_path / "twice.parquet"), "--video", "v000000")
     assert shown.returncode == 2 and "video_id: video v000000 has 2 recipes in this table" in shown.stderr
+    # An empty recipe cell: a TypeError traceback and exit 1 in `recipe show`.
+    recipe = rows.column("recipe").to_pylist()
+    blank = rows.set_column(rows.schema.get_field_index("recipe"), "recipe", pa.array([None, *recipe[1:]], pa.string()))
+    pq.write_table(blank, tmp_path / "blank.parquet")
+    shown = invoke_cli("recipe", "show", str(tmp_path / "blank.parquet"), "--video", "v000000")
+    assert shown.returncode == 2 and "Traceback" not in shown.stderr, shown.stderr
+    assert "blank.parquet[v000000]: expected a JSON object, got nothing" in shown.stderr
+
+
+def test_schema_and_fingerprint_never_write_over_a_dataset_s_files(tmp_path):
+    """`spec schema --out` and `fingerprint --json` replaced a dataset's manifest.json, as the
+    other commands writing one file refuse to."""
+    (tmp_path / "manifest.json").write_text("{}", encoding="utf-8")
+    for args, field in ((("spec", "schema", "--out"), "--out"), (("fingerprint", "--no-check", "--json"), "--json")):
+        result = invoke_cli(*args, str(tmp_path / "manifest.json"))
+        assert result.returncode == 2 and f"{field}: is a file of the dataset" in result.stderr, result.stderr
+        assert (tmp_path / "manifest.json").read_text(encoding="utf-8") == "{}"
 
 
 def test_a_file_of_another_kind_says_what_it_is(tmp_path):

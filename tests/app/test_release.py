@@ -292,6 +292,30 @@ def test_release_refuses_what_it_cannot_vouch_for(dataset, recipe_release, tmp_p
         assert f"{broken / name}: " in result.stderr and "phav-validate" in result.stderr
         assert not (tmp_path / f"r-{name}").exists()
 
+    # Recipes that are not the videos': another seed's under the same ids, or a blank cell.
+    # A recipe-only release of them was written, exit 0, and could never be rebuilt.
+    other = tmp_path / "other-seed"
+    shutil.copytree(dataset, other)
+    manifest = json.loads((dataset / "manifest.json").read_text(encoding="utf-8"))
+    n = len(manifest["videos"])
+    seed = str(manifest["dataset_seed"] + 1)
+    sampled = invoke_cli("sample", "--theta", str(dataset / "theta.yaml"), "--n", str(n), "--seed", seed, "--out",
+                         str(tmp_path / "other.parquet"))  # fmt: skip
+    assert sampled.returncode == 0, sampled.stderr
+    shutil.move(tmp_path / "other.parquet", other / "recipes.parquet")
+    result = invoke_cli("release", str(other), "--out", str(tmp_path / "r-seed"), "--recipes-only")
+    assert result.returncode == 2 and "phav.dataset_seed: recipes of seed" in result.stderr, result.stderr
+    blank = tmp_path / "blank"
+    shutil.copytree(dataset, blank)
+    rows = pq.read_table(blank / "recipes.parquet")
+    cells = rows.column("recipe").to_pylist()
+    column = rows.schema.get_field_index("recipe")
+    blanked = rows.set_column(column, "recipe", pa.array([*cells[:-1], None], pa.string()))
+    pq.write_table(blanked.replace_schema_metadata(rows.schema.metadata), blank / "recipes.parquet")
+    result = invoke_cli("release", str(blank), "--out", str(tmp_path / "r-blank"), "--recipes-only")
+    assert result.returncode == 2 and "recipe: no recipe" in result.stderr and "Traceback" not in result.stderr
+    assert not (tmp_path / "r-seed").exists() and not (tmp_path / "r-blank").exists()
+
     result = invoke_cli("release", str(dataset), "--out", str(recipe_release))  # full into a recipe-only one
     assert result.returncode == 2 and "holds other files or another release" in result.stderr
     busy = tmp_path / "busy"

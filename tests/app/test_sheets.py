@@ -26,3 +26,21 @@ def test_sheets_make_one_image_per_value_and_an_index(tmp_path):
     assert max(np.abs(labels[w] - labels["clear"]).mean() for w in WEATHERS.names) < 1.0
     bad = invoke_cli("sheets", "--by", "mood", "--out", str(out))
     assert bad.returncode == 2 and "mood" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_sheets_never_replace_a_readme_they_did_not_write(tmp_path):
+    """The index page is README.md: a folder with a project's README or a dataset (a
+    release's card) was overwritten without a word. Refused before any rendering; a folder
+    of sheets is written again."""
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "README.md").write_text("# My notes\n", encoding="utf-8")
+    result = invoke_cli("sheets", "--by", "weather", "--out", str(project))
+    assert result.returncode == 2 and "README.md that phav sheets did not write" in result.stderr, result.stderr
+    assert (project / "README.md").read_text(encoding="utf-8") == "# My notes\n"
+    assert list(project.iterdir()) == [project / "README.md"]
+    dataset = tmp_path / "dataset"
+    dataset.mkdir()
+    (dataset / "manifest.json").write_text("{}", encoding="utf-8")
+    result = invoke_cli("sheets", "--by", "weather", "--out", str(dataset))
+    assert result.returncode == 2 and "holds a dataset" in result.stderr and "Traceback" not in result.stderr
