@@ -772,8 +772,18 @@ def bench(
     if unknown:
         choices = ", ".join(BENCH_SECTIONS)
         raise PhavUserError(f"unknown section(s) {unknown}; choose from {choices}", field="--sections")
+    if not chosen:
+        raise PhavUserError(f"no section named; choose from {', '.join(BENCH_SECTIONS)}", field="--sections")
+    # Every option a chosen section reads is checked now, not after an hour of other sections.
     if gl != "llvmpipe":
-        require_gl(gl)  # now, not after an hour of other sections
+        require_gl(gl)
+    frames = _frame_counts(realism_frames) if "realism" in chosen else []
+    for section, data, field in (("training", training_data, "--training-data"),
+                                 ("realism", realism_data, "--realism-data")):  # fmt: skip
+        if section in chosen and data is not None and not (data / "manifest.json").is_file():
+            raise PhavUserError("not a finished dataset (no manifest.json)", source=str(data), field=field)
+    if "training" in chosen:
+        require_torch()
     if out_dir is not None:
         check_output_dir(out_dir, field="--out-dir")
     if report is not None:
@@ -792,7 +802,7 @@ def bench(
         "training": lambda: _bench_training_tables(data=training_data, videos=training_videos, epochs=training_epochs,
                                                    seed=seed, out_dir=out_dir),
         "realism": lambda: _bench_realism_table(data=realism_data, videos=realism_videos,
-                                                frames=_frame_counts(realism_frames), seed=seed, out_dir=out_dir),
+                                                frames=frames, seed=seed, out_dir=out_dir),
     }  # fmt: skip
     recorded: dict[str, str] = {}
     console.record = report is not None

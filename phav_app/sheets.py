@@ -24,6 +24,7 @@ from phav_generator.render.modalities import encode_frame
 from phav_generator.render.video import scene_renderer
 from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
+from phav_spec.expectations import exact_expectations
 from phav_spec.files import atomic_write
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
@@ -67,14 +68,18 @@ def _first(sampler: RecipeSampler, seed: int, keep: Callable[[Recipe], bool], wh
 
 
 def sheet_specs(theta: Theta, seed: int, kinds: tuple[str, ...]) -> Iterator[SheetSpec]:
-    """The sheets of ``kinds``, in the vocabularies' order."""
+    """The sheets of ``kinds`` (each named once), in the vocabularies' order. Environments and
+    actions are those θ gives a chance (a recipe with another is never drawn); weathers and
+    day phases are all of them, forced on one base scene (what the renderer makes of each)."""
     unknown = sorted(set(kinds) - set(SHEET_KINDS))
     if unknown or not kinds:
         raise ValueError(f"unknown sheet kind(s) {unknown}; choose from {', '.join(SHEET_KINDS)}")
+    tables = exact_expectations(theta)
     sampler = RecipeSampler(theta)
     base = None
-    for kind in kinds:
-        for value in SHEET_KINDS[kind]:
+    for kind in dict.fromkeys(kinds):
+        chance = tables[kind].marginal_dict() if kind in ("environment", "action") else {}
+        for value in (v for v in SHEET_KINDS[kind] if chance.get(v, 1.0) > 0):
             if kind == "environment":
                 r = _first(sampler, seed, lambda r, v=value: r.environment.name == v, f"environment {value}")
             elif kind == "action":

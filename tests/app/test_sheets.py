@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image
 
-from phav_spec.vocab import WEATHERS
-from tests.helpers import invoke_cli
+from phav_spec.vocab import ACTIONS, DAY_PHASES, WEATHERS
+from tests.helpers import invoke_cli, theta_variant
 
 
 def test_sheets_make_one_image_per_value_and_an_index(tmp_path):
@@ -44,3 +44,21 @@ def test_sheets_never_replace_a_readme_they_did_not_write(tmp_path):
     (dataset / "manifest.json").write_text("{}", encoding="utf-8")
     result = invoke_cli("sheets", "--by", "weather", "--out", str(dataset))
     assert result.returncode == 2 and "holds a dataset" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_sheets_show_the_actions_and_environments_theta_gives_a_chance(tmp_path):
+    """A θ of walks and runs only: `phav sheets` failed ("no recipe with action brush_hair
+    among the first 20,000") and made no sheet. Its action sheets are now walk and run; the
+    weather and day-phase sheets force every value on one base scene, as before; a kind
+    named twice is made once."""
+    from phav_app.sheets import sheet_specs
+    from phav_spec.theta import load_theta
+
+    def walkers(data):
+        data["theta_a"] = {a: (1.0 if a in ("walk", "run") else 0.0) for a in ACTIONS.names}
+
+    theta = load_theta(theta_variant(tmp_path, walkers))
+    specs = list(sheet_specs(theta, 0, ("action", "action", "day_phase")))
+    walks = [("action", a) for a in ACTIONS.names if a in ("walk", "run")]  # the vocabulary's order
+    assert [(s.kind, s.value) for s in specs] == walks + [("day_phase", d) for d in DAY_PHASES.names]
+    assert all(s.recipe.action == s.value for s in specs if s.kind == "action")

@@ -28,3 +28,18 @@ def test_bench_realism_section_prints_seconds_and_intervals(small_dataset):
     assert "realism (" in result.stdout and "s/frame" in result.stdout and "person_pck_0.2" in result.stdout
     bad = invoke_cli("bench", "--sections", "realism", "--realism-data", str(small_dataset), "--realism-frames", "a")
     assert bad.returncode == 2 and "--realism-frames" in bad.stderr
+
+
+def test_bench_checks_every_chosen_section_s_options_before_running_any(tmp_path):
+    """`--realism-frames abc`, or a --realism-data / --training-data that is no dataset, was
+    found out only when its section ran, after the sections before it (hours of them);
+    `--sections ' , '` ran nothing and exited 0."""
+    for args, said in (
+        (("--sections", "sampling,realism", "--n", "100", "--realism-frames", "abc"), "--realism-frames"),
+        (("--sections", "sampling,realism", "--n", "100", "--realism-data", str(tmp_path)), "--realism-data"),
+        (("--sections", "sampling,training", "--n", "100", "--training-data", str(tmp_path)), "--training-data"),
+        (("--sections", " , "), "--sections: no section named"),
+    ):
+        result = invoke_cli("bench", *args)
+        assert result.returncode == 2 and said in result.stderr and "Traceback" not in result.stderr, result.stderr
+        assert "sampling" not in result.stdout, result.stdout  # nothing ran first
