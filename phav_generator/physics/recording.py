@@ -19,7 +19,7 @@ from phav_generator.motion.skeleton import BONES, LOWER, UPPER
 from phav_generator.physics.control import FULL_STATE, SimulationRun
 from phav_generator.physics.plan.camera import anchor_point
 from phav_generator.physics.plan.scene_plan import ScenePlan
-from phav_generator.physics.traffic import FAR_M, Traffic, footprint_points
+from phav_generator.physics.traffic import FAR_M, Traffic, box_footprints, footprint_points
 from phav_generator.physics.trajectory import PersonTrack, PropTrack, Trajectory
 from phav_spec.recipe import Recipe
 from phav_spec.vocab import OBJECTS
@@ -66,6 +66,7 @@ class FrameRecorder:
         self.background, self.background_fk = run.background, run.background_fk  # animated, not simulated
         #: Every body and driven prop's footprint per recorded frame: what traffic yields to.
         self.obstacles: list[np.ndarray] = []
+        self._boxes = box_footprints(plan.boxes)  # the action's boxes: it yields to them too
 
     def record(self, f: int, touched: set[str]) -> None:
         """Write frame f; ``touched`` are the named contacts seen during its physics steps."""
@@ -86,7 +87,7 @@ class FrameRecorder:
             if h.driven
         ]
         people = [d.xpos[h.bodies] for h in scene.people] + [pos[f] for pos, _ in self.background_fk]
-        self.obstacles.append(np.concatenate([*people, *driven, np.zeros((0, 3))]))
+        self.obstacles.append(np.concatenate([*people, *driven, self._boxes]))
 
     def _record_people(self, f: int) -> None:
         """The simulated people's bodies, joints, control state and joint-limit excess."""

@@ -7,7 +7,8 @@ of any person, as simulated, so a ragdoll thrown onto the road stops the traffic
 vehicle in front; the camera where it hangs less than ``CAMERA_HEADROOM_M`` over the
 vehicle's roof) like a driver who sees it coming: it never brakes harder than
 ``BRAKE_MPS2``, stops ``STOP_GAP_M`` short of what comes into its way ahead and drives on
-past what comes in behind it. Only someone walking into its side can reach it: planned from
+past what comes in behind it (an action's boxes too: a flight of stairs built out into a
+lane). Only someone walking into its side can reach it: planned from
 the recipe's background seed (``plan_traffic``), a vehicle that would meet a planned body so
 is left out; the rest are driven against the simulated bodies.
 """
@@ -17,12 +18,25 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ENVIRONMENT_SCENES, VEHICLE_HALF_SIZES, Lane
 from phav_spec.seeding import stream
+
+
+class Box(Protocol):
+    """A box standing in the scene, as a plan's ``StaticBox`` is (traffic imports no plan)."""
+
+    @property
+    def center(self) -> tuple[float, float, float]: ...
+    @property
+    def half_size(self) -> tuple[float, float, float]: ...
+    @property
+    def yaw_deg(self) -> float: ...
+
 
 #: Vehicles per lane: 0 to this many.
 MAX_PER_LANE = 2
@@ -255,6 +269,15 @@ def _frames_in_the_way(s: float, speeds: np.ndarray, later: np.ndarray, half: fl
     centre = (s + dt * np.cumsum(speeds, axis=1))[:, :, None]  # semi-implicit, as each frame moves
     inside = (later[None] > centre - half) & (later[None] < centre + half + STOP_GAP_M)
     return np.sum(np.any(inside, axis=2), axis=1)
+
+
+def box_footprints(boxes: Sequence[Box]) -> np.ndarray:
+    """The footprint points (9 per box, (N, 3)) of an action's static boxes (a flight of
+    stairs, a door's frame, a chair): traffic stops short of them as of a body, where a
+    flight built out into a lane was driven through."""
+    if not boxes:
+        return np.zeros((0, 3))
+    return np.concatenate([footprint_points(np.asarray(b.center), math.radians(b.yaw_deg), b.half_size) for b in boxes])
 
 
 def footprint_points(center: np.ndarray, yaw: float, half: tuple[float, ...]) -> np.ndarray:

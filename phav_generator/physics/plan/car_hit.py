@@ -126,12 +126,10 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
             back, ahead = clear_run(scene.colliders, centre, (-float(across[0]), -float(across[1])), tuple(half),
                                     ground + CAR_CLEARANCE_M, ground, raised=raised)  # fmt: skip
             runs.append((turned, back, ahead))
-        clear = [
-            back > 0.0
-            and not _meets_walkers(b, p, Approach(turned, speed, min(back, speed * t_hit), t_hit, ground, ahead), side,
-                                   half)  # fmt: skip
-            for turned, back, ahead in runs
-        ]
+        clear = []  # whether each way keeps clear of the walkers (a way with no room behind: no)
+        for turned, back, ahead in runs:
+            way = Approach(turned, speed, min(back, speed * t_hit), t_hit, ground, ahead)
+            clear.append(back > 0.0 and not _meets_walkers(b, p, way, side, half))
         for (turned, back, ahead), ok in zip(runs, clear, strict=True):
             if ok and back >= speed * t_hit and ahead >= stop_m:
                 return Approach(turned, speed, speed * t_hit, t_hit, ground)

@@ -29,12 +29,12 @@ from phav_generator.physics.plan.obstacles import let_go_at_obstacles
 from phav_generator.physics.plan.people import plan_person
 from phav_generator.physics.plan.push import push_target
 from phav_generator.physics.plan.ragdoll_rules import dive_floor, limp, stagger
-from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan
+from phav_generator.physics.plan.scene_plan import PersonPlan, PropPlan, ScenePlan, StaticBox
 from phav_generator.physics.plan.stairs import build_stairs
 from phav_generator.physics.plan.supporting import arm_pose_for_tie, loosen_tied_arms, supporting_people
 from phav_generator.physics.plan.timestep import DEFAULT_PHYSICS_HZ, choose_substeps
 from phav_generator.physics.plan.variations import apply_variation
-from phav_generator.physics.traffic import footprint_points, plan_traffic
+from phav_generator.physics.traffic import box_footprints, footprint_points, plan_traffic
 from phav_spec.recipe import Recipe
 from phav_spec.scene import ACTION_SCENES, ENVIRONMENT_SCENES
 from phav_spec.seeding import stream
@@ -85,7 +85,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         stand_offset_z=b.stand_offset_z,
         camera_start=camera_start,
         camera_target=camera_target,
-        traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, substeps)),
+        traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, b.boxes, substeps)),
         camera_walls=walls if recipe.camera.kind in ("kite", "closeup") else (),
     )
 
@@ -193,8 +193,11 @@ def _action_props(b: PlanBuilder, p: PersonPlan) -> PersonPlan:
     return p
 
 
-def _planned_obstacles(people: tuple[PersonPlan, ...], props: list[PropPlan], substeps: int) -> np.ndarray:
-    """Every person's bodies and every driven prop's footprint (F + 1, N, 3) per frame, as planned."""
+def _planned_obstacles(
+    people: tuple[PersonPlan, ...], props: list[PropPlan], boxes: list[StaticBox], substeps: int
+) -> np.ndarray:
+    """Every person's bodies, every driven prop's footprint and the action's boxes' (F + 1,
+    N, 3) per frame, as planned."""
     parts = []
     for p in people:
         step = substeps if p.physical else 1
@@ -206,4 +209,6 @@ def _planned_obstacles(people: tuple[PersonPlan, ...], props: list[PropPlan], su
         if prop.path is not None:
             yaw = 2.0 * math.atan2(prop.quat[3], prop.quat[0])
             parts.append(footprint_points(prop.path[::substeps], yaw, prop.size))
+    still = box_footprints(boxes)
+    parts.append(np.broadcast_to(still, (len(parts[0]), *still.shape)))
     return np.concatenate(parts, axis=1)

@@ -236,3 +236,34 @@ def test_no_traffic_without_roads():
         tr = simulate(recipe_for("clap", environment, seconds=0.5, variation="none"), keep_state=False)
         assert not any(p.name.startswith("traffic_") for p in tr.props)
         assert tr.traffic_clearance_m is not None and np.all(tr.traffic_clearance_m == 1000.0)
+
+
+def test_traffic_keeps_out_of_the_action_s_boxes() -> None:
+    """phav-v1, seed 0, 201 (`climb_stairs`, urban): the flight is built from the pavement out
+    into the eastbound lane, and a car drove through its top treads for 20 frames: traffic
+    yielded to people and driven props, not to the action's boxes. It now stops short of
+    them as of a body (or, met at once, is left out)."""
+    from phav_generator.physics.plan.scene import plan_scene
+    from phav_generator.physics.simulate import simulate_plan
+    from phav_generator.sampling import RecipeSampler
+    from phav_spec.theta import load_theta
+
+    recipe = RecipeSampler(load_theta("phav-v1")).sample(0, 201)
+    plan = plan_scene(recipe)
+    assert recipe.action == "climb_stairs" and plan.boxes
+    tr = simulate_plan(plan, keep_state=False)
+    for track in (t for t in tr.props if t.name.startswith("traffic")):
+        yaw = float(2.0 * np.arctan2(track.quat[0, 3], track.quat[0, 0]))  # a lane's vehicle keeps its heading
+        vehicle = footprint_points(track.pos, yaw, track.size)  # (F, 9, 3)
+        for box in plan.boxes:
+            tread = footprint_points(np.asarray(box.center), np.radians(box.yaw_deg), box.half_size)  # (9, 3)
+            assert not _inside(vehicle, box.center, np.radians(box.yaw_deg), box.half_size).any(), (track.name, box)
+            assert not _inside(tread[None], track.pos[:, None], yaw, track.size).any(), (track.name, box)
+
+
+def _inside(points, centre, yaw, half) -> np.ndarray:
+    """Which points lie inside a box's footprint (centre, yaw in radians, half sizes) seen from above."""
+    d = np.asarray(points)[..., :2] - np.asarray(centre)[..., :2]
+    along = np.abs(d[..., 0] * np.cos(yaw) + d[..., 1] * np.sin(yaw)) <= half[0]
+    across = np.abs(-d[..., 0] * np.sin(yaw) + d[..., 1] * np.cos(yaw)) <= half[1]
+    return along & across
