@@ -378,12 +378,22 @@ def preview(
     """A contact sheet of a video: all six modalities side by side (depth and flow colour-mapped)
     for a few frames, and an animated GIF of its RGB; or, with --skeleton, stick figures."""
 
+    dataset = source.is_dir() or _is_manifest(source)
     if out is not None:
         check_output_file(out, field="--out")
+        if out.suffix.lower() != ".png":
+            raise PhavUserError("the sheet is a PNG: name it .png (the GIF goes beside it)", source=str(out),
+                                field="--out")  # fmt: skip
+    if video is not None and not dataset:
+        raise PhavUserError("picks a video of a dataset; a recipe JSON is one video", source=str(source),
+                            field="--video")  # fmt: skip
     if skeleton:
+        if dataset:
+            raise PhavUserError("draws a recipe JSON's people (phav recipe show writes one); a dataset's video: "
+                                "leave out --skeleton", source=str(source), field="--skeleton")  # fmt: skip
         _skeleton_preview(source, out, frames)
         return
-    if source.is_dir() or _is_manifest(source):
+    if dataset:
         vid, fps, all_frames = frames_from_dataset(source, video)
     else:
         r = load_recipe(source)
@@ -399,12 +409,9 @@ def preview(
     with atomic_write(target) as tmp:
         sheet.save(tmp, format="PNG")
     written = [str(target)]
-    if gif:  # beside the sheet, never over it
-        gif_path = (
-            target.with_suffix(".gif")
-            if target.suffix.lower() != ".gif"
-            else target.with_name(f"{target.stem}-rgb.gif")
-        )
+    if gif:  # beside the sheet
+        gif_path = target.with_suffix(".gif")
+        check_output_file(gif_path, field="--out")
         write_gif([m["rgb"] for m in all_frames], gif_path, fps)
         written.append(str(gif_path))
     console.print(f"wrote {escape(', '.join(written))} ({len(all_frames)} frames of {vid})")

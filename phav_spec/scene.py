@@ -332,6 +332,8 @@ class Lane:
             raise ValueError(f"a lane's start and end are finite 3-vectors, got {self.start}, {self.end}")
         if math.dist(start[:2], end[:2]) < 10.0:
             raise ValueError("a lane must be at least 10 m long")
+        if start[2] != end[2]:  # traffic drives a lane at its start's height (``Traffic.poses``)
+            raise ValueError(f"a lane is level: its start and end heights differ ({start[2]} m, {end[2]} m)")
         if not (math.isfinite(self.half_width) and self.half_width > 0.0):
             raise ValueError(f"a lane's half width must be positive, got {self.half_width}")
         for v in self.vehicles:

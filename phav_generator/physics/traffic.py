@@ -3,8 +3,9 @@
 Kinematic, as the scene needs no more: no vehicle is a MuJoCo body, so nothing in the
 simulation depends on the traffic, and the traffic is driven once the clip's frames are
 known (``Traffic.drive``). A vehicle yields to whatever will be in its lane ahead (any body
-of any person, as simulated, so a ragdoll thrown onto the road stops the traffic; the
-vehicle in front; the camera where it hangs less than ``CAMERA_HEADROOM_M`` over the
+of any person, as simulated, so a ragdoll thrown onto the road stops the traffic; a driven
+prop, the car of ``car_hit`` or a pushed load; the vehicle in front; the camera where it
+hangs less than ``CAMERA_HEADROOM_M`` over the
 vehicle's roof) like a driver who sees it coming: it never brakes harder than
 ``BRAKE_MPS2``, stops ``STOP_GAP_M`` short of what comes into its way ahead and drives on
 past what comes in behind it (an action's boxes too: a flight of stairs built out into a

@@ -19,11 +19,20 @@ def test_preview_sheets_all_modalities_and_a_gif(small_dataset, small_recipes, t
     assert result.returncode == 2 and "v009999" in result.stderr
 
 
-def test_a_gif_named_as_the_sheet_goes_beside_it_and_an_empty_dataset_is_said(small_dataset, tmp_path):
+def test_the_sheet_is_named_png_and_an_empty_dataset_is_said(small_dataset, tmp_path, small_recipes):
+    """`--out clip.gif` wrote PNG bytes into clip.gif and the GIF into clip-rgb.gif: the sheet
+    is a PNG, named so. `--video` with a recipe JSON was ignored, and `--skeleton` with a
+    dataset blamed its manifest: both are one-line errors naming the option."""
     out = tmp_path / "clip.gif"
     result = invoke_cli("preview", str(small_dataset), "--frames", "2", "--out", str(out))
-    assert result.returncode == 0, result.stderr
-    assert Image.open(out).format == "PNG" and Image.open(tmp_path / "clip-rgb.gif").format == "GIF"
+    assert result.returncode == 2 and "--out: the sheet is a PNG: name it .png" in result.stderr, result.stderr
+    assert not out.exists()
+    recipe = tmp_path / "r.json"
+    recipe.write_text(small_recipes[0].model_dump_json(), encoding="utf-8")
+    result = invoke_cli("preview", str(recipe), "--video", "v000003")
+    assert result.returncode == 2 and "--video: picks a video of a dataset" in result.stderr
+    result = invoke_cli("preview", str(small_dataset), "--skeleton")
+    assert result.returncode == 2 and "--skeleton: draws a recipe JSON's people" in result.stderr
     empty = tmp_path / "empty"
     assert invoke_cli("sample", "--n", "0", "--out", str(tmp_path / "none.parquet")).returncode == 0
     assert invoke_cli("regenerate", str(tmp_path / "none.parquet"), "--out", str(empty)).returncode == 0

@@ -373,6 +373,8 @@ def test_lane_rejects_bad_values():
         Lane((0, 0, 0), (11, 0, 0), 2.0, ("car", "bus"))
     with pytest.raises(ValueError, match="finite"):
         Lane((0, math.nan, 0), (50, 0, 0), 2.0)
+    with pytest.raises(ValueError, match="a lane is level"):  # traffic would float over its far end
+        Lane((0, 0, 0), (50, 0, 1.0), 2.0)
     lane = ENVIRONMENT_SCENES["simple"].lanes[0]
     with pytest.raises(ValueError, match="indoor"):
         dataclasses.replace(ENVIRONMENT_SCENES["house_interior"], lanes=(lane,))
