@@ -716,7 +716,14 @@ def bench(
     ctx: typer.Context,
     n: Annotated[int, typer.Option("--n", min=100, help="Recipes in the largest sampling run.")] = 40000,
     seed: Annotated[int, typer.Option("--seed", min=0)] = 0,
-    out_dir: Annotated[Path | None, typer.Option("--out-dir", help="Keep the Parquet files here.")] = None,
+    out_dir: Annotated[
+        Path | None,
+        typer.Option(
+            "--out-dir",
+            help="Keep what the sections write here: sampling's Parquet files, the datasets the validation, "
+            "training and realism sections generate (a later run replaces its own).",
+        ),
+    ] = None,
     sections: Annotated[
         str, typer.Option("--sections", help=f"Comma-separated: {', '.join(BENCH_SECTIONS)}.")
     ] = "sampling,physics",

@@ -23,8 +23,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, chunk, write_dataset
+from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, WORK_DIR, chunk, write_dataset
 from phav_generator.sampling import sample_recipes
+from phav_spec.errors import PhavUserError
 from phav_spec.manifest import load_manifest
 from phav_spec.seeding import seeded_rng
 from phav_spec.theta import Theta
@@ -113,6 +114,17 @@ def flip_depth_pixel(shard: Path, member: str) -> None:
     tmp.replace(shard)
 
 
+def _remove_earlier(folder: Path) -> None:
+    """Remove what an earlier bench run wrote at ``folder`` (a dataset, finished or not);
+    anything else there is refused, never deleted."""
+    if not folder.exists():
+        return
+    if not folder.is_dir() or not any((folder / name).exists() for name in ("manifest.json", WORK_DIR)):
+        raise PhavUserError("holds something the validation bench did not write; give --out-dir another folder",
+                            source=str(folder), field="--out-dir")  # fmt: skip
+    shutil.rmtree(folder)
+
+
 def _timed(path: Path, options: Options) -> tuple[float, DatasetReport]:
     inp = resolve([path])[0]
     start = time.perf_counter()
@@ -139,8 +151,7 @@ def bench_validation(
             progress(text)
 
     data = work / "clean"
-    if data.exists():  # a finished earlier run would be resumed, not timed
-        shutil.rmtree(data)
+    _remove_earlier(data)  # a finished earlier run would be resumed, not timed
     say(f"generating {videos} videos with {workers} workers")
     recipes = list(sample_recipes(theta, n=videos, seed=seed))
     start = time.perf_counter()
@@ -169,8 +180,7 @@ def bench_validation(
 
     # Detection against --sample: the same data with ``corrupted`` videos' depth flipped.
     bad_copy = work / "corrupted"
-    if bad_copy.exists():
-        shutil.rmtree(bad_copy)
+    _remove_earlier(bad_copy)
     shutil.copytree(data, bad_copy)
     ids = [v.video_id for v in manifest.videos]
     rng = seeded_rng(seed)

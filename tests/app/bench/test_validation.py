@@ -54,3 +54,24 @@ def test_bench_corruption_is_caught_by_integrity(small_dataset_copy):
     assert_fails(validate(data, "integrity"), "integrity", Reason.HASH_MISMATCH, video="v000002")
     with pytest.raises(ValueError, match="no member"):
         flip_depth_pixel(shard_of(data, "v000002"), "v000002/99999.depth.png")
+
+
+def test_the_bench_removes_only_what_an_earlier_run_wrote(small_theta, monkeypatch, tmp_path):
+    """`--out-dir D`: the validation section removed D/validation/clean and .../corrupted
+    whatever they held. A folder that is no dataset is now refused, and kept."""
+
+    def small_bench(theta, work, **kwargs):
+        return bench_validation(small_theta, work, **{**kwargs, "workers": 1})
+
+    monkeypatch.setattr(cli, "bench_validation", small_bench)
+    mine = tmp_path / "validation" / "clean"
+    mine.mkdir(parents=True)
+    (mine / "notes.txt").write_text("mine", encoding="utf-8")
+    args = ("bench", "--sections", "validation", "--validation-videos", "2", "--validation-trials", "1")
+    result = invoke_cli(*args, "--out-dir", str(tmp_path))
+    assert result.returncode == 2 and "--out-dir: holds something the validation bench did not write" in result.stderr
+    assert (mine / "notes.txt").read_text(encoding="utf-8") == "mine"
+    (mine / "notes.txt").unlink()
+    (mine / "manifest.json").write_text("{}", encoding="utf-8")  # an earlier run's dataset: replaced
+    assert invoke_cli(*args, "--out-dir", str(tmp_path)).returncode == 0
+    assert (mine / "manifest.json").read_text(encoding="utf-8") != "{}"
