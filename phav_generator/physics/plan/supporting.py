@@ -74,9 +74,8 @@ def bump(b: PlanBuilder, a: PersonPlan, c: PersonPlan) -> tuple[PersonPlan, Pers
     meet = np.flatnonzero(np.linalg.norm(ra - rc, axis=1) < touching)
     if not meet.size:
         return a, c
-    dt = float(times[1] - times[0])
-    frame = max(1, round(1.0 / (b.recipe.video.fps * dt)))
-    grid = range(int(meet[0]), max(-1, int(meet[0]) - round(BUMP_LOOKBACK_S / dt)), -frame)
+    back = round(BUMP_LOOKBACK_S * b.fps * b.substeps)  # plan steps
+    grid = range(int(meet[0]), max(-1, int(meet[0]) - back), -b.substeps)  # a frame apart
     stances_a = sorted({planted_before(a, times, k) for k in grid})
     stances_c = sorted({planted_before(c, times, k) for k in grid})
     gaps = np.linalg.norm(ra[stances_a][:, None] - rc[stances_c][None], axis=2)
