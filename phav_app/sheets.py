@@ -25,7 +25,7 @@ from phav_generator.render.video import scene_renderer
 from phav_generator.sampling import RecipeSampler
 from phav_spec.errors import PhavUserError
 from phav_spec.expectations import exact_expectations
-from phav_spec.files import atomic_write
+from phav_spec.files import atomic_write, holds_dataset
 from phav_spec.recipe import Recipe
 from phav_spec.theta import Theta
 from phav_spec.vocab import ACTIONS, DAY_PHASES, ENVIRONMENTS, WEATHERS
@@ -145,7 +145,7 @@ INDEX_TITLE = "# Contact sheets"
 def check_sheets_dir(directory: Path) -> None:
     """Refuse, before any work, a folder whose README.md the index would replace though the
     sheets did not write it (a project's notes, a release's dataset card), or a dataset's."""
-    if any((directory / name).is_file() for name in ("manifest.json", "release.json")):
+    if holds_dataset(directory):
         raise PhavUserError("holds a dataset; write the sheets elsewhere", source=str(directory), field="--out")
     readme = directory / "README.md"
     try:

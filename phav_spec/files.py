@@ -233,6 +233,11 @@ def check_output_dir(out: Path, *, field: str = "--out") -> None:
 DATASET_FILES = ("manifest.json", "release.json", "recipes.parquet", "cameras.parquet", "people.parquet", "theta.yaml")
 
 
+def holds_dataset(folder: Path) -> bool:
+    """Whether ``folder`` is a finished dataset or a release (its manifest or release.json)."""
+    return (folder / "manifest.json").is_file() or (folder / "release.json").is_file()
+
+
 def check_output_file(path: str | os.PathLike[str], *, field: str) -> None:
     """Refuse, before any work, an output file that cannot be one: a directory, a device or a
     pipe, or a place below a file (its write would fail only after the work it was to keep);
@@ -243,7 +248,7 @@ def check_output_file(path: str | os.PathLike[str], *, field: str) -> None:
         _check_writable_place(target)
         _check_can_create_in(target.parent)
         folder = target.parent
-        dataset = (folder / "manifest.json").is_file() or (folder / "release.json").is_file()
+        dataset = holds_dataset(folder)
     except OSError as e:
         raise PhavUserError(f"cannot be written here: {e.strerror}", source=str(path), field=field) from None
     if dataset and (target.name in DATASET_FILES or target.suffix == ".tar"):
