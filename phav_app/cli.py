@@ -83,6 +83,7 @@ from phav_spec.theta import PRESETS_DIR, Theta, load_theta
 from phav_spec.vocab import ACTIONS, VOCABULARIES
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.checks.recipes import check_recipe_table
+from phav_validators.checks.reproduce import rebuilt_within_tolerances
 from phav_validators.framing import read_framing
 from phav_validators.learn.config import require_torch
 from phav_validators.learn.data import load_phav
@@ -586,6 +587,19 @@ def regenerate(
         console.print("no manifest beside the source: nothing to compare (hashes are in the new manifest.json)")
         return
     console.print(escape(report.summary()))
+    if report.differing:  # another renderer's pixels: within tolerances, as phav-validate compares them
+        worst, unchecked = rebuilt_within_tolerances(report, plan, out)
+        compared = len(report.differing) - unchecked
+        if compared:
+            largest = ", ".join(f"{k} {v:.3g}" for k, v in worst.items())
+            console.print(
+                f"{compared} video(s) whose hashes differ compared frame by frame with the source's "
+                f"shards within phav-validate's tolerances; largest differences: {escape(largest)}"
+            )
+        if unchecked:
+            console.print(f"[yellow]not verified[/yellow]: {unchecked} video(s) whose hashes differ have no "
+                          "frames in the source to compare (a recipe-only release); only the renderer of "
+                          "record promises their pixels")  # fmt: skip
     for line in report.mismatches:
         console.print(f"  [red]mismatch[/red] {escape(line)}")
     if report.mismatches:

@@ -17,6 +17,7 @@ import numpy as np
 
 from phav_generator.dataset.fingerprint import renderer_fingerprint
 from phav_generator.pipeline import video_frames
+from phav_generator.regenerate import HashReport, RegenerationPlan
 from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import MODALITIES, VideoHashes, decode_flow
 from phav_spec.manifest import DatasetManifest, VideoEntry, renderer_differences
@@ -92,6 +93,53 @@ def frame_difference(name: str, a: np.ndarray, b: np.ndarray) -> float:
     both = va & vb
     epe = float(np.linalg.norm(fa[both] - fb[both], axis=-1).mean()) if both.any() else 0.0
     return max(epe, float((va != vb).mean()) * 10.0)  # a 1 % validity disagreement counts as 0.1 px
+
+
+def shards_within_tolerances(
+    original: Path, rebuilt: Path, video_id: str, size: tuple[int, int], worst: dict[str, float]
+) -> tuple[dict[str, int], int]:
+    """One video's frames in two shards (another renderer's rebuild against the original),
+    frame by frame within ``TOLERANCES``: per modality the first frame beyond them, and how
+    many rebuilt frames the original lacks. ``worst`` keeps the largest difference per modality."""
+    stored = shard_video_frames(original, video_id, size)
+    first_bad: dict[str, int] = {}
+    absent = 0
+    got = next(stored, None)
+    for index, frame in shard_video_frames(rebuilt, video_id, size):
+        while got is not None and got[0] < index:
+            got = next(stored, None)
+        if got is None or got[0] != index:
+            absent += 1
+            continue
+        _compare_frame(index, frame, got[1], False, worst, first_bad)
+        got = next(stored, None)
+    return first_bad, absent
+
+
+def rebuilt_within_tolerances(report: HashReport, plan: RegenerationPlan, out: Path) -> tuple[dict[str, float], int]:
+    """``phav regenerate`` with another renderer: each video whose content hash differs
+    (``report.differing``) compared frame by frame with its original shard, where the source
+    has it, within ``TOLERANCES`` as this check does; a video beyond them, or whose original
+    lacks frames, is a mismatch added to ``report``. Returns the largest difference per
+    modality and how many videos had no original frames to compare (a recipe-only release)."""
+    worst = {m.name: 0.0 for m in MODALITIES}
+    if plan.expected is None or plan.root is None:
+        return worst, len(report.differing)
+    entries = {v.video_id: v for v in plan.expected.videos}
+    sizes = {r.video_id: (r.video.width, r.video.height) for shard in plan.shards for r in shard}
+    unchecked = 0
+    for vid in report.differing:
+        original = plan.root / entries[vid].shard
+        if not original.is_file():
+            unchecked += 1
+            continue
+        first_bad, absent = shards_within_tolerances(original, out / entries[vid].shard, vid, sizes[vid], worst)
+        beyond = [f"{k} beyond tolerance from frame {f:05d}" for k, f in first_bad.items()]
+        if absent:
+            beyond.append(f"{absent} frames not in {original.name}")
+        if beyond:
+            report.mismatches.append(f"{vid}: {', '.join(beyond)}")
+    return worst, unchecked
 
 
 def check_reproducibility(

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,7 @@ from phav_spec.manifest import dump_manifest, load_manifest
 from phav_spec.release import RELEASE_FILE, load_release_index
 from phav_spec.webdataset import decode_png
 from tests.helpers import file_bytes, invoke_cli, run_cli, theta_variant, tiny, tree_bytes, written_frames
+from tests.validators.checks.support import png_edit, refresh_manifest, rewrite_tar, shard_of
 
 CARD_FILES = ("README.md", "croissant.json", RELEASE_FILE)
 
@@ -90,7 +92,6 @@ def test_a_full_release_s_files_are_checked_against_release_json(dataset, tmp_pa
 def test_a_recipe_only_release_s_files_are_checked_against_release_json(recipe_release, tmp_path):
     """The pixels are regenerated into another directory and validated there; the release's
     own files are checked against release.json all the same (an edited θ file passed)."""
-    import shutil
 
     rel = tmp_path / "rel"
     shutil.copytree(recipe_release, rel)
@@ -367,6 +368,46 @@ def test_regenerate_rebuilds_a_recipe_only_release_and_checks_every_hash(dataset
     assert result.returncode == 1 and "Traceback" not in result.stderr, result.stderr
     assert "mismatch people.parquet: sha256" in result.stdout and "files: 3/5 sha256 match" in result.stdout
     assert "mismatch objects.parquet: listed as metadata by release.json, not made by phav" in result.stdout
+
+
+def _as_another_renderer_made_it(folder: Path, edit_frame: Callable[[np.ndarray], np.ndarray] | None) -> None:
+    """The manifest of ``folder`` as if another renderer made it: its fingerprint another
+    llvmpipe's, and (``edit_frame``) v000000's frame 1 drawn otherwise, its hashes with it."""
+    if edit_frame is not None:
+        rewrite_tar(shard_of(folder, "v000000"), png_edit("v000000/00001.rgb.png", edit_frame))
+        refresh_manifest(folder)
+    manifest = load_manifest(folder / "manifest.json")
+    assert manifest.renderer is not None
+    renderer = manifest.renderer.model_copy(update={"gl_renderer": manifest.renderer.gl_renderer + " (another build)"})
+    dump_manifest(manifest.model_copy(update={"renderer": renderer}), folder / "manifest.json")
+
+
+def test_regenerate_by_another_renderer_compares_pixels_within_tolerances(small_dataset_copy, recipe_release, tmp_path):
+    """Another renderer's pixels are not promised bit for bit: a video whose hash differs is
+    compared with the source's frames within phav-validate's tolerances (exit 0 within them,
+    1 beyond), and where the source has no frames the report says it could not verify."""
+    _as_another_renderer_made_it(small_dataset_copy, lambda rgb: np.clip(rgb.astype(int) + 2, 0, 255).astype(np.uint8))
+    result = invoke_cli("regenerate", str(small_dataset_copy), "--out", str(tmp_path / "near"))
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "2/3 videos match" in result.stdout and "equal pixels not promised" in result.stdout
+    assert "1 video(s) whose hashes differ compared frame by frame" in result.stdout and "mismatch" not in result.stdout
+
+    _as_another_renderer_made_it(small_dataset_copy, lambda rgb: 255 - rgb)
+    result = invoke_cli("regenerate", str(small_dataset_copy), "--out", str(tmp_path / "far"))
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert "mismatch v000000: rgb beyond tolerance from frame 00001" in result.stdout
+
+    release = tmp_path / "release"
+    shutil.copytree(recipe_release, release)
+    _as_another_renderer_made_it(release, None)
+    manifest = load_manifest(release / "manifest.json")
+    other = {**manifest.videos[1].modality_hashes, "rgb": "0" * 64}  # v000001's rgb drawn otherwise
+    videos = [*manifest.videos]
+    videos[1] = videos[1].model_copy(update={"modality_hashes": other, "content_hash": video_content_hash(other)})
+    dump_manifest(manifest.model_copy(update={"videos": videos}), release / "manifest.json")
+    result = invoke_cli("regenerate", str(release / "manifest.json"), "--out", str(tmp_path / "unseen"))
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "not verified: 1 video(s) whose hashes differ have no frames in the source" in result.stdout
 
 
 def _validate(release: Path, *extra: str) -> dict:
