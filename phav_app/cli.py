@@ -54,7 +54,7 @@ from phav_app.console import (
 from phav_app.fingerprint_cli import fingerprint_command
 from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet, write_gif
 from phav_app.release import make_release
-from phav_app.sheets import check_sheets_dir, render_sheet, sheet_specs, write_index
+from phav_app.sheets import check_sheets_dir, render_sheet, sheet_specs, sheets_command, write_index
 from phav_app.train_cli import train_command
 from phav_generator.body.data import (
     ANNY_VERSION,
@@ -450,7 +450,7 @@ def sheets(
                 bar.advance(task)
     finally:
         ctx.release()
-    index = write_index(specs, out, th, seed)
+    index = write_index(specs, out, th, sheets_command(theta, seed, chosen, out))
     console.print(f"wrote {len(specs)} sheets and {escape(str(index))}")
 
 

@@ -9,6 +9,7 @@ name. Everything is drawn from (θ, seed): the same command makes the same sheet
 
 from __future__ import annotations
 
+import shlex
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -157,11 +158,20 @@ def check_sheets_dir(directory: Path) -> None:
                             source=str(directory), field="--out")  # fmt: skip
 
 
-def write_index(specs: list[SheetSpec], directory: Path, theta: Theta, seed: int) -> Path:
-    """A Markdown page listing the sheets by kind, with the recipe each shows."""
+def sheets_command(theta: str, seed: int, kinds: tuple[str, ...], directory: Path) -> str:
+    """The ``phav sheets`` command line that makes these sheets again (``--by`` where not every kind)."""
+    words = ["phav", "sheets", "--theta", theta, "--seed", str(seed)]
+    if tuple(dict.fromkeys(kinds)) != tuple(SHEET_KINDS):
+        words += ["--by", ",".join(dict.fromkeys(kinds))]
+    return shlex.join([*words, "--out", str(directory)])
+
+
+def write_index(specs: list[SheetSpec], directory: Path, theta: Theta, command: str) -> Path:
+    """A Markdown page listing the sheets by kind, with the recipe each shows and the command
+    (``sheets_command``) that made them."""
 
     lines = [INDEX_TITLE, "",
-             f"Made by `phav sheets --theta {theta.name} --seed {seed}`: one sheet per value. Top row: RGB at",
+             f"Made by `{command}` (θ {theta.name}, {theta.hash[:12]}…): one sheet per value. Top row: RGB at",
              "the first, middle and last frame; bottom row: the middle frame's semantic labels, depth",
              "(inverse depth, turbo; sky black) and flow (hue = direction, brightness = speed).",
              "Weather and day-phase sheets are one base scene with only that value changed.", ""]  # fmt: skip
@@ -178,4 +188,13 @@ def write_index(specs: list[SheetSpec], directory: Path, theta: Theta, seed: int
     return target
 
 
-__all__ = ["INDEX_TITLE", "SHEET_KINDS", "SheetSpec", "check_sheets_dir", "render_sheet", "sheet_specs", "write_index"]
+__all__ = [
+    "INDEX_TITLE",
+    "SHEET_KINDS",
+    "SheetSpec",
+    "check_sheets_dir",
+    "render_sheet",
+    "sheet_specs",
+    "sheets_command",
+    "write_index",
+]

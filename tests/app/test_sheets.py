@@ -18,6 +18,7 @@ def test_sheets_make_one_image_per_value_and_an_index(tmp_path):
     images = {w: np.asarray(Image.open(out / f"weather-{w}.jpg")) for w in WEATHERS.names}
     index = (out / "README.md").read_text()
     assert all(f"weather-{w}.jpg" in index for w in WEATHERS.names)
+    assert f"Made by `phav sheets --theta phav-v1 --seed 0 --by weather --out {out}`" in index  # runs again as is
     shapes = {im.shape for im in images.values()}
     assert shapes == {(18 + 2 * 256, 3 * 340, 3)}
     rgb = {w: im[18 : 18 + 256].astype(float) for w, im in images.items()}  # the RGB row
@@ -62,3 +63,15 @@ def test_sheets_show_the_actions_and_environments_theta_gives_a_chance(tmp_path)
     walks = [("action", a) for a in ACTIONS.names if a in ("walk", "run")]  # the vocabulary's order
     assert [(s.kind, s.value) for s in specs] == walks + [("day_phase", d) for d in DAY_PHASES.names]
     assert all(s.recipe.action == s.value for s in specs if s.kind == "action")
+
+
+def test_the_index_names_the_command_that_makes_the_sheets_again(tmp_path):
+    """The index printed θ's name (a θ file's is not a preset) and left out --by: its command
+    made other sheets. It now gives the θ as given, the kinds where not all, and the folder."""
+    from phav_app.sheets import SHEET_KINDS, sheets_command
+
+    theta = tmp_path / "my theta.yaml"
+    assert sheets_command(str(theta), 3, tuple(SHEET_KINDS), tmp_path / "out") == (
+        f"phav sheets --theta '{theta}' --seed 3 --out {tmp_path / 'out'}")  # fmt: skip
+    assert sheets_command("phav-v1", 0, ("action", "weather", "action"), tmp_path).endswith(
+        f"--by action,weather --out {tmp_path}")  # fmt: skip
