@@ -274,8 +274,13 @@ def build_body_data(root: Path | None = None, *, force: bool = False) -> Path:
     unless a built file is already there; returns the file. Safe to run from many processes
     at once: they wait on one lock and the first one builds."""
     directory = _data_dir(root)
-    directory.mkdir(parents=True, exist_ok=True)
-    with open(directory / "lock", "a+b") as lock:
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        lock = open(directory / "lock", "a+b")  # held by the with below
+    except OSError as e:  # the cache folder is the user's setting
+        raise PhavUserError(f"cannot use the body data cache ({e.strerror}); set {CACHE_ENV} to a writable folder",
+                            source=str(directory)) from None  # fmt: skip
+    with lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         found = _current(directory)
         if found is not None and not force:

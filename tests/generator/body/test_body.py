@@ -23,6 +23,7 @@ from phav_generator.motion.skeleton import BONE_INDEX, LOWER, N_DOFS, UPPER, for
 from phav_generator.render.people import SKIN_BONES, top_bones
 from phav_spec.errors import PhavUserError
 from phav_spec.people import Phenotype
+from tests.helpers import run_cli
 
 torch = pytest.importorskip("torch")
 anny = pytest.importorskip("anny")
@@ -200,3 +201,15 @@ def test_the_build_runs_in_its_own_interpreter_under_mkls_reproducibility_mode(t
         build_body_data(tmp_path / "cache")
     assert "\n" not in str(e.value)
     assert not list((tmp_path / "cache").rglob("*.npz"))
+
+
+def test_a_cache_folder_that_cannot_be_one_is_a_one_line_error(tmp_path):
+    """PHAV_CACHE_DIR naming a file: the body data's folder cannot be made below it. It was
+    an OSError traceback; now a one-line error naming the folder and the setting, exit 2."""
+    not_a_folder = tmp_path / "a-file"
+    not_a_folder.write_text("notes\n", encoding="utf-8")
+    result = run_cli("body", "info", env={"PHAV_CACHE_DIR": str(not_a_folder)})
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    assert f"error: {not_a_folder}/body/" in result.stderr
+    assert "set PHAV_CACHE_DIR to a writable folder" in result.stderr
+    assert not_a_folder.read_text(encoding="utf-8") == "notes\n"
