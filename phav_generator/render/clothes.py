@@ -46,6 +46,9 @@ SKIRT_LENGTH = 0.6
 SKIRT_FLARE = 0.3
 SKIRT_THIGH = 0.4
 SKIRT_RINGS, SKIRT_AROUND = 6, 24
+#: Strip rows below the hem that repeat it: the atlas lies right below the strip, and a mip
+#: level's bilinear footprint (8 texels at level 3) would mix its shoes and skin into the hem.
+STRIP_PAD = 16
 
 
 def atlas_uv(uv: np.ndarray) -> np.ndarray:
@@ -125,7 +128,7 @@ def skirt(body: RestBody, owner: np.ndarray):
 def skirt_uv() -> np.ndarray:
     """Texture coordinates (n, 2) of the skirt's vertices in the strip below the atlas."""
     u = np.arange(SKIRT_AROUND + 1) / SKIRT_AROUND
-    v = (0.5 + np.linspace(0.0, 1.0, SKIRT_RINGS) * (STRIP - 1.0)) / (ATLAS + STRIP)
+    v = (0.5 + np.linspace(0.0, 1.0, SKIRT_RINGS) * (STRIP - 1.0 - STRIP_PAD)) / (ATLAS + STRIP)
     return np.stack(np.meshgrid(u, v), axis=-1).reshape(-1, 2)
 
 
@@ -144,7 +147,8 @@ def _canvas_texels(data: BodyData) -> tuple[RestBody, np.ndarray, np.ndarray, np
     owner = np.argmax(at(body.weights), axis=1)
     # The skirt strip: the tube's rest positions, bilinear between its rings and columns.
     tube = skirt(body, np.argmax(body.weights, axis=1))[0].reshape(SKIRT_RINGS, SKIRT_AROUND + 1, 3)
-    y = np.arange(STRIP) / (STRIP - 1.0) * (SKIRT_RINGS - 1)  # texel row r: ring r / (STRIP − 1), as skirt_uv
+    # Texel row r: ring r / (STRIP − 1 − STRIP_PAD), as skirt_uv; the rows below repeat the hem.
+    y = np.minimum(np.arange(STRIP) / (STRIP - 1.0 - STRIP_PAD), 1.0) * (SKIRT_RINGS - 1)
     x = (np.arange(ATLAS) + 0.5) / ATLAS * SKIRT_AROUND  # texel centres: columns round the ring
     y0 = np.clip(np.floor(y).astype(int), 0, SKIRT_RINGS - 2)
     x0 = np.clip(np.floor(x).astype(int), 0, SKIRT_AROUND - 1)

@@ -135,3 +135,29 @@ def test_a_check_is_woven_bands_across_and_along_darkest_where_they_cross():
     assert set(np.unique(mix)) == {0.0, 0.5, 1.0}
     up = fabric(garment, points + np.array([0.0, 0.0, 1.0 / 12.0]))  # one band higher: only the across band flips
     assert np.allclose(np.abs(up - mix), 0.5)
+
+
+def test_a_solid_skirt_keeps_its_colour_in_every_mip_level():
+    """The skirt's strip lies next to the atlas: sampled bilinearly in mip levels 1 to
+    MAX_MIP_LEVEL (box-filtered, as GL builds them), its hem took 25–44 % of the shoes' and
+    skin's colour, seen on people 100–180 px tall."""
+    from phav_generator.render.clothes import skirt_uv
+    from phav_generator.render.gl import MAX_MIP_LEVEL
+
+    outfit = Outfit.model_validate({
+        "top": {"kind": "short_sleeves", "fabric": "solid", "rgb": (0, 0, 255), "pattern_rgb": (0, 0, 255)},
+        "bottom": {"kind": "skirt", "fabric": "solid", "rgb": (255, 0, 0), "pattern_rgb": (255, 0, 0)},
+        "shoes_rgb": (0, 255, 0)})  # fmt: skip
+    tex = outfit_texture(outfit, (200, 150, 120)).astype(np.float64)
+    skirt_colour = tex[0, 0]
+    v = skirt_uv()[:, 1] * tex.shape[0]  # texel rows of the skirt's vertices
+    worst = 0.0
+    for level in range(1, MAX_MIP_LEVEL + 1):
+        k = 2**level
+        mip = tex.reshape(tex.shape[0] // k, k, tex.shape[1] // k, k, 3).mean(axis=(1, 3))
+        y = np.clip(v / k - 0.5, 0.0, len(mip) - 1.0)
+        y0 = np.floor(y).astype(int)
+        y1, f = np.minimum(y0 + 1, len(mip) - 1), (y - y0)[:, None, None]
+        sampled = (1 - f) * mip[y0] + f * mip[y1]  # (n, columns, 3): bilinear in v
+        worst = max(worst, float(np.abs(sampled - skirt_colour).max()))
+    assert worst < 1e-3, f"the skirt's hem samples atlas texels: colour off by {worst:.3f} (linear)"
