@@ -143,7 +143,7 @@ def sample(
     out: Annotated[Path, typer.Option("--out", help="Output Parquet file.")] = Path("recipes.parquet"),
 ) -> None:
     """Sample N recipes from θ into a Parquet table (one row per video, recipe JSON included)."""
-    check_output_file(out, field="--out")
+    check_output_file(out, field="--out", kind="Parquet")
     th = load_theta(theta)
     with _progress() as progress:
         task = progress.add_task("sampling recipes", total=n)
@@ -262,7 +262,7 @@ def spec_schema(
 ) -> None:
     """JSON Schema of the recipe (current schema version)."""
     if out is not None:
-        check_output_file(out, field="--out")
+        check_output_file(out, field="--out", kind="JSON")
     text = json.dumps(recipe_json_schema(), indent=2, sort_keys=True) + "\n"
     if out is None:
         print(text, end="")
@@ -381,7 +381,7 @@ def preview(
 
     dataset = source.is_dir() or _is_manifest(source)
     if out is not None:
-        check_output_file(out, field="--out")
+        check_output_file(out, field="--out", kind="PNG")
         if out.suffix.lower() != ".png":
             raise PhavUserError("the sheet is a PNG: name it .png (the GIF goes beside it)", source=str(out),
                                 field="--out")  # fmt: skip
@@ -407,12 +407,14 @@ def preview(
     picks = sorted({round(i * (len(all_frames) - 1) / max(frames - 1, 1)) for i in range(frames)})
     sheet = modality_sheet([(f, all_frames[f]) for f in picks], f"{vid}  rgb")
     target = out if out is not None else Path(f"{vid}-preview.png")
+    check_output_file(target, field="--out", kind="PNG")
+    if gif:
+        check_output_file(target.with_suffix(".gif"), field="--out", kind="GIF")
     with atomic_write(target) as tmp:
         sheet.save(tmp, format="PNG")
     written = [str(target)]
     if gif:  # beside the sheet
         gif_path = target.with_suffix(".gif")
-        check_output_file(gif_path, field="--out")
         write_gif([m["rgb"] for m in all_frames], gif_path, fps)
         written.append(str(gif_path))
     console.print(f"wrote {escape(', '.join(written))} ({len(all_frames)} frames of {vid})")
@@ -465,6 +467,7 @@ def _skeleton_preview(recipe_file: Path, out: Path | None, frames: int) -> None:
     sheet = contact_sheet(tr, frames=frames, width=r.video.width, height=r.video.height,
                           ground_z=ENVIRONMENT_SCENES[r.environment.name].ground_z)  # fmt: skip
     target = out if out is not None else Path(f"{r.video_id}-skeleton.png")
+    check_output_file(target, field="--out", kind="PNG")
     with atomic_write(target) as tmp:
         sheet.save(tmp, format="PNG")
     status = "exploded at frame " + str(tr.exploded_at) if tr.exploded_at is not None else "stable"
@@ -664,7 +667,7 @@ def vary(
 
     forced = parse_settings(settings)
     if out is not None:
-        check_output_file(out, field="--out")
+        check_output_file(out, field="--out", kind="JSON")
         if out.exists() and out.resolve() == recipe_file.resolve():
             raise PhavUserError("is the recipe being varied; write the counterfactual elsewhere", source=str(out),
                                 field="--out")  # fmt: skip
@@ -676,6 +679,8 @@ def vary(
         named = e.source or e.field == "--set"
         raise e if named else PhavUserError(e.detail, source=str(recipe_file), field=e.field) from None
     target = out if out is not None else Path(f"{r.video_id}-varied.json")
+    if out is None:
+        check_output_file(target, field="--out", kind="JSON")
     with atomic_write(target) as tmp:
         tmp.write_text(json.dumps(varied.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")
     before, after = r.model_dump(mode="json"), varied.model_dump(mode="json")

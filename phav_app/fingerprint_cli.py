@@ -62,7 +62,7 @@ def fingerprint_command(
     for bit as the renderer of record did. Exit 1 when the fingerprints promise identical
     bytes of a stage and they differ; 0 otherwise, the report saying what differs."""
     if json_out is not None:
-        check_output_file(json_out, field="--json")
+        check_output_file(json_out, field="--json", kind="JSON")
     ref = load_reference(reference if reference is not None else REFERENCE_FILE)
     ctx = gl_context()
     try:

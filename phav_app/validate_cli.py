@@ -175,9 +175,9 @@ def validate(
     if json_out is not None and html_out is not None and json_out.resolve() == html_out.resolve():
         raise PhavUserError("is the --json report's file too; write the two reports apart", source=str(html_out),
                             field="--html")  # fmt: skip
-    for target, field in ((json_out, "--json"), (html_out, "--html")):
+    for target, field, kind in ((json_out, "--json", "JSON"), (html_out, "--html", "HTML")):
         if target is not None:
-            check_output_file(target, field=field)
+            check_output_file(target, field=field, kind=kind)
             if any(Path(p).exists() and Path(p).resolve() == target.resolve() for p in paths):
                 raise PhavUserError("is a file being validated; write the report elsewhere", source=str(target),
                                     field=field)  # fmt: skip

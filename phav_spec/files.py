@@ -238,11 +238,32 @@ def holds_dataset(folder: Path) -> bool:
     return (folder / "manifest.json").is_file() or (folder / "release.json").is_file()
 
 
-def check_output_file(path: str | os.PathLike[str], *, field: str) -> None:
+#: How a file of each kind a command writes begins (after white space, in any case for text):
+#: an existing file that begins otherwise is not an earlier output but something else.
+FILE_SIGNATURES: dict[str, tuple[bytes, ...]] = {
+    "Parquet": (b"PAR1",),
+    "PNG": (b"\x89PNG\r\n\x1a\n",),
+    "GIF": (b"GIF87a", b"GIF89a"),
+    "JSON": (b"{", b"["),
+    "HTML": (b"<!doctype html", b"<html"),
+}
+
+
+def _begins_as(path: Path, kind: str) -> bool:
+    """Whether the file at ``path`` is empty or begins as a file of ``kind`` does."""
+    with path.open("rb") as fh:
+        head = fh.read(64)
+    if kind in ("JSON", "HTML"):
+        head = head.lstrip().lower()
+    return not head or head.startswith(FILE_SIGNATURES[kind])
+
+
+def check_output_file(path: str | os.PathLike[str], *, field: str, kind: str | None = None) -> None:
     """Refuse, before any work, an output file that cannot be one: a directory, a device or a
     pipe, or a place below a file (its write would fail only after the work it was to keep);
-    and one that is a dataset's own file (its manifest, a table, a shard), which a report,
-    a sheet or a recipe would replace."""
+    one that is a dataset's own file (its manifest, a table, a shard), which a report, a
+    sheet or a recipe would replace; and, given the ``kind`` written (``FILE_SIGNATURES``),
+    an existing file of another kind (notes, a script), which is not an earlier output."""
     target = Path(path)
     try:
         _check_writable_place(target)
@@ -254,6 +275,14 @@ def check_output_file(path: str | os.PathLike[str], *, field: str) -> None:
     if dataset and (target.name in DATASET_FILES or target.suffix == ".tar"):
         raise PhavUserError("is a file of the dataset in that directory; write elsewhere", source=str(path),
                             field=field)  # fmt: skip
+    try:
+        other = kind is not None and target.is_file() and not _begins_as(target, kind)
+    except OSError as e:
+        raise PhavUserError(f"cannot be read to see what it holds: {e.strerror}", source=str(path),
+                            field=field) from None  # fmt: skip
+    if other:
+        raise PhavUserError(f"exists and is not a {kind} file, which this would replace; remove it or write "
+                            "elsewhere", source=str(path), field=field)  # fmt: skip
 
 
 def _check_can_create_in(folder: Path) -> None:

@@ -342,6 +342,33 @@ def test_schema_and_fingerprint_never_write_over_a_dataset_s_files(tmp_path):
         assert (tmp_path / "manifest.json").read_text(encoding="utf-8") == "{}"
 
 
+def test_an_output_never_replaces_a_file_of_another_kind(tmp_path, monkeypatch):
+    """`sample --out notes.txt` replaced the notes with Parquet, `vary` and `preview` wrote
+    over whatever had their default names, and the reports over any file. An output now
+    replaces only an earlier file of its own kind (or an empty one), and says so otherwise."""
+    monkeypatch.chdir(tmp_path)  # where vary writes its default name
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n", encoding="utf-8")
+    table, recipe = tmp_path / "r.parquet", tmp_path / "r.json"
+    for _ in range(2):  # an earlier table of its own kind is replaced
+        assert invoke_cli("sample", "--n", "2", "--out", str(table)).returncode == 0
+    recipe.write_text(invoke_cli("recipe", "show", str(table), "--video", "v000000").stdout, encoding="utf-8")
+    (tmp_path / "v000000-varied.json").write_text("my notes\n", encoding="utf-8")
+    for args, field, kind in (
+        (("sample", "--n", "2", "--out", str(notes)), "--out", "Parquet"),
+        (("spec", "schema", "--out", str(notes)), "--out", "JSON"),
+        (("vary", str(recipe), "--set", "weather=fog"), "--out", "JSON"),  # its default name
+        (("preview", str(recipe), "--skeleton", "--out", str(notes.with_suffix(".png"))), "--out", "PNG"),
+        (("fingerprint", "--no-check", "--json", str(notes)), "--json", "JSON"),
+        (("validate!", str(tmp_path), "--html", str(notes)), "--html", "HTML"),
+    ):
+        notes.with_suffix(".png").write_text("my notes\n", encoding="utf-8")
+        result = invoke_cli(*args)
+        assert result.returncode == 2 and "Traceback" not in result.stderr, (args, result.stderr)
+        assert f"{field}: exists and is not a {kind} file" in result.stderr, (args, result.stderr)
+    assert notes.read_text(encoding="utf-8") == (tmp_path / "v000000-varied.json").read_text(encoding="utf-8")
+
+
 def test_a_file_of_another_kind_says_what_it_is(tmp_path):
     """A Parquet table, a shard or a PNG given where a recipe or θ's text is read: the error
     says what the file is, not only that it is not UTF-8; --regenerate-into a file names
