@@ -215,7 +215,8 @@ def test_sigterm_stops_sample_and_leaves_the_previous_table(tmp_path):
     """SIGTERM while `phav sample` writes: exit 143, one line, the previous table intact and
     no temporary left (the table's temporary lives as long as the sampling)."""
     out = tmp_path / "recipes.parquet"
-    out.write_bytes(b"previous")
+    assert invoke_cli("sample", "--n", "2", "--out", str(out)).returncode == 0
+    previous = out.read_bytes()
     run = subprocess.Popen([sys.executable, "-m", "phav_app.cli", "sample", "--n", "100000000", "--out", str(out)],
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=cli_env())  # fmt: skip
     try:
@@ -231,7 +232,7 @@ def test_sigterm_stops_sample_and_leaves_the_previous_table(tmp_path):
     assert [line for line in err.splitlines() if line.strip()] == [
         "terminated; finished files are intact (writes are atomic)"
     ]
-    assert out.read_bytes() == b"previous"
+    assert out.read_bytes() == previous
     assert [p.name for p in tmp_path.iterdir()] == ["recipes.parquet"]
 
 
