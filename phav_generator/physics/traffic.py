@@ -77,18 +77,26 @@ class Vehicle:
     cruise_mps: float
 
 
-def plan_traffic(recipe: Recipe, obstacles: np.ndarray) -> tuple[Vehicle, ...]:
+def plan_traffic(recipe: Recipe, obstacles: np.ndarray, camera: Sequence[float] | None = None) -> tuple[Vehicle, ...]:
     """The vehicles of a recipe's scene: none where the environment has no lanes.
 
     ``obstacles`` (F + 1, N, 3) are the planned bodies of every person and moving prop per
     frame. Each vehicle starts far enough from its lane's end to cruise the whole clip on
     the road, clear of the vehicle ahead; driven against the planned bodies, a vehicle that
     would still come within ``MIN_CLEARANCE_M`` of someone (a walker crossing into its
-    side) is left out. The draws come from the background seed's ``traffic`` stream.
+    side), or would start within it of the ``camera``'s start where that hangs lower than
+    a roof and ``CAMERA_HEADROOM_M`` (a vehicle yields to a camera ahead, not to one it
+    starts on, and drove through it), is left out. The draws come from the background
+    seed's ``traffic`` stream.
     """
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     if not env.lanes:
         return ()
+    tallest = max(2.0 * VEHICLE_HALF_SIZES[k][2] for lane in env.lanes for k in lane.vehicles)
+    if camera is not None and camera[2] - min(lane.start[2] for lane in env.lanes) < tallest + CAMERA_HEADROOM_M:
+        start = np.full((len(obstacles), 1, 3), np.nan)  # not measured after the first frame: the camera moves
+        start[0, 0] = camera
+        obstacles = np.concatenate([obstacles, start], axis=1)
     rng = stream(recipe.seeds.background, "traffic")
     duration = recipe.n_frames / recipe.video.fps
     candidates: list[Vehicle] = []

@@ -219,8 +219,9 @@ def clear_camera_start(
 
     The sampler places C_xyz around the protagonist without looking at the geometry, so a
     start inside something is moved, deterministically, up to ``LIFT_M`` straight up (over
-    the ground, a bench or a car) or else to the first point on the segment to the target
-    (through a wall), in 5 cm steps, to the first with ``clearance`` metres of room.
+    the ground, a bench or a car; never into or over a box above the target's height, a
+    ceiling) or else to the first point on the segment to the target (through a wall), in
+    5 cm steps, to the first with ``clearance`` metres of room.
     ``shift`` moves camera and target together first (a spring camera's rig put on the
     protagonist's actual first pose): a rig lowered onto a seated or lying body can put the
     camera into the ground, where the slide would end on the body itself.
@@ -259,9 +260,17 @@ def clear_camera_start(
 def _cleared(
     colliders, floor: float, start: np.ndarray, target: np.ndarray, clearance: float
 ) -> tuple[float, float, float]:
-    """``start`` lifted, or slid towards ``target``, to the first point ``clearance`` clear."""
-    for j in range(round(LIFT_M / 0.05) + 1):
+    """``start`` lifted, or slid towards ``target``, to the first point ``clearance`` clear.
+    The lift rises out of what holds the start from below (the ground, a bench, a car), not
+    into or over a box above the target's height (a ceiling, a lamp, a canopy): there it
+    would end on the roof, filming the slab, and the start slides instead."""
+    x, y, z = (float(v) for v in start)
+    above = [c.bottom for c in colliders if c.bottom > float(target[2]) and c.xy_distance(x, y) < clearance]
+    roof = min(above, default=math.inf) - clearance  # the lift stays below it
+    for j in range(round(LIFT_M / 0.05) + 1) if z <= roof else ():
         lifted = start + np.array([0.0, 0.0, 0.05 * j])
+        if float(lifted[2]) > roof:
+            break
         if not _inside(colliders, lifted, clearance, floor):
             return (float(lifted[0]), float(lifted[1]), float(lifted[2]))
     length = float(np.linalg.norm(target - start))

@@ -85,7 +85,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
         stand_offset_z=b.stand_offset_z,
         camera_start=camera_start,
         camera_target=camera_target,
-        traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, b.boxes, substeps)),
+        traffic=plan_traffic(recipe, _planned_obstacles(people, b.props, b.boxes, substeps), camera_start),
         camera_walls=walls if recipe.camera.kind in ("kite", "closeup") else (),
     )
 

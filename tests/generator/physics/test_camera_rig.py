@@ -71,6 +71,21 @@ def test_a_rig_lowered_into_the_ground_lifts_its_camera_clear_rather_than_onto_t
     assert np.linalg.norm(start - (np.array(recipe.camera.target) + down)) > 1.0
 
 
+def test_a_start_under_the_ceiling_is_never_lifted_through_it() -> None:
+    """A kite start in the house within reach of the ceiling (seed 0, 673: under the lamp),
+    or raised over it with the rig on a hanging body (seed 1, 621: `pull_up`), was lifted
+    onto the slab and filmed its top all clip long. It now slides towards its target."""
+    from phav_spec.scene import ENVIRONMENT_SCENES
+    from phav_spec.theta import load_theta
+
+    ceiling = min(c.bottom for c in ENVIRONMENT_SCENES["house_interior"].colliders if c.pixel_class == "ceiling")
+    for seed, index in ((0, 673), (1, 621)):
+        recipe = RecipeSampler(load_theta("phav-v1")).sample(seed, index)
+        assert (recipe.environment.name, recipe.camera.kind) == ("house_interior", "kite")
+        start = plan_scene(recipe).camera_start
+        assert start[2] < ceiling - 0.25, (recipe.video_id, start)
+
+
 def test_a_spring_camera_started_against_the_protagonist_backs_off_and_keeps_its_room() -> None:
     recipe = recipe_for("wave", "simple", seconds=1.5)
     assert recipe.camera.springs is not None

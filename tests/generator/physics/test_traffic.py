@@ -168,6 +168,16 @@ def test_traffic_does_not_drive_through_a_camera_hanging_in_its_lane():
     assert _camera_in_a_vehicle_m(trajectory) < 0.0
 
 
+def test_traffic_never_starts_on_the_camera():
+    """phav-v1, seed 1, v000053 (`push`, middle): the start turned clear of the pushed load
+    lay in a lane where a truck was drawn. A vehicle yields to a camera ahead, not to one it
+    starts on: it drove through it (7 frames of truck and no protagonist). Planning now
+    leaves out a vehicle that starts within reach of a low camera's start."""
+    recipe = next(iter(sample_recipes(load_preset("phav-v1"), n=1, seed=1, start=53)))
+    assert (recipe.video_id, recipe.action, recipe.environment.name) == ("v000053", "push", "middle")
+    assert _camera_in_a_vehicle_m(simulate(recipe, keep_state=False)) < 0.0
+
+
 def test_a_follower_stops_behind_its_leader():
     wall = footprint_points(np.array([80.0, -2.0, 0.0]), 0.0, (1.0, 2.0, 1.0))
     traffic = _drive((_car("follower", 10.0, 12.0), _car("leader", 30.0)), [wall] * 451)
