@@ -248,8 +248,10 @@ def _card_recipe_only(index: ReleaseIndex) -> list[str]:
         "```",
         "",
         "Pixels are bit-identical where the renderer fingerprint (below) is equal — the GL strings, the CPU's "
-        "SIMD class, the versions and the body data, not the CPU's model (`phav fingerprint` says whether a "
-        "machine is one); elsewhere they may differ in the last bits, and `phav regenerate` says which videos do.",
+        "SIMD class, numpy's and OpenBLAS's kernels, the versions and the body data, not the CPU's model "
+        "(`phav fingerprint` says whether a machine is one). Elsewhere they differ: within tolerances where only "
+        "the GL driver differs; where numerics or versions differ, the physics can take some videos another way. "
+        "`phav regenerate` says which videos differ.",
         "",
     ]
 

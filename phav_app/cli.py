@@ -591,7 +591,7 @@ def regenerate(
         return
     console.print(escape(report.summary()))
     if report.differing:  # another renderer's pixels: within tolerances, as phav-validate compares them
-        worst, unchecked = rebuilt_within_tolerances(report, plan, out)
+        worst, unchecked, unpromised = rebuilt_within_tolerances(report, plan, out)
         compared = len(report.differing) - unchecked
         if compared:
             largest = ", ".join(f"{k} {v:.3g}" for k, v in worst.items())
@@ -603,6 +603,9 @@ def regenerate(
             console.print(f"[yellow]not verified[/yellow]: {unchecked} video(s) whose hashes differ have no "
                           "frames in the source to compare (a recipe-only release); only the renderer of "
                           "record promises their pixels")  # fmt: skip
+        for line in unpromised:  # the physics may have gone otherwise: not a mismatch, as phav-validate warns
+            console.print(f"  [yellow]differs[/yellow] {escape(line)} (the motion is not promised where "
+                          f"{escape(', '.join(report.renderer_differs))} differ)")  # fmt: skip
     for line in report.mismatches:
         console.print(f"  [red]mismatch[/red] {escape(line)}")
     if report.mismatches:

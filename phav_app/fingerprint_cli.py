@@ -78,8 +78,8 @@ def fingerprint_command(
     if not files:
         verdict = "same renderer: bit-identical pixels and metadata promised"
     elif not pixels:
-        verdict = (f"same renderer for pixels: bit-identical pixels promised; {', '.join(files)} differ, so "
-                   "trajectories and metadata may differ in the last bits")  # fmt: skip
+        verdict = (f"same renderer for pixels: bit-identical pixels and trajectories promised; {', '.join(files)} "
+                   "differ, so the encoded files may differ")  # fmt: skip
     else:
         verdict = f"this renderer differs in {', '.join(pixels)}: bit-identical pixels are not promised"
     console.print(f"reference: recorded on {escape(recorded_on)}; {escape(verdict)}")

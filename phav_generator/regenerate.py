@@ -165,8 +165,7 @@ class HashReport:
         )
         files = f"; files: {self.files_matched}/{self.files_compared} sha256 match" if self.files_compared else ""
         if self.files_unpromised:
-            why = (f"where {', '.join(self.files_differ_in)} differ: metadata floats in their last bits" if self.exact
-                   else "not promised")  # fmt: skip
+            why = f"where {', '.join(self.files_differ_in)} differ: their encoding" if self.exact else "not promised"
             files += f" ({len(self.files_unpromised)} differ {why})"
         return f"content hashes: {self.matched}/{self.compared} videos match{files} ({basis})"
 

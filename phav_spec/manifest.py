@@ -60,16 +60,25 @@ _CONFIG = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
 #: What a comparison of two fingerprints is for: the pixels (content hashes), or whole files
-#: (shards and metadata tables, whose floats also carry numpy's and OpenBLAS's last bits).
+#: (shards and metadata tables, whose bytes also follow their encoders).
 Scope = Literal["pixels", "files"]
+#: The fingerprint keys that reach the pixels only through the GL driver: where two
+#: fingerprints differ in these alone, the simulated motion and the scene handed to GL are
+#: the same, and pixels differ only as two renderers draw one scene (within the
+#: reproducibility check's tolerances). Any other key (numpy's and OpenBLAS's kernels, a
+#: package, the body data, phav's code) can move the physics, whose contacts carry a
+#: last-bit difference into a visibly other motion.
+RENDERER_ONLY_KEYS = frozenset({"gl_vendor", "gl_renderer", "gl_version", "gl_settings", "cpu_class",
+                                "versions.moderngl"})  # fmt: skip
 
 
 class RendererFingerprint(BaseModel):
     """What a dataset's bytes depend on, as measured (docs/reproducibility.md). The pixels: the
-    GL strings (Mesa, LLVM and llvmpipe's vector width), the CPU's SIMD class, the versions of
-    the packages whose arithmetic reaches them and the body data's hash. The metadata's floats
-    also: numpy's SIMD targets and OpenBLAS's kernels (``numeric_class``). Equal ``key`` for a
-    scope, bit-identical bytes of that scope promised.
+    GL strings (Mesa, LLVM and llvmpipe's vector width), the CPU's SIMD class, numpy's SIMD
+    targets and OpenBLAS's kernels (``numeric_class``: the physics carries their last bits
+    into the motion), the versions of the packages whose arithmetic reaches them and the
+    body data's hash. Whole files also: their encoders (``file_versions``). Equal ``key`` for
+    a scope, bit-identical bytes of that scope promised.
 
     Version 1 recorded the CPU's model name and whole flag list and compared them too; it
     still loads, compares its pixels by today's rule through the class its flags give, and
@@ -129,10 +138,16 @@ class RendererFingerprint(BaseModel):
         fields = {"gl_vendor": self.gl_vendor, "gl_renderer": self.gl_renderer, "gl_version": self.gl_version,
                   "cpu_class": self.simd_class, "gl_settings": self.gl_settings or ""}  # fmt: skip
         fields |= {f"versions.{k}": v for k, v in sorted(self.versions.items())}
-        if scope == "files":  # version 1 has no numerics: its CPU's flags (the old rule) stand in
-            fields["numeric_class"] = self.numeric_class or f"CPU flags {self.cpu_flags}"
+        # Version 1 has no numerics: its CPU's flags (the old rule) stand in.
+        fields["numeric_class"] = self.numeric_class or f"CPU flags {self.cpu_flags}"
+        if scope == "files":
             fields |= {f"files.{k}": v for k, v in sorted(self.file_versions.items())}
         return fields
+
+    def motion_differences(self, other: RendererFingerprint) -> list[str]:
+        """The keys in which ``other`` differs that can move the simulated motion (all but
+        ``RENDERER_ONLY_KEYS``); empty: the same scene is drawn, pixels differ as renderers do."""
+        return [k for k in self.differences(other) if k not in RENDERER_ONLY_KEYS]
 
     def differences(self, other: RendererFingerprint, scope: Scope = "pixels") -> list[str]:
         """The keys (``key``) in which ``other`` differs from this fingerprint, sorted; empty:

@@ -224,13 +224,13 @@ def validate_release(
     if files_differ == []:
         basis, lenient = "equals the release's: every hash must match", ()
     elif differs == []:
-        numerics = ", ".join(k for k in files_differ or [] if k not in differs)
-        basis = (f"equals the release's for pixels (every content hash must match); {numerics} differ, so shard "
-                 "bytes may differ in the metadata's last bits (warnings)")  # fmt: skip
+        encoders = ", ".join(k for k in files_differ or [] if k not in differs)
+        basis = (f"equals the release's for pixels (every content hash must match); {encoders} differ, so shard "
+                 "bytes may differ in their encoding (warnings)")  # fmt: skip
         lenient = (Reason.SHARD_BYTES_CHANGED,)
     else:
         basis = ("differs from the release's" + (f" ({', '.join(differs)})" if differs else "")
-                 + ": hash differences are warnings, pixels may differ in the last bits")  # fmt: skip
+                 + ": hash differences are warnings, pixels may differ")  # fmt: skip
         lenient = _RENDERER_DEPENDENT
     verb = "reused" if reused else "regenerated"
     note = f"{verb} {len(chosen)} of {len(plan.shards)} shards from the release's recipes ({where}"

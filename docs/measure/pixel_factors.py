@@ -9,10 +9,14 @@ each modality), ``=`` when the bytes equal the plain run's and ``≠`` when not.
 
     python docs/measure/pixel_factors.py --out factors.md --json factors.json
     python docs/measure/pixel_factors.py --body --workers     # also rebuild the body data, and generate twice
+    python docs/measure/pixel_factors.py --videos 16          # also full phav-v1 videos under the numerics
 
 Run it on every machine you can; the header records the machine. ``--body`` rebuilds the
 body data under each of torch's kernel levels (~1.5 min each); ``--workers`` generates two
-videos with one worker and with two.
+videos with one worker and with two; ``--videos N`` generates the first N phav-v1 videos of
+``--seed`` and regenerates them under each factor of numpy's and OpenBLAS's kernels (the
+reference clips are 6 frames: too short for the physics to carry a last bit into the
+motion), counting the videos whose pixels differ (~1.5 min per factor for 16).
 """
 
 from __future__ import annotations
@@ -131,12 +135,43 @@ def _worker_rows(work: Path) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _video_rows(work: Path, n: int, seed: int) -> list[tuple[str, str, str]]:
+    """The first ``n`` phav-v1 videos of ``seed`` generated plain, then regenerated under each
+    factor of numpy's and OpenBLAS's kernels: per factor, the videos whose content hash
+    differs and the modalities that do."""
+    plain = work / "videos"
+    command = ["generate", "--theta", "phav-v1", "--videos", str(n), "--seed", str(seed), "--workers", "2"]
+    subprocess.run([sys.executable, "-m", "phav_app.cli", *command, "--out", str(plain)], capture_output=True,
+                   check=True)  # fmt: skip
+    base = {v["video_id"]: v for v in json.loads((plain / "manifest.json").read_text(encoding="utf-8"))["videos"]}
+    rows = []
+    for factor, setting, env in FACTORS:
+        if not any(k in env for k in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")):
+            continue
+        if env.get("NPY_DISABLE_CPU_FEATURES") == "__ABOVE_BASELINE__":
+            env = {"NPY_DISABLE_CPU_FEATURES": _numpy_above_baseline()}
+        out = work / f"videos-{len(rows)}"
+        subprocess.run([sys.executable, "-m", "phav_app.cli", "regenerate", str(plain), "--out", str(out),
+                        "--workers", "2"], env=os.environ | env, capture_output=True)  # fmt: skip
+        made = json.loads((out / "manifest.json").read_text(encoding="utf-8"))["videos"]
+        differ = [v for v in made if v["content_hash"] != base[v["video_id"]]["content_hash"]]
+        modalities = sorted({m for v in differ for m, h in v["modality_hashes"].items()
+                             if h != base[v["video_id"]]["modality_hashes"][m]})  # fmt: skip
+        which = f": {' '.join(v['video_id'] for v in differ)} in {', '.join(modalities)}" if differ else ""
+        rows.append((f"{factor} ({n} phav-v1 videos, seed {seed})", setting, f"{len(differ)} differ{which}"))
+        print(f"{factor}: {setting}: {rows[-1][2]}", file=sys.stderr)
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, help="Markdown table (default: print)")
     parser.add_argument("--json", type=Path, help="every run's fingerprint and stage hashes")
     parser.add_argument("--body", action="store_true", help="also rebuild the body data under torch's kernel levels")
     parser.add_argument("--workers", action="store_true", help="also generate two videos with 1 and 2 workers")
+    parser.add_argument("--videos", type=int, default=0, help="also N full phav-v1 videos under the numerics")
+    parser.add_argument("--seed", type=int, default=52, help="the dataset seed of --videos")
+    parser.add_argument("--only-videos", action="store_true", help="skip the reference recipes' factors")
     args = parser.parse_args()
 
     work = Path(tempfile.mkdtemp(prefix="phav-factors-"))
@@ -156,7 +191,7 @@ def main() -> None:
             factors += [
                 ("LLVM tuning CPU", cpu, {"LD_PRELOAD": str(lib), "PHAV_FAKE_LLVM_CPU": cpu}) for cpu in LLVM_CPUS
             ]
-        for i, (factor, setting, env) in enumerate(factors):
+        for i, (factor, setting, env) in enumerate(factors if not args.only_videos else []):
             if env.get("NPY_DISABLE_CPU_FEATURES") == "__ABOVE_BASELINE__":
                 env = {"NPY_DISABLE_CPU_FEATURES": _numpy_above_baseline()}
             got = _trace(env, work, f"run{i}")
@@ -190,6 +225,7 @@ def main() -> None:
         ]
         lines += ["| " + " | ".join(r) + " |" for r in rows]
         extra = (_body_rows(work) if args.body else []) + (_worker_rows(work) if args.workers else [])
+        extra += _video_rows(work, args.videos, args.seed) if args.videos else []
         if extra:
             lines += ["", "| factor | setting | result |", "| --- | --- | --- |"]
             lines += [f"| {f} | {s} | `{r}` |" for f, s, r in extra]

@@ -70,7 +70,8 @@ def _openblas_core() -> str:
 
 def numeric_class() -> str:
     """numpy's SIMD targets in use on this CPU and OpenBLAS's kernels: they decide the last
-    bits of trajectories, and so of the metadata, but not the pixels (docs/reproducibility.md)."""
+    bits of the planned motion, which the physics carries into a visibly other trajectory in
+    some videos, so they decide pixels too (docs/reproducibility.md)."""
     try:
         from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
     except ImportError:  # numpy's layout changed: say so rather than guess
@@ -178,9 +179,9 @@ def world_sha256() -> str:
 def renderer_fingerprint(gl: dict[str, str]) -> RendererFingerprint:
     """What the bytes depend on: GL strings, the CPU's SIMD class, the versions of the stack and
     the sha256 of the body data the people's meshes come from, of the asset library the
-    world's objects come from and of phav's code itself (the pixels); numpy's SIMD
-    targets and OpenBLAS's kernels (the metadata's last bits). The CPU's model is recorded for
-    the reader, not compared."""
+    world's objects come from and of phav's code itself, numpy's SIMD targets and OpenBLAS's
+    kernels (the pixels, through the motion); the encoders (the files). The CPU's model is
+    recorded for the reader, not compared."""
     model, cls = _cpu()
     versions = {p: package_version(p) for p in ("phav", "numpy", "scipy", "mujoco", "moderngl")}
     versions[BODY_DATA_KEY] = load_body_data().sha256

@@ -20,7 +20,7 @@ from phav_generator.pipeline import video_frames
 from phav_generator.regenerate import HashReport, RegenerationPlan
 from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import MODALITIES, VideoHashes, decode_flow
-from phav_spec.manifest import DatasetManifest, VideoEntry, renderer_differences
+from phav_spec.manifest import RENDERER_ONLY_KEYS, DatasetManifest, VideoEntry, renderer_differences
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import seeded_rng
 from phav_validators.checks.scan import FRAME_KEYS, decode_image, png_header
@@ -116,18 +116,23 @@ def shards_within_tolerances(
     return first_bad, absent
 
 
-def rebuilt_within_tolerances(report: HashReport, plan: RegenerationPlan, out: Path) -> tuple[dict[str, float], int]:
+def rebuilt_within_tolerances(
+    report: HashReport, plan: RegenerationPlan, out: Path
+) -> tuple[dict[str, float], int, list[str]]:
     """``phav regenerate`` with another renderer: each video whose content hash differs
     (``report.differing``) compared frame by frame with its original shard, where the source
-    has it, within ``TOLERANCES`` as this check does; a video beyond them, or whose original
-    lacks frames, is a mismatch added to ``report``. Returns the largest difference per
-    modality and how many videos had no original frames to compare (a recipe-only release)."""
+    has it, within ``TOLERANCES`` as this check does. A video beyond them, or whose original
+    lacks frames, is a mismatch added to ``report``; where the fingerprints differ in keys
+    that can move the physics (``RENDERER_ONLY_KEYS``' complement), it is returned instead,
+    as this check warns of it. Returns the largest difference per modality, how many videos
+    had no original frames to compare (a recipe-only release), and those unpromised ones."""
     worst = {m.name: 0.0 for m in MODALITIES}
     if plan.expected is None or plan.root is None:
-        return worst, len(report.differing)
+        return worst, len(report.differing), []
+    motion = [k for k in report.renderer_differs if k not in RENDERER_ONLY_KEYS]
     entries = {v.video_id: v for v in plan.expected.videos}
     sizes = {r.video_id: (r.video.width, r.video.height) for shard in plan.shards for r in shard}
-    unchecked = 0
+    unchecked, unpromised = 0, []
     for vid in report.differing:
         original = plan.root / entries[vid].shard
         if not original.is_file():
@@ -138,8 +143,8 @@ def rebuilt_within_tolerances(report: HashReport, plan: RegenerationPlan, out: P
         if absent:
             beyond.append(f"{absent} frames not in {original.name}")
         if beyond:
-            report.mismatches.append(f"{vid}: {', '.join(beyond)}")
-    return worst, unchecked
+            (unpromised if motion and not absent else report.mismatches).append(f"{vid}: {', '.join(beyond)}")
+    return worst, unchecked, unpromised
 
 
 def check_reproducibility(
@@ -172,6 +177,8 @@ def check_reproducibility(
     here = renderer_fingerprint(gl_strings(ctx))
     differs = renderer_differences(manifest.renderer, here)
     exact = differs == []
+    # Where the motion is not promised either, a video may leave the tolerances by physics alone.
+    motion = manifest.renderer.motion_differences(here) if manifest.renderer is not None else []
     entries = {v.video_id: v for v in manifest.videos}
     report = Report()
     advance = progress("regenerating", len(chosen)) if progress is not None else None
@@ -187,7 +194,7 @@ def check_reproducibility(
                     f"{vid}: {absent} of {recipes[vid].n_frames} frames not in its shard (see integrity); "
                     + ("compared with the manifest's content hash" if exact else "those not compared"))  # fmt: skip
             if first_bad:
-                report.add(_mismatch(vid, entry, first_bad, exact))
+                report.add(_mismatch(vid, entry, first_bad, exact, motion))
             elif not exact and absent == recipes[vid].n_frames:  # nothing to compare within tolerances
                 uncompared.append(vid)
             else:
@@ -210,6 +217,8 @@ def check_reproducibility(
         basis = "tolerances: another renderer fingerprint"
     if differs:
         basis += f" ({', '.join(differs)} differ)"
+    if motion:
+        basis += "; the motion is not promised there, so a video beyond them is a warning"
     if uncompared and len(uncompared) == len(chosen) and report.ok:
         return CheckResult.skipped(name, "no regenerated video's frames are in the shards to compare "
                                    f"({basis}; the integrity check says why)"), exact  # fmt: skip
@@ -217,6 +226,7 @@ def check_reproducibility(
                                "not_compared": uncompared}  # fmt: skip
     if not exact:
         numbers["renderer_differs"] = differs
+        numbers["motion_differs"] = motion
         numbers["worst_difference"] = worst
         numbers["tolerances"] = TOLERANCES
     summary = f"{matched}/{len(chosen)} regenerated videos match ({basis})"
@@ -282,13 +292,19 @@ def _compare_frame(
                 first_bad.setdefault(m.name, index)
 
 
-def _mismatch(video_id: str, entry: VideoEntry | None, first_bad: dict[str, int], exact: bool) -> Finding:
-    """The finding of a regenerated video that differs from its shard, naming where."""
+def _mismatch(
+    video_id: str, entry: VideoEntry | None, first_bad: dict[str, int], exact: bool, motion: Sequence[str] = ()
+) -> Finding:
+    """The finding of a regenerated video that differs from its shard, naming where: a
+    warning where fingerprint keys that can move the physics (``motion``) differ."""
     where = ", ".join(f"{k} (frame {f:05d})" if f >= 0 else k for k, f in first_bad.items())
     basis = "bit-exact (same renderer fingerprint)" if exact else "within tolerances (other renderer)"
+    message = f"regenerated from its recipe, the video differs from the shard: {where}; expected {basis}"
+    if motion:
+        message += (f", but {', '.join(motion)} differ, which can move the physics: regenerate on a machine of "
+                     "the manifest's fingerprint to verify it")  # fmt: skip
     return Finding(
-        Reason.REGENERATION_MISMATCH,
-        f"regenerated from its recipe, the video differs from the shard: {where}; expected {basis}",
-        file=entry.shard if entry is not None else None, video_id=video_id,
-        numbers={"first_frames": first_bad, "exact": exact},
+        Reason.REGENERATION_MISMATCH, message, file=entry.shard if entry is not None else None, video_id=video_id,
+        numbers={"first_frames": first_bad, "exact": exact, "motion_differs": list(motion)},
+        severity="warn" if motion else "fail",
     )  # fmt: skip

@@ -459,10 +459,10 @@ def test_a_regeneration_is_reused_only_whole_and_resumed_where_it_stopped(recipe
     assert "begun" not in json.loads(marker.read_text(encoding="utf-8"))
 
 
-def test_a_recipe_only_release_regenerated_with_other_numerics_passes_on_its_pixels(recipe_release, tmp_path):
+def test_a_recipe_only_release_regenerated_with_other_numerics_is_another_renderer(recipe_release, tmp_path):
     """OpenBLAS on another CPU's kernels stands in for a machine of the same SIMD class with
-    other numerics: every content hash must match and does; shard bytes whose metadata floats
-    differ are warnings, and the note names the numerics."""
+    other numerics, which can move the physics: the note names them, and what differs is a
+    warning (equal pixels are not promised there), not a failure."""
     other = "Sandybridge" if fingerprint._openblas_core() == "Haswell" else "Haswell"
     out = tmp_path / "report.json"
     result = run_cli("validate!", str(recipe_release), "--json", str(out), "--checks", "integrity",
@@ -470,8 +470,8 @@ def test_a_recipe_only_release_regenerated_with_other_numerics_passes_on_its_pix
     assert result.returncode == 0, result.stdout
     integrity = json.loads(out.read_text(encoding="utf-8"))["datasets"][0]["checks"][0]
     assert integrity["numbers"]["hashed"] == 3 and integrity["status"] in ("pass", "warn")
-    assert any("equals the release's for pixels" in n and "numeric_class" in n for n in integrity["notes"])
-    assert all(f["severity"] == "warn" and f["reason"] == "SHARD_BYTES_CHANGED" for f in integrity["findings"])
+    assert any("differs from the release's (numeric_class)" in n for n in integrity["notes"]), integrity["notes"]
+    assert all(f["severity"] == "warn" for f in integrity["findings"])
 
 
 def test_an_interrupted_regeneration_into_a_directory_is_resumed(recipe_release, tmp_path):

@@ -80,3 +80,23 @@ def test_under_another_renderer_a_video_without_frames_to_compare_is_not_a_match
         shard.unlink()
     result = check(validate(data, "integrity", "reproducibility", regenerate=1), "reproducibility")
     assert result.status == Status.SKIP and "no regenerated video's frames are in the shards" in result.summary
+
+
+def test_beyond_tolerances_fails_under_another_driver_and_warns_where_the_motion_may_differ(data):
+    """A frame drawn otherwise (its hashes with it): where only the GL driver differs, the
+    scene is the same and a video beyond the tolerances fails; where numpy's or OpenBLAS's
+    kernels differ, the physics can take a video another way, and it is a warning naming them."""
+    rewrite_tar(shard_of(data, "v000001"), png_edit("v000001/00002.rgb.png", lambda image: 255 - image))
+    refresh_manifest(data)
+    m = load_manifest(data / "manifest.json")
+    assert m.renderer is not None
+    for change, severity in (({"gl_renderer": "llvmpipe (another build)"}, "fail"),
+                             ({"numeric_class": "numpy baseline; OpenBLAS Prescott"}, "warn")):  # fmt: skip
+        dump_manifest(m.model_copy(update={"renderer": m.renderer.model_copy(update=change)}), data / "manifest.json")
+        result = check(validate(data, "reproducibility", regenerate=3), "reproducibility")
+        hits = [f for f in result.report.findings if f.reason == Reason.REGENERATION_MISMATCH]
+        assert [(f.video_id, f.severity) for f in hits] == [("v000001", severity)], result.summary
+        assert "rgb (frame 00002)" in hits[0].message and result.numbers["exact"] is False
+        assert result.status == (Status.FAIL if severity == "fail" else Status.WARN)
+    assert "numeric_class differ, which can move the physics" in hits[0].message
+    assert result.numbers["motion_differs"] == ["numeric_class"]
