@@ -25,19 +25,23 @@ def cpu_fields(path: Path = CPUINFO) -> dict[str, str]:
     return fields
 
 
-#: llvmpipe's code paths on x86-64, best first: the flag that opens each, and the class name.
+#: llvmpipe's code paths on x86-64, best first: the flags that open each, and the class name.
 #: Measured (docs/reproducibility.md): forcing llvmpipe's capabilities down level by level
-#: changes the bytes only where one of these lines is crossed — AVX, AVX2 and AVX-512 give
-#: one set of bytes; SSSE3 and SSE4.1 another; SSE2 and SSE3 a third.
-X86_SIMD_CLASSES: tuple[tuple[str, str], ...] = (
-    ("avx", "x86-64-avx"),
-    ("ssse3", "x86-64-ssse3"),
-    ("sse2", "x86-64-sse2"),
+#: changes the bytes only where one of these lines is crossed — AVX2 with FMA, with or
+#: without AVX-512, gives one set of bytes; SSSE3 and SSE4.1 another; SSE2 and SSE3 a third.
+#: AVX without AVX2 and FMA (Sandy and Ivy Bridge), where Mesa compiles without fused
+#: multiply-adds, was never measured: a class of its own, promised nothing against the rest.
+X86_SIMD_CLASSES: tuple[tuple[tuple[str, ...], str], ...] = (
+    (("avx2", "fma"), "x86-64-avx"),
+    (("avx",), "x86-64-avx1"),
+    (("ssse3",), "x86-64-ssse3"),
+    (("sse2",), "x86-64-sse2"),
 )
 
 
 #: Mesa's override of the CPU capabilities llvmpipe uses (a measurement tool), and the flags
-#: each of its values leaves: llvmpipe then takes the code path of that level.
+#: each of its values leaves: llvmpipe then takes the code path of that level. ``avx`` turns
+#: off AVX-512 alone (Mesa's ``check_cpu_caps_override``): AVX2, F16C and FMA stay.
 GALLIUM_CAPS_ENV = "GALLIUM_OVERRIDE_CPU_CAPS"
 _GALLIUM_CAPS = {
     "nosse": (),
@@ -46,7 +50,7 @@ _GALLIUM_CAPS = {
     "sse3": ("sse", "sse2", "sse3"),
     "ssse3": ("sse", "sse2", "sse3", "ssse3"),
     "sse4.1": ("sse", "sse2", "sse3", "ssse3", "sse4_1"),
-    "avx": ("sse", "sse2", "sse3", "ssse3", "sse4_1", "avx"),
+    "avx": ("sse", "sse2", "sse3", "ssse3", "sse4_1", "sse4_2", "avx", "avx2", "f16c", "fma"),
 }
 
 
@@ -58,8 +62,8 @@ def simd_class(flags: str, machine: str, model: str = "", override: str | None =
         present = set(flags.split())
         if override is not None and override in _GALLIUM_CAPS:
             present &= set(_GALLIUM_CAPS[override])
-        for flag, name in X86_SIMD_CLASSES:
-            if flag in present:
+        for needs, name in X86_SIMD_CLASSES:
+            if present.issuperset(needs):
                 return name
         return "x86-64"
     return f"{machine}: {model}" if model else machine

@@ -23,17 +23,18 @@ def test_no_cpuinfo_gives_no_fields(tmp_path):
 @pytest.mark.parametrize(
     ("flags", "override", "expected"),
     [
-        ("fpu sse2 ssse3 sse4_1 avx avx2 avx512f", None, "x86-64-avx"),
-        ("fpu sse2 ssse3 sse4_1 avx", None, "x86-64-avx"),
+        ("fpu sse2 ssse3 sse4_1 avx avx2 fma avx512f", None, "x86-64-avx"),
+        ("fpu sse2 ssse3 sse4_1 avx avx2 fma", None, "x86-64-avx"),
+        ("fpu sse2 ssse3 sse4_1 avx", None, "x86-64-avx1"),  # Sandy Bridge: no AVX2, no FMA (not measured)
         ("fpu sse2 sse3 ssse3 sse4_1 sse4_2", None, "x86-64-ssse3"),
         ("fpu sse sse2 sse3", None, "x86-64-sse2"),
         ("fpu", None, "x86-64"),
-        ("fpu sse2 ssse3 avx avx2", "sse4.1", "x86-64-ssse3"),
-        ("fpu sse2 ssse3 avx avx2", "sse3", "x86-64-sse2"),
-        ("fpu sse2 ssse3 avx avx2", "nosse", "x86-64"),
-        ("fpu sse2 ssse3 avx avx2", "avx", "x86-64-avx"),
+        ("fpu sse2 ssse3 avx avx2 fma", "sse4.1", "x86-64-ssse3"),
+        ("fpu sse2 ssse3 avx avx2 fma", "sse3", "x86-64-sse2"),
+        ("fpu sse2 ssse3 avx avx2 fma", "nosse", "x86-64"),
+        ("fpu sse2 ssse3 avx avx2 fma avx512f", "avx", "x86-64-avx"),  # Mesa's avx turns off AVX-512 alone
         ("fpu sse2 ssse3", "avx", "x86-64-ssse3"),  # an override never adds what the CPU lacks
-        ("fpu sse2 ssse3 avx", "not-a-level", "x86-64-avx"),  # Mesa ignores what it does not know
+        ("fpu sse2 ssse3 avx avx2 fma", "not-a-level", "x86-64-avx"),  # Mesa ignores what it does not know
     ],
 )
 def test_the_simd_class_is_llvmpipes_code_path(flags, override, expected):

@@ -35,7 +35,7 @@ def _fingerprint(**changes: Any) -> RendererFingerprint:
         "gl_renderer": "llvmpipe (LLVM 15.0.6, 256 bits)",
         "gl_version": "3.3 (Core Profile) Mesa 22.3.6",
         "cpu_model": "Example CPU",
-        "cpu_flags": "sse4_2 avx2",
+        "cpu_flags": "sse4_2 avx avx2 fma",
         "versions": {"phav": "0.1.0", "numpy": "2.4.6", "mujoco": "4.0", "moderngl": "5.12"},
     }
     fields.update(changes)
@@ -156,13 +156,13 @@ def test_fingerprints_compare_by_simd_class_across_versions() -> None:
     for. numpy's and OpenBLAS's kernels count for the pixels: the physics carries their last
     bits into the motion (docs/reproducibility.md)."""
     numerics = "numpy X86_V3; OpenBLAS Haswell"
-    v1 = _fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2")
+    v1 = _fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2 fma")
     v2 = _fingerprint(fingerprint_version=2, cpu_flags=None, cpu_class="x86-64-avx", numeric_class=numerics,
                       cpu_model="Other CPU")  # fmt: skip
     assert v1.simd_class == "x86-64-avx" and v1.differences(v2) == ["numeric_class"] and v1.digest() != v2.digest()
     assert v1.differences(v2, "files") == ["numeric_class"] and v2.differences(v2, "files") == []
-    assert v1.differences(_fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2", cpu_model="Other"), "files") == []
-    assert v1.differences(_fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2 avx512f")) == ["numeric_class"]
+    assert v1.differences(_fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2 fma", cpu_model="Other"), "files") == []
+    assert v1.differences(_fingerprint(cpu_flags="fpu sse2 ssse3 avx avx2 fma avx512f")) == ["numeric_class"]
     assert renderer_differences(v1, None) is None and renderer_differences(v1, v2) == ["numeric_class"]
     no_avx = _fingerprint(cpu_flags="fpu sse2 ssse3")
     newer_numpy = v2.model_copy(update={"versions": {**v1.versions, "numpy": "9.9"}})

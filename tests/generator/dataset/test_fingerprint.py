@@ -37,7 +37,8 @@ def test_a_missing_pyproject_leaves_phav_unknown(monkeypatch, tmp_path):
 
 def test_the_fingerprint_records_the_first_processors_model_and_simd_class(monkeypatch):
     monkeypatch.setattr(fingerprint.platform, "machine", lambda: "x86_64")
-    monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"model name": "AMD EPYC", "flags": "sse2 avx avx512_bf16"})
+    flags = "sse2 avx avx2 fma avx512_bf16"
+    monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"model name": "AMD EPYC", "flags": flags})
     assert fingerprint._cpu() == ("AMD EPYC", "x86-64-avx")
     monkeypatch.setattr(fingerprint.platform, "machine", lambda: "aarch64")
     monkeypatch.setattr(fingerprint, "cpu_fields", lambda: {"Features": "neon fp"})  # ARM names its flags so

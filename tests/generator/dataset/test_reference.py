@@ -90,11 +90,13 @@ def _fingerprint_on(monkeypatch, model: str, flags: str):
 
 def test_another_cpu_model_of_the_same_class_is_the_same_renderer(monkeypatch):
     """/proc/cpuinfo faked: the model name is recorded, not compared; the SIMD class is."""
-    intel = _fingerprint_on(monkeypatch, "Intel(R) Xeon(R) Platinum 8480+", "fpu sse2 ssse3 avx avx2 avx512f amx_bf16")
+    intel = _fingerprint_on(monkeypatch, "Intel(R) Xeon(R) Platinum 8480+", "fpu sse2 avx avx2 fma avx512f amx_bf16")
     amd = _fingerprint_on(monkeypatch, "AMD EPYC 7B13", "fpu sse2 ssse3 avx avx2 fma")
     old = _fingerprint_on(monkeypatch, "Intel(R) Core(TM)2 Duo", "fpu sse2 ssse3 sse4_1")
+    avx_only = _fingerprint_on(monkeypatch, "Intel(R) Core(TM) i7-2600", "fpu sse2 ssse3 sse4_1 avx")  # not measured
     assert intel.cpu_model != amd.cpu_model and intel.differences(amd) == [] and intel.digest() == amd.digest()
     assert intel.differences(old) == ["cpu_class"] and old.cpu_class == "x86-64-ssse3"
+    assert intel.differences(avx_only) == ["cpu_class"] and avx_only.cpu_class == "x86-64-avx1"
     monkeypatch.setenv("GALLIUM_OVERRIDE_CPU_CAPS", "sse2")  # llvmpipe told to use SSE2 only
     assert _fingerprint_on(monkeypatch, "AMD EPYC 7B13", "fpu sse2 ssse3 avx avx2").cpu_class == "x86-64-sse2"
 
