@@ -219,11 +219,11 @@ def main() -> None:
                 "=" if all(base["stages"][v][s] == reference.stages[v][s] for v in reference.stages) else "≠"
                 for s in STAGES
             ),
-            "",
-            "| factor | setting | " + " | ".join(STAGES) + " | SIMD class, numerics, GL renderer |",
-            "| --- | --- | " + " | ".join(":-:" for _ in STAGES) + " | --- |",
         ]
-        lines += ["| " + " | ".join(r) + " |" for r in rows]
+        if rows:
+            lines += ["", "| factor | setting | " + " | ".join(STAGES) + " | SIMD class, numerics, GL renderer |",
+                      "| --- | --- | " + " | ".join(":-:" for _ in STAGES) + " | --- |"]  # fmt: skip
+            lines += ["| " + " | ".join(r) + " |" for r in rows]
         extra = (_body_rows(work) if args.body else []) + (_worker_rows(work) if args.workers else [])
         extra += _video_rows(work, args.videos, args.seed) if args.videos else []
         if extra:
