@@ -52,7 +52,7 @@ from phav_app.console import (
     run_app,
 )
 from phav_app.fingerprint_cli import fingerprint_command
-from phav_app.preview import contact_sheet, frames_from_dataset, modality_sheet, write_gif
+from phav_app.preview import contact_sheet, dataset_video, frames_from_dataset, modality_sheet, write_gif
 from phav_app.release import make_release
 from phav_app.sheets import check_sheets_dir, render_sheet, sheet_specs, sheets_command, write_index
 from phav_app.train_cli import train_command
@@ -75,6 +75,7 @@ from phav_generator.vary import drawn_sampler, parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, check_output_dir, check_output_file, file_sha256, parse_json_object
+from phav_spec.manifest import motion_unpromised
 from phav_spec.recipe import Recipe, frames_for, load_recipe, recipe_json_schema
 from phav_spec.recipe_table import RecipeTable, read_recipe_table, write_recipe_stream
 from phav_spec.release import CROISSANT_FILE
@@ -394,11 +395,16 @@ def preview(
                                 "leave out --skeleton", source=str(source), field="--skeleton")  # fmt: skip
         _skeleton_preview(source, out, frames)
         return
-    if dataset:
+    r = None if dataset else load_recipe(source)
+    vid = dataset_video(source, video)[1].video_id if r is None else r.video_id
+    target = out if out is not None else Path(f"{vid}-preview.png")
+    check_output_file(target, field="--out", kind="PNG")  # the outputs before the work
+    if gif:
+        check_output_file(target.with_suffix(".gif"), field="--out", kind="GIF")
+    if r is None:
         vid, fps, all_frames = frames_from_dataset(source, video)
     else:
-        r = load_recipe(source)
-        vid, fps = r.video_id, r.video.fps
+        fps = r.video.fps
         ctx = gl_context()
         try:
             all_frames = [rf.modalities for rf in video_frames(r, ctx)]
@@ -406,10 +412,6 @@ def preview(
             ctx.release()
     picks = sorted({round(i * (len(all_frames) - 1) / max(frames - 1, 1)) for i in range(frames)})
     sheet = modality_sheet([(f, all_frames[f]) for f in picks], f"{vid}  rgb")
-    target = out if out is not None else Path(f"{vid}-preview.png")
-    check_output_file(target, field="--out", kind="PNG")
-    if gif:
-        check_output_file(target.with_suffix(".gif"), field="--out", kind="GIF")
     with atomic_write(target) as tmp:
         sheet.save(tmp, format="PNG")
     written = [str(target)]
@@ -463,11 +465,11 @@ def _is_manifest(path: Path) -> bool:
 def _skeleton_preview(recipe_file: Path, out: Path | None, frames: int) -> None:
 
     r = load_recipe(recipe_file)
+    target = out if out is not None else Path(f"{r.video_id}-skeleton.png")
+    check_output_file(target, field="--out", kind="PNG")  # before the simulation
     tr = simulate(r, keep_state=False)
     sheet = contact_sheet(tr, frames=frames, width=r.video.width, height=r.video.height,
                           ground_z=ENVIRONMENT_SCENES[r.environment.name].ground_z)  # fmt: skip
-    target = out if out is not None else Path(f"{r.video_id}-skeleton.png")
-    check_output_file(target, field="--out", kind="PNG")
     with atomic_write(target) as tmp:
         sheet.save(tmp, format="PNG")
     status = "exploded at frame " + str(tr.exploded_at) if tr.exploded_at is not None else "stable"
@@ -603,9 +605,9 @@ def regenerate(
             console.print(f"[yellow]not verified[/yellow]: {unchecked} video(s) whose hashes differ have no "
                           "frames in the source to compare (a recipe-only release); only the renderer of "
                           "record promises their pixels")  # fmt: skip
+        motion = ", ".join(motion_unpromised(report.renderer_differs if report.renderer_known else None))
         for line in unpromised:  # the physics may have gone otherwise: not a mismatch, as phav-validate warns
-            console.print(f"  [yellow]differs[/yellow] {escape(line)} (the motion is not promised where "
-                          f"{escape(', '.join(report.renderer_differs))} differ)")  # fmt: skip
+            console.print(f"  [yellow]differs[/yellow] {escape(line)} (the motion is not promised: {escape(motion)})")
     for line in report.mismatches:
         console.print(f"  [red]mismatch[/red] {escape(line)}")
     if report.mismatches:

@@ -21,7 +21,7 @@ from phav_generator.render.camera import project as project_points
 from phav_spec.encoding import DEPTH_MAX_CODE, MODALITIES, decode_flow
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write
-from phav_spec.manifest import load_manifest
+from phav_spec.manifest import VideoEntry, load_manifest
 from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.release import RELEASE_FILE
@@ -158,9 +158,9 @@ def write_gif(images: list[np.ndarray], path, fps: int) -> None:
                          duration=round(1000 / fps), loop=0)  # fmt: skip
 
 
-def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list[dict[str, np.ndarray]]]:
-    """(video id, fps, every frame's modalities) of one video of a dataset, read from its shard."""
-
+def dataset_video(directory, video_id: str | None) -> tuple[Path, VideoEntry]:
+    """The manifest of a dataset (its directory or manifest.json) and the entry of ``video_id``
+    (None: its first video), or a one-line error naming what is missing."""
     directory = Path(directory)
     manifest_path = directory if directory.suffix == ".json" else directory / "manifest.json"
     manifest = load_manifest(manifest_path)
@@ -171,7 +171,14 @@ def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list
     if vid not in videos:
         raise PhavUserError(f"no video {vid!r} in the manifest ({len(videos)} videos)", source=str(manifest_path),
                             field="--video")  # fmt: skip
-    entry = videos[vid]
+    return manifest_path, videos[vid]
+
+
+def frames_from_dataset(directory, video_id: str | None) -> tuple[str, int, list[dict[str, np.ndarray]]]:
+    """(video id, fps, every frame's modalities) of one video of a dataset, read from its shard."""
+
+    manifest_path, entry = dataset_video(directory, video_id)
+    vid = entry.video_id
     shard = manifest_path.parent / entry.shard
     if not shard.exists() and (manifest_path.parent / RELEASE_FILE).exists():
         raise PhavUserError("a recipe-only release carries no shards: preview a recipe (phav recipe show), or "

@@ -145,6 +145,8 @@ class HashReport:
     #: The fingerprints agree for whole files (numpy and OpenBLAS too): equal sha256 expected.
     files_exact: bool = True
     files_differ_in: list[str] = field(default_factory=list)
+    #: Whether both fingerprints are recorded (``renderer_differs`` is then the whole difference).
+    renderer_known: bool = True
     mismatches: list[str] = field(default_factory=list)
     #: Videos whose content hash differs where another renderer made them (not a mismatch:
     #: their frames are compared within tolerances where the originals are at hand).
@@ -195,6 +197,7 @@ def compare_hashes(
     differs = renderer_differences(expected.renderer, rebuilt.renderer)
     report.exact = differs == []
     report.renderer_differs = differs or []
+    report.renderer_known = differs is not None
     files_differ = renderer_differences(expected.renderer, rebuilt.renderer, "files")
     report.files_exact = files_differ == []
     report.files_differ_in = [k for k in files_differ or [] if k not in report.renderer_differs]

@@ -9,6 +9,7 @@ decides whether pixels must match bit for bit (row "renderer of record").
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from typing import Annotated, Any, Literal, Self
 
 from pydantic import (
@@ -81,8 +82,9 @@ class RendererFingerprint(BaseModel):
     a scope, bit-identical bytes of that scope promised.
 
     Version 1 recorded the CPU's model name and whole flag list and compared them too; it
-    still loads, compares its pixels by today's rule through the class its flags give, and
-    its files by its flags (equal only to a version 1 fingerprint of the same flags)."""
+    still loads and compares its class by the class its flags give, but, lacking the
+    numerics, its pixels and files by its flags: equal only to a version 1 fingerprint of
+    the same flags."""
 
     model_config = _CONFIG
 
@@ -144,11 +146,6 @@ class RendererFingerprint(BaseModel):
             fields |= {f"files.{k}": v for k, v in sorted(self.file_versions.items())}
         return fields
 
-    def motion_differences(self, other: RendererFingerprint) -> list[str]:
-        """The keys in which ``other`` differs that can move the simulated motion (all but
-        ``RENDERER_ONLY_KEYS``); empty: the same scene is drawn, pixels differ as renderers do."""
-        return [k for k in self.differences(other) if k not in RENDERER_ONLY_KEYS]
-
     def differences(self, other: RendererFingerprint, scope: Scope = "pixels") -> list[str]:
         """The keys (``key``) in which ``other`` differs from this fingerprint, sorted; empty:
         bit-identical bytes of ``scope`` promised."""
@@ -158,6 +155,15 @@ class RendererFingerprint(BaseModel):
     def digest(self, scope: Scope = "pixels") -> str:
         """The sha256 hex digest of ``key``'s canonical JSON: one name for the renderer class."""
         return sha256_hex(canonical_json(self.key(scope)))
+
+
+def motion_unpromised(differs: Sequence[str] | None) -> list[str]:
+    """The fingerprint keys among ``differs`` (``renderer_differences``) that can move the
+    simulated motion, all but ``RENDERER_ONLY_KEYS``; empty: the same scene is drawn and
+    pixels differ as renderers do. An unrecorded fingerprint (None) promises no motion."""
+    if differs is None:
+        return ["renderer fingerprint (not recorded)"]
+    return [k for k in differs if k not in RENDERER_ONLY_KEYS]
 
 
 def renderer_differences(

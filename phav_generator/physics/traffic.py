@@ -85,18 +85,13 @@ def plan_traffic(recipe: Recipe, obstacles: np.ndarray, camera: Sequence[float] 
     the road, clear of the vehicle ahead; driven against the planned bodies, a vehicle that
     would still come within ``MIN_CLEARANCE_M`` of someone (a walker crossing into its
     side), or would start within it of the ``camera``'s start where that hangs lower than
-    a roof and ``CAMERA_HEADROOM_M`` (a vehicle yields to a camera ahead, not to one it
-    starts on, and drove through it), is left out. The draws come from the background
+    the vehicle's roof and ``CAMERA_HEADROOM_M`` (a vehicle yields to a camera ahead, not
+    to one it starts on, and drove through it), is left out. The draws come from the background
     seed's ``traffic`` stream.
     """
     env = ENVIRONMENT_SCENES[recipe.environment.name]
     if not env.lanes:
         return ()
-    tallest = max(2.0 * VEHICLE_HALF_SIZES[k][2] for lane in env.lanes for k in lane.vehicles)
-    if camera is not None and camera[2] - min(lane.start[2] for lane in env.lanes) < tallest + CAMERA_HEADROOM_M:
-        start = np.full((len(obstacles), 1, 3), np.nan)  # not measured after the first frame: the camera moves
-        start[0, 0] = camera
-        obstacles = np.concatenate([obstacles, start], axis=1)
     rng = stream(recipe.seeds.background, "traffic")
     duration = recipe.n_frames / recipe.video.fps
     candidates: list[Vehicle] = []
@@ -117,6 +112,10 @@ def plan_traffic(recipe: Recipe, obstacles: np.ndarray, camera: Sequence[float] 
     while vehicles:
         traffic = Traffic.drive(vehicles, obstacles, 1.0 / recipe.video.fps)
         closest = traffic.clearances(obstacles).min(axis=1)
+        if camera is not None:  # its start only (the camera moves), for the vehicles it hangs low over
+            start = traffic.clearances([np.asarray(camera, dtype=np.float64)[None]])[:, 0]
+            low = [camera[2] - v.lane.start[2] < 2.0 * v.half_size[2] + CAMERA_HEADROOM_M for v in vehicles]
+            closest = np.minimum(closest, np.where(low, start, FAR_M))
         if closest.min() >= MIN_CLEARANCE_M:
             break
         drop = int(np.argmin(closest))

@@ -20,7 +20,7 @@ from phav_generator.pipeline import video_frames
 from phav_generator.regenerate import HashReport, RegenerationPlan
 from phav_generator.render.context import gl_context, gl_strings
 from phav_spec.encoding import MODALITIES, VideoHashes, decode_flow
-from phav_spec.manifest import RENDERER_ONLY_KEYS, DatasetManifest, VideoEntry, renderer_differences
+from phav_spec.manifest import DatasetManifest, VideoEntry, motion_unpromised, renderer_differences
 from phav_spec.recipe import Recipe
 from phav_spec.seeding import seeded_rng
 from phav_validators.checks.scan import FRAME_KEYS, decode_image, png_header
@@ -129,7 +129,7 @@ def rebuilt_within_tolerances(
     worst = {m.name: 0.0 for m in MODALITIES}
     if plan.expected is None or plan.root is None:
         return worst, len(report.differing), []
-    motion = [k for k in report.renderer_differs if k not in RENDERER_ONLY_KEYS]
+    motion = motion_unpromised(report.renderer_differs if report.renderer_known else None)
     entries = {v.video_id: v for v in plan.expected.videos}
     sizes = {r.video_id: (r.video.width, r.video.height) for shard in plan.shards for r in shard}
     unchecked, unpromised = 0, []
@@ -178,7 +178,7 @@ def check_reproducibility(
     differs = renderer_differences(manifest.renderer, here)
     exact = differs == []
     # Where the motion is not promised either, a video may leave the tolerances by physics alone.
-    motion = manifest.renderer.motion_differences(here) if manifest.renderer is not None else []
+    motion = motion_unpromised(differs)
     entries = {v.video_id: v for v in manifest.videos}
     report = Report()
     advance = progress("regenerating", len(chosen)) if progress is not None else None
@@ -301,8 +301,8 @@ def _mismatch(
     basis = "bit-exact (same renderer fingerprint)" if exact else "within tolerances (other renderer)"
     message = f"regenerated from its recipe, the video differs from the shard: {where}; expected {basis}"
     if motion:
-        message += (f", but {', '.join(motion)} differ, which can move the physics: regenerate on a machine of "
-                     "the manifest's fingerprint to verify it")  # fmt: skip
+        message += (f", but the motion is not promised ({', '.join(motion)}: the physics can go another way); "
+                     "regenerate on a machine of the manifest's fingerprint to verify it")  # fmt: skip
     return Finding(
         Reason.REGENERATION_MISMATCH, message, file=entry.shard if entry is not None else None, video_id=video_id,
         numbers={"first_frames": first_bad, "exact": exact, "motion_differs": list(motion)},

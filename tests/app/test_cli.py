@@ -369,6 +369,22 @@ def test_an_output_never_replaces_a_file_of_another_kind(tmp_path, monkeypatch):
         assert f"{field}: exists and is not a {kind} file" in result.stderr, (args, result.stderr)
     assert notes.read_text(encoding="utf-8") == (tmp_path / "v000000-varied.json").read_text(encoding="utf-8")
 
+    # Before any work: the default names and the GIF beside the sheet are checked before a frame is made.
+    def no_work(*args, **kwargs):
+        raise AssertionError("the video was simulated or rendered before its outputs were checked")
+
+    monkeypatch.setattr("phav_app.cli.simulate", no_work)
+    monkeypatch.setattr("phav_app.cli.video_frames", no_work)
+    (tmp_path / "v000000-skeleton.png").write_text("my notes\n", encoding="utf-8")
+    (tmp_path / "sheet.gif").write_text("my notes\n", encoding="utf-8")
+    for args, name, kind in (
+        (("preview", str(recipe), "--skeleton"), "v000000-skeleton.png", "PNG"),
+        (("preview", str(recipe), "--out", str(tmp_path / "sheet.png")), "sheet.gif", "GIF"),
+    ):
+        result = invoke_cli(*args)
+        assert result.returncode == 2 and f"{name}: --out: exists and is not a {kind} file" in result.stderr, (
+            args, result.stderr)  # fmt: skip
+
 
 def test_a_file_of_another_kind_says_what_it_is(tmp_path):
     """A Parquet table, a shard or a PNG given where a recipe or θ's text is read: the error

@@ -22,6 +22,7 @@ from phav_spec.manifest import (
     VideoEntry,
     dump_manifest,
     load_manifest,
+    motion_unpromised,
     renderer_differences,
 )
 
@@ -170,10 +171,12 @@ def test_fingerprints_compare_by_simd_class_across_versions() -> None:
     assert v2.differences(no_avx) == ["cpu_class", "numeric_class"]
     assert v2.differences(newer_numpy) == ["versions.numpy"]
     assert v2.differences(other_blas) == v2.differences(other_blas, "files") == ["numeric_class"]
-    # Which keys can move the motion: the driver's alone cannot.
+    # Which keys can move the motion: the driver's alone cannot; an unrecorded renderer may have.
     other_driver = v2.model_copy(update={"gl_renderer": "llvmpipe (LLVM 19.1.7, 256 bits)"})
-    assert v2.motion_differences(other_driver) == [] and v2.motion_differences(other_blas) == ["numeric_class"]
-    assert v2.motion_differences(newer_numpy) == ["versions.numpy"]
+    assert motion_unpromised(v2.differences(other_driver)) == []
+    assert motion_unpromised(v2.differences(other_blas)) == ["numeric_class"]
+    assert motion_unpromised(v2.differences(newer_numpy)) == ["versions.numpy"]
+    assert motion_unpromised(renderer_differences(v2, None)) == ["renderer fingerprint (not recorded)"]
     # Version 3: the driver's settings count for the pixels (version 2's unrecorded ones as
     # none), the files' encoders for the files only.
     v3 = v2.model_copy(update={"fingerprint_version": 3, "gl_settings": "", "file_versions": {"opencv": "5.0.0"}})

@@ -98,5 +98,5 @@ def test_beyond_tolerances_fails_under_another_driver_and_warns_where_the_motion
         assert [(f.video_id, f.severity) for f in hits] == [("v000001", severity)], result.summary
         assert "rgb (frame 00002)" in hits[0].message and result.numbers["exact"] is False
         assert result.status == (Status.FAIL if severity == "fail" else Status.WARN)
-    assert "numeric_class differ, which can move the physics" in hits[0].message
+    assert "the motion is not promised (numeric_class: the physics can go another way)" in hits[0].message
     assert result.numbers["motion_differs"] == ["numeric_class"]
