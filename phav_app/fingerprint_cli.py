@@ -80,6 +80,9 @@ def fingerprint_command(
     elif not pixels:
         verdict = (f"same renderer for pixels: bit-identical pixels and trajectories promised; {', '.join(files)} "
                    "differ, so the encoded files may differ")  # fmt: skip
+    elif promised:
+        verdict = (f"this renderer differs in {', '.join(pixels)}: the reference clips' pixels are promised (too "
+                   "short for the physics to carry the numerics into them), a whole clip's are not")  # fmt: skip
     else:
         verdict = f"this renderer differs in {', '.join(pixels)}: bit-identical pixels are not promised"
     console.print(f"reference: recorded on {escape(recorded_on)}; {escape(verdict)}")
