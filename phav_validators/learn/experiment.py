@@ -15,7 +15,7 @@ from phav_spec.errors import PhavUserError
 from phav_spec.seeding import seeded_rng
 from phav_validators.findings import ProgressFactory
 from phav_validators.learn.data import Clip, ClipSet
-from phav_validators.learn.splits import make_split
+from phav_validators.learn.splits import make_split, verdict_clips
 from phav_validators.learn.train import TrainConfig, fuse, predict, stream_configs, teacher_of, train
 
 #: ``tsn``: one source; ``cool``: PHAV mixed into every real mini-batch; ``ft``: real
@@ -106,7 +106,7 @@ def phav_runs(
     for k in range(splits):
         split = make_split(clips.clips, split_kind, seed=base.seed + k)
         train_clips = [clips.clips[i] for i in split.train]
-        test = [clips.clips[i] for i in split.test]
+        test = [clips.clips[i] for i in verdict_clips(split)[0]]  # the clips the check's verdict is on
         config = replace(base, mix=(("virtual", base.batch),), seed=base.seed + k)
         runs.append(train_and_test(f"split{k + 1}", {"virtual": train_clips}, {"virtual": len(clips.classes)}, test,
                                    "virtual", config, streams, out, split=k + 1, device=device,

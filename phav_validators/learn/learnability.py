@@ -34,7 +34,7 @@ from phav_spec.manifest import load_manifest
 from phav_spec.seeding import seeded_rng
 from phav_validators.findings import CheckResult, Finding, ProgressFactory, Reason, Report
 from phav_validators.learn.data import DEFAULT_SIZE, ClipSet, load_phav
-from phav_validators.learn.splits import BACKGROUND, Split, make_split
+from phav_validators.learn.splits import BACKGROUND, Split, make_split, verdict_clips
 from phav_validators.learn.train import (
     PRECISIONS,
     RECOMMENDED,
@@ -135,11 +135,16 @@ class LearnResult:
     epochs: dict[str, int] = field(default_factory=dict)  # stream → epochs trained
     schedule: dict[str, int] = field(default_factory=dict)  # stream → epochs of its schedule
     epoch_seconds: dict[str, float] = field(default_factory=dict)  # stream → mean seconds an epoch here
-    #: The split as video ids: ``train``, ``test``, ``mixed`` (test clips with a member seen in
-    #: training), ``background_seen`` (training clips showing a held-out model in the background).
+    #: The split as video ids: ``train``, ``mixed`` (test clips with a member seen in training,
+    #: scored apart and left out of the verdict), ``background_seen`` (training clips showing a
+    #: held-out model in the background). The verdict's test clips are ``keys``.
     videos: dict[str, list[str]] = field(default_factory=dict)
     dropped: int = 0  # clips on neither side
     background_dropped: int = 0  # training clips excluded for a held-out model in the background
+    #: The fused accuracy on the ``mixed`` test clips, scored apart (None: there are none, or
+    #: every test clip is mixed and the verdict is on them: ``mixed_in_verdict``).
+    mixed_accuracy: float | None = None
+    mixed_in_verdict: bool = False
 
     def full_minutes(self) -> float:
         """Minutes the streams' whole schedules take at the epoch times measured here."""
@@ -180,7 +185,8 @@ class LearnResult:
         return {
             "split": split, "held_out": self.held_out, "background": background,
             "train_videos": self.videos.get("train", []), "test_videos": self.keys,
-            "mixed_test_videos": self.videos.get("mixed", []), "dropped_clips": self.dropped,
+            "mixed_test_videos": self.videos.get("mixed", []), "mixed_in_verdict": self.mixed_in_verdict,
+            "dropped_clips": self.dropped,
             "train_videos_with_held_out_background": self.videos.get("background_seen", []),
             "train_clips_dropped_for_background": self.background_dropped,
         }  # fmt: skip
@@ -358,13 +364,21 @@ def run_learnability(
     _estimate_unmeasured(epoch_seconds, configs)
     labels = np.array([c.label for c in test_clips], dtype=np.int64)
     fused = fuse(scores)
+    # The verdict is on the test clips whose every performer (or motion) training never saw;
+    # those with a partner seen in training are scored apart.
+    chosen, mixed_in_verdict = verdict_clips(split)
+    verdict = np.isin(split.test, chosen)
+    apart = ~verdict
+    mixed_accuracy = float((fused[apart].argmax(1) == labels[apart]).mean()) if apart.any() else None
+    labels, fused, scores = labels[verdict], fused[verdict], {s: v[verdict] for s, v in scores.items()}
     chance = chance_level(labels, fused.argmax(1), len(clips.classes))
     p = binomial_p(int((fused.argmax(1) == labels).sum()), len(labels), chance)
     keyed = {name: [clips.clips[i].key for i in idx] for name, idx in
              (("train", split.train), ("mixed", split.mixed), ("background_seen", split.background_seen))}  # fmt: skip
     return LearnResult(clips.classes, labels, scores, fused, chance, p, len(train_clips), seconds / 60.0, stopped,
-                       split.held_out, [c.key for c in test_clips], base.to_json(), epochs, schedule,
-                       epoch_seconds, keyed, split.dropped, split.background_dropped)  # fmt: skip
+                       split.held_out, [c.key for c, v in zip(test_clips, verdict, strict=True) if v], base.to_json(),
+                       epochs, schedule, epoch_seconds, keyed, split.dropped, split.background_dropped,
+                       mixed_accuracy, mixed_in_verdict)  # fmt: skip
 
 
 def check_learnability(
@@ -430,7 +444,6 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
     if opts.shuffle_labels:
         report.notes.append("labels were shuffled (control run): this check is expected to fail")
     mixed = result.videos.get("mixed", [])
-    clean = sorted(set(result.keys) - set(mixed))
     streams = ", ".join(f"{s} {result.accuracy(s):.1%}" for s in result.scores)
     numbers: dict[str, Any] = {
         "flow": opts.flow, "split": opts.split, "train_clips": result.train_clips, "test_clips": n,
@@ -439,9 +452,9 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
         "fused_ci95": list(result.interval()),
         **{f"{s}_accuracy": result.accuracy(s) for s in result.scores},
         **{f"{s}_ci95": list(result.interval(s)) for s in result.scores},
-        "mixed_test_clips": len(mixed), "fused_accuracy_mixed": result.accuracy(among=mixed) if mixed else None,
+        "mixed_test_clips": len(mixed), "fused_accuracy_mixed": result.mixed_accuracy,
+        "mixed_in_verdict": result.mixed_in_verdict,
         "train_clips_with_held_out_background": len(result.videos.get("background_seen", [])),
-        "fused_accuracy_unmixed": result.accuracy(among=clean) if clean else None,
         "test_clips_per_class": result.test_clips_per_class(),
         "epochs": result.epochs, "schedule_epochs": result.schedule, "stopped_by_budget": result.stopped_on_time,
         "full_schedule_minutes": result.full_minutes(), "settings": result.settings,
@@ -459,10 +472,11 @@ def learnability_check(result: LearnResult, opts: LearnOptions, root: Path) -> C
         numbers["split_json"] = str(split_file)
     lo, hi = result.interval()
     apart = ""
-    if mixed:
-        seen = "a partner" if "actor" in opts.split else "a blended motion"
-        apart = (f" ({len(mixed)} with {seen} seen in training: {result.accuracy(among=mixed):.1%}; "
-                 f"the other {len(clean)}: {result.accuracy(among=clean):.1%})")  # fmt: skip
+    seen = "a partner" if "actor" in opts.split else "a blended motion"
+    if result.mixed_in_verdict:
+        apart = f" (every one with {seen} seen in training: no clip has every member unseen)"
+    elif mixed and result.mixed_accuracy is not None:
+        apart = f" ({len(mixed)} more with {seen} seen in training, scored apart: {result.mixed_accuracy:.1%})"
     held = "held-out " + opts.split if opts.split != "random" else "random-split"
     verdict = "inconclusive, " if (undecidable or (not passes and full is not None)) else ""
     summary = (f"{verdict}{flow}: fused {fused:.1%} (95 % CI {lo:.1%}–{hi:.1%}; {ratio:.1f}× chance "

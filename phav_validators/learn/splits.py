@@ -6,8 +6,10 @@ A clip's groups of a kind list its members, the one that decides its side first:
 the blended one. A clip is tested when its deciding members are held out, and trained on
 only when none of its members is: a training clip never shows a held-out performer or
 motion. A test clip whose other member (a partner) is a training clip's member too is
-``mixed``, reported apart. Background people are no performers; with ``background:
-exclude`` a training clip that shows a held-out model in the background is dropped too.
+``mixed``: scored apart, and left out of the learnability verdict, which is on test clips
+whose every performer (or motion) training never saw (``verdict_clips``). Background people
+are no performers; with ``background: exclude`` a training clip that shows a held-out model
+in the background is dropped too.
 """
 
 from __future__ import annotations
@@ -131,6 +133,15 @@ def held_out_split(
     mixed = [i for i in test if any(m in seen[kind] for kind in hold for m in _group(clips[i], kind)[1:])]
     return Split("held-out " + "+".join(hold), train, test, dropped, {k: sorted(v) for k, v in held.items()},
                  mixed, seen_background, background_dropped)  # fmt: skip
+
+
+def verdict_clips(split: Split) -> tuple[list[int], bool]:
+    """The test clips a verdict is on: those whose every member training never saw (the
+    split's test less its ``mixed``), and False; where every test clip is mixed (a set of a
+    few videos), all of them, and True, for the report to say so."""
+    mixed = set(split.mixed)
+    clean = [i for i in split.test if i not in mixed]
+    return (clean, False) if clean else (list(split.test), bool(split.test))
 
 
 def _held_motions(clips: Sequence[Grouped], test_fraction: float, rng: np.random.Generator) -> set[str]:

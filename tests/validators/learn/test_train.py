@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from phav_validators.learn.learnability import (
     binomial_p,
     chance_level,
     epoch_cost,
+    learnability_check,
     run_learnability,
 )
 from phav_validators.learn.train import (
@@ -578,3 +580,35 @@ def test_the_networks_options_are_checked_with_the_rest_before_any_data(change, 
     with pytest.raises(PhavUserError) as e:
         TrainConfig(**change)
     assert e.value.field == field
+
+
+def test_the_verdict_is_on_test_clips_whose_every_performer_is_unseen():
+    """A held-out split keeps every performer of a test clip out of training: test clips
+    whose partner trained were counted in the verdict; now they are scored apart, and the
+    verdict's chance, p-value and accuracy are the other test clips'."""
+    clips = motion_clips(3, 10)
+    partner = {"actor": ("model_partner",)}  # in every third clip, a partner no clip is played by: never held out
+    partnered = [dataclasses.replace(c, groups={**c.groups, "actor": c.groups["actor"] + partner["actor"]})
+                 if i % 3 == 0 else c for i, c in enumerate(clips.clips)]  # fmt: skip
+    result = run_learnability(dataclasses.replace(clips, clips=partnered),
+                              LearnOptions(epochs=2, budget_minutes=1, threads=1, streams=("flow",)))  # fmt: skip
+    mixed = result.videos["mixed"]
+    assert mixed and not set(mixed) & set(result.keys) and len(result.labels) == len(result.keys)
+    assert result.mixed_accuracy is not None and 0.0 <= result.mixed_accuracy <= 1.0
+    check = learnability_check(result, LearnOptions(budget_minutes=1), Path("set"))
+    assert check.numbers["test_clips"] == len(result.keys) and check.numbers["mixed_test_clips"] == len(mixed)
+    assert f"{len(mixed)} more with a partner seen in training, scored apart" in check.summary
+
+
+def test_where_every_test_clip_is_mixed_the_verdict_is_on_them_and_says_so():
+    """A set of a few videos may hold out only a protagonist whose partner trains: no test
+    clip has every performer unseen. The verdict is then on the mixed clips, as before, and
+    the report says so rather than failing the split."""
+    clips = motion_clips(3, 10)
+    partner = ("model_partner",)  # every clip's partner: seen wherever a clip trains
+    partnered = [dataclasses.replace(c, groups={**c.groups, "actor": c.groups["actor"] + partner}) for c in clips.clips]
+    result = run_learnability(dataclasses.replace(clips, clips=partnered),
+                              LearnOptions(epochs=1, budget_minutes=1, threads=1, streams=("flow",)))  # fmt: skip
+    assert result.mixed_in_verdict and set(result.keys) == set(result.videos["mixed"]) and result.mixed_accuracy is None
+    check = learnability_check(result, LearnOptions(budget_minutes=1), Path("set"))
+    assert check.numbers["mixed_in_verdict"] and "no clip has every member unseen" in check.summary
