@@ -9,7 +9,7 @@ changed together with its manifest entry: everything else compares the data with
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -101,19 +101,31 @@ def shards_within_tolerances(
     """One video's frames in two shards (another renderer's rebuild against the original),
     frame by frame within ``TOLERANCES``: per modality the first frame beyond them, and how
     many rebuilt frames the original lacks. ``worst`` keeps the largest difference per modality."""
-    stored = shard_video_frames(original, video_id, size)
     first_bad: dict[str, int] = {}
     absent = 0
+    for index, frame, old in _paired(shard_video_frames(original, video_id, size),
+                                     shard_video_frames(rebuilt, video_id, size)):  # fmt: skip
+        if old is None:
+            absent += 1
+        else:
+            _compare_frame(index, frame, old, False, worst, first_bad)
+    return first_bad, absent
+
+
+def _paired(
+    stored: Iterator[tuple[int, dict[str, np.ndarray]]], frames: Iterable[tuple[int, dict[str, np.ndarray]]]
+) -> Iterator[tuple[int, dict[str, np.ndarray], dict[str, np.ndarray] | None]]:
+    """Each (index, frame) of ``frames`` with the stored frame of that index, or None where the
+    stored ones (in index order; one out of order is skipped, integrity's finding) lack it."""
     got = next(stored, None)
-    for index, frame in shard_video_frames(rebuilt, video_id, size):
+    for index, frame in frames:
         while got is not None and got[0] < index:
             got = next(stored, None)
         if got is None or got[0] != index:
-            absent += 1
+            yield index, frame, None
             continue
-        _compare_frame(index, frame, got[1], False, worst, first_bad)
+        yield index, frame, got[1]
         got = next(stored, None)
-    return first_bad, absent
 
 
 def rebuilt_within_tolerances(
@@ -254,16 +266,12 @@ def _regenerate_and_compare(
     hashes = VideoHashes(recipe.n_frames)
     first_bad: dict[str, int] = {}
     absent = 0
-    got = next(stored, None)
-    for rf in video_frames(recipe, ctx):
-        hashes.add(rf.index, rf.modalities)
-        while got is not None and got[0] < rf.index:  # a frame out of order: integrity's too
-            got = next(stored, None)
-        if got is None or got[0] != rf.index:
+    for index, frame, old in _paired(stored, ((rf.index, rf.modalities) for rf in video_frames(recipe, ctx))):
+        hashes.add(index, frame)
+        if old is None:
             absent += 1
-            continue
-        _compare_frame(rf.index, rf.modalities, got[1], exact, worst, first_bad)
-        got = next(stored, None)
+        else:
+            _compare_frame(index, frame, old, exact, worst, first_bad)
     hash_ok = entry is not None and entry.content_hash == hashes.video_hash()
     if exact and not hash_ok:
         first_bad.setdefault("content hash", -1)
