@@ -165,13 +165,10 @@ class LearnResult:
             note += ", or less with --learn-stem-pool (the default)"
         return note
 
-    def accuracy(self, stream: str | None = None, *, among: Sequence[str] | None = None) -> float:
-        """Test accuracy of ``stream`` (None: fused), over the test clips or those keyed ``among``."""
+    def accuracy(self, stream: str | None = None) -> float:
+        """Test accuracy of ``stream`` (None: fused) over the verdict's test clips."""
         probs = self.fused if stream is None else self.scores[stream]
         right = probs.argmax(1) == self.labels
-        if among is not None:
-            chosen = set(among)
-            right = right[[k in chosen for k in self.keys]]
         return float(right.mean()) if len(right) else 0.0
 
     def test_clips_per_class(self) -> dict[str, int]:

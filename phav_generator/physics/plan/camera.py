@@ -264,12 +264,12 @@ def _cleared(
     The lift rises out of what holds the start from below (the ground, a bench, a car), not
     into or over a box above the target's height (a ceiling, a lamp, a canopy): there it
     would end on the roof, filming the slab, and the start slides instead."""
-    x, y, z = (float(v) for v in start)
+    x, y = float(start[0]), float(start[1])
     above = [c.bottom for c in colliders if c.bottom > float(target[2]) and c.xy_distance(x, y) < clearance]
     roof = min(above, default=math.inf) - clearance  # the lift stays below it
-    for j in range(round(LIFT_M / 0.05) + 1) if z <= roof else ():
+    for j in range(round(LIFT_M / 0.05) + 1):
         lifted = start + np.array([0.0, 0.0, 0.05 * j])
-        if float(lifted[2]) > roof:
+        if float(lifted[2]) > roof:  # a start already above it (j = 0) slides too
             break
         if not _inside(colliders, lifted, clearance, floor):
             return (float(lifted[0]), float(lifted[1]), float(lifted[2]))
