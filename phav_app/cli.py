@@ -75,7 +75,6 @@ from phav_generator.vary import drawn_sampler, parse_settings
 from phav_generator.vary import vary as vary_recipe
 from phav_spec.errors import PhavUserError
 from phav_spec.files import atomic_write, check_output_dir, check_output_file, file_sha256, parse_json_object
-from phav_spec.manifest import motion_unpromised
 from phav_spec.recipe import Recipe, frames_for, load_recipe, recipe_json_schema
 from phav_spec.recipe_table import RecipeTable, read_recipe_table, write_recipe_stream
 from phav_spec.release import CROISSANT_FILE
@@ -605,7 +604,7 @@ def regenerate(
             console.print(f"[yellow]not verified[/yellow]: {unchecked} video(s) whose hashes differ have no "
                           "frames in the source to compare (a recipe-only release); only the renderer of "
                           "record promises their pixels")  # fmt: skip
-        motion = ", ".join(motion_unpromised(report.renderer_differs if report.renderer_known else None))
+        motion = ", ".join(report.motion)
         for line in unpromised:  # the physics may have gone otherwise: not a mismatch, as phav-validate warns
             console.print(f"  [yellow]differs[/yellow] {escape(line)} (the motion is not promised: {escape(motion)})")
     for line in report.mismatches:

@@ -17,7 +17,7 @@ from pathlib import Path
 from phav_generator.dataset.write import DEFAULT_SHARD_SIZE, chunk
 from phav_spec.errors import PhavUserError
 from phav_spec.files import file_sha256, parse_json_object, read_text
-from phav_spec.manifest import DatasetManifest, load_manifest, renderer_differences
+from phav_spec.manifest import DatasetManifest, load_manifest, motion_unpromised, renderer_differences
 from phav_spec.recipe import Recipe, load_recipe
 from phav_spec.recipe_table import read_recipe_table
 from phav_spec.release import METADATA_FILES, RELEASE_FILE, ReleaseIndex, load_release_index
@@ -156,6 +156,11 @@ class HashReport:
     files_matched: int = 0
     #: Files whose sha256 differs where the fingerprints do not promise it (not a mismatch).
     files_unpromised: list[str] = field(default_factory=list)
+
+    @property
+    def motion(self) -> list[str]:
+        """The fingerprint keys that differ and can move the physics (``motion_unpromised``)."""
+        return motion_unpromised(self.renderer_differs if self.renderer_known else None)
 
     def summary(self) -> str:
         basis = (

@@ -141,7 +141,7 @@ def rebuilt_within_tolerances(
     worst = {m.name: 0.0 for m in MODALITIES}
     if plan.expected is None or plan.root is None:
         return worst, len(report.differing), []
-    motion = motion_unpromised(report.renderer_differs if report.renderer_known else None)
+    motion = report.motion
     entries = {v.video_id: v for v in plan.expected.videos}
     sizes = {r.video_id: (r.video.width, r.video.height) for shard in plan.shards for r in shard}
     unchecked, unpromised = 0, []

@@ -121,7 +121,7 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
         runs = []
         for turn in CAR_TURNS_DEG:
             turned = drawn.heading + side * math.radians(turn)
-            across = yaw_matrix(turned) @ np.array([0.0, side, 0.0])
+            across = _across(turned, side)
             centre = (float(pelvis[0] + across[0] * reach_m), float(pelvis[1] + across[1] * reach_m))
             back, ahead = clear_run(scene.colliders, centre, (-float(across[0]), -float(across[1])), tuple(half),
                                     ground + CAR_CLEARANCE_M, ground, raised=raised)  # fmt: skip
@@ -144,11 +144,17 @@ def _approach(b: PlanBuilder, p: PersonPlan, drawn: Approach, side: float, half:
     return Approach(turned, v, min(back, v * t_hit), t_hit, ground, ahead)
 
 
+def _across(heading: float, side: float) -> np.ndarray:
+    """The unit direction (3,) the car drives in, from the side it comes from, for a way of
+    ``heading`` (the protagonist's frame turned): the car crosses square to it."""
+    return yaw_matrix(heading) @ np.array([0.0, side, 0.0])
+
+
 def _car_path(b: PlanBuilder, p: PersonPlan, way: Approach, side: float, half: np.ndarray) -> np.ndarray:
     """The car's centre at every plan step along ``way``: its front reaching the protagonist's
     pelvis at the hit, then braking once it has touched."""
     pelvis = _pelvis_at(b, p, way.t_hit)
-    across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
+    across = _across(way.heading, side)
     centre_hit = np.array([pelvis[0], pelvis[1], way.ground + half[2] + CAR_CLEARANCE_M]) + across * (
         half[0] + CAR_HIT_GAP_M
     )
@@ -161,7 +167,7 @@ def _meets_walkers(b: PlanBuilder, p: PersonPlan, way: Approach, side: float, ha
     if not b.walkers:
         return False
     centre = _car_path(b, p, way, side, half)[:: b.substeps, :2]
-    across = yaw_matrix(way.heading) @ np.array([0.0, side, 0.0])
+    across = _across(way.heading, side)
     along, lateral = (float(across[0]), float(across[1])), (-float(across[1]), float(across[0]))
     for walker in b.walkers:
         d = walker.targets.root_pos[:, :2] - centre
