@@ -205,8 +205,7 @@ def print_summary(report: DatasetReport, *, details: bool = False, per_reason_li
     reason per check; the JSON report has them all)."""
 
     theta = f"; θ {report.theta['name']} {report.theta['hash'][:12]}…" if report.theta else ""
-    size = f"{report.n_videos} videos, {report.n_frames:,} frames" if report.n_frames else f"{report.n_videos} recipes"
-    console.print(f"[bold]{escape(report.source)}[/]: {size}{theta}")
+    console.print(f"[bold]{escape(report.source)}[/]: {report.size}{theta}")
     table = Table(show_edge=False, pad_edge=False)
     for col in ("check", "status", "seconds", "result"):
         table.add_column(col, justify="right" if col == "seconds" else "left")

@@ -13,6 +13,7 @@ or cluster filesystem). Ray is an optional extra: ``pip install 'phav[ray]'``.
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import multiprocessing
 import os
 import queue
@@ -50,6 +51,8 @@ def check_engine(engine: str, address: str | None = None) -> None:
         raise PhavUserError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}", field="--engine")
     if address is not None and engine != "ray":
         raise PhavUserError(f"a Ray cluster address needs --engine ray (the engine is {engine})", field="--address")
+    if engine == "ray" and importlib.util.find_spec("ray") is None:  # before any work, not once it has begun
+        raise PhavUserError(_NO_RAY, field="--engine")
 
 
 def run_tasks(stage: Stage, tasks: Sequence[Any], *, engine: str, workers: int, address: str | None,
@@ -219,11 +222,14 @@ def _drain(events: Any, progress: Progress | None) -> None:
 # --- Ray -------------------------------------------------------------------------------------
 
 
+_NO_RAY = "Ray is not installed; pip install 'phav[ray]'"
+
+
 def _require_ray() -> Any:
     try:
         import ray  # optional extra: only --engine ray needs it
     except ImportError:
-        raise PhavUserError("Ray is not installed; pip install 'phav[ray]'", field="--engine") from None
+        raise PhavUserError(_NO_RAY, field="--engine") from None
     return ray
 
 
@@ -356,13 +362,15 @@ def worker_died(error: BaseException) -> bool:
 
 
 def _result(ray: Any, ref: Any, out: Path) -> dict[str, Any]:
-    """A task's record; a user error raised in a task is raised here as itself."""
+    """A task's record; a user error or OSError raised in a task is raised here as itself."""
     from ray.exceptions import RayTaskError  # optional extra, as above
 
     try:
         return ray.get(ref)
     except RayTaskError as e:
-        if isinstance(e.cause, PhavUserError):
+        # As the local pool raises them: a user error its one line, an OSError (a full disk)
+        # with its errno for the writer's message, not Ray's traceback of the task.
+        if isinstance(e.cause, PhavUserError | OSError):
             raise e.cause from None
         raise
     except Exception as e:

@@ -245,16 +245,18 @@ FILE_SIGNATURES: dict[str, tuple[bytes, ...]] = {
     "PNG": (b"\x89PNG\r\n\x1a\n",),
     "GIF": (b"GIF87a", b"GIF89a"),
     "JSON": (b"{", b"["),
-    "HTML": (b"<!doctype html", b"<html"),
+    "HTML": (b"<!doctype html", b"<html", b"<!--"),
 }
+#: The article each kind's name takes, where it is not "a".
+_ARTICLE = {"HTML": "an"}
 
 
 def _begins_as(path: Path, kind: str) -> bool:
     """Whether the file at ``path`` is empty or begins as a file of ``kind`` does."""
     with path.open("rb") as fh:
         head = fh.read(64)
-    if kind in ("JSON", "HTML"):
-        head = head.lstrip().lower()
+    if kind in ("JSON", "HTML"):  # text: a byte-order mark and blanks may come first
+        head = head.removeprefix(b"\xef\xbb\xbf").lstrip().lower()
     return not head or head.startswith(FILE_SIGNATURES[kind])
 
 
@@ -281,8 +283,8 @@ def check_output_file(path: str | os.PathLike[str], *, field: str, kind: str | N
         raise PhavUserError(f"cannot be read to see what it holds: {e.strerror}", source=str(path),
                             field=field) from None  # fmt: skip
     if other:
-        raise PhavUserError(f"exists and is not a {kind} file, which this would replace; remove it or write "
-                            "elsewhere", source=str(path), field=field)  # fmt: skip
+        raise PhavUserError(f"exists and is not {_ARTICLE.get(kind, 'a')} {kind} file, which this would replace; "
+                            "remove it or write elsewhere", source=str(path), field=field)  # fmt: skip
 
 
 def _check_can_create_in(folder: Path) -> None:

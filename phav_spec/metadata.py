@@ -77,10 +77,11 @@ CAMERA_COLUMNS: tuple[MetaColumn, ...] = (
 
 PEOPLE_COLUMNS: tuple[MetaColumn, ...] = (
     *_FRAME_KEY,
-    MetaColumn("person_id", "int64", "0 protagonist, 1 supporting, 2… background"),
+    MetaColumn("person_id", "int64", "0 protagonist, the supporting characters next (1 in two-person actions), "
+               "the background actors after them"),
     MetaColumn("instance_rgb", "list<int64>[3]", "the person's colour in the instance modality"),
     MetaColumn("role", "string", "protagonist, supporting or background"),
-    MetaColumn("human_model", "string", "one of the 20 human models"),
+    MetaColumn("human_model", "string", "one of the 20 human models, or 'sampled' (a person drawn from θ's people)"),
     MetaColumn("pixels", "int64", "pixels of the person in the instance modality"),
     MetaColumn("bbox2d", "list<float64>[4]", "x0, y0, x1, y1 px: pixel edges around the visible mask (NaN if none)"),
     MetaColumn("bbox3d", "list<float64>[24]", "8 world corners × xyz of the body box aligned with the pelvis "

@@ -17,6 +17,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StrictInt, model_validator
 
+from phav_spec.encoding import MAX_PERSON_ID
 from phav_spec.errors import PhavUserError, validate_user_data
 from phav_spec.files import parse_json_object, read_text
 from phav_spec.motions import MOTIONS
@@ -24,6 +25,7 @@ from phav_spec.people import Hair, Outfit, PersonDraws, Phenotype
 from phav_spec.scene import (
     CAMERA_INFO,
     CAMERA_PLACEMENT_VARIABLES,
+    ENVIRONMENT_SCENES,
     HUMAN_MODELS,
     KITE_SPRING_VARIABLES,
     MAX_CAMERA_KICK_MPS,
@@ -52,6 +54,12 @@ RGB = tuple[
     Annotated[int, Field(ge=0, le=255)],
 ]
 Seed = Annotated[StrictInt, Field(ge=0, lt=2**32)]  # `true` is no seed
+#: A spring's dead zone (m): `true` is no distance.
+DeadZone = Annotated[StrictInt, Field(ge=0, le=2)]
+#: A count or index the recipe table stores as int64.
+Int64 = Annotated[StrictInt, Field(ge=0, lt=2**63)]
+#: A person's id: its instance colour exists for 1 … ``MAX_PERSON_ID`` (0 is the protagonist).
+PersonId = Annotated[int, Field(ge=1, le=MAX_PERSON_ID)]
 
 
 def _within(bounds: tuple[float, float] | tuple[str, float, float]) -> Any:
@@ -126,7 +134,7 @@ class SupportingCharacter(BaseModel):
     """An actor whose part completes the action (hold hands, hug, bump into)."""
 
     model_config = _FROZEN
-    person_id: int = Field(ge=1)
+    person_id: PersonId
     human: HumanSpec
     placement: Literal["side_by_side", "behind", "facing"]
     distance_m: Finite
@@ -138,10 +146,10 @@ class BackgroundActor(BaseModel):
     """A pedestrian walking from one background waypoint to another."""
 
     model_config = _FROZEN
-    person_id: int = Field(ge=1)
+    person_id: PersonId
     human: HumanSpec
-    start_waypoint: int = Field(ge=0)
-    destination_waypoint: int = Field(ge=0)
+    start_waypoint: Int64
+    destination_waypoint: Int64
     start: Vec3
     destination: Vec3
     speed_mps: _within(PARAMETER_BOUNDS["background_speed_mps"])
@@ -165,6 +173,11 @@ class MotionSpec(BaseModel):
 
     @model_validator(mode="after")
     def _starts_within_the_take(self) -> MotionSpec:
+        length = MOTIONS[self.base_motion].length_s
+        if self.base_motion_length_s != length:  # the start and the clip are checked against it
+            raise ValueError(
+                f"base_motion_length_s: {self.base_motion} is {length} s long, not {self.base_motion_length_s}"
+            )
         if self.start_s > self.base_motion_length_s:
             raise ValueError(f"start_s: {self.start_s} s is past the take's end ({self.base_motion_length_s} s)")
         return self
@@ -235,8 +248,8 @@ class SpringsSpec(BaseModel):
     target_mass: _within(KITE_SPRING_VARIABLES["target_mass"])
     camera_drag: _within(KITE_SPRING_VARIABLES["camera_drag"])
     target_drag: _within(KITE_SPRING_VARIABLES["target_drag"])
-    ct_min_distance_m: Literal[0, 1, 2]
-    tp_min_distance_m: Literal[0, 1, 2]
+    ct_min_distance_m: DeadZone
+    tp_min_distance_m: DeadZone
 
 
 class ImpulseSpec(BaseModel):
@@ -281,7 +294,7 @@ class EnvironmentSpec(BaseModel):
     model_config = _FROZEN
     name: EnvironmentName
     indoor: bool
-    waypoint_index: int = Field(ge=0)
+    waypoint_index: Int64
     waypoint: Vec3
     #: The seed of this video's own look of the environment (θ's ``world_variety: video``);
     #: None: the environment's one fixed look.
@@ -329,8 +342,8 @@ class Recipe(BaseModel):
     model_config = _FROZEN
     schema_version: Literal[3] = RECIPE_SCHEMA_VERSION
     video_id: str = Field(pattern=r"^v\d{6,}$")
-    index: StrictInt = Field(ge=0)
-    dataset_seed: StrictInt = Field(ge=0)  # `true` is no seed
+    index: Int64
+    dataset_seed: StrictInt = Field(ge=0)  # `true` is no seed; kept as text in the table's metadata
     theta_hash: str = Field(pattern=r"^[0-9a-f]{64}$")
     action: ActionName
     n_people: int = Field(ge=1)
@@ -360,10 +373,39 @@ class Recipe(BaseModel):
             raise ValueError(f"video_id {self.video_id!r} does not match index {self.index}")
         if self.n_people != 1 + len(self.supporting_characters):
             raise ValueError("n_people must count the protagonist and the supporting characters")
+        if self.n_people != ACTIONS[self.action].n_people:
+            raise ValueError(f"n_people: {self.action} is done by {ACTIONS[self.action].n_people}, not {self.n_people}")
+        if self.duration_s > self.motion.base_motion_length_s:  # θ's clip length is at most the take's
+            raise ValueError(
+                f"duration_s: {self.duration_s} s is longer than {self.motion.base_motion} "
+                f"({self.motion.base_motion_length_s} s)"
+            )
+        self._in_its_environment()
         ids = [0] + [p.person_id for p in self.supporting_characters] + [p.person_id for p in self.background_actors]
         if len(set(ids)) != len(ids):
             raise ValueError("person_id values must be unique within a recipe")
         return self
+
+    def _in_its_environment(self) -> None:
+        """The environment's facts the recipe repeats or indexes (indoor, its waypoint
+        graphs) and the cameras it allows, as θ and ``phav vary`` hold them."""
+        env = self.environment
+        scene = ENVIRONMENT_SCENES[env.name]
+        if env.indoor != scene.indoor:
+            raise ValueError(f"environment.indoor: {env.name} is {'' if scene.indoor else 'not '}indoors")
+        if env.waypoint_index >= len(scene.protagonist_waypoints):
+            raise ValueError(
+                f"environment.waypoint_index: {env.name} has {len(scene.protagonist_waypoints)} protagonist waypoints"
+            )
+        for k, actor in enumerate(self.background_actors):
+            for field in ("start_waypoint", "destination_waypoint"):
+                if getattr(actor, field) >= len(scene.background_waypoints):
+                    raise ValueError(
+                        f"background_actors.{k}.{field}: {env.name} has "
+                        f"{len(scene.background_waypoints)} background waypoints"
+                    )
+        if CAMERA_INFO[self.camera.kind].indoor_only and not scene.indoor:
+            raise ValueError(f"camera.kind: the {self.camera.kind} camera films indoors only, not in {env.name}")
 
 
 def frames_for(duration_s: float, fps: int) -> int:

@@ -124,7 +124,7 @@ def _table_field(rows: Registry, cols: Registry) -> Any:
             raise ValueError("expected a mapping with 'default' and optional 'rows'")
         extra = set(value) - {"default", "rows"}
         if extra:
-            raise ValueError(f"unexpected key {sorted(extra)[0]!r}; a table has 'default' and 'rows'")
+            raise ValueError(f"unexpected key {sorted(extra, key=str)[0]!r}; a table has 'default' and 'rows'")
         given = value.get("rows") or {}
         if not isinstance(given, Mapping):
             raise ValueError("'rows' must map each parent value to weights")

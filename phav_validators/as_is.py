@@ -661,6 +661,7 @@ def _validate(
     covered = [v for v in m.videos if v.video_id in selected] if m is not None else []  # named shards' only
     report = DatasetReport(
         source=inp.label,
+        root=str(inp.root),
         checks=_timed_checks(results, want, timings),
         n_videos=len(covered) if m is not None else loaded.n_recipes,
         n_frames=sum(v.n_frames for v in covered) if m is not None else 0,

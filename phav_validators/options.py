@@ -93,6 +93,15 @@ class DatasetReport:
     #: Per flagged video, that frame as a PNG data URL, read while its shard was there (a
     #: recipe-only release regenerated into a temporary directory, gone when the report is written).
     flagged_pictures: dict[str, str] = field(default_factory=dict)
+    #: The dataset's folder (its manifest and shards); ``source`` names what was given (shards,
+    #: a manifest), and is the folder where a folder was given.
+    root: str = ""
+
+    @property
+    def size(self) -> str:
+        """What was validated, in words: ``3 videos, 312 frames``, or ``3 recipes`` (a
+        recipe-only release or table, no frames)."""
+        return f"{self.n_videos} videos, {self.n_frames:,} frames" if self.n_frames else f"{self.n_videos} recipes"
 
     @property
     def status(self) -> Status:

@@ -36,6 +36,12 @@ REPORT_VERSION = 1
 MAX_FRAMES = 6
 
 
+def _num(x: float | None, spec: str) -> str:
+    """``x`` formatted by ``spec``, or a dash where there is no finite number (a camera that
+    never sees the protagonist has no height quartiles; the JSON writes them null)."""
+    return format(x, spec) if x is not None and math.isfinite(x) else "—"
+
+
 def report_json(reports: Sequence[DatasetReport]) -> dict[str, Any]:
     """The whole run as one JSON document."""
     status = run_status(reports)
@@ -125,8 +131,8 @@ def framing_html(framing: FramingResult) -> str:
     for name, g in framing.groups.items():
         q1, q2, q3 = g.quantiles()
         out.append(f"<tr><td>{html.escape(name)}</td><td>{g.n_videos}</td><td>{g.n_frames:,}</td>"
-                   f"<td>{g.in_view_share:.1%}</td><td>{q1:.1%}</td><td>{q2:.1%}</td><td>{q3:.1%}</td>"
-                   f"<td>{g.median_px:.0f}</td></tr>")  # fmt: skip
+                   f"<td>{_num(g.in_view_share, '.1%')}</td><td>{_num(q1, '.1%')}</td><td>{_num(q2, '.1%')}</td>"
+                   f"<td>{_num(q3, '.1%')}</td><td>{_num(g.median_px, '.0f')}</td></tr>")  # fmt: skip
     out.append("</table>")
     labels = [f"{FRAMING_BINS[b]:.0%}–{FRAMING_BINS[b + 1]:.0%}" for b in range(len(FRAMING_BINS) - 1)]
     for name, g in framing.groups.items():
@@ -216,8 +222,8 @@ def learnability_html(learn: LearnResult, root: Path) -> list[str]:
 def _figure_cell(fig: Any) -> str:
     if fig is None:
         return "<td></td>"
-    interval = "one video" if fig.low is None else f"{fig.low:.2f}–{fig.high:.2f}"
-    return f"<td>{fig.value:.2f} <small>({interval}; n {fig.count:,.0f})</small></td>"
+    interval = "one video" if fig.low is None else f"{_num(fig.low, '.2f')}–{_num(fig.high, '.2f')}"
+    return f"<td>{_num(fig.value, '.2f')} <small>({interval}; n {fig.count:,.0f})</small></td>"
 
 
 def realism_html(result: RealismResult) -> list[str]:
@@ -260,7 +266,7 @@ def realism_html(result: RealismResult) -> list[str]:
         m = fig("cityscapes_miou")
         out.append(f"<p>Cityscapes mIoU over its classes present: {m.said()}.")
         for kind in ("weather", "day_phase", "light"):
-            parts = [f"{k.split('=')[1]} {result.figures[k].value:.2f}" for k in sorted(result.figures)
+            parts = [f"{k.split('=')[1]} {_num(result.figures[k].value, '.2f')}" for k in sorted(result.figures)
                      if k.startswith(f"cityscapes_miou|{kind}=")]  # fmt: skip
             if parts:
                 out.append(f" By {kind.replace('_', ' ')}: {', '.join(parts)}.")
@@ -292,7 +298,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
     for r in reports:
         theta = f"θ {esc(r.theta['name'])} {esc(r.theta['hash'][:12])}…" if r.theta else "no θ"
         out.append(f"<h2>{esc(r.source)} — <span class='{r.status.value}'>{r.status.value.upper()}</span></h2>")
-        out.append(f"<p>{r.n_videos} videos, {r.n_frames:,} frames; {theta}</p>")
+        out.append(f"<p>{r.size}; {theta}</p>")
         out.append("<table><tr><th>check</th><th>status</th><th>s</th><th>result</th><th>findings</th></tr>")
         for c in r.checks:
             counts = ", ".join(f"{k.value} × {n}" for k, n in sorted(c.report.counts.items()))
@@ -300,19 +306,20 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
             out.append(f"<tr><td>{c.name}</td><td class='{c.status.value}'>{c.status.value}</td>"
                        f"<td>{c.seconds:.1f}</td><td>{result}</td><td>{esc(counts)}</td></tr>")  # fmt: skip
         out.append("</table>")
-        findings = [(c.name, f) for c in r.checks for f in c.report.findings][:200]
-        if findings:
+        if any(c.report.findings for c in r.checks):
             out.append("<h3>Findings</h3><table><tr><th>check</th><th>reason</th><th>where</th><th>message</th></tr>")
-            for name, f in findings:
-                where = " ".join(x for x in (f.file, f.video_id) if x)
-                out.append(f"<tr><td>{name}</td><td class='{f.severity}'>{f.reason.value}</td><td>{esc(where)}</td>"
-                           f"<td>{esc(f.message)}</td></tr>")  # fmt: skip
+            # Every finding the JSON lists (a check keeps MAX_PER_REASON per reason; its notes count the rest).
+            for c in r.checks:
+                for f in c.report.findings:
+                    where = " ".join(x for x in (f.file, f.video_id) if x)
+                    out.append(f"<tr><td>{c.name}</td><td class='{f.severity}'>{f.reason.value}</td>"
+                               f"<td>{esc(where)}</td><td>{esc(f.message)}</td></tr>")  # fmt: skip
             out.append("</table>")
         if r.distribution is not None:
             out.append("<h3>Observed against expected</h3>")
             for s in r.distribution.summaries:
-                n = max(int(s.observed.sum()), 1)
-                shares = [float(o) / n for o in s.observed]
+                n = int(s.observed.sum())
+                shares = [float(o) / max(n, 1) for o in s.observed]
                 title = f"{s.variable} ({s.applies_to}, n = {n})"
                 out.append(histogram_svg(title, s.values, shares, [float(e) for e in s.expected]))
         if r.framing is not None and r.framing.groups:
@@ -327,7 +334,7 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
         if frames:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
         if r.learnability is not None:
-            out += learnability_html(r.learnability, Path(r.source))
+            out += learnability_html(r.learnability, Path(r.root or r.source))
         if r.realism is not None:
             out += realism_html(r.realism)
     out.append("</body></html>")

@@ -670,12 +670,13 @@ def _variation(draw: st.DrawFn, action: str) -> dict[str, Any]:
 
 
 @st.composite
-def _duration(draw: st.DrawFn, fps: int) -> float:
-    """Clip length in seconds; a share of draws is short enough for a single frame."""
+def _duration(draw: st.DrawFn, fps: int, longest: float) -> float:
+    """Clip length in seconds, at most ``longest`` (the take's); a share of draws is short
+    enough for a single frame."""
     if draw(st.integers(0, 4)) == 0:
-        duration = draw(st.floats(1e-3, 1.49 / fps))
+        duration = draw(st.floats(1e-3, min(1.49 / fps, longest)))
     else:
-        duration = draw(st.floats(1e-3, 12.0))
+        duration = draw(st.floats(1e-3, min(12.0, longest)))
     if frames_for(duration, fps) == 1:
         event("recipe: n_frames == 1")
     return duration
@@ -746,8 +747,8 @@ def _recipes(draw: st.DrawFn, theta: Theta | None, index: int | None) -> Recipe:
     # Two-people actions are 4 of 35: draw them on purpose too, for supporting characters.
     action = draw(st.one_of(st.sampled_from(ACTIONS.names), st.sampled_from(_TWO_PEOPLE)))
     variation = draw(_variation(action))
-    duration = draw(_duration(video["fps"]))
     base = draw(st.sampled_from(MOTIONS.names))
+    duration = draw(_duration(video["fps"], MOTIONS[base].length_s))
     env_name = draw(st.sampled_from(ENVIRONMENTS.names))
     env = ENVIRONMENT_SCENES[env_name]
     wp = draw(st.integers(0, len(env.protagonist_waypoints) - 1))

@@ -227,3 +227,38 @@ def test_a_failed_task_does_not_lose_the_records_finished_beside_it(monkeypatch)
         engines.run_tasks(_fail_first, [0, 1, 2], engine="local", workers=2, address=None, out=Path("."),
                           progress=None, finished=lambda r: records.append(r["task"]))  # fmt: skip
     assert records == [1, 2]
+
+
+def test_a_missing_ray_is_refused_before_any_work(small_theta, tmp_path, monkeypatch):
+    """Without Ray installed, `--engine ray` wrote recipes.parquet, theta.yaml and the work
+    folder, then said so; it is refused with the other engine checks, the folder untouched."""
+    import importlib.util
+
+    found = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "ray" else found(name, *a))
+    out = tmp_path / "x"
+    with pytest.raises(PhavUserError, match=r"Ray is not installed; pip install 'phav\[ray\]'") as caught:
+        write_dataset([], out, name="demo", theta=small_theta, dataset_seed=0, engine="ray")
+    assert caught.value.field == "--engine" and not out.exists()
+
+
+def test_a_tasks_os_error_reaches_the_writer_as_itself_on_ray(tmp_path):
+    """Ray raised a task's OSError (a full disk) as its own seven-line traceback, itself an
+    OSError without the errno, which the writer's one-line message needs."""
+    pytest.importorskip("ray")
+    import errno
+
+    from ray.exceptions import RayTaskError
+
+    from phav_generator.engines import _result
+
+    cause = OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "v000000.tar.part"))
+
+    class Ray:  # ray.get of a task that raised ``cause``, as Ray raises it
+        @staticmethod
+        def get(ref):
+            raise RayTaskError("_ray_stage", "Traceback (most recent call last):\n  ...", cause).as_instanceof_cause()
+
+    with pytest.raises(OSError) as caught:
+        _result(Ray, None, tmp_path)
+    assert caught.value is cause and caught.value.errno == errno.ENOSPC

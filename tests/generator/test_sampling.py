@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from pydantic import ValidationError
 
 from phav_generator.sampling import RecipeSampler
 from phav_spec.expectations import exact_expectations, mean_duration
@@ -19,6 +20,7 @@ from phav_spec.recipe import parse_recipe
 from phav_spec.recipe_table import RecipeRows, read_recipe_table
 from phav_spec.seeding import part_rng, runtime_seeds, video_key
 from phav_spec.theta import load_preset, load_theta, parse_theta
+from phav_spec.vocab import ACTIONS, CAMERAS, ENVIRONMENTS
 from phav_validators.checks.distribution import check_distributions
 from phav_validators.findings import Reason
 from tests.helpers import PRESET_PATH, invoke_cli
@@ -91,26 +93,38 @@ class IgnoresThetaEC(RecipeSampler):
 
 
 def test_a_sampler_that_ignores_theta_ec_fails_the_checks():
-    """1,000 recipes are plenty. The bug puts an indoors camera outdoors in 44 % of recipes,
-    8 % of them in an urban row: 1,000 recipes hold none with probability 0.56^1000 < 1e-250,
-    none in an urban row with 0.92^1000 < 1e-36. It moves the camera marginal from (0.932,
-    0.054, 0.014) to (0.495, 0.495, 0.010): a χ² noncentrality of 3,800 on 2 degrees of
-    freedom, which misses even α/m = 1e-103 with probability below 1e-100. Holm keeps the
-    correct sampler's false-alarm rate below α = 0.001 at any size."""
+    """The recipe itself refuses an indoors camera outdoors; a table whose cameras were drawn
+    so (written without the recipes' checks) fails the distribution checks. 1,000 recipes are
+    plenty. The bug puts an indoors camera outdoors in 44 % of recipes, 8 % of them in an
+    urban row: 1,000 recipes hold none with probability 0.56^1000 < 1e-250, none in an urban
+    row with 0.92^1000 < 1e-36. It moves the camera marginal from (0.932, 0.054, 0.014) to
+    (0.495, 0.495, 0.010): a χ² noncentrality of 3,800 on 2 degrees of freedom, which misses
+    even α/m = 1e-103 with probability below 1e-100. Holm keeps the correct sampler's
+    false-alarm rate below α = 0.001 at any size."""
     theta = load_preset()
     buggy = IgnoresThetaEC(theta)
-    rows = RecipeRows().extend(buggy.sample(0, i) for i in range(1000))
-    result = check_distributions(rows.columns, theta)
+    with pytest.raises(ValidationError, match="the indoors camera films indoors only"):
+        for i in range(1000):
+            buggy.sample(0, i)
+    # The same draw, made on the correct sampler's table: its camera weights, row by row.
+    sampler = RecipeSampler(theta)
+    good = RecipeRows().extend(sampler.sample(0, i) for i in range(1000))
+    assert check_distributions(good.columns, theta).ok
+    weights = buggy._camera_weights()
+    rng = np.random.default_rng(0)
+    columns = dict(good.columns)
+    rows = zip(columns["action"], columns["environment"], strict=True)
+    columns["camera"] = [
+        CAMERAS.names[rng.choice(len(CAMERAS), p=w / w.sum())]
+        for w in (weights[ACTIONS.index(a), ENVIRONMENTS.index(e)] for a, e in rows)
+    ]
+    result = check_distributions(columns, theta)
     assert not result.ok
     reasons = {f.reason for f in result.report.findings}
     assert Reason.IMPOSSIBLE_VALUE in reasons
     camera_failures = [t for t in result.tests if t.variable == "camera" and t.rejected]
     assert any(t.condition == "marginal" for t in camera_failures)
     assert any("environment=urban" in t.condition for t in camera_failures)
-    # The correct sampler on the same indices passes.
-    sampler = RecipeSampler(theta)
-    good = RecipeRows().extend(sampler.sample(0, i) for i in range(1000))
-    assert check_distributions(good.columns, theta).ok
 
 
 def test_golden_recipes_of_phav_v1_seed_0():

@@ -5,7 +5,10 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from phav_spec.files import atomic_write
+import pytest
+
+from phav_spec.errors import PhavUserError
+from phav_spec.files import atomic_write, check_output_file
 
 
 def test_atomic_write_sweeps_only_when_no_write_into_the_folder_is_under_way(tmp_path: Path) -> None:
@@ -22,3 +25,15 @@ def test_atomic_write_sweeps_only_when_no_write_into_the_folder_is_under_way(tmp
     with atomic_write(target, sweep=True) as tmp:
         tmp.write_bytes(b"t2")
     assert sorted(os.listdir(tmp_path)) == ["t.bin", "u.bin"] and target.read_bytes() == b"t2"
+
+
+def test_an_earlier_report_with_a_byte_order_mark_or_a_comment_first_may_be_replaced(tmp_path: Path) -> None:
+    """HTML saved by an editor (a byte-order mark) or opening with a comment was refused as
+    "not a HTML file"; notes are still refused, in English."""
+    for name, text in (("bom.html", "\ufeff<!DOCTYPE html><html></html>"), ("c.html", "<!-- r -->\n<html></html>"),
+                       ("bom.json", "\ufeff {}")):  # fmt: skip
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        check_output_file(tmp_path / name, field="--html", kind="JSON" if name.endswith(".json") else "HTML")
+    (tmp_path / "notes.html").write_text("my notes\n", encoding="utf-8")
+    with pytest.raises(PhavUserError, match=r"--html: exists and is not an HTML file, which this would replace"):
+        check_output_file(tmp_path / "notes.html", field="--html", kind="HTML")

@@ -119,6 +119,25 @@ def _kicked(d: dict) -> None:
         # Values θ's bounds rule out, which crashed the physics (a massless camera divides by 0).
         (lambda d: d["motion"].update(speed=1e300), "motion.speed", "less than or equal to 5"),
         (lambda d: d["camera"].update(kind="kite", springs=None), "camera", "springs: a kite camera needs springs"),
+        # Values the recipe repeats or indexes, checked against what they name (each was accepted).
+        (lambda d: d["background_actors"][0].update(person_id=300), "background_actors.0.person_id", "or equal to 255"),
+        (lambda d: d.update(index=2**63, video_id=f"v{2**63}"), "index", "less than 9223372036854775808"),
+        (lambda d: d["environment"].update(waypoint_index=2**40), "", "environment.waypoint_index: lake has"),
+        (lambda d: d["background_actors"][0].update(start_waypoint=99), "", "start_waypoint: lake has"),
+        (lambda d: d["environment"].update(indoor=True), "", "environment.indoor: lake is not indoors"),
+        (
+            lambda d: d["camera"].update(kind="indoors", springs=None, impulse=None),
+            "",
+            "camera.kind: the indoors camera films indoors only, not in lake",
+        ),
+        (lambda d: d.update(action="walk_holding_hands"), "", "n_people: walk_holding_hands is done by 2, not 1"),
+        (lambda d: d["motion"].update(base_motion_length_s=500.0), "motion", "is 10.4 s long, not 500.0"),
+        (
+            lambda d: d.update(duration_s=10.5, n_frames=315),
+            "",
+            "duration_s: 10.5 s is longer than archery_draw_release_01 (10.4 s)",
+        ),
+        (lambda d: d["camera"]["springs"].update(ct_min_distance_m=True), "camera.springs", "valid integer"),
         (
             lambda d: d["variation"].update(kind="teleport"),
             "variation",

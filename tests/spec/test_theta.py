@@ -114,6 +114,7 @@ BAD = {
     "weights that overflow": (_set("theta_w", {"clear": 1e308, "fog": 1e308}), "theta_w", "must be 0 or in [1e-100, 1e+100]"),
     "subnormal weights": (_set("theta_w", {"clear": 5e-324, "fog": 5e-324}), "theta_w", "must be 0 or in [1e-100, 1e+100]"),
     "unknown clip start": (_set("motion.start", "middle"), "motion.start", "'uniform' or 'active'"),
+    "a table's stray keys, a number and a name": (_set("theta_ae", {"default": "uniform", 1: 2, "zz": 3}), "theta_ae", "unexpected key 1; a table has"),
 }  # fmt: skip
 
 

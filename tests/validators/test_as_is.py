@@ -79,12 +79,15 @@ def test_distribution_runs_only_when_asked(small_dataset):
 
 def test_a_named_shard_is_what_every_check_covers_and_the_sample_is_drawn_from(small_dataset, small_recipes):
     """phav-000000.tar holds v000000 and v000001, phav-000001.tar v000002: named alone, a
-    shard's videos are what the failures check, the sample and the header count."""
+    shard's videos are what the failures check, the sample and the header count; the
+    report knows the dataset's folder (the HTML read example frames below the shard's path)."""
     first = resolve([small_dataset / "phav-000000.tar"])[0]
     report = validate_dataset(first, options=Options(checks=("failures",)))
     failures = next(c for c in report.checks if c.name == "failures")
     assert failures.numbers["videos"] == 2 and report.n_videos == 2
     assert report.n_frames == small_recipes[0].n_frames + small_recipes[1].n_frames
+    # The HTML report reads the learnability check's example frames from the folder, not the shard.
+    assert report.source.endswith("phav-000000.tar") and report.root == str(small_dataset.resolve())
     second = resolve([small_dataset / "phav-000001.tar"])[0]
     report = validate_dataset(second, options=Options(checks=("integrity",), sample=0.1))
     integrity = next(c for c in report.checks if c.name == "integrity")

@@ -4,6 +4,7 @@ what the instance pixels show, and printed by `phav stats` and the phav-validate
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pyarrow as pa
@@ -13,9 +14,10 @@ import pytest
 from phav_spec.encoding import instance_rgb
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import read_recipe_table
+from phav_validators.checks.distribution import DistributionResult, VariableSummary
 from phav_validators.checks.reproduce import shard_video_frames
-from phav_validators.findings import CheckResult
-from phav_validators.framing import FRAMING_BINS, VideoFrame, measure_framing, read_framing
+from phav_validators.findings import MAX_PER_REASON, CheckResult, Finding, Reason, Report
+from phav_validators.framing import FRAMING_BINS, FramingGroup, FramingResult, VideoFrame, measure_framing, read_framing
 from phav_validators.options import DatasetReport
 from phav_validators.report import report_html
 from tests.helpers import invoke_cli
@@ -141,3 +143,29 @@ def test_the_html_report_shows_each_checks_notes() -> None:
     check.report.notes.append("training stopped at the 15-minute budget (flow 83 of 120 epochs) & more")
     page = report_html([DatasetReport("data", [check], n_videos=1, n_frames=2)])
     assert "note: training stopped at the 15-minute budget (flow 83 of 120 epochs) &amp; more" in page
+
+
+def test_the_html_report_lists_every_checks_findings_and_no_raw_nan() -> None:
+    """Findings past 200 over all checks were left off without a word (a later check's all
+    of them): the page lists what the JSON lists, and notes the rest as the console does. A
+    camera that never sees the protagonist printed ``nan%``; a histogram of nothing observed
+    said ``n = 1``; a table of recipes "3 videos, 0 frames"."""
+    checks = []
+    for name in ("integrity", "schema", "encoding", "failures", "consistency"):
+        report = Report()
+        for i in range(60):
+            report.add(Finding(Reason.MISSING_FILE, f"m{i}", file=f"{name}.tar", video_id=f"v{i:06d}"))
+        checks.append(CheckResult.from_report(name, report, f"summary of {name}", {}))
+    never = FramingGroup("static", 1, 30, np.zeros(0), np.zeros(0), np.array([NAN]))
+    nothing = VariableSummary("weather", ("clear", "rain"), np.array([0, 0]), np.array([0.5, 0.5]), "all videos")
+    dist = DistributionResult([], [nothing], Report(), 0, NAN, 3.0)
+    page = report_html([DatasetReport("data", checks, n_videos=1, n_frames=30,
+                                      framing=FramingResult({"static": never}), distribution=dist)])  # fmt: skip
+    rows = re.findall(r"<tr><td>(\w+)</td><td class='fail'>MISSING_FILE</td>", page)
+    assert [rows.count(c.name) for c in checks] == [MAX_PER_REASON] * 5
+    assert page.count(f"note: MISSING_FILE: 60 findings, first {MAX_PER_REASON} listed") == 5
+    row = re.search(r"<tr><td>static</td>.*?</tr>", page).group(0)
+    assert "nan" not in row and row.count("—") == 4, row
+    assert "weather (all videos, n = 0)" in page
+    recipes_only = report_html([DatasetReport("recipes.parquet", checks[:1], n_videos=3)])
+    assert "<p>3 recipes; no θ</p>" in recipes_only  # as the console says: "3 videos, 0 frames" was said
