@@ -28,7 +28,7 @@ from phav_spec.distributions import (
     sample_subset,
     triangular_inverse_cdf,
 )
-from phav_spec.motions import MOTIONS, active_start
+from phav_spec.motions import MOTIONS, active_start, meeting_start
 from phav_spec.people import BOTTOMS, FABRICS, HAIR_STYLES, TOPS, Phenotype
 from phav_spec.population import (
     HAIR_COLOURS,
@@ -255,6 +255,13 @@ class RecipeSampler:
         variation = self._variation(a, b, duration * motion["speed"])
         camera = self._camera(a, e, position, heading, _stature(protagonist), force.get("camera"))
         supporting = self._supporting(action, h, position, heading)
+        if supporting and supporting[0]["placement"] == "facing":
+            # Two people walking into each other on a take that stops them: the clip starts
+            # where they meet as it does (wherever θ would start it, they mostly stopped apart).
+            meet = meeting_start(motion["base_motion"], motion["base_motion_length_s"], duration * motion["speed"],
+                                 supporting[0]["distance_m"])  # fmt: skip
+            if meet is not None:
+                motion = {**motion, "start_s": meet}
 
         return Recipe.model_validate(
             {

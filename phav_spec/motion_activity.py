@@ -176,3 +176,13 @@ MOVING_SPANS: Mapping[str, tuple[tuple[float, float], ...]] = MappingProxyType({
         (11.0, 11.8), (13.1, 14.0), (27.0, 27.8), (29.1, 30.0), (43.0, 43.8), (45.1, 46.0),
     ),
 })  # fmt: skip
+
+#: The takes that walk up to a stop (a pause follows their first moving span): that
+#: span's end (s) and the body's mean speed over the ground along it (m/s, at least
+#: 0.3), at the reference playback.
+APPROACHES: Mapping[str, tuple[float, float]] = MappingProxyType({
+    "walk_up_to_friend_hug_01": (7.4, 1.014),
+    "walk_bump_into_someone_01": (4.6, 1.161),
+    "walk_pick_up_litter_01": (10.7, 0.97),
+    "greet_friend_hug_01": (3.3, 0.566),
+})  # fmt: skip

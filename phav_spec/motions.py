@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from phav_spec.motion_activity import MOVING_SPANS
+from phav_spec.motion_activity import APPROACHES, MOVING_SPANS
 from phav_spec.vocab import ACTIONS, Registry
 
 #: Where a motion comes from: a procedural stand-in for a CMU MoCap take, or one of the three
@@ -275,3 +275,26 @@ def active_start(name: str, length_s: float, window_s: float, u: float) -> float
         return u * room
     keep = starts[share >= ACTIVE_SHARE * share.max() - 1e-12]
     return float(keep[min(int(u * len(keep)), len(keep) - 1)])
+
+
+#: Two people walking into each other meet when their pelvises are this far apart (m): their
+#: chests touching, as the physics' capsules of most bodies put it.
+MEETING_GAP_M = 0.4
+#: … and this long (s) before their take would stop them, so that they walk into each other
+#: rather than stop short.
+MEETING_LEAD_S = 0.3
+
+
+def meeting_start(name: str, length_s: float, window_s: float, distance_m: float) -> float | None:
+    """Where take ``name`` starts for two people ``distance_m`` apart who both play it
+    towards each other (``facing``), so that they meet just before it stops them: each
+    covers half the distance at the take's pace (``APPROACHES``; a body's own pace differs
+    by its legs and stride, and the plan halts a pair that would meet sooner). A window of
+    ``window_s`` still fits in the take. None for a take that does not walk up to a stop:
+    where it starts does not decide whether they meet."""
+    found = APPROACHES.get(name)
+    if found is None:
+        return None
+    stop, pace = found
+    start = stop - MEETING_LEAD_S - max(0.0, distance_m - MEETING_GAP_M) / (2.0 * pace)
+    return min(max(0.0, start), max(0.0, length_s - window_s))

@@ -352,7 +352,8 @@ class MotionParameters(BaseModel):
     """Playback of the base motion: speed factor, mirroring left/right, and where in the
     take the clip starts: ``uniform`` anywhere it fits, or ``active`` among the windows
     where the body moves (``phav_spec.motions.active_start``; for short clips, which a
-    held pose would otherwise fill)."""
+    held pose would otherwise fill). Either way two people walking into each other on a take
+    that stops them start it where they meet as it stops (``meeting_start``)."""
 
     model_config = _FROZEN
     speed: bounded("motion_speed")

@@ -31,6 +31,9 @@ MOVING_SPEED_M_S = 0.3
 #: Pauses shorter than this (s) belong to the motion around them (a hand turning at the
 #: end of a stroke, a foot at the top of a step).
 MERGED_GAP_S = 0.5
+#: A take approaches when its body goes at least this fast (m/s, over the ground) before
+#: its first pause: a walk up to someone; a hand at work moves the body a few cm.
+APPROACH_PACE_M_S = 0.3
 #: The reference playback: no speed change, no mirror, the motion's neutral amplitude,
 #: phase and style.
 _PARAMS = MotionParams(speed=1.0, amplitude=1.0, phase=0.0, style=0.0, mirror=False)
@@ -61,6 +64,19 @@ def moving_spans(motion: MotionDef, hz: int = SAMPLE_HZ) -> tuple[tuple[float, f
     return tuple(spans)
 
 
+def approach(motion: MotionDef, hz: int = SAMPLE_HZ) -> tuple[float, float] | None:
+    """(end s, pace m/s) of a take that walks up to a stop: its first moving span, where
+    another follows (a pause between), and the reference body's mean speed over the ground
+    along it; None for a take that never pauses or stands nearly still before its pause."""
+    spans = moving_spans(motion, hz)
+    if len(spans) < 2:
+        return None
+    start, end = spans[0]
+    pose = motion.fn(np.array([start, end]), _PARAMS)
+    pace = float(np.linalg.norm(pose.root_pos[1, :2] - pose.root_pos[0, :2])) / (end - start)
+    return (end, round(pace, 3)) if pace >= APPROACH_PACE_M_S else None
+
+
 def table_source() -> str:
     """The Python source of ``phav_spec/motion_activity.py`` for the built-in motions."""
     lines = [
@@ -84,6 +100,18 @@ def table_source() -> str:
         lines.append(f'    "{name}": (')
         lines += ["        " + " ".join(spans[i : i + 8]) for i in range(0, len(spans), 8)]
         lines.append("    ),")
+    lines.append("})  # fmt: skip")
+    lines += [
+        "",
+        "#: The takes that walk up to a stop (a pause follows their first moving span): that",
+        "#: span's end (s) and the body's mean speed over the ground along it (m/s, at least",
+        f"#: {APPROACH_PACE_M_S}), at the reference playback.",
+        "APPROACHES: Mapping[str, tuple[float, float]] = MappingProxyType({",
+    ]
+    for name, motion in BUILTIN_MOTIONS.items():
+        found = approach(motion)
+        if found is not None:
+            lines.append(f'    "{name}": ({found[0]!r}, {found[1]!r}),')
     lines.append("})  # fmt: skip")
     return "\n".join(lines) + "\n"
 

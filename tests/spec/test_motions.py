@@ -9,7 +9,17 @@ import numpy as np
 import pytest
 
 import phav_spec.motions as motions_module
-from phav_spec.motions import ACTIVE_SHARE, MOTIONS, Motion, active_start, moving_share, theta_ab
+from phav_spec.motions import (
+    ACTIVE_SHARE,
+    MEETING_GAP_M,
+    MEETING_LEAD_S,
+    MOTIONS,
+    Motion,
+    active_start,
+    meeting_start,
+    moving_share,
+    theta_ab,
+)
 from phav_spec.theta import load_preset
 from phav_spec.vocab import ACTIONS, Registry
 
@@ -264,3 +274,19 @@ def test_an_unknown_or_still_take_starts_uniformly(monkeypatch):
     for name in ("still", "a_users_clip"):
         assert active_start(name, 10.0, 2.0, 0.5) == 4.0
     assert active_start("still", 1.0, 2.0, 0.7) == 0.0  # the window is longer than the take
+
+
+def test_two_people_walking_into_each_other_meet_as_their_take_stops():
+    """At the take's pace from the start given, each covers half the distance less the
+    chests' gap by MEETING_LEAD_S before the take's stop; a window still fits the take;
+    a walk that never stops has no such start."""
+    name = "walk_bump_into_someone_01"
+    stop, pace = motions_module.APPROACHES[name]
+    length = MOTIONS[name].length_s
+    for distance in (4.0, 6.0, 8.0):
+        start = meeting_start(name, length, 3.0, distance)
+        met = start + (distance - MEETING_GAP_M) / (2.0 * pace)
+        assert met == pytest.approx(stop - MEETING_LEAD_S)
+    assert meeting_start(name, length, 3.0, 40.0) == 0.0  # too far to meet: from the take's start
+    assert meeting_start(name, length, length - 0.5, 4.0) == 0.5  # the window fits
+    assert meeting_start("walk_forward_01", MOTIONS["walk_forward_01"].length_s, 3.0, 6.0) is None

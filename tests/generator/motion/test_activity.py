@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 
 import phav_spec.motion_activity
-from phav_generator.motion.activity import MOVING_SPEED_M_S, fastest_point_speed, moving_spans, table_source
+from phav_generator.motion.activity import MOVING_SPEED_M_S, approach, fastest_point_speed, moving_spans, table_source
 from phav_generator.motion.library import BUILTIN_MOTIONS
-from phav_spec.motion_activity import MOVING_SPANS
+from phav_spec.motion_activity import APPROACHES, MOVING_SPANS
 from phav_spec.motions import MOTIONS
 
 
@@ -43,3 +43,17 @@ def test_spans_are_ordered_disjoint_and_within_the_take():
         ends = [t for span in spans for t in span]
         assert ends == sorted(ends), name
         assert all(b > a for a, b in spans) and (not ends or (ends[0] >= 0 and ends[-1] <= MOTIONS[name].length_s))
+
+
+def test_a_take_that_walks_up_to_a_stop_is_an_approach_and_a_walk_or_a_gesture_is_not():
+    """The walk and bump walks 1.2 m/s, slows to a stop at 4.3–4.6 s and steps back: its
+    approach ends at 4.6 s, a little under 1.2 m/s over it. A walk never pauses; a hand
+    brushing hair pauses between strokes but the body stands."""
+    end, pace = approach(BUILTIN_MOTIONS["walk_bump_into_someone_01"])
+    assert end == 4.6 and 1.1 < pace < 1.2
+    assert approach(BUILTIN_MOTIONS["walk_forward_01"]) is None
+    assert (
+        len(MOVING_SPANS["brush_hair_left_hand_01"]) > 1
+        and approach(BUILTIN_MOTIONS["brush_hair_left_hand_01"]) is None
+    )
+    assert set(APPROACHES) <= set(MOVING_SPANS) and "walk_bump_into_someone_01" in APPROACHES

@@ -9,6 +9,7 @@ from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate
 from phav_generator.sampling import RecipeSampler
+from phav_spec.motion_activity import APPROACHES
 from phav_spec.theta import load_theta
 from tests.generator.physics.support import assert_healthy, recipe_for
 
@@ -58,3 +59,28 @@ def test_people_walking_into_each_other_stop_before_their_chests_meet() -> None:
     tr = simulate(recipe, keep_state=False)
     gap = np.linalg.norm((tr.people[0].body_pos[:, 0] - tr.person(1).body_pos[:, 0])[:, :2], axis=1)
     assert gap.min() >= 0.9 * touching, round(float(gap.min()), 3)
+
+
+def test_people_walking_into_each_other_on_a_take_that_stops_them_meet():
+    """phav-v1, seed 0: on the walk and bump (a walk that stops at 4.6 s, then steps back),
+    the clip started anywhere θ put it, mostly past the point where two people 4–8 m apart
+    could meet before the take stopped them: the pelvises ended 2–7 m beyond touching. The
+    clip now starts where they meet as the take stops; of the first eight such clips, the
+    five long enough to reach that point end within a few tenths of touching (the others,
+    1.6–2.4 s long, cannot cover 7–8 m)."""
+    sampler = RecipeSampler(load_theta("phav-v1"))
+    gaps, seen = [], 0
+    for index in range(3000):
+        recipe = sampler.sample(0, index)
+        if recipe.action != "bump_into_each_other" or recipe.motion.base_motion != "walk_bump_into_someone_01":
+            continue
+        seen += 1
+        if recipe.motion.start_s + recipe.duration_s * recipe.motion.speed >= APPROACHES[recipe.motion.base_motion][0]:
+            plan = plan_scene(recipe)
+            a, b = plan.people[0], plan.people[1]
+            touching = sum(p.dims.capsules[BONE_INDEX["chest"]].radius for p in (a, b))
+            apart = np.linalg.norm((a.targets.root_pos - b.targets.root_pos)[:, :2], axis=1)
+            gaps.append(float(apart.min() - touching))
+        if seen == 8:
+            break
+    assert len(gaps) >= 4 and max(gaps) < 1.0 and np.median(gaps) < 0.5, np.round(gaps, 2)
