@@ -245,7 +245,7 @@ FILE_SIGNATURES: dict[str, tuple[bytes, ...]] = {
     "PNG": (b"\x89PNG\r\n\x1a\n",),
     "GIF": (b"GIF87a", b"GIF89a"),
     "JSON": (b"{", b"["),
-    "HTML": (b"<!doctype html", b"<html", b"<!--"),
+    "HTML": (b"<!doctype html", b"<html"),
 }
 #: The article each kind's name takes, where it is not "a".
 _ARTICLE = {"HTML": "an"}
@@ -254,9 +254,11 @@ _ARTICLE = {"HTML": "an"}
 def _begins_as(path: Path, kind: str) -> bool:
     """Whether the file at ``path`` is empty or begins as a file of ``kind`` does."""
     with path.open("rb") as fh:
-        head = fh.read(64)
+        head = fh.read(4096)
     if kind in ("JSON", "HTML"):  # text: a byte-order mark and blanks may come first
         head = head.removeprefix(b"\xef\xbb\xbf").lstrip().lower()
+    while kind == "HTML" and head.startswith(b"<!--") and b"-->" in head:  # and comments, before the page
+        head = head[head.index(b"-->") + 3 :].lstrip()
     return not head or head.startswith(FILE_SIGNATURES[kind])
 
 

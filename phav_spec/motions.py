@@ -290,11 +290,15 @@ def meeting_start(name: str, length_s: float, window_s: float, distance_m: float
     towards each other (``facing``), so that they meet just before it stops them: each
     covers half the distance at the take's pace (``APPROACHES``; a body's own pace differs
     by its legs and stride, and the plan halts a pair that would meet sooner). A window of
-    ``window_s`` still fits in the take. None for a take that does not walk up to a stop:
-    where it starts does not decide whether they meet."""
+    ``window_s`` still fits in the take. None for a take that does not walk up to a stop,
+    where it starts does not decide whether they meet, and for a window too short to reach
+    the meeting."""
     found = APPROACHES.get(name)
     if found is None:
         return None
     stop, pace = found
     start = stop - MEETING_LEAD_S - max(0.0, distance_m - MEETING_GAP_M) / (2.0 * pace)
-    return min(max(0.0, start), max(0.0, length_s - window_s))
+    start = min(max(0.0, start), max(0.0, length_s - window_s))
+    # A window too short to hold the walk up to the meeting shows two people walking apart
+    # of each other wherever it starts; θ's start keeps what else the take shows (its stop).
+    return start if start + window_s >= stop - MEETING_LEAD_S else None

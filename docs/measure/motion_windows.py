@@ -3,7 +3,9 @@ base motion in which the body barely moves (docs/experiments/learnability.md, "W
 scores what it scores").
 
 A clip plays ``duration`` seconds of its base motion from a start drawn as θ's
-``motion.start`` says (``phav_generator.sampling``). For every motion θ_AB allows an
+``motion.start`` says (``phav_generator.sampling``; two people walking into each other on a
+take that stops them start where they meet, ``phav_spec.motions.meeting_start``, which this
+does not count). For every motion θ_AB allows an
 action, this measures the joint-angle speed (rad/s summed over the 30 degrees of freedom,
 root excluded) along the whole motion, averages it over every window of the clip length,
 and counts the windows whose mean is below a quarter of the motion's busiest window: clips

@@ -30,7 +30,7 @@ from typing import Any
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from phav_generator.body.data import load_body_data
+from phav_generator.body.data import body_data_path, load_body_data
 from phav_generator.dataset.fingerprint import (
     BODY_DATA_KEY,
     package_version,
@@ -236,6 +236,8 @@ def write_dataset(
     out = Path(out)
     check_engine(engine, address)
     check_output_dir(out)
+    if engine == "local":  # the workers' body data, found or built (or its cache refused) before any write
+        body_data_path()
     names = list(shard_names) if shard_names is not None else [shard_name(name, i) for i in range(len(shards))]
     if len(names) != len(shards) or len(set(names)) != len(names):
         raise ValueError("shard_names must name every shard once")

@@ -29,11 +29,14 @@ def test_atomic_write_sweeps_only_when_no_write_into_the_folder_is_under_way(tmp
 
 def test_an_earlier_report_with_a_byte_order_mark_or_a_comment_first_may_be_replaced(tmp_path: Path) -> None:
     """HTML saved by an editor (a byte-order mark) or opening with a comment was refused as
-    "not a HTML file"; notes are still refused, in English."""
+    "not a HTML file"; notes, and a page of another kind behind a comment, are still refused,
+    in English."""
     for name, text in (("bom.html", "\ufeff<!DOCTYPE html><html></html>"), ("c.html", "<!-- r -->\n<html></html>"),
                        ("bom.json", "\ufeff {}")):  # fmt: skip
         (tmp_path / name).write_text(text, encoding="utf-8")
         check_output_file(tmp_path / name, field="--html", kind="JSON" if name.endswith(".json") else "HTML")
-    (tmp_path / "notes.html").write_text("my notes\n", encoding="utf-8")
-    with pytest.raises(PhavUserError, match=r"--html: exists and is not an HTML file, which this would replace"):
-        check_output_file(tmp_path / "notes.html", field="--html", kind="HTML")
+    for name, text in (("notes.html", "my notes\n"), ("notes.md", "<!-- toc -->\n# My notes\n"),
+                       ("fig.svg", "<!-- made by hand -->\n<svg></svg>")):  # fmt: skip
+        (tmp_path / name).write_text(text, encoding="utf-8")
+        with pytest.raises(PhavUserError, match=r"--html: exists and is not an HTML file, which this would replace"):
+            check_output_file(tmp_path / name, field="--html", kind="HTML")

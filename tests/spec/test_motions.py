@@ -279,14 +279,15 @@ def test_an_unknown_or_still_take_starts_uniformly(monkeypatch):
 def test_two_people_walking_into_each_other_meet_as_their_take_stops():
     """At the take's pace from the start given, each covers half the distance less the
     chests' gap by MEETING_LEAD_S before the take's stop; a window still fits the take;
-    a walk that never stops has no such start."""
+    a walk that never stops, or a window too short to reach the meeting, has no such start."""
     name = "walk_bump_into_someone_01"
     stop, pace = motions_module.APPROACHES[name]
     length = MOTIONS[name].length_s
     for distance in (4.0, 6.0, 8.0):
-        start = meeting_start(name, length, 3.0, distance)
+        start = meeting_start(name, length, 5.0, distance)
         met = start + (distance - MEETING_GAP_M) / (2.0 * pace)
         assert met == pytest.approx(stop - MEETING_LEAD_S)
-    assert meeting_start(name, length, 3.0, 40.0) == 0.0  # too far to meet: from the take's start
+    assert meeting_start(name, length, 5.0, 40.0) == 0.0  # too far to meet: from the take's start
+    assert meeting_start(name, length, 2.0, 8.0) is None  # 2 s cannot hold a 3.3 s walk: θ's start
     assert meeting_start(name, length, length - 0.5, 4.0) == 0.5  # the window fits
     assert meeting_start("walk_forward_01", MOTIONS["walk_forward_01"].length_s, 3.0, 6.0) is None

@@ -205,7 +205,8 @@ def test_the_build_runs_in_its_own_interpreter_under_mkls_reproducibility_mode(t
 
 def test_a_cache_folder_that_cannot_be_one_is_a_one_line_error(tmp_path):
     """PHAV_CACHE_DIR naming a file: the body data's folder cannot be made below it. It was
-    an OSError traceback; now a one-line error naming the folder and the setting, exit 2."""
+    an OSError traceback; now a one-line error naming the folder and the setting, exit 2,
+    from `generate` before anything is written."""
     not_a_folder = tmp_path / "a-file"
     not_a_folder.write_text("notes\n", encoding="utf-8")
     result = run_cli("body", "info", env={"PHAV_CACHE_DIR": str(not_a_folder)})
@@ -213,3 +214,8 @@ def test_a_cache_folder_that_cannot_be_one_is_a_one_line_error(tmp_path):
     assert f"error: {not_a_folder}/body/" in result.stderr
     assert "set PHAV_CACHE_DIR to a writable folder" in result.stderr
     assert not_a_folder.read_text(encoding="utf-8") == "notes\n"
+    # `generate` says so before it writes: it wrote recipes.parquet and theta.yaml first.
+    out = tmp_path / "data"
+    result = run_cli("generate", "--videos", "1", "--out", str(out), env={"PHAV_CACHE_DIR": str(not_a_folder)})
+    assert result.returncode == 2 and "set PHAV_CACHE_DIR to a writable folder" in result.stderr, result.stderr
+    assert not out.exists() or not any(out.iterdir())

@@ -22,7 +22,8 @@ from phav_validators.learn.learnability import (
     learnability_check,
     wilson_interval,
 )
-from phav_validators.report import learnability_html
+from phav_validators.options import DatasetReport
+from phav_validators.report import learnability_html, report_html
 from tests.helpers import invoke_cli
 
 
@@ -160,6 +161,10 @@ def test_the_report_shows_a_frame_of_each_class_of_a_confused_pair(phav):
     assert "walk ↔ run" in page
     assert page.count("<figure>") == 2 and f"{keys[0]}: walk, answered run" in page
     assert f"{keys[1]}: run, answered run" in page  # beside it, a clip of the other class
+    # In the whole report: a shard (or several) named reads its frames from the dataset's folder.
+    shards = ", ".join(str(p) for p in sorted(phav.glob("*.tar")))
+    named = DatasetReport(shards, [], n_videos=3, n_frames=3, learnability=result, root=str(phav))
+    assert report_html([named]).count("<figure>") == 2
 
 
 @pytest.mark.parametrize("minutes", [0.0, -1.0, float("nan"), float("inf")])

@@ -9,7 +9,7 @@ from phav_generator.motion.skeleton import BONE_INDEX
 from phav_generator.physics.plan.scene import plan_scene
 from phav_generator.physics.simulate import simulate
 from phav_generator.sampling import RecipeSampler
-from phav_spec.motion_activity import APPROACHES
+from phav_spec.motions import meeting_start
 from phav_spec.theta import load_theta
 from tests.generator.physics.support import assert_healthy, recipe_for
 
@@ -67,7 +67,7 @@ def test_people_walking_into_each_other_on_a_take_that_stops_them_meet():
     could meet before the take stopped them: the pelvises ended 2–7 m beyond touching. The
     clip now starts where they meet as the take stops; of the first eight such clips, the
     five long enough to reach that point end within a few tenths of touching (the others,
-    1.6–2.4 s long, cannot cover 7–8 m)."""
+    1.6–2.4 s long, cannot cover 7–8 m, and keep θ's start)."""
     sampler = RecipeSampler(load_theta("phav-v1"))
     gaps, seen = [], 0
     for index in range(3000):
@@ -75,7 +75,9 @@ def test_people_walking_into_each_other_on_a_take_that_stops_them_meet():
         if recipe.action != "bump_into_each_other" or recipe.motion.base_motion != "walk_bump_into_someone_01":
             continue
         seen += 1
-        if recipe.motion.start_s + recipe.duration_s * recipe.motion.speed >= APPROACHES[recipe.motion.base_motion][0]:
+        m = recipe.motion
+        if meeting_start(m.base_motion, m.base_motion_length_s, recipe.duration_s * m.speed,
+                         recipe.supporting_characters[0].distance_m) == m.start_s:  # fmt: skip
             plan = plan_scene(recipe)
             a, b = plan.people[0], plan.people[1]
             touching = sum(p.dims.capsules[BONE_INDEX["chest"]].radius for p in (a, b))
