@@ -397,6 +397,8 @@ class Recipe(BaseModel):
             raise ValueError(
                 f"environment.waypoint_index: {env.name} has {len(scene.protagonist_waypoints)} protagonist waypoints"
             )
+        if self.background_actors and not scene.background_waypoints:
+            raise ValueError(f"background_actors: {env.name} has no background actors' waypoints (an indoor scene)")
         for k, actor in enumerate(self.background_actors):
             for field in ("start_waypoint", "destination_waypoint"):
                 if getattr(actor, field) >= len(scene.background_waypoints):

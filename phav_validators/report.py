@@ -326,11 +326,14 @@ def report_html(reports: Sequence[DatasetReport]) -> str:
             out.append(framing_html(r.framing))
         frames = []
         pictures = flagged_pictures(r)
-        for vid, _, _, reasons in r.worst_videos(MAX_FRAMES):
+        for vid, failing, warning, reasons in r.worst_videos(MAX_FRAMES):
             if vid in pictures:
                 frame = r.flagged_frames[vid][1]
                 frames.append(f"<figure><img src='{pictures[vid]}' width='340'><figcaption>{esc(vid)} frame "
                               f"{frame:05d}: {esc(', '.join(reasons))}</figcaption></figure>")  # fmt: skip
+            else:  # listed as the JSON's worst_videos lists it: no frame of it could be read
+                frames.append(f"<p>{esc(vid)} ({failing} fail, {warning} warn): {esc(', '.join(reasons))}; "
+                              "no frame of it to show</p>")  # fmt: skip
         if frames:
             out.append("<h3>Flagged videos</h3>" + "".join(frames))
         if r.learnability is not None:

@@ -84,6 +84,11 @@ def test_future_version_is_refused_with_a_clear_message(recipe, tmp_path):
     )
 
 
+def _indoors_with_walkers(d: dict) -> None:
+    """The lake's recipe moved into the house, its background walker kept."""
+    d["environment"].update(name="house_interior", indoor=True, waypoint_index=0)
+
+
 def _kicked(d: dict) -> None:
     """A 0.011 kg camera kicked with 6 N·s."""
     d["camera"]["springs"]["camera_mass"] = 0.011
@@ -124,6 +129,7 @@ def _kicked(d: dict) -> None:
         (lambda d: d.update(index=2**63, video_id=f"v{2**63}"), "index", "less than 9223372036854775808"),
         (lambda d: d["environment"].update(waypoint_index=2**40), "", "environment.waypoint_index: lake has"),
         (lambda d: d["background_actors"][0].update(start_waypoint=99), "", "start_waypoint: lake has"),
+        (_indoors_with_walkers, "", "background_actors: house_interior has no background actors' waypoints"),
         (lambda d: d["environment"].update(indoor=True), "", "environment.indoor: lake is not indoors"),
         (
             lambda d: d["camera"].update(kind="indoors", springs=None, impulse=None),

@@ -149,7 +149,8 @@ def test_the_html_report_lists_every_checks_findings_and_no_raw_nan() -> None:
     """Findings past 200 over all checks were left off without a word (a later check's all
     of them): the page lists what the JSON lists, and notes the rest as the console does. A
     camera that never sees the protagonist printed ``nan%``; a histogram of nothing observed
-    said ``n = 1``; a table of recipes "3 videos, 0 frames"."""
+    said ``n = 1``; a table of recipes "3 videos, 0 frames"; a flagged video whose frame
+    could not be read was left out of the page (the JSON lists it)."""
     checks = []
     for name in ("integrity", "schema", "encoding", "failures", "consistency"):
         report = Report()
@@ -167,5 +168,6 @@ def test_the_html_report_lists_every_checks_findings_and_no_raw_nan() -> None:
     row = re.search(r"<tr><td>static</td>.*?</tr>", page).group(0)
     assert "nan" not in row and row.count("—") == 4, row
     assert "weather (all videos, n = 0)" in page
+    assert "v000000 (5 fail, 0 warn): MISSING_FILE; no frame of it to show" in page  # the JSON's worst videos
     recipes_only = report_html([DatasetReport("recipes.parquet", checks[:1], n_videos=3)])
     assert "<p>3 recipes; no θ</p>" in recipes_only  # as the console says: "3 videos, 0 frames" was said
