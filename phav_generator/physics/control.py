@@ -21,7 +21,14 @@ import numpy as np
 from phav_generator.motion.rotations import relative_rotation_vectors
 from phav_generator.motion.skeleton import BONE_INDEX, DOF_BODY, forward_kinematics
 from phav_generator.physics.model import PIN_MASS, PIN_TIMECONST, SERVO_OMEGA, SERVO_ZETA, SceneModel
-from phav_generator.physics.plan.camera import Blocker, anchor_point, sight_boxes, sight_lift, sight_plants
+from phav_generator.physics.plan.camera import (
+    Blocker,
+    camera_anchor,
+    framed_partner,
+    sight_boxes,
+    sight_lift,
+    sight_plants,
+)
 from phav_generator.physics.plan.car_hit import CAR_BRAKING_MPS2
 from phav_generator.physics.plan.people import RELEASE_RAMP_S, RELEASED_STRENGTH
 from phav_generator.physics.plan.scene_plan import ScenePlan
@@ -332,7 +339,9 @@ class SimulationRun:
         cam = self.scene.camera
         if cam is not None:
             kind = self.plan.recipe.camera.kind
-            d.mocap_pos[cam.anchor_mocap] = anchor_point(kind, d.xpos[self.scene.people[0].bodies])
+            people = self.scene.people
+            partner = d.xpos[people[1].bodies] if framed_partner(self.plan.recipe) else None
+            d.mocap_pos[cam.anchor_mocap] = camera_anchor(kind, d.xpos[people[0].bodies], partner)
             d.xfrc_applied[cam.camera_body, :3] += self._camera_room_push(k)
             d.xfrc_applied[cam.camera_body, 2] += self._camera_sight_lift()
 

@@ -33,6 +33,26 @@ def anchor_point(kind: str, body_pos: np.ndarray) -> np.ndarray:
     return sum(w * body_pos[..., BONE_INDEX[b], :] for b, w in weights.items())
 
 
+#: How far towards the partner's anchor (a share of the way) the camera's target is held.
+PARTNER_PULL = 0.5
+
+
+def camera_anchor(kind: str, protagonist_pos: np.ndarray, partner_pos: np.ndarray | None = None) -> np.ndarray:
+    """The point a ``kind`` camera's target holds on to: the protagonist's anchor, or, for
+    two people walking into each other (``partner_pos`` given), half way between theirs, so
+    that the camera frames the pair (on the protagonist alone, a partner 4–8 m off is out of
+    the frame until they meet, and beside it at arm's length after)."""
+    anchor = anchor_point(kind, protagonist_pos)
+    if partner_pos is None:
+        return anchor
+    return anchor + PARTNER_PULL * (anchor_point(kind, partner_pos) - anchor)
+
+
+def framed_partner(recipe: Recipe) -> bool:
+    """Whether the camera frames the protagonist's partner with it (``camera_anchor``)."""
+    return bool(recipe.supporting_characters) and recipe.supporting_characters[0].placement == "facing"
+
+
 #: How far (m) a camera start inside something is first lifted to clear it.
 LIFT_M = 1.0
 

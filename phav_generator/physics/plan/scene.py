@@ -18,8 +18,10 @@ from phav_generator.physics.plan.builder import PlanBuilder
 from phav_generator.physics.plan.camera import (
     LANE_MARGIN_MIN_M,
     anchor_point,
+    camera_anchor,
     clear_camera_start,
     driven_lanes,
+    framed_partner,
     view_blockers,
 )
 from phav_generator.physics.plan.car_hit import car_hit
@@ -49,7 +51,7 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     people = loosen_tied_arms(supporting_people(b, protagonist), b.ties)
     people = [let_go_at_obstacles(b, person) for person in people]
     people = (*people, *b.walkers)
-    camera_target = _camera_target(recipe, people[0])
+    camera_target = _camera_target(recipe, people[0], people[1] if framed_partner(recipe) else None)
     shift = None if camera_target is None else np.array(camera_target) - np.array(recipe.camera.target)
     anchors = _view_anchors(recipe, people[0], substeps)
     blockers = () if not anchors else view_blockers(
@@ -90,14 +92,17 @@ def plan_scene(recipe: Recipe, *, physics_hz: int = DEFAULT_PHYSICS_HZ) -> Scene
     )
 
 
-def _camera_target(recipe: Recipe, protagonist: PersonPlan) -> tuple[float, float, float] | None:
-    """A spring camera's target start: its anchor on the protagonist's first animated pose
-    (the sampler's T_xyz assumes a standing body; a seated or raised one moves the rig)."""
+def _camera_target(
+    recipe: Recipe, protagonist: PersonPlan, partner: PersonPlan | None = None
+) -> tuple[float, float, float] | None:
+    """A spring camera's target start: its anchor (``camera_anchor``) on the first animated
+    poses (the sampler's T_xyz assumes a standing protagonist alone; a seated or raised one,
+    or a partner framed with it, moves the rig)."""
     if recipe.camera.springs is None:
         return None
-    t = protagonist.targets
-    pos, _ = forward_kinematics(protagonist.dims, t.root_pos[:1], t.root_quat[:1], t.q[:1])
-    return tuple(float(v) for v in anchor_point(recipe.camera.kind, pos[0]))  # type: ignore[return-value]
+    first = [forward_kinematics(p.dims, p.targets.root_pos[:1], p.targets.root_quat[:1], p.targets.q[:1])[0][0]
+             for p in (protagonist, partner) if p is not None]  # fmt: skip
+    return tuple(float(v) for v in camera_anchor(recipe.camera.kind, *first))  # type: ignore[return-value]
 
 
 #: The cameras whose start turns to see the protagonist: those whose azimuth θ draws round

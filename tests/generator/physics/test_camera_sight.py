@@ -2,7 +2,7 @@
 door's leaf, a hedge) is turned about the target to a clear view, a camera pulled against an
 obstacle slides round it rather than sticking to it, a spring camera rises over a car that
 stops between it and the protagonist or a low plant it passes, and a spring camera's view turns to keep its anchor in
-the frame (docs/framing.md)."""
+the frame (docs/framing.md); two people walking into each other are framed together."""
 
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from phav_generator.physics.plan.camera import (
     LANE_MARGIN_MIN_M,
     SIGHT_TURNS_DEG,
     Blocker,
+    camera_anchor,
     clear_camera_start,
     collider_blockers,
     driven_lanes,
@@ -392,3 +393,21 @@ def test_a_parked_car_hides_a_view_as_its_solids_not_its_box() -> None:
         assert Blocker.turned(car.center, car.half_size, car.yaw_deg).crosses(*over_hood)
         assert not any(b.crosses(*over_hood) for b in blockers)
         assert any(b.crosses(*through_body) for b in blockers)
+
+
+def test_the_camera_frames_two_people_walking_into_each_other() -> None:
+    """phav-v1, seed 52, v000318: the kite held on to the protagonist alone, 2 m off, and the
+    partner, walking up from 4 m away and stopping beside it, stayed left of the frame in
+    every frame. The target is now held half way between the two (``camera_anchor``); the
+    protagonist stays in the frame."""
+    recipe = next(iter(sample_recipes(load_preset("phav-v1"), n=1, seed=52, start=318)))
+    assert recipe.action == "bump_into_each_other"
+    tr = simulate_plan(plan_scene(recipe))
+    size = np.array([recipe.video.width, recipe.video.height])
+    frames = range(0, recipe.n_frames, 10)
+    for person, share in ((tr.person(1), 0.9), (tr.people[0], 1.0)):
+        pelvis = np.array([project(person.body_pos[f, 0], tr.cam_to_world[f], tr.intrinsics) for f in frames])
+        inside = np.all(np.isfinite(pelvis) & (pelvis >= 0) & (pelvis < size), axis=-1)
+        assert inside.mean() >= share, (person.person_id, np.round(pelvis, 0))
+    a, b = np.zeros((15, 3)), np.full((15, 3), 2.0)
+    assert np.allclose(camera_anchor("kite", a, b), 1.0) and np.allclose(camera_anchor("kite", a), 0.0)
