@@ -299,6 +299,6 @@ def meeting_start(name: str, length_s: float, window_s: float, distance_m: float
     stop, pace = found
     start = stop - MEETING_LEAD_S - max(0.0, distance_m - MEETING_GAP_M) / (2.0 * pace)
     start = min(max(0.0, start), max(0.0, length_s - window_s))
-    # A window too short to hold the walk up to the meeting shows two people walking apart
-    # of each other wherever it starts; θ's start keeps what else the take shows (its stop).
+    # A window too short to hold the walk up to the meeting shows two people still apart
+    # wherever it starts; θ's start keeps what else the take shows (its stop, the step back).
     return start if start + window_s >= stop - MEETING_LEAD_S else None

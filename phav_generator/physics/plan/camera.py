@@ -39,9 +39,10 @@ PARTNER_PULL = 0.5
 
 def camera_anchor(kind: str, protagonist_pos: np.ndarray, partner_pos: np.ndarray | None = None) -> np.ndarray:
     """The point a ``kind`` camera's target holds on to: the protagonist's anchor, or, for
-    two people walking into each other (``partner_pos`` given), half way between theirs, so
-    that the camera frames the pair (on the protagonist alone, a partner 4–8 m off is out of
-    the frame until they meet, and beside it at arm's length after)."""
+    two people walking into each other (``partner_pos`` given), ``PARTNER_PULL`` of the way
+    from it to the partner's, so that the camera frames the pair (on the protagonist alone,
+    a partner 4–8 m off is out of the frame until they meet, and beside it at arm's length
+    after). The view still keeps the protagonist's own anchor in the frame (``keep_in_view``)."""
     anchor = anchor_point(kind, protagonist_pos)
     if partner_pos is None:
         return anchor
