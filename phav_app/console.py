@@ -18,7 +18,7 @@ from rich.text import Text
 
 from phav_spec.errors import PhavUserError
 from phav_validators.checks.distribution import DistributionResult
-from phav_validators.findings import Report
+from phav_validators.findings import Report, figure_text
 from phav_validators.framing import FRAMING_BINS, FramingResult
 
 # Piped output (CI logs, files) gets wide lines instead of rich's 80-column default, so
@@ -173,8 +173,9 @@ def print_framing(result: FramingResult, console: Console, *, source: str = "peo
     for name, g in result.groups.items():
         q1, q2, q3 = g.quantiles()
         table.add_row(
-            name, str(g.n_videos), f"{g.n_frames:,}", f"{g.in_view_share:.1%}",
-            f"{q1:.1%}", f"{q2:.1%}", f"{q3:.1%}", f"{g.median_px:.0f}", style="bold" if name == "all" else None,
+            name, str(g.n_videos), f"{g.n_frames:,}", figure_text(g.in_view_share, ".1%"), figure_text(q1, ".1%"),
+            figure_text(q2, ".1%"), figure_text(q3, ".1%"), figure_text(g.median_px, ".0f"),
+            style="bold" if name == "all" else None,
         )  # fmt: skip
     console.print(table)
     hist = Table(title="protagonist height histogram (share of frames)", title_justify="left")

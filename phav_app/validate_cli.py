@@ -18,7 +18,7 @@ from phav_app.console import EXIT_FINDINGS, bar_tasks, console, print_distributi
 from phav_spec.errors import PhavUserError
 from phav_spec.files import check_output_dir, check_output_file
 from phav_validators.checks.scan import tune_allocator
-from phav_validators.findings import Reason
+from phav_validators.findings import Reason, figure_text
 from phav_validators.learn.learnability import LearnOptions
 from phav_validators.learn.train import RGB_EPOCH_SHARE
 from phav_validators.options import CHECKS, Options, run_exit_code, run_status
@@ -222,7 +222,7 @@ def print_summary(report: DatasetReport, *, details: bool = False, per_reason_li
             groups = report.framing.groups
             shown = [n for n in groups if n != "all" or len(groups) > 2]  # "all" only over several cameras
             console.print("protagonist framing (visible box height / frame height; --details: histogram): " + "; ".join(
-                f"{name} median {groups[name].median:.0%}, in view {groups[name].in_view_share:.1%} of "
+                f"{name} median {figure_text(groups[name].median, '.0%')}, in view {groups[name].in_view_share:.1%} of "
                 f"{groups[name].n_frames:,} frames" for name in shown
             ), soft_wrap=True)  # fmt: skip
     worst = report.worst_videos()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -98,6 +99,12 @@ class Finding:
             "reason": self.reason.value, "severity": self.severity, "message": self.message,
             "file": self.file, "video_id": self.video_id, "numbers": self.numbers,
         }  # fmt: skip
+
+
+def figure_text(x: float | None, spec: str) -> str:
+    """``x`` formatted by ``spec``, or a dash where there is no finite number (a camera that
+    never sees the protagonist has no height quartiles; the JSON writes them null)."""
+    return format(x, spec) if x is not None and math.isfinite(x) else "—"
 
 
 #: Findings kept per reason in one check; the rest are counted, not listed.

@@ -24,6 +24,7 @@ from phav_spec.files import atomic_write
 from phav_spec.judge_classes import JUDGE_CLASSES
 from phav_spec.manifest import load_manifest
 from phav_validators.checks.reproduce import shard_video_frames
+from phav_validators.findings import figure_text
 from phav_validators.framing import FRAMING_BINS, FramingResult
 from phav_validators.learn.learnability import LearnResult, confusion_png
 from phav_validators.options import DatasetReport, run_exit_code, run_status
@@ -34,12 +35,6 @@ from phav_validators.realism.figures import example_sheet
 REPORT_VERSION = 1
 #: Flagged videos shown with a frame in the HTML report.
 MAX_FRAMES = 6
-
-
-def _num(x: float | None, spec: str) -> str:
-    """``x`` formatted by ``spec``, or a dash where there is no finite number (a camera that
-    never sees the protagonist has no height quartiles; the JSON writes them null)."""
-    return format(x, spec) if x is not None and math.isfinite(x) else "—"
 
 
 def report_json(reports: Sequence[DatasetReport]) -> dict[str, Any]:
@@ -130,9 +125,9 @@ def framing_html(framing: FramingResult) -> str:
     ]
     for name, g in framing.groups.items():
         q1, q2, q3 = g.quantiles()
+        cells = [figure_text(v, ".1%") for v in (g.in_view_share, q1, q2, q3)] + [figure_text(g.median_px, ".0f")]
         out.append(f"<tr><td>{html.escape(name)}</td><td>{g.n_videos}</td><td>{g.n_frames:,}</td>"
-                   f"<td>{_num(g.in_view_share, '.1%')}</td><td>{_num(q1, '.1%')}</td><td>{_num(q2, '.1%')}</td>"
-                   f"<td>{_num(q3, '.1%')}</td><td>{_num(g.median_px, '.0f')}</td></tr>")  # fmt: skip
+                   + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")  # fmt: skip
     out.append("</table>")
     labels = [f"{FRAMING_BINS[b]:.0%}–{FRAMING_BINS[b + 1]:.0%}" for b in range(len(FRAMING_BINS) - 1)]
     for name, g in framing.groups.items():
@@ -222,8 +217,8 @@ def learnability_html(learn: LearnResult, root: Path) -> list[str]:
 def _figure_cell(fig: Any) -> str:
     if fig is None:
         return "<td></td>"
-    interval = "one video" if fig.low is None else f"{_num(fig.low, '.2f')}–{_num(fig.high, '.2f')}"
-    return f"<td>{_num(fig.value, '.2f')} <small>({interval}; n {fig.count:,.0f})</small></td>"
+    interval = "one video" if fig.low is None else f"{figure_text(fig.low, '.2f')}–{figure_text(fig.high, '.2f')}"
+    return f"<td>{figure_text(fig.value, '.2f')} <small>({interval}; n {fig.count:,.0f})</small></td>"
 
 
 def realism_html(result: RealismResult) -> list[str]:
@@ -266,7 +261,7 @@ def realism_html(result: RealismResult) -> list[str]:
         m = fig("cityscapes_miou")
         out.append(f"<p>Cityscapes mIoU over its classes present: {m.said()}.")
         for kind in ("weather", "day_phase", "light"):
-            parts = [f"{k.split('=')[1]} {_num(result.figures[k].value, '.2f')}" for k in sorted(result.figures)
+            parts = [f"{k.split('=')[1]} {figure_text(result.figures[k].value, '.2f')}" for k in sorted(result.figures)
                      if k.startswith(f"cityscapes_miou|{kind}=")]  # fmt: skip
             if parts:
                 out.append(f" By {kind.replace('_', ' ')}: {', '.join(parts)}.")

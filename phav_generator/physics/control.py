@@ -205,6 +205,8 @@ class SimulationRun:
         self.refs = [_Reference.of(p.targets, plan.timestep) for p in physical]
         self.torque_ff = _inverse_dynamics(scene, self.refs)
         self.step_times = plan.step_times
+        #: The partner the camera frames with the protagonist (``camera_anchor``), if any.
+        self.framed = scene.people[1] if framed_partner(plan.recipe) else None
         self.released = [False] * len(physical)
         self.release_time = [math.inf] * len(physical)
         self.strength_now = [p.strengths[0].copy() for p in physical]
@@ -339,9 +341,8 @@ class SimulationRun:
         cam = self.scene.camera
         if cam is not None:
             kind = self.plan.recipe.camera.kind
-            people = self.scene.people
-            partner = d.xpos[people[1].bodies] if framed_partner(self.plan.recipe) else None
-            d.mocap_pos[cam.anchor_mocap] = camera_anchor(kind, d.xpos[people[0].bodies], partner)
+            partner = None if self.framed is None else d.xpos[self.framed.bodies]
+            d.mocap_pos[cam.anchor_mocap] = camera_anchor(kind, d.xpos[self.scene.people[0].bodies], partner)
             d.xfrc_applied[cam.camera_body, :3] += self._camera_room_push(k)
             d.xfrc_applied[cam.camera_body, 2] += self._camera_sight_lift()
 

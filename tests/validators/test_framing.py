@@ -10,7 +10,10 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
+from rich.console import Console
 
+from phav_app.console import print_framing
+from phav_app.validate_cli import print_summary
 from phav_spec.encoding import instance_rgb
 from phav_spec.errors import PhavUserError
 from phav_spec.recipe_table import read_recipe_table
@@ -145,12 +148,13 @@ def test_the_html_report_shows_each_checks_notes() -> None:
     assert "note: training stopped at the 15-minute budget (flow 83 of 120 epochs) &amp; more" in page
 
 
-def test_the_html_report_lists_every_checks_findings_and_no_raw_nan() -> None:
+def test_the_html_report_lists_every_checks_findings_and_no_raw_nan(capsys) -> None:
     """Findings past 200 over all checks were left off without a word (a later check's all
     of them): the page lists what the JSON lists, and notes the rest as the console does. A
     camera that never sees the protagonist printed ``nan%``; a histogram of nothing observed
-    said ``n = 1``; a table of recipes "3 videos, 0 frames"; a flagged video whose frame
-    could not be read was left out of the page (the JSON lists it)."""
+    said ``n = 1`` (and the console ``nan%``, in the framing table and phav-validate's line);
+    a table of recipes "3 videos, 0 frames"; a flagged video whose frame could not be read
+    was left out of the page (the JSON lists it)."""
     checks = []
     for name in ("integrity", "schema", "encoding", "failures", "consistency"):
         report = Report()
@@ -169,5 +173,12 @@ def test_the_html_report_lists_every_checks_findings_and_no_raw_nan() -> None:
     assert "nan" not in row and row.count("—") == 4, row
     assert "weather (all videos, n = 0)" in page
     assert "v000000 (5 fail, 0 warn): MISSING_FILE; no frame of it to show" in page  # the JSON's worst videos
+    # The console's table and phav-validate's framing line, the same dash.
+    console = Console(record=True, width=200)
+    framing = FramingResult({"static": never, "all": never})
+    print_framing(framing, console)
+    print_summary(DatasetReport("data", checks[:1], n_videos=1, n_frames=30, framing=framing))
+    said = console.export_text() + capsys.readouterr().out
+    assert not re.search(r"\bnan\b", said.lower()) and "static median —" in said and "— │" in said
     recipes_only = report_html([DatasetReport("recipes.parquet", checks[:1], n_videos=3)])
     assert "<p>3 recipes; no θ</p>" in recipes_only  # as the console says: "3 videos, 0 frames" was said
