@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
+import logging
 import multiprocessing
 import os
 import queue
@@ -251,7 +252,7 @@ def ray_session(workers: int, address: str | None) -> Iterator[Any]:
         yield ray
         return
     env = fault_env()
-    options: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
+    options: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False, "logging_level": logging.ERROR,
                                "runtime_env": {"env_vars": env} if env else None}  # fmt: skip
     if address:
         options["address"] = address

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -17,7 +18,7 @@ import pytest
 from phav_generator.dataset.write import chunk, write_dataset
 from phav_generator.faults import delay_for
 from phav_spec.errors import PhavUserError
-from tests.helpers import RAY_DELAY_S, SMALL_SEED, SMALL_SHARD_SIZE, file_bytes
+from tests.helpers import RAY_DELAY_S, SMALL_SEED, SMALL_SHARD_SIZE, file_bytes, run_cli
 
 
 def test_ray_and_the_local_pool_give_identical_datasets(ray_with_delays, small_dataset, small_recipes, small_theta,
@@ -262,3 +263,14 @@ def test_a_tasks_os_error_reaches_the_writer_as_itself_on_ray(tmp_path):
     with pytest.raises(OSError) as caught:
         _result(Ray, None, tmp_path)
     assert caught.value is cause and caught.value.errno == errno.ENOSPC
+
+
+def test_a_local_ray_run_prints_only_phavs_own_lines(tmp_path):
+    """Every `--engine ray` run printed Ray's "WARNING … Token authentication is enabled" and
+    "INFO … Started a local Ray instance" around phav's output (and a worker's death, Ray's
+    paragraph before phav's one line); Ray now logs errors only."""
+    pytest.importorskip("ray")
+    result = run_cli("generate", "--theta", "phav-v1-short", "--videos", "1", "--seed", "3", "--workers", "1",
+                     "--engine", "ray", "--out", str(tmp_path / "d"))  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert not re.search(r"\b(INFO|WARNING)\b", result.stderr), result.stderr
